@@ -1,0 +1,386 @@
+"""Spec files: TOML → ChainSpec (frozen), with every check a user needs.
+
+Every number of a spec may be a string: a parameter name or an arithmetic
+expression of names, numbers, ``pi`` and sqrt/sin/cos/tan.  The string is
+parsed with Python's ``ast`` parser (a parser only: nothing is evaluated),
+then walked against a whitelist and turned into a sympy expression.
+Plain numbers become exact rationals of the decimal the user wrote, so that
+zeros vanish exactly and the printers fold the rest into double literals.
+"""
+from __future__ import annotations
+
+import ast
+import math
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import sympy as sp
+
+__all__ = ["SpecError", "BodySpec", "ChainSpec", "load_spec", "parse_spec", "parse_expression"]
+
+
+class SpecError(ValueError):
+    """A malformed spec: ``field`` names the offending entry (e.g. ``body[2].A``)."""
+
+    def __init__(self, field_name: str, message: str):
+        super().__init__(f"{field_name}: {message}")
+        self.field = field_name
+        self.message = message
+
+
+C_KEYWORDS = frozenset(
+    """auto break case char const continue default do double else enum extern float for goto if
+    inline int long register restrict return short signed sizeof static struct switch typedef union
+    unsigned void volatile while _Bool _Complex _Imaginary
+    alignas alignof and and_eq asm bitand bitor bool catch class compl const_cast constexpr
+    decltype delete dynamic_cast explicit export false friend mutable namespace new noexcept not
+    not_eq nullptr operator or or_eq private protected public reinterpret_cast static_assert
+    static_cast template this thread_local throw true try typeid typename using virtual wchar_t
+    xor xor_eq""".split()
+)
+FUNCTIONS = {"sqrt": sp.sqrt, "sin": sp.sin, "cos": sp.cos, "tan": sp.tan}
+# Names the generated code itself uses (arguments, states, math functions, Python builtins
+# the generated module needs).  A parameter may not take one of them.
+GENERATED_NAMES = frozenset(
+    {"pi", "t", "q", "x", "u", "p", "M", "f", "qdd", "xdot", "np", "math", "numpy", "N"}
+    | set(FUNCTIONS) | {"exp", "log", "pow", "fabs", "isfinite", "abs", "None", "True", "False"}
+)
+GENERATED_PATTERN = re.compile(r"^(w\d+|phi_?\d+|phidot_?\d+|phiddot_?\d+|L_?\d+|tau_?\d+)$")
+IDENT = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+MAX_EXPR_LEN = 200
+
+
+@dataclass(frozen=True)
+class BodySpec:
+    """Gyrostat S^k.  ``A`` is the inertia tensor about O^k (not the centre of mass)."""
+
+    theta: sp.Expr
+    m: sp.Expr
+    c: tuple[sp.Expr, sp.Expr, sp.Expr]
+    A: tuple[tuple[sp.Expr, ...], ...]
+    s: tuple[sp.Expr, sp.Expr, sp.Expr]  # zero for the last body (unused)
+    lam: tuple[sp.Expr, sp.Expr, sp.Expr]  # gyrostatic moment lambda^k, body axes
+    control: bool
+
+
+@dataclass(frozen=True)
+class ChainSpec:
+    name: str
+    description: str
+    g: sp.Expr
+    bodies: tuple[BodySpec, ...]
+    params: tuple[sp.Symbol, ...]  # symbolic parameters, in order of first appearance
+    initial: dict | None = field(default=None, compare=False)
+    source: str = ""  # the spec text (for provenance and the LaTeX table)
+
+    @property
+    def n(self) -> int:
+        return len(self.bodies)
+
+    @property
+    def controls(self) -> tuple[int, ...]:
+        """Joints k (1-based) with a control torque, in chain order."""
+        return tuple(k for k, b in enumerate(self.bodies, start=1) if b.control)
+
+    @property
+    def is_numeric(self) -> bool:
+        return not self.params
+
+
+# --------------------------------------------------------------------------- expressions
+class _ExprBuilder:
+    """Turns a whitelisted Python AST into a sympy expression; records names in order."""
+
+    def __init__(self, where: str, names: dict[str, sp.Symbol]):
+        self.where = where
+        self.names = names
+
+    def fail(self, why: str):
+        raise SpecError(self.where, why)
+
+    def build(self, node: ast.AST) -> sp.Expr:
+        if isinstance(node, ast.Expression):
+            return self.build(node.body)
+        if isinstance(node, ast.Constant):
+            if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
+                self.fail(f"{node.value!r} is not a number")
+            return _number(node.value, self)
+        if isinstance(node, ast.Name):
+            if node.id == "pi":
+                return sp.pi
+            return self.name(node.id)
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+            v = self.build(node.operand)
+            return -v if isinstance(node.op, ast.USub) else v
+        if isinstance(node, ast.BinOp):
+            a, b = self.build(node.left), self.build(node.right)
+            op = node.op
+            if isinstance(op, ast.Add):
+                return a + b
+            if isinstance(op, ast.Sub):
+                return a - b
+            if isinstance(op, ast.Mult):
+                return a * b
+            if isinstance(op, ast.Div):
+                if b == 0:
+                    self.fail("division by zero")
+                return a / b
+            if isinstance(op, ast.Pow):
+                if not b.is_number or abs(float(b)) > 16:
+                    self.fail("an exponent must be a number between -16 and 16")
+                if a == 0 and float(b) <= 0:
+                    self.fail("0 raised to a non-positive power")
+                return a**b
+            if isinstance(op, ast.BitXor):
+                self.fail("'^' is not a power here; write '**'")
+            self.fail(f"operator {type(op).__name__} is not allowed")
+        if isinstance(node, ast.Call):
+            if (
+                isinstance(node.func, ast.Name)
+                and node.func.id in FUNCTIONS
+                and len(node.args) == 1
+                and not node.keywords
+            ):
+                arg = self.build(node.args[0])
+                if node.func.id == "sqrt" and arg.is_number and arg.is_negative:
+                    self.fail("sqrt of a negative number")
+                return FUNCTIONS[node.func.id](arg)
+            self.fail("only sqrt(x), sin(x), cos(x), tan(x) may be called")
+        self.fail(f"'{type(node).__name__}' is not allowed in an expression")
+
+    def name(self, ident: str) -> sp.Symbol:
+        check_param_name(ident, self.where)
+        if ident not in self.names:
+            self.names[ident] = sp.Symbol(ident, real=True)
+        return self.names[ident]
+
+
+def check_param_name(ident: str, where: str) -> None:
+    if not IDENT.match(ident):
+        raise SpecError(where, f"parameter name {ident!r} is not an identifier")
+    if ident in C_KEYWORDS:
+        raise SpecError(where, f"parameter name {ident!r} is a C/C++ keyword")
+    if ident in GENERATED_NAMES or GENERATED_PATTERN.match(ident):
+        raise SpecError(where, f"parameter name {ident!r} collides with a name of the generated code")
+    if ident in FUNCTIONS:
+        raise SpecError(where, f"parameter name {ident!r} is a function name")
+
+
+def _number(value, builder: _ExprBuilder) -> sp.Expr:
+    if isinstance(value, float) and not math.isfinite(value):
+        builder.fail(f"{value} is not a finite number")
+    if isinstance(value, int):
+        return sp.Integer(value)
+    # The decimal the user wrote (repr round-trips), as an exact rational.
+    return sp.Rational(repr(value))
+
+
+def parse_expression(text: str, where: str, names: dict[str, sp.Symbol] | None = None) -> sp.Expr:
+    """Parse one spec string (never evaluated as code) into a sympy expression."""
+    names = {} if names is None else names
+    if len(text) > MAX_EXPR_LEN:
+        raise SpecError(where, f"expression longer than {MAX_EXPR_LEN} characters")
+    if not text.strip():
+        raise SpecError(where, "empty expression")
+    try:
+        tree = ast.parse(text.strip(), mode="eval")
+    except SyntaxError:
+        raise SpecError(where, f"expression {text!r} does not parse") from None
+    expr = _ExprBuilder(where, names).build(tree)
+    if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+        raise SpecError(where, f"expression {text!r} is not finite")
+    return expr
+
+
+def _scalar(value, where: str, names: dict) -> sp.Expr:
+    if isinstance(value, bool):
+        raise SpecError(where, "expected a number or an expression string, got a boolean")
+    if isinstance(value, (int, float)):
+        return _number(value, _ExprBuilder(where, names))
+    if isinstance(value, str):
+        return parse_expression(value, where, names)
+    raise SpecError(where, f"expected a number or an expression string, got {type(value).__name__}")
+
+
+def _vector(value, where: str, names: dict) -> tuple:
+    if not isinstance(value, list) or len(value) != 3:
+        raise SpecError(where, "expected a vector of 3 entries")
+    return tuple(_scalar(v, f"{where}[{i + 1}]", names) for i, v in enumerate(value))
+
+
+def _matrix(value, where: str, names: dict) -> tuple:
+    if not isinstance(value, list) or len(value) != 3 or not all(isinstance(r, list) and len(r) == 3 for r in value):
+        raise SpecError(where, "expected a 3×3 matrix (three rows of three entries)")
+    return tuple(
+        tuple(_scalar(v, f"{where}[{i + 1}][{j + 1}]", names) for j, v in enumerate(row)) for i, row in enumerate(value)
+    )
+
+
+# --------------------------------------------------------------------------- the spec
+TOP_FIELDS = {"name", "description", "g", "body", "initial"}
+BODY_FIELDS = {"theta", "m", "c", "A", "s", "lambda", "control"}
+BODY_REQUIRED = ("theta", "m", "c", "A")
+ZERO3 = (sp.Integer(0),) * 3
+
+
+def load_spec(path: str | Path) -> ChainSpec:
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SpecError(str(path), "no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SpecError(str(path), f"cannot read: {exc}") from None
+    return parse_spec(text)
+
+
+def parse_spec(text: str) -> ChainSpec:
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SpecError("spec", f"not valid TOML: {exc}") from None
+    for key in data:
+        if key not in TOP_FIELDS:
+            raise SpecError(key, f"unknown field (expected one of {', '.join(sorted(TOP_FIELDS))})")
+    for key in ("name", "g", "body"):
+        if key not in data:
+            raise SpecError(key, "missing field")
+
+    name = data["name"]
+    if not isinstance(name, str) or not re.match(r"^[A-Za-z][A-Za-z0-9_]*$", name):
+        raise SpecError("name", f"{name!r} is not a C identifier (letters, digits, '_'; starting with a letter)")
+    if name in C_KEYWORDS:
+        raise SpecError("name", f"{name!r} is a C/C++ keyword")
+    if len(name) > 48:
+        raise SpecError("name", "longer than 48 characters")
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise SpecError("description", "expected a string")
+
+    names: dict[str, sp.Symbol] = {}
+    g = _scalar(data["g"], "g", names)
+    if g.is_number and g < 0:
+        raise SpecError("g", "gravity magnitude must not be negative (it acts along ê⁰₁, 'down')")
+
+    raw_bodies = data["body"]
+    if not isinstance(raw_bodies, list) or not all(isinstance(b, dict) for b in raw_bodies):
+        raise SpecError("body", "expected [[body]] tables")
+    if not raw_bodies:
+        raise SpecError("body", "a chain needs at least one body (n = 0)")
+    n = len(raw_bodies)
+    bodies = []
+    for k, raw in enumerate(raw_bodies, start=1):
+        bodies.append(_body(raw, k, n, names))
+
+    initial = data.get("initial")
+    if initial is not None:
+        initial = _initial(initial, n)
+
+    return ChainSpec(
+        name=name,
+        description=description,
+        g=g,
+        bodies=tuple(bodies),
+        params=tuple(names.values()),
+        initial=initial,
+        source=text,
+    )
+
+
+def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
+    at = f"body[{k}]"
+    for key in raw:
+        if key not in BODY_FIELDS:
+            raise SpecError(f"{at}.{key}", f"unknown field (expected one of {', '.join(sorted(BODY_FIELDS))})")
+    for key in BODY_REQUIRED:
+        if key not in raw:
+            raise SpecError(f"{at}.{key}", "missing field")
+    if k < n and "s" not in raw:
+        raise SpecError(f"{at}.s", "missing field (offset O^k → O^(k+1), needed for every body but the last)")
+    if k == n and "s" in raw:
+        raise SpecError(f"{at}.s", "the last body has no next joint; leave s out")
+    # Read in the file's order so that parameters are numbered by first appearance.
+    vals = {}
+    for key, value in raw.items():
+        where = f"{at}.{key}"
+        if key in ("theta", "m"):
+            vals[key] = _scalar(value, where, names)
+        elif key in ("c", "s", "lambda"):
+            vals[key] = _vector(value, where, names)
+        elif key == "A":
+            vals[key] = _matrix(value, where, names)
+        elif key == "control":
+            if not isinstance(value, bool):
+                raise SpecError(where, "expected true or false")
+            vals[key] = value
+    m, c, A = vals["m"], vals["c"], vals["A"]
+    if m.is_number and not m > 0:
+        raise SpecError(f"{at}.m", f"mass must be positive, got {float(m):g}")
+    for i in range(3):
+        for j in range(i + 1, 3):
+            if sp.expand(A[i][j] - A[j][i]) != 0:
+                raise SpecError(f"{at}.A", f"not symmetric: A[{i + 1}][{j + 1}] ≠ A[{j + 1}][{i + 1}]")
+    _check_physical(at, m, c, A)
+    return BodySpec(
+        theta=vals["theta"],
+        m=m,
+        c=c,
+        A=A,
+        s=vals.get("s", ZERO3),
+        lam=vals.get("lambda", ZERO3),
+        control=vals.get("control", False),
+    )
+
+
+def _check_physical(at: str, m, c, A) -> None:
+    """A minus the parallel-axis term must be a possible central inertia tensor.
+
+    Only decidable when m, c and A are numbers; with symbolic entries the check is the
+    user's (the generated code reports a mass matrix that is not positive definite).
+    """
+    if not all(x.is_number for x in (m, *c, *(a for row in A for a in row))):
+        return
+    import numpy as np
+
+    Am = np.array([[float(a) for a in row] for row in A])
+    cv = np.array([float(x) for x in c])
+    AG = Am - float(m) * (cv @ cv * np.eye(3) - np.outer(cv, cv))
+    ev = np.linalg.eigvalsh(AG)
+    scale = max(abs(ev).max(), 1e-300)
+    if ev[0] <= 1e-12 * scale:
+        raise SpecError(
+            f"{at}.A",
+            "not physically possible: the inertia about the centre of mass (A − m(|c|²1 − c cᵀ)) "
+            f"is not positive definite (principal moments {', '.join(f'{e:.6g}' for e in ev)})",
+        )
+    if ev[2] > ev[0] + ev[1] + 1e-9 * scale:
+        raise SpecError(
+            f"{at}.A",
+            "not physically possible: the central principal moments violate the triangle inequality "
+            f"({ev[2]:.6g} > {ev[0]:.6g} + {ev[1]:.6g})",
+        )
+
+
+def _initial(raw, n: int) -> dict:
+    if not isinstance(raw, dict):
+        raise SpecError("initial", "expected a table with phi and phidot")
+    for key in raw:
+        if key not in ("phi", "phidot"):
+            raise SpecError(f"initial.{key}", "unknown field (expected phi, phidot)")
+    out = {}
+    for key in ("phi", "phidot"):
+        if key not in raw:
+            raise SpecError(f"initial.{key}", "missing field")
+        v = raw[key]
+        if not isinstance(v, list) or len(v) != n:
+            raise SpecError(f"initial.{key}", f"expected a list of {n} numbers")
+        vals = []
+        for i, x in enumerate(v):
+            e = _scalar(x, f"initial.{key}[{i + 1}]", {})
+            if e.free_symbols:
+                raise SpecError(f"initial.{key}[{i + 1}]", "must be a number")
+            vals.append(float(e))
+        out[key] = tuple(vals)
+    return out
