@@ -50,61 +50,73 @@ class Dynamics:
 
 def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
     n = spec.n
+    P = kin.prog
     B = [None, *spec.bodies]
     a, w = kin.alpha, kin.omega
-    vec = lambda t: sp.Matrix(t)  # noqa: E731
     A = [None] + [sp.Matrix(b.A) for b in spec.bodies]
-    c = [None] + [vec(b.c) for b in spec.bodies]
-    s = [None] + [vec(b.s) for b in spec.bodies]
-    lam = [None] + [vec(b.lam) for b in spec.bodies]
+    c = [None] + [sp.Matrix(b.c) for b in spec.bodies]
+    s = [None] + [sp.Matrix(b.s) for b in spec.bodies]
+    lam = [None] + [sp.Matrix(b.lam) for b in spec.bodies]
     m = [None] + [b.m for b in spec.bodies]
+    zero = sp.zeros(3, 1)
 
     # Forward recursions with φ̈ = 0: angular acceleration εᵏ (eq. (5)) and the acceleration of
     # Oᵏ (eq. (6) summed over l < k), in frame k.
-    eps = [sp.zeros(3, 1)]
-    acc_O = [None, sp.zeros(3, 1)]
+    eps = [zero]
+    acc_O = [None, zero]
     for k in range(1, n + 1):
-        eps.append(a[k] * eps[k - 1] + cross(w[k], E1 * kin.phidot[k]))
+        eps.append(P.vec(f"eps{k}", a[k] * eps[k - 1] + cross(w[k], E1 * kin.phidot[k]), rf"\varepsilon^{{{k}}}"))
         if k > 1:
             j = k - 1
-            acc_O.append(a[k] * (acc_O[j] + cross(eps[j], s[j]) + cross(w[j], cross(w[j], s[j]))))
+            acc = acc_O[j] + cross(eps[j], s[j]) + cross(w[j], cross(w[j], s[j]))
+            acc_O.append(P.vec(f"aO{k}", a[k] * P.vec(f"aO{k}in{j}", acc), rf"a^{{{k}}}"))
 
     # Backward recursions over the sub-chains p ≥ k.
-    zero = sp.zeros(3, 1)
-    F_next, N_next, Gam_next, Lam_next = zero, zero, zero, zero
-    m_next, h_next, I_next = sp.Integer(0), zero, sp.zeros(3, 3)
+    F_next = N_next = Gam_next = Lam_next = h_next = zero
+    m_next, I_next = sp.Integer(0), sp.zeros(3, 3)
     Q, Gam, Gv, m_c, h_c, I_c, Lam = ([None] * (n + 1) for _ in range(7))
     for k in range(n, 0, -1):
         if k < n:
             R = a[k + 1].T  # frame k+1 → frame k
-            F_in, N_in, Gam_in, Lam_in = R * F_next, R * N_next, R * Gam_next, R * Lam_next
-            h_in, I_in = R * h_next, R * I_next * R.T  # about O^{k+1}, frame k
+            F_in = P.vec(f"F{k + 1}in{k}", R * F_next)
+            N_in = P.vec(f"N{k + 1}in{k}", R * N_next)
+            Gam_in = P.vec(f"Gm{k + 1}in{k}", R * Gam_next)
+            Lam_in = P.vec(f"Lam{k + 1}in{k}", R * Lam_next)
+            h_in = P.vec(f"h{k + 1}in{k}", R * h_next)  # about O^{k+1}, frame k
+            I_in = P.sym_mat(f"I{k + 1}in{k}", R * I_next * R.T)
         else:
             F_in = N_in = Gam_in = Lam_in = h_in = zero
             I_in = sp.zeros(3, 3)
         sk = s[k]
         # velocity-quadratic part: Σ_{p≥k} [(Aω)˙ + m c×a_O] + Σ_{q>k} d_kq × m a_G  (eqs. (3), (7))
         acc_G = acc_O[k] + cross(eps[k], c[k]) + cross(w[k], cross(w[k], c[k]))
-        F = m[k] * acc_G + F_in
-        N = A[k] * eps[k] + cross(w[k], A[k] * w[k]) + m[k] * cross(c[k], acc_O[k]) + N_in + cross(sk, F_in)
+        F = P.vec(f"F{k}", m[k] * acc_G + F_in, rf"F^{{{k}}}")
+        Aw = A[k] * w[k]
+        N = P.vec(
+            f"N{k}",
+            A[k] * eps[k] + cross(w[k], Aw) + m[k] * cross(c[k], acc_O[k]) + N_in + cross(sk, F_in),
+            rf"N^{{{k}}}",
+        )
         # gyroscopic part: Σ_{p≥k} ω^p × λ^p
-        Gm = cross(w[k], lam[k]) + Gam_in
+        Gm = P.vec(f"Gm{k}", cross(w[k], lam[k]) + Gam_in, rf"\Gamma^{{{k}}}")
         # composite mass, first moment and inertia about O^k (parallel-axis shift by s^k)
-        mc = m[k] + m_next
-        h = m[k] * c[k] + h_in + m_next * sk
-        I = (
+        mc = P.let(f"mc{k}", m[k] + m_next, rf"m_c^{{{k}}}")
+        h = P.vec(f"h{k}", m[k] * c[k] + h_in + m_next * sk, rf"h^{{{k}}}")
+        I = P.sym_mat(
+            f"I{k}",
             A[k]
             + I_in
             + m_next * (dot(sk, sk) * sp.eye(3) - sk * sk.T)
             + 2 * dot(sk, h_in) * sp.eye(3)
             - sk * h_in.T
-            - h_in * sk.T
+            - h_in * sk.T,
+            rf"I^{{{k}}}",
         )
         # gravity: e^k · (h × g ê⁰₁)  (right side of (17)–(19))
-        Gv[k] = spec.g * (h[1] * kin.gamma[k][2] - h[2] * kin.gamma[k][1])
+        Gv[k] = P.let(f"G{k}", spec.g * (h[1] * kin.gamma[k][2] - h[2] * kin.gamma[k][1]), rf"G_{{{k}}}")
         Q[k], Gam[k] = N[0], Gm[0]
         m_c[k], h_c[k], I_c[k] = mc, h, I
-        Lam[k] = lam[k] + Lam_in
+        Lam[k] = P.vec(f"Lam{k}", lam[k] + Lam_in, rf"\Lambda^{{{k}}}")
         F_next, N_next, Gam_next, Lam_next = F, N, Gm, Lam[k]
         m_next, h_next, I_next = mc, h, I
 
@@ -112,13 +124,14 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
     # angular acceleration eʳ and accelerates Oᵏ by eʳ × d_rk, d_rk = Σ_{l=r}^{k-1} sˡ.
     M = sp.zeros(n, n)
     for r in range(1, n + 1):
-        u, d = E1, sp.zeros(3, 1)  # e^r and d_rk in frame k, starting at k = r
+        u, d = E1, zero  # e^r and d_rk in frame k, starting at k = r
         for k in range(r, n + 1):
             if k > r:
-                u = a[k] * u
-                d = a[k] * (d + s[k - 1])
-            M[k - 1, r - 1] = (I_c[k] * u + cross(h_c[k], cross(u, d)))[0]
-            M[r - 1, k - 1] = M[k - 1, r - 1]
+                u = P.vec(f"e{r}in{k}", a[k] * u, rf"e^{{{r}|{k}}}")
+                d = P.vec(f"d{r}in{k}", a[k] * (d + s[k - 1]), rf"d^{{{r}{k}}}")
+            M[k - 1, r - 1] = M[r - 1, k - 1] = P.let(
+                f"M{k}_{r}", (I_c[k] * u + cross(h_c[k], cross(u, d)))[0], rf"M_{{{k}{r}}}"
+            )
 
     L = tuple(kin.torque[k] if B[k].control else sp.Integer(0) for k in range(1, n + 1))
     return Dynamics(

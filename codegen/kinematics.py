@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from .program import Program
 from .spec import ChainSpec
 
 E1 = sp.Matrix([1, 0, 0])
@@ -33,10 +34,12 @@ def folded_trig(theta: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     return c, s
 
 
-def direction_cosines(theta: sp.Expr, phi: sp.Expr) -> sp.Matrix:
-    """αᵏ'ᵏ⁻¹ of eq. (15) (with the digest's sign −sin θ in α₁₃) = R₁(φ) R₂(θ)."""
+def direction_cosines(theta: sp.Expr, phi: sp.Expr, cp=None, sph=None) -> sp.Matrix:
+    """αᵏ'ᵏ⁻¹ of eq. (15) (with the digest's sign −sin θ in α₁₃) = R₁(φ) R₂(θ).
+    ``cp``, ``sph`` may name cos φ and sin φ."""
     ct, st = folded_trig(theta)
-    cp, sph = sp.cos(phi), sp.sin(phi)
+    cp = sp.cos(phi) if cp is None else cp
+    sph = sp.sin(phi) if sph is None else sph
     return sp.Matrix(
         [
             [ct, 0, -st],
@@ -48,6 +51,7 @@ def direction_cosines(theta: sp.Expr, phi: sp.Expr) -> sp.Matrix:
 
 @dataclass(frozen=True)
 class Kinematics:
+    prog: Program  # every quantity below is a value of this program
     n: int
     phi: list
     phidot: list
@@ -59,13 +63,16 @@ class Kinematics:
 
 def derive(spec: ChainSpec) -> Kinematics:
     n = spec.n
+    prog = Program()
     phi, phidot, torque = state_symbols(n)
     alpha = [None]
     gamma = [E1]
     omega = [sp.zeros(3, 1)]
     for k, body in enumerate(spec.bodies, start=1):
-        a = direction_cosines(body.theta, phi[k])
+        cp = prog.let(f"cos_phi{k}", sp.cos(phi[k]), rf"\mathrm{{c}}_{{{k}}}")
+        sph = prog.let(f"sin_phi{k}", sp.sin(phi[k]), rf"\mathrm{{s}}_{{{k}}}")
+        a = direction_cosines(body.theta, phi[k], cp, sph)
         alpha.append(a)
-        gamma.append(a * gamma[k - 1])
-        omega.append(a * omega[k - 1] + E1 * phidot[k])  # eq. (1) in frame k
-    return Kinematics(n, phi, phidot, torque, alpha, gamma, omega)
+        gamma.append(prog.vec(f"gam{k}", a * gamma[k - 1], rf"\gamma^{{{k}}}"))  # (α^k_{i1})_i, eq. (14)
+        omega.append(prog.vec(f"om{k}", a * omega[k - 1] + E1 * phidot[k], rf"\omega^{{{k}}}"))  # eq. (1)
+    return Kinematics(prog, n, phi, phidot, torque, alpha, gamma, omega)

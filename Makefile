@@ -1,0 +1,37 @@
+# make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
+# make test                           set up .venv and run the test suite
+SHELL := /bin/bash
+PY ?= python3
+VENV := .venv
+VPY := $(VENV)/bin/python
+SPEC ?= specs/gimbal.toml
+EXAMPLES := $(wildcard specs/*.toml)
+export PYTHONHASHSEED := 0
+
+.PHONY: all setup generate generate-all test pdf clean
+
+all: generate
+
+$(VENV)/.installed: pyproject.toml
+	$(PY) -m venv $(VENV)
+	$(VPY) -m pip install -q --upgrade pip
+	$(VPY) -m pip install -q -e '.[test]'
+	touch $@
+
+setup: $(VENV)/.installed
+
+generate: setup
+	$(VPY) -m codegen generate $(SPEC)
+
+generate-all: setup
+	@for s in $(EXAMPLES); do $(VPY) -m codegen generate -q $$s || exit 1; done
+
+test: setup
+	$(VPY) -m pytest -q
+
+pdf: generate
+	@name=$$($(VPY) -c "from codegen.spec import load_spec; print(load_spec('$(SPEC)').name)"); \
+	cd generated/$$name && pdflatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null && echo "generated/$$name/$$name.pdf"
+
+clean:
+	rm -rf $(VENV) .pytest_cache build *.egg-info

@@ -1,0 +1,146 @@
+"""cffi (API mode, out of line) build of an emitted model, and a numpy-friendly wrapper."""
+from __future__ import annotations
+
+import importlib.util
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra"]
+
+
+def module_name(name: str) -> str:
+    return f"_{name}_cffi"
+
+
+def compile_model(src_dir: str | Path, name: str, out_dir: str | Path | None = None, extra_cflags=()) -> Path:
+    """Build the extension from ``<name>.c``/``.h``/``.cdef`` in src_dir; returns the .so path
+    (placed in out_dir, default src_dir).  The cffi wrapper source stays in a temporary folder."""
+    import cffi
+
+    src_dir = Path(src_dir).resolve()
+    out_dir = Path(out_dir or src_dir).resolve()
+    ffi = cffi.FFI()
+    ffi.cdef((src_dir / f"{name}.cdef").read_text())
+    ffi.set_source(
+        module_name(name),
+        f'#include "{name}.h"',
+        sources=[str(src_dir / f"{name}.c")],
+        include_dirs=[str(src_dir)],
+        extra_compile_args=list(CFLAGS) + list(extra_cflags),
+        libraries=["m"],
+    )
+    with tempfile.TemporaryDirectory(prefix="codegen-build-") as tmp:
+        so = Path(ffi.compile(tmpdir=tmp, verbose=False))
+        target = out_dir / so.name
+        shutil.copy2(so, target)
+    return target
+
+
+def load_module(so_path: str | Path):
+    so_path = Path(so_path)
+    modname = so_path.name.split(".")[0]
+    # an extension module must be loaded under its own name (PyInit_<name>); the path tells
+    # apart two builds of the same model
+    spec = importlib.util.spec_from_file_location(modname, so_path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+class ModelError(ArithmeticError):
+    def __init__(self, func: str, code: int):
+        names = {1: "SINGULAR (M is not positive definite)", 2: "NONFINITE", 3: "NO_PARAMS"}
+        super().__init__(f"{func} returned {code}: {names.get(code, 'unknown code')}")
+        self.code = code
+
+
+class CModel:
+    """The compiled C model called through cffi, with numpy arrays in and out."""
+
+    def __init__(self, so_path: str | Path, name: str):
+        self.mod = load_module(so_path)
+        self.ffi, self.lib = self.mod.ffi, self.mod.lib
+        self.name = name
+        self.n = getattr(self.lib, f"{name.upper()}_N")
+        self.nu = getattr(self.lib, f"{name.upper()}_NU")
+        self.has_momentum = hasattr(self.lib, f"{name}_momentum")
+
+    def _fn(self, what):
+        return getattr(self.lib, f"{self.name}_{what}")
+
+    def _p(self, params):
+        if params is None:
+            return self.ffi.NULL
+        p = self.ffi.new(f"{self.name}_params *")
+        for k, v in params.items():
+            setattr(p, k, float(v))
+        return p
+
+    def _arr(self, v, n):
+        v = np.ascontiguousarray(v, dtype=float)
+        assert v.shape == (n,), (v.shape, n)
+        return self.ffi.cast("double *", self.ffi.from_buffer(v)), v
+
+    def _u(self, u):
+        if u is None:
+            return self.ffi.NULL, None
+        return self._arr(u, self.nu)
+
+    def _call(self, what, *args, out_len):
+        out = np.empty(out_len)
+        code = self._fn(what)(*args, self.ffi.cast("double *", self.ffi.from_buffer(out)))
+        if code != 0:
+            raise ModelError(f"{self.name}_{what}", code)
+        return out
+
+    def mass_matrix(self, q, params=None):
+        qp, _k = self._arr(q, self.n)
+        return self._call("mass_matrix", qp, self._p(params), out_len=self.n * self.n).reshape(self.n, self.n)
+
+    def forces(self, x, u=None, params=None):
+        xp, _k = self._arr(x, 2 * self.n)
+        up, _ku = self._u(u)
+        return self._call("forces", xp, up, self._p(params), out_len=self.n)
+
+    def qdd(self, x, u=None, params=None):
+        xp, _k = self._arr(x, 2 * self.n)
+        up, _ku = self._u(u)
+        return self._call("qdd", xp, up, self._p(params), out_len=self.n)
+
+    def rhs(self, t, x, u=None, params=None):
+        xp, _k = self._arr(x, 2 * self.n)
+        up, _ku = self._u(u)
+        return self._call("rhs", float(t), xp, up, self._p(params), out_len=2 * self.n)
+
+    def energy(self, x, params=None):
+        xp, _k = self._arr(x, 2 * self.n)
+        return self._fn("energy")(xp, self._p(params))
+
+    def momentum(self, x, params=None):
+        xp, _k = self._arr(x, 2 * self.n)
+        return self._fn("momentum")(xp, self._p(params))
+
+
+def load(directory: str | Path, name: str | None = None) -> CModel:
+    """The compiled model in a generated folder (built there if missing)."""
+    directory = Path(directory)
+    name = name or directory.name
+    found = sorted(directory.glob(f"{module_name(name)}.*.so")) + sorted(directory.glob(f"{module_name(name)}.so"))
+    so = found[0] if found else compile_model(directory, name)
+    return CModel(so, name)
+
+
+def load_python(directory: str | Path, name: str | None = None):
+    """The generated pure-Python module of a generated folder."""
+    directory = Path(directory)
+    name = name or directory.name
+    path = directory / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(f"generated_{name}_{abs(hash(str(path)))}", path)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    return mod

@@ -1,0 +1,191 @@
+"""Command line: ``python -m codegen {generate,check,simulate} SPEC``.
+
+Only this module touches the disk.  A bad spec gets one line on stderr naming the field, exit
+status 2, and nothing written: outputs go to a temporary folder beside the target and replace it
+in one rename at the end.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from .spec import SpecError, load_spec
+
+EXIT_BAD_INPUT = 2
+
+
+class _Progress:
+    def __init__(self, quiet: bool):
+        self.t0 = time.perf_counter()
+        self.quiet = quiet
+
+    def __call__(self, msg: str) -> None:
+        if not self.quiet:
+            print(f"  [{time.perf_counter() - self.t0:6.2f} s] {msg}", file=sys.stderr, flush=True)
+
+
+def derive_and_render(spec, spec_label: str, progress=None) -> tuple[dict[str, str], object]:
+    from . import dynamics, emit, integrals, kinematics
+
+    say = progress or (lambda msg: None)
+    say(f"kinematics: direction cosines and angular velocities of {spec.n} bodies")
+    kin = kinematics.derive(spec)
+    say("dynamics: mass matrix and forces (recursions over the sub-chains p >= k)")
+    dyn = dynamics.derive(spec, kin)
+    say("integrals: energy" + (" and momentum" if spec.bodies[0].theta == 0 else ""))
+    ints = integrals.derive(spec, kin, dyn)
+    model = emit.build_model(spec, kin, dyn, ints, progress=say)
+    say("printing C, Python and LaTeX")
+    return emit.render(model, spec_label), model
+
+
+def _is_ours(directory: Path) -> bool:
+    """A folder we may replace: missing, empty, or written by codegen (it has our MANIFEST.json)."""
+    if not directory.exists():
+        return True
+    if not directory.is_dir():
+        return False
+    entries = list(directory.iterdir())
+    if not entries:
+        return True
+    manifest = directory / "MANIFEST.json"
+    try:
+        return "spec_sha256" in json.loads(manifest.read_text())
+    except (OSError, ValueError):
+        return False
+
+
+def write_tree(files: dict[str, str], target: Path, build: bool, name: str) -> None:
+    """Write every file into a fresh temporary folder, build there, then swap it in."""
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+    try:
+        for rel, text in sorted(files.items()):
+            with open(tmp / rel, "w", encoding="utf-8", newline="\n") as fh:
+                fh.write(text)
+        if build:
+            from .build import compile_model
+
+            compile_model(tmp, name)
+        old = None
+        if target.exists():
+            old = target.parent / f".{target.name}.old-{os.getpid()}"
+            target.rename(old)
+        tmp.rename(target)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+
+
+def cmd_generate(args) -> int:
+    t0 = time.perf_counter()
+    spec = load_spec(args.spec)
+    target = Path(args.output) if args.output else Path("generated") / spec.name
+    if not _is_ours(target) and not args.force:
+        raise SpecError(
+            "-o", f"{target} exists and was not written by codegen; choose another folder or pass --force"
+        )
+    label = Path(args.spec).name
+    progress = _Progress(args.quiet)
+    print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
+    files, model = derive_and_render(spec, label, progress)
+    if not args.no_build:
+        progress("compiling the cffi extension")
+    write_tree(files, target, build=not args.no_build, name=spec.name)
+    from .emit import op_counts
+
+    counts = op_counts(model)
+    ints = model.integrals
+    print(f"{spec.name}: n = {spec.n}, {len(spec.params)} symbolic parameters, {len(spec.controls)} control torques")
+    print("op counts: " + ", ".join(f"{spec.name}_{k} {v}" for k, v in counts.items()))
+    found = ["energy T - U (23)" + ("" if ints.has_energy_integral else " [not conserved: control torques act]")]
+    if ints.momentum is not None:
+        found.append("momentum (27)" + ("" if ints.has_momentum_integral else " [not conserved: torque on joint 1]"))
+    print("integrals: " + "; ".join(found))
+    print(f"wrote {target}/: " + ", ".join(sorted(files)) + ("" if args.no_build else " + cffi extension"))
+    print(f"done in {time.perf_counter() - t0:.2f} s")
+    return 0
+
+
+def cmd_check(args) -> int:
+    spec = load_spec(args.spec)
+    params = ", ".join(str(p) for p in spec.params) or "none"
+    print(f"{args.spec}: ok ({spec.name}, n = {spec.n}, symbolic parameters: {params})")
+    return 0
+
+
+def _floats(text: str, what: str, count: int) -> list[float]:
+    try:
+        vals = [float(v) for v in text.split(",")] if text else [0.0] * count
+    except ValueError:
+        raise SpecError(what, f"expected {count} comma-separated numbers") from None
+    if len(vals) != count:
+        raise SpecError(what, f"expected {count} comma-separated numbers, got {len(vals)}")
+    return vals
+
+
+def cmd_simulate(args) -> int:
+    """Integrate a spec with the independent reference model; CSV on stdout."""
+    import numpy as np
+
+    from . import reference
+
+    spec = load_spec(args.spec)
+    params = {}
+    for item in args.param or []:
+        key, _, val = item.partition("=")
+        try:
+            params[key] = float(val)
+        except ValueError:
+            raise SpecError(f"--param {key}", "expected name=number") from None
+    try:
+        ch = reference.numeric(spec, params)
+    except ValueError as exc:
+        raise SpecError("--param", str(exc)) from None
+    n = spec.n
+    init = spec.initial or {}
+    phi = _floats(args.phi, "--phi", n) if args.phi else list(init.get("phi", [0.0] * n))
+    phidot = _floats(args.phidot, "--phidot", n) if args.phidot else list(init.get("phidot", [0.0] * n))
+    u = _floats(args.u, "--u", len(spec.controls)) if spec.controls else None
+    t = np.linspace(0.0, args.t1, args.steps + 1)
+    X = reference.simulate(ch, phi + phidot, t, u=u)
+    cols = [f"phi{k}" for k in range(1, n + 1)] + [f"phidot{k}" for k in range(1, n + 1)]
+    print(",".join(["t", *cols, "energy"]))
+    for ti, xi in zip(t, X):
+        print(",".join(f"{v:.17g}" for v in [ti, *xi, reference.energy(ch, xi)]))
+    return 0
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m codegen", description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    g = sub.add_parser("generate", help="derive and emit C, Python and LaTeX for a spec")
+    g.add_argument("spec")
+    g.add_argument("-o", "--output", help="output folder (default generated/<name>)")
+    g.add_argument("--no-build", action="store_true", help="do not compile the cffi extension")
+    g.add_argument("--force", action="store_true", help="replace an output folder codegen did not write")
+    g.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+    c = sub.add_parser("check", help="validate a spec without generating")
+    c.add_argument("spec")
+    s = sub.add_parser("simulate", help="integrate a spec with the reference model (CSV to stdout)")
+    s.add_argument("spec")
+    s.add_argument("--t1", type=float, default=1.0)
+    s.add_argument("--steps", type=int, default=100)
+    s.add_argument("--phi", default="")
+    s.add_argument("--phidot", default="")
+    s.add_argument("--u", default="", help="constant torques of the controlled joints")
+    s.add_argument("--param", action="append", help="name=value for a symbolic parameter")
+    args = ap.parse_args(argv)
+    try:
+        return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate}[args.cmd](args)
+    except SpecError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT

@@ -1,0 +1,458 @@
+"""Printers and templates: a derived model → {file name: text}.  Writes nothing.
+
+Python makes every decision here; the jinja2 templates in ``templates/`` only lay out strings
+that are already printed and loop over them.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import jinja2
+import sympy as sp
+from sympy.printing.c import C99CodePrinter
+from sympy.printing.latex import LatexPrinter
+from sympy.printing.pycode import PythonCodePrinter
+
+from . import __version__
+from .dynamics import Dynamics
+from .integrals import Integrals
+from .kinematics import Kinematics
+from .simplify import StraightLine, fold_numbers, straight_line
+from .spec import ChainSpec
+
+TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
+
+
+# --------------------------------------------------------------------------- printers
+def _literal(value) -> str:
+    """A double literal that round-trips: the shortest repr of the nearest double."""
+    text = repr(float(value))
+    return text if any(ch in text for ch in ".en") else text + ".0"
+
+
+class _NumbersAsDoubles:
+    def parenthesize(self, item, level, strict=False):
+        # a rational prints as one double literal: it needs no parentheses of a quotient
+        if getattr(item, "is_Number", False) and item >= 0:
+            return self._print(item)
+        return super().parenthesize(item, level, strict)
+
+    def _print_Float(self, expr):
+        return _literal(expr)
+
+    def _print_Rational(self, expr):
+        return _literal(expr)
+
+    def _print_Integer(self, expr):
+        return _literal(expr)
+
+    def _print_Symbol(self, expr):
+        return self.names[expr] if expr in self.names else super()._print_Symbol(expr)
+
+    def _pow(self, expr, sqrt: str, inverse: str):
+        base, e = expr.base, expr.exp
+        b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"] + 1)
+        if e == 2:
+            return f"{b}*{b}"
+        if e == 3:
+            return f"{b}*{b}*{b}"
+        if e == -1:
+            return f"{inverse}/{b}"
+        if e == -2:
+            return f"{inverse}/({b}*{b})"
+        if e == sp.Rational(1, 2):
+            return f"{sqrt}({self._print(base)})"
+        return None
+
+
+class CPrinter(_NumbersAsDoubles, C99CodePrinter):
+    """C99 with the model's names: q[i], x[i], p->name; small integer powers multiplied out."""
+
+    def __init__(self, names: dict):
+        super().__init__()
+        self.names = names
+
+    def _print_Pow(self, expr):
+        return self._pow(expr, "sqrt", "1.0") or super()._print_Pow(expr)
+
+
+class PyPrinter(_NumbersAsDoubles, PythonCodePrinter):
+    def __init__(self, names: dict):
+        super().__init__({"fully_qualified_modules": True})
+        self.names = names
+
+    def _print_Pow(self, expr, rational=False):
+        return self._pow(expr, "math.sqrt", "1.0") or super()._print_Pow(expr, rational)
+
+
+# --------------------------------------------------------------------------- prepared data
+@dataclass(frozen=True)
+class Function:
+    """One emitted function: temporaries and output assignments, already printed."""
+
+    name: str
+    temporaries: tuple[tuple[str, str], ...]
+    outputs: tuple[tuple[str, str], ...]
+    op_count: int
+
+
+def _function(name: str, line: StraightLine, targets: list[str], printer, extra_ops: int = 0) -> Function:
+    temps = tuple((str(lhs), printer.doprint(rhs)) for lhs, rhs in line.temporaries)
+    outs = tuple((t, printer.doprint(e)) for t, e in zip(targets, line.outputs))
+    return Function(name, temps, outs, line.op_count() + extra_ops)
+
+
+def ldlt_op_count(n: int) -> int:
+    """Floating-point operations of the emitted LDLᵀ factorization and solve (exact for the loop)."""
+    factor = sum(j + 2 * j + (n - 1 - j) * (2 * j + 1) for j in range(n))
+    solve = sum(2 * j for j in range(n)) + n + sum(2 * (n - 1 - j) for j in range(n))
+    return factor + solve
+
+
+@dataclass(frozen=True)
+class Model:
+    """Everything the generator derived for one spec: inputs of all printers."""
+
+    spec: ChainSpec
+    kin: Kinematics
+    dyn: Dynamics
+    integrals: Integrals
+    lines: dict  # name → StraightLine (mass_matrix, forces, qdd, energy, momentum)
+
+
+def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None) -> Model:
+    n = spec.n
+    say = progress or (lambda msg: None)
+    lower = [dyn.M[i, j] for i in range(n) for j in range(i + 1)]
+    lines = {}
+    say("common subexpressions: mass matrix")
+    P = kin.prog
+    lines["mass_matrix"] = straight_line(P, lower)
+    say("common subexpressions: forces")
+    lines["forces"] = straight_line(P, dyn.f)
+    say("common subexpressions: M and f together (qdd)")
+    lines["qdd"] = straight_line(P, lower + list(dyn.f))
+    say("common subexpressions: integrals")
+    lines["energy"] = straight_line(P, [ints.energy])
+    if ints.momentum is not None:
+        lines["momentum"] = straight_line(P, [ints.momentum])
+    return Model(spec, kin, dyn, ints, lines)
+
+
+def _names(model: Model, style: str) -> dict:
+    """How each symbol is spelled in C ('c') or Python ('py')."""
+    spec, kin = model.spec, model.kin
+    n = spec.n
+    names = {}
+    for k in range(1, n + 1):
+        names[kin.phi[k]] = f"x[{k - 1}]"
+        names[kin.phidot[k]] = f"x[{n + k - 1}]"
+        names[kin.torque[k]] = f"tau_{k}"
+    for prm in spec.params:
+        names[prm] = f"p->{prm}" if style == "c" else f"p_{prm}"
+    return names
+
+
+def _with_q(names: dict, kin: Kinematics) -> dict:
+    out = dict(names)
+    for k in range(1, kin.n + 1):
+        out[kin.phi[k]] = f"q[{k - 1}]"
+    return out
+
+
+def op_counts(model: Model) -> dict[str, int]:
+    """Op count of each emitted function (sympy count_ops of the straight-line code; the qdd and
+    rhs counts include the LDLᵀ solve)."""
+    n = model.spec.n
+    counts = {name: line.op_count() for name, line in model.lines.items()}
+    counts["qdd"] += ldlt_op_count(n)
+    counts["rhs"] = counts["qdd"]
+    return counts
+
+
+def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
+    spec = model.spec
+    n = spec.n
+    names = _names(model, style)
+    pr = printer_cls(names)
+    prq = printer_cls(_with_q(names, model.kin))
+    lower = [f"M[{i * n + j}]" for i in range(n) for j in range(i + 1)]
+    if style == "py":
+        lower = [f"M[{i}, {j}]" for i in range(n) for j in range(i + 1)]
+    fs = {
+        "mass_matrix": _function("mass_matrix", model.lines["mass_matrix"], lower, prq),
+        "forces": _function("forces", model.lines["forces"], [f"f[{k}]" for k in range(n)], pr),
+        "qdd": _function(
+            "qdd", model.lines["qdd"], lower + [f"f[{k}]" for k in range(n)], pr, ldlt_op_count(n)
+        ),
+        "energy": _function("energy", model.lines["energy"], ["result"], pr),
+    }
+    if "momentum" in model.lines:
+        fs["momentum"] = _function("momentum", model.lines["momentum"], ["result"], pr)
+    return fs
+
+
+# --------------------------------------------------------------------------- LaTeX
+def _latex_names(model: Model) -> dict:
+    kin = model.kin
+    names = {}
+    for sym, _ in kin.prog.defs:
+        names[sym] = kin.prog.tex.get(sym) or r"\mathrm{" + _tex_escape(sym.name) + "}"
+    for k in range(1, kin.n + 1):
+        names[_abbrev(sp.cos, kin.phi[k])] = rf"\mathrm{{c}}_{{{k}}}"
+        names[_abbrev(sp.sin, kin.phi[k])] = rf"\mathrm{{s}}_{{{k}}}"
+        names[kin.phi[k]] = rf"\varphi^{{{k}}}"
+        names[kin.phidot[k]] = rf"\dot\varphi^{{{k}}}"
+        names[kin.torque[k]] = rf"L^{{{k}}}"
+    return names
+
+
+class TexPrinter(LatexPrinter):
+    def __init__(self, names):
+        super().__init__({"symbol_names": names, "full_prec": False, "mul_symbol": None})
+
+
+def _display(expr: sp.Expr) -> sp.Expr:
+    """Numbers to 10 significant digits for reading (the C and Python carry full precision)."""
+    expr = fold_numbers(expr)
+    reps = {a: sp.Float(a, 10) for a in expr.atoms(sp.Rational, sp.Float) if not a.is_Integer}
+    return expr.xreplace(reps)
+
+
+MAX_LATEX_TERMS = 400
+CLOSED_FORM_MAX_N = 3  # above this the LaTeX shows the recursion instead of expanded closed forms
+ROUNDOFF = 1e-24  # relative size of a coefficient that is round-off of the 30-digit folding
+
+
+def _drop_roundoff(terms):
+    """Terms whose number is ~1e-34 are what is left of exact cancellations (sin²θ + cos²θ − 1)
+    after cos θ, sin θ were folded to 30 digits; they are not shown."""
+    def size(t):
+        coeff = t.as_coeff_Mul()[0]
+        return abs(float(coeff)) if coeff.is_Float else None
+
+    sizes = [size(t) for t in terms]
+    big = max((x for x in sizes if x is not None), default=0.0)
+    return [t for t, x in zip(terms, sizes) if x is None or x > ROUNDOFF * big]
+
+
+def _abbrev(f, phi: sp.Symbol) -> sp.Symbol:
+    """The LaTeX abbreviation c_k = cos φᵏ, s_k = sin φᵏ."""
+    return sp.Symbol(f"{f.__name__}_{phi.name}", real=True)
+
+
+def _abbreviate(expr: sp.Expr) -> sp.Expr:
+    reps = {a: _abbrev(type(a), a.args[0]) for a in expr.atoms(sp.sin, sp.cos) if a.args[0].is_Symbol}
+    return expr.xreplace(reps)
+
+
+def _tex_lines(expr: sp.Expr, pr: TexPrinter, width: int = 260, expand: bool = True) -> list[str]:
+    """A sum (expanded unless told not to), printed term by term and broken into lines."""
+    expr = _display(sp.expand(_abbreviate(expr)) if expand else expr)
+    if expr == 0:
+        return ["0"]
+    terms = _drop_roundoff(sp.Add.make_args(expr))
+    if len(terms) > MAX_LATEX_TERMS:
+        return [rf"\text{{({len(terms)} terms when expanded; not shown)}}"]
+    lines, cur = [], ""
+    for term in sorted(terms, key=sp.default_sort_key):
+        t = pr.doprint(term)
+        piece = t if not cur else (f" {t}" if t.startswith("-") else f" + {t}")
+        if cur and len(cur) + len(piece) > width:
+            lines.append(cur)
+            piece = t if t.startswith("-") else f"+ {t}"
+            cur = piece
+        else:
+            cur += piece
+    lines.append(cur)
+    return lines
+
+
+def _grouped(expr: sp.Expr, gens: list, pr: TexPrinter) -> list[str]:
+    """Collect an expression by monomials of φ̇ (the paper's coefficient · φ̇ʰφ̇ʳ layout)."""
+    expr = sp.expand(_abbreviate(fold_numbers(expr)))
+    groups: dict = {}
+    for term in sp.Add.make_args(expr):
+        coeff, mono = term.as_independent(*gens, as_Add=False)
+        groups[mono] = groups.get(mono, 0) + coeff
+    out = []
+    for mono in sorted(groups, key=lambda m: (sp.Poly(m, *gens).monoms()[0][::-1] if m != 1 else ())):
+        body = _tex_lines(groups[mono], pr, 220)
+        if body == ["0"]:
+            continue
+        factor = "" if mono == 1 else pr.doprint(mono)
+        if len(body) == 1:
+            out.append(rf"\left({body[0]}\right){factor}" if factor else body[0])
+        else:
+            out.append(r"\Big(" + body[0])
+            out.extend(body[1:-1])
+            out.append(body[-1] + rf"\Big){factor}")
+    return out or ["0"]
+
+
+@dataclass(frozen=True)
+class TexEquation:
+    lhs: str
+    lines: tuple[str, ...]
+
+
+def _tex(model: Model) -> dict:
+    spec, kin, dyn, ints = model.spec, model.kin, model.dyn, model.integrals
+    n = spec.n
+    pr = TexPrinter(_latex_names(model))
+    phidots = kin.phidot[1:]
+
+    def mat(m):
+        m = m.tolist() if isinstance(m, sp.MatrixBase) else m
+        rows = [" & ".join(pr.doprint(_display(sp.sympify(x))) for x in row) for row in m]
+        return r"\begin{pmatrix}" + r" \\ ".join(rows) + r"\end{pmatrix}"
+
+    def vec(v):
+        return r"\begin{pmatrix}" + r" \\ ".join(pr.doprint(_display(x)) for x in v) + r"\end{pmatrix}"
+
+    bodies = []
+    for k, b in enumerate(spec.bodies, start=1):
+        bodies.append(
+            dict(
+                k=k,
+                theta=pr.doprint(b.theta),
+                m=pr.doprint(_display(b.m)),
+                c=vec(b.c),
+                s=vec(b.s) if k < n else "--",
+                lam=vec(b.lam),
+                A=mat(b.A),
+                control="yes" if b.control else "no",
+                alpha=mat(kin.alpha[k]),
+            )
+        )
+    targets = [dyn.M[k, r] for k in range(n) for r in range(k, n)]
+    targets += list(dyn.Q) + list(dyn.Gamma) + list(dyn.G) + [ints.U]
+    if ints.momentum is not None:
+        targets.append(ints.momentum)
+    closed = n <= CLOSED_FORM_MAX_N
+    recursion = []
+    if closed:
+        values = iter(kin.prog.inline(targets))
+        lines, grouped = (lambda e: _tex_lines(e, pr)), (lambda e: _grouped(e, phidots, pr))
+    else:
+        values = iter(targets)
+        lines = grouped = (lambda e: _tex_lines(e, pr, expand=False))
+        for sym, rhs in kin.prog.needed(targets):
+            recursion.append(TexEquation(pr.doprint(sym), tuple(_tex_lines(rhs, pr, expand=False))))
+    M = [TexEquation(f"M_{{{k + 1}{r + 1}}}", tuple(lines(next(values)))) for k in range(n) for r in range(k, n)]
+    Q = [TexEquation(f"Q_{{{k + 1}}}", tuple(grouped(next(values)))) for k in range(n)]
+    Gam = [TexEquation(rf"\Gamma_{{{k + 1}}}", tuple(grouped(next(values)))) for k in range(n)]
+    G = [TexEquation(f"G_{{{k + 1}}}", tuple(lines(next(values)))) for k in range(n)]
+    U = TexEquation("U", tuple(lines(next(values))))
+    K = TexEquation("k", tuple(grouped(next(values)))) if ints.momentum is not None else None
+    return dict(
+        bodies=bodies,
+        g=pr.doprint(_display(spec.g)),
+        params=", ".join(f"${pr.doprint(p)}$" for p in spec.params),
+        M=M,
+        Q=Q,
+        Gamma=Gam,
+        G=G,
+        U=U,
+        K=K,
+        closed=closed,
+        recursion=recursion,
+        controls=", ".join(f"$L^{{{k}}}$" for k in spec.controls),
+    )
+
+
+# --------------------------------------------------------------------------- render
+def _env() -> jinja2.Environment:
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(TEMPLATES)),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+    )
+
+
+def _tex_escape(text: str) -> str:
+    out = []
+    for ch in text:
+        if ch in "\\":
+            out.append(r"\textbackslash{}")
+        elif ch in "&%$#_{}":
+            out.append("\\" + ch)
+        elif ch == "~":
+            out.append(r"\textasciitilde{}")
+        elif ch == "^":
+            out.append(r"\textasciicircum{}")
+        elif ord(ch) < 128:
+            out.append(ch)
+        else:
+            out.append("?")  # pdflatex without inputenc extras: keep the document compiling
+    return "".join(out)
+
+
+def _c_comment(text: str) -> str:
+    return text.replace("*/", "* /").replace("/*", "/ *")
+
+
+def render(model: Model, spec_label: str) -> dict[str, str]:
+    """All emitted files of one model, by file name."""
+    spec = model.spec
+    name, n = spec.name, spec.n
+    upper = name.upper()
+    counts = op_counts(model)
+    cfun = _functions(model, CPrinter, "c")
+    pyfun = _functions(model, PyPrinter, "py")
+    controls = [(i, k) for i, k in enumerate(spec.controls)]
+    ctx = dict(
+        name=name,
+        NAME=upper,
+        n=n,
+        nn=n * n,
+        spec_label=_c_comment(spec_label),
+        description=_c_comment(" ".join(spec.description.split())),
+        params=[str(p) for p in spec.params],
+        controls=controls,
+        has_params=bool(spec.params),
+        has_controls=bool(spec.controls),
+        has_momentum="momentum" in cfun,
+        has_energy_integral=int(model.integrals.has_energy_integral),
+        has_momentum_integral=int(model.integrals.has_momentum_integral),
+        fn=cfun,
+        py=pyfun,
+        counts=counts,
+        codegen_version=__version__,
+        sympy_version=sp.__version__,
+    )
+    env = _env()
+    decls = env.get_template("_decls.jinja").render(ctx)
+    ctx["decls"] = decls
+    files = {
+        f"{name}.h": env.get_template("model.h.jinja").render(ctx),
+        f"{name}.c": env.get_template("model.c.jinja").render(ctx),
+        f"{name}.cdef": env.get_template("model.cdef.jinja").render(ctx),
+        f"{name}.py": env.get_template("model.py.jinja").render(ctx),
+    }
+    tex = _tex(model)
+    tex.update(
+        name_tex=_tex_escape(name),
+        description_tex=_tex_escape(" ".join(spec.description.split())),
+        spec_label_tex=_tex_escape(spec_label),
+        counts_tex=[(_tex_escape(k), v) for k, v in sorted(counts.items())],
+        has_momentum=tex["K"] is not None,
+        n=n,
+    )
+    files[f"{name}.tex"] = env.get_template("model.tex.jinja").render(tex)
+    manifest = dict(
+        spec=spec_label,
+        spec_sha256=hashlib.sha256(spec.source.encode("utf-8")).hexdigest(),
+        codegen=__version__,
+        sympy=sp.__version__,
+        op_counts=counts,
+        files={k: hashlib.sha256(v.encode("utf-8")).hexdigest() for k, v in sorted(files.items())},
+    )
+    files["MANIFEST.json"] = json.dumps(manifest, indent=2, sort_keys=True) + "\n"
+    return files
