@@ -1,0 +1,78 @@
+"""Shared fixtures: generate a spec into a temporary folder once per session, build it with
+cffi, and hand back the spec, the generated Python module and the compiled C model."""
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from codegen import build, reference  # noqa: E402
+from codegen.cli import derive_and_render, write_tree  # noqa: E402
+from codegen.spec import ChainSpec, load_spec, parse_spec  # noqa: E402
+
+EXAMPLES = sorted(p.stem for p in (ROOT / "specs").glob("*.toml"))
+
+# values for the symbolic parameters of specs/furuta_sym.toml (a physical Furuta pendulum)
+FURUTA_SYM_PARAMS = dict(g0=9.81, m1=0.3, r=0.2, J1=0.004, J1z=0.0002, m2=0.1, l=0.15, J2=0.00075, J2z=1e-5)
+
+
+def example_params(name: str) -> dict | None:
+    return FURUTA_SYM_PARAMS if name == "furuta_sym" else None
+
+
+@dataclass
+class Generated:
+    spec: ChainSpec
+    py: object  # the generated Python module
+    c: build.CModel  # the compiled C through cffi
+    ref: reference.NumericChain
+    params: dict | None
+    folder: Path
+
+
+_cache: dict = {}
+
+
+def generate(spec: ChainSpec, folder: Path, params=None) -> Generated:
+    key = (spec.source, str(params))
+    if key not in _cache:
+        files, _model = derive_and_render(spec, f"{spec.name}.toml")
+        target = folder / spec.name
+        write_tree(files, target, build=True, name=spec.name)
+        _cache[key] = Generated(
+            spec, build.load_python(target), build.load(target), reference.numeric(spec, params), params, target
+        )
+    return _cache[key]
+
+
+@pytest.fixture(scope="session")
+def gen_dir(tmp_path_factory):
+    return tmp_path_factory.mktemp("generated")
+
+
+@pytest.fixture(scope="session")
+def make_model(gen_dir):
+    def make(spec_or_text, params=None) -> Generated:
+        spec = parse_spec(spec_or_text) if isinstance(spec_or_text, str) else spec_or_text
+        return generate(spec, gen_dir, params)
+
+    return make
+
+
+@pytest.fixture(scope="session")
+def example(make_model):
+    def get(name: str) -> Generated:
+        return make_model(load_spec(ROOT / "specs" / f"{name}.toml"), example_params(name))
+
+    return get
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261122)

@@ -1,0 +1,136 @@
+"""Bad input: one line on stderr naming the field, exit status 2, nothing written."""
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT
+
+GOOD = (ROOT / "specs" / "furuta.toml").read_text()
+BODY2 = """
+[[body]]
+theta = "pi/2"
+m = 0.1
+c = [0.0, 0.0, 0.15]
+A = [[0.003, 0.0, 0.0], [0.0, 0.003, 0.0], [0.0, 0.0, 0.00001]]
+"""
+
+
+def spec(body1: str = "", top: str = 'name = "bad"\ng = 9.81\n', body2: str = BODY2) -> str:
+    b1 = body1 or """theta = 0.0
+m = 0.3
+c = [0.0, 0.0, -0.1]
+A = [[0.0042, 0.0, 0.0], [0.0, 0.0041, 0.0], [0.0, 0.0, 0.0002]]
+s = [0.0, 0.0, -0.2]
+"""
+    return top + "\n[[body]]\n" + b1 + body2
+
+
+def replace_body1(line_key: str, new_line: str) -> str:
+    b1 = """theta = 0.0
+m = 0.3
+c = [0.0, 0.0, -0.1]
+A = [[0.0042, 0.0, 0.0], [0.0, 0.0041, 0.0], [0.0, 0.0, 0.0002]]
+s = [0.0, 0.0, -0.2]
+"""
+    lines = [new_line if ln.startswith(line_key + " ") else ln for ln in b1.splitlines()]
+    if not any(ln.startswith(line_key + " ") for ln in b1.splitlines()):
+        lines.append(new_line)
+    return spec("\n".join(l for l in lines if l) + "\n")
+
+
+CASES = [
+    # (id, spec text, field named in the message, words in the message)
+    ("missing-top", 'g = 9.81\n[[body]]\ntheta = 0\nm = 1\nc = [0,0,0]\nA = [[1,0,0],[0,1,0],[0,0,1]]\n', "name", "missing"),
+    ("missing-body-field", replace_body1("m", ""), "body[1].m", "missing"),
+    ("missing-s", replace_body1("s", ""), "body[1].s", "missing"),
+    ("unknown-top", spec(top='name = "bad"\ng = 9.81\ncolour = "red"\n'), "colour", "unknown field"),
+    ("unknown-body", replace_body1("mass", "mass = 2.0"), "body[1].mass", "unknown field"),
+    ("s-on-last", spec(body2=BODY2 + "s = [0.0, 0.0, 1.0]\n"), "body[2].s", "last body"),
+    ("vector-shape", replace_body1("c", "c = [0.0, 0.1]"), "body[1].c", "3 entries"),
+    ("matrix-shape", replace_body1("A", "A = [[0.004, 0.0], [0.0, 0.004]]"), "body[1].A", "3×3"),
+    ("non-numeric", replace_body1("m", "m = true"), "body[1].m", "boolean"),
+    ("non-numeric-list", replace_body1("c", 'c = [0.0, [1.0], 0.0]'), "body[1].c[2]", "expected a number"),
+    ("nan", replace_body1("m", "m = nan"), "body[1].m", "not a finite"),
+    ("inf", replace_body1("c", "c = [0.0, inf, 0.0]"), "body[1].c[2]", "not a finite"),
+    ("mass-zero", replace_body1("m", "m = 0.0"), "body[1].m", "positive"),
+    ("mass-negative", replace_body1("m", "m = -1.0"), "body[1].m", "positive"),
+    ("A-asymmetric", replace_body1("A", "A = [[0.0042, 0.001, 0.0], [0.0, 0.0041, 0.0], [0.0, 0.0, 0.0002]]"), "body[1].A", "not symmetric"),
+    ("A-not-pd", replace_body1("A", "A = [[0.0042, 0.0, 0.0], [0.0, 0.0041, 0.0], [0.0, 0.0, -0.0002]]"), "body[1].A", "positive definite"),
+    ("A-below-parallel-axis", replace_body1("A", "A = [[0.001, 0.0, 0.0], [0.0, 0.001, 0.0], [0.0, 0.0, 0.0002]]"), "body[1].A", "positive definite"),
+    ("A-triangle", replace_body1("A", "A = [[0.0042, 0.0, 0.0], [0.0, 0.0033, 0.0], [0.0, 0.0, 0.0002]]"), "body[1].A", "triangle"),
+    ("name-not-identifier", spec(top='name = "my-pendulum"\ng = 9.81\n'), "name", "not a C identifier"),
+    ("name-keyword", spec(top='name = "double"\ng = 9.81\n'), "name", "keyword"),
+    ("param-not-identifier", replace_body1("m", 'm = "μ1"'), "body[1].m", "not an identifier"),
+    ("param-keyword", replace_body1("m", 'm = "int"'), "body[1].m", "keyword"),
+    ("param-collides-state", replace_body1("m", 'm = "phi_1"'), "body[1].m", "collides"),
+    ("param-collides-arg", replace_body1("m", 'm = "x"'), "body[1].m", "collides"),
+    ("param-collides-temp", replace_body1("m", 'm = "w3"'), "body[1].m", "collides"),
+    ("expr-syntax", replace_body1("m", 'm = "2*(l"'), "body[1].m", "does not parse"),
+    ("expr-caret", replace_body1("m", 'm = "l^2"'), "body[1].m", "'**'"),
+    ("expr-call", replace_body1("m", 'm = "__import__(1)"'), "body[1].m", "may be called"),
+    ("expr-attribute", replace_body1("m", 'm = "l.real"'), "body[1].m", "not allowed"),
+    ("expr-huge-power", replace_body1("m", 'm = "10**10**10"'), "body[1].m", "exponent"),
+    ("expr-div-zero", replace_body1("m", 'm = "1/0"'), "body[1].m", "division by zero"),
+    ("n-zero", 'name = "bad"\ng = 9.81\nbody = []\n', "body", "n = 0"),
+    ("not-toml", 'name = "bad"\ng = = 9.81\n', "spec", "not valid TOML"),
+    ("g-negative", spec(top='name = "bad"\ng = -9.81\n'), "g", "negative"),
+]
+
+
+def run(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "codegen", *args], capture_output=True, text=True, cwd=cwd or ROOT)
+
+
+@pytest.mark.parametrize("case_id,text,field,words", CASES, ids=[c[0] for c in CASES])
+def test_bad_spec_is_rejected_with_one_line_and_nothing_written(tmp_path, case_id, text, field, words):
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    out = tmp_path / "out"
+    for cmd in (["generate", str(path), "-o", str(out), "--no-build"], ["check", str(path)]):
+        res = run(*cmd)
+        assert res.returncode == 2, (cmd, res.stdout, res.stderr)
+        lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
+        assert len(lines) == 1, res.stderr
+        assert lines[0].startswith(f"error: {field}:"), lines[0]
+        assert words in lines[0], lines[0]
+    assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]  # no temporary left behind
+
+
+def test_good_spec_passes_check(tmp_path):
+    path = tmp_path / "good.toml"
+    path.write_text(spec())
+    res = run("check", str(path))
+    assert res.returncode == 0, res.stderr
+    assert "ok" in res.stdout
+
+
+def test_missing_file(tmp_path):
+    res = run("check", str(tmp_path / "nope.toml"))
+    assert res.returncode == 2 and "no such file" in res.stderr
+
+
+def test_refuses_to_replace_a_folder_codegen_did_not_write(tmp_path):
+    path = tmp_path / "good.toml"
+    path.write_text(spec())
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("precious")
+    res = run("generate", str(path), "-o", str(out), "--no-build")
+    assert res.returncode == 2 and "-o:" in res.stderr and "--force" in res.stderr
+    assert (out / "notes.txt").read_text() == "precious"
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]
+
+
+def test_regenerating_replaces_own_output(tmp_path):
+    path = tmp_path / "good.toml"
+    path.write_text(spec())
+    out = tmp_path / "gen"
+    assert run("generate", str(path), "-o", str(out), "--no-build", "-q").returncode == 0
+    first = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert run("generate", str(path), "-o", str(out), "--no-build", "-q").returncode == 0
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == first
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["gen", "good.toml"]
