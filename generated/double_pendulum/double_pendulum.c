@@ -92,6 +92,9 @@ int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p
     int i;
     (void)p;
 
+    if (!double_pendulum_all_finite_(q, 2)) {
+        return DOUBLE_PENDULUM_NONFINITE;
+    }
     {
         const double cos_phi2 = cos(q[1]);
         const double w0 = 0.5*cos_phi2;
@@ -117,6 +120,10 @@ int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p
 int double_pendulum_forces(const double *x, const double *u, const double_pendulum_params *p, double *f)
 {
     (void)p;
+
+    if (!double_pendulum_all_finite_(x, 4)) {
+        return DOUBLE_PENDULUM_NONFINITE;
+    }
 
     {
         (void)u;
@@ -154,6 +161,10 @@ int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_
     double f[2];
     int i, code;
     (void)p;
+
+    if (!double_pendulum_all_finite_(x, 4)) {
+        return DOUBLE_PENDULUM_NONFINITE;
+    }
 
     {
         (void)u;

@@ -10,7 +10,7 @@
  * Return codes of the int functions:
  *   DOUBLE_PENDULUM_OK         0  success
  *   DOUBLE_PENDULUM_SINGULAR   1  M is not positive definite (a singular configuration)
- *   DOUBLE_PENDULUM_NONFINITE  2  an input or a result is not finite (NaN or inf)
+ *   DOUBLE_PENDULUM_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   DOUBLE_PENDULUM_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
  * Op counts: energy 32, forces 40, mass_matrix 8, qdd 56, rhs 56.

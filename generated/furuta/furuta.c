@@ -92,6 +92,9 @@ int furuta_mass_matrix(const double *q, const furuta_params *p, double *M)
     int i;
     (void)p;
 
+    if (!furuta_all_finite_(q, 2)) {
+        return FURUTA_NONFINITE;
+    }
     {
         const double cos_phi2 = cos(q[1]);
         const double sin_phi2 = sin(q[1]);
@@ -117,6 +120,10 @@ int furuta_mass_matrix(const double *q, const furuta_params *p, double *M)
 int furuta_forces(const double *x, const double *u, const furuta_params *p, double *f)
 {
     (void)p;
+
+    if (!furuta_all_finite_(x, 4) || (u && !furuta_all_finite_(u, 1))) {
+        return FURUTA_NONFINITE;
+    }
 
     {
         const double tau_1 = u ? u[0] : 0.0;
@@ -153,6 +160,10 @@ int furuta_qdd(const double *x, const double *u, const furuta_params *p, double 
     double f[2];
     int i, code;
     (void)p;
+
+    if (!furuta_all_finite_(x, 4) || (u && !furuta_all_finite_(u, 1))) {
+        return FURUTA_NONFINITE;
+    }
 
     {
         const double tau_1 = u ? u[0] : 0.0;

@@ -10,7 +10,7 @@
  * Return codes of the int functions:
  *   FURUTA_OK         0  success
  *   FURUTA_SINGULAR   1  M is not positive definite (a singular configuration)
- *   FURUTA_NONFINITE  2  an input or a result is not finite (NaN or inf)
+ *   FURUTA_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   FURUTA_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
  * Op counts: energy 28, forces 45, mass_matrix 14, momentum 16, qdd 67, rhs 67.

@@ -94,6 +94,9 @@ int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *
         return FURUTA_SYM_NO_PARAMS;
     }
 
+    if (!furuta_sym_all_finite_(q, 2)) {
+        return FURUTA_SYM_NONFINITE;
+    }
     {
         const double cos_phi2 = cos(q[1]);
         const double sin_phi2 = sin(q[1]);
@@ -124,6 +127,10 @@ int furuta_sym_forces(const double *x, const double *u, const furuta_sym_params 
 {
     if (!p) {
         return FURUTA_SYM_NO_PARAMS;
+    }
+
+    if (!furuta_sym_all_finite_(x, 4) || (u && !furuta_sym_all_finite_(u, 1))) {
+        return FURUTA_SYM_NONFINITE;
     }
 
     {
@@ -165,6 +172,10 @@ int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p,
     int i, code;
     if (!p) {
         return FURUTA_SYM_NO_PARAMS;
+    }
+
+    if (!furuta_sym_all_finite_(x, 4) || (u && !furuta_sym_all_finite_(u, 1))) {
+        return FURUTA_SYM_NONFINITE;
     }
 
     {

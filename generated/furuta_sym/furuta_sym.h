@@ -10,7 +10,7 @@
  * Return codes of the int functions:
  *   FURUTA_SYM_OK         0  success
  *   FURUTA_SYM_SINGULAR   1  M is not positive definite (a singular configuration)
- *   FURUTA_SYM_NONFINITE  2  an input or a result is not finite (NaN or inf)
+ *   FURUTA_SYM_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   FURUTA_SYM_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
  * Op counts: energy 30, forces 47, mass_matrix 18, momentum 21, qdd 69, rhs 69.

@@ -138,6 +138,8 @@ def forces(x, u=None, p=None):
 def qdd(x, u=None, p=None):
     """phi'' solving M phi'' = f by LDL^T."""
     x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
     p_g0 = _param(p, "g0")
     p_m1 = _param(p, "m1")
     p_r = _param(p, "r")

@@ -92,6 +92,9 @@ int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M)
     int i;
     (void)p;
 
+    if (!gimbal_all_finite_(q, 2)) {
+        return GIMBAL_NONFINITE;
+    }
     {
         const double cos_phi2 = cos(q[1]);
         const double sin_phi2 = sin(q[1]);
@@ -116,6 +119,10 @@ int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M)
 int gimbal_forces(const double *x, const double *u, const gimbal_params *p, double *f)
 {
     (void)p;
+
+    if (!gimbal_all_finite_(x, 4)) {
+        return GIMBAL_NONFINITE;
+    }
 
     {
         (void)u;
@@ -148,6 +155,10 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
     double f[2];
     int i, code;
     (void)p;
+
+    if (!gimbal_all_finite_(x, 4)) {
+        return GIMBAL_NONFINITE;
+    }
 
     {
         (void)u;

@@ -10,7 +10,7 @@
  * Return codes of the int functions:
  *   GIMBAL_OK         0  success
  *   GIMBAL_SINGULAR   1  M is not positive definite (a singular configuration)
- *   GIMBAL_NONFINITE  2  an input or a result is not finite (NaN or inf)
+ *   GIMBAL_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   GIMBAL_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
  * Op counts: energy 18, forces 28, mass_matrix 12, momentum 14, qdd 48, rhs 48.

@@ -107,6 +107,8 @@ def forces(x, u=None, p=None):
 def qdd(x, u=None, p=None):
     """phi'' solving M phi'' = f by LDL^T."""
     x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
 
     M = np.empty((N, N))
     f = np.empty(N)

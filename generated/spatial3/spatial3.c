@@ -92,6 +92,9 @@ int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M)
     int i;
     (void)p;
 
+    if (!spatial3_all_finite_(q, 3)) {
+        return SPATIAL3_NONFINITE;
+    }
     {
         const double cos_phi2 = cos(q[1]);
         const double sin_phi2 = sin(q[1]);
@@ -174,6 +177,10 @@ int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M)
 int spatial3_forces(const double *x, const double *u, const spatial3_params *p, double *f)
 {
     (void)p;
+
+    if (!spatial3_all_finite_(x, 6) || (u && !spatial3_all_finite_(u, 1))) {
+        return SPATIAL3_NONFINITE;
+    }
 
     {
         const double tau_3 = u ? u[0] : 0.0;
@@ -307,6 +314,10 @@ int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, dou
     double f[3];
     int i, code;
     (void)p;
+
+    if (!spatial3_all_finite_(x, 6) || (u && !spatial3_all_finite_(u, 1))) {
+        return SPATIAL3_NONFINITE;
+    }
 
     {
         const double tau_3 = u ? u[0] : 0.0;

@@ -10,7 +10,7 @@
  * Return codes of the int functions:
  *   SPATIAL3_OK         0  success
  *   SPATIAL3_SINGULAR   1  M is not positive definite (a singular configuration)
- *   SPATIAL3_NONFINITE  2  an input or a result is not finite (NaN or inf)
+ *   SPATIAL3_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   SPATIAL3_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
  * Op counts: energy 294, forces 553, mass_matrix 250, qdd 787, rhs 787.

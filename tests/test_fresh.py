@@ -1,0 +1,34 @@
+"""generated/ is exactly what the current code emits (byte for byte)."""
+from __future__ import annotations
+
+import difflib
+import os
+import subprocess
+import sys
+
+import pytest
+import sympy
+
+from conftest import EXAMPLES, ROOT
+
+PINNED_SYMPY = "1.14.0"
+
+
+@pytest.mark.skipif(sympy.__version__ != PINNED_SYMPY, reason=f"output is pinned to sympy {PINNED_SYMPY}, this is {sympy.__version__}")
+@pytest.mark.parametrize("name", EXAMPLES)
+@pytest.mark.parametrize("hashseed", ["0", "12345"])
+def test_regenerated_output_is_byte_identical(name, hashseed, tmp_path):
+    out = tmp_path / name
+    env = dict(os.environ, PYTHONHASHSEED=hashseed)
+    res = subprocess.run([sys.executable, "-m", "codegen", "generate", "-q", "--no-build", str(ROOT / "specs" / f"{name}.toml"), "-o", str(out)],
+                         capture_output=True, text=True, cwd=ROOT, env=env)
+    assert res.returncode == 0, res.stderr
+    committed = ROOT / "generated" / name
+    fresh = {p.name for p in out.iterdir()}
+    ours = {p.name for p in committed.iterdir() if not p.name.endswith(".so")}
+    assert fresh == ours, f"files differ: {sorted(fresh ^ ours)}; run `make generate SPEC=specs/{name}.toml`"
+    for fname in sorted(fresh):
+        a, b = (committed / fname).read_text(), (out / fname).read_text()
+        if a != b:
+            diff = "".join(difflib.unified_diff(a.splitlines(True), b.splitlines(True), f"generated/{name}/{fname}", "fresh", n=1))
+            pytest.fail(f"generated/{name}/{fname} is stale; run `make generate SPEC=specs/{name}.toml`\n{diff[:4000]}")
