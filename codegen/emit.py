@@ -394,8 +394,19 @@ def _tex_escape(text: str) -> str:
     return "".join(out)
 
 
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
 def _c_comment(text: str) -> str:
-    return text.replace("*/", "* /").replace("/*", "/ *")
+    """Spec text inside a C block comment: one line, no comment delimiters, printable ASCII."""
+    text = _one_line(text).replace("*/", "* /").replace("/*", "/ *").replace("??", "? ?")  # no trigraphs
+    return "".join(ch if 32 <= ord(ch) < 127 else "?" for ch in text)
+
+
+def _py_docstring(text: str) -> str:
+    """Spec text inside a Python triple-quoted docstring."""
+    return _one_line(text).replace("\\", "\\\\").replace('"', '\\"')
 
 
 def render(model: Model, spec_label: str) -> dict[str, str]:
@@ -413,7 +424,9 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         n=n,
         nn=n * n,
         spec_label=_c_comment(spec_label),
-        description=_c_comment(" ".join(spec.description.split())),
+        description=_c_comment(spec.description),
+        spec_label_py=_py_docstring(spec_label),
+        description_py=_py_docstring(spec.description),
         params=[str(p) for p in spec.params],
         controls=controls,
         has_params=bool(spec.params),
@@ -439,8 +452,8 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
     tex = _tex(model)
     tex.update(
         name_tex=_tex_escape(name),
-        description_tex=_tex_escape(" ".join(spec.description.split())),
-        spec_label_tex=_tex_escape(spec_label),
+        description_tex=_tex_escape(_one_line(spec.description)),
+        spec_label_tex=_tex_escape(_one_line(spec_label)),
         counts_tex=[(_tex_escape(k), v) for k, v in sorted(counts.items())],
         has_momentum=tex["K"] is not None,
         n=n,

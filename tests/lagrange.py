@@ -56,8 +56,9 @@ def lagrange_terms(spec, phi, phidot):
 
 
 # --------------------------------------------------------------------------- numeric (numpy)
-def lagrangian_np(ch, phi, v):
-    """The same ℒ in numpy, for a NumericChain; phi may be complex (complex-step derivatives)."""
+def lagrangian_np(ch, phi, v, sign13=-1.0):
+    """The same ℒ in numpy, for a NumericChain; phi may be complex (complex-step derivatives).
+    ``sign13=+1`` is the OCR's misprint of (15), for negative controls."""
     import numpy as np
 
     prev = np.eye(3, dtype=complex)
@@ -68,7 +69,7 @@ def lagrangian_np(ch, phi, v):
     for k in range(ch.n):
         ct, st = np.cos(ch.theta[k]), np.sin(ch.theta[k])
         cp, s = np.cos(phi[k]), np.sin(phi[k])
-        a = np.array([[ct, 0, -st], [st * s, cp, ct * s], [st * cp, -s, ct * cp]])
+        a = np.array([[ct, 0, sign13 * st], [st * s, cp, ct * s], [st * cp, -s, ct * cp]])
         prev = a @ prev
         R = prev
         w = w + R[0] * v[k]
@@ -81,7 +82,7 @@ def lagrangian_np(ch, phi, v):
     return L
 
 
-def lagrange_terms_np(ch, phi, v, t=1e-30):
+def lagrange_terms_np(ch, phi, v, t=1e-30, sign13=-1.0):
     """(H, b) of ``lagrange_terms`` at one state, without truncation error: ℒ is quadratic in φ̇,
     so unit-step polarization gives H and p = ∂ℒ/∂φ̇ exactly, and complex steps give the
     φ-derivatives (d/dφ along φ̇ of p, and ∂ℒ/∂φ)."""
@@ -91,7 +92,7 @@ def lagrange_terms_np(ch, phi, v, t=1e-30):
     phi = np.asarray(phi, complex)
     v = np.asarray(v, float)
     E = np.eye(n)
-    Lr = lambda ph, vv: lagrangian_np(ch, ph, vv)  # noqa: E731
+    Lr = lambda ph, vv: lagrangian_np(ch, ph, vv, sign13)  # noqa: E731
     L0 = Lr(phi, v).real
     H = np.empty((n, n))
     for i in range(n):

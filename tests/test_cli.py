@@ -47,3 +47,30 @@ def test_simulate_uses_the_reference_model():
 def test_simulate_needs_values_for_symbolic_parameters():
     res = run("simulate", "specs/furuta_sym.toml")
     assert res.returncode == 2 and "values missing for parameters" in res.stderr
+
+
+def test_spec_text_is_data_in_every_output(tmp_path):
+    """A description full of comment and string delimiters still gives valid C, Python, LaTeX."""
+    import shutil
+
+    from codegen.build import load, load_python
+
+    evil = r'evil */ /* """ \" \\ % $ & # _ { } ~ ^ ??/ é \n end'
+    text = (ROOT / "specs" / "gimbal.toml").read_text().replace('name = "gimbal"', 'name = "evil"')
+    text = text.replace(text.splitlines()[1], "description = '''" + evil + "\nsecond line'''")
+    spec = tmp_path / "evil.toml"
+    spec.write_text(text)
+    out = tmp_path / "evil"
+    res = run("generate", str(spec), "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    py = load_python(out)
+    assert "evil" in py.__doc__ and py.N == 2
+    c = load(out)
+    assert np.allclose(c.qdd([0.1, 0.2, 0.3, 0.4]), py.qdd([0.1, 0.2, 0.3, 0.4]), rtol=1e-13)
+    strict = subprocess.run(["gcc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c", str(out / "evil.c"),
+                             "-o", str(tmp_path / "e.o")], capture_output=True, text=True)
+    assert strict.returncode == 0, strict.stderr
+    if shutil.which("pdflatex"):
+        tex = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "evil.tex"], cwd=out,
+                             capture_output=True, text=True)
+        assert tex.returncode == 0, tex.stdout[-2000:]
