@@ -284,10 +284,11 @@ def _grouped(expr: sp.Expr, gens: list, pr: TexPrinter) -> list[str]:
         if body == ["0"]:
             continue
         factor = "" if mono == 1 else pr.doprint(mono)
+        plus = "+ " if out else ""
         if len(body) == 1:
-            out.append(rf"\left({body[0]}\right){factor}" if factor else body[0])
+            out.append(plus + (rf"\left({body[0]}\right){factor}" if factor else body[0]))
         else:
-            out.append(r"\Big(" + body[0])
+            out.append(plus + r"\Big(" + body[0])
             out.extend(body[1:-1])
             out.append(body[-1] + rf"\Big){factor}")
     return out or ["0"]
