@@ -96,13 +96,12 @@ class Function:
     name: str
     temporaries: tuple[tuple[str, str], ...]
     outputs: tuple[tuple[str, str], ...]
-    op_count: int
 
 
-def _function(name: str, line: StraightLine, targets: list[str], printer, extra_ops: int = 0) -> Function:
+def _function(name: str, line: StraightLine, targets: list[str], printer) -> Function:
     temps = tuple((str(lhs), printer.doprint(rhs)) for lhs, rhs in line.temporaries)
     outs = tuple((t, printer.doprint(e)) for t, e in zip(targets, line.outputs))
-    return Function(name, temps, outs, line.op_count() + extra_ops)
+    return Function(name, temps, outs)
 
 
 def ldlt_op_count(n: int) -> int:
@@ -186,7 +185,7 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
         "mass_matrix": _function("mass_matrix", model.lines["mass_matrix"], lower, prq),
         "forces": _function("forces", model.lines["forces"], [f"f[{k}]" for k in range(n)], pr),
         "qdd": _function(
-            "qdd", model.lines["qdd"], lower + [f"f[{k}]" for k in range(n)], pr, ldlt_op_count(n)
+            "qdd", model.lines["qdd"], lower + [f"f[{k}]" for k in range(n)], pr
         ),
         "energy": _function("energy", model.lines["energy"], ["result"], pr),
     }
