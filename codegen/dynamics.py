@@ -11,32 +11,30 @@ and a projection on eᵏ is the first component.
 
 Q: terms quadratic in φ̇ (eq. (17)–(19), lines 2–3), Γ: gyroscopic terms linear in φ̇ from λ
 (last line of the left side), G: gravity (right side), L: the control torque of joint k.
+
+Two forms of the same equations are derived.  The paper's split Q, Γ, G (for the LaTeX and the
+proofs), and the form the generated code computes: one Newton–Euler recursion for the whole
+bias b = Q + Γ − G, with gravity as an upward acceleration of the base and ωᵏ × λᵏ in the moment,
+which needs neither the γᵏ recursion nor a separate Γ recursion.  M is built by composite bodies:
+the force of the sub-chain k…n under a unit φ̈ᵏ is carried from Oᵏ back to each Oʲ, j < k.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-import sympy as sp
-
-from .kinematics import E1, Kinematics
+from .algebra import ZERO, Poly
+from .kinematics import NULL, Kinematics, add, cross, dot, matvec, scale
 from .spec import ChainSpec
-
-
-def cross(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
-    return sp.Matrix([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
-
-
-def dot(a: sp.Matrix, b: sp.Matrix) -> sp.Expr:
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
 @dataclass(frozen=True)
 class Dynamics:
-    M: sp.Matrix  # n×n mass matrix, symmetric positive definite
+    M: tuple  # n×n mass matrix (tuple of rows of Poly), symmetric positive definite
     Q: tuple  # velocity-quadratic terms (left side)
     Gamma: tuple  # gyroscopic terms from λ (left side)
     G: tuple  # gravity terms (right side)
     L: tuple  # control torque per joint (right side), 0 where the joint has none
+    bias: tuple  # Q + Γ − G by the combined recursion (what the code computes)
     m_c: tuple  # composite mass of the sub-chain k..n
     h: tuple  # first moment of sub-chain k..n about Oᵏ, frame k (Σ_{p≥k} m^p(c^p + O^kO^p))
     I: tuple  # inertia of sub-chain k..n about Oᵏ, frame k
@@ -44,102 +42,115 @@ class Dynamics:
 
     @property
     def f(self) -> tuple:
-        """Right side f of M φ̈ = f."""
-        return tuple(g + l - q - gm for q, gm, g, l in zip(self.Q, self.Gamma, self.G, self.L))
+        """Right side f of M φ̈ = f, as the code computes it."""
+        return tuple(l - b for l, b in zip(self.L, self.bias))
 
 
 def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
     n = spec.n
     P = kin.prog
-    B = [None, *spec.bodies]
-    a, w = kin.alpha, kin.omega
-    A = [None] + [sp.Matrix(b.A) for b in spec.bodies]
-    c = [None] + [sp.Matrix(b.c) for b in spec.bodies]
-    s = [None] + [sp.Matrix(b.s) for b in spec.bodies]
-    lam = [None] + [sp.Matrix(b.lam) for b in spec.bodies]
-    m = [None] + [b.m for b in spec.bodies]
-    zero = sp.zeros(3, 1)
+    J, w, qd = kin.joint, kin.omega, kin.qd
+    num = P.from_sympy
+    A = [None] + [[[num(x) for x in row] for row in b.A] for b in spec.bodies]
+    c = [None] + [[num(x) for x in b.c] for b in spec.bodies]
+    s = [None] + [[num(x) for x in b.s] for b in spec.bodies]
+    lam = [None] + [[num(x) for x in b.lam] for b in spec.bodies]
+    m = [None] + [num(b.m) for b in spec.bodies]
+    g = num(spec.g)
 
     # Forward recursions with φ̈ = 0: angular acceleration εᵏ (eq. (5)) and the acceleration of
-    # Oᵏ (eq. (6) summed over l < k), in frame k.
-    eps = [zero]
-    acc_O = [None, zero]
+    # Oᵏ (eq. (6) summed over l < k), in frame k; aOg also carries gravity (base accelerating
+    # up with g), for the combined recursion.
+    eps = [NULL]
+    acc_O, acc_Og = [None, NULL], [None, P.vec("aOg1", scale(-g, kin.gamma[1]))]
     for k in range(1, n + 1):
-        eps.append(P.vec(f"eps{k}", a[k] * eps[k - 1] + cross(w[k], E1 * kin.phidot[k]), rf"\varepsilon^{{{k}}}"))
+        eps.append(P.vec(f"eps{k}", add(J[k].down(eps[k - 1]), cross(w[k], [qd[k], ZERO, ZERO])), rf"\varepsilon^{{{k}}}"))
         if k > 1:
             j = k - 1
-            acc = acc_O[j] + cross(eps[j], s[j]) + cross(w[j], cross(w[j], s[j]))
-            acc_O.append(P.vec(f"aO{k}", a[k] * P.vec(f"aO{k}in{j}", acc), rf"a^{{{k}}}"))
+            rel = P.vec(f"aOrel{k}in{j}", add(cross(eps[j], s[j]), cross(w[j], P.vec(f"ws{j}", cross(w[j], s[j])))))
+            acc_O.append(P.vec(f"aO{k}", J[k].down(add(acc_O[j], rel)), rf"a^{{{k}}}"))
+            acc_Og.append(P.vec(f"aOg{k}", J[k].down(add(acc_Og[j], rel))))
 
     # Backward recursions over the sub-chains p ≥ k.
-    F_next = N_next = Gam_next = Lam_next = h_next = zero
-    m_next, I_next = sp.Integer(0), sp.zeros(3, 3)
-    Q, Gam, Gv, m_c, h_c, I_c, Lam = ([None] * (n + 1) for _ in range(7))
+    F_next = N_next = Gam_next = Lam_next = h_next = Fb_next = Nb_next = NULL
+    m_next, I_next = ZERO, None
+    Q, Gam, Gv, bias, m_c, h_c, I_c, Lam = ([None] * (n + 1) for _ in range(8))
     for k in range(n, 0, -1):
-        if k < n:
-            R = a[k + 1].T  # frame k+1 → frame k
-            F_in = P.vec(f"F{k + 1}in{k}", R * F_next)
-            N_in = P.vec(f"N{k + 1}in{k}", R * N_next)
-            Gam_in = P.vec(f"Gm{k + 1}in{k}", R * Gam_next)
-            Lam_in = P.vec(f"Lam{k + 1}in{k}", R * Lam_next)
-            h_in = P.vec(f"h{k + 1}in{k}", R * h_next)  # about O^{k+1}, frame k
-            I_in = P.sym_mat(f"I{k + 1}in{k}", R * I_next * R.T)
-        else:
-            F_in = N_in = Gam_in = Lam_in = h_in = zero
-            I_in = sp.zeros(3, 3)
         sk = s[k]
-        # velocity-quadratic part: Σ_{p≥k} [(Aω)˙ + m c×a_O] + Σ_{q>k} d_kq × m a_G  (eqs. (3), (7))
-        acc_G = acc_O[k] + cross(eps[k], c[k]) + cross(w[k], cross(w[k], c[k]))
-        F = P.vec(f"F{k}", m[k] * acc_G + F_in, rf"F^{{{k}}}")
-        Aw = A[k] * w[k]
-        N = P.vec(
-            f"N{k}",
-            A[k] * eps[k] + cross(w[k], Aw) + m[k] * cross(c[k], acc_O[k]) + N_in + cross(sk, F_in),
-            rf"N^{{{k}}}",
-        )
+        if k < n:
+            up = J[k + 1].up  # frame k+1 → frame k
+            F_in = P.vec(f"F{k + 1}in{k}", up(F_next))
+            N_in = P.vec(f"N{k + 1}in{k}", up(N_next))
+            Gam_in = P.vec(f"Gm{k + 1}in{k}", up(Gam_next))
+            Lam_in = P.vec(f"Lam{k + 1}in{k}", up(Lam_next))
+            h_in = P.vec(f"h{k + 1}in{k}", up(h_next))  # about O^{k+1}, frame k
+            I_in = J[k + 1].up_sym(I_next, f"I{k + 1}in{k}")
+            Fb_in = P.vec(f"Fb{k + 1}in{k}", up(Fb_next))
+            Nb_in = P.vec(f"Nb{k + 1}in{k}", up(Nb_next))
+        else:
+            F_in = N_in = Gam_in = Lam_in = h_in = Fb_in = Nb_in = NULL
+            I_in = [[ZERO] * 3 for _ in range(3)]
+        wcc = P.vec(f"wc{k}", cross(w[k], c[k]))
+        rel_G = add(cross(eps[k], c[k]), cross(w[k], wcc))  # a_G − a_O
+        Aw = P.vec(f"Aw{k}", matvec(A[k], w[k]))
+        Aeps_wAw = add(matvec(A[k], eps[k]), cross(w[k], Aw))
+        # the paper's split: velocity-quadratic part Σ_{p≥k} [(Aω)˙ + m c×a_O] + Σ_{q>k} d_kq × m a_G
+        F = P.vec(f"F{k}", add(scale(m[k], add(acc_O[k], rel_G)), F_in), rf"F^{{{k}}}")
+        N = P.vec(f"N{k}", add(Aeps_wAw, scale(m[k], cross(c[k], acc_O[k])), N_in, cross(sk, F_in)), rf"N^{{{k}}}")
         # gyroscopic part: Σ_{p≥k} ω^p × λ^p
-        Gm = P.vec(f"Gm{k}", cross(w[k], lam[k]) + Gam_in, rf"\Gamma^{{{k}}}")
+        Gm = P.vec(f"Gm{k}", add(cross(w[k], lam[k]), Gam_in), rf"\Gamma^{{{k}}}")
+        # the code's form: one recursion for Q + Γ − G
+        Fb = P.vec(f"Fb{k}", add(scale(m[k], add(acc_Og[k], rel_G)), Fb_in))
+        Nb = P.vec(
+            f"Nb{k}",
+            add(matvec(A[k], eps[k]), cross(w[k], add(Aw, lam[k])), scale(m[k], cross(c[k], acc_Og[k])), Nb_in, cross(sk, Fb_in)),
+        )
         # composite mass, first moment and inertia about O^k (parallel-axis shift by s^k)
         mc = P.let(f"mc{k}", m[k] + m_next, rf"m_c^{{{k}}}")
-        h = P.vec(f"h{k}", m[k] * c[k] + h_in + m_next * sk, rf"h^{{{k}}}")
+        h = P.vec(f"h{k}", add(scale(m[k], c[k]), h_in, scale(m_next, sk)), rf"h^{{{k}}}")
+        ss, sh = dot(sk, sk), dot(sk, h_in)
         I = P.sym_mat(
             f"I{k}",
-            A[k]
-            + I_in
-            + m_next * (dot(sk, sk) * sp.eye(3) - sk * sk.T)
-            + 2 * dot(sk, h_in) * sp.eye(3)
-            - sk * h_in.T
-            - h_in * sk.T,
+            [
+                [
+                    A[k][i][j] + I_in[i][j]
+                    + (m_next * ss + 2 * sh if i == j else ZERO)
+                    - m_next * sk[i] * sk[j] - sk[i] * h_in[j] - h_in[i] * sk[j]
+                    for j in range(3)
+                ]
+                for i in range(3)
+            ],
             rf"I^{{{k}}}",
         )
         # gravity: e^k · (h × g ê⁰₁)  (right side of (17)–(19))
-        Gv[k] = P.let(f"G{k}", spec.g * (h[1] * kin.gamma[k][2] - h[2] * kin.gamma[k][1]), rf"G_{{{k}}}")
-        Q[k], Gam[k] = N[0], Gm[0]
+        Gv[k] = P.let(f"G{k}", g * (h[1] * kin.gamma[k][2] - h[2] * kin.gamma[k][1]), rf"G_{{{k}}}")
+        Q[k], Gam[k], bias[k] = N[0], Gm[0], Nb[0]
         m_c[k], h_c[k], I_c[k] = mc, h, I
-        Lam[k] = P.vec(f"Lam{k}", lam[k] + Lam_in, rf"\Lambda^{{{k}}}")
-        F_next, N_next, Gam_next, Lam_next = F, N, Gm, Lam[k]
+        Lam[k] = P.vec(f"Lam{k}", add(lam[k], Lam_in), rf"\Lambda^{{{k}}}")
+        F_next, N_next, Gam_next, Lam_next, Fb_next, Nb_next = F, N, Gm, Lam[k], Fb, Nb
         m_next, h_next, I_next = mc, h, I
 
-    # Mass matrix (composite bodies): for r ≤ k, a unit φ̈ʳ turns the sub-chain k..n with
-    # angular acceleration eʳ and accelerates Oᵏ by eʳ × d_rk, d_rk = Σ_{l=r}^{k-1} sˡ.
-    M = sp.zeros(n, n)
-    for r in range(1, n + 1):
-        u, d = E1, zero  # e^r and d_rk in frame k, starting at k = r
-        for k in range(r, n + 1):
-            if k > r:
-                u = P.vec(f"e{r}in{k}", a[k] * u, rf"e^{{{r}|{k}}}")
-                d = P.vec(f"d{r}in{k}", a[k] * (d + s[k - 1]), rf"d^{{{r}{k}}}")
-            M[k - 1, r - 1] = M[r - 1, k - 1] = P.let(
-                f"M{k}_{r}", (I_c[k] * u + cross(h_c[k], cross(u, d)))[0], rf"M_{{{k}{r}}}"
-            )
+    # Mass matrix (composite bodies): a unit φ̈ᵏ, all else at rest, needs the force e¹ × hᵏ and
+    # the moment Iᵏ e¹ about Oᵏ; carried back joint by joint, their moment about Oʲ projected
+    # on eʲ is M_jk.
+    M = [[ZERO] * n for _ in range(n)]
+    for k in range(n, 0, -1):
+        nm = [I_c[k][0][0], I_c[k][1][0], I_c[k][2][0]]
+        fc = [ZERO, -h_c[k][2], h_c[k][1]]
+        M[k - 1][k - 1] = nm[0]
+        for j in range(k - 1, 0, -1):
+            fc = P.vec(f"f{k}in{j}", J[j + 1].up(fc))
+            nm = P.vec(f"n{k}in{j}", add(J[j + 1].up(nm), cross(s[j], fc)))
+            M[j - 1][k - 1] = M[k - 1][j - 1] = nm[0]
 
-    L = tuple(kin.torque[k] if B[k].control else sp.Integer(0) for k in range(1, n + 1))
+    L = tuple(kin.tau[k] if spec.bodies[k - 1].control else ZERO for k in range(1, n + 1))
     return Dynamics(
-        M=M,
+        M=tuple(tuple(row) for row in M),
         Q=tuple(Q[1:]),
         Gamma=tuple(Gam[1:]),
         G=tuple(Gv[1:]),
         L=L,
+        bias=tuple(bias[1:]),
         m_c=tuple(m_c[1:]),
         h=tuple(h_c[1:]),
         I=tuple(I_c[1:]),

@@ -20,7 +20,8 @@ from . import __version__
 from .dynamics import Dynamics
 from .integrals import Integrals
 from .kinematics import Kinematics
-from .simplify import StraightLine, fold_numbers, straight_line
+from .algebra import Poly
+from .simplify import StraightLine, straight_line
 from .spec import ChainSpec
 
 TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
@@ -89,6 +90,26 @@ class PyPrinter(_NumbersAsDoubles, PythonCodePrinter):
 
 
 # --------------------------------------------------------------------------- prepared data
+def poly_code(p: Poly, spell) -> str:
+    """A polynomial in C and Python alike (same operators; numbers as round-trip doubles)."""
+    if not p.terms:
+        return "0.0"
+    out = []
+    for m, c in p.terms.items():
+        factors = [spell(a) for a in m]
+        if not m:
+            body = _literal(abs(c))
+        elif abs(c) == 1.0:
+            body = "*".join(factors)
+        else:
+            body = "*".join([_literal(abs(c))] + factors)
+        if not out:
+            out.append(("-" if c < 0 else "") + body)
+        else:
+            out.append((" - " if c < 0 else " + ") + body)
+    return "".join(out)
+
+
 @dataclass(frozen=True)
 class Function:
     """One emitted function: temporaries and output assignments, already printed."""
@@ -99,15 +120,24 @@ class Function:
 
 
 def _function(name: str, line: StraightLine, targets: list[str], printer) -> Function:
-    temps = tuple((str(lhs), printer.doprint(rhs)) for lhs, rhs in line.temporaries)
-    outs = tuple((t, printer.doprint(e)) for t, e in zip(targets, line.outputs))
+    names = printer.names
+
+    def spell(a):
+        return names.get(a.sym, a.name)
+
+    def code(rhs):
+        return poly_code(rhs, spell) if isinstance(rhs, Poly) else printer.doprint(rhs)
+
+    temps = tuple((lhs.name, code(rhs)) for lhs, rhs in line.temporaries)
+    outs = tuple((t, code(e)) for t, e in zip(targets, line.outputs))
     return Function(name, temps, outs)
 
 
 def ldlt_op_count(n: int) -> int:
-    """Floating-point operations of the emitted LDLᵀ factorization and solve (exact for the loop)."""
-    factor = sum(j + 2 * j + (n - 1 - j) * (2 * j + 1) for j in range(n))
-    solve = sum(2 * j for j in range(n)) + n + sum(2 * (n - 1 - j) for j in range(n))
+    """Floating-point operations of the emitted LDLᵀ factorization and solve (unrolled: one
+    reciprocal per pivot, products and differences as written)."""
+    factor = sum(2 * j + 1 + (n - 1 - j) * (2 * j + 1) for j in range(n))
+    solve = 2 * sum(2 * j for j in range(n)) + n
     return factor + solve
 
 
@@ -125,16 +155,13 @@ class Model:
 def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None) -> Model:
     n = spec.n
     say = progress or (lambda msg: None)
-    lower = [dyn.M[i, j] for i in range(n) for j in range(i + 1)]
+    lower = [dyn.M[i][j] for i in range(n) for j in range(i + 1)]
     lines = {}
-    say("common subexpressions: mass matrix")
+    say("straight-line code: mass matrix, forces, qdd, integrals")
     P = kin.prog
     lines["mass_matrix"] = straight_line(P, lower)
-    say("common subexpressions: forces")
     lines["forces"] = straight_line(P, dyn.f)
-    say("common subexpressions: M and f together (qdd)")
     lines["qdd"] = straight_line(P, lower + list(dyn.f))
-    say("common subexpressions: integrals")
     lines["energy"] = straight_line(P, [ints.energy])
     if ints.momentum is not None:
         lines["momentum"] = straight_line(P, [ints.momentum])
@@ -163,8 +190,8 @@ def _with_q(names: dict, kin: Kinematics) -> dict:
 
 
 def op_counts(model: Model) -> dict[str, int]:
-    """Op count of each emitted function (sympy count_ops of the straight-line code; the qdd and
-    rhs counts include the LDLᵀ solve)."""
+    """Op count of each emitted function (multiplications, additions and function calls of the
+    straight-line code; the qdd and rhs counts include the unrolled LDLᵀ solve)."""
     n = model.spec.n
     counts = {name: line.op_count() for name, line in model.lines.items()}
     counts["qdd"] += ldlt_op_count(n)
@@ -195,11 +222,21 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
 
 
 # --------------------------------------------------------------------------- LaTeX
+def fold_numbers(expr: sp.Expr) -> sp.Expr:
+    """Evaluate every subexpression made of numbers only (sqrt(3)/2, cos(3/10), …) to a Float."""
+    if expr.is_Atom:
+        return expr
+    if expr.is_number:
+        return sp.Float(expr.evalf(30), 30)
+    args = [fold_numbers(a) for a in expr.args]
+    return expr.func(*args) if any(a is not b for a, b in zip(args, expr.args)) else expr
+
+
 def _latex_names(model: Model) -> dict:
     kin = model.kin
     names = {}
-    for sym, _ in kin.prog.defs:
-        names[sym] = kin.prog.tex.get(sym) or r"\mathrm{" + _tex_escape(sym.name) + "}"
+    for a, _ in kin.prog.defs:
+        names[a.sym] = kin.prog.tex.get(a.sym) or r"\mathrm{" + _tex_escape(a.name) + "}"
     for k in range(1, kin.n + 1):
         names[_abbrev(sp.cos, kin.phi[k])] = rf"\mathrm{{c}}_{{{k}}}"
         names[_abbrev(sp.sin, kin.phi[k])] = rf"\mathrm{{s}}_{{{k}}}"
@@ -328,7 +365,7 @@ def _tex(model: Model) -> dict:
                 alpha=mat(kin.alpha[k]),
             )
         )
-    targets = [dyn.M[k, r] for k in range(n) for r in range(k, n)]
+    targets = [dyn.M[k][r] for k in range(n) for r in range(k, n)]
     targets += list(dyn.Q) + list(dyn.Gamma) + list(dyn.G) + [ints.U]
     if ints.momentum is not None:
         targets.append(ints.momentum)
@@ -338,10 +375,11 @@ def _tex(model: Model) -> dict:
         values = iter(kin.prog.inline(targets))
         lines, grouped = (lambda e: _tex_lines(e, pr)), (lambda e: _grouped(e, phidots, pr))
     else:
-        values = iter(targets)
+        values = iter(t.to_sympy() for t in targets)
         lines = grouped = (lambda e: _tex_lines(e, pr, expand=False))
-        for sym, rhs in kin.prog.needed(targets):
-            recursion.append(TexEquation(pr.doprint(sym), tuple(_tex_lines(rhs, pr, expand=False))))
+        for a, rhs in kin.prog.needed(targets):
+            rhs = rhs.to_sympy() if isinstance(rhs, Poly) else rhs
+            recursion.append(TexEquation(pr.doprint(a.sym), tuple(_tex_lines(rhs, pr, expand=False))))
     M = [TexEquation(f"M_{{{k + 1}{r + 1}}}", tuple(lines(next(values)))) for k in range(n) for r in range(k, n)]
     Q = [TexEquation(f"Q_{{{k + 1}}}", tuple(grouped(next(values)))) for k in range(n)]
     Gam = [TexEquation(rf"\Gamma_{{{k + 1}}}", tuple(grouped(next(values)))) for k in range(n)]

@@ -1,9 +1,10 @@
 """Kinematics in the paper's notation (digest §3).
 
 Symbols: ``phi[k]``, ``phidot[k]`` are φᵏ, φ̇ᵏ (index 0 unused: k is the paper's k, 0 is the
-base).  ``alpha[k]`` is αᵏ'ᵏ⁻¹ of eq. (11)/(15): rows are êᵏᵢ in frame k−1, so a vector's
+base).  ``joint[k]`` applies αᵏ'ᵏ⁻¹ of eq. (11)/(15): rows are êᵏᵢ in frame k−1, so a vector's
 components go from frame k−1 to frame k as v⁽ᵏ⁾ = αᵏ'ᵏ⁻¹ v⁽ᵏ⁻¹⁾.  Products of these are the
-recursion (13)/(14).  All vectors below are components in the body's own frame.
+recursion (13)/(14).  All vectors below are components in the body's own frame, lists of three
+polynomials (algebra.Poly).
 """
 from __future__ import annotations
 
@@ -11,10 +12,12 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from .algebra import ONE, ZERO, Poly
 from .program import Program
 from .spec import ChainSpec
 
-E1 = sp.Matrix([1, 0, 0])
+E1 = [ONE, ZERO, ZERO]
+NULL = [ZERO, ZERO, ZERO]
 
 
 def state_symbols(n: int):
@@ -35,8 +38,8 @@ def folded_trig(theta: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
 
 
 def direction_cosines(theta: sp.Expr, phi: sp.Expr, cp=None, sph=None) -> sp.Matrix:
-    """αᵏ'ᵏ⁻¹ of eq. (15) (with the digest's sign −sin θ in α₁₃) = R₁(φ) R₂(θ).
-    ``cp``, ``sph`` may name cos φ and sin φ."""
+    """αᵏ'ᵏ⁻¹ of eq. (15) (with the digest's sign −sin θ in α₁₃) = R₁(φ) R₂(θ), in sympy
+    (for LaTeX).  ``cp``, ``sph`` may name cos φ and sin φ."""
     ct, st = folded_trig(theta)
     cp = sp.cos(phi) if cp is None else cp
     sph = sp.sin(phi) if sph is None else sph
@@ -49,6 +52,70 @@ def direction_cosines(theta: sp.Expr, phi: sp.Expr, cp=None, sph=None) -> sp.Mat
     )
 
 
+def cross(a, b) -> list:
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def dot(a, b) -> Poly:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def add(*vs) -> list:
+    return [sum((v[i] for v in vs), ZERO) for i in range(3)]
+
+
+def scale(c, v) -> list:
+    return [c * x for x in v]
+
+
+def matvec(A, v) -> list:
+    return [A[i][0] * v[0] + A[i][1] * v[1] + A[i][2] * v[2] for i in range(3)]
+
+
+class Joint:
+    """Joint k: αᵏ'ᵏ⁻¹ = R₁(φᵏ) R₂(θᵏ) (eq. (15)), applied factor by factor.  R₂(θ) has numbers
+    when θ is numeric (and is the identity for θ = 0: a planar chain costs less); the one
+    component both rows of R₁ read is named so it is computed once."""
+
+    def __init__(self, prog: Program, k: int, ct: Poly, st: Poly, cp: Poly, sph: Poly):
+        self.P, self.k, self.ct, self.st, self.cp, self.sp = prog, k, ct, st, cp, sph
+        self._n = 0
+
+    def _tmp(self, value: Poly) -> Poly:
+        self._n += 1
+        return self.P.let(f"j{self.k}r{self._n}", value)
+
+    def down(self, v) -> list:
+        """v⁽ᵏ⁾ = αᵏ'ᵏ⁻¹ v⁽ᵏ⁻¹⁾."""
+        ct, st, c, s = self.ct, self.st, self.cp, self.sp
+        w1, w2, w3 = ct * v[0] - st * v[2], v[1], self._tmp(st * v[0] + ct * v[2])
+        return [w1, c * w2 + s * w3, c * w3 - s * w2]
+
+    def up(self, v) -> list:
+        """v⁽ᵏ⁻¹⁾ = (αᵏ'ᵏ⁻¹)ᵀ v⁽ᵏ⁾."""
+        ct, st, c, s = self.ct, self.st, self.cp, self.sp
+        y1, y2, y3 = v[0], c * v[1] - s * v[2], self._tmp(s * v[1] + c * v[2])
+        return [ct * y1 + st * y3, y2, ct * y3 - st * y1]
+
+    def up_sym(self, I, name: str) -> list:
+        """αᵀ I α of a symmetric 3×3 matrix (a tensor of frame k seen in frame k−1), lower
+        triangle named; the R₁ stage first, then R₂."""
+        P = self.P
+        c, s, ct, st = self.cp, self.sp, self.ct, self.st
+        R1 = [[ONE, ZERO, ZERO], [ZERO, c, s], [ZERO, -s, c]]
+        R2 = [[ct, ZERO, -st], [ZERO, ONE, ZERO], [st, ZERO, ct]]
+
+        def conj(R, X, tag):  # Rᵀ X R, X symmetric
+            T = [[P.let(f"{name}{tag}a_{i + 1}{j + 1}", sum((X[i][l] * R[l][j] for l in range(3)), ZERO)) for j in range(3)] for i in range(3)]
+            out = [[None] * 3 for _ in range(3)]
+            for i in range(3):
+                for j in range(i + 1):
+                    out[i][j] = out[j][i] = P.let(f"{name}{tag}_{i + 1}{j + 1}", sum((R[l][i] * T[l][j] for l in range(3)), ZERO))
+            return out
+
+        return conj(R2, conj(R1, I, "r"), "")
+
+
 @dataclass(frozen=True)
 class Kinematics:
     prog: Program  # every quantity below is a value of this program
@@ -56,23 +123,30 @@ class Kinematics:
     phi: list
     phidot: list
     torque: list
-    alpha: list  # alpha[k] = αᵏ'ᵏ⁻¹ (eq. 15), k = 1..n
+    alpha: list  # alpha[k] = αᵏ'ᵏ⁻¹ (eq. 15) in sympy, for LaTeX
+    joint: list  # joint[k] applies αᵏ'ᵏ⁻¹ and its transpose to polynomial vectors
     gamma: list  # gamma[k] = ê⁰₁ (down) in frame k: the column (αᵏᵢ₁)ᵢ of eq. (14)
     omega: list  # omega[k] = ωᵏ of eq. (1) in frame k (fixed base: ω⁰ = 0)
+    qd: list  # qd[k] = φ̇ᵏ as a polynomial
+    tau: list  # tau[k] = Lᵏ as a polynomial
 
 
 def derive(spec: ChainSpec) -> Kinematics:
     n = spec.n
-    prog = Program()
+    P = Program()
     phi, phidot, torque = state_symbols(n)
-    alpha = [None]
+    qd = [None] + [P.input(phidot[k]) for k in range(1, n + 1)]
+    tau = [None] + [P.input(torque[k]) for k in range(1, n + 1)]
+    alpha, joint = [None], [None]
     gamma = [E1]
-    omega = [sp.zeros(3, 1)]
+    omega = [NULL]
     for k, body in enumerate(spec.bodies, start=1):
-        cp = prog.let(f"cos_phi{k}", sp.cos(phi[k]), rf"\mathrm{{c}}_{{{k}}}")
-        sph = prog.let(f"sin_phi{k}", sp.sin(phi[k]), rf"\mathrm{{s}}_{{{k}}}")
-        a = direction_cosines(body.theta, phi[k], cp, sph)
-        alpha.append(a)
-        gamma.append(prog.vec(f"gam{k}", a * gamma[k - 1], rf"\gamma^{{{k}}}"))  # (α^k_{i1})_i, eq. (14)
-        omega.append(prog.vec(f"om{k}", a * omega[k - 1] + E1 * phidot[k], rf"\omega^{{{k}}}"))  # eq. (1)
-    return Kinematics(prog, n, phi, phidot, torque, alpha, gamma, omega)
+        cp = P.let_sympy(f"cos_phi{k}", sp.cos(phi[k]), rf"\mathrm{{c}}_{{{k}}}")
+        sph = P.let_sympy(f"sin_phi{k}", sp.sin(phi[k]), rf"\mathrm{{s}}_{{{k}}}")
+        ct, st = (P.from_sympy(v) for v in folded_trig(body.theta))
+        j = Joint(P, k, ct, st, cp, sph)
+        joint.append(j)
+        alpha.append(direction_cosines(body.theta, phi[k], *(next(iter(v.terms))[0].sym for v in (cp, sph))))
+        gamma.append(P.vec(f"gam{k}", j.down(gamma[k - 1]), rf"\gamma^{{{k}}}"))  # (α^k_{i1})_i, eq. (14)
+        omega.append(P.vec(f"om{k}", add(j.down(omega[k - 1]), scale(qd[k], E1)), rf"\omega^{{{k}}}"))  # eq. (1)
+    return Kinematics(P, n, phi, phidot, torque, alpha, joint, gamma, omega, qd, tau)

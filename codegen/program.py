@@ -2,13 +2,19 @@
 
 Expanding the paper's sums into one closed form per equation explodes with n; naming every
 recursion quantity (ωᵏ, εᵏ, the composite first moment hᵏ, …) keeps the model O(n²).  ``let``
-names an expression unless it is a number or a (negated) symbol, so zero terms vanish and
-numbers fold at generation time.  ``inline`` gives back the closed form when it is wanted
-(LaTeX, symbolic proofs).
+names a polynomial unless it is a number or one term of degree ≤ 1 (those are cheaper inlined),
+so zero terms vanish and numbers fold at generation time.  ``inline`` gives back the closed form
+when it is wanted (LaTeX, symbolic proofs).
+
+A definition's right side is a ``Poly`` of earlier names, or, for the few quantities that are not
+polynomial (cos φᵏ, sin φᵏ, functions of symbolic parameters such as cos θ), a sympy expression of
+state and parameters that the sympy printers print.
 """
 from __future__ import annotations
 
 import sympy as sp
+
+from .algebra import Atom, Poly
 
 
 class Var(sp.Symbol):
@@ -18,52 +24,122 @@ class Var(sp.Symbol):
 
 class Program:
     def __init__(self):
-        self.defs: list[tuple[Var, sp.Expr]] = []
-        self.tex: dict[Var, str] = {}
-        self._by_name: dict[str, Var] = {}
+        self.defs: list[tuple[Atom, object]] = []  # (atom, Poly | sympy expression)
+        self.rhs: dict[Atom, object] = {}
+        self.tex: dict[sp.Symbol, str] = {}
+        self._by_name: dict[str, Atom] = {}
+        self._inputs: dict[sp.Symbol, Atom] = {}  # state symbols and parameters
+        self._opaque: dict[sp.Expr, Poly] = {}
 
-    def let(self, name: str, expr, tex: str | None = None) -> sp.Expr:
+    # ---- inputs
+    def input(self, sym: sp.Symbol) -> Poly:
+        """The polynomial of a state symbol or parameter (one atom per symbol)."""
+        a = self._inputs.get(sym)
+        if a is None:
+            a = self._inputs[sym] = Atom(sym)
+        return Poly.atom(a)
+
+    def from_sympy(self, expr) -> Poly:
+        """A spec value (sympy, numbers exact) as a polynomial.  Sums, products and integer powers
+        of parameters stay polynomial; anything else (sqrt, cos of a parameter, 1/m) becomes a
+        named quantity computed once from its sympy form."""
         expr = sp.sympify(expr)
-        if expr.is_Atom or (-expr).is_Atom:
-            return expr
+        if expr.is_number:
+            return Poly.const(float(expr.evalf(30)))
+        if expr.is_Symbol:
+            return self.input(expr)
+        if expr.is_Add:
+            out = Poly({})
+            for a in expr.args:
+                out = out + self.from_sympy(a)
+            return out
+        if expr.is_Mul:
+            out = Poly.const(1)
+            for a in expr.args:
+                out = out * self.from_sympy(a)
+            return out
+        if expr.is_Pow and expr.exp.is_Integer and expr.exp > 0:
+            base, out = self.from_sympy(expr.base), Poly.const(1)
+            for _ in range(int(expr.exp)):
+                out = out * base
+            return out
+        if expr not in self._opaque:
+            for s in sorted(expr.free_symbols, key=str):
+                self.input(s)
+            self._opaque[expr] = self.let_sympy(f"pe{len(self._opaque) + 1}", expr)
+        return self._opaque[expr]
+
+    # ---- definitions
+    def _new(self, name: str, rhs, tex: str | None) -> Poly:
         if name in self._by_name:
             raise ValueError(f"quantity {name} defined twice")
-        sym = Var(name, real=True)
-        self._by_name[name] = sym
-        self.defs.append((sym, expr))
+        a = Atom(Var(name))
+        self._by_name[name] = a
+        self.defs.append((a, rhs))
+        self.rhs[a] = rhs
         if tex:
-            self.tex[sym] = tex
-        return sym
+            self.tex[a.sym] = tex
+        return Poly.atom(a)
 
-    def vec(self, name: str, v, tex: str | None = None) -> sp.Matrix:
+    def let(self, name: str, value, tex: str | None = None) -> Poly:
+        value = Poly.lift(value)
+        if value.is_simple():
+            return value
+        return self._new(name, value, tex)
+
+    def let_sympy(self, name: str, expr: sp.Expr, tex: str | None = None) -> Poly:
+        """A non-polynomial quantity (cos φᵏ, a function of parameters), printed by sympy."""
+        for s in sorted(expr.free_symbols, key=str):
+            self.input(s)
+        return self._new(name, expr, tex)
+
+    def vec(self, name: str, v, tex: str | None = None) -> list:
         """A 3-vector, component i named ``{name}_{i}`` (1-based, as in the paper)."""
-        return sp.Matrix(
-            [self.let(f"{name}_{i + 1}", v[i], tex and f"{tex}_{{{i + 1}}}") for i in range(3)]
-        )
+        return [self.let(f"{name}_{i + 1}", v[i], tex and f"{tex}_{{{i + 1}}}") for i in range(3)]
 
-    def sym_mat(self, name: str, m, tex: str | None = None) -> sp.Matrix:
+    def sym_mat(self, name: str, m, tex: str | None = None) -> list:
         """A symmetric 3×3 matrix; the lower triangle is computed, the upper mirrors it."""
-        out = sp.zeros(3, 3)
+        out = [[None] * 3 for _ in range(3)]
         for i in range(3):
             for j in range(i + 1):
-                out[i, j] = out[j, i] = self.let(f"{name}_{i + 1}{j + 1}", m[i, j], tex and f"{tex}_{{{i + 1}{j + 1}}}")
+                out[i][j] = out[j][i] = self.let(f"{name}_{i + 1}{j + 1}", m[i][j], tex and f"{tex}_{{{i + 1}{j + 1}}}")
         return out
 
-    def inline(self, exprs):
-        """Closed forms of ``exprs``: every quantity replaced by its definition (small n only)."""
-        full: dict = {}
-        for sym, rhs in self.defs:
-            full[sym] = rhs.xreplace(full)
-        return [sp.sympify(e).xreplace(full) for e in exprs]
+    # ---- reading the program
+    def atom_of(self, sym: sp.Symbol) -> Atom | None:
+        return self._inputs.get(sym)
 
-    def needed(self, exprs) -> list[tuple[Var, sp.Expr]]:
-        """The definitions the expressions depend on, in program order (dead code dropped)."""
-        need = set()
+    def is_opaque(self, a: Atom) -> bool:
+        return a in self.rhs and not isinstance(self.rhs[a], Poly)
+
+    def needed(self, exprs) -> list[tuple[Atom, object]]:
+        """The definitions the polynomials depend on, in program order (dead code dropped)."""
+        need: set = set()
         for e in exprs:
-            need |= {a for a in sp.sympify(e).free_symbols if isinstance(a, Var)}
+            need.update(Poly.lift(e).atoms())
         out = []
-        for sym, rhs in reversed(self.defs):
-            if sym in need:
-                out.append((sym, rhs))
-                need |= {a for a in rhs.free_symbols if isinstance(a, Var)}
+        for a, rhs in reversed(self.defs):
+            if a in need:
+                out.append((a, rhs))
+                if isinstance(rhs, Poly):
+                    need.update(rhs.atoms())
         return out[::-1]
+
+    def inline_poly(self, exprs) -> list[Poly]:
+        """Closed forms as polynomials: every polynomial quantity replaced by its definition;
+        non-polynomial ones (cos φᵏ, …) stay atoms."""
+        exprs = [Poly.lift(e) for e in exprs]
+        full: dict = {}
+        for a, rhs in self.needed(exprs):
+            if isinstance(rhs, Poly):
+                full[a] = rhs.subs(full)
+        return [e.subs(full) for e in exprs]
+
+    def sympy_of(self, a: Atom) -> sp.Expr:
+        """An atom in sympy: inputs as themselves, non-polynomial quantities by their definition."""
+        rhs = self.rhs.get(a)
+        return rhs if rhs is not None and not isinstance(rhs, Poly) else a.sym
+
+    def inline(self, exprs) -> list[sp.Expr]:
+        """Closed forms in sympy (small n only)."""
+        return [p.to_sympy(self.sympy_of) for p in self.inline_poly(exprs)]

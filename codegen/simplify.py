@@ -1,63 +1,64 @@
-"""A program's outputs → ordered straight-line assignments (number folding + one CSE per function)."""
+"""A program's outputs → ordered straight-line assignments for one emitted function.
+
+The program already names every recursion quantity, so what is left to share is products: a
+monomial of degree ≥ 2 that several definitions use (ω₂ω₃, m·cos φ …) becomes one temporary
+``w<i>``, placed just before its first use.  Dead definitions are dropped.
+"""
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-import sympy as sp
-
+from .algebra import Atom, Poly
 from .program import Program, Var
-
-
-def fold_numbers(expr: sp.Expr) -> sp.Expr:
-    """Evaluate every subexpression made of numbers only (sqrt(3)/2, cos(3/10), …) to a Float."""
-    if expr.is_Atom:
-        return expr
-    if expr.is_number:
-        return sp.Float(expr.evalf(30), 30)
-    args = [fold_numbers(a) for a in expr.args]
-    return expr.func(*args) if any(a is not b for a, b in zip(args, expr.args)) else expr
 
 
 @dataclass(frozen=True)
 class StraightLine:
-    """``temporaries`` are computed in order; ``outputs`` then use them."""
+    """``temporaries`` are computed in order (right sides: Poly, or sympy for non-polynomial
+    quantities); ``outputs`` then use them."""
 
-    temporaries: tuple[tuple[sp.Symbol, sp.Expr], ...]
-    outputs: tuple[sp.Expr, ...]
+    temporaries: tuple
+    outputs: tuple
 
     def op_count(self) -> int:
-        exprs = [rhs for _, rhs in self.temporaries] + list(self.outputs)
-        return int(sum(sp.count_ops(e) for e in exprs))
+        ops = 0
+        for _, rhs in self.temporaries:
+            ops += rhs.op_count() if isinstance(rhs, Poly) else _sympy_ops(rhs)
+        return ops + sum(o.op_count() for o in self.outputs)
+
+
+def _sympy_ops(expr) -> int:
+    import sympy as sp
+
+    return max(1, int(sp.count_ops(expr)))
 
 
 def straight_line(program: Program, outputs, prefix: str = "w") -> StraightLine:
-    """The definitions ``outputs`` need, with one CSE over all of them.
-
-    CSE sees the definitions' right-hand sides as one list; each common subexpression is then
-    placed just before the first definition that uses it, which is always after every quantity
-    it reads (a subexpression of a right side only reads quantities defined before that side).
-    """
-    outputs = [fold_numbers(sp.sympify(e)) for e in outputs]
-    defs = [(sym, fold_numbers(rhs)) for sym, rhs in program.needed(outputs)]
-    exprs = [rhs for _, rhs in defs] + outputs
-    temps, reduced = sp.cse(exprs, symbols=sp.numbered_symbols(prefix, cls=Var), order="canonical")
-    temp_rhs = dict(temps)
-    order = {sym: i for i, (sym, _) in enumerate(temps)}
-    placed: set = set()
+    outputs = [Poly.lift(e) for e in outputs]
+    defs = program.needed(outputs)
+    polys = [rhs for _, rhs in defs if isinstance(rhs, Poly)] + outputs
+    seen: dict = {}
+    for p in polys:
+        for m in p.terms:
+            if len(m) >= 2:
+                seen[m] = seen.get(m, 0) + 1
+    shared = {m: None for m, count in seen.items() if count >= 2}
+    temps: dict = {}
     lines: list = []
 
-    def place(expr):
-        for t in sorted((a for a in expr.free_symbols if a in temp_rhs and a not in placed), key=order.get):
-            if t in placed:
-                continue
-            place(temp_rhs[t])
-            placed.add(t)
-            lines.append((t, temp_rhs[t]))
+    def rewrite(p: Poly) -> Poly:
+        out = {}
+        for m, c in p.terms.items():
+            if m in shared:
+                t = temps.get(m)
+                if t is None:
+                    t = temps[m] = Atom(Var(f"{prefix}{len(temps)}"))
+                    lines.append((t, Poly({m: 1.0})))
+                m = (t,)
+            out[m] = c
+        return Poly(out)
 
-    for (sym, _), rhs in zip(defs, reduced[: len(defs)]):
-        place(rhs)
-        lines.append((sym, rhs))
-    outs = reduced[len(defs) :]
-    for e in outs:
-        place(e)
-    return StraightLine(tuple(lines), tuple(outs))
+    for a, rhs in defs:
+        lines.append((a, rewrite(rhs) if isinstance(rhs, Poly) else rhs))
+    outs = tuple(rewrite(p) for p in outputs)
+    return StraightLine(tuple(lines), outs)

@@ -54,7 +54,7 @@ def test_symbolic_two_body_equals_lagrange():
     n = spec.n
     phi, phidot = kin.phi[1:], kin.phidot[1:]
     H, b = lagrange_terms(spec, phi, phidot)
-    ours = kin.prog.inline([dyn.M[i, j] for i in range(n) for j in range(n)] + [dyn.Q[k] + dyn.Gamma[k] - dyn.G[k] for k in range(n)])
+    ours = kin.prog.inline([dyn.M[i][j] for i in range(n) for j in range(n)] + [dyn.Q[k] + dyn.Gamma[k] - dyn.G[k] for k in range(n)])
     angles = phi + [body.theta for body in spec.bodies]
     for i in range(n):
         for j in range(n):
@@ -63,7 +63,11 @@ def test_symbolic_two_body_equals_lagrange():
         # M φ̈ + Q + Γ − G = Lᵏ  ⇔  H φ̈ + b = Lᵏ
         assert reduce_trig(ours[n * n + k] - b[k], angles) == 0, f"equation {k + 1}"
     # the control torques enter as +Lᵏ on the right side
-    assert [dyn.L[k] for k in range(n)] == [kin.torque[k + 1] for k in range(n)]
+    assert kin.prog.inline(dyn.L) == [kin.torque[k + 1] for k in range(n)]
+    # the code's form: one Newton–Euler recursion for Q + Γ − G (gravity as base acceleration)
+    bias = kin.prog.inline(dyn.bias)
+    for k in range(n):
+        assert reduce_trig(bias[k] - b[k], angles) == 0, f"combined bias {k + 1}"
 
 
 def test_symbolic_two_body_energy_and_momentum():

@@ -32,63 +32,13 @@ static void double_pendulum_symmetrize_(double *M)
     }
 }
 
-/* In-place LDL^T of the symmetric M (lower triangle used): L below the diagonal, D on it.
- * Returns DOUBLE_PENDULUM_SINGULAR when a pivot is not above DOUBLE_PENDULUM_PIVOT_TOL times the largest
- * diagonal entry, i.e. when M is not (numerically) positive definite. */
-static int double_pendulum_ldlt_(double *M)
-{
-    double v[2];
-    double scale = 0.0, tol, d, a;
-    int i, j, k;
-    for (j = 0; j < 2; ++j) {
-        if (fabs(M[j * 2 + j]) > scale) {
-            scale = fabs(M[j * 2 + j]);
-        }
-    }
-    tol = DOUBLE_PENDULUM_PIVOT_TOL * scale;
-    for (j = 0; j < 2; ++j) {
-        d = M[j * 2 + j];
-        for (k = 0; k < j; ++k) {
-            v[k] = M[j * 2 + k] * M[k * 2 + k];
-            d -= M[j * 2 + k] * v[k];
-        }
-        if (!(d > tol)) {
-            return DOUBLE_PENDULUM_SINGULAR;
-        }
-        M[j * 2 + j] = d;
-        for (i = j + 1; i < 2; ++i) {
-            a = M[i * 2 + j];
-            for (k = 0; k < j; ++k) {
-                a -= M[i * 2 + k] * v[k];
-            }
-            M[i * 2 + j] = a / d;
-        }
-    }
-    return DOUBLE_PENDULUM_OK;
-}
-
-/* Solves L D L^T y = b in place, with the factors from double_pendulum_ldlt_. */
-static void double_pendulum_ldlt_solve_(const double *LD, double *b)
-{
-    int i, k;
-    for (i = 0; i < 2; ++i) {
-        for (k = 0; k < i; ++k) {
-            b[i] -= LD[i * 2 + k] * b[k];
-        }
-    }
-    for (i = 0; i < 2; ++i) {
-        b[i] /= LD[i * 2 + i];
-    }
-    for (i = 2 - 1; i >= 0; --i) {
-        for (k = i + 1; k < 2; ++k) {
-            b[i] -= LD[k * 2 + i] * b[k];
-        }
-    }
-}
 
 int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p, double *M)
 {
     double LD[4];
+    double v[2];
+    double tol, d, r = 0.0;
+    (void)v;
     int i;
     (void)p;
 
@@ -97,13 +47,11 @@ int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p
     }
     {
         const double cos_phi2 = cos(q[1]);
-        const double w0 = 0.5*cos_phi2;
-        const double h2in1_3 = w0;
-        const double I1_11 = 2.0*h2in1_3 + 1.667;
-        const double M2_1 = w0 + 0.3335;
+        const double I1_11 = 1.667 + cos_phi2;
+        const double n2in1_1 = 0.3335 + 0.5*cos_phi2;
 
         M[0] = I1_11;
-        M[2] = M2_1;
+        M[2] = n2in1_1;
         M[3] = 0.3335;
 
     }
@@ -114,7 +62,30 @@ int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p
     for (i = 0; i < 4; ++i) {
         LD[i] = M[i];
     }
-    return double_pendulum_ldlt_(LD);
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 2; ++i) {
+        if (fabs(LD[i * 3]) > tol) {
+            tol = fabs(LD[i * 3]);
+        }
+    }
+    tol *= DOUBLE_PENDULUM_PIVOT_TOL;
+    d = LD[0];
+    if (!(d > tol)) {
+        return DOUBLE_PENDULUM_SINGULAR;
+    }
+    LD[0] = d;
+    r = 1.0 / d;
+    LD[2] = (LD[2]) * r;
+    v[0] = LD[2] * LD[0];
+    d = LD[3] - LD[2] * v[0];
+    if (!(d > tol)) {
+        return DOUBLE_PENDULUM_SINGULAR;
+    }
+    LD[3] = d;
+
+    (void)r;
+    return DOUBLE_PENDULUM_OK;
 }
 
 int double_pendulum_forces(const double *x, const double *u, const double_pendulum_params *p, double *f)
@@ -132,24 +103,17 @@ int double_pendulum_forces(const double *x, const double *u, const double_pendul
         const double sin_phi1 = sin(x[0]);
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double gam2_2 = cos_phi1*sin_phi2 + cos_phi2*sin_phi1;
         const double om2_1 = x[2] + x[3];
-        const double aO2in1_3 = -x[2]*x[2];
-        const double aO2_2 = aO2in1_3*sin_phi2;
-        const double aO2_3 = aO2in1_3*cos_phi2;
-        const double F2_3 = aO2_3 - 0.5*om2_1*om2_1;
-        const double N2_1 = -0.5*aO2_2;
-        const double G2 = -4.905*gam2_2;
-        const double F2in1_2 = -F2_3*sin_phi2 + aO2_2*cos_phi2;
-        const double h2in1_2 = -0.5*sin_phi2;
-        const double h2in1_3 = 0.5*cos_phi2;
-        const double w0 = -N2_1;
-        const double N1_1 = -F2in1_2 - w0;
-        const double h1_3 = h2in1_3 + 1.5;
-        const double G1 = 9.81*cos_phi1*h2in1_2 - 9.81*h1_3*sin_phi1;
+        const double aOrel2in1_3 = -x[2]*x[2];
+        const double j2r5 = -9.81*cos_phi1 + aOrel2in1_3;
+        const double aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2;
+        const double Fb2_3 = aOg2_3 - 0.5*om2_1*om2_1;
+        const double Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*Fb2_3;
+        const double Nb1_1 = 4.905*sin_phi1 - 0.5*aOg2_2 - Fb2in1_2;
 
-        f[0] = G1 - N1_1;
-        f[1] = G2 + w0;
+        f[0] = -Nb1_1;
+        f[1] = 0.5*aOg2_2;
 
     }
     return double_pendulum_all_finite_(f, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
@@ -159,7 +123,10 @@ int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_
 {
     double M[4];
     double f[2];
-    int i, code;
+    double v[2];
+    double tol, d, r = 0.0;
+    (void)v;
+    int i;
     (void)p;
 
     if (!double_pendulum_all_finite_(x, 4)) {
@@ -173,41 +140,58 @@ int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_
         const double sin_phi1 = sin(x[0]);
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double gam2_2 = cos_phi1*sin_phi2 + cos_phi2*sin_phi1;
         const double om2_1 = x[2] + x[3];
-        const double aO2in1_3 = -x[2]*x[2];
-        const double aO2_2 = aO2in1_3*sin_phi2;
-        const double aO2_3 = aO2in1_3*cos_phi2;
-        const double F2_3 = aO2_3 - 0.5*om2_1*om2_1;
-        const double N2_1 = -0.5*aO2_2;
-        const double G2 = -4.905*gam2_2;
-        const double F2in1_2 = -F2_3*sin_phi2 + aO2_2*cos_phi2;
-        const double h2in1_2 = -0.5*sin_phi2;
-        const double w0 = 0.5*cos_phi2;
-        const double h2in1_3 = w0;
-        const double w1 = -N2_1;
-        const double N1_1 = -F2in1_2 - w1;
-        const double h1_3 = h2in1_3 + 1.5;
-        const double I1_11 = 2.0*h2in1_3 + 1.667;
-        const double G1 = 9.81*cos_phi1*h2in1_2 - 9.81*h1_3*sin_phi1;
-        const double M2_1 = w0 + 0.3335;
+        const double aOrel2in1_3 = -x[2]*x[2];
+        const double j2r5 = -9.81*cos_phi1 + aOrel2in1_3;
+        const double aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2;
+        const double Fb2_3 = aOg2_3 - 0.5*om2_1*om2_1;
+        const double Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*Fb2_3;
+        const double Nb1_1 = 4.905*sin_phi1 - 0.5*aOg2_2 - Fb2in1_2;
+        const double I1_11 = 1.667 + cos_phi2;
+        const double n2in1_1 = 0.3335 + 0.5*cos_phi2;
 
         M[0] = I1_11;
-        M[2] = M2_1;
+        M[2] = n2in1_1;
         M[3] = 0.3335;
-        f[0] = G1 - N1_1;
-        f[1] = G2 + w1;
+        f[0] = -Nb1_1;
+        f[1] = 0.5*aOg2_2;
 
     }
-    double_pendulum_symmetrize_(M);
-    if (!double_pendulum_all_finite_(M, 4) || !double_pendulum_all_finite_(f, 2)) {
-        return DOUBLE_PENDULUM_NONFINITE;
+    /* a non-finite off-diagonal entry of M makes phi'' non-finite, caught below */
+    for (i = 0; i < 2; ++i) {
+        if (!isfinite(M[i * 3]) || !isfinite(f[i])) {
+            return DOUBLE_PENDULUM_NONFINITE;
+        }
     }
-    code = double_pendulum_ldlt_(M);
-    if (code != DOUBLE_PENDULUM_OK) {
-        return code;
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 2; ++i) {
+        if (fabs(M[i * 3]) > tol) {
+            tol = fabs(M[i * 3]);
+        }
     }
-    double_pendulum_ldlt_solve_(M, f);
+    tol *= DOUBLE_PENDULUM_PIVOT_TOL;
+    d = M[0];
+    if (!(d > tol)) {
+        return DOUBLE_PENDULUM_SINGULAR;
+    }
+    M[0] = d;
+    r = 1.0 / d;
+    M[2] = (M[2]) * r;
+    v[0] = M[2] * M[0];
+    d = M[3] - M[2] * v[0];
+    if (!(d > tol)) {
+        return DOUBLE_PENDULUM_SINGULAR;
+    }
+    M[3] = d;
+
+    (void)r;
+    f[1] -= M[2] * f[0];
+    f[0] /= M[0];
+    f[1] /= M[3];
+    f[0] -= M[2] * f[1];
+
     for (i = 0; i < 2; ++i) {
         qdd[i] = f[i];
     }
@@ -234,14 +218,13 @@ double double_pendulum_energy(const double *x, const double_pendulum_params *p)
         const double sin_phi1 = sin(x[0]);
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double h2in1_2 = -0.5*sin_phi2;
-        const double w0 = 0.5*cos_phi2;
-        const double h2in1_3 = w0;
-        const double h1_3 = h2in1_3 + 1.5;
-        const double I1_11 = 2.0*h2in1_3 + 1.667;
-        const double M2_1 = w0 + 0.3335;
+        const double h1_3 = 1.5 + 0.5*cos_phi2;
+        const double I1_11 = 1.667 + cos_phi2;
+        const double n2in1_1 = 0.3335 + 0.5*cos_phi2;
+        const double Mqd1 = x[2]*I1_11 + x[3]*n2in1_1;
+        const double Mqd2 = x[2]*n2in1_1 + 0.3335*x[3];
 
-        result = 0.5*x[2]*x[2]*I1_11 + x[2]*x[3]*M2_1 + 0.16675*x[3]*x[3] - 9.81*cos_phi1*h1_3 - 9.81*h2in1_2*sin_phi1;
+        result = 0.5*x[2]*Mqd1 + 0.5*x[3]*Mqd2 + 4.905*sin_phi1*sin_phi2 - 9.81*cos_phi1*h1_3;
 
     }
     return result;

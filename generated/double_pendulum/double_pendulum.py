@@ -18,7 +18,7 @@ PARAMS = ()
 CONTROLS = ()  # joints with a control torque, in the order of u
 HAS_ENERGY_INTEGRAL = True
 HAS_MOMENTUM_INTEGRAL = False
-OP_COUNTS = { "energy": 32, "forces": 40, "mass_matrix": 8, "qdd": 56, "rhs": 56, }
+OP_COUNTS = { "energy": 26, "forces": 27, "mass_matrix": 4, "qdd": 41, "rhs": 41, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -68,12 +68,10 @@ def mass_matrix(q, p=None):
 
     M = np.empty((N, N))
     cos_phi2 = math.cos(q[1])
-    w0 = 0.5*cos_phi2
-    h2in1_3 = w0
-    I1_11 = 2.0*h2in1_3 + 1.667
-    M2_1 = w0 + 0.3335
+    I1_11 = 1.667 + cos_phi2
+    n2in1_1 = 0.3335 + 0.5*cos_phi2
     M[0, 0] = I1_11
-    M[1, 0] = M2_1
+    M[1, 0] = n2in1_1
     M[1, 1] = 0.3335
 
     M = np.tril(M) + np.tril(M, -1).T
@@ -89,23 +87,16 @@ def forces(x, u=None, p=None):
     sin_phi1 = math.sin(x[0])
     cos_phi2 = math.cos(x[1])
     sin_phi2 = math.sin(x[1])
-    gam2_2 = cos_phi1*sin_phi2 + cos_phi2*sin_phi1
     om2_1 = x[2] + x[3]
-    aO2in1_3 = -x[2]*x[2]
-    aO2_2 = aO2in1_3*sin_phi2
-    aO2_3 = aO2in1_3*cos_phi2
-    F2_3 = aO2_3 - 0.5*om2_1*om2_1
-    N2_1 = -0.5*aO2_2
-    G2 = -4.905*gam2_2
-    F2in1_2 = -F2_3*sin_phi2 + aO2_2*cos_phi2
-    h2in1_2 = -0.5*sin_phi2
-    h2in1_3 = 0.5*cos_phi2
-    w0 = -N2_1
-    N1_1 = -F2in1_2 - w0
-    h1_3 = h2in1_3 + 1.5
-    G1 = 9.81*cos_phi1*h2in1_2 - 9.81*h1_3*sin_phi1
-    f[0] = G1 - N1_1
-    f[1] = G2 + w0
+    aOrel2in1_3 = -x[2]*x[2]
+    j2r5 = -9.81*cos_phi1 + aOrel2in1_3
+    aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5
+    aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2
+    Fb2_3 = aOg2_3 - 0.5*om2_1*om2_1
+    Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*Fb2_3
+    Nb1_1 = 4.905*sin_phi1 - 0.5*aOg2_2 - Fb2in1_2
+    f[0] = -Nb1_1
+    f[1] = 0.5*aOg2_2
 
     return f
 
@@ -122,29 +113,21 @@ def qdd(x, u=None, p=None):
     sin_phi1 = math.sin(x[0])
     cos_phi2 = math.cos(x[1])
     sin_phi2 = math.sin(x[1])
-    gam2_2 = cos_phi1*sin_phi2 + cos_phi2*sin_phi1
     om2_1 = x[2] + x[3]
-    aO2in1_3 = -x[2]*x[2]
-    aO2_2 = aO2in1_3*sin_phi2
-    aO2_3 = aO2in1_3*cos_phi2
-    F2_3 = aO2_3 - 0.5*om2_1*om2_1
-    N2_1 = -0.5*aO2_2
-    G2 = -4.905*gam2_2
-    F2in1_2 = -F2_3*sin_phi2 + aO2_2*cos_phi2
-    h2in1_2 = -0.5*sin_phi2
-    w0 = 0.5*cos_phi2
-    h2in1_3 = w0
-    w1 = -N2_1
-    N1_1 = -F2in1_2 - w1
-    h1_3 = h2in1_3 + 1.5
-    I1_11 = 2.0*h2in1_3 + 1.667
-    G1 = 9.81*cos_phi1*h2in1_2 - 9.81*h1_3*sin_phi1
-    M2_1 = w0 + 0.3335
+    aOrel2in1_3 = -x[2]*x[2]
+    j2r5 = -9.81*cos_phi1 + aOrel2in1_3
+    aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5
+    aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2
+    Fb2_3 = aOg2_3 - 0.5*om2_1*om2_1
+    Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*Fb2_3
+    Nb1_1 = 4.905*sin_phi1 - 0.5*aOg2_2 - Fb2in1_2
+    I1_11 = 1.667 + cos_phi2
+    n2in1_1 = 0.3335 + 0.5*cos_phi2
     M[0, 0] = I1_11
-    M[1, 0] = M2_1
+    M[1, 0] = n2in1_1
     M[1, 1] = 0.3335
-    f[0] = G1 - N1_1
-    f[1] = G2 + w1
+    f[0] = -Nb1_1
+    f[1] = 0.5*aOg2_2
 
     M = np.tril(M) + np.tril(M, -1).T
     if not (np.all(np.isfinite(M)) and np.all(np.isfinite(f))):
@@ -168,12 +151,11 @@ def energy(x, p=None):
     sin_phi1 = math.sin(x[0])
     cos_phi2 = math.cos(x[1])
     sin_phi2 = math.sin(x[1])
-    h2in1_2 = -0.5*sin_phi2
-    w0 = 0.5*cos_phi2
-    h2in1_3 = w0
-    h1_3 = h2in1_3 + 1.5
-    I1_11 = 2.0*h2in1_3 + 1.667
-    M2_1 = w0 + 0.3335
-    result = 0.5*x[2]*x[2]*I1_11 + x[2]*x[3]*M2_1 + 0.16675*x[3]*x[3] - 9.81*cos_phi1*h1_3 - 9.81*h2in1_2*sin_phi1
+    h1_3 = 1.5 + 0.5*cos_phi2
+    I1_11 = 1.667 + cos_phi2
+    n2in1_1 = 0.3335 + 0.5*cos_phi2
+    Mqd1 = x[2]*I1_11 + x[3]*n2in1_1
+    Mqd2 = x[2]*n2in1_1 + 0.3335*x[3]
+    result = 0.5*x[2]*Mqd1 + 0.5*x[3]*Mqd2 + 4.905*sin_phi1*sin_phi2 - 9.81*cos_phi1*h1_3
 
     return result

@@ -32,63 +32,13 @@ static void furuta_symmetrize_(double *M)
     }
 }
 
-/* In-place LDL^T of the symmetric M (lower triangle used): L below the diagonal, D on it.
- * Returns FURUTA_SINGULAR when a pivot is not above FURUTA_PIVOT_TOL times the largest
- * diagonal entry, i.e. when M is not (numerically) positive definite. */
-static int furuta_ldlt_(double *M)
-{
-    double v[2];
-    double scale = 0.0, tol, d, a;
-    int i, j, k;
-    for (j = 0; j < 2; ++j) {
-        if (fabs(M[j * 2 + j]) > scale) {
-            scale = fabs(M[j * 2 + j]);
-        }
-    }
-    tol = FURUTA_PIVOT_TOL * scale;
-    for (j = 0; j < 2; ++j) {
-        d = M[j * 2 + j];
-        for (k = 0; k < j; ++k) {
-            v[k] = M[j * 2 + k] * M[k * 2 + k];
-            d -= M[j * 2 + k] * v[k];
-        }
-        if (!(d > tol)) {
-            return FURUTA_SINGULAR;
-        }
-        M[j * 2 + j] = d;
-        for (i = j + 1; i < 2; ++i) {
-            a = M[i * 2 + j];
-            for (k = 0; k < j; ++k) {
-                a -= M[i * 2 + k] * v[k];
-            }
-            M[i * 2 + j] = a / d;
-        }
-    }
-    return FURUTA_OK;
-}
-
-/* Solves L D L^T y = b in place, with the factors from furuta_ldlt_. */
-static void furuta_ldlt_solve_(const double *LD, double *b)
-{
-    int i, k;
-    for (i = 0; i < 2; ++i) {
-        for (k = 0; k < i; ++k) {
-            b[i] -= LD[i * 2 + k] * b[k];
-        }
-    }
-    for (i = 0; i < 2; ++i) {
-        b[i] /= LD[i * 2 + i];
-    }
-    for (i = 2 - 1; i >= 0; --i) {
-        for (k = i + 1; k < 2; ++k) {
-            b[i] -= LD[k * 2 + i] * b[k];
-        }
-    }
-}
 
 int furuta_mass_matrix(const double *q, const furuta_params *p, double *M)
 {
     double LD[4];
+    double v[2];
+    double tol, d, r = 0.0;
+    (void)v;
     int i;
     (void)p;
 
@@ -98,12 +48,11 @@ int furuta_mass_matrix(const double *q, const furuta_params *p, double *M)
     {
         const double cos_phi2 = cos(q[1]);
         const double sin_phi2 = sin(q[1]);
-        const double I2in1_11 = 1e-05*cos_phi2*cos_phi2 + 0.003*sin_phi2*sin_phi2;
-        const double I1_11 = I2in1_11 + 0.0082;
-        const double M2_1 = -0.003*cos_phi2;
+        const double I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2;
+        const double I1_11 = 0.0082 + I2in1r_33;
 
         M[0] = I1_11;
-        M[2] = M2_1;
+        M[2] = -0.003*cos_phi2;
         M[3] = 0.003;
 
     }
@@ -114,7 +63,30 @@ int furuta_mass_matrix(const double *q, const furuta_params *p, double *M)
     for (i = 0; i < 4; ++i) {
         LD[i] = M[i];
     }
-    return furuta_ldlt_(LD);
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 2; ++i) {
+        if (fabs(LD[i * 3]) > tol) {
+            tol = fabs(LD[i * 3]);
+        }
+    }
+    tol *= FURUTA_PIVOT_TOL;
+    d = LD[0];
+    if (!(d > tol)) {
+        return FURUTA_SINGULAR;
+    }
+    LD[0] = d;
+    r = 1.0 / d;
+    LD[2] = (LD[2]) * r;
+    v[0] = LD[2] * LD[0];
+    d = LD[3] - LD[2] * v[0];
+    if (!(d > tol)) {
+        return FURUTA_SINGULAR;
+    }
+    LD[3] = d;
+
+    (void)r;
+    return FURUTA_OK;
 }
 
 int furuta_forces(const double *x, const double *u, const furuta_params *p, double *f)
@@ -135,20 +107,18 @@ int furuta_forces(const double *x, const double *u, const furuta_params *p, doub
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double aO2in1_3 = 0.2*x[2]*x[2];
+        const double aOrel2in1_3 = 0.2*x[2]*x[2];
         const double w1 = om2_2*om2_3;
-        const double F2_2 = 0.015*w1;
-        const double F2_3 = -0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
-        const double N2_1 = -0.00299*w1;
-        const double N2_2 = -0.015*aO2in1_3 + 0.003*eps2_2 + 0.00299*w0;
-        const double N2_3 = 1e-05*eps2_3;
-        const double G2 = -0.14715*sin_phi2;
-        const double F2in1_2 = F2_2*cos_phi2 - F2_3*sin_phi2;
-        const double N2in1_1 = N2_2*sin_phi2 + N2_3*cos_phi2;
-        const double N1_1 = 0.2*F2in1_2 + N2in1_1;
+        const double Fb2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
+        const double Fb2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
+        const double Nb2_1 = -0.00299*w1 + 0.14715*sin_phi2;
+        const double Nb2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double j2r12 = sin_phi2*Nb2_2 + 1e-05*cos_phi2*eps2_3;
+        const double Nb1_1 = j2r12 + 0.2*Fb2in1_2;
 
-        f[0] = tau_1 - N1_1;
-        f[1] = G2 - N2_1;
+        f[0] = tau_1 - Nb1_1;
+        f[1] = -Nb2_1;
 
     }
     return furuta_all_finite_(f, 2) ? FURUTA_OK : FURUTA_NONFINITE;
@@ -158,7 +128,10 @@ int furuta_qdd(const double *x, const double *u, const furuta_params *p, double 
 {
     double M[4];
     double f[2];
-    int i, code;
+    double v[2];
+    double tol, d, r = 0.0;
+    (void)v;
+    int i;
     (void)p;
 
     if (!furuta_all_finite_(x, 4) || (u && !furuta_all_finite_(u, 1))) {
@@ -175,37 +148,59 @@ int furuta_qdd(const double *x, const double *u, const furuta_params *p, double 
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double aO2in1_3 = 0.2*x[2]*x[2];
+        const double aOrel2in1_3 = 0.2*x[2]*x[2];
         const double w1 = om2_2*om2_3;
-        const double F2_2 = 0.015*w1;
-        const double F2_3 = -0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
-        const double N2_1 = -0.00299*w1;
-        const double N2_2 = -0.015*aO2in1_3 + 0.003*eps2_2 + 0.00299*w0;
-        const double N2_3 = 1e-05*eps2_3;
-        const double G2 = -0.14715*sin_phi2;
-        const double F2in1_2 = F2_2*cos_phi2 - F2_3*sin_phi2;
-        const double N2in1_1 = N2_2*sin_phi2 + N2_3*cos_phi2;
-        const double I2in1_11 = 1e-05*cos_phi2*cos_phi2 + 0.003*sin_phi2*sin_phi2;
-        const double N1_1 = 0.2*F2in1_2 + N2in1_1;
-        const double I1_11 = I2in1_11 + 0.0082;
-        const double M2_1 = -0.003*cos_phi2;
+        const double Fb2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
+        const double Fb2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
+        const double Nb2_1 = -0.00299*w1 + 0.14715*sin_phi2;
+        const double Nb2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
+        const double I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double j2r12 = sin_phi2*Nb2_2 + 1e-05*cos_phi2*eps2_3;
+        const double Nb1_1 = j2r12 + 0.2*Fb2in1_2;
+        const double I1_11 = 0.0082 + I2in1r_33;
 
         M[0] = I1_11;
-        M[2] = M2_1;
+        M[2] = -0.003*cos_phi2;
         M[3] = 0.003;
-        f[0] = tau_1 - N1_1;
-        f[1] = G2 - N2_1;
+        f[0] = tau_1 - Nb1_1;
+        f[1] = -Nb2_1;
 
     }
-    furuta_symmetrize_(M);
-    if (!furuta_all_finite_(M, 4) || !furuta_all_finite_(f, 2)) {
-        return FURUTA_NONFINITE;
+    /* a non-finite off-diagonal entry of M makes phi'' non-finite, caught below */
+    for (i = 0; i < 2; ++i) {
+        if (!isfinite(M[i * 3]) || !isfinite(f[i])) {
+            return FURUTA_NONFINITE;
+        }
     }
-    code = furuta_ldlt_(M);
-    if (code != FURUTA_OK) {
-        return code;
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 2; ++i) {
+        if (fabs(M[i * 3]) > tol) {
+            tol = fabs(M[i * 3]);
+        }
     }
-    furuta_ldlt_solve_(M, f);
+    tol *= FURUTA_PIVOT_TOL;
+    d = M[0];
+    if (!(d > tol)) {
+        return FURUTA_SINGULAR;
+    }
+    M[0] = d;
+    r = 1.0 / d;
+    M[2] = (M[2]) * r;
+    v[0] = M[2] * M[0];
+    d = M[3] - M[2] * v[0];
+    if (!(d > tol)) {
+        return FURUTA_SINGULAR;
+    }
+    M[3] = d;
+
+    (void)r;
+    f[1] -= M[2] * f[0];
+    f[0] /= M[0];
+    f[1] /= M[3];
+    f[0] -= M[2] * f[1];
+
     for (i = 0; i < 2; ++i) {
         qdd[i] = f[i];
     }
@@ -230,12 +225,12 @@ double furuta_energy(const double *x, const furuta_params *p)
     {
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double h2in1_1 = 0.015*cos_phi2;
-        const double I2in1_11 = 1e-05*cos_phi2*cos_phi2 + 0.003*sin_phi2*sin_phi2;
-        const double I1_11 = I2in1_11 + 0.0082;
-        const double M2_1 = -0.003*cos_phi2;
+        const double I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2;
+        const double I1_11 = 0.0082 + I2in1r_33;
+        const double Mqd1 = x[2]*I1_11 - 0.003*x[3]*cos_phi2;
+        const double Mqd2 = -0.003*x[2]*cos_phi2 + 0.003*x[3];
 
-        result = 0.5*x[2]*x[2]*I1_11 + x[2]*x[3]*M2_1 + 0.0015*x[3]*x[3] - 9.81*h2in1_1;
+        result = 0.5*x[2]*Mqd1 + 0.5*x[3]*Mqd2 - 0.14715*cos_phi2;
 
     }
     return result;
@@ -249,11 +244,11 @@ double furuta_momentum(const double *x, const furuta_params *p)
     {
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double I2in1_11 = 1e-05*cos_phi2*cos_phi2 + 0.003*sin_phi2*sin_phi2;
-        const double I1_11 = I2in1_11 + 0.0082;
-        const double M2_1 = -0.003*cos_phi2;
+        const double I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2;
+        const double I1_11 = 0.0082 + I2in1r_33;
+        const double Mqd1 = x[2]*I1_11 - 0.003*x[3]*cos_phi2;
 
-        result = x[2]*I1_11 + x[3]*M2_1;
+        result = Mqd1;
 
     }
     return result;

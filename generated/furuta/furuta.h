@@ -13,7 +13,7 @@
  *   FURUTA_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   FURUTA_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
- * Op counts: energy 28, forces 45, mass_matrix 14, momentum 16, qdd 67, rhs 67.
+ * Op counts: energy 23, forces 37, mass_matrix 9, momentum 12, qdd 55, rhs 55.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

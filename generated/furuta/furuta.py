@@ -18,7 +18,7 @@ PARAMS = ()
 CONTROLS = (1, )  # joints with a control torque, in the order of u
 HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
-OP_COUNTS = { "energy": 28, "forces": 45, "mass_matrix": 14, "momentum": 16, "qdd": 67, "rhs": 67, }
+OP_COUNTS = { "energy": 23, "forces": 37, "mass_matrix": 9, "momentum": 12, "qdd": 55, "rhs": 55, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -69,11 +69,10 @@ def mass_matrix(q, p=None):
     M = np.empty((N, N))
     cos_phi2 = math.cos(q[1])
     sin_phi2 = math.sin(q[1])
-    I2in1_11 = 1e-05*cos_phi2*cos_phi2 + 0.003*sin_phi2*sin_phi2
-    I1_11 = I2in1_11 + 0.0082
-    M2_1 = -0.003*cos_phi2
+    I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2
+    I1_11 = 0.0082 + I2in1r_33
     M[0, 0] = I1_11
-    M[1, 0] = M2_1
+    M[1, 0] = -0.003*cos_phi2
     M[1, 1] = 0.003
 
     M = np.tril(M) + np.tril(M, -1).T
@@ -93,19 +92,17 @@ def forces(x, u=None, p=None):
     w0 = x[3]*om2_3
     eps2_2 = w0
     eps2_3 = -x[3]*om2_2
-    aO2in1_3 = 0.2*x[2]*x[2]
+    aOrel2in1_3 = 0.2*x[2]*x[2]
     w1 = om2_2*om2_3
-    F2_2 = 0.015*w1
-    F2_3 = -0.015*x[3]*x[3] - 0.015*om2_2*om2_2
-    N2_1 = -0.00299*w1
-    N2_2 = -0.015*aO2in1_3 + 0.003*eps2_2 + 0.00299*w0
-    N2_3 = 1e-05*eps2_3
-    G2 = -0.14715*sin_phi2
-    F2in1_2 = F2_2*cos_phi2 - F2_3*sin_phi2
-    N2in1_1 = N2_2*sin_phi2 + N2_3*cos_phi2
-    N1_1 = 0.2*F2in1_2 + N2in1_1
-    f[0] = tau_1 - N1_1
-    f[1] = G2 - N2_1
+    Fb2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
+    Fb2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
+    Nb2_1 = -0.00299*w1 + 0.14715*sin_phi2
+    Nb2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
+    Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3
+    j2r12 = sin_phi2*Nb2_2 + 1e-05*cos_phi2*eps2_3
+    Nb1_1 = j2r12 + 0.2*Fb2in1_2
+    f[0] = tau_1 - Nb1_1
+    f[1] = -Nb2_1
 
     return f
 
@@ -126,25 +123,22 @@ def qdd(x, u=None, p=None):
     w0 = x[3]*om2_3
     eps2_2 = w0
     eps2_3 = -x[3]*om2_2
-    aO2in1_3 = 0.2*x[2]*x[2]
+    aOrel2in1_3 = 0.2*x[2]*x[2]
     w1 = om2_2*om2_3
-    F2_2 = 0.015*w1
-    F2_3 = -0.015*x[3]*x[3] - 0.015*om2_2*om2_2
-    N2_1 = -0.00299*w1
-    N2_2 = -0.015*aO2in1_3 + 0.003*eps2_2 + 0.00299*w0
-    N2_3 = 1e-05*eps2_3
-    G2 = -0.14715*sin_phi2
-    F2in1_2 = F2_2*cos_phi2 - F2_3*sin_phi2
-    N2in1_1 = N2_2*sin_phi2 + N2_3*cos_phi2
-    I2in1_11 = 1e-05*cos_phi2*cos_phi2 + 0.003*sin_phi2*sin_phi2
-    N1_1 = 0.2*F2in1_2 + N2in1_1
-    I1_11 = I2in1_11 + 0.0082
-    M2_1 = -0.003*cos_phi2
+    Fb2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
+    Fb2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
+    Nb2_1 = -0.00299*w1 + 0.14715*sin_phi2
+    Nb2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
+    I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2
+    Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3
+    j2r12 = sin_phi2*Nb2_2 + 1e-05*cos_phi2*eps2_3
+    Nb1_1 = j2r12 + 0.2*Fb2in1_2
+    I1_11 = 0.0082 + I2in1r_33
     M[0, 0] = I1_11
-    M[1, 0] = M2_1
+    M[1, 0] = -0.003*cos_phi2
     M[1, 1] = 0.003
-    f[0] = tau_1 - N1_1
-    f[1] = G2 - N2_1
+    f[0] = tau_1 - Nb1_1
+    f[1] = -Nb2_1
 
     M = np.tril(M) + np.tril(M, -1).T
     if not (np.all(np.isfinite(M)) and np.all(np.isfinite(f))):
@@ -166,11 +160,11 @@ def energy(x, p=None):
 
     cos_phi2 = math.cos(x[1])
     sin_phi2 = math.sin(x[1])
-    h2in1_1 = 0.015*cos_phi2
-    I2in1_11 = 1e-05*cos_phi2*cos_phi2 + 0.003*sin_phi2*sin_phi2
-    I1_11 = I2in1_11 + 0.0082
-    M2_1 = -0.003*cos_phi2
-    result = 0.5*x[2]*x[2]*I1_11 + x[2]*x[3]*M2_1 + 0.0015*x[3]*x[3] - 9.81*h2in1_1
+    I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2
+    I1_11 = 0.0082 + I2in1r_33
+    Mqd1 = x[2]*I1_11 - 0.003*x[3]*cos_phi2
+    Mqd2 = -0.003*x[2]*cos_phi2 + 0.003*x[3]
+    result = 0.5*x[2]*Mqd1 + 0.5*x[3]*Mqd2 - 0.14715*cos_phi2
 
     return result
 
@@ -181,9 +175,9 @@ def momentum(x, p=None):
 
     cos_phi2 = math.cos(x[1])
     sin_phi2 = math.sin(x[1])
-    I2in1_11 = 1e-05*cos_phi2*cos_phi2 + 0.003*sin_phi2*sin_phi2
-    I1_11 = I2in1_11 + 0.0082
-    M2_1 = -0.003*cos_phi2
-    result = x[2]*I1_11 + x[3]*M2_1
+    I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2
+    I1_11 = 0.0082 + I2in1r_33
+    Mqd1 = x[2]*I1_11 - 0.003*x[3]*cos_phi2
+    result = Mqd1
 
     return result

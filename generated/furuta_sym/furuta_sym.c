@@ -32,63 +32,13 @@ static void furuta_sym_symmetrize_(double *M)
     }
 }
 
-/* In-place LDL^T of the symmetric M (lower triangle used): L below the diagonal, D on it.
- * Returns FURUTA_SYM_SINGULAR when a pivot is not above FURUTA_SYM_PIVOT_TOL times the largest
- * diagonal entry, i.e. when M is not (numerically) positive definite. */
-static int furuta_sym_ldlt_(double *M)
-{
-    double v[2];
-    double scale = 0.0, tol, d, a;
-    int i, j, k;
-    for (j = 0; j < 2; ++j) {
-        if (fabs(M[j * 2 + j]) > scale) {
-            scale = fabs(M[j * 2 + j]);
-        }
-    }
-    tol = FURUTA_SYM_PIVOT_TOL * scale;
-    for (j = 0; j < 2; ++j) {
-        d = M[j * 2 + j];
-        for (k = 0; k < j; ++k) {
-            v[k] = M[j * 2 + k] * M[k * 2 + k];
-            d -= M[j * 2 + k] * v[k];
-        }
-        if (!(d > tol)) {
-            return FURUTA_SYM_SINGULAR;
-        }
-        M[j * 2 + j] = d;
-        for (i = j + 1; i < 2; ++i) {
-            a = M[i * 2 + j];
-            for (k = 0; k < j; ++k) {
-                a -= M[i * 2 + k] * v[k];
-            }
-            M[i * 2 + j] = a / d;
-        }
-    }
-    return FURUTA_SYM_OK;
-}
-
-/* Solves L D L^T y = b in place, with the factors from furuta_sym_ldlt_. */
-static void furuta_sym_ldlt_solve_(const double *LD, double *b)
-{
-    int i, k;
-    for (i = 0; i < 2; ++i) {
-        for (k = 0; k < i; ++k) {
-            b[i] -= LD[i * 2 + k] * b[k];
-        }
-    }
-    for (i = 0; i < 2; ++i) {
-        b[i] /= LD[i * 2 + i];
-    }
-    for (i = 2 - 1; i >= 0; --i) {
-        for (k = i + 1; k < 2; ++k) {
-            b[i] -= LD[k * 2 + i] * b[k];
-        }
-    }
-}
 
 int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *M)
 {
     double LD[4];
+    double v[2];
+    double tol, d, r = 0.0;
+    (void)v;
     int i;
     if (!p) {
         return FURUTA_SYM_NO_PARAMS;
@@ -100,16 +50,19 @@ int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *
     {
         const double cos_phi2 = cos(q[1]);
         const double sin_phi2 = sin(q[1]);
-        const double h2_3 = p->l*p->m2;
-        const double w0 = p->J2 + p->l*p->l*p->m2;
-        const double I2_11 = w0;
-        const double I2_22 = w0;
-        const double I2in1_11 = p->J2z*cos_phi2*cos_phi2 + I2_22*sin_phi2*sin_phi2;
-        const double I1_11 = p->J1 + p->m2*p->r*p->r + I2in1_11;
-        const double M2_1 = -p->r*cos_phi2*h2_3;
+        const double h2_3 = p->m2*p->l;
+        const double w0 = p->m2*p->l*p->l;
+        const double I2_11 = p->J2 + w0;
+        const double I2_22 = p->J2 + w0;
+        const double I2in1ra_23 = sin_phi2*I2_22;
+        const double I2in1ra_33 = cos_phi2*p->J2z;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double I1_11 = p->J1 + I2in1r_33 + p->m2*p->r*p->r;
+        const double f2in1_2 = -cos_phi2*h2_3;
+        const double n2in1_1 = p->r*f2in1_2;
 
         M[0] = I1_11;
-        M[2] = M2_1;
+        M[2] = n2in1_1;
         M[3] = I2_11;
 
     }
@@ -120,7 +73,30 @@ int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *
     for (i = 0; i < 4; ++i) {
         LD[i] = M[i];
     }
-    return furuta_sym_ldlt_(LD);
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 2; ++i) {
+        if (fabs(LD[i * 3]) > tol) {
+            tol = fabs(LD[i * 3]);
+        }
+    }
+    tol *= FURUTA_SYM_PIVOT_TOL;
+    d = LD[0];
+    if (!(d > tol)) {
+        return FURUTA_SYM_SINGULAR;
+    }
+    LD[0] = d;
+    r = 1.0 / d;
+    LD[2] = (LD[2]) * r;
+    v[0] = LD[2] * LD[0];
+    d = LD[3] - LD[2] * v[0];
+    if (!(d > tol)) {
+        return FURUTA_SYM_SINGULAR;
+    }
+    LD[3] = d;
+
+    (void)r;
+    return FURUTA_SYM_OK;
 }
 
 int furuta_sym_forces(const double *x, const double *u, const furuta_sym_params *p, double *f)
@@ -140,26 +116,28 @@ int furuta_sym_forces(const double *x, const double *u, const furuta_sym_params 
         const double sin_phi2 = sin(x[1]);
         const double om2_2 = x[2]*sin_phi2;
         const double om2_3 = x[2]*cos_phi2;
-        const double w0 = x[3]*om2_3;
-        const double eps2_2 = w0;
+        const double eps2_2 = x[3]*om2_3;
         const double eps2_3 = -x[3]*om2_2;
-        const double aO2in1_3 = x[2]*x[2]*p->r;
-        const double w1 = p->l*p->m2;
-        const double w2 = om2_2*om2_3;
-        const double F2_2 = w1*w2;
-        const double F2_3 = p->m2*(-p->l*x[3]*x[3] - p->l*om2_2*om2_2);
-        const double w3 = p->J2 + p->l*p->l*p->m2;
-        const double N2_1 = p->J2z*w2 - w2*w3;
-        const double N2_2 = -p->J2z*w0 + x[3]*om2_3*w3 - aO2in1_3*w1 + eps2_2*w3;
-        const double N2_3 = p->J2z*eps2_3;
-        const double h2_3 = w1;
-        const double G2 = -p->g0*h2_3*sin_phi2;
-        const double F2in1_2 = F2_2*cos_phi2 - F2_3*sin_phi2;
-        const double N2in1_1 = N2_2*sin_phi2 + N2_3*cos_phi2;
-        const double N1_1 = p->r*F2in1_2 + N2in1_1;
+        const double ws1_2 = x[2]*p->r;
+        const double aOrel2in1_3 = x[2]*ws1_2;
+        const double aOg2_2 = -sin_phi2*p->g0;
+        const double aOg2_3 = -cos_phi2*p->g0;
+        const double wc2_1 = om2_2*p->l;
+        const double wc2_2 = -x[3]*p->l;
+        const double Aw2_1 = x[3]*p->J2 + x[3]*p->m2*p->l*p->l;
+        const double Aw2_2 = om2_2*p->J2 + om2_2*p->m2*p->l*p->l;
+        const double Aw2_3 = om2_3*p->J2z;
+        const double Fb2_2 = p->m2*aOg2_2 + om2_3*p->m2*wc2_1;
+        const double Fb2_3 = p->m2*aOg2_3 + x[3]*p->m2*wc2_2 - om2_2*p->m2*wc2_1;
+        const double Nb2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p->m2*p->l*aOg2_2;
+        const double Nb2_2 = p->J2*eps2_2 + p->m2*p->l*p->l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p->m2*p->l*aOrel2in1_3;
+        const double Nb2_3 = p->J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double Nb1_1 = j2r12 + p->r*Fb2in1_2;
 
-        f[0] = tau_1 - N1_1;
-        f[1] = G2 - N2_1;
+        f[0] = tau_1 - Nb1_1;
+        f[1] = -Nb2_1;
 
     }
     return furuta_sym_all_finite_(f, 2) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
@@ -169,7 +147,10 @@ int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p,
 {
     double M[4];
     double f[2];
-    int i, code;
+    double v[2];
+    double tol, d, r = 0.0;
+    (void)v;
+    int i;
     if (!p) {
         return FURUTA_SYM_NO_PARAMS;
     }
@@ -185,45 +166,77 @@ int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p,
         const double sin_phi2 = sin(x[1]);
         const double om2_2 = x[2]*sin_phi2;
         const double om2_3 = x[2]*cos_phi2;
-        const double w0 = x[3]*om2_3;
-        const double eps2_2 = w0;
+        const double eps2_2 = x[3]*om2_3;
         const double eps2_3 = -x[3]*om2_2;
-        const double aO2in1_3 = x[2]*x[2]*p->r;
-        const double w1 = p->l*p->m2;
-        const double w2 = om2_2*om2_3;
-        const double F2_2 = w1*w2;
-        const double F2_3 = p->m2*(-p->l*x[3]*x[3] - p->l*om2_2*om2_2);
-        const double w3 = p->J2 + p->l*p->l*p->m2;
-        const double N2_1 = p->J2z*w2 - w2*w3;
-        const double N2_2 = -p->J2z*w0 + x[3]*om2_3*w3 - aO2in1_3*w1 + eps2_2*w3;
-        const double N2_3 = p->J2z*eps2_3;
-        const double h2_3 = w1;
-        const double I2_11 = w3;
-        const double I2_22 = w3;
-        const double G2 = -p->g0*h2_3*sin_phi2;
-        const double F2in1_2 = F2_2*cos_phi2 - F2_3*sin_phi2;
-        const double N2in1_1 = N2_2*sin_phi2 + N2_3*cos_phi2;
-        const double I2in1_11 = p->J2z*cos_phi2*cos_phi2 + I2_22*sin_phi2*sin_phi2;
-        const double N1_1 = p->r*F2in1_2 + N2in1_1;
-        const double I1_11 = p->J1 + p->m2*p->r*p->r + I2in1_11;
-        const double M2_1 = -p->r*cos_phi2*h2_3;
+        const double ws1_2 = x[2]*p->r;
+        const double aOrel2in1_3 = x[2]*ws1_2;
+        const double aOg2_2 = -sin_phi2*p->g0;
+        const double aOg2_3 = -cos_phi2*p->g0;
+        const double wc2_1 = om2_2*p->l;
+        const double wc2_2 = -x[3]*p->l;
+        const double Aw2_1 = x[3]*p->J2 + x[3]*p->m2*p->l*p->l;
+        const double Aw2_2 = om2_2*p->J2 + om2_2*p->m2*p->l*p->l;
+        const double Aw2_3 = om2_3*p->J2z;
+        const double Fb2_2 = p->m2*aOg2_2 + om2_3*p->m2*wc2_1;
+        const double Fb2_3 = p->m2*aOg2_3 + x[3]*p->m2*wc2_2 - om2_2*p->m2*wc2_1;
+        const double Nb2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p->m2*p->l*aOg2_2;
+        const double Nb2_2 = p->J2*eps2_2 + p->m2*p->l*p->l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p->m2*p->l*aOrel2in1_3;
+        const double Nb2_3 = p->J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1;
+        const double h2_3 = p->m2*p->l;
+        const double w0 = p->m2*p->l*p->l;
+        const double I2_11 = p->J2 + w0;
+        const double I2_22 = p->J2 + w0;
+        const double I2in1ra_23 = sin_phi2*I2_22;
+        const double I2in1ra_33 = cos_phi2*p->J2z;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double Nb1_1 = j2r12 + p->r*Fb2in1_2;
+        const double I1_11 = p->J1 + I2in1r_33 + p->m2*p->r*p->r;
+        const double f2in1_2 = -cos_phi2*h2_3;
+        const double n2in1_1 = p->r*f2in1_2;
 
         M[0] = I1_11;
-        M[2] = M2_1;
+        M[2] = n2in1_1;
         M[3] = I2_11;
-        f[0] = tau_1 - N1_1;
-        f[1] = G2 - N2_1;
+        f[0] = tau_1 - Nb1_1;
+        f[1] = -Nb2_1;
 
     }
-    furuta_sym_symmetrize_(M);
-    if (!furuta_sym_all_finite_(M, 4) || !furuta_sym_all_finite_(f, 2)) {
-        return FURUTA_SYM_NONFINITE;
+    /* a non-finite off-diagonal entry of M makes phi'' non-finite, caught below */
+    for (i = 0; i < 2; ++i) {
+        if (!isfinite(M[i * 3]) || !isfinite(f[i])) {
+            return FURUTA_SYM_NONFINITE;
+        }
     }
-    code = furuta_sym_ldlt_(M);
-    if (code != FURUTA_SYM_OK) {
-        return code;
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 2; ++i) {
+        if (fabs(M[i * 3]) > tol) {
+            tol = fabs(M[i * 3]);
+        }
     }
-    furuta_sym_ldlt_solve_(M, f);
+    tol *= FURUTA_SYM_PIVOT_TOL;
+    d = M[0];
+    if (!(d > tol)) {
+        return FURUTA_SYM_SINGULAR;
+    }
+    M[0] = d;
+    r = 1.0 / d;
+    M[2] = (M[2]) * r;
+    v[0] = M[2] * M[0];
+    d = M[3] - M[2] * v[0];
+    if (!(d > tol)) {
+        return FURUTA_SYM_SINGULAR;
+    }
+    M[3] = d;
+
+    (void)r;
+    f[1] -= M[2] * f[0];
+    f[0] /= M[0];
+    f[1] /= M[3];
+    f[0] -= M[2] * f[1];
+
     for (i = 0; i < 2; ++i) {
         qdd[i] = f[i];
     }
@@ -250,17 +263,22 @@ double furuta_sym_energy(const double *x, const furuta_sym_params *p)
     {
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double h2_3 = p->l*p->m2;
-        const double w0 = p->J2 + p->l*p->l*p->m2;
-        const double I2_11 = w0;
-        const double I2_22 = w0;
+        const double h2_3 = p->m2*p->l;
+        const double w0 = p->m2*p->l*p->l;
+        const double I2_11 = p->J2 + w0;
+        const double I2_22 = p->J2 + w0;
         const double w1 = cos_phi2*h2_3;
-        const double h2in1_1 = w1;
-        const double I2in1_11 = p->J2z*cos_phi2*cos_phi2 + I2_22*sin_phi2*sin_phi2;
-        const double I1_11 = p->J1 + p->m2*p->r*p->r + I2in1_11;
-        const double M2_1 = -p->r*w1;
+        const double j2r10 = w1;
+        const double I2in1ra_23 = sin_phi2*I2_22;
+        const double I2in1ra_33 = cos_phi2*p->J2z;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double I1_11 = p->J1 + I2in1r_33 + p->m2*p->r*p->r;
+        const double f2in1_2 = -w1;
+        const double n2in1_1 = p->r*f2in1_2;
+        const double Mqd1 = x[2]*I1_11 + x[3]*n2in1_1;
+        const double Mqd2 = x[2]*n2in1_1 + x[3]*I2_11;
 
-        result = -p->g0*h2in1_1 + 0.5*x[2]*x[2]*I1_11 + x[2]*x[3]*M2_1 + 0.5*x[3]*x[3]*I2_11;
+        result = 0.5*x[2]*Mqd1 + 0.5*x[3]*Mqd2 - p->g0*j2r10;
 
     }
     return result;
@@ -276,13 +294,17 @@ double furuta_sym_momentum(const double *x, const furuta_sym_params *p)
     {
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double h2_3 = p->l*p->m2;
-        const double I2_22 = p->J2 + p->l*p->l*p->m2;
-        const double I2in1_11 = p->J2z*cos_phi2*cos_phi2 + I2_22*sin_phi2*sin_phi2;
-        const double I1_11 = p->J1 + p->m2*p->r*p->r + I2in1_11;
-        const double M2_1 = -p->r*cos_phi2*h2_3;
+        const double h2_3 = p->m2*p->l;
+        const double I2_22 = p->J2 + p->m2*p->l*p->l;
+        const double I2in1ra_23 = sin_phi2*I2_22;
+        const double I2in1ra_33 = cos_phi2*p->J2z;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double I1_11 = p->J1 + I2in1r_33 + p->m2*p->r*p->r;
+        const double f2in1_2 = -cos_phi2*h2_3;
+        const double n2in1_1 = p->r*f2in1_2;
+        const double Mqd1 = x[2]*I1_11 + x[3]*n2in1_1;
 
-        result = x[2]*I1_11 + x[3]*M2_1;
+        result = Mqd1;
 
     }
     return result;

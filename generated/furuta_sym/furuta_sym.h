@@ -13,7 +13,7 @@
  *   FURUTA_SYM_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   FURUTA_SYM_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
- * Op counts: energy 30, forces 47, mass_matrix 18, momentum 21, qdd 69, rhs 69.
+ * Op counts: energy 31, forces 66, mass_matrix 18, momentum 20, qdd 93, rhs 93.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

@@ -32,63 +32,13 @@ static void gimbal_symmetrize_(double *M)
     }
 }
 
-/* In-place LDL^T of the symmetric M (lower triangle used): L below the diagonal, D on it.
- * Returns GIMBAL_SINGULAR when a pivot is not above GIMBAL_PIVOT_TOL times the largest
- * diagonal entry, i.e. when M is not (numerically) positive definite. */
-static int gimbal_ldlt_(double *M)
-{
-    double v[2];
-    double scale = 0.0, tol, d, a;
-    int i, j, k;
-    for (j = 0; j < 2; ++j) {
-        if (fabs(M[j * 2 + j]) > scale) {
-            scale = fabs(M[j * 2 + j]);
-        }
-    }
-    tol = GIMBAL_PIVOT_TOL * scale;
-    for (j = 0; j < 2; ++j) {
-        d = M[j * 2 + j];
-        for (k = 0; k < j; ++k) {
-            v[k] = M[j * 2 + k] * M[k * 2 + k];
-            d -= M[j * 2 + k] * v[k];
-        }
-        if (!(d > tol)) {
-            return GIMBAL_SINGULAR;
-        }
-        M[j * 2 + j] = d;
-        for (i = j + 1; i < 2; ++i) {
-            a = M[i * 2 + j];
-            for (k = 0; k < j; ++k) {
-                a -= M[i * 2 + k] * v[k];
-            }
-            M[i * 2 + j] = a / d;
-        }
-    }
-    return GIMBAL_OK;
-}
-
-/* Solves L D L^T y = b in place, with the factors from gimbal_ldlt_. */
-static void gimbal_ldlt_solve_(const double *LD, double *b)
-{
-    int i, k;
-    for (i = 0; i < 2; ++i) {
-        for (k = 0; k < i; ++k) {
-            b[i] -= LD[i * 2 + k] * b[k];
-        }
-    }
-    for (i = 0; i < 2; ++i) {
-        b[i] /= LD[i * 2 + i];
-    }
-    for (i = 2 - 1; i >= 0; --i) {
-        for (k = i + 1; k < 2; ++k) {
-            b[i] -= LD[k * 2 + i] * b[k];
-        }
-    }
-}
 
 int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M)
 {
     double LD[4];
+    double v[2];
+    double tol, d, r = 0.0;
+    (void)v;
     int i;
     (void)p;
 
@@ -98,8 +48,8 @@ int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M)
     {
         const double cos_phi2 = cos(q[1]);
         const double sin_phi2 = sin(q[1]);
-        const double I2in1_11 = 0.009*cos_phi2*cos_phi2 + 0.006*sin_phi2*sin_phi2;
-        const double I1_11 = I2in1_11 + 0.005;
+        const double I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2;
+        const double I1_11 = 0.005 + I2in1r_33;
 
         M[0] = I1_11;
         M[2] = 0.0;
@@ -113,7 +63,30 @@ int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M)
     for (i = 0; i < 4; ++i) {
         LD[i] = M[i];
     }
-    return gimbal_ldlt_(LD);
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 2; ++i) {
+        if (fabs(LD[i * 3]) > tol) {
+            tol = fabs(LD[i * 3]);
+        }
+    }
+    tol *= GIMBAL_PIVOT_TOL;
+    d = LD[0];
+    if (!(d > tol)) {
+        return GIMBAL_SINGULAR;
+    }
+    LD[0] = d;
+    r = 1.0 / d;
+    LD[2] = (LD[2]) * r;
+    v[0] = LD[2] * LD[0];
+    d = LD[3] - LD[2] * v[0];
+    if (!(d > tol)) {
+        return GIMBAL_SINGULAR;
+    }
+    LD[3] = d;
+
+    (void)r;
+    return GIMBAL_OK;
 }
 
 int gimbal_forces(const double *x, const double *u, const gimbal_params *p, double *f)
@@ -134,16 +107,12 @@ int gimbal_forces(const double *x, const double *u, const gimbal_params *p, doub
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double N2_1 = 0.003*om2_2*om2_3;
-        const double N2_2 = 0.006*eps2_2 - 0.003*w0;
-        const double N2_3 = 0.009*eps2_3;
-        const double Gm2_1 = 0.5*om2_2;
-        const double Gm2_2 = -0.5*x[3];
-        const double N2in1_1 = N2_2*sin_phi2 + N2_3*cos_phi2;
-        const double Gm2in1_1 = Gm2_2*sin_phi2;
+        const double Nb2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
+        const double Nb2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
+        const double j2r12 = sin_phi2*Nb2_2 + 0.009*cos_phi2*eps2_3;
 
-        f[0] = -Gm2in1_1 - N2in1_1;
-        f[1] = -Gm2_1 - N2_1;
+        f[0] = -j2r12;
+        f[1] = -Nb2_1;
 
     }
     return gimbal_all_finite_(f, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
@@ -153,7 +122,10 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
 {
     double M[4];
     double f[2];
-    int i, code;
+    double v[2];
+    double tol, d, r = 0.0;
+    (void)v;
+    int i;
     (void)p;
 
     if (!gimbal_all_finite_(x, 4)) {
@@ -170,32 +142,53 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double N2_1 = 0.003*om2_2*om2_3;
-        const double N2_2 = 0.006*eps2_2 - 0.003*w0;
-        const double N2_3 = 0.009*eps2_3;
-        const double Gm2_1 = 0.5*om2_2;
-        const double Gm2_2 = -0.5*x[3];
-        const double N2in1_1 = N2_2*sin_phi2 + N2_3*cos_phi2;
-        const double Gm2in1_1 = Gm2_2*sin_phi2;
-        const double I2in1_11 = 0.009*cos_phi2*cos_phi2 + 0.006*sin_phi2*sin_phi2;
-        const double I1_11 = I2in1_11 + 0.005;
+        const double Nb2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
+        const double Nb2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
+        const double I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2;
+        const double j2r12 = sin_phi2*Nb2_2 + 0.009*cos_phi2*eps2_3;
+        const double I1_11 = 0.005 + I2in1r_33;
 
         M[0] = I1_11;
         M[2] = 0.0;
         M[3] = 0.006;
-        f[0] = -Gm2in1_1 - N2in1_1;
-        f[1] = -Gm2_1 - N2_1;
+        f[0] = -j2r12;
+        f[1] = -Nb2_1;
 
     }
-    gimbal_symmetrize_(M);
-    if (!gimbal_all_finite_(M, 4) || !gimbal_all_finite_(f, 2)) {
-        return GIMBAL_NONFINITE;
+    /* a non-finite off-diagonal entry of M makes phi'' non-finite, caught below */
+    for (i = 0; i < 2; ++i) {
+        if (!isfinite(M[i * 3]) || !isfinite(f[i])) {
+            return GIMBAL_NONFINITE;
+        }
     }
-    code = gimbal_ldlt_(M);
-    if (code != GIMBAL_OK) {
-        return code;
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 2; ++i) {
+        if (fabs(M[i * 3]) > tol) {
+            tol = fabs(M[i * 3]);
+        }
     }
-    gimbal_ldlt_solve_(M, f);
+    tol *= GIMBAL_PIVOT_TOL;
+    d = M[0];
+    if (!(d > tol)) {
+        return GIMBAL_SINGULAR;
+    }
+    M[0] = d;
+    r = 1.0 / d;
+    M[2] = (M[2]) * r;
+    v[0] = M[2] * M[0];
+    d = M[3] - M[2] * v[0];
+    if (!(d > tol)) {
+        return GIMBAL_SINGULAR;
+    }
+    M[3] = d;
+
+    (void)r;
+    f[1] -= M[2] * f[0];
+    f[0] /= M[0];
+    f[1] /= M[3];
+    f[0] -= M[2] * f[1];
+
     for (i = 0; i < 2; ++i) {
         qdd[i] = f[i];
     }
@@ -220,10 +213,11 @@ double gimbal_energy(const double *x, const gimbal_params *p)
     {
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double I2in1_11 = 0.009*cos_phi2*cos_phi2 + 0.006*sin_phi2*sin_phi2;
-        const double I1_11 = I2in1_11 + 0.005;
+        const double I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2;
+        const double I1_11 = 0.005 + I2in1r_33;
+        const double Mqd1 = x[2]*I1_11;
 
-        result = 0.5*x[2]*x[2]*I1_11 + 0.003*x[3]*x[3];
+        result = 0.5*x[2]*Mqd1 + 0.003*x[3]*x[3];
 
     }
     return result;
@@ -237,11 +231,11 @@ double gimbal_momentum(const double *x, const gimbal_params *p)
     {
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double Lam2in1_1 = 0.5*cos_phi2;
-        const double I2in1_11 = 0.009*cos_phi2*cos_phi2 + 0.006*sin_phi2*sin_phi2;
-        const double I1_11 = I2in1_11 + 0.005;
+        const double I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2;
+        const double I1_11 = 0.005 + I2in1r_33;
+        const double Mqd1 = x[2]*I1_11;
 
-        result = x[2]*I1_11 + Lam2in1_1;
+        result = Mqd1 + 0.5*cos_phi2;
 
     }
     return result;

@@ -18,7 +18,7 @@ PARAMS = ()
 CONTROLS = ()  # joints with a control torque, in the order of u
 HAS_ENERGY_INTEGRAL = True
 HAS_MOMENTUM_INTEGRAL = True
-OP_COUNTS = { "energy": 18, "forces": 28, "mass_matrix": 12, "momentum": 14, "qdd": 48, "rhs": 48, }
+OP_COUNTS = { "energy": 14, "forces": 19, "mass_matrix": 8, "momentum": 11, "qdd": 36, "rhs": 36, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -69,8 +69,8 @@ def mass_matrix(q, p=None):
     M = np.empty((N, N))
     cos_phi2 = math.cos(q[1])
     sin_phi2 = math.sin(q[1])
-    I2in1_11 = 0.009*cos_phi2*cos_phi2 + 0.006*sin_phi2*sin_phi2
-    I1_11 = I2in1_11 + 0.005
+    I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2
+    I1_11 = 0.005 + I2in1r_33
     M[0, 0] = I1_11
     M[1, 0] = 0.0
     M[1, 1] = 0.006
@@ -91,15 +91,11 @@ def forces(x, u=None, p=None):
     w0 = x[3]*om2_3
     eps2_2 = w0
     eps2_3 = -x[3]*om2_2
-    N2_1 = 0.003*om2_2*om2_3
-    N2_2 = 0.006*eps2_2 - 0.003*w0
-    N2_3 = 0.009*eps2_3
-    Gm2_1 = 0.5*om2_2
-    Gm2_2 = -0.5*x[3]
-    N2in1_1 = N2_2*sin_phi2 + N2_3*cos_phi2
-    Gm2in1_1 = Gm2_2*sin_phi2
-    f[0] = -Gm2in1_1 - N2in1_1
-    f[1] = -Gm2_1 - N2_1
+    Nb2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2
+    Nb2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3]
+    j2r12 = sin_phi2*Nb2_2 + 0.009*cos_phi2*eps2_3
+    f[0] = -j2r12
+    f[1] = -Nb2_1
 
     return f
 
@@ -119,20 +115,16 @@ def qdd(x, u=None, p=None):
     w0 = x[3]*om2_3
     eps2_2 = w0
     eps2_3 = -x[3]*om2_2
-    N2_1 = 0.003*om2_2*om2_3
-    N2_2 = 0.006*eps2_2 - 0.003*w0
-    N2_3 = 0.009*eps2_3
-    Gm2_1 = 0.5*om2_2
-    Gm2_2 = -0.5*x[3]
-    N2in1_1 = N2_2*sin_phi2 + N2_3*cos_phi2
-    Gm2in1_1 = Gm2_2*sin_phi2
-    I2in1_11 = 0.009*cos_phi2*cos_phi2 + 0.006*sin_phi2*sin_phi2
-    I1_11 = I2in1_11 + 0.005
+    Nb2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2
+    Nb2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3]
+    I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2
+    j2r12 = sin_phi2*Nb2_2 + 0.009*cos_phi2*eps2_3
+    I1_11 = 0.005 + I2in1r_33
     M[0, 0] = I1_11
     M[1, 0] = 0.0
     M[1, 1] = 0.006
-    f[0] = -Gm2in1_1 - N2in1_1
-    f[1] = -Gm2_1 - N2_1
+    f[0] = -j2r12
+    f[1] = -Nb2_1
 
     M = np.tril(M) + np.tril(M, -1).T
     if not (np.all(np.isfinite(M)) and np.all(np.isfinite(f))):
@@ -154,9 +146,10 @@ def energy(x, p=None):
 
     cos_phi2 = math.cos(x[1])
     sin_phi2 = math.sin(x[1])
-    I2in1_11 = 0.009*cos_phi2*cos_phi2 + 0.006*sin_phi2*sin_phi2
-    I1_11 = I2in1_11 + 0.005
-    result = 0.5*x[2]*x[2]*I1_11 + 0.003*x[3]*x[3]
+    I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2
+    I1_11 = 0.005 + I2in1r_33
+    Mqd1 = x[2]*I1_11
+    result = 0.5*x[2]*Mqd1 + 0.003*x[3]*x[3]
 
     return result
 
@@ -167,9 +160,9 @@ def momentum(x, p=None):
 
     cos_phi2 = math.cos(x[1])
     sin_phi2 = math.sin(x[1])
-    Lam2in1_1 = 0.5*cos_phi2
-    I2in1_11 = 0.009*cos_phi2*cos_phi2 + 0.006*sin_phi2*sin_phi2
-    I1_11 = I2in1_11 + 0.005
-    result = x[2]*I1_11 + Lam2in1_1
+    I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2
+    I1_11 = 0.005 + I2in1r_33
+    Mqd1 = x[2]*I1_11
+    result = Mqd1 + 0.5*cos_phi2
 
     return result

@@ -32,63 +32,13 @@ static void spatial3_symmetrize_(double *M)
     }
 }
 
-/* In-place LDL^T of the symmetric M (lower triangle used): L below the diagonal, D on it.
- * Returns SPATIAL3_SINGULAR when a pivot is not above SPATIAL3_PIVOT_TOL times the largest
- * diagonal entry, i.e. when M is not (numerically) positive definite. */
-static int spatial3_ldlt_(double *M)
-{
-    double v[3];
-    double scale = 0.0, tol, d, a;
-    int i, j, k;
-    for (j = 0; j < 3; ++j) {
-        if (fabs(M[j * 3 + j]) > scale) {
-            scale = fabs(M[j * 3 + j]);
-        }
-    }
-    tol = SPATIAL3_PIVOT_TOL * scale;
-    for (j = 0; j < 3; ++j) {
-        d = M[j * 3 + j];
-        for (k = 0; k < j; ++k) {
-            v[k] = M[j * 3 + k] * M[k * 3 + k];
-            d -= M[j * 3 + k] * v[k];
-        }
-        if (!(d > tol)) {
-            return SPATIAL3_SINGULAR;
-        }
-        M[j * 3 + j] = d;
-        for (i = j + 1; i < 3; ++i) {
-            a = M[i * 3 + j];
-            for (k = 0; k < j; ++k) {
-                a -= M[i * 3 + k] * v[k];
-            }
-            M[i * 3 + j] = a / d;
-        }
-    }
-    return SPATIAL3_OK;
-}
-
-/* Solves L D L^T y = b in place, with the factors from spatial3_ldlt_. */
-static void spatial3_ldlt_solve_(const double *LD, double *b)
-{
-    int i, k;
-    for (i = 0; i < 3; ++i) {
-        for (k = 0; k < i; ++k) {
-            b[i] -= LD[i * 3 + k] * b[k];
-        }
-    }
-    for (i = 0; i < 3; ++i) {
-        b[i] /= LD[i * 3 + i];
-    }
-    for (i = 3 - 1; i >= 0; --i) {
-        for (k = i + 1; k < 3; ++k) {
-            b[i] -= LD[k * 3 + i] * b[k];
-        }
-    }
-}
 
 int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M)
 {
     double LD[9];
+    double v[3];
+    double tol, d, r = 0.0;
+    (void)v;
     int i;
     (void)p;
 
@@ -100,67 +50,75 @@ int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M)
         const double sin_phi2 = sin(q[1]);
         const double cos_phi3 = cos(q[2]);
         const double sin_phi3 = sin(q[2]);
-        const double h3in2_1 = 0.040009086780329994*cos_phi3 - 0.018185948536513633*sin_phi3 - 0.009987524077131417;
-        const double h3in2_2 = -0.02*cos_phi3 - 0.044*sin_phi3;
-        const double h3in2_3 = -0.018310460808074264*cos_phi3 + 0.008322936730942847*sin_phi3 - 0.021823138243816362;
-        const double w0 = 0.9092974268256817*cos_phi3;
-        const double w1 = 0.9092974268256817*sin_phi3;
-        const double w2 = 0.0009232990442756725*cos_phi3 - 0.0004919216219501534*sin_phi3;
-        const double I3in2_11 = w0*(0.0038554210897408904*cos_phi3 + 0.0018185948536513633*sin_phi3 + 0.0010153982811750275) + w1*(0.0018185948536513633*cos_phi3 + 0.007892701664846917*sin_phi3 - 0.0005409908875112851) + w2 + 0.0013577170062146413;
-        const double w3 = 0.002*cos_phi3 - 0.00424*sin_phi3;
-        const double w4 = 0.00868*cos_phi3 - 0.002*sin_phi3;
-        const double I3in2_21 = -0.0005409908875112851*cos_phi3 - 0.0010153982811750275*sin_phi3 + w0*w3 + w1*w4;
-        const double I3in2_22 = cos_phi3*w4 - sin_phi3*w3;
-        const double w5 = -0.0017644625869598838*cos_phi3 - 0.0008322936730942847*sin_phi3 + 0.002218685721454663;
-        const double w6 = -0.0008322936730942847*cos_phi3 - 0.003612154541229196*sin_phi3 - 0.0011820866548733861;
-        const double I3in2_31 = -0.00042255478254639347*cos_phi3 + 0.00022513164643865225*sin_phi3 + w0*w5 + w1*w6 + 0.002966665781607079;
-        const double I3in2_32 = cos_phi3*w6 - sin_phi3*w5;
-        const double w7 = 0.4161468365471424*cos_phi3;
-        const double w8 = 0.4161468365471424*sin_phi3;
-        const double I3in2_33 = -w2 - w5*w7 - w6*w8 + 0.0064822829937853585;
-        const double h2_1 = h3in2_1 - 0.004;
-        const double h2_2 = h3in2_2 + 0.14;
-        const double h2_3 = h3in2_3 + 0.01;
-        const double w9 = 0.4*h3in2_2;
-        const double w10 = -0.16*h3in2_3;
-        const double I2_11 = I3in2_11 + w10 + w9 + 0.0305;
-        const double I2_21 = I3in2_21 - 0.2*h3in2_1 - 0.05*h3in2_2 - 0.0019;
-        const double w11 = 0.1*h3in2_1;
-        const double I2_22 = I3in2_22 + w10 + w11 + 0.01096;
-        const double I2_31 = I3in2_31 + 0.08*h3in2_1 - 0.05*h3in2_3 + 0.00348;
-        const double I2_32 = I3in2_32 + 0.08*h3in2_2 - 0.2*h3in2_3 + 0.0023;
-        const double I2_33 = I3in2_33 + w11 + w9 + 0.02676;
-        const double h2in1_2 = cos_phi2*h2_2 - h2_3*sin_phi2;
-        const double h2in1_3 = 0.45359612142557737*cos_phi2*h2_3 - 0.8912073600614353*h2_1 + 0.45359612142557737*h2_2*sin_phi2;
-        const double w12 = 0.8912073600614353*sin_phi2;
-        const double w13 = 0.8912073600614353*cos_phi2;
-        const double I2in1_11 = 0.20574944137232715*I2_11 + 0.4042482019097951*I2_21*sin_phi2 + 0.4042482019097951*I2_31*cos_phi2 + w12*(0.45359612142557737*I2_21 + I2_22*w12 + I2_32*w13) + w13*(0.45359612142557737*I2_31 + I2_32*w12 + I2_33*w13);
-        const double I1_11 = I2in1_11 + 0.5*h2in1_2 + 0.1*h2in1_3 + 0.08324;
-        const double e1in2_2 = w12;
-        const double e1in2_3 = w13;
-        const double d1in2_2 = 0.25*cos_phi2 + 0.1118005420774224*sin_phi2;
-        const double d1in2_3 = 0.1118005420774224*cos_phi2 - 0.25*sin_phi2;
-        const double M2_1 = 0.45359612142557737*I2_11 + I2_21*e1in2_2 + I2_31*e1in2_3 + h2_2*(0.45359612142557737*d1in2_2 - 0.0007992441394859718*e1in2_2) - h2_3*(-0.45359612142557737*d1in2_3 + 0.0007992441394859718*e1in2_3);
-        const double e1in3_1 = -0.9092974268256817*e1in2_3 - 0.18876259100130752;
-        const double e1in3_2 = cos_phi3*e1in2_2 - e1in2_3*w8 + 0.41245378603038696*sin_phi3;
-        const double e1in3_3 = 0.41245378603038696*cos_phi3 - e1in2_2*sin_phi3 - e1in2_3*w7;
-        const double d1in3_1 = 0.051603849398421484 - 0.9092974268256817*d1in2_3;
-        const double w14 = d1in2_2 + 0.2;
-        const double w15 = d1in2_3 - 0.08;
-        const double d1in3_2 = cos_phi3*w14 + 0.046191621980724185*sin_phi3 - w15*w8;
-        const double d1in3_3 = 0.046191621980724185*cos_phi3 - sin_phi3*w14 - w15*w7;
-        const double M3_1 = 0.02*d1in3_1*e1in3_2 - 0.044*d1in3_1*e1in3_3 - 0.02*d1in3_2*e1in3_1 + 0.044*d1in3_3*e1in3_1 + 0.00784*e1in3_1 + 0.0013*e1in3_2 - 0.00244*e1in3_3;
-        const double e2in3_2 = w1;
-        const double e2in3_3 = w0;
-        const double d2in3_2 = 0.2*cos_phi3 + 0.07875661826505548*sin_phi3;
-        const double d2in3_3 = 0.07875661826505548*cos_phi3 - 0.2*sin_phi3;
-        const double M3_2 = 0.008322936730942847*d2in3_2 - 0.018310460808074264*d2in3_3 + 0.0023387290463739484*e2in3_2 - 0.0047252039020226864*e2in3_3 - 0.0032625911985295964;
+        const double j3r10 = -0.020000000000000004*sin_phi3 + 0.044000000000000004*cos_phi3;
+        const double h3in2_1 = -0.009987524077131419 + 0.9092974268256817*j3r10;
+        const double h3in2_2 = -0.020000000000000004*cos_phi3 - 0.044000000000000004*sin_phi3;
+        const double h3in2_3 = -0.4161468365471424*j3r10 - 0.021823138243816362;
+        const double I3in2ra_22 = 0.00868*cos_phi3 - 0.002*sin_phi3;
+        const double I3in2ra_23 = 0.00868*sin_phi3 + 0.002*cos_phi3;
+        const double I3in2ra_32 = 0.002*cos_phi3 - 0.00424*sin_phi3;
+        const double I3in2ra_33 = 0.002*sin_phi3 + 0.00424*cos_phi3;
+        const double I3in2r_21 = 0.0013*cos_phi3 + 0.00244*sin_phi3;
+        const double I3in2r_22 = cos_phi3*I3in2ra_22 - sin_phi3*I3in2ra_32;
+        const double I3in2r_31 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double I3in2r_32 = sin_phi3*I3in2ra_22 + cos_phi3*I3in2ra_32;
+        const double I3in2r_33 = sin_phi3*I3in2ra_23 + cos_phi3*I3in2ra_33;
+        const double I3in2a_11 = -0.0032625911985295964 + 0.9092974268256817*I3in2r_31;
+        const double I3in2a_13 = -0.007128891826313344 - 0.4161468365471424*I3in2r_31;
+        const double I3in2a_21 = -0.4161468365471424*I3in2r_21 + 0.9092974268256817*I3in2r_32;
+        const double I3in2a_31 = -0.4161468365471424*I3in2r_31 + 0.9092974268256817*I3in2r_33;
+        const double I3in2a_33 = -0.9092974268256817*I3in2r_31 - 0.4161468365471424*I3in2r_33;
+        const double I3in2_11 = -0.4161468365471424*I3in2a_11 + 0.9092974268256817*I3in2a_31;
+        const double I3in2_31 = -0.9092974268256817*I3in2a_11 - 0.4161468365471424*I3in2a_31;
+        const double I3in2_32 = -0.9092974268256817*I3in2r_21 - 0.4161468365471424*I3in2r_32;
+        const double I3in2_33 = -0.9092974268256817*I3in2a_13 - 0.4161468365471424*I3in2a_33;
+        const double h2_1 = -0.003999999999999997 + h3in2_1;
+        const double h2_2 = 0.14 + h3in2_2;
+        const double h2_3 = 0.010000000000000002 + h3in2_3;
+        const double I2_11 = 0.030500000000000006 + I3in2_11 + 0.4*h3in2_2 - 0.16*h3in2_3;
+        const double I2_21 = -0.001900000000000001 + I3in2a_21 - 0.2*h3in2_1 - 0.05*h3in2_2;
+        const double I2_22 = 0.010960000000000004 + I3in2r_22 + 0.1*h3in2_1 - 0.16*h3in2_3;
+        const double I2_31 = 0.00348 + I3in2_31 + 0.08*h3in2_1 - 0.05*h3in2_3;
+        const double I2_32 = 0.0023 + I3in2_32 + 0.08*h3in2_2 - 0.2*h3in2_3;
+        const double I2_33 = 0.026760000000000006 + I3in2_33 + 0.1*h3in2_1 + 0.4*h3in2_2;
+        const double w0 = sin_phi2*h2_2;
+        const double w1 = cos_phi2*h2_3;
+        const double j2r10 = w0 + w1;
+        const double w2 = cos_phi2*h2_2;
+        const double w3 = sin_phi2*h2_3;
+        const double h2in1_2 = w2 - w3;
+        const double h2in1_3 = 0.45359612142557737*j2r10 - 0.8912073600614353*h2_1;
+        const double I2in1ra_23 = sin_phi2*I2_22 + cos_phi2*I2_32;
+        const double I2in1ra_33 = sin_phi2*I2_32 + cos_phi2*I2_33;
+        const double w4 = sin_phi2*I2_21;
+        const double w5 = cos_phi2*I2_31;
+        const double I2in1r_31 = w4 + w5;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double I2in1a_11 = 0.45359612142557737*I2_11 + 0.8912073600614353*I2in1r_31;
+        const double I2in1a_31 = 0.45359612142557737*I2in1r_31 + 0.8912073600614353*I2in1r_33;
+        const double I2in1_11 = 0.45359612142557737*I2in1a_11 + 0.8912073600614353*I2in1a_31;
+        const double I1_11 = 0.08324000000000001 + I2in1_11 + 0.5*h2in1_2 + 0.1*h2in1_3;
+        const double j3r13 = -0.044000000000000004*sin_phi3 - 0.020000000000000004*cos_phi3;
+        const double f3in2_2 = -0.044000000000000004*cos_phi3 + 0.020000000000000004*sin_phi3;
+        const double j3r14 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double n3in2_1 = -0.0032625911985295964 + 0.9092974268256817*j3r14 - 0.08322936730942848*j3r13 + 0.08*f3in2_2;
+        const double n3in2_2 = 0.0013*cos_phi3 + 0.00244*sin_phi3 - 0.051936452318697424*j3r13;
+        const double n3in2_3 = -0.4161468365471424*j3r14 - 0.007128891826313344 + 0.05*f3in2_2 - 0.18185948536513635*j3r13;
+        const double j2r13 = sin_phi2*f3in2_2 - 0.4161468365471424*cos_phi2*j3r13;
+        const double f3in1_2 = cos_phi2*f3in2_2 + 0.4161468365471424*sin_phi2*j3r13;
+        const double f3in1_3 = 0.45359612142557737*j2r13 - 0.8103725592719719*j3r13;
+        const double j2r14 = sin_phi2*n3in2_2 + cos_phi2*n3in2_3;
+        const double n3in1_1 = 0.45359612142557737*n3in2_1 + 0.8912073600614353*j2r14 + 0.25*f3in1_3 - 0.05*f3in1_2;
+        const double j2r15 = -w3 + w2;
+        const double f2in1_2 = -w1 - w0;
+        const double j2r16 = w4 + w5;
+        const double n2in1_1 = 0.45359612142557737*I2_11 + 0.8912073600614353*j2r16 + 0.11339903035639434*j2r15 - 0.05*f2in1_2;
 
         M[0] = I1_11;
-        M[3] = M2_1;
+        M[3] = n2in1_1;
         M[4] = I2_11;
-        M[6] = M3_1;
-        M[7] = M3_2;
+        M[6] = n3in1_1;
+        M[7] = n3in2_1;
         M[8] = 0.00784;
 
     }
@@ -171,7 +129,40 @@ int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M)
     for (i = 0; i < 9; ++i) {
         LD[i] = M[i];
     }
-    return spatial3_ldlt_(LD);
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 3; ++i) {
+        if (fabs(LD[i * 4]) > tol) {
+            tol = fabs(LD[i * 4]);
+        }
+    }
+    tol *= SPATIAL3_PIVOT_TOL;
+    d = LD[0];
+    if (!(d > tol)) {
+        return SPATIAL3_SINGULAR;
+    }
+    LD[0] = d;
+    r = 1.0 / d;
+    LD[3] = (LD[3]) * r;
+    LD[6] = (LD[6]) * r;
+    v[0] = LD[3] * LD[0];
+    d = LD[4] - LD[3] * v[0];
+    if (!(d > tol)) {
+        return SPATIAL3_SINGULAR;
+    }
+    LD[4] = d;
+    r = 1.0 / d;
+    LD[7] = (LD[7] - LD[6] * v[0]) * r;
+    v[0] = LD[6] * LD[0];
+    v[1] = LD[7] * LD[4];
+    d = LD[8] - LD[6] * v[0] - LD[7] * v[1];
+    if (!(d > tol)) {
+        return SPATIAL3_SINGULAR;
+    }
+    LD[8] = d;
+
+    (void)r;
+    return SPATIAL3_OK;
 }
 
 int spatial3_forces(const double *x, const double *u, const spatial3_params *p, double *f)
@@ -187,122 +178,80 @@ int spatial3_forces(const double *x, const double *u, const spatial3_params *p, 
 
         const double cos_phi1 = cos(x[0]);
         const double sin_phi1 = sin(x[0]);
-        const double gam1_2 = 0.38941834230865047*sin_phi1;
-        const double gam1_3 = 0.38941834230865047*cos_phi1;
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double gam2_1 = 0.41778969447609565 - 0.8912073600614353*gam1_3;
-        const double w0 = 0.45359612142557737*gam1_3;
-        const double gam2_2 = cos_phi2*gam1_2 + sin_phi2*w0 + 0.8208563369208728*sin_phi2;
-        const double gam2_3 = cos_phi2*w0 + 0.8208563369208728*cos_phi2 - gam1_2*sin_phi2;
         const double om2_1 = 0.45359612142557737*x[3] + x[4];
-        const double w1 = 0.8912073600614353*x[3];
-        const double om2_2 = sin_phi2*w1;
-        const double om2_3 = cos_phi2*w1;
+        const double om2_2 = 0.8912073600614353*x[3]*sin_phi2;
+        const double om2_3 = 0.8912073600614353*x[3]*cos_phi2;
         const double cos_phi3 = cos(x[2]);
         const double sin_phi3 = sin(x[2]);
-        const double w2 = 0.4161468365471424*gam2_3;
-        const double gam3_2 = cos_phi3*gam2_2 + 0.9092974268256817*gam2_1*sin_phi3 - sin_phi3*w2;
-        const double gam3_3 = 0.9092974268256817*cos_phi3*gam2_1 - cos_phi3*w2 - gam2_2*sin_phi3;
-        const double om3_1 = x[5] - 0.4161468365471424*om2_1 - 0.9092974268256817*om2_3;
-        const double w3 = 0.4161468365471424*om2_3;
-        const double om3_2 = cos_phi3*om2_2 + 0.9092974268256817*om2_1*sin_phi3 - sin_phi3*w3;
-        const double om3_3 = 0.9092974268256817*cos_phi3*om2_1 - cos_phi3*w3 - om2_2*sin_phi3;
+        const double j3r2 = 0.9092974268256817*om2_1 - 0.4161468365471424*om2_3;
+        const double om3_1 = -0.4161468365471424*om2_1 - 0.9092974268256817*om2_3 + x[5];
+        const double om3_2 = om2_2*cos_phi3 + sin_phi3*j3r2;
+        const double om3_3 = cos_phi3*j3r2 - om2_2*sin_phi3;
         const double eps2_2 = x[4]*om2_3;
         const double eps2_3 = -x[4]*om2_2;
-        const double w4 = x[3]*x[3];
-        const double aO2in1_2 = -0.25*w4;
-        const double aO2in1_3 = -0.05*w4;
-        const double aO2_1 = -0.8912073600614353*aO2in1_3;
-        const double aO2_2 = aO2in1_2*cos_phi2 + 0.45359612142557737*aO2in1_3*sin_phi2;
-        const double aO2_3 = -aO2in1_2*sin_phi2 + 0.45359612142557737*aO2in1_3*cos_phi2;
-        const double eps3_1 = -0.9092974268256817*eps2_3;
-        const double w5 = 0.4161468365471424*eps2_3;
-        const double eps3_2 = x[5]*om3_3 + cos_phi3*eps2_2 - sin_phi3*w5;
-        const double eps3_3 = -x[5]*om3_2 - cos_phi3*w5 - eps2_2*sin_phi3;
-        const double w6 = 0.08*om2_1 + 0.05*om2_3;
-        const double w7 = 0.2*om2_1 - 0.05*om2_2;
-        const double aO3in2_1 = aO2_1 - 0.08*eps2_2 - 0.2*eps2_3 + om2_2*w7 - om2_3*w6;
-        const double w8 = -0.08*om2_2 - 0.2*om2_3;
-        const double aO3in2_2 = aO2_2 + 0.05*eps2_3 - om2_1*w7 + om2_3*w8;
-        const double aO3in2_3 = aO2_3 - 0.05*eps2_2 + om2_1*w6 - om2_2*w8;
-        const double aO3_1 = -0.4161468365471424*aO3in2_1 - 0.9092974268256817*aO3in2_3;
-        const double w9 = 0.4161468365471424*aO3in2_3;
-        const double aO3_2 = 0.9092974268256817*aO3in2_1*sin_phi3 + aO3in2_2*cos_phi3 - sin_phi3*w9;
-        const double aO3_3 = 0.9092974268256817*aO3in2_1*cos_phi3 - aO3in2_2*sin_phi3 - cos_phi3*w9;
-        const double w10 = -0.02*om3_1 - 0.024*om3_2;
-        const double w11 = -0.11*om3_1 + 0.06*om3_3;
-        const double w12 = 0.4*om3_3;
-        const double F3_1 = 0.4*aO3_1 + 0.044*eps3_2 + 0.02*eps3_3 + om3_2*w10 - w11*w12;
-        const double w13 = 0.11*om3_2 + 0.05*om3_3;
-        const double F3_2 = 0.4*aO3_2 - 0.044*eps3_1 + 0.024*eps3_3 - om3_1*w10 + w12*w13;
-        const double F3_3 = 0.4*aO3_3 - 0.02*eps3_1 - 0.024*eps3_2 + 0.4*om3_1*w11 - 0.4*om3_2*w13;
-        const double w14 = 0.0013*om3_1 + 0.00868*om3_2 + 0.002*om3_3;
-        const double w15 = -0.00244*om3_1 + 0.002*om3_2 + 0.00424*om3_3;
-        const double N3_1 = -0.044*aO3_2 - 0.02*aO3_3 + 0.00784*eps3_1 + 0.0013*eps3_2 - 0.00244*eps3_3 + om3_2*w15 - om3_3*w14;
-        const double w16 = 0.00784*om3_1 + 0.0013*om3_2 - 0.00244*om3_3;
-        const double N3_2 = 0.044*aO3_1 - 0.024*aO3_3 + 0.0013*eps3_1 + 0.00868*eps3_2 + 0.002*eps3_3 - om3_1*w15 + om3_3*w16;
-        const double N3_3 = 0.02*aO3_1 + 0.024*aO3_2 - 0.00244*eps3_1 + 0.002*eps3_2 + 0.00424*eps3_3 + om3_1*w14 - om3_2*w16;
-        const double Gm3_1 = 0.012*om3_2;
-        const double Gm3_2 = -0.012*om3_1 + 0.02*om3_3;
-        const double Gm3_3 = -0.02*om3_2;
-        const double G3 = -0.43164*gam3_2 - 0.1962*gam3_3;
-        const double w17 = F3_2*sin_phi3;
-        const double w18 = F3_3*cos_phi3;
-        const double F3in2_1 = -0.4161468365471424*F3_1 + 0.9092974268256817*w17 + 0.9092974268256817*w18;
-        const double F3in2_2 = F3_2*cos_phi3 - F3_3*sin_phi3;
-        const double F3in2_3 = -0.9092974268256817*F3_1 - 0.4161468365471424*w17 - 0.4161468365471424*w18;
-        const double w19 = N3_2*sin_phi3;
-        const double w20 = N3_3*cos_phi3;
-        const double N3in2_1 = -0.4161468365471424*N3_1 + 0.9092974268256817*w19 + 0.9092974268256817*w20;
-        const double N3in2_2 = N3_2*cos_phi3 - N3_3*sin_phi3;
-        const double N3in2_3 = -0.9092974268256817*N3_1 - 0.4161468365471424*w19 - 0.4161468365471424*w20;
-        const double w21 = Gm3_2*sin_phi3;
-        const double w22 = Gm3_3*cos_phi3;
-        const double Gm3in2_1 = -0.4161468365471424*Gm3_1 + 0.9092974268256817*w21 + 0.9092974268256817*w22;
-        const double Gm3in2_2 = Gm3_2*cos_phi3 - Gm3_3*sin_phi3;
-        const double Gm3in2_3 = -0.9092974268256817*Gm3_1 - 0.4161468365471424*w21 - 0.4161468365471424*w22;
-        const double h3in2_1 = 0.040009086780329994*cos_phi3 - 0.018185948536513633*sin_phi3 - 0.009987524077131417;
-        const double h3in2_2 = -0.02*cos_phi3 - 0.044*sin_phi3;
-        const double h3in2_3 = -0.018310460808074264*cos_phi3 + 0.008322936730942847*sin_phi3 - 0.021823138243816362;
-        const double w23 = 0.06*om2_1 + 0.024*om2_2;
-        const double w24 = -0.07*om2_1 - 0.04*om2_3;
-        const double w25 = 0.6*om2_3;
-        const double F2_1 = F3in2_1 + 0.6*aO2_1 + 0.042*eps2_2 - 0.06*eps2_3 + om2_2*w23 - w24*w25;
-        const double w26 = 0.07*om2_2 - 0.1*om2_3;
-        const double F2_2 = F3in2_2 + 0.6*aO2_2 - 0.024*eps2_3 - om2_1*w23 + w25*w26;
-        const double F2_3 = F3in2_3 + 0.6*aO2_3 + 0.024*eps2_2 + 0.6*om2_1*w24 - 0.6*om2_2*w26;
-        const double w27 = 0.00188*om2_1 - 0.0041*om2_2 + 0.00976*om2_3;
-        const double w28 = 0.0021*om2_1 + 0.0074*om2_2 - 0.0041*om2_3;
-        const double N2_1 = 0.08*F3in2_2 + 0.2*F3in2_3 + N3in2_1 - 0.042*aO2_2 + 0.06*aO2_3 + 0.0021*eps2_2 + 0.00188*eps2_3 + om2_2*w27 - om2_3*w28;
-        const double w29 = 0.01194*om2_1 + 0.0021*om2_2 + 0.00188*om2_3;
-        const double N2_2 = -0.08*F3in2_1 - 0.05*F3in2_3 + N3in2_2 + 0.042*aO2_1 + 0.024*aO2_3 + 0.0074*eps2_2 - 0.0041*eps2_3 - om2_1*w27 + om2_3*w29;
-        const double N2_3 = -0.2*F3in2_1 + 0.05*F3in2_2 + N3in2_3 - 0.06*aO2_1 - 0.024*aO2_2 - 0.0041*eps2_2 + 0.00976*eps2_3 + om2_1*w28 - om2_2*w29;
-        const double Gm2_1 = Gm3in2_1 - 0.01*om2_2 - 0.015*om2_3;
-        const double Gm2_2 = Gm3in2_2 + 0.01*om2_1;
-        const double Gm2_3 = Gm3in2_3 + 0.015*om2_1;
-        const double h2_1 = h3in2_1 - 0.004;
-        const double h2_2 = h3in2_2 + 0.14;
-        const double h2_3 = h3in2_3 + 0.01;
-        const double G2 = -9.81*gam2_2*h2_3 + 9.81*gam2_3*h2_2;
-        const double F2in1_2 = F2_2*cos_phi2 - F2_3*sin_phi2;
-        const double w30 = 0.45359612142557737*sin_phi2;
-        const double w31 = 0.45359612142557737*cos_phi2;
-        const double F2in1_3 = -0.8912073600614353*F2_1 + F2_2*w30 + F2_3*w31;
-        const double w32 = 0.8912073600614353*sin_phi2;
-        const double w33 = 0.8912073600614353*cos_phi2;
-        const double N2in1_1 = 0.45359612142557737*N2_1 + N2_2*w32 + N2_3*w33;
-        const double Gm2in1_1 = 0.45359612142557737*Gm2_1 + Gm2_2*w32 + Gm2_3*w33;
-        const double h2in1_2 = cos_phi2*h2_2 - h2_3*sin_phi2;
-        const double h2in1_3 = -0.8912073600614353*h2_1 + h2_2*w30 + h2_3*w31;
-        const double N1_1 = -0.05*F2in1_2 + 0.25*F2in1_3 + N2in1_1;
-        const double h1_2 = h2in1_2 + 0.346;
-        const double h1_3 = h2in1_3 + 0.026;
-        const double G1 = -9.81*gam1_2*h1_3 + 9.81*gam1_3*h1_2;
+        const double w0 = x[3]*x[3];
+        const double aOrel2in1_2 = -0.25*w0;
+        const double aOrel2in1_3 = -0.05*w0;
+        const double j2r5 = -8.052600665193761 - 1.7328251533920123*cos_phi1 + 0.45359612142557737*aOrel2in1_3;
+        const double aOg2_1 = -4.098516902810498 + 3.404584954450333*cos_phi1 - 0.8912073600614353*aOrel2in1_3;
+        const double aOg2_2 = -3.8201939380478613*sin_phi1*cos_phi2 + cos_phi2*aOrel2in1_2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 3.8201939380478613*sin_phi1*sin_phi2 - sin_phi2*aOrel2in1_2;
+        const double eps3_2 = cos_phi3*eps2_2 - 0.4161468365471424*sin_phi3*eps2_3 + x[5]*om3_3;
+        const double eps3_3 = -0.4161468365471424*cos_phi3*eps2_3 - sin_phi3*eps2_2 - x[5]*om3_2;
+        const double ws2_1 = -0.08*om2_2 - 0.2*om2_3;
+        const double ws2_2 = 0.05*om2_3 + 0.08*om2_1;
+        const double ws2_3 = 0.2*om2_1 - 0.05*om2_2;
+        const double aOrel3in2_1 = -0.08*eps2_2 - 0.2*eps2_3 + om2_2*ws2_3 - om2_3*ws2_2;
+        const double aOrel3in2_2 = 0.05*eps2_3 + om2_3*ws2_1 - om2_1*ws2_3;
+        const double aOrel3in2_3 = -0.05*eps2_2 + om2_1*ws2_2 - om2_2*ws2_1;
+        const double j3r5 = 0.9092974268256817*aOg2_1 + 0.9092974268256817*aOrel3in2_1 - 0.4161468365471424*aOg2_3 - 0.4161468365471424*aOrel3in2_3;
+        const double aOg3_1 = -0.4161468365471424*aOg2_1 - 0.4161468365471424*aOrel3in2_1 - 0.9092974268256817*aOg2_3 - 0.9092974268256817*aOrel3in2_3;
+        const double aOg3_2 = cos_phi3*aOg2_2 + cos_phi3*aOrel3in2_2 + sin_phi3*j3r5;
+        const double aOg3_3 = cos_phi3*j3r5 - sin_phi3*aOg2_2 - sin_phi3*aOrel3in2_2;
+        const double wc3_1 = 0.11*om3_2 + 0.05*om3_3;
+        const double wc3_2 = 0.06*om3_3 - 0.11*om3_1;
+        const double wc3_3 = -0.05*om3_1 - 0.06*om3_2;
+        const double Aw3_1 = 0.00784*om3_1 + 0.0013*om3_2 - 0.00244*om3_3;
+        const double Aw3_2 = 0.0013*om3_1 + 0.00868*om3_2 + 0.002*om3_3;
+        const double Aw3_3 = -0.00244*om3_1 + 0.002*om3_2 + 0.00424*om3_3;
+        const double Fb3_1 = 0.4*aOg3_1 + 0.044000000000000004*eps3_2 + 0.020000000000000004*eps3_3 + 0.4*om3_2*wc3_3 - 0.4*om3_3*wc3_2;
+        const double Fb3_2 = 0.4*aOg3_2 + 0.024*eps3_3 + 0.040009086780329994*eps2_3 + 0.4*om3_3*wc3_1 - 0.4*om3_1*wc3_3;
+        const double Fb3_3 = 0.4*aOg3_3 + 0.018185948536513636*eps2_3 - 0.024*eps3_2 + 0.4*om3_1*wc3_2 - 0.4*om3_2*wc3_1;
+        const double Nb3_1 = -0.007128891826313344*eps2_3 + 0.0013*eps3_2 - 0.00244*eps3_3 + om3_2*Aw3_3 + 0.012*om3_2 - om3_3*Aw3_2 - 0.020000000000000004*aOg3_3 - 0.044000000000000004*aOg3_2;
+        const double Nb3_2 = -0.0011820866548733861*eps2_3 + 0.00868*eps3_2 + 0.002*eps3_3 + om3_3*Aw3_1 + 0.02*om3_3 - om3_1*Aw3_3 - 0.012*om3_1 + 0.044000000000000004*aOg3_1 - 0.024*aOg3_3;
+        const double Nb3_3 = 0.002218685721454663*eps2_3 + 0.002*eps3_2 + 0.00424*eps3_3 + om3_1*Aw3_2 - om3_2*Aw3_1 - 0.02*om3_2 + 0.024*aOg3_2 + 0.020000000000000004*aOg3_1;
+        const double j3r11 = sin_phi3*Fb3_2 + cos_phi3*Fb3_3;
+        const double Fb3in2_1 = -0.4161468365471424*Fb3_1 + 0.9092974268256817*j3r11;
+        const double Fb3in2_2 = cos_phi3*Fb3_2 - sin_phi3*Fb3_3;
+        const double Fb3in2_3 = -0.4161468365471424*j3r11 - 0.9092974268256817*Fb3_1;
+        const double j3r12 = sin_phi3*Nb3_2 + cos_phi3*Nb3_3;
+        const double Nb3in2_1 = -0.4161468365471424*Nb3_1 + 0.9092974268256817*j3r12;
+        const double Nb3in2_2 = cos_phi3*Nb3_2 - sin_phi3*Nb3_3;
+        const double Nb3in2_3 = -0.4161468365471424*j3r12 - 0.9092974268256817*Nb3_1;
+        const double wc2_1 = 0.07*om2_2 - 0.1*om2_3;
+        const double wc2_2 = -0.04*om2_3 - 0.07*om2_1;
+        const double wc2_3 = 0.1*om2_1 + 0.04*om2_2;
+        const double Aw2_1 = 0.01194*om2_1 + 0.0021*om2_2 + 0.00188*om2_3;
+        const double Aw2_2 = 0.0021*om2_1 + 0.0074*om2_2 - 0.0041*om2_3;
+        const double Aw2_3 = 0.00188*om2_1 - 0.0041*om2_2 + 0.00976*om2_3;
+        const double Fb2_1 = 0.6*aOg2_1 + 0.042*eps2_2 - 0.06*eps2_3 + 0.6*om2_2*wc2_3 - 0.6*om2_3*wc2_2 + Fb3in2_1;
+        const double Fb2_2 = 0.6*aOg2_2 - 0.024*eps2_3 + 0.6*om2_3*wc2_1 - 0.6*om2_1*wc2_3 + Fb3in2_2;
+        const double Fb2_3 = 0.6*aOg2_3 + 0.024*eps2_2 + 0.6*om2_1*wc2_2 - 0.6*om2_2*wc2_1 + Fb3in2_3;
+        const double Nb2_1 = 0.0021*eps2_2 + 0.00188*eps2_3 + om2_2*Aw2_3 - 0.01*om2_2 - om2_3*Aw2_2 - 0.015*om2_3 + 0.06*aOg2_3 - 0.042*aOg2_2 + Nb3in2_1 + 0.2*Fb3in2_3 + 0.08*Fb3in2_2;
+        const double Nb2_2 = 0.0074*eps2_2 - 0.0041*eps2_3 + om2_3*Aw2_1 - om2_1*Aw2_3 + 0.01*om2_1 + 0.042*aOg2_1 + 0.024*aOg2_3 + Nb3in2_2 - 0.08*Fb3in2_1 - 0.05*Fb3in2_3;
+        const double Nb2_3 = -0.0041*eps2_2 + 0.00976*eps2_3 + om2_1*Aw2_2 + 0.015*om2_1 - om2_2*Aw2_1 - 0.024*aOg2_2 - 0.06*aOg2_1 + Nb3in2_3 + 0.05*Fb3in2_2 - 0.2*Fb3in2_1;
+        const double j2r11 = sin_phi2*Fb2_2 + cos_phi2*Fb2_3;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double Fb2in1_3 = 0.45359612142557737*j2r11 - 0.8912073600614353*Fb2_1;
+        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double Nb2in1_1 = 0.45359612142557737*Nb2_1 + 0.8912073600614353*j2r12;
+        const double Nb1_1 = -0.36673861805259467*cos_phi1 - 0.09168465451314867*sin_phi1 + Nb2in1_1 + 0.25*Fb2in1_3 - 0.05*Fb2in1_2;
 
-        f[0] = G1 - Gm2in1_1 - N1_1;
-        f[1] = G2 - Gm2_1 - N2_1;
-        f[2] = tau_3 + G3 - Gm3_1 - N3_1;
+        f[0] = -Nb1_1;
+        f[1] = -Nb2_1;
+        f[2] = tau_3 - Nb3_1;
 
     }
     return spatial3_all_finite_(f, 3) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
@@ -312,7 +261,10 @@ int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, dou
 {
     double M[9];
     double f[3];
-    int i, code;
+    double v[3];
+    double tol, d, r = 0.0;
+    (void)v;
+    int i;
     (void)p;
 
     if (!spatial3_all_finite_(x, 6) || (u && !spatial3_all_finite_(u, 1))) {
@@ -324,177 +276,198 @@ int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, dou
 
         const double cos_phi1 = cos(x[0]);
         const double sin_phi1 = sin(x[0]);
-        const double gam1_2 = 0.38941834230865047*sin_phi1;
-        const double gam1_3 = 0.38941834230865047*cos_phi1;
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
-        const double gam2_1 = 0.41778969447609565 - 0.8912073600614353*gam1_3;
-        const double w0 = 0.45359612142557737*gam1_3;
-        const double gam2_2 = cos_phi2*gam1_2 + sin_phi2*w0 + 0.8208563369208728*sin_phi2;
-        const double gam2_3 = cos_phi2*w0 + 0.8208563369208728*cos_phi2 - gam1_2*sin_phi2;
         const double om2_1 = 0.45359612142557737*x[3] + x[4];
-        const double w1 = 0.8912073600614353*sin_phi2;
-        const double om2_2 = x[3]*w1;
-        const double w2 = 0.8912073600614353*cos_phi2;
-        const double om2_3 = x[3]*w2;
+        const double om2_2 = 0.8912073600614353*x[3]*sin_phi2;
+        const double om2_3 = 0.8912073600614353*x[3]*cos_phi2;
         const double cos_phi3 = cos(x[2]);
         const double sin_phi3 = sin(x[2]);
-        const double w3 = 0.9092974268256817*sin_phi3;
-        const double w4 = 0.4161468365471424*gam2_3;
-        const double gam3_2 = cos_phi3*gam2_2 + gam2_1*w3 - sin_phi3*w4;
-        const double gam3_3 = 0.9092974268256817*cos_phi3*gam2_1 - cos_phi3*w4 - gam2_2*sin_phi3;
-        const double om3_1 = x[5] - 0.4161468365471424*om2_1 - 0.9092974268256817*om2_3;
-        const double w5 = 0.4161468365471424*om2_3;
-        const double om3_2 = cos_phi3*om2_2 + om2_1*w3 - sin_phi3*w5;
-        const double om3_3 = 0.9092974268256817*cos_phi3*om2_1 - cos_phi3*w5 - om2_2*sin_phi3;
+        const double j3r2 = 0.9092974268256817*om2_1 - 0.4161468365471424*om2_3;
+        const double om3_1 = -0.4161468365471424*om2_1 - 0.9092974268256817*om2_3 + x[5];
+        const double om3_2 = om2_2*cos_phi3 + sin_phi3*j3r2;
+        const double om3_3 = cos_phi3*j3r2 - om2_2*sin_phi3;
         const double eps2_2 = x[4]*om2_3;
         const double eps2_3 = -x[4]*om2_2;
-        const double w6 = x[3]*x[3];
-        const double aO2in1_2 = -0.25*w6;
-        const double aO2in1_3 = -0.05*w6;
-        const double aO2_1 = -0.8912073600614353*aO2in1_3;
-        const double aO2_2 = aO2in1_2*cos_phi2 + 0.45359612142557737*aO2in1_3*sin_phi2;
-        const double aO2_3 = -aO2in1_2*sin_phi2 + 0.45359612142557737*aO2in1_3*cos_phi2;
-        const double eps3_1 = -0.9092974268256817*eps2_3;
-        const double w7 = 0.4161468365471424*eps2_3;
-        const double eps3_2 = x[5]*om3_3 + cos_phi3*eps2_2 - sin_phi3*w7;
-        const double eps3_3 = -x[5]*om3_2 - cos_phi3*w7 - eps2_2*sin_phi3;
-        const double w8 = 0.08*om2_1 + 0.05*om2_3;
-        const double w9 = 0.2*om2_1 - 0.05*om2_2;
-        const double aO3in2_1 = aO2_1 - 0.08*eps2_2 - 0.2*eps2_3 + om2_2*w9 - om2_3*w8;
-        const double w10 = -0.08*om2_2 - 0.2*om2_3;
-        const double aO3in2_2 = aO2_2 + 0.05*eps2_3 - om2_1*w9 + om2_3*w10;
-        const double aO3in2_3 = aO2_3 - 0.05*eps2_2 + om2_1*w8 - om2_2*w10;
-        const double aO3_1 = -0.4161468365471424*aO3in2_1 - 0.9092974268256817*aO3in2_3;
-        const double w11 = 0.4161468365471424*aO3in2_3;
-        const double aO3_2 = aO3in2_1*w3 + aO3in2_2*cos_phi3 - sin_phi3*w11;
-        const double aO3_3 = 0.9092974268256817*aO3in2_1*cos_phi3 - aO3in2_2*sin_phi3 - cos_phi3*w11;
-        const double w12 = -0.02*om3_1 - 0.024*om3_2;
-        const double w13 = -0.11*om3_1 + 0.06*om3_3;
-        const double w14 = 0.4*om3_3;
-        const double F3_1 = 0.4*aO3_1 + 0.044*eps3_2 + 0.02*eps3_3 + om3_2*w12 - w13*w14;
-        const double w15 = 0.11*om3_2 + 0.05*om3_3;
-        const double F3_2 = 0.4*aO3_2 - 0.044*eps3_1 + 0.024*eps3_3 - om3_1*w12 + w14*w15;
-        const double F3_3 = 0.4*aO3_3 - 0.02*eps3_1 - 0.024*eps3_2 + 0.4*om3_1*w13 - 0.4*om3_2*w15;
-        const double w16 = 0.0013*om3_1 + 0.00868*om3_2 + 0.002*om3_3;
-        const double w17 = -0.00244*om3_1 + 0.002*om3_2 + 0.00424*om3_3;
-        const double N3_1 = -0.044*aO3_2 - 0.02*aO3_3 + 0.00784*eps3_1 + 0.0013*eps3_2 - 0.00244*eps3_3 + om3_2*w17 - om3_3*w16;
-        const double w18 = 0.00784*om3_1 + 0.0013*om3_2 - 0.00244*om3_3;
-        const double N3_2 = 0.044*aO3_1 - 0.024*aO3_3 + 0.0013*eps3_1 + 0.00868*eps3_2 + 0.002*eps3_3 - om3_1*w17 + om3_3*w18;
-        const double N3_3 = 0.02*aO3_1 + 0.024*aO3_2 - 0.00244*eps3_1 + 0.002*eps3_2 + 0.00424*eps3_3 + om3_1*w16 - om3_2*w18;
-        const double Gm3_1 = 0.012*om3_2;
-        const double Gm3_2 = -0.012*om3_1 + 0.02*om3_3;
-        const double Gm3_3 = -0.02*om3_2;
-        const double G3 = -0.43164*gam3_2 - 0.1962*gam3_3;
-        const double w19 = 0.9092974268256817*cos_phi3;
-        const double F3in2_1 = -0.4161468365471424*F3_1 + F3_2*w3 + F3_3*w19;
-        const double F3in2_2 = F3_2*cos_phi3 - F3_3*sin_phi3;
-        const double w20 = 0.4161468365471424*sin_phi3;
-        const double w21 = 0.4161468365471424*cos_phi3;
-        const double F3in2_3 = -0.9092974268256817*F3_1 - F3_2*w20 - F3_3*w21;
-        const double N3in2_1 = -0.4161468365471424*N3_1 + N3_2*w3 + N3_3*w19;
-        const double N3in2_2 = N3_2*cos_phi3 - N3_3*sin_phi3;
-        const double N3in2_3 = -0.9092974268256817*N3_1 - N3_2*w20 - N3_3*w21;
-        const double Gm3in2_1 = -0.4161468365471424*Gm3_1 + Gm3_2*w3 + Gm3_3*w19;
-        const double Gm3in2_2 = Gm3_2*cos_phi3 - Gm3_3*sin_phi3;
-        const double Gm3in2_3 = -0.9092974268256817*Gm3_1 - Gm3_2*w20 - Gm3_3*w21;
-        const double h3in2_1 = 0.040009086780329994*cos_phi3 - 0.018185948536513633*sin_phi3 - 0.009987524077131417;
-        const double h3in2_2 = -0.02*cos_phi3 - 0.044*sin_phi3;
-        const double h3in2_3 = -0.018310460808074264*cos_phi3 + 0.008322936730942847*sin_phi3 - 0.021823138243816362;
-        const double w22 = 0.0009232990442756725*cos_phi3 - 0.0004919216219501534*sin_phi3;
-        const double I3in2_11 = w19*(0.0038554210897408904*cos_phi3 + 0.0018185948536513633*sin_phi3 + 0.0010153982811750275) + w22 + w3*(0.0018185948536513633*cos_phi3 + 0.007892701664846917*sin_phi3 - 0.0005409908875112851) + 0.0013577170062146413;
-        const double w23 = 0.002*cos_phi3 - 0.00424*sin_phi3;
-        const double w24 = 0.00868*cos_phi3 - 0.002*sin_phi3;
-        const double I3in2_21 = -0.0005409908875112851*cos_phi3 - 0.0010153982811750275*sin_phi3 + w19*w23 + w24*w3;
-        const double I3in2_22 = cos_phi3*w24 - sin_phi3*w23;
-        const double w25 = -0.0017644625869598838*cos_phi3 - 0.0008322936730942847*sin_phi3 + 0.002218685721454663;
-        const double w26 = -0.0008322936730942847*cos_phi3 - 0.003612154541229196*sin_phi3 - 0.0011820866548733861;
-        const double I3in2_31 = -0.00042255478254639347*cos_phi3 + 0.00022513164643865225*sin_phi3 + w19*w25 + w26*w3 + 0.002966665781607079;
-        const double I3in2_32 = cos_phi3*w26 - sin_phi3*w25;
-        const double I3in2_33 = -w20*w26 - w21*w25 - w22 + 0.0064822829937853585;
-        const double w27 = 0.06*om2_1 + 0.024*om2_2;
-        const double w28 = -0.07*om2_1 - 0.04*om2_3;
-        const double w29 = 0.6*om2_3;
-        const double F2_1 = F3in2_1 + 0.6*aO2_1 + 0.042*eps2_2 - 0.06*eps2_3 + om2_2*w27 - w28*w29;
-        const double w30 = 0.07*om2_2 - 0.1*om2_3;
-        const double F2_2 = F3in2_2 + 0.6*aO2_2 - 0.024*eps2_3 - om2_1*w27 + w29*w30;
-        const double F2_3 = F3in2_3 + 0.6*aO2_3 + 0.024*eps2_2 + 0.6*om2_1*w28 - 0.6*om2_2*w30;
-        const double w31 = 0.00188*om2_1 - 0.0041*om2_2 + 0.00976*om2_3;
-        const double w32 = 0.0021*om2_1 + 0.0074*om2_2 - 0.0041*om2_3;
-        const double N2_1 = 0.08*F3in2_2 + 0.2*F3in2_3 + N3in2_1 - 0.042*aO2_2 + 0.06*aO2_3 + 0.0021*eps2_2 + 0.00188*eps2_3 + om2_2*w31 - om2_3*w32;
-        const double w33 = 0.01194*om2_1 + 0.0021*om2_2 + 0.00188*om2_3;
-        const double N2_2 = -0.08*F3in2_1 - 0.05*F3in2_3 + N3in2_2 + 0.042*aO2_1 + 0.024*aO2_3 + 0.0074*eps2_2 - 0.0041*eps2_3 - om2_1*w31 + om2_3*w33;
-        const double N2_3 = -0.2*F3in2_1 + 0.05*F3in2_2 + N3in2_3 - 0.06*aO2_1 - 0.024*aO2_2 - 0.0041*eps2_2 + 0.00976*eps2_3 + om2_1*w32 - om2_2*w33;
-        const double Gm2_1 = Gm3in2_1 - 0.01*om2_2 - 0.015*om2_3;
-        const double Gm2_2 = Gm3in2_2 + 0.01*om2_1;
-        const double Gm2_3 = Gm3in2_3 + 0.015*om2_1;
-        const double h2_1 = h3in2_1 - 0.004;
-        const double h2_2 = h3in2_2 + 0.14;
-        const double h2_3 = h3in2_3 + 0.01;
-        const double w34 = 0.4*h3in2_2;
-        const double w35 = -0.16*h3in2_3;
-        const double I2_11 = I3in2_11 + w34 + w35 + 0.0305;
-        const double I2_21 = I3in2_21 - 0.2*h3in2_1 - 0.05*h3in2_2 - 0.0019;
-        const double w36 = 0.1*h3in2_1;
-        const double I2_22 = I3in2_22 + w35 + w36 + 0.01096;
-        const double I2_31 = I3in2_31 + 0.08*h3in2_1 - 0.05*h3in2_3 + 0.00348;
-        const double I2_32 = I3in2_32 + 0.08*h3in2_2 - 0.2*h3in2_3 + 0.0023;
-        const double I2_33 = I3in2_33 + w34 + w36 + 0.02676;
-        const double G2 = -9.81*gam2_2*h2_3 + 9.81*gam2_3*h2_2;
-        const double F2in1_2 = F2_2*cos_phi2 - F2_3*sin_phi2;
-        const double w37 = 0.45359612142557737*sin_phi2;
-        const double w38 = 0.45359612142557737*cos_phi2;
-        const double F2in1_3 = -0.8912073600614353*F2_1 + F2_2*w37 + F2_3*w38;
-        const double N2in1_1 = 0.45359612142557737*N2_1 + N2_2*w1 + N2_3*w2;
-        const double Gm2in1_1 = 0.45359612142557737*Gm2_1 + Gm2_2*w1 + Gm2_3*w2;
-        const double h2in1_2 = cos_phi2*h2_2 - h2_3*sin_phi2;
-        const double h2in1_3 = -0.8912073600614353*h2_1 + h2_2*w37 + h2_3*w38;
-        const double I2in1_11 = 0.20574944137232715*I2_11 + 0.4042482019097951*I2_21*sin_phi2 + 0.4042482019097951*I2_31*cos_phi2 + w1*(0.45359612142557737*I2_21 + I2_22*w1 + I2_32*w2) + w2*(0.45359612142557737*I2_31 + I2_32*w1 + I2_33*w2);
-        const double N1_1 = -0.05*F2in1_2 + 0.25*F2in1_3 + N2in1_1;
-        const double h1_2 = h2in1_2 + 0.346;
-        const double h1_3 = h2in1_3 + 0.026;
-        const double I1_11 = I2in1_11 + 0.5*h2in1_2 + 0.1*h2in1_3 + 0.08324;
-        const double G1 = -9.81*gam1_2*h1_3 + 9.81*gam1_3*h1_2;
-        const double e1in2_2 = w1;
-        const double e1in2_3 = w2;
-        const double d1in2_2 = 0.25*cos_phi2 + 0.1118005420774224*sin_phi2;
-        const double d1in2_3 = 0.1118005420774224*cos_phi2 - 0.25*sin_phi2;
-        const double M2_1 = 0.45359612142557737*I2_11 + I2_21*e1in2_2 + I2_31*e1in2_3 + h2_2*(0.45359612142557737*d1in2_2 - 0.0007992441394859718*e1in2_2) - h2_3*(-0.45359612142557737*d1in2_3 + 0.0007992441394859718*e1in2_3);
-        const double e1in3_1 = -0.9092974268256817*e1in2_3 - 0.18876259100130752;
-        const double e1in3_2 = cos_phi3*e1in2_2 - e1in2_3*w20 + 0.41245378603038696*sin_phi3;
-        const double e1in3_3 = 0.41245378603038696*cos_phi3 - e1in2_2*sin_phi3 - e1in2_3*w21;
-        const double d1in3_1 = 0.051603849398421484 - 0.9092974268256817*d1in2_3;
-        const double w39 = d1in2_2 + 0.2;
-        const double w40 = d1in2_3 - 0.08;
-        const double d1in3_2 = cos_phi3*w39 + 0.046191621980724185*sin_phi3 - w20*w40;
-        const double d1in3_3 = 0.046191621980724185*cos_phi3 - sin_phi3*w39 - w21*w40;
-        const double M3_1 = 0.02*d1in3_1*e1in3_2 - 0.044*d1in3_1*e1in3_3 - 0.02*d1in3_2*e1in3_1 + 0.044*d1in3_3*e1in3_1 + 0.00784*e1in3_1 + 0.0013*e1in3_2 - 0.00244*e1in3_3;
-        const double e2in3_2 = w3;
-        const double e2in3_3 = w19;
-        const double d2in3_2 = 0.2*cos_phi3 + 0.07875661826505548*sin_phi3;
-        const double d2in3_3 = 0.07875661826505548*cos_phi3 - 0.2*sin_phi3;
-        const double M3_2 = 0.008322936730942847*d2in3_2 - 0.018310460808074264*d2in3_3 + 0.0023387290463739484*e2in3_2 - 0.0047252039020226864*e2in3_3 - 0.0032625911985295964;
+        const double w0 = x[3]*x[3];
+        const double aOrel2in1_2 = -0.25*w0;
+        const double aOrel2in1_3 = -0.05*w0;
+        const double j2r5 = -8.052600665193761 - 1.7328251533920123*cos_phi1 + 0.45359612142557737*aOrel2in1_3;
+        const double aOg2_1 = -4.098516902810498 + 3.404584954450333*cos_phi1 - 0.8912073600614353*aOrel2in1_3;
+        const double aOg2_2 = -3.8201939380478613*sin_phi1*cos_phi2 + cos_phi2*aOrel2in1_2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 3.8201939380478613*sin_phi1*sin_phi2 - sin_phi2*aOrel2in1_2;
+        const double eps3_2 = cos_phi3*eps2_2 - 0.4161468365471424*sin_phi3*eps2_3 + x[5]*om3_3;
+        const double eps3_3 = -0.4161468365471424*cos_phi3*eps2_3 - sin_phi3*eps2_2 - x[5]*om3_2;
+        const double ws2_1 = -0.08*om2_2 - 0.2*om2_3;
+        const double ws2_2 = 0.05*om2_3 + 0.08*om2_1;
+        const double ws2_3 = 0.2*om2_1 - 0.05*om2_2;
+        const double aOrel3in2_1 = -0.08*eps2_2 - 0.2*eps2_3 + om2_2*ws2_3 - om2_3*ws2_2;
+        const double aOrel3in2_2 = 0.05*eps2_3 + om2_3*ws2_1 - om2_1*ws2_3;
+        const double aOrel3in2_3 = -0.05*eps2_2 + om2_1*ws2_2 - om2_2*ws2_1;
+        const double j3r5 = 0.9092974268256817*aOg2_1 + 0.9092974268256817*aOrel3in2_1 - 0.4161468365471424*aOg2_3 - 0.4161468365471424*aOrel3in2_3;
+        const double aOg3_1 = -0.4161468365471424*aOg2_1 - 0.4161468365471424*aOrel3in2_1 - 0.9092974268256817*aOg2_3 - 0.9092974268256817*aOrel3in2_3;
+        const double aOg3_2 = cos_phi3*aOg2_2 + cos_phi3*aOrel3in2_2 + sin_phi3*j3r5;
+        const double aOg3_3 = cos_phi3*j3r5 - sin_phi3*aOg2_2 - sin_phi3*aOrel3in2_2;
+        const double wc3_1 = 0.11*om3_2 + 0.05*om3_3;
+        const double wc3_2 = 0.06*om3_3 - 0.11*om3_1;
+        const double wc3_3 = -0.05*om3_1 - 0.06*om3_2;
+        const double Aw3_1 = 0.00784*om3_1 + 0.0013*om3_2 - 0.00244*om3_3;
+        const double Aw3_2 = 0.0013*om3_1 + 0.00868*om3_2 + 0.002*om3_3;
+        const double Aw3_3 = -0.00244*om3_1 + 0.002*om3_2 + 0.00424*om3_3;
+        const double Fb3_1 = 0.4*aOg3_1 + 0.044000000000000004*eps3_2 + 0.020000000000000004*eps3_3 + 0.4*om3_2*wc3_3 - 0.4*om3_3*wc3_2;
+        const double Fb3_2 = 0.4*aOg3_2 + 0.024*eps3_3 + 0.040009086780329994*eps2_3 + 0.4*om3_3*wc3_1 - 0.4*om3_1*wc3_3;
+        const double Fb3_3 = 0.4*aOg3_3 + 0.018185948536513636*eps2_3 - 0.024*eps3_2 + 0.4*om3_1*wc3_2 - 0.4*om3_2*wc3_1;
+        const double Nb3_1 = -0.007128891826313344*eps2_3 + 0.0013*eps3_2 - 0.00244*eps3_3 + om3_2*Aw3_3 + 0.012*om3_2 - om3_3*Aw3_2 - 0.020000000000000004*aOg3_3 - 0.044000000000000004*aOg3_2;
+        const double Nb3_2 = -0.0011820866548733861*eps2_3 + 0.00868*eps3_2 + 0.002*eps3_3 + om3_3*Aw3_1 + 0.02*om3_3 - om3_1*Aw3_3 - 0.012*om3_1 + 0.044000000000000004*aOg3_1 - 0.024*aOg3_3;
+        const double Nb3_3 = 0.002218685721454663*eps2_3 + 0.002*eps3_2 + 0.00424*eps3_3 + om3_1*Aw3_2 - om3_2*Aw3_1 - 0.02*om3_2 + 0.024*aOg3_2 + 0.020000000000000004*aOg3_1;
+        const double j3r10 = -0.020000000000000004*sin_phi3 + 0.044000000000000004*cos_phi3;
+        const double h3in2_1 = -0.009987524077131419 + 0.9092974268256817*j3r10;
+        const double h3in2_2 = -0.020000000000000004*cos_phi3 - 0.044000000000000004*sin_phi3;
+        const double h3in2_3 = -0.4161468365471424*j3r10 - 0.021823138243816362;
+        const double I3in2ra_22 = 0.00868*cos_phi3 - 0.002*sin_phi3;
+        const double I3in2ra_23 = 0.00868*sin_phi3 + 0.002*cos_phi3;
+        const double I3in2ra_32 = 0.002*cos_phi3 - 0.00424*sin_phi3;
+        const double I3in2ra_33 = 0.002*sin_phi3 + 0.00424*cos_phi3;
+        const double I3in2r_21 = 0.0013*cos_phi3 + 0.00244*sin_phi3;
+        const double I3in2r_22 = cos_phi3*I3in2ra_22 - sin_phi3*I3in2ra_32;
+        const double I3in2r_31 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double I3in2r_32 = sin_phi3*I3in2ra_22 + cos_phi3*I3in2ra_32;
+        const double I3in2r_33 = sin_phi3*I3in2ra_23 + cos_phi3*I3in2ra_33;
+        const double I3in2a_11 = -0.0032625911985295964 + 0.9092974268256817*I3in2r_31;
+        const double I3in2a_13 = -0.007128891826313344 - 0.4161468365471424*I3in2r_31;
+        const double I3in2a_21 = -0.4161468365471424*I3in2r_21 + 0.9092974268256817*I3in2r_32;
+        const double I3in2a_31 = -0.4161468365471424*I3in2r_31 + 0.9092974268256817*I3in2r_33;
+        const double I3in2a_33 = -0.9092974268256817*I3in2r_31 - 0.4161468365471424*I3in2r_33;
+        const double I3in2_11 = -0.4161468365471424*I3in2a_11 + 0.9092974268256817*I3in2a_31;
+        const double I3in2_31 = -0.9092974268256817*I3in2a_11 - 0.4161468365471424*I3in2a_31;
+        const double I3in2_32 = -0.9092974268256817*I3in2r_21 - 0.4161468365471424*I3in2r_32;
+        const double I3in2_33 = -0.9092974268256817*I3in2a_13 - 0.4161468365471424*I3in2a_33;
+        const double j3r11 = sin_phi3*Fb3_2 + cos_phi3*Fb3_3;
+        const double Fb3in2_1 = -0.4161468365471424*Fb3_1 + 0.9092974268256817*j3r11;
+        const double Fb3in2_2 = cos_phi3*Fb3_2 - sin_phi3*Fb3_3;
+        const double Fb3in2_3 = -0.4161468365471424*j3r11 - 0.9092974268256817*Fb3_1;
+        const double j3r12 = sin_phi3*Nb3_2 + cos_phi3*Nb3_3;
+        const double Nb3in2_1 = -0.4161468365471424*Nb3_1 + 0.9092974268256817*j3r12;
+        const double Nb3in2_2 = cos_phi3*Nb3_2 - sin_phi3*Nb3_3;
+        const double Nb3in2_3 = -0.4161468365471424*j3r12 - 0.9092974268256817*Nb3_1;
+        const double wc2_1 = 0.07*om2_2 - 0.1*om2_3;
+        const double wc2_2 = -0.04*om2_3 - 0.07*om2_1;
+        const double wc2_3 = 0.1*om2_1 + 0.04*om2_2;
+        const double Aw2_1 = 0.01194*om2_1 + 0.0021*om2_2 + 0.00188*om2_3;
+        const double Aw2_2 = 0.0021*om2_1 + 0.0074*om2_2 - 0.0041*om2_3;
+        const double Aw2_3 = 0.00188*om2_1 - 0.0041*om2_2 + 0.00976*om2_3;
+        const double Fb2_1 = 0.6*aOg2_1 + 0.042*eps2_2 - 0.06*eps2_3 + 0.6*om2_2*wc2_3 - 0.6*om2_3*wc2_2 + Fb3in2_1;
+        const double Fb2_2 = 0.6*aOg2_2 - 0.024*eps2_3 + 0.6*om2_3*wc2_1 - 0.6*om2_1*wc2_3 + Fb3in2_2;
+        const double Fb2_3 = 0.6*aOg2_3 + 0.024*eps2_2 + 0.6*om2_1*wc2_2 - 0.6*om2_2*wc2_1 + Fb3in2_3;
+        const double Nb2_1 = 0.0021*eps2_2 + 0.00188*eps2_3 + om2_2*Aw2_3 - 0.01*om2_2 - om2_3*Aw2_2 - 0.015*om2_3 + 0.06*aOg2_3 - 0.042*aOg2_2 + Nb3in2_1 + 0.2*Fb3in2_3 + 0.08*Fb3in2_2;
+        const double Nb2_2 = 0.0074*eps2_2 - 0.0041*eps2_3 + om2_3*Aw2_1 - om2_1*Aw2_3 + 0.01*om2_1 + 0.042*aOg2_1 + 0.024*aOg2_3 + Nb3in2_2 - 0.08*Fb3in2_1 - 0.05*Fb3in2_3;
+        const double Nb2_3 = -0.0041*eps2_2 + 0.00976*eps2_3 + om2_1*Aw2_2 + 0.015*om2_1 - om2_2*Aw2_1 - 0.024*aOg2_2 - 0.06*aOg2_1 + Nb3in2_3 + 0.05*Fb3in2_2 - 0.2*Fb3in2_1;
+        const double h2_1 = -0.003999999999999997 + h3in2_1;
+        const double h2_2 = 0.14 + h3in2_2;
+        const double h2_3 = 0.010000000000000002 + h3in2_3;
+        const double I2_11 = 0.030500000000000006 + I3in2_11 + 0.4*h3in2_2 - 0.16*h3in2_3;
+        const double I2_21 = -0.001900000000000001 + I3in2a_21 - 0.2*h3in2_1 - 0.05*h3in2_2;
+        const double I2_22 = 0.010960000000000004 + I3in2r_22 + 0.1*h3in2_1 - 0.16*h3in2_3;
+        const double I2_31 = 0.00348 + I3in2_31 + 0.08*h3in2_1 - 0.05*h3in2_3;
+        const double I2_32 = 0.0023 + I3in2_32 + 0.08*h3in2_2 - 0.2*h3in2_3;
+        const double I2_33 = 0.026760000000000006 + I3in2_33 + 0.1*h3in2_1 + 0.4*h3in2_2;
+        const double w1 = sin_phi2*h2_2;
+        const double w2 = cos_phi2*h2_3;
+        const double j2r10 = w1 + w2;
+        const double w3 = cos_phi2*h2_2;
+        const double w4 = sin_phi2*h2_3;
+        const double h2in1_2 = w3 - w4;
+        const double h2in1_3 = 0.45359612142557737*j2r10 - 0.8912073600614353*h2_1;
+        const double I2in1ra_23 = sin_phi2*I2_22 + cos_phi2*I2_32;
+        const double I2in1ra_33 = sin_phi2*I2_32 + cos_phi2*I2_33;
+        const double w5 = sin_phi2*I2_21;
+        const double w6 = cos_phi2*I2_31;
+        const double I2in1r_31 = w5 + w6;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double I2in1a_11 = 0.45359612142557737*I2_11 + 0.8912073600614353*I2in1r_31;
+        const double I2in1a_31 = 0.45359612142557737*I2in1r_31 + 0.8912073600614353*I2in1r_33;
+        const double I2in1_11 = 0.45359612142557737*I2in1a_11 + 0.8912073600614353*I2in1a_31;
+        const double j2r11 = sin_phi2*Fb2_2 + cos_phi2*Fb2_3;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double Fb2in1_3 = 0.45359612142557737*j2r11 - 0.8912073600614353*Fb2_1;
+        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double Nb2in1_1 = 0.45359612142557737*Nb2_1 + 0.8912073600614353*j2r12;
+        const double Nb1_1 = -0.36673861805259467*cos_phi1 - 0.09168465451314867*sin_phi1 + Nb2in1_1 + 0.25*Fb2in1_3 - 0.05*Fb2in1_2;
+        const double I1_11 = 0.08324000000000001 + I2in1_11 + 0.5*h2in1_2 + 0.1*h2in1_3;
+        const double j3r13 = -0.044000000000000004*sin_phi3 - 0.020000000000000004*cos_phi3;
+        const double f3in2_2 = -0.044000000000000004*cos_phi3 + 0.020000000000000004*sin_phi3;
+        const double j3r14 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double n3in2_1 = -0.0032625911985295964 + 0.9092974268256817*j3r14 - 0.08322936730942848*j3r13 + 0.08*f3in2_2;
+        const double n3in2_2 = 0.0013*cos_phi3 + 0.00244*sin_phi3 - 0.051936452318697424*j3r13;
+        const double n3in2_3 = -0.4161468365471424*j3r14 - 0.007128891826313344 + 0.05*f3in2_2 - 0.18185948536513635*j3r13;
+        const double j2r13 = sin_phi2*f3in2_2 - 0.4161468365471424*cos_phi2*j3r13;
+        const double f3in1_2 = cos_phi2*f3in2_2 + 0.4161468365471424*sin_phi2*j3r13;
+        const double f3in1_3 = 0.45359612142557737*j2r13 - 0.8103725592719719*j3r13;
+        const double j2r14 = sin_phi2*n3in2_2 + cos_phi2*n3in2_3;
+        const double n3in1_1 = 0.45359612142557737*n3in2_1 + 0.8912073600614353*j2r14 + 0.25*f3in1_3 - 0.05*f3in1_2;
+        const double j2r15 = -w4 + w3;
+        const double f2in1_2 = -w2 - w1;
+        const double j2r16 = w5 + w6;
+        const double n2in1_1 = 0.45359612142557737*I2_11 + 0.8912073600614353*j2r16 + 0.11339903035639434*j2r15 - 0.05*f2in1_2;
 
         M[0] = I1_11;
-        M[3] = M2_1;
+        M[3] = n2in1_1;
         M[4] = I2_11;
-        M[6] = M3_1;
-        M[7] = M3_2;
+        M[6] = n3in1_1;
+        M[7] = n3in2_1;
         M[8] = 0.00784;
-        f[0] = G1 - Gm2in1_1 - N1_1;
-        f[1] = G2 - Gm2_1 - N2_1;
-        f[2] = tau_3 + G3 - Gm3_1 - N3_1;
+        f[0] = -Nb1_1;
+        f[1] = -Nb2_1;
+        f[2] = tau_3 - Nb3_1;
 
     }
-    spatial3_symmetrize_(M);
-    if (!spatial3_all_finite_(M, 9) || !spatial3_all_finite_(f, 3)) {
-        return SPATIAL3_NONFINITE;
+    /* a non-finite off-diagonal entry of M makes phi'' non-finite, caught below */
+    for (i = 0; i < 3; ++i) {
+        if (!isfinite(M[i * 4]) || !isfinite(f[i])) {
+            return SPATIAL3_NONFINITE;
+        }
     }
-    code = spatial3_ldlt_(M);
-    if (code != SPATIAL3_OK) {
-        return code;
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 3; ++i) {
+        if (fabs(M[i * 4]) > tol) {
+            tol = fabs(M[i * 4]);
+        }
     }
-    spatial3_ldlt_solve_(M, f);
+    tol *= SPATIAL3_PIVOT_TOL;
+    d = M[0];
+    if (!(d > tol)) {
+        return SPATIAL3_SINGULAR;
+    }
+    M[0] = d;
+    r = 1.0 / d;
+    M[3] = (M[3]) * r;
+    M[6] = (M[6]) * r;
+    v[0] = M[3] * M[0];
+    d = M[4] - M[3] * v[0];
+    if (!(d > tol)) {
+        return SPATIAL3_SINGULAR;
+    }
+    M[4] = d;
+    r = 1.0 / d;
+    M[7] = (M[7] - M[6] * v[0]) * r;
+    v[0] = M[6] * M[0];
+    v[1] = M[7] * M[4];
+    d = M[8] - M[6] * v[0] - M[7] * v[1];
+    if (!(d > tol)) {
+        return SPATIAL3_SINGULAR;
+    }
+    M[8] = d;
+
+    (void)r;
+    f[1] -= M[3] * f[0];
+    f[2] -= M[6] * f[0] + M[7] * f[1];
+    f[0] /= M[0];
+    f[1] /= M[4];
+    f[2] /= M[8];
+    f[1] -= M[7] * f[2];
+    f[0] -= M[3] * f[1] + M[6] * f[2];
+
     for (i = 0; i < 3; ++i) {
         qdd[i] = f[i];
     }
@@ -519,73 +492,82 @@ double spatial3_energy(const double *x, const spatial3_params *p)
     {
         const double cos_phi1 = cos(x[0]);
         const double sin_phi1 = sin(x[0]);
-        const double gam1_2 = 0.38941834230865047*sin_phi1;
-        const double gam1_3 = 0.38941834230865047*cos_phi1;
         const double cos_phi2 = cos(x[1]);
         const double sin_phi2 = sin(x[1]);
         const double cos_phi3 = cos(x[2]);
         const double sin_phi3 = sin(x[2]);
-        const double h3in2_1 = 0.040009086780329994*cos_phi3 - 0.018185948536513633*sin_phi3 - 0.009987524077131417;
-        const double h3in2_2 = -0.02*cos_phi3 - 0.044*sin_phi3;
-        const double h3in2_3 = -0.018310460808074264*cos_phi3 + 0.008322936730942847*sin_phi3 - 0.021823138243816362;
-        const double w0 = 0.9092974268256817*cos_phi3;
-        const double w1 = 0.9092974268256817*sin_phi3;
-        const double w2 = 0.0009232990442756725*cos_phi3 - 0.0004919216219501534*sin_phi3;
-        const double I3in2_11 = w0*(0.0038554210897408904*cos_phi3 + 0.0018185948536513633*sin_phi3 + 0.0010153982811750275) + w1*(0.0018185948536513633*cos_phi3 + 0.007892701664846917*sin_phi3 - 0.0005409908875112851) + w2 + 0.0013577170062146413;
-        const double w3 = 0.002*cos_phi3 - 0.00424*sin_phi3;
-        const double w4 = 0.00868*cos_phi3 - 0.002*sin_phi3;
-        const double I3in2_21 = -0.0005409908875112851*cos_phi3 - 0.0010153982811750275*sin_phi3 + w0*w3 + w1*w4;
-        const double I3in2_22 = cos_phi3*w4 - sin_phi3*w3;
-        const double w5 = -0.0017644625869598838*cos_phi3 - 0.0008322936730942847*sin_phi3 + 0.002218685721454663;
-        const double w6 = -0.0008322936730942847*cos_phi3 - 0.003612154541229196*sin_phi3 - 0.0011820866548733861;
-        const double I3in2_31 = -0.00042255478254639347*cos_phi3 + 0.00022513164643865225*sin_phi3 + w0*w5 + w1*w6 + 0.002966665781607079;
-        const double I3in2_32 = cos_phi3*w6 - sin_phi3*w5;
-        const double w7 = 0.4161468365471424*cos_phi3;
-        const double w8 = 0.4161468365471424*sin_phi3;
-        const double I3in2_33 = -w2 - w5*w7 - w6*w8 + 0.0064822829937853585;
-        const double h2_1 = h3in2_1 - 0.004;
-        const double h2_2 = h3in2_2 + 0.14;
-        const double h2_3 = h3in2_3 + 0.01;
-        const double w9 = 0.4*h3in2_2;
-        const double w10 = -0.16*h3in2_3;
-        const double I2_11 = I3in2_11 + w10 + w9 + 0.0305;
-        const double I2_21 = I3in2_21 - 0.2*h3in2_1 - 0.05*h3in2_2 - 0.0019;
-        const double w11 = 0.1*h3in2_1;
-        const double I2_22 = I3in2_22 + w10 + w11 + 0.01096;
-        const double I2_31 = I3in2_31 + 0.08*h3in2_1 - 0.05*h3in2_3 + 0.00348;
-        const double I2_32 = I3in2_32 + 0.08*h3in2_2 - 0.2*h3in2_3 + 0.0023;
-        const double I2_33 = I3in2_33 + w11 + w9 + 0.02676;
-        const double w12 = 0.8912073600614353*cos_phi2;
-        const double w13 = 0.8912073600614353*sin_phi2;
-        const double h2in1_1 = 0.45359612142557737*h2_1 + h2_2*w13 + h2_3*w12;
-        const double h2in1_2 = cos_phi2*h2_2 - h2_3*sin_phi2;
-        const double h2in1_3 = 0.45359612142557737*cos_phi2*h2_3 - 0.8912073600614353*h2_1 + 0.45359612142557737*h2_2*sin_phi2;
-        const double I2in1_11 = 0.20574944137232715*I2_11 + 0.4042482019097951*I2_21*sin_phi2 + 0.4042482019097951*I2_31*cos_phi2 + w12*(0.45359612142557737*I2_31 + I2_32*w13 + I2_33*w12) + w13*(0.45359612142557737*I2_21 + I2_22*w13 + I2_32*w12);
-        const double h1_1 = h2in1_1 + 0.14;
-        const double h1_2 = h2in1_2 + 0.346;
-        const double h1_3 = h2in1_3 + 0.026;
-        const double I1_11 = I2in1_11 + 0.5*h2in1_2 + 0.1*h2in1_3 + 0.08324;
-        const double e1in2_2 = w13;
-        const double e1in2_3 = w12;
-        const double d1in2_2 = 0.25*cos_phi2 + 0.1118005420774224*sin_phi2;
-        const double d1in2_3 = 0.1118005420774224*cos_phi2 - 0.25*sin_phi2;
-        const double M2_1 = 0.45359612142557737*I2_11 + I2_21*e1in2_2 + I2_31*e1in2_3 + h2_2*(0.45359612142557737*d1in2_2 - 0.0007992441394859718*e1in2_2) - h2_3*(-0.45359612142557737*d1in2_3 + 0.0007992441394859718*e1in2_3);
-        const double e1in3_1 = -0.9092974268256817*e1in2_3 - 0.18876259100130752;
-        const double e1in3_2 = cos_phi3*e1in2_2 - e1in2_3*w8 + 0.41245378603038696*sin_phi3;
-        const double e1in3_3 = 0.41245378603038696*cos_phi3 - e1in2_2*sin_phi3 - e1in2_3*w7;
-        const double d1in3_1 = 0.051603849398421484 - 0.9092974268256817*d1in2_3;
-        const double w14 = d1in2_2 + 0.2;
-        const double w15 = d1in2_3 - 0.08;
-        const double d1in3_2 = cos_phi3*w14 + 0.046191621980724185*sin_phi3 - w15*w8;
-        const double d1in3_3 = 0.046191621980724185*cos_phi3 - sin_phi3*w14 - w15*w7;
-        const double M3_1 = 0.02*d1in3_1*e1in3_2 - 0.044*d1in3_1*e1in3_3 - 0.02*d1in3_2*e1in3_1 + 0.044*d1in3_3*e1in3_1 + 0.00784*e1in3_1 + 0.0013*e1in3_2 - 0.00244*e1in3_3;
-        const double e2in3_2 = w1;
-        const double e2in3_3 = w0;
-        const double d2in3_2 = 0.2*cos_phi3 + 0.07875661826505548*sin_phi3;
-        const double d2in3_3 = 0.07875661826505548*cos_phi3 - 0.2*sin_phi3;
-        const double M3_2 = 0.008322936730942847*d2in3_2 - 0.018310460808074264*d2in3_3 + 0.0023387290463739484*e2in3_2 - 0.0047252039020226864*e2in3_3 - 0.0032625911985295964;
+        const double j3r10 = -0.020000000000000004*sin_phi3 + 0.044000000000000004*cos_phi3;
+        const double h3in2_1 = -0.009987524077131419 + 0.9092974268256817*j3r10;
+        const double h3in2_2 = -0.020000000000000004*cos_phi3 - 0.044000000000000004*sin_phi3;
+        const double h3in2_3 = -0.4161468365471424*j3r10 - 0.021823138243816362;
+        const double I3in2ra_22 = 0.00868*cos_phi3 - 0.002*sin_phi3;
+        const double I3in2ra_23 = 0.00868*sin_phi3 + 0.002*cos_phi3;
+        const double I3in2ra_32 = 0.002*cos_phi3 - 0.00424*sin_phi3;
+        const double I3in2ra_33 = 0.002*sin_phi3 + 0.00424*cos_phi3;
+        const double I3in2r_21 = 0.0013*cos_phi3 + 0.00244*sin_phi3;
+        const double I3in2r_22 = cos_phi3*I3in2ra_22 - sin_phi3*I3in2ra_32;
+        const double I3in2r_31 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double I3in2r_32 = sin_phi3*I3in2ra_22 + cos_phi3*I3in2ra_32;
+        const double I3in2r_33 = sin_phi3*I3in2ra_23 + cos_phi3*I3in2ra_33;
+        const double I3in2a_11 = -0.0032625911985295964 + 0.9092974268256817*I3in2r_31;
+        const double I3in2a_13 = -0.007128891826313344 - 0.4161468365471424*I3in2r_31;
+        const double I3in2a_21 = -0.4161468365471424*I3in2r_21 + 0.9092974268256817*I3in2r_32;
+        const double I3in2a_31 = -0.4161468365471424*I3in2r_31 + 0.9092974268256817*I3in2r_33;
+        const double I3in2a_33 = -0.9092974268256817*I3in2r_31 - 0.4161468365471424*I3in2r_33;
+        const double I3in2_11 = -0.4161468365471424*I3in2a_11 + 0.9092974268256817*I3in2a_31;
+        const double I3in2_31 = -0.9092974268256817*I3in2a_11 - 0.4161468365471424*I3in2a_31;
+        const double I3in2_32 = -0.9092974268256817*I3in2r_21 - 0.4161468365471424*I3in2r_32;
+        const double I3in2_33 = -0.9092974268256817*I3in2a_13 - 0.4161468365471424*I3in2a_33;
+        const double h2_1 = -0.003999999999999997 + h3in2_1;
+        const double h2_2 = 0.14 + h3in2_2;
+        const double h2_3 = 0.010000000000000002 + h3in2_3;
+        const double I2_11 = 0.030500000000000006 + I3in2_11 + 0.4*h3in2_2 - 0.16*h3in2_3;
+        const double I2_21 = -0.001900000000000001 + I3in2a_21 - 0.2*h3in2_1 - 0.05*h3in2_2;
+        const double I2_22 = 0.010960000000000004 + I3in2r_22 + 0.1*h3in2_1 - 0.16*h3in2_3;
+        const double I2_31 = 0.00348 + I3in2_31 + 0.08*h3in2_1 - 0.05*h3in2_3;
+        const double I2_32 = 0.0023 + I3in2_32 + 0.08*h3in2_2 - 0.2*h3in2_3;
+        const double I2_33 = 0.026760000000000006 + I3in2_33 + 0.1*h3in2_1 + 0.4*h3in2_2;
+        const double w0 = sin_phi2*h2_2;
+        const double w1 = cos_phi2*h2_3;
+        const double j2r10 = w0 + w1;
+        const double h2in1_1 = 0.45359612142557737*h2_1 + 0.8912073600614353*j2r10;
+        const double w2 = cos_phi2*h2_2;
+        const double w3 = sin_phi2*h2_3;
+        const double h2in1_2 = w2 - w3;
+        const double h2in1_3 = 0.45359612142557737*j2r10 - 0.8912073600614353*h2_1;
+        const double I2in1ra_23 = sin_phi2*I2_22 + cos_phi2*I2_32;
+        const double I2in1ra_33 = sin_phi2*I2_32 + cos_phi2*I2_33;
+        const double w4 = sin_phi2*I2_21;
+        const double w5 = cos_phi2*I2_31;
+        const double I2in1r_31 = w4 + w5;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double I2in1a_11 = 0.45359612142557737*I2_11 + 0.8912073600614353*I2in1r_31;
+        const double I2in1a_31 = 0.45359612142557737*I2in1r_31 + 0.8912073600614353*I2in1r_33;
+        const double I2in1_11 = 0.45359612142557737*I2in1a_11 + 0.8912073600614353*I2in1a_31;
+        const double h1_1 = 0.14 + h2in1_1;
+        const double h1_2 = 0.346 + h2in1_2;
+        const double h1_3 = 0.026000000000000002 + h2in1_3;
+        const double I1_11 = 0.08324000000000001 + I2in1_11 + 0.5*h2in1_2 + 0.1*h2in1_3;
+        const double j3r13 = -0.044000000000000004*sin_phi3 - 0.020000000000000004*cos_phi3;
+        const double f3in2_2 = -0.044000000000000004*cos_phi3 + 0.020000000000000004*sin_phi3;
+        const double j3r14 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double n3in2_1 = -0.0032625911985295964 + 0.9092974268256817*j3r14 - 0.08322936730942848*j3r13 + 0.08*f3in2_2;
+        const double n3in2_2 = 0.0013*cos_phi3 + 0.00244*sin_phi3 - 0.051936452318697424*j3r13;
+        const double n3in2_3 = -0.4161468365471424*j3r14 - 0.007128891826313344 + 0.05*f3in2_2 - 0.18185948536513635*j3r13;
+        const double j2r13 = sin_phi2*f3in2_2 - 0.4161468365471424*cos_phi2*j3r13;
+        const double f3in1_2 = cos_phi2*f3in2_2 + 0.4161468365471424*sin_phi2*j3r13;
+        const double f3in1_3 = 0.45359612142557737*j2r13 - 0.8103725592719719*j3r13;
+        const double j2r14 = sin_phi2*n3in2_2 + cos_phi2*n3in2_3;
+        const double n3in1_1 = 0.45359612142557737*n3in2_1 + 0.8912073600614353*j2r14 + 0.25*f3in1_3 - 0.05*f3in1_2;
+        const double j2r15 = -w3 + w2;
+        const double f2in1_2 = -w1 - w0;
+        const double j2r16 = w4 + w5;
+        const double n2in1_1 = 0.45359612142557737*I2_11 + 0.8912073600614353*j2r16 + 0.11339903035639434*j2r15 - 0.05*f2in1_2;
+        const double Mqd1 = x[3]*I1_11 + x[4]*n2in1_1 + x[5]*n3in1_1;
+        const double Mqd2 = x[3]*n2in1_1 + x[4]*I2_11 + x[5]*n3in2_1;
+        const double Mqd3 = x[3]*n3in1_1 + x[4]*n3in2_1 + 0.00784*x[5];
 
-        result = 0.5*x[3]*x[3]*I1_11 + x[3]*x[4]*M2_1 + x[3]*x[5]*M3_1 + 0.5*x[4]*x[4]*I2_11 + x[4]*x[5]*M3_2 + 0.00392*x[5]*x[5] - 9.81*gam1_2*h1_2 - 9.81*gam1_3*h1_3 - 9.035608351168303*h1_1;
+        result = 0.5*x[3]*Mqd1 + 0.5*x[4]*Mqd2 + 0.5*x[5]*Mqd3 - 9.035608351168303*h1_1 - 3.8201939380478613*sin_phi1*h1_2 - 3.8201939380478613*cos_phi1*h1_3;
 
     }
     return result;
