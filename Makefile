@@ -1,5 +1,6 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
 # make test                           set up .venv and run the test suite
+# make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo (bench/results/)
 SHELL := /bin/bash
 PY ?= python3
 VENV := .venv
@@ -8,7 +9,7 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test pdf clean
+.PHONY: all setup generate generate-all test pdf clean bench-setup bench-speed
 
 all: generate
 
@@ -28,6 +29,19 @@ generate-all: setup
 
 test: setup
 	$(VPY) -m pytest -q
+
+$(VENV)/.bench-installed: $(VENV)/.installed pyproject.toml
+	$(VPY) -m pip install -q -e '.[test,bench]'
+	@# Eigen headers for the Pinocchio peer (the pin wheel ships Pinocchio and Boost, not Eigen)
+	@test -d /usr/include/eigen3 || { command -v apt-get >/dev/null && [ "$$(id -u)" = 0 ] && \
+		DEBIAN_FRONTEND=noninteractive apt-get install -y -q libeigen3-dev >/dev/null; } || \
+		echo "no /usr/include/eigen3: the Pinocchio peer will be skipped (apt-get install libeigen3-dev)"
+	touch $@
+
+bench-setup: $(VENV)/.bench-installed
+
+bench-speed: bench-setup
+	$(VPY) bench/speed.py
 
 pdf: generate
 	@name=$$($(VPY) -c "from codegen.spec import load_spec; print(load_spec('$(SPEC)').name)"); \

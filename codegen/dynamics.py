@@ -139,8 +139,8 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
         fc = [ZERO, -h_c[k][2], h_c[k][1]]
         M[k - 1][k - 1] = nm[0]
         for j in range(k - 1, 0, -1):
-            fc = P.vec(f"f{k}in{j}", J[j + 1].up(fc))
-            nm = P.vec(f"n{k}in{j}", add(J[j + 1].up(nm), cross(s[j], fc)))
+            fc = P.vec(f"f{k}in{j}", J[j + 1].up(fc), rf"f^{{{k}|{j}}}")
+            nm = P.vec(f"n{k}in{j}", add(J[j + 1].up(nm), cross(s[j], fc)), rf"n^{{{k}|{j}}}")
             M[j - 1][k - 1] = M[k - 1][j - 1] = nm[0]
 
     L = tuple(kin.tau[k] if spec.bodies[k - 1].control else ZERO for k in range(1, n + 1))

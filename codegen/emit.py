@@ -285,6 +285,51 @@ def _abbreviate(expr: sp.Expr) -> sp.Expr:
     return expr.xreplace(reps)
 
 
+def _tex_number(c: float) -> str:
+    text = f"{abs(c):.10g}"
+    if "e" in text:
+        mant, exp = text.split("e")
+        text = rf"{mant} \cdot 10^{{{int(exp)}}}"
+    return text
+
+
+def _break(pieces: list[str], width: int) -> list[str]:
+    """Signed terms joined into lines of about ``width`` characters."""
+    lines, cur = [], ""
+    for t in pieces:
+        piece = t if not cur else (f" {t}" if t.startswith("-") else f" + {t}")
+        if cur and len(cur) + len(piece) > width:
+            lines.append(cur)
+            cur = t if t.startswith("-") else f"+ {t}"
+        else:
+            cur += piece
+    lines.append(cur)
+    return lines
+
+
+def _poly_tex_lines(p: Poly, pr: TexPrinter, width: int = 260) -> list[str]:
+    """A polynomial of the program as it stands (no expansion), printed without sympy: the
+    recursion listing of a long chain has thousands of these."""
+    if not p.terms:
+        return ["0"]
+    names = pr._settings["symbol_names"]
+    pieces = []
+    for m, c in p.terms.items():
+        factors, i = [], 0
+        while i < len(m):
+            j = i
+            while j < len(m) and m[j] is m[i]:
+                j += 1
+            name = names.get(m[i].sym) or pr.doprint(m[i].sym)
+            factors.append(name if j - i == 1 else f"{{{name}}}^{{{j - i}}}")
+            i = j
+        body = " ".join(factors)
+        if not m or abs(c) != 1.0:
+            body = _tex_number(c) + (r" \, " + body if body else "")
+        pieces.append(("-" if c < 0 else "") + body)
+    return _break(pieces, width)
+
+
 def _tex_lines(expr: sp.Expr, pr: TexPrinter, width: int = 260, expand: bool = True) -> list[str]:
     """A sum (expanded unless told not to), printed term by term and broken into lines."""
     expr = _display(sp.expand(_abbreviate(expr)) if expand else expr)
@@ -375,11 +420,11 @@ def _tex(model: Model) -> dict:
         values = iter(kin.prog.inline(targets))
         lines, grouped = (lambda e: _tex_lines(e, pr)), (lambda e: _grouped(e, phidots, pr))
     else:
-        values = iter(t.to_sympy() for t in targets)
-        lines = grouped = (lambda e: _tex_lines(e, pr, expand=False))
+        values = iter(targets)
+        lines = grouped = (lambda e: _poly_tex_lines(e, pr))
         for a, rhs in kin.prog.needed(targets):
-            rhs = rhs.to_sympy() if isinstance(rhs, Poly) else rhs
-            recursion.append(TexEquation(pr.doprint(a.sym), tuple(_tex_lines(rhs, pr, expand=False))))
+            body = _poly_tex_lines(rhs, pr) if isinstance(rhs, Poly) else _tex_lines(rhs, pr, expand=False)
+            recursion.append(TexEquation(pr.doprint(a.sym), tuple(body)))
     M = [TexEquation(f"M_{{{k + 1}{r + 1}}}", tuple(lines(next(values)))) for k in range(n) for r in range(k, n)]
     Q = [TexEquation(f"Q_{{{k + 1}}}", tuple(grouped(next(values)))) for k in range(n)]
     Gam = [TexEquation(rf"\Gamma_{{{k + 1}}}", tuple(grouped(next(values)))) for k in range(n)]

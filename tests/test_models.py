@@ -1,4 +1,4 @@
-"""Random specs n = 1…6, planar and spatial, with and without gyrostats and control: the
+"""Random specs n = 1…8, planar and spatial, with and without gyrostats and control: the
 generated C (cffi) and Python agree with the independent reference model; trajectories agree;
 energy and momentum are conserved where they are integrals."""
 from __future__ import annotations
@@ -25,6 +25,7 @@ CASES = [
     (5, False, True, (5,), None),
     (6, False, True, (), 0.0),
     (6, True, False, (6,), None),
+    (8, False, True, (8,), 0.0),
 ]
 IDS = [f"n{n}-{'planar' if pl else 'spatial'}-{'gyro' if gy else 'nogyro'}-u{''.join(map(str, u)) or '0'}-{'vert' if t1 == 0 else 'tilt'}"
        for n, pl, gy, u, t1 in CASES]

@@ -1,0 +1,410 @@
+"""`make bench-speed`: ns per forward-dynamics call of the generated C against Pinocchio's ABA
+(C++), CasADi-generated C (our ABA in SX, numbers folded in) and MuJoCo's mj_forward, on the
+same random spatial gyrostat chains, in one run; generation time, peak memory and op counts
+against n; the op count of reduced scenes (planar, no rotors, zero offsets).
+
+Every implementation's φ̈ is checked against codegen.reference before it is timed.  Peers that
+are not installed (pip install '.[bench]', apt libeigen3-dev) are reported as missing.
+Results: bench/results/speed.csv, generation.csv, scenes.csv and the PNG charts.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "bench"))
+
+from codegen import reference  # noqa: E402
+from codegen.randspec import random_spec_text  # noqa: E402
+from codegen.spec import parse_spec  # noqa: E402
+
+BUILD = ROOT / "bench" / "build"
+RESULTS = ROOT / "bench" / "results"
+CFLAGS = ["-O2"]  # the same for every C and C++ program of the comparison
+K_STATES = 64
+TOL = 1e-8  # relative agreement with the reference model required before timing
+
+
+def chain_text(n: int, **kw) -> str:
+    return random_spec_text(np.random.default_rng(1000 + n), n, name=f"chain{n}", **kw)
+
+
+def symbolic_text(n: int) -> str:
+    """A spatial gyrostat chain with every field a parameter."""
+    def vec(name):
+        return "[" + ", ".join(f'"{name}{i}"' for i in (1, 2, 3)) + "]"
+
+    def mat(name):
+        idx = lambda i, j: f"{min(i, j)}{max(i, j)}"  # noqa: E731
+        return "[" + ", ".join("[" + ", ".join(f'"{name}{idx(i, j)}"' for j in (1, 2, 3)) + "]" for i in (1, 2, 3)) + "]"
+
+    text = f'name = "sym{n}"\ng = "g"\n'
+    for k in range(1, n + 1):
+        text += f'[[body]]\ntheta = "th{k}"\nm = "m{k}"\nc = {vec(f"c{k}_")}\nA = {mat(f"A{k}_")}\n'
+        if k < n:
+            text += f"s = {vec(f's{k}_')}\n"
+        text += f"lambda = {vec(f'lam{k}_')}\n"
+    return text
+
+
+def states(n: int) -> np.ndarray:
+    rng = np.random.default_rng(7 + n)
+    return np.hstack([rng.uniform(-np.pi, np.pi, (K_STATES, n)), rng.normal(size=(K_STATES, n))])
+
+
+# --------------------------------------------------------------------------- generation
+def generate_one(spec_path: str, out: str) -> None:
+    """Child process: derive + emit + compile one spec; print seconds and peak RSS as JSON."""
+    from codegen.cli import derive_and_render
+
+    t0 = time.perf_counter()
+    spec = parse_spec(Path(spec_path).read_text())
+    files, model = derive_and_render(spec, Path(spec_path).name)
+    t_emit = time.perf_counter() - t0
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    for name, text in files.items():
+        (out / name).write_text(text)
+    t1 = time.perf_counter()
+    subprocess.run(["gcc", *CFLAGS, "-std=c99", "-c", str(out / f"{spec.name}.c"), "-o", str(out / f"{spec.name}.o")], check=True)
+    t_cc = time.perf_counter() - t1
+    from codegen.emit import op_counts
+
+    print(json.dumps(dict(emit=t_emit, cc=t_cc, rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, ops=op_counts(model))))
+
+
+def generate(text: str, name: str) -> dict:
+    d = BUILD / name
+    d.mkdir(parents=True, exist_ok=True)
+    (d / f"{name}.toml").write_text(text)
+    res = subprocess.run(
+        [sys.executable, __file__, "--generate-one", str(d / f"{name}.toml"), str(d)],
+        check=True, capture_output=True, text=True, env=dict(os.environ, PYTHONHASHSEED="0"),
+    )
+    return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+# --------------------------------------------------------------------------- running
+def run(exe: Path, xs: np.ndarray, d: Path) -> tuple[np.ndarray, float, float]:
+    inp = "\n".join(" ".join(repr(float(v)) for v in row) for row in xs)
+    env = dict(os.environ, BENCH_CHAIN=str(d / "pinocchio_chain.txt"))
+    res = subprocess.run([str(exe)], input=inp, capture_output=True, text=True, check=True, cwd=d, env=env)
+    lines = res.stdout.strip().splitlines()
+    qdd = np.array([[float(v) for v in ln.split()] for ln in lines[:-1]])
+    _, med, mn = lines[-1].split()
+    return qdd, float(med), float(mn)
+
+
+def check(qdd: np.ndarray, ref: np.ndarray) -> float:
+    return float(np.max(np.abs(qdd - ref)) / max(1.0, float(np.max(np.abs(ref)))))
+
+
+def build_ours(n: int, d: Path) -> Path:
+    src = d / "bench_ours.c"
+    src.write_text(
+        f'#include "chain{n}.c"  /* one translation unit, as the CasADi peer */\nstatic int bench_setup(void) {{ return {n}; }}\n'
+        f"static int bench_qdd(const double *x, double *qdd) {{ return chain{n}_qdd(x, 0, 0, qdd); }}\n"
+        '#include "harness.h"\n'
+    )
+    exe = d / "ours"
+    subprocess.run(["gcc", *CFLAGS, "-std=c99", f"-I{ROOT / 'bench'}", f"-I{d}", str(src), "-lm", "-o", str(exe)], check=True)
+    return exe
+
+
+def build_casadi(ch, n: int, d: Path) -> Path | None:
+    try:
+        from peers import casadi_aba
+    except ImportError:
+        return None
+    try:
+        import casadi  # noqa: F401
+    except ImportError:
+        return None
+    f = casadi_aba(ch, f"fd{n}")  # CasADi's own common-subexpression pass is on (Function option cse)
+    cwd = os.getcwd()
+    os.chdir(d)
+    try:
+        f.generate(f"casadi{n}.c", {"casadi_real": "double"})
+    finally:
+        os.chdir(cwd)
+    src = d / "bench_casadi.c"
+    src.write_text(
+        f'#include "casadi{n}.c"\n'
+        f"static casadi_real w_[{max(1, f.sz_w())}];\nstatic casadi_int iw_[{max(1, f.sz_iw())}];\n"
+        f"static int bench_setup(void) {{ return {n}; }}\n"
+        "static int bench_qdd(const double *x, double *qdd) {\n"
+        f"    const casadi_real *arg[{max(1, f.sz_arg())}] = {{x}};\n    casadi_real *res[{max(1, f.sz_res())}] = {{qdd}};\n"
+        f"    return fd{n}(arg, res, iw_, w_, 0);\n}}\n"
+        '#include "harness.h"\n'
+    )
+    exe = d / "casadi"
+    subprocess.run(["gcc", *CFLAGS, f"-I{ROOT / 'bench'}", str(src), "-lm", "-o", str(exe)], check=True)
+    return exe
+
+
+def _pin_prefix() -> Path | None:
+    try:
+        import cmeel  # noqa: F401
+    except ImportError:
+        return None
+    import site
+
+    for p in site.getsitepackages():
+        pre = Path(p) / "cmeel.prefix"
+        if (pre / "include" / "pinocchio").exists():
+            return pre
+    return None
+
+
+# what pinocchio's CMake config gives its users (boost::variant of 25 joint types)
+PIN_DEFINES = [
+    "-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30", "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS",
+    "-DBOOST_FUSION_INVOKE_MAX_ARITY=12", "-DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION",
+]
+
+
+def build_pinocchio(ch, n: int, d: Path) -> Path | None:
+    """One executable for every n (Pinocchio's headers take a minute to compile); the chain is
+    read at run time from the file in BENCH_CHAIN."""
+    from peers import pinocchio_data
+
+    pre = _pin_prefix()
+    if pre is None or not Path("/usr/include/eigen3").exists() or shutil.which("g++") is None:
+        return None
+    exe = BUILD / "pinocchio"
+    src = ROOT / "bench" / "pinocchio.cpp"
+    if not exe.exists() or exe.stat().st_mtime < src.stat().st_mtime:
+        lib = pre / "lib"
+        subprocess.run(
+            ["g++", *CFLAGS, "-std=c++17", "-w", *PIN_DEFINES, f"-I{pre / 'include'}", "-I/usr/include/eigen3",
+             f"-I{ROOT / 'bench'}", str(src), f"-L{lib}", "-lpinocchio_default", f"-Wl,-rpath,{lib}", "-o", str(exe)],
+            check=True,
+        )
+    (d / "pinocchio_chain.txt").write_text(pinocchio_data(ch))
+    return exe
+
+
+def build_mujoco(ch, n: int, d: Path) -> Path | None:
+    try:
+        import mujoco
+    except ImportError:
+        return None
+    from peers import mujoco_c, mujoco_xml
+
+    base = Path(mujoco.__file__).parent
+    libs = sorted(base.glob("libmujoco.so*"))
+    if not libs or not (base / "include").exists():
+        return None
+    (d / "chain.xml").write_text(mujoco_xml(ch))
+    src = d / "bench_mujoco.c"
+    src.write_text(mujoco_c(n, str(d / "chain.xml")))
+    exe = d / "mujoco"
+    subprocess.run(
+        ["gcc", *CFLAGS, f"-I{base / 'include'}", f"-I{ROOT / 'bench'}", str(src), str(libs[0]), f"-Wl,-rpath,{base}", "-lm", "-o", str(exe)],
+        check=True,
+    )
+    return exe
+
+
+# --------------------------------------------------------------------------- main
+PEERS = ("pinocchio", "mujoco", "casadi")
+
+
+def speed(ns: list[int]) -> list[dict]:
+    rows = []
+    for n in ns:
+        text = chain_text(n)
+        spec = parse_spec(text)
+        ch = reference.numeric(spec)
+        d = BUILD / f"chain{n}"
+        gen = generate(text, f"chain{n}")
+        xs = states(n)
+        ref = np.array([reference.qdd(ch, x) for x in xs])
+        row = dict(n=n, qdd_ops=gen["ops"]["qdd"], gen_s=gen["emit"], cc_s=gen["cc"], rss_mb=gen["rss_mb"])
+        exe = build_ours(n, d)
+        qdd, med, _ = run(exe, xs, d)
+        err = check(qdd, ref)
+        if err > TOL:
+            raise SystemExit(f"n = {n}: generated C disagrees with the reference model ({err:.2e})")
+        row["ours_ns"], row["ours_err"] = med, err
+        # MuJoCo has no rotor momentum: its chain is the same without λ, checked against that
+        ch0 = reference.numeric(parse_spec(text)) if True else None
+        ch0 = ch0.__class__(**{**ch0.__dict__, "lam": np.zeros_like(ch0.lam)})
+        ref0 = np.array([reference.qdd(ch0, x) for x in xs])
+        for peer, builder, chain, r in (
+            ("pinocchio", build_pinocchio, ch, ref),
+            ("mujoco", build_mujoco, ch0, ref0),
+            ("casadi", build_casadi, ch, ref),
+        ):
+            try:
+                exe = builder(chain, n, d)
+            except subprocess.CalledProcessError as e:
+                print(f"  {peer} n = {n}: build failed ({e})", file=sys.stderr)
+                exe = None
+            if exe is None:
+                row[f"{peer}_ns"], row[f"{peer}_err"] = None, None
+                continue
+            qdd, med, _ = run(exe, xs, d)
+            err = check(qdd, r)
+            row[f"{peer}_err"] = err
+            row[f"{peer}_ns"] = med if err <= TOL else None
+            if err > TOL:
+                print(f"  {peer} n = {n}: disagrees with the reference ({err:.2e}); not timed", file=sys.stderr)
+        best = min((row[f"{p}_ns"] for p in PEERS if row[f"{p}_ns"]), default=None)
+        row["best_peer_over_ours"] = best / row["ours_ns"] if best else None
+        rows.append(row)
+        print(_speed_line(row), flush=True)
+    return rows
+
+
+def _fmt(v, spec=".0f"):
+    return "-" if v is None else format(v, spec)
+
+
+def _speed_line(r: dict) -> str:
+    return (
+        f"n={r['n']:>3}  ours {_fmt(r['ours_ns']):>7} ns ({r['qdd_ops']} ops)  pinocchio {_fmt(r['pinocchio_ns']):>7}"
+        f"  mujoco(λ=0) {_fmt(r['mujoco_ns']):>7}  casadi {_fmt(r['casadi_ns']):>7}"
+        f"  best peer / ours {_fmt(r['best_peer_over_ours'], '.2f'):>5}"
+        f"  | generate {r['gen_s']:.1f} s + gcc {r['cc_s']:.1f} s, peak {r['rss_mb']:.0f} MB"
+    )
+
+
+def symbolic(ns: list[int]) -> list[dict]:
+    rows = []
+    for n in ns:
+        gen = generate(symbolic_text(n), f"sym{n}")
+        rows.append(dict(n=n, gen_s=gen["emit"], cc_s=gen["cc"], rss_mb=gen["rss_mb"], qdd_ops=gen["ops"]["qdd"]))
+        print(f"symbolic n={n:>2}: generate {gen['emit']:.1f} s + gcc {gen['cc']:.1f} s, peak {gen['rss_mb']:.0f} MB, qdd {gen['ops']['qdd']} ops", flush=True)
+    return rows
+
+
+def scenes(n: int) -> list[dict]:
+    """The same chain (same random draws) general and reduced: the model shrinks with the scene."""
+    from codegen import dynamics, emit, integrals, kinematics
+
+    rows = []
+    variants = [
+        ("general (spatial, rotors, offsets)", {}),
+        ("planar (all axes parallel)", dict(planar=True)),
+        ("no rotors (lambda = 0)", dict(gyro=False)),
+        ("zero offsets (c = 0)", dict(zero_c=True)),
+    ]
+    base = None
+    for label, kw in variants:
+        zero_c = kw.pop("zero_c", False)
+        text = chain_text(n, **kw)
+        if zero_c:
+            text = "\n".join("c = [0.0, 0.0, 0.0]" if ln.startswith("c = ") else ln for ln in text.splitlines())
+        spec = parse_spec(text)
+        kin = kinematics.derive(spec)
+        dyn = dynamics.derive(spec, kin)
+        ints = integrals.derive(spec, kin, dyn)
+        counts = emit.op_counts(emit.build_model(spec, kin, dyn, ints))
+        base = base or counts
+        rows.append(dict(n=n, scene=label, **{k: counts[k] for k in ("mass_matrix", "forces", "qdd")},
+                         qdd_vs_general=counts["qdd"] / base["qdd"]))
+        print(f"scene n={n} {label:<36} mass_matrix {counts['mass_matrix']:>6}  forces {counts['forces']:>6}  qdd {counts['qdd']:>6}  ({counts['qdd'] / base['qdd']:.2f} of general)")
+    return rows
+
+
+def write_csv(path: Path, rows: list[dict]) -> None:
+    with path.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+
+def charts(sp: list[dict], sym: list[dict]) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ns = [r["n"] for r in sp]
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for key, label, style in (
+        ("ours", "generated C (this tool)", "o-"),
+        ("casadi", "CasADi-generated C (ABA in SX)", "s--"),
+        ("pinocchio", "Pinocchio ABA (C++)", "^--"),
+        ("mujoco", "MuJoCo mj_forward (λ = 0)", "v--"),
+    ):
+        pts = [(r["n"], r[f"{key}_ns"]) for r in sp if r.get(f"{key}_ns")]
+        if pts:
+            ax.loglog(*zip(*pts), style, label=label, base=2)
+    ax.set_xlabel("bodies n")
+    ax.set_ylabel("ns per forward-dynamics call (median)")
+    ax.set_xticks(ns, [str(n) for n in ns])
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    ax.set_title("Forward dynamics of random spatial gyrostat chains")
+    fig.tight_layout()
+    fig.savefig(RESULTS / "speed.png", dpi=110)
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.6, 4.0))
+    a1.loglog(ns, [r["gen_s"] + r["cc_s"] for r in sp], "o-", label="numeric: derive + emit + gcc", base=2)
+    a1.loglog(ns, [r["gen_s"] for r in sp], "o:", label="numeric: derive + emit", base=2)
+    if sym:
+        a1.loglog([r["n"] for r in sym], [r["gen_s"] + r["cc_s"] for r in sym], "s-", label="all symbolic: + gcc", base=2)
+    a1.set_xlabel("bodies n")
+    a1.set_ylabel("seconds")
+    a1.grid(True, which="both", alpha=0.3)
+    a1.legend(fontsize=8)
+    a1.set_title("Generation time")
+    a2.loglog(ns, [r["qdd_ops"] for r in sp], "o-", label="qdd op count", base=2)
+    a2.loglog(ns, [r["rss_mb"] for r in sp], "s--", label="peak memory (MB)", base=2)
+    a2.set_xlabel("bodies n")
+    a2.grid(True, which="both", alpha=0.3)
+    a2.legend(fontsize=8)
+    a2.set_title("Size of the model and of the generator")
+    fig.tight_layout()
+    fig.savefig(RESULTS / "generation.png", dpi=110)
+
+
+def main() -> int:
+    if len(sys.argv) == 4 and sys.argv[1] == "--generate-one":
+        generate_one(sys.argv[2], sys.argv[3])
+        return 0
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, nargs="*", default=[1, 2, 4, 8, 16, 32])
+    ap.add_argument("--symbolic", type=int, nargs="*", default=[1, 2, 3, 4, 5, 6])
+    args = ap.parse_args()
+    BUILD.mkdir(parents=True, exist_ok=True)
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    print(f"machine: {os.cpu_count()} cores, {_cpu()}; flags {' '.join(CFLAGS)} for every compiled peer", flush=True)
+    sp = speed(args.n)
+    write_csv(RESULTS / "speed.csv", sp)
+    sym = symbolic(args.symbolic) if args.symbolic else []
+    if sym:
+        write_csv(RESULTS / "generation_symbolic.csv", sym)
+    sc = scenes(8)
+    write_csv(RESULTS / "scenes.csv", sc)
+    charts(sp, sym)
+    print(f"wrote {RESULTS.relative_to(ROOT)}/: speed.csv, scenes.csv, generation_symbolic.csv, speed.png, generation.png")
+    return 0
+
+
+def _cpu() -> str:
+    try:
+        for ln in Path("/proc/cpuinfo").read_text().splitlines():
+            if ln.startswith("model name"):
+                return ln.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return "unknown CPU"
+
+
+if __name__ == "__main__":
+    sys.exit(main())
