@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import json
 import os
 import resource
@@ -240,8 +241,7 @@ def speed(ns: list[int]) -> list[dict]:
             raise SystemExit(f"n = {n}: generated C disagrees with the reference model ({err:.2e})")
         row["ours_ns"], row["ours_err"] = med, err
         # MuJoCo has no rotor momentum: its chain is the same without λ, checked against that
-        ch0 = reference.numeric(parse_spec(text)) if True else None
-        ch0 = ch0.__class__(**{**ch0.__dict__, "lam": np.zeros_like(ch0.lam)})
+        ch0 = dataclasses.replace(ch, lam=np.zeros_like(ch.lam))
         ref0 = np.array([reference.qdd(ch0, x) for x in xs])
         for peer, builder, chain, r in (
             ("pinocchio", build_pinocchio, ch, ref),

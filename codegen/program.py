@@ -106,12 +106,6 @@ class Program:
         return out
 
     # ---- reading the program
-    def atom_of(self, sym: sp.Symbol) -> Atom | None:
-        return self._inputs.get(sym)
-
-    def is_opaque(self, a: Atom) -> bool:
-        return a in self.rhs and not isinstance(self.rhs[a], Poly)
-
     def needed(self, exprs) -> list[tuple[Atom, object]]:
         """The definitions the polynomials depend on, in program order (dead code dropped)."""
         need: set = set()
