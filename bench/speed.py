@@ -115,6 +115,7 @@ def check(qdd: np.ndarray, ref: np.ndarray) -> float:
 def build_ours(n: int, d: Path) -> Path:
     src = d / "bench_ours.c"
     src.write_text(
+        "#define _POSIX_C_SOURCE 199309L  /* clock_gettime in harness.h */\n"
         f'#include "chain{n}.c"  /* one translation unit, as the CasADi peer */\nstatic int bench_setup(void) {{ return {n}; }}\n'
         f"static int bench_qdd(const double *x, double *qdd) {{ return chain{n}_qdd(x, 0, 0, qdd); }}\n"
         '#include "harness.h"\n'

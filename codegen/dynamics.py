@@ -39,6 +39,7 @@ class Dynamics:
     h: tuple  # first moment of sub-chain k..n about Oᵏ, frame k (Σ_{p≥k} m^p(c^p + O^kO^p))
     I: tuple  # inertia of sub-chain k..n about Oᵏ, frame k
     Lam: tuple  # Σ_{p≥k} λ^p in frame k
+    body_bias: tuple  # (force, moment about Oᵏ) of body k alone at φ̈ = 0, gravity included
 
     @property
     def f(self) -> tuple:
@@ -74,7 +75,7 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
     # Backward recursions over the sub-chains p ≥ k.
     F_next = N_next = Gam_next = Lam_next = h_next = Fb_next = Nb_next = NULL
     m_next, I_next = ZERO, None
-    Q, Gam, Gv, bias, m_c, h_c, I_c, Lam = ([None] * (n + 1) for _ in range(8))
+    Q, Gam, Gv, bias, m_c, h_c, I_c, Lam, body_bias = ([None] * (n + 1) for _ in range(9))
     for k in range(n, 0, -1):
         sk = s[k]
         if k < n:
@@ -99,12 +100,13 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
         N = P.vec(f"N{k}", add(Aeps_wAw, scale(m[k], cross(c[k], acc_O[k])), N_in, cross(sk, F_in)), rf"N^{{{k}}}")
         # gyroscopic part: Σ_{p≥k} ω^p × λ^p
         Gm = P.vec(f"Gm{k}", add(cross(w[k], lam[k]), Gam_in), rf"\Gamma^{{{k}}}")
-        # the code's form: one recursion for Q + Γ − G
-        Fb = P.vec(f"Fb{k}", add(scale(m[k], add(acc_Og[k], rel_G)), Fb_in))
-        Nb = P.vec(
-            f"Nb{k}",
-            add(matvec(A[k], eps[k]), cross(w[k], add(Aw, lam[k])), scale(m[k], cross(c[k], acc_Og[k])), Nb_in, cross(sk, Fb_in)),
-        )
+        # the code's form: one recursion for Q + Γ − G; body k's own share first (force and
+        # moment about Oᵏ of body k alone at the accelerations of φ̈ = 0, with gravity)
+        pF = P.vec(f"pF{k}", scale(m[k], add(acc_Og[k], rel_G)))
+        pN = P.vec(f"pN{k}", add(matvec(A[k], eps[k]), cross(w[k], add(Aw, lam[k])), scale(m[k], cross(c[k], acc_Og[k]))))
+        body_bias[k] = (pF, pN)
+        Fb = P.vec(f"Fb{k}", add(pF, Fb_in))
+        Nb = P.vec(f"Nb{k}", add(pN, Nb_in, cross(sk, Fb_in)))
         # composite mass, first moment and inertia about O^k (parallel-axis shift by s^k)
         mc = P.let(f"mc{k}", m[k] + m_next, rf"m_c^{{{k}}}")
         h = P.vec(f"h{k}", add(scale(m[k], c[k]), h_in, scale(m_next, sk)), rf"h^{{{k}}}")
@@ -155,4 +157,5 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
         h=tuple(h_c[1:]),
         I=tuple(I_c[1:]),
         Lam=tuple(Lam[1:]),
+        body_bias=tuple(body_bias[1:]),
     )

@@ -16,7 +16,7 @@ from sympy.printing.c import C99CodePrinter
 from sympy.printing.latex import LatexPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from . import __version__
+from . import __version__, aba
 from .dynamics import Dynamics
 from .integrals import Integrals
 from .kinematics import Kinematics
@@ -150,9 +150,13 @@ class Model:
     dyn: Dynamics
     integrals: Integrals
     lines: dict  # name → StraightLine (mass_matrix, forces, qdd, energy, momentum)
+    qdd_form: str  # "composite" (M and f, then LDLᵀ) or "articulated" (aba.py: φ̈ and pivots)
 
 
 def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None) -> Model:
+    """The straight-line code of every function.  φ̈ is emitted in whichever form costs fewer
+    operations for this spec: composite bodies + LDLᵀ (short chains) or articulated bodies (long
+    ones); ties go to the composite form."""
     n = spec.n
     say = progress or (lambda msg: None)
     lower = [dyn.M[i][j] for i in range(n) for j in range(i + 1)]
@@ -161,11 +165,18 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
     P = kin.prog
     lines["mass_matrix"] = straight_line(P, lower)
     lines["forces"] = straight_line(P, dyn.f)
-    lines["qdd"] = straight_line(P, lower + list(dyn.f))
+    composite = straight_line(P, lower + list(dyn.f))
+    art = aba.derive(spec, kin, dyn)
+    articulated = straight_line(P, list(art.qdd) + list(art.pivots))
+    if articulated.op_count() < composite.op_count() + ldlt_op_count(n):
+        lines["qdd"], form = articulated, "articulated"
+    else:
+        lines["qdd"], form = composite, "composite"
+    say(f"qdd: {form} form ({articulated.op_count()} ops articulated, {composite.op_count() + ldlt_op_count(n)} composite + LDL^T)")
     lines["energy"] = straight_line(P, [ints.energy])
     if ints.momentum is not None:
         lines["momentum"] = straight_line(P, [ints.momentum])
-    return Model(spec, kin, dyn, ints, lines)
+    return Model(spec, kin, dyn, ints, lines, form)
 
 
 def _names(model: Model, style: str) -> dict:
@@ -194,7 +205,8 @@ def op_counts(model: Model) -> dict[str, int]:
     straight-line code; the qdd and rhs counts include the unrolled LDLᵀ solve)."""
     n = model.spec.n
     counts = {name: line.op_count() for name, line in model.lines.items()}
-    counts["qdd"] += ldlt_op_count(n)
+    if model.qdd_form == "composite":
+        counts["qdd"] += ldlt_op_count(n)
     counts["rhs"] = counts["qdd"]
     return counts
 
@@ -208,12 +220,14 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
     lower = [f"M[{i * n + j}]" for i in range(n) for j in range(i + 1)]
     if style == "py":
         lower = [f"M[{i}, {j}]" for i in range(n) for j in range(i + 1)]
+    if model.qdd_form == "composite":
+        qdd_targets = lower + [f"f[{k}]" for k in range(n)]
+    else:
+        qdd_targets = [f"qdd[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
     fs = {
         "mass_matrix": _function("mass_matrix", model.lines["mass_matrix"], lower, prq),
         "forces": _function("forces", model.lines["forces"], [f"f[{k}]" for k in range(n)], pr),
-        "qdd": _function(
-            "qdd", model.lines["qdd"], lower + [f"f[{k}]" for k in range(n)], pr
-        ),
+        "qdd": _function("qdd", model.lines["qdd"], qdd_targets, pr),
         "energy": _function("energy", model.lines["energy"], ["result"], pr),
     }
     if "momentum" in model.lines:
@@ -515,6 +529,7 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         has_params=bool(spec.params),
         has_controls=bool(spec.controls),
         has_momentum="momentum" in cfun,
+        articulated=model.qdd_form == "articulated",
         has_energy_integral=int(model.integrals.has_energy_integral),
         has_momentum_integral=int(model.integrals.has_momentum_integral),
         fn=cfun,
@@ -539,6 +554,7 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         spec_label_tex=_tex_escape(_one_line(spec_label)),
         counts_tex=[(_tex_escape(k), v) for k, v in sorted(counts.items())],
         has_momentum=tex["K"] is not None,
+        articulated=model.qdd_form == "articulated",
         n=n,
     )
     files[f"{name}.tex"] = env.get_template("model.tex.jinja").render(tex)

@@ -30,6 +30,7 @@ class Program:
         self._by_name: dict[str, Atom] = {}
         self._inputs: dict[sp.Symbol, Atom] = {}  # state symbols and parameters
         self._opaque: dict[sp.Expr, Poly] = {}
+        self._deps: dict[Atom, tuple] = {}  # program quantities a sympy right side reads
 
     # ---- inputs
     def input(self, sym: sp.Symbol) -> Poly:
@@ -88,10 +89,26 @@ class Program:
         return self._new(name, value, tex)
 
     def let_sympy(self, name: str, expr: sp.Expr, tex: str | None = None) -> Poly:
-        """A non-polynomial quantity (cos φᵏ, a function of parameters), printed by sympy."""
+        """A non-polynomial quantity (cos φᵏ, a function of parameters, 1/D), printed by sympy.
+        It may read earlier program quantities (``Var`` symbols)."""
+        deps = []
         for s in sorted(expr.free_symbols, key=str):
-            self.input(s)
-        return self._new(name, expr, tex)
+            if isinstance(s, Var):
+                deps.append(self._by_name[s.name])
+            else:
+                self.input(s)
+        out = self._new(name, expr, tex)
+        self._deps[next(iter(out.terms))[0]] = tuple(deps)
+        return out
+
+    def reciprocal(self, name: str, value) -> Poly:
+        """1/value: a number folds now, anything else is named (``{name}``) and divided once."""
+        value = Poly.lift(value)
+        c = value.constant()
+        if c is not None:
+            return Poly.const(1.0 / c)
+        value = self.let(f"{name}d", value)
+        return self.let_sympy(name, 1 / value.to_sympy())
 
     def vec(self, name: str, v, tex: str | None = None) -> list:
         """A 3-vector, component i named ``{name}_{i}`` (1-based, as in the paper)."""
@@ -115,8 +132,7 @@ class Program:
         for a, rhs in reversed(self.defs):
             if a in need:
                 out.append((a, rhs))
-                if isinstance(rhs, Poly):
-                    need.update(rhs.atoms())
+                need.update(rhs.atoms() if isinstance(rhs, Poly) else self._deps.get(a, ()))
         return out[::-1]
 
     def inline_poly(self, exprs) -> list[Poly]:

@@ -110,8 +110,8 @@ int double_pendulum_forces(const double *x, const double *u, const double_pendul
         const double j2r5 = -9.81*cos_phi1 + aOrel2in1_3;
         const double aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5;
         const double aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2;
-        const double Fb2_3 = aOg2_3 - 0.5*om2_1*om2_1;
-        const double Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*Fb2_3;
+        const double pF2_3 = aOg2_3 - 0.5*om2_1*om2_1;
+        const double Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*pF2_3;
         const double Nb1_1 = 4.905*sin_phi1 - 0.5*aOg2_2 - Fb2in1_2;
 
         f[0] = -Nb1_1;
@@ -123,11 +123,9 @@ int double_pendulum_forces(const double *x, const double *u, const double_pendul
 
 int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_params *p, double *qdd)
 {
-    double M[4];
-    double f[2];
-    double v[2];
-    double tol, d, r = 0.0;
-    (void)v;
+    /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
+    double piv[2];
+    double tol = 0.0;
     int i;
     (void)p;
 
@@ -147,55 +145,36 @@ int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_
         const double j2r5 = -9.81*cos_phi1 + aOrel2in1_3;
         const double aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5;
         const double aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2;
-        const double Fb2_3 = aOg2_3 - 0.5*om2_1*om2_1;
-        const double Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*Fb2_3;
-        const double Nb1_1 = 4.905*sin_phi1 - 0.5*aOg2_2 - Fb2in1_2;
-        const double I1_11 = 1.667 + cos_phi2;
-        const double n2in1_1 = 0.3335 + 0.5*cos_phi2;
+        const double pF2_3 = aOg2_3 - 0.5*om2_1*om2_1;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double Jm2rdr_22 = 0.6251874062968517 - 0.3748125937031484*c2phi2;
+        const double pc2f_2 = 0.2503748125937032*cos_phi2*aOg2_2 - sin_phi2*pF2_3;
+        const double IA1_11 = 0.3335 + Jm2rdr_22;
+        const double pA1_1 = 4.905*sin_phi1 - pc2f_2;
+        const double rD1 = 1.0/IA1_11;
+        const double qdd1 = -pA1_1*rD1;
+        const double dv2_2 = -cos_phi2*qdd1;
+        const double qdd2 = 1.4992503748125936*aOg2_2 - qdd1 + 1.4992503748125936*dv2_2;
 
-        M[0] = I1_11;
-        M[2] = n2in1_1;
-        M[3] = 0.3335;
-        f[0] = -Nb1_1;
-        f[1] = 0.5*aOg2_2;
+        qdd[0] = qdd1;
+        qdd[1] = qdd2;
+        piv[0] = IA1_11;
+        piv[1] = 0.3335;
 
     }
-    /* a non-finite off-diagonal entry of M makes phi'' non-finite, caught below */
-    for (i = 0; i < 2; ++i) {
-        if (!isfinite(M[i * 3]) || !isfinite(f[i])) {
-            return DOUBLE_PENDULUM_NONFINITE;
-        }
+    if (!double_pendulum_all_finite_(piv, 2)) {
+        return DOUBLE_PENDULUM_NONFINITE;
     }
-    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
-    tol = 0.0;
     for (i = 0; i < 2; ++i) {
-        if (fabs(M[i * 3]) > tol) {
-            tol = fabs(M[i * 3]);
+        if (fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
         }
     }
     tol *= DOUBLE_PENDULUM_PIVOT_TOL;
-    d = M[0];
-    if (!(d > tol)) {
-        return DOUBLE_PENDULUM_SINGULAR;
-    }
-    M[0] = d;
-    r = 1.0 / d;
-    M[2] = (M[2]) * r;
-    v[0] = M[2] * M[0];
-    d = M[3] - M[2] * v[0];
-    if (!(d > tol)) {
-        return DOUBLE_PENDULUM_SINGULAR;
-    }
-    M[3] = d;
-
-    (void)r;
-    f[1] -= M[2] * f[0];
-    f[0] /= M[0];
-    f[1] /= M[3];
-    f[0] -= M[2] * f[1];
-
     for (i = 0; i < 2; ++i) {
-        qdd[i] = f[i];
+        if (!(piv[i] > tol)) {
+            return DOUBLE_PENDULUM_SINGULAR;
+        }
     }
     return double_pendulum_all_finite_(qdd, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
 }

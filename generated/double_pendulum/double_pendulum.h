@@ -13,7 +13,7 @@
  *   DOUBLE_PENDULUM_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   DOUBLE_PENDULUM_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
- * Op counts: energy 26, forces 27, mass_matrix 4, qdd 41, rhs 41.
+ * Op counts: energy 26, forces 27, mass_matrix 4, qdd 38, rhs 38.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

@@ -18,7 +18,7 @@ PARAMS = ()
 CONTROLS = ()  # joints with a control torque, in the order of u
 HAS_ENERGY_INTEGRAL = True
 HAS_MOMENTUM_INTEGRAL = False
-OP_COUNTS = { "energy": 26, "forces": 27, "mass_matrix": 4, "qdd": 41, "rhs": 41, }
+OP_COUNTS = { "energy": 26, "forces": 27, "mass_matrix": 4, "qdd": 38, "rhs": 38, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -92,8 +92,8 @@ def forces(x, u=None, p=None):
     j2r5 = -9.81*cos_phi1 + aOrel2in1_3
     aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5
     aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2
-    Fb2_3 = aOg2_3 - 0.5*om2_1*om2_1
-    Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*Fb2_3
+    pF2_3 = aOg2_3 - 0.5*om2_1*om2_1
+    Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*pF2_3
     Nb1_1 = 4.905*sin_phi1 - 0.5*aOg2_2 - Fb2in1_2
     f[0] = -Nb1_1
     f[1] = 0.5*aOg2_2
@@ -102,37 +102,47 @@ def forces(x, u=None, p=None):
 
 
 def qdd(x, u=None, p=None):
-    """phi'' solving M phi'' = f by LDL^T."""
+    """phi'' by articulated bodies (the pivots D^k of M tested as in the C)."""
     x = [float(v) for v in x]
     if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
         raise NonFiniteResult("x or u is not finite")
 
-    M = np.empty((N, N))
-    f = np.empty(N)
-    cos_phi1 = math.cos(x[0])
-    sin_phi1 = math.sin(x[0])
-    cos_phi2 = math.cos(x[1])
-    sin_phi2 = math.sin(x[1])
-    om2_1 = x[2] + x[3]
-    aOrel2in1_3 = -x[2]*x[2]
-    j2r5 = -9.81*cos_phi1 + aOrel2in1_3
-    aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5
-    aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2
-    Fb2_3 = aOg2_3 - 0.5*om2_1*om2_1
-    Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*Fb2_3
-    Nb1_1 = 4.905*sin_phi1 - 0.5*aOg2_2 - Fb2in1_2
-    I1_11 = 1.667 + cos_phi2
-    n2in1_1 = 0.3335 + 0.5*cos_phi2
-    M[0, 0] = I1_11
-    M[1, 0] = n2in1_1
-    M[1, 1] = 0.3335
-    f[0] = -Nb1_1
-    f[1] = 0.5*aOg2_2
+    qdd = np.empty(N)
+    piv = np.empty(N)
+    try:
+        cos_phi1 = math.cos(x[0])
+        sin_phi1 = math.sin(x[0])
+        cos_phi2 = math.cos(x[1])
+        sin_phi2 = math.sin(x[1])
+        om2_1 = x[2] + x[3]
+        aOrel2in1_3 = -x[2]*x[2]
+        j2r5 = -9.81*cos_phi1 + aOrel2in1_3
+        aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5
+        aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2
+        pF2_3 = aOg2_3 - 0.5*om2_1*om2_1
+        c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
+        Jm2rdr_22 = 0.6251874062968517 - 0.3748125937031484*c2phi2
+        pc2f_2 = 0.2503748125937032*cos_phi2*aOg2_2 - sin_phi2*pF2_3
+        IA1_11 = 0.3335 + Jm2rdr_22
+        pA1_1 = 4.905*sin_phi1 - pc2f_2
+        rD1 = 1.0/IA1_11
+        qdd1 = -pA1_1*rD1
+        dv2_2 = -cos_phi2*qdd1
+        qdd2 = 1.4992503748125936*aOg2_2 - qdd1 + 1.4992503748125936*dv2_2
+        qdd[0] = qdd1
+        qdd[1] = qdd2
+        piv[0] = IA1_11
+        piv[1] = 0.3335
 
-    M = np.tril(M) + np.tril(M, -1).T
-    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(f))):
-        raise NonFiniteResult("M or f is not finite")
-    out = _ldlt_solve(M, f)
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    if not np.all(np.isfinite(piv)):
+        raise NonFiniteResult("M is not finite")
+    tol = PIVOT_TOL * np.max(np.abs(piv))
+    for j in range(N):
+        if not piv[j] > tol:
+            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
+    out = qdd
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out

@@ -111,16 +111,16 @@ int furuta_forces(const double *x, const double *u, const furuta_params *p, doub
         const double eps2_3 = -x[3]*om2_2;
         const double aOrel2in1_3 = 0.2*x[2]*x[2];
         const double w1 = om2_2*om2_3;
-        const double Fb2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
-        const double Fb2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
-        const double Nb2_1 = -0.00299*w1 + 0.14715*sin_phi2;
-        const double Nb2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
-        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
-        const double j2r12 = sin_phi2*Nb2_2 + 1e-05*cos_phi2*eps2_3;
+        const double pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
+        const double pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
+        const double pN2_1 = -0.00299*w1 + 0.14715*sin_phi2;
+        const double pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
+        const double Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3;
+        const double j2r12 = sin_phi2*pN2_2 + 1e-05*cos_phi2*eps2_3;
         const double Nb1_1 = j2r12 + 0.2*Fb2in1_2;
 
         f[0] = tau_1 - Nb1_1;
-        f[1] = -Nb2_1;
+        f[1] = -pN2_1;
 
     }
     return furuta_all_finite_(f, 2) ? FURUTA_OK : FURUTA_NONFINITE;
@@ -152,13 +152,13 @@ int furuta_qdd(const double *x, const double *u, const furuta_params *p, double 
         const double eps2_3 = -x[3]*om2_2;
         const double aOrel2in1_3 = 0.2*x[2]*x[2];
         const double w1 = om2_2*om2_3;
-        const double Fb2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
-        const double Fb2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
-        const double Nb2_1 = -0.00299*w1 + 0.14715*sin_phi2;
-        const double Nb2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
+        const double pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
+        const double pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
+        const double pN2_1 = -0.00299*w1 + 0.14715*sin_phi2;
+        const double pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
         const double I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2;
-        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
-        const double j2r12 = sin_phi2*Nb2_2 + 1e-05*cos_phi2*eps2_3;
+        const double Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3;
+        const double j2r12 = sin_phi2*pN2_2 + 1e-05*cos_phi2*eps2_3;
         const double Nb1_1 = j2r12 + 0.2*Fb2in1_2;
         const double I1_11 = 0.0082 + I2in1r_33;
 
@@ -166,7 +166,7 @@ int furuta_qdd(const double *x, const double *u, const furuta_params *p, double 
         M[2] = -0.003*cos_phi2;
         M[3] = 0.003;
         f[0] = tau_1 - Nb1_1;
-        f[1] = -Nb2_1;
+        f[1] = -pN2_1;
 
     }
     /* a non-finite off-diagonal entry of M makes phi'' non-finite, caught below */

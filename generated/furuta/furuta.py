@@ -94,15 +94,15 @@ def forces(x, u=None, p=None):
     eps2_3 = -x[3]*om2_2
     aOrel2in1_3 = 0.2*x[2]*x[2]
     w1 = om2_2*om2_3
-    Fb2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
-    Fb2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
-    Nb2_1 = -0.00299*w1 + 0.14715*sin_phi2
-    Nb2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
-    Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3
-    j2r12 = sin_phi2*Nb2_2 + 1e-05*cos_phi2*eps2_3
+    pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
+    pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
+    pN2_1 = -0.00299*w1 + 0.14715*sin_phi2
+    pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
+    Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3
+    j2r12 = sin_phi2*pN2_2 + 1e-05*cos_phi2*eps2_3
     Nb1_1 = j2r12 + 0.2*Fb2in1_2
     f[0] = tau_1 - Nb1_1
-    f[1] = -Nb2_1
+    f[1] = -pN2_1
 
     return f
 
@@ -125,20 +125,20 @@ def qdd(x, u=None, p=None):
     eps2_3 = -x[3]*om2_2
     aOrel2in1_3 = 0.2*x[2]*x[2]
     w1 = om2_2*om2_3
-    Fb2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
-    Fb2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
-    Nb2_1 = -0.00299*w1 + 0.14715*sin_phi2
-    Nb2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
+    pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
+    pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
+    pN2_1 = -0.00299*w1 + 0.14715*sin_phi2
+    pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
     I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2
-    Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3
-    j2r12 = sin_phi2*Nb2_2 + 1e-05*cos_phi2*eps2_3
+    Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3
+    j2r12 = sin_phi2*pN2_2 + 1e-05*cos_phi2*eps2_3
     Nb1_1 = j2r12 + 0.2*Fb2in1_2
     I1_11 = 0.0082 + I2in1r_33
     M[0, 0] = I1_11
     M[1, 0] = -0.003*cos_phi2
     M[1, 1] = 0.003
     f[0] = tau_1 - Nb1_1
-    f[1] = -Nb2_1
+    f[1] = -pN2_1
 
     M = np.tril(M) + np.tril(M, -1).T
     if not (np.all(np.isfinite(M)) and np.all(np.isfinite(f))):

@@ -129,17 +129,17 @@ int furuta_sym_forces(const double *x, const double *u, const furuta_sym_params 
         const double Aw2_1 = x[3]*p->J2 + x[3]*p->m2*p->l*p->l;
         const double Aw2_2 = om2_2*p->J2 + om2_2*p->m2*p->l*p->l;
         const double Aw2_3 = om2_3*p->J2z;
-        const double Fb2_2 = p->m2*aOg2_2 + om2_3*p->m2*wc2_1;
-        const double Fb2_3 = p->m2*aOg2_3 + x[3]*p->m2*wc2_2 - om2_2*p->m2*wc2_1;
-        const double Nb2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p->m2*p->l*aOg2_2;
-        const double Nb2_2 = p->J2*eps2_2 + p->m2*p->l*p->l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p->m2*p->l*aOrel2in1_3;
-        const double Nb2_3 = p->J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1;
-        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
-        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double pF2_2 = p->m2*aOg2_2 + om2_3*p->m2*wc2_1;
+        const double pF2_3 = p->m2*aOg2_3 + x[3]*p->m2*wc2_2 - om2_2*p->m2*wc2_1;
+        const double pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p->m2*p->l*aOg2_2;
+        const double pN2_2 = p->J2*eps2_2 + p->m2*p->l*p->l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p->m2*p->l*aOrel2in1_3;
+        const double pN2_3 = p->J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1;
+        const double Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3;
+        const double j2r12 = sin_phi2*pN2_2 + cos_phi2*pN2_3;
         const double Nb1_1 = j2r12 + p->r*Fb2in1_2;
 
         f[0] = tau_1 - Nb1_1;
-        f[1] = -Nb2_1;
+        f[1] = -pN2_1;
 
     }
     return furuta_sym_all_finite_(f, 2) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
@@ -179,11 +179,11 @@ int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p,
         const double Aw2_1 = x[3]*p->J2 + x[3]*p->m2*p->l*p->l;
         const double Aw2_2 = om2_2*p->J2 + om2_2*p->m2*p->l*p->l;
         const double Aw2_3 = om2_3*p->J2z;
-        const double Fb2_2 = p->m2*aOg2_2 + om2_3*p->m2*wc2_1;
-        const double Fb2_3 = p->m2*aOg2_3 + x[3]*p->m2*wc2_2 - om2_2*p->m2*wc2_1;
-        const double Nb2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p->m2*p->l*aOg2_2;
-        const double Nb2_2 = p->J2*eps2_2 + p->m2*p->l*p->l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p->m2*p->l*aOrel2in1_3;
-        const double Nb2_3 = p->J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1;
+        const double pF2_2 = p->m2*aOg2_2 + om2_3*p->m2*wc2_1;
+        const double pF2_3 = p->m2*aOg2_3 + x[3]*p->m2*wc2_2 - om2_2*p->m2*wc2_1;
+        const double pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p->m2*p->l*aOg2_2;
+        const double pN2_2 = p->J2*eps2_2 + p->m2*p->l*p->l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p->m2*p->l*aOrel2in1_3;
+        const double pN2_3 = p->J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1;
         const double h2_3 = p->m2*p->l;
         const double w0 = p->m2*p->l*p->l;
         const double I2_11 = p->J2 + w0;
@@ -191,8 +191,8 @@ int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p,
         const double I2in1ra_23 = sin_phi2*I2_22;
         const double I2in1ra_33 = cos_phi2*p->J2z;
         const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
-        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
-        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3;
+        const double j2r12 = sin_phi2*pN2_2 + cos_phi2*pN2_3;
         const double Nb1_1 = j2r12 + p->r*Fb2in1_2;
         const double I1_11 = p->J1 + I2in1r_33 + p->m2*p->r*p->r;
         const double f2in1_2 = -cos_phi2*h2_3;
@@ -202,7 +202,7 @@ int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p,
         M[2] = n2in1_1;
         M[3] = I2_11;
         f[0] = tau_1 - Nb1_1;
-        f[1] = -Nb2_1;
+        f[1] = -pN2_1;
 
     }
     /* a non-finite off-diagonal entry of M makes phi'' non-finite, caught below */

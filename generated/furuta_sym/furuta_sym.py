@@ -126,16 +126,16 @@ def forces(x, u=None, p=None):
     Aw2_1 = x[3]*p_J2 + x[3]*p_m2*p_l*p_l
     Aw2_2 = om2_2*p_J2 + om2_2*p_m2*p_l*p_l
     Aw2_3 = om2_3*p_J2z
-    Fb2_2 = p_m2*aOg2_2 + om2_3*p_m2*wc2_1
-    Fb2_3 = p_m2*aOg2_3 + x[3]*p_m2*wc2_2 - om2_2*p_m2*wc2_1
-    Nb2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p_m2*p_l*aOg2_2
-    Nb2_2 = p_J2*eps2_2 + p_m2*p_l*p_l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p_m2*p_l*aOrel2in1_3
-    Nb2_3 = p_J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1
-    Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3
-    j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3
+    pF2_2 = p_m2*aOg2_2 + om2_3*p_m2*wc2_1
+    pF2_3 = p_m2*aOg2_3 + x[3]*p_m2*wc2_2 - om2_2*p_m2*wc2_1
+    pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p_m2*p_l*aOg2_2
+    pN2_2 = p_J2*eps2_2 + p_m2*p_l*p_l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p_m2*p_l*aOrel2in1_3
+    pN2_3 = p_J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1
+    Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3
+    j2r12 = sin_phi2*pN2_2 + cos_phi2*pN2_3
     Nb1_1 = j2r12 + p_r*Fb2in1_2
     f[0] = tau_1 - Nb1_1
-    f[1] = -Nb2_1
+    f[1] = -pN2_1
 
     return f
 
@@ -173,11 +173,11 @@ def qdd(x, u=None, p=None):
     Aw2_1 = x[3]*p_J2 + x[3]*p_m2*p_l*p_l
     Aw2_2 = om2_2*p_J2 + om2_2*p_m2*p_l*p_l
     Aw2_3 = om2_3*p_J2z
-    Fb2_2 = p_m2*aOg2_2 + om2_3*p_m2*wc2_1
-    Fb2_3 = p_m2*aOg2_3 + x[3]*p_m2*wc2_2 - om2_2*p_m2*wc2_1
-    Nb2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p_m2*p_l*aOg2_2
-    Nb2_2 = p_J2*eps2_2 + p_m2*p_l*p_l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p_m2*p_l*aOrel2in1_3
-    Nb2_3 = p_J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1
+    pF2_2 = p_m2*aOg2_2 + om2_3*p_m2*wc2_1
+    pF2_3 = p_m2*aOg2_3 + x[3]*p_m2*wc2_2 - om2_2*p_m2*wc2_1
+    pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p_m2*p_l*aOg2_2
+    pN2_2 = p_J2*eps2_2 + p_m2*p_l*p_l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p_m2*p_l*aOrel2in1_3
+    pN2_3 = p_J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1
     h2_3 = p_m2*p_l
     w0 = p_m2*p_l*p_l
     I2_11 = p_J2 + w0
@@ -185,8 +185,8 @@ def qdd(x, u=None, p=None):
     I2in1ra_23 = sin_phi2*I2_22
     I2in1ra_33 = cos_phi2*p_J2z
     I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33
-    Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3
-    j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3
+    Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3
+    j2r12 = sin_phi2*pN2_2 + cos_phi2*pN2_3
     Nb1_1 = j2r12 + p_r*Fb2in1_2
     I1_11 = p_J1 + I2in1r_33 + p_m2*p_r*p_r
     f2in1_2 = -cos_phi2*h2_3
@@ -195,7 +195,7 @@ def qdd(x, u=None, p=None):
     M[1, 0] = n2in1_1
     M[1, 1] = I2_11
     f[0] = tau_1 - Nb1_1
-    f[1] = -Nb2_1
+    f[1] = -pN2_1
 
     M = np.tril(M) + np.tril(M, -1).T
     if not (np.all(np.isfinite(M)) and np.all(np.isfinite(f))):

@@ -109,12 +109,12 @@ int gimbal_forces(const double *x, const double *u, const gimbal_params *p, doub
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double Nb2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
-        const double Nb2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
-        const double j2r12 = sin_phi2*Nb2_2 + 0.009*cos_phi2*eps2_3;
+        const double pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
+        const double pN2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
+        const double j2r12 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
 
         f[0] = -j2r12;
-        f[1] = -Nb2_1;
+        f[1] = -pN2_1;
 
     }
     return gimbal_all_finite_(f, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
@@ -122,11 +122,9 @@ int gimbal_forces(const double *x, const double *u, const gimbal_params *p, doub
 
 int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double *qdd)
 {
-    double M[4];
-    double f[2];
-    double v[2];
-    double tol, d, r = 0.0;
-    (void)v;
+    /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
+    double piv[2];
+    double tol = 0.0;
     int i;
     (void)p;
 
@@ -144,55 +142,34 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double Nb2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
-        const double Nb2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
-        const double I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2;
-        const double j2r12 = sin_phi2*Nb2_2 + 0.009*cos_phi2*eps2_3;
-        const double I1_11 = 0.005 + I2in1r_33;
+        const double pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
+        const double pN2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double Ja2rdr_33 = 0.0075 + 0.0014999999999999996*c2phi2;
+        const double j2r15 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
+        const double IA1_11 = 0.005 + Ja2rdr_33;
+        const double rD1 = 1.0/IA1_11;
+        const double qdd1 = -j2r15*rD1;
 
-        M[0] = I1_11;
-        M[2] = 0.0;
-        M[3] = 0.006;
-        f[0] = -j2r12;
-        f[1] = -Nb2_1;
+        qdd[0] = qdd1;
+        qdd[1] = -166.66666666666666*pN2_1;
+        piv[0] = IA1_11;
+        piv[1] = 0.006;
 
     }
-    /* a non-finite off-diagonal entry of M makes phi'' non-finite, caught below */
-    for (i = 0; i < 2; ++i) {
-        if (!isfinite(M[i * 3]) || !isfinite(f[i])) {
-            return GIMBAL_NONFINITE;
-        }
+    if (!gimbal_all_finite_(piv, 2)) {
+        return GIMBAL_NONFINITE;
     }
-    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
-    tol = 0.0;
     for (i = 0; i < 2; ++i) {
-        if (fabs(M[i * 3]) > tol) {
-            tol = fabs(M[i * 3]);
+        if (fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
         }
     }
     tol *= GIMBAL_PIVOT_TOL;
-    d = M[0];
-    if (!(d > tol)) {
-        return GIMBAL_SINGULAR;
-    }
-    M[0] = d;
-    r = 1.0 / d;
-    M[2] = (M[2]) * r;
-    v[0] = M[2] * M[0];
-    d = M[3] - M[2] * v[0];
-    if (!(d > tol)) {
-        return GIMBAL_SINGULAR;
-    }
-    M[3] = d;
-
-    (void)r;
-    f[1] -= M[2] * f[0];
-    f[0] /= M[0];
-    f[1] /= M[3];
-    f[0] -= M[2] * f[1];
-
     for (i = 0; i < 2; ++i) {
-        qdd[i] = f[i];
+        if (!(piv[i] > tol)) {
+            return GIMBAL_SINGULAR;
+        }
     }
     return gimbal_all_finite_(qdd, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
 }

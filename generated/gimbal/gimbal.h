@@ -13,7 +13,7 @@
  *   GIMBAL_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   GIMBAL_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
- * Op counts: energy 14, forces 19, mass_matrix 8, momentum 11, qdd 36, rhs 36.
+ * Op counts: energy 14, forces 19, mass_matrix 8, momentum 11, qdd 28, rhs 28.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

@@ -18,7 +18,7 @@ PARAMS = ()
 CONTROLS = ()  # joints with a control torque, in the order of u
 HAS_ENERGY_INTEGRAL = True
 HAS_MOMENTUM_INTEGRAL = True
-OP_COUNTS = { "energy": 14, "forces": 19, "mass_matrix": 8, "momentum": 11, "qdd": 36, "rhs": 36, }
+OP_COUNTS = { "energy": 14, "forces": 19, "mass_matrix": 8, "momentum": 11, "qdd": 28, "rhs": 28, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -91,45 +91,53 @@ def forces(x, u=None, p=None):
     w0 = x[3]*om2_3
     eps2_2 = w0
     eps2_3 = -x[3]*om2_2
-    Nb2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2
-    Nb2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3]
-    j2r12 = sin_phi2*Nb2_2 + 0.009*cos_phi2*eps2_3
+    pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2
+    pN2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3]
+    j2r12 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3
     f[0] = -j2r12
-    f[1] = -Nb2_1
+    f[1] = -pN2_1
 
     return f
 
 
 def qdd(x, u=None, p=None):
-    """phi'' solving M phi'' = f by LDL^T."""
+    """phi'' by articulated bodies (the pivots D^k of M tested as in the C)."""
     x = [float(v) for v in x]
     if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
         raise NonFiniteResult("x or u is not finite")
 
-    M = np.empty((N, N))
-    f = np.empty(N)
-    cos_phi2 = math.cos(x[1])
-    sin_phi2 = math.sin(x[1])
-    om2_2 = x[2]*sin_phi2
-    om2_3 = x[2]*cos_phi2
-    w0 = x[3]*om2_3
-    eps2_2 = w0
-    eps2_3 = -x[3]*om2_2
-    Nb2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2
-    Nb2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3]
-    I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2
-    j2r12 = sin_phi2*Nb2_2 + 0.009*cos_phi2*eps2_3
-    I1_11 = 0.005 + I2in1r_33
-    M[0, 0] = I1_11
-    M[1, 0] = 0.0
-    M[1, 1] = 0.006
-    f[0] = -j2r12
-    f[1] = -Nb2_1
+    qdd = np.empty(N)
+    piv = np.empty(N)
+    try:
+        cos_phi2 = math.cos(x[1])
+        sin_phi2 = math.sin(x[1])
+        om2_2 = x[2]*sin_phi2
+        om2_3 = x[2]*cos_phi2
+        w0 = x[3]*om2_3
+        eps2_2 = w0
+        eps2_3 = -x[3]*om2_2
+        pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2
+        pN2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3]
+        c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
+        Ja2rdr_33 = 0.0075 + 0.0014999999999999996*c2phi2
+        j2r15 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3
+        IA1_11 = 0.005 + Ja2rdr_33
+        rD1 = 1.0/IA1_11
+        qdd1 = -j2r15*rD1
+        qdd[0] = qdd1
+        qdd[1] = -166.66666666666666*pN2_1
+        piv[0] = IA1_11
+        piv[1] = 0.006
 
-    M = np.tril(M) + np.tril(M, -1).T
-    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(f))):
-        raise NonFiniteResult("M or f is not finite")
-    out = _ldlt_solve(M, f)
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    if not np.all(np.isfinite(piv)):
+        raise NonFiniteResult("M is not finite")
+    tol = PIVOT_TOL * np.max(np.abs(piv))
+    for j in range(N):
+        if not piv[j] > tol:
+            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
+    out = qdd
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out

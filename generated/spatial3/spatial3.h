@@ -13,7 +13,7 @@
  *   SPATIAL3_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   SPATIAL3_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
- * Op counts: energy 230, forces 376, mass_matrix 191, qdd 592, rhs 592.
+ * Op counts: energy 222, forces 376, mass_matrix 183, qdd 584, rhs 584.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
