@@ -30,7 +30,7 @@ class _Progress:
             print(f"  [{time.perf_counter() - self.t0:6.2f} s] {msg}", file=sys.stderr, flush=True)
 
 
-def derive_and_render(spec, spec_label: str, progress=None) -> tuple[dict[str, str], object]:
+def derive_and_render(spec, spec_label: str, progress=None, qdd_form: str = "auto") -> tuple[dict[str, str], object]:
     from . import dynamics, emit, integrals, kinematics
 
     say = progress or (lambda msg: None)
@@ -40,7 +40,7 @@ def derive_and_render(spec, spec_label: str, progress=None) -> tuple[dict[str, s
     dyn = dynamics.derive(spec, kin)
     say("integrals: energy" + (" and momentum" if spec.bodies[0].theta == 0 else ""))
     ints = integrals.derive(spec, kin, dyn)
-    model = emit.build_model(spec, kin, dyn, ints, progress=say)
+    model = emit.build_model(spec, kin, dyn, ints, progress=say, qdd_form=qdd_form)
     say("printing C, Python and LaTeX")
     return emit.render(model, spec_label), model
 
@@ -96,7 +96,7 @@ def cmd_generate(args) -> int:
     label = Path(args.spec).name
     progress = _Progress(args.quiet)
     print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
-    files, model = derive_and_render(spec, label, progress)
+    files, model = derive_and_render(spec, label, progress, qdd_form=args.qdd_form)
     if not args.no_build:
         progress("compiling the cffi extension")
     write_tree(files, target, build=not args.no_build, name=spec.name)
@@ -106,6 +106,7 @@ def cmd_generate(args) -> int:
     ints = model.integrals
     print(f"{spec.name}: n = {spec.n}, {len(spec.params)} symbolic parameters, {len(spec.controls)} control torques")
     print("op counts: " + ", ".join(f"{spec.name}_{k} {v}" for k, v in counts.items()))
+    print(f"qdd form: {model.qdd_form}" + (" (composite bodies + LDL^T)" if model.qdd_form == "composite" else " (articulated bodies, O(n))"))
     found = ["energy T - U (23)" + ("" if ints.has_energy_integral else " [not conserved: control torques act]")]
     if ints.momentum is not None:
         found.append("momentum (27)" + ("" if ints.has_momentum_integral else " [not conserved: torque on joint 1]"))
@@ -173,6 +174,10 @@ def main(argv=None) -> int:
     g.add_argument("--no-build", action="store_true", help="do not compile the cffi extension")
     g.add_argument("--force", action="store_true", help="replace an output folder codegen did not write")
     g.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+    g.add_argument(
+        "--qdd-form", choices=("auto", "composite", "articulated"), default="auto",
+        help="how NAME_qdd solves for phi'': auto (fewer operations, the default), composite bodies + LDL^T, or articulated bodies",
+    )
     c = sub.add_parser("check", help="validate a spec without generating")
     c.add_argument("spec")
     s = sub.add_parser("simulate", help="integrate a spec with the reference model (CSV to stdout)")

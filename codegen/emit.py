@@ -153,10 +153,15 @@ class Model:
     qdd_form: str  # "composite" (M and f, then LDLᵀ) or "articulated" (aba.py: φ̈ and pivots)
 
 
-def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None) -> Model:
+QDD_FORMS = ("auto", "composite", "articulated")
+
+
+def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None, qdd_form: str = "auto") -> Model:
     """The straight-line code of every function.  φ̈ is emitted in whichever form costs fewer
-    operations for this spec: composite bodies + LDLᵀ (short chains) or articulated bodies (long
-    ones); ties go to the composite form."""
+    operations for this spec (``qdd_form="auto"``): composite bodies + LDLᵀ (short chains) or
+    articulated bodies (long ones); ties go to the composite form."""
+    if qdd_form not in QDD_FORMS:
+        raise ValueError(f"qdd_form must be one of {', '.join(QDD_FORMS)}, not {qdd_form!r}")
     n = spec.n
     say = progress or (lambda msg: None)
     lower = [dyn.M[i][j] for i in range(n) for j in range(i + 1)]
@@ -168,7 +173,8 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
     composite = straight_line(P, lower + list(dyn.f))
     art = aba.derive(spec, kin, dyn)
     articulated = straight_line(P, list(art.qdd) + list(art.pivots))
-    if articulated.op_count() < composite.op_count() + ldlt_op_count(n):
+    cheaper = articulated.op_count() < composite.op_count() + ldlt_op_count(n)
+    if qdd_form == "articulated" or (qdd_form == "auto" and cheaper):
         lines["qdd"], form = articulated, "articulated"
     else:
         lines["qdd"], form = composite, "composite"
@@ -223,7 +229,7 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
     if model.qdd_form == "composite":
         qdd_targets = lower + [f"f[{k}]" for k in range(n)]
     else:
-        qdd_targets = [f"qdd[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
+        qdd_targets = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
     fs = {
         "mass_matrix": _function("mass_matrix", model.lines["mass_matrix"], lower, prq),
         "forces": _function("forces", model.lines["forces"], [f"f[{k}]" for k in range(n)], pr),

@@ -124,6 +124,7 @@ int double_pendulum_forces(const double *x, const double *u, const double_pendul
 int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
+    double acc[2];
     double piv[2];
     double tol = 0.0;
     int i;
@@ -156,25 +157,29 @@ int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_
         const double dv2_2 = -cos_phi2*qdd1;
         const double qdd2 = 1.4992503748125936*aOg2_2 - qdd1 + 1.4992503748125936*dv2_2;
 
-        qdd[0] = qdd1;
-        qdd[1] = qdd2;
+        acc[0] = qdd1;
+        acc[1] = qdd2;
         piv[0] = IA1_11;
         piv[1] = 0.3335;
 
     }
-    if (!double_pendulum_all_finite_(piv, 2)) {
-        return DOUBLE_PENDULUM_NONFINITE;
-    }
     for (i = 0; i < 2; ++i) {
-        if (fabs(piv[i]) > tol) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
             tol = fabs(piv[i]);
         }
     }
     tol *= DOUBLE_PENDULUM_PIVOT_TOL;
-    for (i = 0; i < 2; ++i) {
+    /* from the tip, where elimination starts: a zero pivot makes the ones before it NaN */
+    for (i = 1; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return DOUBLE_PENDULUM_NONFINITE;
+        }
         if (!(piv[i] > tol)) {
             return DOUBLE_PENDULUM_SINGULAR;
         }
+    }
+    for (i = 0; i < 2; ++i) {
+        qdd[i] = acc[i];
     }
     return double_pendulum_all_finite_(qdd, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
 }

@@ -107,7 +107,7 @@ def qdd(x, u=None, p=None):
     if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
         raise NonFiniteResult("x or u is not finite")
 
-    qdd = np.empty(N)
+    acc = np.empty(N)
     piv = np.empty(N)
     try:
         cos_phi1 = math.cos(x[0])
@@ -129,20 +129,20 @@ def qdd(x, u=None, p=None):
         qdd1 = -pA1_1*rD1
         dv2_2 = -cos_phi2*qdd1
         qdd2 = 1.4992503748125936*aOg2_2 - qdd1 + 1.4992503748125936*dv2_2
-        qdd[0] = qdd1
-        qdd[1] = qdd2
+        acc[0] = qdd1
+        acc[1] = qdd2
         piv[0] = IA1_11
         piv[1] = 0.3335
 
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
-    if not np.all(np.isfinite(piv)):
-        raise NonFiniteResult("M is not finite")
-    tol = PIVOT_TOL * np.max(np.abs(piv))
-    for j in range(N):
+    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
+    for j in range(N - 1, -1, -1):  # from the tip, as in the C
+        if not math.isfinite(piv[j]):
+            raise NonFiniteResult("M is not finite")
         if not piv[j] > tol:
             raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
-    out = qdd
+    out = acc
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out

@@ -123,6 +123,7 @@ int gimbal_forces(const double *x, const double *u, const gimbal_params *p, doub
 int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
+    double acc[2];
     double piv[2];
     double tol = 0.0;
     int i;
@@ -151,25 +152,29 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
         const double rD1 = 1.0/IA1_11;
         const double qdd1 = -j2r15*rD1;
 
-        qdd[0] = qdd1;
-        qdd[1] = -166.66666666666666*pN2_1;
+        acc[0] = qdd1;
+        acc[1] = -166.66666666666666*pN2_1;
         piv[0] = IA1_11;
         piv[1] = 0.006;
 
     }
-    if (!gimbal_all_finite_(piv, 2)) {
-        return GIMBAL_NONFINITE;
-    }
     for (i = 0; i < 2; ++i) {
-        if (fabs(piv[i]) > tol) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
             tol = fabs(piv[i]);
         }
     }
     tol *= GIMBAL_PIVOT_TOL;
-    for (i = 0; i < 2; ++i) {
+    /* from the tip, where elimination starts: a zero pivot makes the ones before it NaN */
+    for (i = 1; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return GIMBAL_NONFINITE;
+        }
         if (!(piv[i] > tol)) {
             return GIMBAL_SINGULAR;
         }
+    }
+    for (i = 0; i < 2; ++i) {
+        qdd[i] = acc[i];
     }
     return gimbal_all_finite_(qdd, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
 }
