@@ -70,7 +70,7 @@ def derive(spec: ChainSpec, kin: Kinematics, dyn: Dynamics) -> Articulated:
     num = P.from_sympy
     s = [None] + [[num(x) for x in b.s] for b in spec.bodies]
 
-    IA, pA, W, u, rD, D = ([None] * (n + 1) for _ in range(6))
+    W, u, rD, D = ([None] * (n + 1) for _ in range(4))
     carried = None  # (inertia, bias) of k+1…n at Oᵏ in frame k
     for k in range(n, 0, -1):
         b = spec.bodies[k - 1]
@@ -84,8 +84,8 @@ def derive(spec: ChainSpec, kin: Kinematics, dyn: Dynamics) -> Articulated:
         if carried is not None:
             X = [[X[i][j] + carried[0][i][j] for j in range(6)] for i in range(6)]
             p = [p[i] + carried[1][i] for i in range(6)]
-        IA[k] = X = _name6(P, f"IA{k}", X)
-        pA[k] = p = [P.let(f"pA{k}_{i + 1}", p[i]) for i in range(6)]
+        X = _name6(P, f"IA{k}", X)
+        p = [P.let(f"pA{k}_{i + 1}", p[i]) for i in range(6)]
         U = [X[i][0] for i in range(6)]
         D[k] = U[0]
         rD[k] = P.reciprocal(f"rD{k}", U[0])
@@ -125,14 +125,13 @@ def _carry(P, joint, s, k: int, X, p) -> tuple:
     Mm = joint.up_sym(Mm, f"Jm{k}r")
     nn = P.vec(f"pc{k}n", joint.up(p[:3]))
     ff = P.vec(f"pc{k}f", joint.up(p[3:]))
-    S = _skew(s)
-    # H' = H + [s]× Mm ; Ia' = Ia + [s]×Hᵀ + ([s]×H'ᵀ)ᵀ
-    H2 = [[P.let(f"Jh{k}s_{i + 1}{j + 1}", H[i][j] + sum((S[i][l] * Mm[l][j] for l in range(3)), ZERO)) for j in range(3)] for i in range(3)]
+    # H' = H + [s]× Mm (Mm symmetric: its column j is its row j); Ia' = Ia + [s]×Hᵀ + ([s]×H'ᵀ)ᵀ
+    sM = [cross(s, Mm[j]) for j in range(3)]  # column j of [s]× Mm
+    H2 = [[P.let(f"Jh{k}s_{i + 1}{j + 1}", H[i][j] + sM[j][i]) for j in range(3)] for i in range(3)]
+    sH, sH2 = [cross(s, row) for row in H], [cross(s, row) for row in H2]  # columns of [s]×Hᵀ, [s]×H'ᵀ
     Ia2 = [[None] * 3 for _ in range(3)]
     for i in range(3):
         for j in range(i + 1):
-            a = sum((S[i][l] * H[j][l] for l in range(3)), ZERO)  # ([s]× Hᵀ)_ij
-            b = sum((S[j][l] * H2[i][l] for l in range(3)), ZERO)  # ([s]× H'ᵀ)_ji
-            Ia2[i][j] = Ia2[j][i] = Ia[i][j] + a + b
+            Ia2[i][j] = Ia2[j][i] = Ia[i][j] + sH[j][i] + sH2[i][j]
     n2 = add(nn, cross(s, ff))
     return _from_blocks(Ia2, H2, Mm), n2 + ff

@@ -81,7 +81,7 @@ class Joint:
         self.P, self.k, self.ct, self.st, self.cp, self.sp = prog, k, ct, st, cp, sph
         self._n = 0
         self._double = None  # (cos 2φ, sin 2φ), named when a tensor is first turned
-        self._double_used = False
+        self._double_cost = 0  # their operations, until a tensor rotation uses them
 
     def _tmp(self, value: Poly) -> Poly:
         self._n += 1
@@ -110,15 +110,16 @@ class Joint:
         cost_plain = _cost(P.defs[start:])
         if self._double is None:
             c, s = self.cp, self.sp
+            start = len(P.defs)
             self._double = (P.let(f"c2phi{k}", c * c - s * s), P.let(f"s2phi{k}", 2 * c * s))
+            self._double_cost = _cost(P.defs[start:])
         start = len(P.defs)
         X = _plane_sym(P, I, 1, 2, (self.cp, self.sp), self._double, f"{name}dr")
         if not self.st.is_zero():
             ct, st = self.ct, -self.st  # R₂(θ) is a plane rotation of (e₁, e₃) by −θ
             X = _plane_sym(P, X, 0, 2, (ct, st), (ct * ct - st * st, 2 * ct * st), f"{name}d")
-        cost_double = _cost(P.defs[start:]) + (0 if self._double_used else 5)
-        if cost_double < cost_plain:
-            self._double_used = True
+        if _cost(P.defs[start:]) + self._double_cost < cost_plain:
+            self._double_cost = 0
             return X
         return plain
 

@@ -2,6 +2,7 @@
 cffi, and hand back the spec, the generated Python module and the compiled C model."""
 from __future__ import annotations
 
+import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -76,3 +77,17 @@ def example(make_model):
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261122)
+
+
+def stated_op_counts(header: str) -> dict:
+    """The op counts a generated header states (``Op counts: name N, …``)."""
+    line = header.split("Op counts:")[1].split("\n")[0]
+    return {k: int(v) for k, v in re.findall(r"(\w+) (\d+)[,.]", line)}
+
+
+def code_op_count(body: str, targets: str) -> int:
+    """Operators (+ − * / and cos, sin calls) on the right of the temporaries and of the
+    assignments to ``targets`` (a regex) in a C function body; a leading sign is no operation."""
+    lines = [ln for ln in body.splitlines() if re.match(rf"\s+(const double \w+|{targets}) = ", ln)]
+    rhs = [ln.split("=", 1)[1].strip().removeprefix("-") for ln in lines]
+    return sum(len(re.findall(r"(?<![eE])[-+*/]", r)) + r.count("cos(") + r.count("sin(") for r in rhs)
