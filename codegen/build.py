@@ -53,7 +53,10 @@ def load_module(so_path: str | Path):
 
 class ModelError(ArithmeticError):
     def __init__(self, func: str, code: int):
-        names = {1: "SINGULAR (M is not positive definite)", 2: "NONFINITE", 3: "NO_PARAMS"}
+        names = {
+            1: "SINGULAR (M is not positive definite)", 2: "NONFINITE", 3: "NO_PARAMS",
+            4: "SEPARATRIX", 5: "NO_PERIOD (steady motion)", 6: "QUAD_FAILED",
+        }
         super().__init__(f"{func} returned {code}: {names.get(code, 'unknown code')}")
         self.code = code
 
@@ -123,6 +126,40 @@ class CModel:
     def momentum(self, x, params=None):
         xp, _k = self._arr(x, 2 * self.n)
         return self._fn("momentum")(xp, self._p(params))
+
+    # ---- the two-body quadratures (models with NAME_HAS_QUADRATURES)
+    def quad_motion(self, x0, params=None) -> dict:
+        xp, _k = self._arr(x0, 4)
+        info = self.ffi.new(f"{self.name}_quad_info *")
+        code = self._fn("quad_motion")(xp, self._p(params), info)
+        if code != 0:
+            raise ModelError(f"{self.name}_quad_motion", code)
+        kinds = {1: "libration", 2: "rotation", 3: "steady"}
+        fields = ("E", "k", "phi_min", "phi_max", "period", "psi_advance", "separatrix_distance")
+        return dict(kind=kinds[info.kind], **{f: getattr(info, f) for f in fields})
+
+    def quad_period(self, x0, params=None) -> float:
+        xp, _k = self._arr(x0, 4)
+        out = self.ffi.new("double *")
+        code = self._fn("quad_period")(xp, self._p(params), out)
+        if code != 0:
+            raise ModelError(f"{self.name}_quad_period", code)
+        return out[0]
+
+    def quad_state(self, t, x0, params=None) -> np.ndarray:
+        xp, _k = self._arr(x0, 4)
+        ts = np.atleast_1d(np.asarray(t, dtype=float))
+        out = np.empty((len(ts), 4))
+        p = self._p(params)
+        for i, ti in enumerate(ts):
+            code = self._fn("quad_state")(float(ti), xp, p, self.ffi.cast("double *", self.ffi.from_buffer(out[i])))
+            if code != 0:
+                raise ModelError(f"{self.name}_quad_state", code)
+        return out if np.ndim(t) else out[0]
+
+    def quad_functions(self, phi, x0, params=None) -> np.ndarray:
+        xp, _k = self._arr(x0, 4)
+        return self._call("quad_functions", float(phi), xp, self._p(params), out_len=6)
 
 
 def load(directory: str | Path, name: str | None = None) -> CModel:

@@ -16,7 +16,7 @@ from sympy.printing.c import C99CodePrinter
 from sympy.printing.latex import LatexPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from . import __version__, aba
+from . import __version__, aba, quadratures
 from .dynamics import Dynamics
 from .integrals import Integrals
 from .kinematics import Kinematics
@@ -89,6 +89,18 @@ class PyPrinter(_NumbersAsDoubles, PythonCodePrinter):
         return self._pow(expr, "math.sqrt", "1.0") or super()._print_Pow(expr, rational)
 
 
+class NumpyPrinter(PyPrinter):
+    """Python on numpy arrays: the functions of φ that the quadratures evaluate at many nodes."""
+
+    def _np(self, expr):
+        return f"np.{type(expr).__name__}({self._print(expr.args[0])})"
+
+    _print_sin = _print_cos = _print_tan = _np
+
+    def _print_Pow(self, expr, rational=False):
+        return self._pow(expr, "np.sqrt", "1.0") or super()._print_Pow(expr, rational)
+
+
 # --------------------------------------------------------------------------- prepared data
 def poly_code(p: Poly, spell) -> str:
     """A polynomial in C and Python alike (same operators; numbers as round-trip doubles)."""
@@ -151,6 +163,7 @@ class Model:
     integrals: Integrals
     lines: dict  # name → StraightLine (mass_matrix, forces, qdd, energy, momentum)
     qdd_form: str  # "composite" (M and f, then LDLᵀ) or "articulated" (aba.py: φ̈ and pivots)
+    quad: quadratures.TwoBody | None = None  # the integrable two-body case (28)–(30), when it applies
 
 
 QDD_FORMS = ("auto", "composite", "articulated")
@@ -182,7 +195,10 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
     lines["energy"] = straight_line(P, [ints.energy])
     if ints.momentum is not None:
         lines["momentum"] = straight_line(P, [ints.momentum])
-    return Model(spec, kin, dyn, ints, lines, form)
+    quad = quadratures.derive(spec, kin, dyn, ints)
+    if quad is not None:
+        lines["quad_terms"] = straight_line(P, quad.terms)
+    return Model(spec, kin, dyn, ints, lines, form, quad)
 
 
 def _names(model: Model, style: str) -> dict:
@@ -238,6 +254,11 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
     }
     if "momentum" in model.lines:
         fs["momentum"] = _function("momentum", model.lines["momentum"], ["result"], pr)
+    if "quad_terms" in model.lines:
+        # a function of φ = φ² alone (ψ = φ¹ is cyclic); in Python on numpy arrays of φ
+        qnames = {**names, model.kin.phi[2]: "phi"}
+        qpr = (NumpyPrinter if style == "py" else printer_cls)(qnames)
+        fs["quad_terms"] = _function("quad_terms", model.lines["quad_terms"], [f"out[{i}]" for i in range(5)], qpr)
     return fs
 
 
@@ -538,6 +559,8 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         articulated=model.qdd_form == "articulated",
         has_energy_integral=int(model.integrals.has_energy_integral),
         has_momentum_integral=int(model.integrals.has_momentum_integral),
+        momentum_condition=model.integrals.momentum_condition and _c_comment(model.integrals.momentum_condition).replace('"', "'"),
+        quad=model.quad is not None,
         fn=cfun,
         py=pyfun,
         counts=counts,

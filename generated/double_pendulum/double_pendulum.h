@@ -32,6 +32,7 @@ extern "C" {
 #define DOUBLE_PENDULUM_NO_PARAMS 3
 #define DOUBLE_PENDULUM_HAS_ENERGY_INTEGRAL 1
 #define DOUBLE_PENDULUM_HAS_MOMENTUM_INTEGRAL 0
+#define DOUBLE_PENDULUM_HAS_QUADRATURES 0
 typedef struct double_pendulum_params {
     double unused_;
 } double_pendulum_params;

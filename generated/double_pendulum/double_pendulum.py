@@ -18,6 +18,8 @@ PARAMS = ()
 CONTROLS = ()  # joints with a control torque, in the order of u
 HAS_ENERGY_INTEGRAL = True
 HAS_MOMENTUM_INTEGRAL = False
+MOMENTUM_CONDITION = None  # when (27) depends on a parameter
+HAS_QUADRATURES = False
 OP_COUNTS = { "energy": 26, "forces": 27, "mass_matrix": 4, "qdd": 38, "rhs": 38, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 

@@ -32,6 +32,7 @@ extern "C" {
 #define FURUTA_NO_PARAMS 3
 #define FURUTA_HAS_ENERGY_INTEGRAL 0
 #define FURUTA_HAS_MOMENTUM_INTEGRAL 0
+#define FURUTA_HAS_QUADRATURES 0
 typedef struct furuta_params {
     double unused_;
 } furuta_params;

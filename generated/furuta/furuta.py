@@ -18,6 +18,8 @@ PARAMS = ()
 CONTROLS = (1, )  # joints with a control torque, in the order of u
 HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
+MOMENTUM_CONDITION = None  # when (27) depends on a parameter
+HAS_QUADRATURES = False
 OP_COUNTS = { "energy": 23, "forces": 37, "mass_matrix": 9, "momentum": 12, "qdd": 55, "rhs": 55, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 

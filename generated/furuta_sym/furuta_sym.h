@@ -32,6 +32,7 @@ extern "C" {
 #define FURUTA_SYM_NO_PARAMS 3
 #define FURUTA_SYM_HAS_ENERGY_INTEGRAL 0
 #define FURUTA_SYM_HAS_MOMENTUM_INTEGRAL 0
+#define FURUTA_SYM_HAS_QUADRATURES 0
 typedef struct furuta_sym_params {
     double g0;
     double m1;

@@ -18,6 +18,8 @@ PARAMS = ("g0", "m1", "r", "J1", "J1z", "m2", "l", "J2", "J2z", )
 CONTROLS = (1, )  # joints with a control torque, in the order of u
 HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
+MOMENTUM_CONDITION = None  # when (27) depends on a parameter
+HAS_QUADRATURES = False
 OP_COUNTS = { "energy": 31, "forces": 66, "mass_matrix": 18, "momentum": 20, "qdd": 93, "rhs": 93, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 

@@ -224,3 +224,666 @@ double gimbal_momentum(const double *x, const gimbal_params *p)
     }
     return result;
 }
+
+/* ---------------------------------------------------------------------------------------
+ * The two-body quadratures (28)-(30).  psi = phi^1 is cyclic; with P(phi) = E(phi) J - K^2 and
+ * D(phi) = A J - C^2 > 0 the motion obeys D phidot^2 = P, so phi moves where P > 0, between
+ * two simple roots of P (libration) or all the way round (rotation).
+ *
+ * P is a trigonometric polynomial of degree 3 (J has degree 2, U, beta degree 1): its Fourier
+ * coefficients come from 8 samples.  Its roots are found by a walk whose steps cannot pass one
+ * (P(a + x) > P(a) - |P'(a)| x - L2 x^2/2 with L2 >= max |P''|).
+ *
+ * Libration: phi = r + s 2h sin^2(b/2) from each turning point r (s = +1 from phi_-, -1 from
+ * phi_+), 0 <= b <= pi/2, 2h = phi_+ - phi_-.  Then dt/db = sqrt(D/P) h sin b is smooth up to
+ * and through the turning point (b = 0): the 1/sqrt singularity of Phi is gone.  P near r is
+ * computed as P(r + x) - P(r) by sine-of-half-difference formulas, without cancellation.
+ * Rotation: phi = phi0 + dir u, 0 <= u <= 2 pi.  Each quarter (or the turn) is integrated by
+ * adaptive Gauss-Kronrod 7/15 panels, which also tabulate t and psi for the inversion.
+ * --------------------------------------------------------------------------------------- */
+#define GIMBAL_QUAD_MAXP 64        /* panels per quarter period */
+#define GIMBAL_QUAD_TOL 1e-13      /* Kronrod - Gauss estimate, relative, per quarter */
+#define GIMBAL_WALK_MAX 100000
+#define GIMBAL_PI 3.14159265358979323846
+
+typedef struct {
+    double a, b;      /* parameter interval */
+    double v[3];      /* integrals over it of dt, dpsi_K = K dt / J, dpsi_C = C dphi / J */
+    double w;         /* weighted error estimate */
+    double cum[3];    /* integrals from the quarter's start to a */
+} gimbal_panel_;
+
+typedef struct {
+    const gimbal_params *p;
+    int kind;
+    double E, k;          /* constants of the energy (23) and momentum (27) integrals */
+    double c[7];          /* P = c0 + sum_j c[2j-1] cos(j phi) + c[2j] sin(j phi), j = 1..3 */
+    double S, L2;         /* size of the terms of P, bound of |P''| */
+    double r[2], h;       /* turning points phi_-, phi_+ and the half amplitude */
+    double slope[2];      /* |P'| at the turning points */
+    double phi0, dir;     /* rotation: start and sense */
+    double eps;           /* relative distance from the separatrix */
+    int np[2];
+    gimbal_panel_ pan[2][GIMBAL_QUAD_MAXP];
+    double tot[2][3];     /* integrals over each quarter (the turn: index 0) */
+} gimbal_orbit_;
+
+/* J(phi), C(phi), A, U(phi), beta(phi) of the spec (generated). */
+static void gimbal_quad_terms_(double phi, const gimbal_params *p, double *out)
+{
+    (void)p;
+    const double cos_phi2 = cos(phi);
+    const double sin_phi2 = sin(phi);
+    const double I2in1r_33 = 0.006*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2;
+    const double I1_11 = 0.005 + I2in1r_33;
+
+    out[0] = I1_11;
+    out[1] = 0.0;
+    out[2] = 0.006;
+    out[3] = 0.0;
+    out[4] = 0.5*cos_phi2;
+
+}
+
+/* P, P', P'' at phi from the Fourier coefficients. */
+static void gimbal_pfour_(const double *c, double phi, double *d)
+{
+    const double c1 = cos(phi), s1 = sin(phi);
+    double ck = c1, sk = s1, t;
+    int j;
+    d[0] = c[0];
+    d[1] = 0.0;
+    d[2] = 0.0;
+    for (j = 1; j <= 3; ++j) {
+        d[0] += c[2 * j - 1] * ck + c[2 * j] * sk;
+        d[1] += j * (c[2 * j] * ck - c[2 * j - 1] * sk);
+        d[2] -= j * j * (c[2 * j - 1] * ck + c[2 * j] * sk);
+        t = ck * c1 - sk * s1;
+        sk = sk * c1 + ck * s1;
+        ck = t;
+    }
+}
+
+/* P(r + x) - P(r) = sum_j 2 sin(j x/2) (c_sj cos j(r + x/2) - c_cj sin j(r + x/2)), accurate for small x. */
+static double gimbal_pdelta_(const double *c, double r, double x)
+{
+    const double m = r + 0.5 * x, cm = cos(m), sm = sin(m);
+    double ck = cm, sk = sm, t, sum = 0.0;
+    int j;
+    for (j = 1; j <= 3; ++j) {
+        sum += 2.0 * sin(0.5 * j * x) * (c[2 * j] * ck - c[2 * j - 1] * sk);
+        t = ck * cm - sk * sm;
+        sk = sk * cm + ck * sm;
+        ck = t;
+    }
+    return sum;
+}
+
+/* The first root of P from a (P(a) > 0) in the sense sig within dmax: returns 1 and *root, 0 when
+ * P > 0 all the way, -1 when the walk does not converge.  *pmin: least local minimum of P passed. */
+static int gimbal_walk_(const gimbal_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin)
+{
+    double d[3], dn[3], gone = 0.0, step, lo, hi, mid, dm[3];
+    int it, i, last;
+    gimbal_pfour_(o->c, a, d);
+    for (it = 0; it < GIMBAL_WALK_MAX; ++it) {
+        if (!(d[0] > 0.0)) {
+            *root = a;
+            return 1;
+        }
+        step = 2.0 * d[0] / (fabs(d[1]) + sqrt(d[1] * d[1] + 2.0 * o->L2 * d[0]));
+        last = gone + step >= dmax;
+        if (last) {
+            step = dmax - gone;
+        } else if (step <= 4.0 * 2.220446049250313e-16 * (1.0 + fabs(a))) {
+            *root = a + sig * step;
+            return 1;
+        }
+        gimbal_pfour_(o->c, a + sig * step, dn);
+        if (sig * d[1] < 0.0 && sig * dn[1] > 0.0) {
+            /* a local minimum of P between a and a + step (P > 0 there): bisect on P' */
+            lo = a;
+            hi = a + sig * step;
+            for (i = 0; i < 60; ++i) {
+                mid = 0.5 * (lo + hi);
+                gimbal_pfour_(o->c, mid, dm);
+                if (sig * dm[1] < 0.0) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            gimbal_pfour_(o->c, 0.5 * (lo + hi), dm);
+            if (dm[0] < *pmin) {
+                *pmin = dm[0];
+            }
+        }
+        if (last) {
+            return 0;
+        }
+        a += sig * step;
+        gone += step;
+        for (i = 0; i < 3; ++i) {
+            d[i] = dn[i];
+        }
+    }
+    return -1;
+}
+
+/* dt, dpsi_K, dpsi_C per unit parameter b of quarter q (the turn when rotating). */
+static int gimbal_integrand_(const gimbal_orbit_ *o, int q, double b, double *f, double *phi_out, double *g_out)
+{
+    double t[5], phi, dphi, P = 0.0, D, g, K, s2 = 0.0, x, d[3];
+    if (o->kind == GIMBAL_ROTATION) {
+        phi = o->phi0 + o->dir * b;
+        dphi = o->dir;
+        gimbal_pfour_(o->c, phi, d);
+        P = d[0];
+    } else {
+        s2 = sin(0.5 * b);
+        x = (q ? -2.0 : 2.0) * o->h * s2 * s2;   /* phi - r, kept apart: phi alone rounds it away */
+        phi = o->r[q] + x;
+        dphi = o->h * sin(b);
+        if (s2 != 0.0) {
+            P = gimbal_pdelta_(o->c, o->r[q], x);
+        }
+    }
+    gimbal_quad_terms_(phi, o->p, t);
+    D = t[2] * t[0] - t[1] * t[1];
+    if (!(D > 0.0) || !(t[0] > 0.0)) {
+        return GIMBAL_SINGULAR;
+    }
+    if (o->kind == GIMBAL_LIBRATION && s2 == 0.0) {
+        g = sqrt(2.0 * D * o->h / o->slope[q]);
+    } else if (P > 0.0) {
+        g = sqrt(D / P) * (o->kind == GIMBAL_ROTATION ? 1.0 : dphi);
+    } else {
+        return GIMBAL_QUAD_FAILED;
+    }
+    K = o->k - t[4];
+    f[0] = g;
+    f[1] = K * g / t[0];
+    f[2] = t[1] * dphi / t[0];
+    if (phi_out) {
+        *phi_out = phi;
+    }
+    if (g_out) {
+        *g_out = g;
+    }
+    return isfinite(g) ? GIMBAL_OK : GIMBAL_QUAD_FAILED;
+}
+
+/* Gauss-Kronrod 7/15 on [a, b]: v = the three integrals, e = |K15 - G7| of each. */
+static int gimbal_kronrod_(const gimbal_orbit_ *o, int q, double a, double b, double *v, double *e)
+{
+    static const double xk[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+        0.864864423359769072789712788640926, 0.741531185599394439863864773280788, 0.586087235467691130294144845693013,
+        0.405845151377397166906606412076961, 0.207784955007898467600689403773245, 0.0};
+    static const double wk[8] = {0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+        0.104790010322250183839876322541518, 0.140653259715525918745189590510238, 0.169004726639267902826583426598550,
+        0.190350578064785409913256402421014, 0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+    static const double wg[4] = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
+        0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+    const double hw = 0.5 * (b - a), cx = 0.5 * (a + b);
+    double f[3], vg[3] = {0.0, 0.0, 0.0};
+    int i, j, side, rc;
+    for (j = 0; j < 3; ++j) {
+        v[j] = 0.0;
+    }
+    for (i = 0; i < 8; ++i) {
+        for (side = (i == 7); side < 2; ++side) {
+            rc = gimbal_integrand_(o, q, cx + (side ? hw : -hw) * xk[i], f, 0, 0);
+            if (rc) {
+                return rc;
+            }
+            for (j = 0; j < 3; ++j) {
+                v[j] += wk[i] * f[j];
+                if (i % 2 == 1) {
+                    vg[j] += wg[i / 2] * f[j];
+                }
+            }
+        }
+    }
+    for (j = 0; j < 3; ++j) {
+        v[j] *= hw;
+        e[j] = fabs(v[j] - vg[j] * hw);
+    }
+    return GIMBAL_OK;
+}
+
+/* Adaptive panels over [0, end] of quarter q; sorted, with cumulative integrals. */
+static int gimbal_panels_(gimbal_orbit_ *o, int q, double end, int start)
+{
+    gimbal_panel_ *pan = o->pan[q], tmp;
+    double e[3], err[3], size[3], ab[3], worst;
+    int i, j, n = start, rc, pick;
+    for (i = 0; i < n; ++i) {
+        pan[i].a = end * i / n;
+        pan[i].b = end * (i + 1) / n;
+        rc = gimbal_kronrod_(o, q, pan[i].a, pan[i].b, pan[i].v, e);
+        if (rc) {
+            return rc;
+        }
+        pan[i].w = e[0] + e[1] + e[2];
+        for (j = 0; j < 3; ++j) {
+            pan[i].cum[j] = e[j];   /* the error of each integral, until the panels are sorted */
+        }
+    }
+    for (;;) {
+        for (j = 0; j < 3; ++j) {
+            err[j] = 0.0;
+            size[j] = 0.0;
+        }
+        for (i = 0; i < n; ++i) {
+            for (j = 0; j < 3; ++j) {
+                err[j] += pan[i].cum[j];
+                size[j] += fabs(pan[i].v[j]);
+            }
+        }
+        if (err[0] <= GIMBAL_QUAD_TOL * size[0] && err[1] <= GIMBAL_QUAD_TOL * size[1] + 1e-300 &&
+            err[2] <= GIMBAL_QUAD_TOL * size[2] + 1e-300) {
+            break;
+        }
+        if (n == GIMBAL_QUAD_MAXP) {
+            return GIMBAL_QUAD_FAILED;
+        }
+        pick = 0;
+        worst = -1.0;
+        for (i = 0; i < n; ++i) {
+            double w = 0.0;
+            for (j = 0; j < 3; ++j) {
+                w += pan[i].cum[j] / (size[j] + 1e-300);
+            }
+            if (w > worst) {
+                worst = w;
+                pick = i;
+            }
+        }
+        pan[n].a = 0.5 * (pan[pick].a + pan[pick].b);
+        pan[n].b = pan[pick].b;
+        pan[pick].b = pan[n].a;
+        for (i = 0; i < 2; ++i) {
+            gimbal_panel_ *pp = i ? &pan[n] : &pan[pick];
+            rc = gimbal_kronrod_(o, q, pp->a, pp->b, pp->v, e);
+            if (rc) {
+                return rc;
+            }
+            for (j = 0; j < 3; ++j) {
+                pp->cum[j] = e[j];
+            }
+        }
+        ++n;
+    }
+    for (i = 1; i < n; ++i) {   /* insertion sort by a */
+        tmp = pan[i];
+        for (j = i - 1; j >= 0 && pan[j].a > tmp.a; --j) {
+            pan[j + 1] = pan[j];
+        }
+        pan[j + 1] = tmp;
+    }
+    for (j = 0; j < 3; ++j) {
+        ab[j] = 0.0;
+    }
+    for (i = 0; i < n; ++i) {
+        for (j = 0; j < 3; ++j) {
+            pan[i].cum[j] = ab[j];
+            ab[j] += pan[i].v[j];
+        }
+    }
+    for (j = 0; j < 3; ++j) {
+        o->tot[q][j] = ab[j];
+    }
+    o->np[q] = n;
+    return GIMBAL_OK;
+}
+
+/* The integrals from the start of quarter q to parameter b. */
+static int gimbal_partial_(const gimbal_orbit_ *o, int q, double b, double *v)
+{
+    const gimbal_panel_ *pan = o->pan[q];
+    double part[3], e[3];
+    int lo = 0, hi = o->np[q] - 1, mid, j, rc;
+    while (lo < hi) {
+        mid = (lo + hi + 1) / 2;
+        if (pan[mid].a <= b) {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    rc = gimbal_kronrod_(o, q, pan[lo].a, b, part, e);
+    for (j = 0; j < 3; ++j) {
+        v[j] = pan[lo].cum[j] + part[j];
+    }
+    return rc;
+}
+
+/* The parameter b of quarter q at which the time from its start is tau (Newton, bracketed). */
+static int gimbal_invert_(const gimbal_orbit_ *o, int q, double tau, double *b, double *v)
+{
+    const gimbal_panel_ *pan = o->pan[q];
+    double x, xn, lo_x, hi_x, F, g, f[3], e[3], part[3];
+    int lo = 0, hi = o->np[q] - 1, mid, it, j, rc;
+    while (lo < hi) {
+        mid = (lo + hi + 1) / 2;
+        if (pan[mid].cum[0] <= tau) {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    lo_x = pan[lo].a;
+    hi_x = pan[lo].b;
+    x = lo_x + (hi_x - lo_x) * (tau - pan[lo].cum[0]) / pan[lo].v[0];
+    x = x < lo_x ? lo_x : (x > hi_x ? hi_x : x);
+    for (it = 0; it < 100; ++it) {
+        rc = gimbal_kronrod_(o, q, pan[lo].a, x, part, e);
+        if (!rc) {
+            rc = gimbal_integrand_(o, q, x, f, 0, &g);
+        }
+        if (rc) {
+            return rc;
+        }
+        F = pan[lo].cum[0] + part[0] - tau;
+        if (F > 0.0) {
+            hi_x = x;
+        } else {
+            lo_x = x;
+        }
+        xn = x - F / g;
+        if (!(xn > lo_x && xn < hi_x)) {
+            xn = 0.5 * (lo_x + hi_x);
+        }
+        if (fabs(xn - x) <= 4.0 * 2.220446049250313e-16 * fabs(x) || hi_x - lo_x <= 4.0 * 2.220446049250313e-16 * fabs(x)) {
+            x = xn;
+            break;
+        }
+        x = xn;
+    }
+    *b = x;
+    rc = gimbal_kronrod_(o, q, pan[lo].a, x, part, e);
+    for (j = 0; j < 3; ++j) {
+        v[j] = pan[lo].cum[j] + part[j];
+    }
+    return rc;
+}
+
+/* The motion from x0: constants, Fourier coefficients of P, turning points, panels. */
+static int gimbal_orbit_init_(const double *x0, const gimbal_params *p, gimbal_orbit_ *o)
+{
+    double t[5], ej[8], kk[8], d[3], root, pmin, phi, D0, ang, e_end;
+    const double phi0 = x0[1], phid0 = x0[3];
+    int i, j, found, rc;
+    if (!gimbal_all_finite_(x0, 4)) {
+        return GIMBAL_NONFINITE;
+    }
+    o->p = p;
+    o->E = gimbal_energy(x0, p);
+    o->k = gimbal_momentum(x0, p);
+    o->S = 0.0;
+    for (i = 0; i < 7; ++i) {
+        o->c[i] = 0.0;
+    }
+    for (i = 0; i < 8; ++i) {
+        phi = 2.0 * GIMBAL_PI * i / 8.0;
+        gimbal_quad_terms_(phi, p, t);
+        ej[i] = 2.0 * (o->E + t[3]) * t[0];
+        kk[i] = (o->k - t[4]) * (o->k - t[4]);
+        if (fabs(ej[i]) + kk[i] > o->S) {
+            o->S = fabs(ej[i]) + kk[i];
+        }
+        o->c[0] += (ej[i] - kk[i]) / 8.0;
+        for (j = 1; j <= 3; ++j) {
+            ang = j * phi;
+            o->c[2 * j - 1] += (ej[i] - kk[i]) * cos(ang) / 4.0;
+            o->c[2 * j] += (ej[i] - kk[i]) * sin(ang) / 4.0;
+        }
+    }
+    if (!isfinite(o->S)) {
+        return GIMBAL_NONFINITE;
+    }
+    /* make P(phi0) = D(phi0) phidot0^2 exactly (the samples carry rounding) */
+    gimbal_quad_terms_(phi0, p, t);
+    D0 = t[2] * t[0] - t[1] * t[1];
+    if (!(D0 > 0.0) || !(t[0] > 0.0)) {
+        return GIMBAL_SINGULAR;
+    }
+    gimbal_pfour_(o->c, phi0, d);
+    o->c[0] += D0 * phid0 * phid0 - d[0];
+    o->L2 = 0.0;
+    for (j = 1; j <= 3; ++j) {
+        o->L2 += j * j * (fabs(o->c[2 * j - 1]) + fabs(o->c[2 * j]));
+    }
+    o->eps = HUGE_VAL;
+    o->phi0 = phi0;
+    o->dir = phid0 >= 0.0 ? 1.0 : -1.0;
+    o->np[0] = o->np[1] = 0;
+    pmin = HUGE_VAL;
+    gimbal_pfour_(o->c, phi0, d);
+    if (phid0 == 0.0) {
+        /* phi0 is a turning point; the motion leaves it where P grows */
+        if (!(fabs(d[1]) > GIMBAL_SEPARATRIX_TOL * o->S)) {
+            o->kind = GIMBAL_STEADY;
+            return GIMBAL_OK;
+        }
+        o->dir = d[1] > 0.0 ? 1.0 : -1.0;
+        found = gimbal_walk_(o, phi0 + o->dir * fabs(d[1]) / o->L2, o->dir, 2.0 * GIMBAL_PI, &root, &pmin);
+        if (found != 1) {
+            return found == 0 ? GIMBAL_SEPARATRIX : GIMBAL_QUAD_FAILED;
+        }
+        o->r[o->dir > 0.0 ? 0 : 1] = phi0;
+        o->r[o->dir > 0.0 ? 1 : 0] = root;
+    } else {
+        found = gimbal_walk_(o, phi0, o->dir, 2.0 * GIMBAL_PI, &root, &pmin);
+        if (found < 0) {
+            return GIMBAL_QUAD_FAILED;
+        }
+        if (found == 0) {
+            o->kind = GIMBAL_ROTATION;
+        } else {
+            o->r[o->dir > 0.0 ? 1 : 0] = root;
+            found = gimbal_walk_(o, phi0, -o->dir, 2.0 * GIMBAL_PI, &root, &pmin);
+            if (found != 1) {
+                return GIMBAL_QUAD_FAILED;
+            }
+            o->r[o->dir > 0.0 ? 0 : 1] = root;
+        }
+    }
+    if (o->S > 0.0) {
+        o->eps = pmin / o->S;
+    }
+    if (o->kind != GIMBAL_ROTATION) {
+        o->kind = GIMBAL_LIBRATION;
+        o->h = 0.5 * (o->r[1] - o->r[0]);
+        for (i = 0; i < 2; ++i) {
+            gimbal_pfour_(o->c, o->r[i], d);
+            o->slope[i] = fabs(d[1]);
+            /* a dip of P beyond the turning point, P' x + P'' x^2/2: its depth */
+            e_end = d[2] > 0.0 ? d[1] * d[1] / (2.0 * d[2] * o->S) : HUGE_VAL;
+            if (e_end < o->eps) {
+                o->eps = e_end;
+            }
+        }
+    }
+    if (o->eps < GIMBAL_SEPARATRIX_TOL) {
+        return GIMBAL_SEPARATRIX;
+    }
+    if (o->kind == GIMBAL_ROTATION) {
+        return gimbal_panels_(o, 0, 2.0 * GIMBAL_PI, 8);
+    }
+    rc = gimbal_panels_(o, 0, 0.5 * GIMBAL_PI, 4);
+    if (!rc) {
+        rc = gimbal_panels_(o, 1, 0.5 * GIMBAL_PI, 4);
+    }
+    return rc;
+}
+
+int gimbal_quad_motion(const double *x0, const gimbal_params *p, gimbal_quad_info *info)
+{
+    gimbal_orbit_ o;
+    int rc = gimbal_orbit_init_(x0, p, &o);
+    if (rc) {
+        return rc;
+    }
+    info->kind = o.kind;
+    info->E = o.E;
+    info->k = o.k;
+    info->separatrix_distance = o.eps;
+    if (o.kind == GIMBAL_LIBRATION) {
+        info->phi_min = o.r[0];
+        info->phi_max = o.r[1];
+        info->period = 2.0 * (o.tot[0][0] + o.tot[1][0]);
+        info->psi_advance = 2.0 * (o.tot[0][1] + o.tot[1][1]);
+    } else if (o.kind == GIMBAL_ROTATION) {
+        info->phi_min = o.phi0;
+        info->phi_max = o.phi0 + o.dir * 2.0 * GIMBAL_PI;
+        info->period = o.tot[0][0];
+        info->psi_advance = o.tot[0][1] - o.tot[0][2];
+    } else {
+        info->phi_min = info->phi_max = x0[1];
+        info->period = 0.0;
+        info->psi_advance = 0.0;
+    }
+    return GIMBAL_OK;
+}
+
+int gimbal_quad_period(const double *x0, const gimbal_params *p, double *period)
+{
+    gimbal_quad_info info;
+    int rc = gimbal_quad_motion(x0, p, &info);
+    if (rc) {
+        return rc;
+    }
+    if (info.kind == GIMBAL_STEADY) {
+        return GIMBAL_NO_PERIOD;
+    }
+    *period = info.period;
+    return GIMBAL_OK;
+}
+
+/* Phase time (from phi_- with phidot > 0) and psi gained, at the point with integrals v on
+ * segment seg of a libration: 1 phi_- -> mid and 2 mid -> phi_+ (phidot > 0), 3 phi_+ -> mid and
+ * 4 mid -> phi_- (phidot < 0).  psi gains K dt/J - C dphi/J: the C part flips with phidot. */
+static void gimbal_lib_phase_(const gimbal_orbit_ *o, int seg, const double *v, double *phase, double *psir)
+{
+    const double *Im = o->tot[0], *Ip = o->tot[1];
+    const double up = Im[1] - Im[2] + Ip[1] - Ip[2];   /* psi gained over segments 1 and 2 */
+    switch (seg) {
+    case 1:
+        *phase = v[0];
+        *psir = v[1] - v[2];
+        break;
+    case 2:
+        *phase = Im[0] + Ip[0] - v[0];
+        *psir = up - v[1] + v[2];
+        break;
+    case 3:
+        *phase = Im[0] + Ip[0] + v[0];
+        *psir = up + v[1] + v[2];
+        break;
+    default:
+        *phase = 2.0 * (Im[0] + Ip[0]) - v[0];
+        *psir = 2.0 * (Im[1] + Ip[1]) - v[1] - v[2];
+        break;
+    }
+}
+
+int gimbal_quad_state(double t, const double *x0, const gimbal_params *p, double *x)
+{
+    gimbal_orbit_ o;
+    double T, n, rem, tau, b, v[3], phase0, psir0, phase, psir, phi, g, f[3], tt[5], phid, b0;
+    int rc = gimbal_orbit_init_(x0, p, &o), seg, q;
+    if (rc) {
+        return rc;
+    }
+    if (!isfinite(t)) {
+        return GIMBAL_NONFINITE;
+    }
+    if (o.kind == GIMBAL_STEADY) {
+        x[0] = x0[0] + x0[2] * t;
+        x[1] = x0[1];
+        x[2] = x0[2];
+        x[3] = 0.0;
+        return GIMBAL_OK;
+    }
+    if (o.kind == GIMBAL_ROTATION) {
+        T = o.tot[0][0];
+        n = floor(t / T);
+        rem = t - n * T;
+        rc = gimbal_invert_(&o, 0, rem, &b, v);
+        if (!rc) {
+            rc = gimbal_integrand_(&o, 0, b, f, &phi, &g);
+        }
+        if (rc) {
+            return rc;
+        }
+        x[1] = phi + o.dir * 2.0 * GIMBAL_PI * n;
+        x[0] = x0[0] + n * (o.tot[0][1] - o.tot[0][2]) + v[1] - v[2];
+        phid = o.dir / g;
+    } else {
+        const double *Im = o.tot[0], *Ip = o.tot[1];
+        T = 2.0 * (Im[0] + Ip[0]);
+        /* where x0 is in the period */
+        q = x0[1] > 0.5 * (o.r[0] + o.r[1]);
+        b0 = (q ? o.r[1] - x0[1] : x0[1] - o.r[0]) / (2.0 * o.h);
+        b0 = 2.0 * asin(sqrt(b0 < 0.0 ? 0.0 : (b0 > 0.5 ? 0.5 : b0)));
+        rc = gimbal_partial_(&o, q, b0, v);
+        if (rc) {
+            return rc;
+        }
+        seg = q ? (x0[3] > 0.0 ? 2 : 3) : (x0[3] < 0.0 ? 4 : 1);
+        gimbal_lib_phase_(&o, seg, v, &phase0, &psir0);
+        /* where x(t) is */
+        n = floor((phase0 + t) / T);
+        rem = phase0 + t - n * T;
+        if (rem < Im[0]) {
+            seg = 1;
+            tau = rem;
+        } else if (rem < Im[0] + Ip[0]) {
+            seg = 2;
+            tau = Im[0] + Ip[0] - rem;
+        } else if (rem < Im[0] + 2.0 * Ip[0]) {
+            seg = 3;
+            tau = rem - Im[0] - Ip[0];
+        } else {
+            seg = 4;
+            tau = T - rem;
+        }
+        q = seg == 2 || seg == 3;
+        rc = gimbal_invert_(&o, q, tau, &b, v);
+        if (!rc) {
+            rc = gimbal_integrand_(&o, q, b, f, &phi, &g);
+        }
+        if (rc) {
+            return rc;
+        }
+        gimbal_lib_phase_(&o, seg, v, &phase, &psir);
+        x[0] = x0[0] + n * 2.0 * (Im[1] + Ip[1]) + psir - psir0;
+        x[1] = phi;
+        phid = (seg <= 2 ? 1.0 : -1.0) * o.h * sin(b) / g;
+    }
+    gimbal_quad_terms_(x[1], p, tt);
+    x[2] = (o.k - tt[4] - tt[1] * phid) / tt[0];
+    x[3] = phid;
+    return GIMBAL_OK;
+}
+
+int gimbal_quad_functions(double phi, const double *x0, const gimbal_params *p, double *out)
+{
+    double t[5], E, k, P, D;
+    if (!gimbal_all_finite_(x0, 4) || !isfinite(phi)) {
+        return GIMBAL_NONFINITE;
+    }
+    E = gimbal_energy(x0, p);
+    k = gimbal_momentum(x0, p);
+    gimbal_quad_terms_(phi, p, t);
+    out[0] = t[0];
+    out[1] = t[1];
+    out[2] = t[2];
+    out[3] = 2.0 * (E + t[3]);
+    out[4] = k - t[4];
+    D = t[2] * t[0] - t[1] * t[1];
+    P = out[3] * t[0] - out[4] * out[4];
+    out[5] = P > 0.0 ? sqrt(D / P) : HUGE_VAL;
+    return D > 0.0 ? GIMBAL_OK : GIMBAL_SINGULAR;
+}

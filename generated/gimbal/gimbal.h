@@ -13,7 +13,7 @@
  *   GIMBAL_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   GIMBAL_NO_PARAMS  3  p is NULL but the model has symbolic parameters
  * The double functions return NaN in the last case.
- * Op counts: energy 14, forces 19, mass_matrix 8, momentum 11, qdd 28, rhs 28.
+ * Op counts: energy 14, forces 19, mass_matrix 8, momentum 11, qdd 28, quad_terms 9, rhs 28.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -32,6 +32,13 @@ extern "C" {
 #define GIMBAL_NO_PARAMS 3
 #define GIMBAL_HAS_ENERGY_INTEGRAL 1
 #define GIMBAL_HAS_MOMENTUM_INTEGRAL 1
+#define GIMBAL_HAS_QUADRATURES 1
+#define GIMBAL_SEPARATRIX 4
+#define GIMBAL_NO_PERIOD 5
+#define GIMBAL_QUAD_FAILED 6
+#define GIMBAL_LIBRATION 1
+#define GIMBAL_ROTATION 2
+#define GIMBAL_STEADY 3
 typedef struct gimbal_params {
     double unused_;
 } gimbal_params;
@@ -41,7 +48,24 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
 int gimbal_rhs(double t, const double *x, const double *u, const gimbal_params *p, double *xdot);
 double gimbal_energy(const double *x, const gimbal_params *p);
 double gimbal_momentum(const double *x, const gimbal_params *p);
+typedef struct gimbal_quad_info {
+    int kind;
+    double E;
+    double k;
+    double phi_min;
+    double phi_max;
+    double period;
+    double psi_advance;
+    double separatrix_distance;
+} gimbal_quad_info;
+int gimbal_quad_motion(const double *x0, const gimbal_params *p, gimbal_quad_info *info);
+int gimbal_quad_period(const double *x0, const gimbal_params *p, double *period);
+int gimbal_quad_state(double t, const double *x0, const gimbal_params *p, double *x);
+int gimbal_quad_functions(double phi, const double *x0, const gimbal_params *p, double *out);
 
+/* quad_* report SEPARATRIX when the state is closer than this (relative to the size of the terms of
+ * E(phi) J - K^2) to a double root of it: the period is unbounded there. */
+#define GIMBAL_SEPARATRIX_TOL 1e-14
 #ifdef __cplusplus
 }
 #endif

@@ -32,6 +32,7 @@ extern "C" {
 #define SPATIAL3_NO_PARAMS 3
 #define SPATIAL3_HAS_ENERGY_INTEGRAL 0
 #define SPATIAL3_HAS_MOMENTUM_INTEGRAL 0
+#define SPATIAL3_HAS_QUADRATURES 0
 typedef struct spatial3_params {
     double unused_;
 } spatial3_params;

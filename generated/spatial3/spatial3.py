@@ -18,6 +18,8 @@ PARAMS = ()
 CONTROLS = (3, )  # joints with a control torque, in the order of u
 HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
+MOMENTUM_CONDITION = None  # when (27) depends on a parameter
+HAS_QUADRATURES = False
 OP_COUNTS = { "energy": 222, "forces": 376, "mass_matrix": 183, "qdd": 584, "rhs": 584, }
 PIVOT_TOL = 3 * 2.220446049250313e-16
 
