@@ -261,7 +261,8 @@ typedef struct {
     double S, L2;         /* size of the terms of P, bound of |P''| */
     double r[2], h;       /* turning points phi_-, phi_+ and the half amplitude */
     double slope[2];      /* |P'| at the turning points */
-    double phi0, dir;     /* rotation: start and sense */
+    double phi0, dir;     /* start and sense */
+    double phis, Ps, w, U; /* rotation: phi = phis + w sinh(b - U), 0 <= b <= 2U; P(phis) = Ps */
     double eps;           /* relative distance from the separatrix */
     int np[2];
     gimbal_panel_ pan[2][GIMBAL_QUAD_MAXP];
@@ -319,9 +320,24 @@ static double gimbal_pdelta_(const double *c, double r, double x)
     return sum;
 }
 
+/* P(s + x) - P(s) - P'(s) sin x at a minimum s of P (P'(s) = 0 up to round-off, which this drops):
+ * with p_j = c_sj cos js - c_cj sin js, q_j = c_cj cos js + c_sj sin js it is
+ * sum_j (sin jx - j sin x) p_j - 2 sin^2(jx/2) q_j, and sin 2x - 2 sin x = -4 sin x sin^2(x/2),
+ * sin 3x - 3 sin x = -4 sin^3 x: no term is linear in x, so nothing cancels near s. */
+static double gimbal_pbump_(const double *c, double s, double x)
+{
+    const double cs = cos(s), ss = sin(s), sx = sin(x), h1 = sin(0.5 * x);
+    const double c2 = cs * cs - ss * ss, s2 = 2.0 * ss * cs, c3 = c2 * cs - s2 * ss, s3 = s2 * cs + c2 * ss;
+    const double h2 = sin(x), h3 = sin(1.5 * x);
+    const double p2 = c[4] * c2 - c[3] * s2, p3 = c[6] * c3 - c[5] * s3;
+    const double q1 = c[1] * cs + c[2] * ss, q2 = c[3] * c2 + c[4] * s2, q3 = c[5] * c3 + c[6] * s3;
+    return -4.0 * sx * h1 * h1 * p2 - 4.0 * sx * sx * sx * p3 - 2.0 * (h1 * h1 * q1 + h2 * h2 * q2 + h3 * h3 * q3);
+}
+
 /* The first root of P from a (P(a) > 0) in the sense sig within dmax: returns 1 and *root, 0 when
- * P > 0 all the way, -1 when the walk does not converge.  *pmin: least local minimum of P passed. */
-static int gimbal_walk_(const gimbal_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin)
+ * P > 0 all the way, -1 when the walk does not converge.  *pmin, *argmin: the least local minimum
+ * of P passed (located by bisection on P'). */
+static int gimbal_walk_(const gimbal_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin, double *argmin)
 {
     double d[3], dn[3], gone = 0.0, step, lo, hi, mid, dm[3];
     int it, i, last;
@@ -356,6 +372,7 @@ static int gimbal_walk_(const gimbal_orbit_ *o, double a, double sig, double dma
             gimbal_pfour_(o->c, 0.5 * (lo + hi), dm);
             if (dm[0] < *pmin) {
                 *pmin = dm[0];
+                *argmin = 0.5 * (lo + hi);
             }
         }
         if (last) {
@@ -373,12 +390,13 @@ static int gimbal_walk_(const gimbal_orbit_ *o, double a, double sig, double dma
 /* dt, dpsi_K, dpsi_C per unit parameter b of quarter q (the turn when rotating). */
 static int gimbal_integrand_(const gimbal_orbit_ *o, int q, double b, double *f, double *phi_out, double *g_out)
 {
-    double t[5], phi, dphi, P = 0.0, D, g, K, s2 = 0.0, x, d[3];
+    double t[5], phi, dphi, P = 0.0, D, g, K, s2 = 0.0, x;
     if (o->kind == GIMBAL_ROTATION) {
-        phi = o->phi0 + o->dir * b;
-        dphi = o->dir;
-        gimbal_pfour_(o->c, phi, d);
-        P = d[0];
+        /* sinh map: a near-double root of P at phis (near the separatrix) becomes a smooth bump */
+        x = o->w * sinh(b - o->U);
+        phi = o->phis + x;
+        dphi = o->w * cosh(b - o->U);
+        P = o->Ps + gimbal_pbump_(o->c, o->phis, x);
     } else {
         s2 = sin(0.5 * b);
         x = (q ? -2.0 : 2.0) * o->h * s2 * s2;   /* phi - r, kept apart: phi alone rounds it away */
@@ -396,7 +414,7 @@ static int gimbal_integrand_(const gimbal_orbit_ *o, int q, double b, double *f,
     if (o->kind == GIMBAL_LIBRATION && s2 == 0.0) {
         g = sqrt(2.0 * D * o->h / o->slope[q]);
     } else if (P > 0.0) {
-        g = sqrt(D / P) * (o->kind == GIMBAL_ROTATION ? 1.0 : dphi);
+        g = sqrt(D / P) * dphi;
     } else {
         return GIMBAL_QUAD_FAILED;
     }
@@ -425,28 +443,42 @@ static int gimbal_kronrod_(const gimbal_orbit_ *o, int q, double a, double b, do
     static const double wg[4] = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
         0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
     const double hw = 0.5 * (b - a), cx = 0.5 * (a + b);
-    double f[3], vg[3] = {0.0, 0.0, 0.0};
-    int i, j, side, rc;
+    double f[15][3], vg[3] = {0.0, 0.0, 0.0}, asc, mean;
+    int i, j, side, rc, m = 0;
     for (j = 0; j < 3; ++j) {
         v[j] = 0.0;
     }
     for (i = 0; i < 8; ++i) {
-        for (side = (i == 7); side < 2; ++side) {
-            rc = gimbal_integrand_(o, q, cx + (side ? hw : -hw) * xk[i], f, 0, 0);
+        for (side = (i == 7); side < 2; ++side, ++m) {
+            rc = gimbal_integrand_(o, q, cx + (side ? hw : -hw) * xk[i], f[m], 0, 0);
             if (rc) {
                 return rc;
             }
             for (j = 0; j < 3; ++j) {
-                v[j] += wk[i] * f[j];
+                v[j] += wk[i] * f[m][j];
                 if (i % 2 == 1) {
-                    vg[j] += wg[i / 2] * f[j];
+                    vg[j] += wg[i / 2] * f[m][j];
                 }
             }
         }
     }
+    /* QUADPACK's estimate of the Kronrod error: |K15 - G7| scaled by its size against the
+     * integrand's variation (the G7 difference itself overstates it by orders of magnitude) */
     for (j = 0; j < 3; ++j) {
+        mean = 0.5 * v[j];
+        asc = 0.0;
+        for (i = 0, m = 0; i < 8; ++i) {
+            for (side = (i == 7); side < 2; ++side, ++m) {
+                asc += wk[i] * fabs(f[m][j] - mean);
+            }
+        }
+        asc *= fabs(hw);
+        e[j] = fabs((v[j] - vg[j]) * hw);
+        if (asc != 0.0 && e[j] != 0.0) {
+            mean = 200.0 * e[j] / asc;
+            e[j] = asc * (mean < 1.0 ? pow(mean, 1.5) : 1.0);
+        }
         v[j] *= hw;
-        e[j] = fabs(v[j] - vg[j] * hw);
     }
     return GIMBAL_OK;
 }
@@ -611,13 +643,14 @@ static int gimbal_invert_(const gimbal_orbit_ *o, int q, double tau, double *b, 
 /* The motion from x0: constants, Fourier coefficients of P, turning points, panels. */
 static int gimbal_orbit_init_(const double *x0, const gimbal_params *p, gimbal_orbit_ *o)
 {
-    double t[5], ej[8], kk[8], d[3], root, pmin, phi, D0, ang, e_end;
+    double t[5], ej[8], kk[8], d[3], root, pmin, argmin, phi, D0, ang, e_end;
     const double phi0 = x0[1], phid0 = x0[3];
     int i, j, found, rc;
     if (!gimbal_all_finite_(x0, 4)) {
         return GIMBAL_NONFINITE;
     }
     o->p = p;
+    o->kind = GIMBAL_LIBRATION;   /* until the walk finds no turning point */
     o->E = gimbal_energy(x0, p);
     o->k = gimbal_momentum(x0, p);
     o->S = 0.0;
@@ -659,6 +692,7 @@ static int gimbal_orbit_init_(const double *x0, const gimbal_params *p, gimbal_o
     o->dir = phid0 >= 0.0 ? 1.0 : -1.0;
     o->np[0] = o->np[1] = 0;
     pmin = HUGE_VAL;
+    argmin = phi0;
     gimbal_pfour_(o->c, phi0, d);
     if (phid0 == 0.0) {
         /* phi0 is a turning point; the motion leaves it where P grows */
@@ -667,14 +701,14 @@ static int gimbal_orbit_init_(const double *x0, const gimbal_params *p, gimbal_o
             return GIMBAL_OK;
         }
         o->dir = d[1] > 0.0 ? 1.0 : -1.0;
-        found = gimbal_walk_(o, phi0 + o->dir * fabs(d[1]) / o->L2, o->dir, 2.0 * GIMBAL_PI, &root, &pmin);
+        found = gimbal_walk_(o, phi0 + o->dir * fabs(d[1]) / o->L2, o->dir, 2.0 * GIMBAL_PI, &root, &pmin, &argmin);
         if (found != 1) {
             return found == 0 ? GIMBAL_SEPARATRIX : GIMBAL_QUAD_FAILED;
         }
         o->r[o->dir > 0.0 ? 0 : 1] = phi0;
         o->r[o->dir > 0.0 ? 1 : 0] = root;
     } else {
-        found = gimbal_walk_(o, phi0, o->dir, 2.0 * GIMBAL_PI, &root, &pmin);
+        found = gimbal_walk_(o, phi0, o->dir, 2.0 * GIMBAL_PI, &root, &pmin, &argmin);
         if (found < 0) {
             return GIMBAL_QUAD_FAILED;
         }
@@ -682,7 +716,7 @@ static int gimbal_orbit_init_(const double *x0, const gimbal_params *p, gimbal_o
             o->kind = GIMBAL_ROTATION;
         } else {
             o->r[o->dir > 0.0 ? 1 : 0] = root;
-            found = gimbal_walk_(o, phi0, -o->dir, 2.0 * GIMBAL_PI, &root, &pmin);
+            found = gimbal_walk_(o, phi0, -o->dir, 2.0 * GIMBAL_PI, &root, &pmin, &argmin);
             if (found != 1) {
                 return GIMBAL_QUAD_FAILED;
             }
@@ -692,8 +726,7 @@ static int gimbal_orbit_init_(const double *x0, const gimbal_params *p, gimbal_o
     if (o->S > 0.0) {
         o->eps = pmin / o->S;
     }
-    if (o->kind != GIMBAL_ROTATION) {
-        o->kind = GIMBAL_LIBRATION;
+    if (o->kind == GIMBAL_LIBRATION) {
         o->h = 0.5 * (o->r[1] - o->r[0]);
         for (i = 0; i < 2; ++i) {
             gimbal_pfour_(o->c, o->r[i], d);
@@ -709,7 +742,14 @@ static int gimbal_orbit_init_(const double *x0, const gimbal_params *p, gimbal_o
         return GIMBAL_SEPARATRIX;
     }
     if (o->kind == GIMBAL_ROTATION) {
-        return gimbal_panels_(o, 0, 2.0 * GIMBAL_PI, 8);
+        o->phis = argmin;
+        gimbal_pfour_(o->c, argmin, d);
+        o->Ps = d[0];
+        /* P ~ Ps + P'' x^2/2 near phis: the width of the bump */
+        o->w = d[2] > 0.0 ? sqrt(2.0 * d[0] / d[2]) : 1.0;
+        o->w = o->w < 1.0 ? o->w : 1.0;
+        o->U = asinh(GIMBAL_PI / o->w);
+        return gimbal_panels_(o, 0, 2.0 * o->U, 8);
     }
     rc = gimbal_panels_(o, 0, 0.5 * GIMBAL_PI, 4);
     if (!rc) {
@@ -738,7 +778,7 @@ int gimbal_quad_motion(const double *x0, const gimbal_params *p, gimbal_quad_inf
         info->phi_min = o.phi0;
         info->phi_max = o.phi0 + o.dir * 2.0 * GIMBAL_PI;
         info->period = o.tot[0][0];
-        info->psi_advance = o.tot[0][1] - o.tot[0][2];
+        info->psi_advance = o.tot[0][1] - o.dir * o.tot[0][2];
     } else {
         info->phi_min = info->phi_max = x0[1];
         info->period = 0.0;
@@ -807,19 +847,33 @@ int gimbal_quad_state(double t, const double *x0, const gimbal_params *p, double
         return GIMBAL_OK;
     }
     if (o.kind == GIMBAL_ROTATION) {
-        T = o.tot[0][0];
-        n = floor(t / T);
-        rem = t - n * T;
-        rc = gimbal_invert_(&o, 0, rem, &b, v);
+        /* one turn: b from 0 (phi = phis - pi) to 2U (phis + pi); the motion runs along b when
+         * dir > 0 and against it when dir < 0, where the C part of psi flips */
+        const double *I = o.tot[0], dpsi = I[1] - o.dir * I[2];
+        double x0s = x0[1] - o.phis, turns;
+        T = I[0];
+        turns = floor((x0s + GIMBAL_PI) / (2.0 * GIMBAL_PI));
+        x0s -= 2.0 * GIMBAL_PI * turns;
+        b0 = o.U + asinh(x0s / o.w);
+        rc = gimbal_partial_(&o, 0, b0, v);
+        if (rc) {
+            return rc;
+        }
+        phase0 = o.dir > 0.0 ? v[0] : T - v[0];
+        psir0 = o.dir > 0.0 ? v[1] - v[2] : I[1] - v[1] + I[2] - v[2];
+        n = floor((phase0 + t) / T);
+        rem = phase0 + t - n * T;
+        rc = gimbal_invert_(&o, 0, o.dir > 0.0 ? rem : T - rem, &b, v);
         if (!rc) {
             rc = gimbal_integrand_(&o, 0, b, f, &phi, &g);
         }
         if (rc) {
             return rc;
         }
-        x[1] = phi + o.dir * 2.0 * GIMBAL_PI * n;
-        x[0] = x0[0] + n * (o.tot[0][1] - o.tot[0][2]) + v[1] - v[2];
-        phid = o.dir / g;
+        psir = o.dir > 0.0 ? v[1] - v[2] : I[1] - v[1] + I[2] - v[2];
+        x[0] = x0[0] + n * dpsi + psir - psir0;
+        x[1] = phi + 2.0 * GIMBAL_PI * (turns + o.dir * n);
+        phid = o.dir * o.w * cosh(b - o.U) / g;
     } else {
         const double *Im = o.tot[0], *Ip = o.tot[1];
         T = 2.0 * (Im[0] + Ip[0]);

@@ -266,6 +266,14 @@ def _pdelta(c, r, x):
     return sum(2.0 * np.sin(0.5 * j * x) * (c[2 * j] * np.cos(j * m) - c[2 * j - 1] * np.sin(j * m)) for j in (1, 2, 3))
 
 
+def _pbump(c, s, x):
+    """P(s + x) - P(s) - P'(s) sin x at a minimum s of P: no term linear in x (see the C)."""
+    p = [c[2 * j] * math.cos(j * s) - c[2 * j - 1] * math.sin(j * s) for j in (1, 2, 3)]
+    q = [c[2 * j - 1] * math.cos(j * s) + c[2 * j] * math.sin(j * s) for j in (1, 2, 3)]
+    sx, h = np.sin(x), [np.sin(0.5 * j * x) for j in (1, 2, 3)]
+    return -4.0 * sx * h[0] ** 2 * p[1] - 4.0 * sx ** 3 * p[2] - 2.0 * (h[0] ** 2 * q[0] + h[1] ** 2 * q[1] + h[2] ** 2 * q[2])
+
+
 class _Orbit:
     """The motion from x0: constants, Fourier coefficients of P, turning points, panels."""
 
@@ -297,7 +305,7 @@ class _Orbit:
         self.phi0, self.dir = phi0, (1.0 if phid0 >= 0.0 else -1.0)
         self.r = [0.0, 0.0]
         self.kind = None
-        self.pmin = math.inf
+        self.pmin, self.argmin = math.inf, phi0
         d = _pfour(c, phi0)
         if phid0 == 0.0:
             if not abs(d[1]) > SEPARATRIX_TOL * self.S:
@@ -337,7 +345,12 @@ class _Orbit:
                 "phi tends to an unstable steady motion and has no period"
             )
         if self.kind == ROTATION:
-            self.panels = [self._panels(0, 2.0 * math.pi, 8)]
+            self.phis = self.argmin
+            d = _pfour(c, self.phis)
+            self.Ps = d[0]
+            self.w = min(math.sqrt(2.0 * d[0] / d[2]) if d[2] > 0.0 else 1.0, 1.0)  # width of the bump
+            self.U = math.asinh(math.pi / self.w)
+            self.panels = [self._panels(0, 2.0 * self.U, 8)]
         else:
             self.panels = [self._panels(0, 0.5 * math.pi, 4), self._panels(1, 0.5 * math.pi, 4)]
         self.tot = [pan["total"] for pan in self.panels]
@@ -365,7 +378,9 @@ class _Orbit:
                         lo = mid
                     else:
                         hi = mid
-                self.pmin = min(self.pmin, _pfour(c, 0.5 * (lo + hi))[0])
+                pm = _pfour(c, 0.5 * (lo + hi))[0]
+                if pm < self.pmin:
+                    self.pmin, self.argmin = pm, 0.5 * (lo + hi)
             if last:
                 return 0, None
             a += sig * step
@@ -377,9 +392,11 @@ class _Orbit:
         """dt, dpsi_K, dpsi_C per unit parameter b (array) of quarter q, with phi and g = dt/db."""
         b = np.asarray(b, dtype=float)
         if self.kind == ROTATION:
-            phi = self.phi0 + self.dir * b
-            dphi = np.full(b.shape, self.dir)
-            P = np.array([_pfour(self.c, v)[0] for v in np.ravel(phi)]).reshape(b.shape)
+            # sinh map: a near-double root of P at phis (near the separatrix) becomes a smooth bump
+            x = self.w * np.sinh(b - self.U)
+            phi = self.phis + x
+            dphi = self.w * np.cosh(b - self.U)
+            P = self.Ps + _pbump(self.c, self.phis, x)
             s2 = None
         else:
             s2 = np.sin(0.5 * b)
@@ -393,7 +410,7 @@ class _Orbit:
             raise SingularMassMatrix("M is not positive definite on the path of phi")
         with np.errstate(divide="ignore", invalid="ignore"):
             if s2 is None:
-                g = np.sqrt(D / P)
+                g = np.sqrt(D / P) * dphi
             else:
                 g = np.where(s2 == 0.0, np.sqrt(2.0 * D * self.h / self.slope[q]), np.sqrt(D / P) * dphi)
         if not (np.all(P[s2 != 0.0] > 0.0) if s2 is not None else np.all(P > 0.0)) or not np.all(np.isfinite(g)):
@@ -406,7 +423,11 @@ class _Orbit:
         hw, cx = 0.5 * (b - a), 0.5 * (a + b)
         f, _phi, _g = self.integrand(q, cx + hw * _X15)
         v = hw * (f @ _W15)
-        return v, np.abs(v - hw * (f @ _G15))
+        # QUADPACK's estimate of the Kronrod error (see the C)
+        e = np.abs(v - hw * (f @ _G15))
+        asc = abs(hw) * (np.abs(f - 0.5 * (f @ _W15)[:, None]) @ _W15)
+        scaled = asc * np.minimum(1.0, (200.0 * e / np.where(asc != 0.0, asc, 1.0)) ** 1.5)
+        return v, np.where((asc != 0.0) & (e != 0.0), scaled, e)
 
     def _panels(self, q, end, start):
         pan = []
@@ -491,7 +512,7 @@ def quad_motion(x0, p=None):
                    psi_advance=2.0 * (o.tot[0][1] + o.tot[1][1]))
     elif o.kind == ROTATION:
         out.update(phi_min=o.phi0, phi_max=o.phi0 + o.dir * 2.0 * math.pi, period=o.tot[0][0],
-                   psi_advance=o.tot[0][1] - o.tot[0][2])
+                   psi_advance=o.tot[0][1] - o.dir * o.tot[0][2])
     else:
         out.update(phi_min=float(x0[1]), phi_max=float(x0[1]), period=0.0, psi_advance=0.0)
     return out
@@ -518,6 +539,18 @@ def quad_state(t, x0, p=None):
         out[:] = [x0[0], x0[1], x0[2], 0.0]
         out[:, 0] = x0[0] + x0[2] * ts
         return out if np.ndim(t) else out[0]
+    if o.kind == ROTATION:
+        # one turn: b from 0 (phi = phis - pi) to 2U (phis + pi); the motion runs along b when
+        # dir > 0 and against it when dir < 0, where the C part of psi flips
+        I = o.tot[0]
+        T, dpsi = I[0], I[1] - o.dir * I[2]
+        turns = math.floor((x0[1] - o.phis + math.pi) / (2.0 * math.pi))
+        v0 = o.partial(0, o.U + math.asinh((x0[1] - o.phis - 2.0 * math.pi * turns) / o.w))
+
+        def rot_phase(v):
+            return (v[0], v[1] - v[2]) if o.dir > 0.0 else (T - v[0], I[1] - v[1] + I[2] - v[2])
+
+        phase0, psir0 = rot_phase(v0)
     if o.kind == LIBRATION:
         Im, Ip = o.tot
         T = 2.0 * (Im[0] + Ip[0])
@@ -528,13 +561,13 @@ def quad_state(t, x0, p=None):
         phase0, psir0 = o.lib_phase(seg, o.partial(q, b0))
     for i, ti in enumerate(ts):
         if o.kind == ROTATION:
-            T = o.tot[0][0]
-            n = math.floor(ti / T)
-            b, v = o.invert(0, ti - n * T)
+            n = math.floor((phase0 + ti) / T)
+            rem = phase0 + ti - n * T
+            b, v = o.invert(0, rem if o.dir > 0.0 else T - rem)
             _f, phi, g = o.integrand(0, np.array([b]))
-            phi = float(phi[0]) + o.dir * 2.0 * math.pi * n
-            psi = x0[0] + n * (o.tot[0][1] - o.tot[0][2]) + v[1] - v[2]
-            phid = o.dir / float(g[0])
+            phi = float(phi[0]) + 2.0 * math.pi * (turns + o.dir * n)
+            psi = x0[0] + n * dpsi + rot_phase(v)[1] - psir0
+            phid = o.dir * o.w * math.cosh(b - o.U) / float(g[0])
         else:
             n = math.floor((phase0 + ti) / T)
             rem = phase0 + ti - n * T
