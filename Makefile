@@ -1,5 +1,6 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
 # make test                           set up .venv and run the test suite
+# make plot                           the gimbal's quadrature over an ODE solution (docs/gimbal_quadrature.png)
 # make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo (bench/results/)
 SHELL := /bin/bash
 PY ?= python3
@@ -9,7 +10,7 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test pdf clean bench-setup bench-speed
+.PHONY: all setup generate generate-all test pdf plot clean bench-setup bench-speed
 
 all: generate
 
@@ -29,6 +30,14 @@ generate-all: setup
 
 test: setup
 	$(VPY) -m pytest -q
+
+$(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
+	$(VPY) -m pip install -q -e '.[test,plot]'
+	touch $@
+
+plot: $(VENV)/.plot-installed
+	$(VPY) -m codegen generate -q specs/gimbal.toml >/dev/null
+	$(VPY) examples/plot_gimbal.py docs/gimbal_quadrature.png
 
 $(VENV)/.bench-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,bench]'

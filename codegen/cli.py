@@ -38,7 +38,7 @@ def derive_and_render(spec, spec_label: str, progress=None, qdd_form: str = "aut
     kin = kinematics.derive(spec)
     say("dynamics: mass matrix and forces (recursions over the sub-chains p >= k)")
     dyn = dynamics.derive(spec, kin)
-    say("integrals: energy" + (" and momentum" if spec.bodies[0].theta == 0 else ""))
+    say("integrals: energy (23) and, where l1 may be vertical, momentum (27)")
     ints = integrals.derive(spec, kin, dyn)
     model = emit.build_model(spec, kin, dyn, ints, progress=say, qdd_form=qdd_form)
     say("printing C, Python and LaTeX")
@@ -107,13 +107,55 @@ def cmd_generate(args) -> int:
     print(f"{spec.name}: n = {spec.n}, {len(spec.params)} symbolic parameters, {len(spec.controls)} control torques")
     print("op counts: " + ", ".join(f"{spec.name}_{k} {v}" for k, v in counts.items()))
     print(f"qdd form: {model.qdd_form}" + (" (composite bodies + LDL^T)" if model.qdd_form == "composite" else " (articulated bodies, O(n))"))
-    found = ["energy T - U (23)" + ("" if ints.has_energy_integral else " [not conserved: control torques act]")]
-    if ints.momentum is not None:
-        found.append("momentum (27)" + ("" if ints.has_momentum_integral else " [not conserved: torque on joint 1]"))
-    print("integrals: " + "; ".join(found))
+    for line in _integral_lines(spec, model):
+        print(line)
+    if model.quad is not None and spec.initial is not None:
+        print(_motion_line(spec, target))
     print(f"wrote {target}/: " + ", ".join(sorted(files)) + ("" if args.no_build else " + cffi extension"))
     print(f"done in {time.perf_counter() - t0:.2f} s")
     return 0
+
+
+def _integral_lines(spec, model) -> list[str]:
+    """What `generate` says about the integrals and the quadratures of a spec."""
+    from .quadratures import why_not
+
+    ints = model.integrals
+    energy = "energy T - U (23): " + ("conserved (fixed base, no control torque)" if ints.has_energy_integral
+                                      else "not conserved (control torques act)")
+    if ints.momentum_condition:
+        momentum = f"momentum (27): conserved only if {ints.momentum_condition}"
+    elif ints.momentum is None:
+        momentum = "momentum (27): not an integral (theta1 is not 0 or pi: the axis l1 is not vertical)"
+    elif ints.has_momentum_integral:
+        momentum = "momentum (27): conserved (axis l1 vertical, no torque in joint 1)"
+    else:
+        momentum = "momentum (27): not conserved (a control torque acts in joint 1)"
+    reason = why_not(spec)
+    quad = ("quadratures (30): emitted (" + ("Nikolai's balanced gyroscope, " if model.quad.nikolai else "")
+            + "NAME_quad_period, NAME_quad_state)" if reason is None else f"quadratures (30): not emitted: {reason}")
+    return ["integrals: " + energy, "           " + momentum, quad.replace("NAME", spec.name)]
+
+
+def _motion_line(spec, target: Path) -> str:
+    """The kind of motion of the spec's [initial] state, by the generated Python module itself."""
+    from .build import load_python
+
+    if spec.params:
+        return "motion of [initial]: needs values of the parameters (" + ", ".join(map(str, spec.params)) + ")"
+    mod = load_python(target, spec.name)
+    x0 = [*spec.initial["phi"], *spec.initial["phidot"]]
+    try:
+        m = mod.quad_motion(x0)
+    except ArithmeticError as exc:
+        return f"motion of [initial]: {exc}"
+    if m["kind"] == "libration":
+        return (f"motion of [initial]: libration of phi2 between {m['phi_min']:.9g} and {m['phi_max']:.9g} rad, "
+                f"period {m['period']:.12g} s, psi gains {m['psi_advance']:.9g} rad per period")
+    if m["kind"] == "rotation":
+        return (f"motion of [initial]: rotation (phi2 runs round), period {m['period']:.12g} s per turn, "
+                f"psi gains {m['psi_advance']:.9g} rad per turn")
+    return "motion of [initial]: steady (phi2 stays constant, psi turns uniformly)"
 
 
 def cmd_check(args) -> int:

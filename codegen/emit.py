@@ -472,7 +472,17 @@ def _tex(model: Model) -> dict:
     G = [TexEquation(f"G_{{{k + 1}}}", tuple(lines(next(values)))) for k in range(n)]
     U = TexEquation("U", tuple(lines(next(values))))
     K = TexEquation("k", tuple(grouped(next(values)))) if ints.momentum is not None else None
+    quad = None
+    if model.quad is not None:
+        J, C, A, U2, beta = kin.prog.inline(model.quad.terms)
+        quad = dict(
+            J=tuple(_tex_lines(J, pr)), C=tuple(_tex_lines(C, pr)), A=tuple(_tex_lines(A, pr)),
+            U=tuple(_tex_lines(U2, pr)), beta=tuple(_tex_lines(beta, pr)), nikolai=model.quad.nikolai,
+            U_const=not (U2.free_symbols & {kin.phi[2]}),
+        )
     return dict(
+        quad=quad,
+        momentum_condition=_tex_escape(ints.momentum_condition) if ints.momentum_condition else None,
         bodies=bodies,
         g=pr.doprint(_display(spec.g)),
         params=", ".join(f"${pr.doprint(p)}$" for p in spec.params),

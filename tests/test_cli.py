@@ -19,7 +19,16 @@ def test_generate_prints_op_counts_integrals_and_where(tmp_path):
     res = run("generate", "specs/gimbal.toml", "-o", str(tmp_path / "g"))
     assert res.returncode == 0, res.stderr
     assert "op counts: gimbal_mass_matrix" in res.stdout and "gimbal_qdd" in res.stdout
-    assert "integrals: energy T - U (23); momentum (27)" in res.stdout
+    assert "integrals: energy T - U (23): conserved" in res.stdout
+    assert "momentum (27): conserved (axis l1 vertical" in res.stdout
+    assert "quadratures (30): emitted (Nikolai's balanced gyroscope" in res.stdout
+    # the [initial] state's motion, found by the generated module (C checks it in test_quadratures)
+    line = next(ln for ln in res.stdout.splitlines() if ln.startswith("motion of [initial]: libration"))
+    period = float(line.split("period ")[1].split()[0])
+    from codegen.build import load_python
+    spec = load_spec(ROOT / "specs" / "gimbal.toml")
+    x0 = [*spec.initial["phi"], *spec.initial["phidot"]]
+    assert abs(period - load_python(tmp_path / "g", "gimbal").quad_period(x0)) <= 1e-11 * period
     assert f"wrote {tmp_path / 'g'}/" in res.stdout
     assert "[" in res.stderr and "s]" in res.stderr  # progress lines with elapsed time
     assert list((tmp_path / "g").glob("_gimbal_cffi*.so")), "the cffi extension is built"
@@ -74,3 +83,43 @@ def test_spec_text_is_data_in_every_output(tmp_path):
         tex = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "evil.tex"], cwd=out,
                              capture_output=True, text=True)
         assert tex.returncode == 0, tex.stdout[-2000:]
+
+
+THETA_PARAM = """
+name = "tilted"
+g = 9.81
+[[body]]
+theta = "th1"
+m = 1.0
+c = [0.0, 0.1, 0.0]
+A = [[0.02, 0.0, 0.0], [0.0, 0.03, 0.0], [0.0, 0.0, 0.03]]
+s = [0.0, 0.2, 0.0]
+[[body]]
+theta = 1.0
+m = 0.5
+c = [0.1, 0.0, 0.05]
+A = [[0.01, 0.0, 0.0], [0.0, 0.012, 0.0], [0.0, 0.0, 0.015]]
+"""
+
+
+def test_a_condition_on_a_parameter_is_stated_not_guessed(tmp_path):
+    spec = tmp_path / "tilted.toml"
+    spec.write_text(THETA_PARAM)
+    res = run("generate", str(spec), "-o", str(tmp_path / "t"))
+    assert res.returncode == 0, res.stderr
+    assert "momentum (27): conserved only if sin(theta1) = 0 (theta1 = th1 is a parameter" in res.stdout
+    assert "quadratures (30): not emitted: theta1 = th1 is a parameter" in res.stdout
+    header = (tmp_path / "t" / "tilted.h").read_text()
+    assert "#define TILTED_HAS_MOMENTUM_INTEGRAL 0" in header and "#define TILTED_MOMENTUM_CONDITION" in header
+    assert "tilted_momentum(" in header and "#define TILTED_HAS_QUADRATURES 0" in header
+    assert "conserved, $= k$, only when the axis $l^1$ is vertical" in (tmp_path / "t" / "tilted.tex").read_text()
+    # and the condition is right: conserved at th1 = 0 and at pi, not at 0.4
+    from codegen.build import load
+    from scipy.integrate import solve_ivp
+    c = load(tmp_path / "t", "tilted")
+    x0 = np.array([0.1, 0.5, 1.0, -2.0])
+    for th1, conserved in ((0.0, True), (np.pi, True), (0.4, False)):
+        p = {"th1": th1}
+        sol = solve_ivp(lambda t, x: c.rhs(t, x, None, p), (0, 2.0), x0, method="DOP853", rtol=1e-12, atol=1e-12)
+        k = [c.momentum(x, p) for x in sol.y.T]
+        assert (max(k) - min(k) <= 1e-9) == conserved

@@ -210,3 +210,65 @@ def test_steady_motion_and_bad_input(example):
     assert err.value.code == 2
     with pytest.raises(m.py.NonFiniteResult):
         m.py.quad_period([0.0, np.inf, 1.0, 1.0])
+
+
+# --------------------------------------------------------------------------- symbolic, structure
+GIMBAL_SYM = """
+name = "gimbal_sym"
+g = "g0"
+[[body]]
+theta = 0
+m = 0.5
+c = [0.0, 0.0, "c1"]
+A = [["A1", 0.0, 0.0], [0.0, 0.003, 0.0], [0.0, 0.0, 0.003]]
+s = [0.0, "s1", 0.0]
+[[body]]
+theta = "vt"
+m = "m2"
+c = ["c21", "c22", 0.0]
+A = [[0.006, 0.0, 0.0], [0.0, 0.006, 0.0], [0.0, 0.0, "A33"]]
+lambda = [0.0, 0.0, "lam"]
+"""
+
+
+def test_symbolic_parameters(make_model):
+    """The quadratures of a spec with symbolic parameters: the same numbers as a numeric
+    spec with those values folded in, C and Python; NO_PARAMS without p."""
+    values = dict(g0=9.81, c1=0.0, A1=0.005, s1=0.0, vt=math.pi / 2, m2=1.2, c21=0.0, c22=0.0, A33=0.009, lam=0.5)
+    sym = make_model(GIMBAL_SYM, dict(values))
+    num = make_model(GIMBAL_SYM.replace('"gimbal_sym"', '"gimbal_num"').replace('"vt"', '"pi/2"')
+                     .replace('"lam"', "0.5").replace('"A33"', "0.009").replace('"m2"', "1.2")
+                     .replace('"g0"', "9.81").replace('"A1"', "0.005")
+                     .replace('"c1"', "0.0").replace('"s1"', "0.0").replace('"c21"', "0.0").replace('"c22"', "0.0"))
+    assert not num.spec.params and sym.c.lib.GIMBAL_SYM_HAS_QUADRATURES == 1
+    for kind, x0 in GIMBAL_STATES.items():
+        x0 = np.array(x0)
+        T = num.c.quad_period(x0)
+        assert abs(sym.c.quad_period(x0, values) - T) <= 1e-13 * T
+        assert abs(sym.py.quad_period(x0, values) - T) <= 1e-13 * T
+        assert np.allclose(sym.c.quad_state(3.3, x0, values), num.c.quad_state(3.3, x0), rtol=1e-11, atol=1e-11)
+    with pytest.raises(ModelError) as err:
+        sym.c.quad_period(np.array(GIMBAL_STATES["libration"]))
+    assert err.value.code == 3
+    # an offset spec with gravity: against the ODE of the same symbolic model
+    values = dict(values, c1=0.05, s1=0.1, c21=0.03, c22=0.08, vt=1.2)
+    x0 = np.array([0.0, 0.3, 1.0, 0.5])
+    check_against_ode(sym, x0, sym.c.quad_motion(x0, values)["kind"], values)
+
+
+@pytest.mark.parametrize("seed", [4, 5])
+def test_E_J_minus_K2_is_a_trigonometric_polynomial_of_degree_3(make_model, seed):
+    """The premise of the root walk and of the 8-sample Fourier coefficients."""
+    model = random_two_body(make_model, seed)
+    x0 = np.random.default_rng(seed).normal(size=4)
+    phi = 2 * np.pi * np.arange(64) / 64
+    f = model.py.quad_functions(phi, x0)
+    P = f["E"] * f["J"] - f["K"] ** 2
+    spec = np.abs(np.fft.rfft(P)) / 64
+    assert spec[3] > 1e-6 * spec.max()  # degree 3 is there (random tensors)
+    assert spec[4:].max() <= 1e-14 * spec.max()
+    # the C and the Python give the same paper's functions
+    for ph in (0.3, 2.0):
+        c = model.c.quad_functions(ph, x0)
+        py = model.py.quad_functions(ph, x0)
+        assert np.allclose(c[:5], [py[k] for k in ("J", "C", "A", "E", "K")], rtol=1e-14, atol=1e-15)
