@@ -1,6 +1,7 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
 # make test                           set up .venv and run the test suite
 # make plot                           the gimbal's quadrature over an ODE solution (docs/gimbal_quadrature.png)
+# make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost (bench/results/)
 # make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo (bench/results/)
 SHELL := /bin/bash
 PY ?= python3
@@ -10,7 +11,7 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test pdf plot clean bench-setup bench-speed
+.PHONY: all setup generate generate-all test pdf plot clean bench bench-setup bench-speed
 
 all: generate
 
@@ -48,6 +49,9 @@ $(VENV)/.bench-installed: $(VENV)/.installed pyproject.toml
 	touch $@
 
 bench-setup: $(VENV)/.bench-installed
+
+bench: $(VENV)/.plot-installed
+	$(VPY) bench/integrators.py
 
 bench-speed: bench-setup
 	$(VPY) bench/speed.py

@@ -56,9 +56,23 @@ class ModelError(ArithmeticError):
         names = {
             1: "SINGULAR (M is not positive definite)", 2: "NONFINITE", 3: "NO_PARAMS",
             4: "SEPARATRIX", 5: "NO_PERIOD (steady motion)", 6: "QUAD_FAILED",
+            7: "STEP_UNDERFLOW", 8: "NO_CONVERGENCE", 9: "TOO_MANY_STEPS", 10: "BAD_ARGUMENT",
         }
         super().__init__(f"{func} returned {code}: {names.get(code, 'unknown code')}")
         self.code = code
+
+
+class IntegrationError(ModelError):
+    """An integrator stopped early; ``t``, ``x`` are where (the last accepted step), ``X`` the
+    trajectory with NaN rows past it, ``stats`` the counts."""
+
+    def __init__(self, func: str, code: int, X, stats: dict):
+        super().__init__(func, code)
+        self.X, self.stats, self.t, self.x = X, stats, stats["t"], stats["x"]
+        self.args = (f"{self.args[0]} at t = {self.t!r}",)
+
+
+METHODS = {"rk4": 1, "dop853": 2, "gauss2": 3}
 
 
 class CModel:
@@ -126,6 +140,27 @@ class CModel:
     def momentum(self, x, params=None):
         xp, _k = self._arr(x, 2 * self.n)
         return self._fn("momentum")(xp, self._p(params))
+
+    # ---- the integrators (NAME_integrate_grid)
+    def integrate(self, t, x0, method="dop853", h=0.0, rtol=1e-8, atol=1e-10, u=None, params=None,
+                  max_steps=0, full_output=False):
+        """The trajectory at the times t (monotone; t[0] is the start, x0 the state there), as an
+        array (len(t), 2N), by the C integrator `method` (rk4, gauss2: fixed step h; dop853:
+        adaptive, h the first step or 0).  Raises IntegrationError when it stops early.  With
+        full_output, also a dict of counts (n_rhs, n_steps, n_rejected, n_iter)."""
+        ts = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
+        xp, _k = self._arr(x0, 2 * self.n)
+        up, _ku = self._u(u)
+        X = np.empty((len(ts), 2 * self.n))
+        st = self.ffi.new(f"{self.name}_integrate_stats *")
+        code = self._fn("integrate_grid")(
+            METHODS[method], len(ts), self.ffi.cast("double *", self.ffi.from_buffer(ts)), float(h), float(rtol),
+            float(atol), int(max_steps), xp, up, self._p(params), self.ffi.cast("double *", self.ffi.from_buffer(X)), st)
+        stats = dict(t=st.t, x=np.array(list(st.x)), n_rhs=st.n_rhs, n_steps=st.n_steps,
+                     n_rejected=st.n_rejected, n_iter=st.n_iter)
+        if code != 0:
+            raise IntegrationError(f"{self.name}_integrate_grid({method})", code, X, stats)
+        return (X, stats) if full_output else X
 
     # ---- the two-body quadratures (models with NAME_HAS_QUADRATURES)
     def quad_motion(self, x0, params=None) -> dict:

@@ -33,6 +33,13 @@ extern "C" {
 #define DOUBLE_PENDULUM_HAS_ENERGY_INTEGRAL 1
 #define DOUBLE_PENDULUM_HAS_MOMENTUM_INTEGRAL 0
 #define DOUBLE_PENDULUM_HAS_QUADRATURES 0
+#define DOUBLE_PENDULUM_STEP_UNDERFLOW 7
+#define DOUBLE_PENDULUM_NO_CONVERGENCE 8
+#define DOUBLE_PENDULUM_TOO_MANY_STEPS 9
+#define DOUBLE_PENDULUM_BAD_ARGUMENT 10
+#define DOUBLE_PENDULUM_RK4 1
+#define DOUBLE_PENDULUM_DOP853 2
+#define DOUBLE_PENDULUM_GAUSS2 3
 typedef struct double_pendulum_params {
     double unused_;
 } double_pendulum_params;
@@ -41,6 +48,19 @@ int double_pendulum_forces(const double *x, const double *u, const double_pendul
 int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_params *p, double *qdd);
 int double_pendulum_rhs(double t, const double *x, const double *u, const double_pendulum_params *p, double *xdot);
 double double_pendulum_energy(const double *x, const double_pendulum_params *p);
+typedef struct double_pendulum_integrate_stats {
+    double t;
+    double x[4];
+    long n_rhs;
+    long n_steps;
+    long n_rejected;
+    long n_iter;
+} double_pendulum_integrate_stats;
+int double_pendulum_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+                   const double *x0, const double *u, const double_pendulum_params *p, double *x1, long *n_rhs);
+int double_pendulum_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                        long max_steps, const double *x0, const double *u, const double_pendulum_params *p,
+                        double *X, double_pendulum_integrate_stats *stats);
 
 #ifdef __cplusplus
 }

@@ -255,3 +255,438 @@ double furuta_momentum(const double *x, const furuta_params *p)
     }
     return result;
 }
+
+/* ---------------------------------------------------------------------------------------
+ * Integrators: NAME_integrate and NAME_integrate_grid, written once over furuta_rhs.
+ *   RK4     classical Runge-Kutta, order 4, fixed step.
+ *   DOP853  Dormand-Prince 8(5,3), adaptive, with the 7th-order dense output (Hairer, Norsett,
+ *           Wanner, Solving ODE I, II.5-II.10, and their Fortran DOP853, whose coefficients and
+ *           error norm these are).
+ *   GAUSS2  2-stage Gauss-Legendre collocation, order 4, symmetric (time-reversible), fixed step;
+ *           the stage equations are solved by fixed-point iteration until the correction stops
+ *           decreasing (round-off).
+ * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
+ * (do not compile with -ffast-math, which removes the compensation).  A stage that meets a
+ * singular M or a non-finite value ends a fixed-step run with that code and the last good state;
+ * DOP853 retries the step smaller first, and returns the code only when the step underflows
+ * (the motion runs into the singular configuration).
+ * --------------------------------------------------------------------------------------- */
+#ifndef FURUTA_INTEGRATE_MAX_STEPS
+#define FURUTA_INTEGRATE_MAX_STEPS 100000000L  /* default budget of steps (max_steps <= 0) */
+#endif
+#define FURUTA_GAUSS_MAXIT 100                   /* fixed-point iterations per step */
+#define FURUTA_EPS 2.220446049250313e-16
+
+static int furuta_eval_(const double *x, const double *u, const furuta_params *p, double *xdot,
+                            furuta_integrate_stats *st)
+{
+    st->n_rhs++;
+    return furuta_rhs(0.0, x, u, p, xdot);
+}
+
+/* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
+static void furuta_add_(double *x, double *cmp, const double *dx)
+{
+    int i;
+    for (i = 0; i < 4; ++i) {
+        const double y = dx[i] + cmp[i];
+        const double s = x[i] + y;
+        cmp[i] = (x[i] - s) + y;
+        x[i] = s;
+    }
+}
+
+static void furuta_copy_(double *dst, const double *src)
+{
+    int i;
+    for (i = 0; i < 4; ++i) {
+        dst[i] = src[i];
+    }
+}
+
+/* The steps of a fixed-step method between two output times: the largest count m with
+ * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
+static long furuta_nsteps_(double ta, double tb, double h)
+{
+    const double r = fabs(tb - ta) / fabs(h);
+    double m = ceil(r * (1.0 - 1e-10));
+    return m < 1.0 ? 1L : (long)m;
+}
+
+/* One classical RK4 step of size h from x: dx = the increment. */
+static int furuta_rk4_step_(const double *x, double h, const double *u, const furuta_params *p,
+                                double *dx, furuta_integrate_stats *st)
+{
+    double k[4][4], y[4];
+    int i, s, code;
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    if ((code = furuta_eval_(x, u, p, k[0], st)) != 0) {
+        return code;
+    }
+    for (s = 1; s < 4; ++s) {
+        for (i = 0; i < 4; ++i) {
+            y[i] = x[i] + cs[s - 1] * h * k[s - 1][i];
+        }
+        if ((code = furuta_eval_(y, u, p, k[s], st)) != 0) {
+            return code;
+        }
+    }
+    for (i = 0; i < 4; ++i) {
+        dx[i] = h / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+    }
+    return FURUTA_OK;
+}
+
+/* One GAUSS2 step of size h from x.  F holds the stage derivatives of the previous step (the
+ * starting guess; f(x) twice on the first step) and on return those of this one.  Stage
+ * increments Z_i = h sum_j a_ij f(x + Z_j); dx = h (F_1 + F_2) / 2. */
+static int furuta_gauss2_step_(const double *x, double h, const double *u, const furuta_params *p,
+                                   double F[2][4], double *dx, furuta_integrate_stats *st)
+{
+    static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
+    double Z[2][4], Y[4];
+    double d, dprev = HUGE_VAL;
+    int i, s, it, code;
+    for (i = 0; i < 4; ++i) {
+        Z[0][i] = h * (a11 * F[0][i] + a12 * F[1][i]);
+        Z[1][i] = h * (a21 * F[0][i] + a22 * F[1][i]);
+    }
+    for (it = 1;; ++it) {
+        for (s = 0; s < 2; ++s) {
+            for (i = 0; i < 4; ++i) {
+                Y[i] = x[i] + Z[s][i];
+            }
+            if ((code = furuta_eval_(Y, u, p, F[s], st)) != 0) {
+                return code;
+            }
+        }
+        st->n_iter++;
+        /* the correction, relative to the size of x and Z, component by component */
+        d = 0.0;
+        for (i = 0; i < 4; ++i) {
+            const double z0 = h * (a11 * F[0][i] + a12 * F[1][i]);
+            const double z1 = h * (a21 * F[0][i] + a22 * F[1][i]);
+            const double sc = fabs(x[i]) + fabs(z0) + fabs(z1) + 1e-300;
+            const double e = fmax(fabs(z0 - Z[0][i]), fabs(z1 - Z[1][i])) / sc;
+            d = e > d ? e : d;
+            Z[0][i] = z0;
+            Z[1][i] = z1;
+        }
+        if (!(d < HUGE_VAL)) {
+            return FURUTA_NO_CONVERGENCE;
+        }
+        if (d <= FURUTA_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+            break;  /* at round-off: exact to the last bit, or no longer decreasing */
+        }
+        if (it >= FURUTA_GAUSS_MAXIT) {
+            return FURUTA_NO_CONVERGENCE;
+        }
+        dprev = d;
+    }
+    for (i = 0; i < 4; ++i) {
+        dx[i] = 0.5 * h * (F[0][i] + F[1][i]);
+    }
+    return FURUTA_OK;
+}
+
+/* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
+ * output times (so output times that are multiples of h keep the step constant). */
+static int furuta_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+                             const double *u, const furuta_params *p, double *X,
+                             furuta_integrate_stats *st)
+{
+    double x[4], cmp[4], dx[4], F[2][4];
+    long k, m;
+    int i, j, code;
+    furuta_copy_(x, X);
+    for (i = 0; i < 4; ++i) {
+        cmp[i] = 0.0;
+    }
+    if (method == FURUTA_GAUSS2) {
+        if ((code = furuta_eval_(x, u, p, F[0], st)) != 0) {
+            return code;
+        }
+        furuta_copy_(F[1], F[0]);
+    }
+    for (j = 1; j < nt; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = furuta_nsteps_(ta, tt[j], h));
+        for (k = 0; k < m; ++k) {
+            if (st->n_steps >= max_steps) {
+                return FURUTA_TOO_MANY_STEPS;
+            }
+            code = method == FURUTA_RK4 ? furuta_rk4_step_(x, hs, u, p, dx, st)
+                                         : furuta_gauss2_step_(x, hs, u, p, F, dx, st);
+            if (code != 0) {
+                return code;
+            }
+            furuta_add_(x, cmp, dx);
+            if (!furuta_all_finite_(x, 4)) {
+                return FURUTA_NONFINITE;  /* st->x keeps the last finite state */
+            }
+            st->n_steps++;
+            st->t = k + 1 == m ? tt[j] : ta + (double)(k + 1) * hs;
+            furuta_copy_(st->x, x);
+        }
+        furuta_copy_(X + j * 4, x);
+    }
+    return FURUTA_OK;
+}
+
+/* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
+ * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
+static int furuta_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+                              const double *u, const furuta_params *p, double *X,
+                              furuta_integrate_stats *st)
+{
+    /* the stage times c_i are not needed: the model is autonomous (u constant over the call) */
+    /* a[i][j], j < i: rows 0-11 the steps' stages, 12 the solution (b; its f is the next k0),
+       13-15 the extra stages of the dense output */
+    static const double a[16][16] = {
+        {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.05260015195876773, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.0197250569845379, 0.0591751709536137, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.02958758547680685, 0.0, 0.08876275643042054, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.2413651341592667, 0.0, -0.8845494793282861, 0.924834003261792, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.037037037037037035, 0.0, 0.0, 0.17082860872947386, 0.12546768756682242, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.037109375, 0.0, 0.0, 0.17025221101954405, 0.06021653898045596, -0.017578125, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.03709200011850479, 0.0, 0.0, 0.17038392571223998, 0.10726203044637328, -0.015319437748624402, 0.008273789163814023, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.6241109587160757, 0.0, 0.0, -3.3608926294469414, -0.868219346841726, 27.59209969944671, 20.154067550477894, -43.48988418106996, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.47766253643826434, 0.0, 0.0, -2.4881146199716677, -0.590290826836843, 21.230051448181193, 15.279233632882423, -33.28821096898486, -0.020331201708508627, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {-0.9371424300859873, 0.0, 0.0, 5.186372428844064, 1.0914373489967295, -8.149787010746927, -18.52006565999696, 22.739487099350505, 2.4936055526796523, -3.0467644718982196, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {2.273310147516538, 0.0, 0.0, -10.53449546673725, -2.0008720582248625, -17.9589318631188, 27.94888452941996, -2.8589982771350235, -8.87285693353063, 12.360567175794303, 0.6433927460157636, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.054293734116568765, 0.0, 0.0, 0.0, 0.0, 4.450312892752409, 1.8915178993145003, -5.801203960010585, 0.3111643669578199, -0.1521609496625161, 0.20136540080403034, 0.04471061572777259, 0.0, 0.0, 0.0, 0.0},
+        {0.056167502283047954, 0.0, 0.0, 0.0, 0.0, 0.0, 0.25350021021662483, -0.2462390374708025, -0.12419142326381637, 0.15329179827876568, 0.00820105229563469, 0.007567897660545699, -0.008298, 0.0, 0.0, 0.0},
+        {0.03183464816350214, 0.0, 0.0, 0.0, 0.0, 0.028300909672366776, 0.053541988307438566, -0.05492374857139099, 0.0, 0.0, -0.00010834732869724932, 0.0003825710908356584, -0.00034046500868740456, 0.1413124436746325, 0.0, 0.0},
+        {-0.42889630158379194, 0.0, 0.0, 0.0, 0.0, -4.697621415361164, 7.683421196062599, 4.06898981839711, 0.3567271874552811, 0.0, 0.0, 0.0, -0.0013990241651590145, 2.9475147891527724, -9.15095847217987, 0.0},
+    };
+    static const double e3[13] = {-0.18980075407240762, 0.0, 0.0, 0.0, 0.0, 4.450312892752409, 1.8915178993145003, -5.801203960010585, -0.4226823213237919, -0.1521609496625161, 0.20136540080403034, 0.02265179219836082, 0.0};
+    static const double e5[13] = {0.01312004499419488, 0.0, 0.0, 0.0, 0.0, -1.2251564463762044, -0.4957589496572502, 1.6643771824549864, -0.35032884874997366, 0.3341791187130175, 0.08192320648511571, -0.022355307863886294, 0.0};
+    static const double dd[4][16] = {
+        {-8.428938276109013, 0.0, 0.0, 0.0, 0.0, 0.5667149535193777, -3.0689499459498917, 2.38466765651207, 2.117034582445028, -0.871391583777973, 2.2404374302607883, 0.6315787787694688, -0.08899033645133331, 18.148505520854727, -9.194632392478356, -4.436036387594894},
+        {10.427508642579134, 0.0, 0.0, 0.0, 0.0, 242.28349177525817, 165.20045171727028, -374.5467547226902, -22.113666853125306, 7.733432668472264, -30.674084731089398, -9.332130526430229, 15.697238121770845, -31.139403219565178, -9.35292435884448, 35.81684148639408},
+        {19.985053242002433, 0.0, 0.0, 0.0, 0.0, -387.0373087493518, -189.17813819516758, 527.8081592054236, -11.57390253995963, 6.8812326946963, -1.0006050966910838, 0.7777137798053443, -2.778205752353508, -60.19669523126412, 84.32040550667716, 11.99229113618279},
+        {-25.69393346270375, 0.0, 0.0, 0.0, 0.0, -154.18974869023643, -231.5293791760455, 357.6391179106141, 93.40532418362432, -37.45832313645163, 104.0996495089623, 29.8402934266605, -43.53345659001114, 96.32455395918828, -39.17726167561544, -149.72683625798564},
+    };
+    double k[16][4], x[4], cmp[4], y[4], dy[4], sc[4];
+    const double tend = tt[nt - 1], dir = tend >= tt[0] ? 1.0 : -1.0;
+    double t = tt[0], h, hmin, err, e3n, e5n, fac, s3, s5;
+    int i, j, s, code, next = 1, rejected = 0, fail = 0;
+    furuta_copy_(x, X);
+    for (i = 0; i < 4; ++i) {
+        cmp[i] = 0.0;
+    }
+    if ((code = furuta_eval_(x, u, p, k[0], st)) != 0) {
+        return code;
+    }
+    if (h0 > 0.0) {
+        h = fmin(h0, fabs(tend - t));
+    } else {
+        /* the starting step of Hairer, Norsett, Wanner II.4 (one more evaluation) */
+        double d0 = 0.0, d1 = 0.0, d2 = 0.0, h1;
+        for (i = 0; i < 4; ++i) {
+            sc[i] = atol + fabs(x[i]) * rtol;
+            d0 += (x[i] / sc[i]) * (x[i] / sc[i]);
+            d1 += (k[0][i] / sc[i]) * (k[0][i] / sc[i]);
+        }
+        d0 = sqrt(d0 / 4);
+        d1 = sqrt(d1 / 4);
+        h = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+        h = fmin(h, fabs(tend - t));
+        for (i = 0; i < 4; ++i) {
+            y[i] = x[i] + dir * h * k[0][i];
+        }
+        if (furuta_eval_(y, u, p, k[1], st) == 0) {
+            for (i = 0; i < 4; ++i) {
+                d2 += ((k[1][i] - k[0][i]) / sc[i]) * ((k[1][i] - k[0][i]) / sc[i]);
+            }
+            d2 = sqrt(d2 / 4) / h;
+            h1 = (d1 <= 1e-15 && d2 <= 1e-15) ? fmax(1e-6, 1e-3 * h) : pow(0.01 / fmax(d1, d2), 0.125);
+            h = fmin(fmin(100.0 * h, h1), fabs(tend - t));
+        }
+    }
+    while (next < nt) {
+        double hs, tnew;
+        if (st->n_steps + st->n_rejected >= max_steps) {
+            return FURUTA_TOO_MANY_STEPS;
+        }
+        hmin = 10.0 * FURUTA_EPS * fmax(fabs(t), 1e-300);
+        if (h < hmin) {
+            return fail ? fail : FURUTA_STEP_UNDERFLOW;
+        }
+        tnew = t + dir * h;
+        if (dir * (tnew - tend) >= 0.0) {
+            tnew = tend;
+        }
+        hs = tnew - t;  /* signed */
+        code = 0;
+        for (s = 1; s <= 12 && code == 0; ++s) {
+            /* stages 1-11, then s = 12: the solution y and its f (the next step's k0) */
+            for (i = 0; i < 4; ++i) {
+                double acc = 0.0;
+                for (j = 0; j < s; ++j) {
+                    acc += a[s][j] * k[j][i];
+                }
+                dy[i] = hs * acc;
+                y[i] = x[i] + dy[i];
+            }
+            code = furuta_eval_(y, u, p, k[s], st);
+        }
+        if (code == FURUTA_SINGULAR || code == FURUTA_NONFINITE) {
+            /* a stage left the domain: the step was too long, or the motion ends here */
+            fail = code;
+            st->n_rejected++;
+            rejected = 1;
+            h = 0.25 * fabs(hs);
+            continue;
+        }
+        if (code != 0) {
+            return code;
+        }
+        e3n = e5n = 0.0;
+        for (i = 0; i < 4; ++i) {
+            s3 = s5 = 0.0;
+            for (j = 0; j < 13; ++j) {
+                s3 += e3[j] * k[j][i];
+                s5 += e5[j] * k[j][i];
+            }
+            sc[i] = atol + rtol * fmax(fabs(x[i]), fabs(y[i]));
+            e3n += (s3 / sc[i]) * (s3 / sc[i]);
+            e5n += (s5 / sc[i]) * (s5 / sc[i]);
+        }
+        err = (e3n == 0.0 && e5n == 0.0) ? 0.0 : fabs(hs) * e5n / sqrt((e5n + 0.01 * e3n) * 4);
+        if (!(err <= 1.0)) {
+            /* rejected (also when err is NaN) */
+            st->n_rejected++;
+            rejected = 1;
+            h = fabs(hs) * (err < HUGE_VAL ? fmax(0.2, 0.9 * pow(err, -0.125)) : 0.2);
+            continue;
+        }
+        /* accepted: the output times inside the step from the dense output */
+        if (next < nt && dir * (tt[next] - tnew) < 0.0) {
+            double F[7][4];
+            int r;
+            for (s = 13; s < 16 && code == 0; ++s) {
+                for (i = 0; i < 4; ++i) {
+                    double acc = 0.0;
+                    for (j = 0; j < s; ++j) {
+                        acc += a[s][j] * k[j][i];
+                    }
+                    sc[i] = x[i] + hs * acc;
+                }
+                code = furuta_eval_(sc, u, p, k[s], st);
+            }
+            if (code != 0) {
+                return code;
+            }
+            for (i = 0; i < 4; ++i) {
+                F[0][i] = dy[i];
+                F[1][i] = hs * k[0][i] - dy[i];
+                F[2][i] = 2.0 * dy[i] - hs * (k[12][i] + k[0][i]);
+                for (r = 0; r < 4; ++r) {
+                    double acc = 0.0;
+                    for (j = 0; j < 16; ++j) {
+                        acc += dd[r][j] * k[j][i];
+                    }
+                    F[3 + r][i] = hs * acc;
+                }
+            }
+            for (; next < nt && dir * (tt[next] - tnew) < 0.0; ++next) {
+                const double th = (tt[next] - t) / hs, th1 = 1.0 - th;
+                double *out = X + next * 4;
+                for (i = 0; i < 4; ++i) {
+                    double v = 0.0;
+                    for (r = 6; r >= 0; --r) {
+                        v = (v + F[r][i]) * ((6 - r) % 2 == 0 ? th : th1);
+                    }
+                    out[i] = x[i] + v;
+                }
+            }
+        }
+        furuta_add_(x, cmp, dy);
+        t = tnew;
+        st->n_steps++;
+        st->t = t;
+        furuta_copy_(st->x, x);
+        for (; next < nt && tt[next] == t; ++next) {
+            furuta_copy_(X + next * 4, x);
+        }
+        furuta_copy_(k[0], k[12]);
+        fac = err == 0.0 ? 10.0 : fmin(10.0, 0.9 * pow(err, -0.125));
+        h = fabs(hs) * (rejected ? fmin(1.0, fac) : fac);
+        rejected = 0;
+        fail = 0;
+    }
+    return FURUTA_OK;
+}
+
+int furuta_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const furuta_params *p,
+                              double *X, furuta_integrate_stats *stats)
+{
+    furuta_integrate_stats local;
+    furuta_integrate_stats *st = stats ? stats : &local;
+    int i, j, code;
+    st->t = 0.0;
+    st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = 0;
+    for (i = 0; i < 4; ++i) {
+        st->x[i] = NAN;
+    }
+    if (!t || !x0 || !X || nt < 1 || !isfinite(t[0])) {
+        return FURUTA_BAD_ARGUMENT;
+    }
+    for (j = 1; j < nt; ++j) {
+        /* finite and monotone, one direction */
+        if (!isfinite(t[j]) || (t[j] - t[j - 1]) * (t[nt - 1] - t[0]) < 0.0) {
+            return FURUTA_BAD_ARGUMENT;
+        }
+    }
+    if (method == FURUTA_DOP853) {
+        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+            return FURUTA_BAD_ARGUMENT;
+        }
+    } else if (method == FURUTA_RK4 || method == FURUTA_GAUSS2) {
+        if (!(h != 0.0 && fabs(h) < HUGE_VAL)) {
+            return FURUTA_BAD_ARGUMENT;
+        }
+    } else {
+        return FURUTA_BAD_ARGUMENT;
+    }
+    (void)p;
+
+    if (!furuta_all_finite_(x0, 4)) {
+        return FURUTA_NONFINITE;
+    }
+    for (i = nt * 4 - 1; i >= 4; --i) {
+        X[i] = NAN;  /* rows not reached stay NaN */
+    }
+    furuta_copy_(X, x0);
+    furuta_copy_(st->x, x0);
+    st->t = t[0];
+    if (max_steps <= 0) {
+        max_steps = FURUTA_INTEGRATE_MAX_STEPS;
+    }
+    if (method == FURUTA_DOP853) {
+        code = furuta_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
+    } else {
+        code = furuta_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+    }
+    return code;
+}
+
+int furuta_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+                         const double *x0, const double *u, const furuta_params *p, double *x1, long *n_rhs)
+{
+    furuta_integrate_stats st;
+    double tt[2], X[8];
+    int code;
+    tt[0] = t0;
+    tt[1] = t1;
+    code = furuta_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    if (x1) {
+        furuta_copy_(x1, code == 0 ? X + 4 : st.x);
+    }
+    if (n_rhs) {
+        *n_rhs = st.n_rhs;
+    }
+    return code;
+}

@@ -33,6 +33,13 @@ extern "C" {
 #define FURUTA_SYM_HAS_ENERGY_INTEGRAL 0
 #define FURUTA_SYM_HAS_MOMENTUM_INTEGRAL 0
 #define FURUTA_SYM_HAS_QUADRATURES 0
+#define FURUTA_SYM_STEP_UNDERFLOW 7
+#define FURUTA_SYM_NO_CONVERGENCE 8
+#define FURUTA_SYM_TOO_MANY_STEPS 9
+#define FURUTA_SYM_BAD_ARGUMENT 10
+#define FURUTA_SYM_RK4 1
+#define FURUTA_SYM_DOP853 2
+#define FURUTA_SYM_GAUSS2 3
 typedef struct furuta_sym_params {
     double g0;
     double m1;
@@ -50,6 +57,19 @@ int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p,
 int furuta_sym_rhs(double t, const double *x, const double *u, const furuta_sym_params *p, double *xdot);
 double furuta_sym_energy(const double *x, const furuta_sym_params *p);
 double furuta_sym_momentum(const double *x, const furuta_sym_params *p);
+typedef struct furuta_sym_integrate_stats {
+    double t;
+    double x[4];
+    long n_rhs;
+    long n_steps;
+    long n_rejected;
+    long n_iter;
+} furuta_sym_integrate_stats;
+int furuta_sym_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+                   const double *x0, const double *u, const furuta_sym_params *p, double *x1, long *n_rhs);
+int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                        long max_steps, const double *x0, const double *u, const furuta_sym_params *p,
+                        double *X, furuta_sym_integrate_stats *stats);
 
 #ifdef __cplusplus
 }

@@ -33,6 +33,13 @@ extern "C" {
 #define GIMBAL_HAS_ENERGY_INTEGRAL 1
 #define GIMBAL_HAS_MOMENTUM_INTEGRAL 1
 #define GIMBAL_HAS_QUADRATURES 1
+#define GIMBAL_STEP_UNDERFLOW 7
+#define GIMBAL_NO_CONVERGENCE 8
+#define GIMBAL_TOO_MANY_STEPS 9
+#define GIMBAL_BAD_ARGUMENT 10
+#define GIMBAL_RK4 1
+#define GIMBAL_DOP853 2
+#define GIMBAL_GAUSS2 3
 #define GIMBAL_SEPARATRIX 4
 #define GIMBAL_NO_PERIOD 5
 #define GIMBAL_QUAD_FAILED 6
@@ -48,6 +55,19 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
 int gimbal_rhs(double t, const double *x, const double *u, const gimbal_params *p, double *xdot);
 double gimbal_energy(const double *x, const gimbal_params *p);
 double gimbal_momentum(const double *x, const gimbal_params *p);
+typedef struct gimbal_integrate_stats {
+    double t;
+    double x[4];
+    long n_rhs;
+    long n_steps;
+    long n_rejected;
+    long n_iter;
+} gimbal_integrate_stats;
+int gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+                   const double *x0, const double *u, const gimbal_params *p, double *x1, long *n_rhs);
+int gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                        long max_steps, const double *x0, const double *u, const gimbal_params *p,
+                        double *X, gimbal_integrate_stats *stats);
 typedef struct gimbal_quad_info {
     int kind;
     double E;

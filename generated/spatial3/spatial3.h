@@ -33,6 +33,13 @@ extern "C" {
 #define SPATIAL3_HAS_ENERGY_INTEGRAL 0
 #define SPATIAL3_HAS_MOMENTUM_INTEGRAL 0
 #define SPATIAL3_HAS_QUADRATURES 0
+#define SPATIAL3_STEP_UNDERFLOW 7
+#define SPATIAL3_NO_CONVERGENCE 8
+#define SPATIAL3_TOO_MANY_STEPS 9
+#define SPATIAL3_BAD_ARGUMENT 10
+#define SPATIAL3_RK4 1
+#define SPATIAL3_DOP853 2
+#define SPATIAL3_GAUSS2 3
 typedef struct spatial3_params {
     double unused_;
 } spatial3_params;
@@ -41,6 +48,19 @@ int spatial3_forces(const double *x, const double *u, const spatial3_params *p, 
 int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, double *qdd);
 int spatial3_rhs(double t, const double *x, const double *u, const spatial3_params *p, double *xdot);
 double spatial3_energy(const double *x, const spatial3_params *p);
+typedef struct spatial3_integrate_stats {
+    double t;
+    double x[6];
+    long n_rhs;
+    long n_steps;
+    long n_rejected;
+    long n_iter;
+} spatial3_integrate_stats;
+int spatial3_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+                   const double *x0, const double *u, const spatial3_params *p, double *x1, long *n_rhs);
+int spatial3_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                        long max_steps, const double *x0, const double *u, const spatial3_params *p,
+                        double *X, spatial3_integrate_stats *stats);
 
 #ifdef __cplusplus
 }
