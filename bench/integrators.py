@@ -16,6 +16,7 @@ Results: bench/results/work_precision.csv, drift.csv, rhs_cost.csv, work_precisi
 from __future__ import annotations
 
 import csv
+import os
 import platform
 import subprocess
 import sys
@@ -199,7 +200,7 @@ def rhs_cost(rows):
         k = 2000
         t_py = timed(lambda: [py.rhs(0.0, x, None, params) for _ in range(k)])[0] / k
         t_cffi = timed(lambda: [c.rhs(0.0, x, None, params) for _ in range(k)])[0] / k
-        ops = py.OP_COUNTS[f"{name}_rhs"]
+        ops = py.OP_COUNTS["rhs"]
         rows.append(dict(spec=name, n=n, c_ns=med, ops=ops, python_us=t_py * 1e6, cffi_us=t_cffi * 1e6))
         print(f"  {name:16s} n={n}  C {med:7.1f} ns  {ops:5d} ops   generated Python {t_py * 1e6:7.1f} us   "
               f"cffi CModel.rhs {t_cffi * 1e6:5.2f} us", flush=True)
@@ -264,7 +265,7 @@ def main():
     t_start = time.perf_counter()
     cpu = next((ln.split(":", 1)[1].strip() for ln in Path("/proc/cpuinfo").read_text().splitlines()
                 if ln.startswith("model name")), platform.processor())
-    machine = f"{cpu}, {platform.system()} {platform.machine()}, Python {platform.python_version()}, gcc -O2"
+    machine = f"{cpu} ({os.cpu_count()} cores), {platform.system()} {platform.machine()}, Python {platform.python_version()}, gcc -O2"
     print(machine)
     print("\n1. Work-precision", flush=True)
     wp = []

@@ -676,19 +676,37 @@ static int spatial3_rk4_step_(const double *x, double h, const double *u, const 
     return SPATIAL3_OK;
 }
 
-/* One GAUSS2 step of size h from x.  F holds the stage derivatives of the previous step (the
- * starting guess; f(x) twice on the first step) and on return those of this one.  Stage
- * increments Z_i = h sum_j a_ij f(x + Z_j); dx = h (F_1 + F_2) / 2. */
-static int spatial3_gauss2_step_(const double *x, double h, const double *u, const spatial3_params *p,
+/* One GAUSS2 step of size h from x.  Stage increments Z_i = h sum_j a_ij f(x + Z_j), nodes
+ * c = 1/2 -+ sqrt(3)/6; dx = h (F_1 + F_2) / 2.  F holds the stage derivatives of the previous
+ * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
+ * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
+ * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
+static int spatial3_gauss2_step_(const double *x, double h, double hp, const double *u, const spatial3_params *p,
                                    double F[2][6], double *dx, spatial3_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
-    double Z[2][6], Y[6];
+    static const double c1 = 0.21132486540518713, c2 = 0.7886751345948129;
+    double Z[2][6], Y[6], L[3][2];
     double d, dprev = HUGE_VAL;
     int i, s, it, code;
+    if (hp != 0.0) {
+        /* Lagrange weights of (Z_1, Z_2) at theta = 1 + c_1 r, 1 + c_2 r, 1 */
+        const double r = h / hp, th[3] = {1.0 + c1 * r, 1.0 + c2 * r, 1.0};
+        for (s = 0; s < 3; ++s) {
+            L[s][0] = th[s] * (th[s] - c2) / (c1 * (c1 - c2));
+            L[s][1] = th[s] * (th[s] - c1) / (c2 * (c2 - c1));
+        }
+    }
     for (i = 0; i < 6; ++i) {
-        Z[0][i] = h * (a11 * F[0][i] + a12 * F[1][i]);
-        Z[1][i] = h * (a21 * F[0][i] + a22 * F[1][i]);
+        if (hp != 0.0) {
+            const double z0 = hp * (a11 * F[0][i] + a12 * F[1][i]), z1 = hp * (a21 * F[0][i] + a22 * F[1][i]);
+            const double w1 = L[2][0] * z0 + L[2][1] * z1;
+            Z[0][i] = L[0][0] * z0 + L[0][1] * z1 - w1;
+            Z[1][i] = L[1][0] * z0 + L[1][1] * z1 - w1;
+        } else {
+            Z[0][i] = c1 * h * F[0][i];
+            Z[1][i] = c2 * h * F[0][i];
+        }
     }
     for (it = 1;; ++it) {
         for (s = 0; s < 2; ++s) {
@@ -734,7 +752,7 @@ static int spatial3_fixed_(int method, int nt, const double *tt, double h, long 
                              const double *u, const spatial3_params *p, double *X,
                              spatial3_integrate_stats *st)
 {
-    double x[6], cmp[6], dx[6], F[2][6];
+    double x[6], cmp[6], dx[6], F[2][6], hp = 0.0;
     long k, m;
     int i, j, code;
     spatial3_copy_(x, X);
@@ -754,11 +772,12 @@ static int spatial3_fixed_(int method, int nt, const double *tt, double h, long 
                 return SPATIAL3_TOO_MANY_STEPS;
             }
             code = method == SPATIAL3_RK4 ? spatial3_rk4_step_(x, hs, u, p, dx, st)
-                                         : spatial3_gauss2_step_(x, hs, u, p, F, dx, st);
+                                         : spatial3_gauss2_step_(x, hs, hp, u, p, F, dx, st);
             if (code != 0) {
                 return code;
             }
             spatial3_add_(x, cmp, dx);
+            hp = hs;
             if (!spatial3_all_finite_(x, 6)) {
                 return SPATIAL3_NONFINITE;  /* st->x keeps the last finite state */
             }
