@@ -175,3 +175,5 @@ def test_embedding_example_builds_with_plain_cc_and_runs(tmp_path):
     ref = reference.simulate(ch, [0.0, 0.5235987755982988, 1.0, 0.5], [0.0, 2.0])[-1]
     assert abs(psi - ref[0]) < 1e-8 and abs(phi - ref[1]) < 1e-8
     assert e_drift < 1e-9 and k_drift < 1e-9
+    psi_a, phi_a = map(float, re.search(r"DOP853: psi = (\S+)\s+phi = (\S+)", out.stdout).groups())
+    assert abs(psi_a - ref[0]) < 1e-8 and abs(phi_a - ref[1]) < 1e-8

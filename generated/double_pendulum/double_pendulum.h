@@ -12,7 +12,15 @@
  *   DOUBLE_PENDULUM_SINGULAR   1  M is not positive definite (a singular configuration)
  *   DOUBLE_PENDULUM_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   DOUBLE_PENDULUM_NO_PARAMS  3  p is NULL but the model has symbolic parameters
- * The double functions return NaN in the last case.
+ * The double functions return NaN in the last case.  The integrators add
+ *   DOUBLE_PENDULUM_STEP_UNDERFLOW 7, DOUBLE_PENDULUM_NO_CONVERGENCE 8 (GAUSS2's iteration: h too long),
+ *   DOUBLE_PENDULUM_TOO_MANY_STEPS 9, DOUBLE_PENDULUM_BAD_ARGUMENT 10.
+ *
+ * double_pendulum_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
+ * (either direction) with u held constant: method DOUBLE_PENDULUM_RK4 (fixed step h), DOUBLE_PENDULUM_DOP853
+ * (adaptive, rtol/atol, h the first step or 0) or DOUBLE_PENDULUM_GAUSS2 (symmetric, fixed step h).  On
+ * failure x1 is the last accepted state.  double_pendulum_integrate_grid gives the states at nt output times
+ * (DOP853 by its dense output) and the counts; max_steps <= 0 means DOUBLE_PENDULUM_INTEGRATE_MAX_STEPS.
  * Op counts: energy 26, forces 27, mass_matrix 4, qdd 38, rhs 38.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.

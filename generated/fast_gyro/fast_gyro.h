@@ -12,7 +12,15 @@
  *   FAST_GYRO_SINGULAR   1  M is not positive definite (a singular configuration)
  *   FAST_GYRO_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   FAST_GYRO_NO_PARAMS  3  p is NULL but the model has symbolic parameters
- * The double functions return NaN in the last case.
+ * The double functions return NaN in the last case.  The integrators add
+ *   FAST_GYRO_STEP_UNDERFLOW 7, FAST_GYRO_NO_CONVERGENCE 8 (GAUSS2's iteration: h too long),
+ *   FAST_GYRO_TOO_MANY_STEPS 9, FAST_GYRO_BAD_ARGUMENT 10.
+ *
+ * fast_gyro_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
+ * (either direction) with u held constant: method FAST_GYRO_RK4 (fixed step h), FAST_GYRO_DOP853
+ * (adaptive, rtol/atol, h the first step or 0) or FAST_GYRO_GAUSS2 (symmetric, fixed step h).  On
+ * failure x1 is the last accepted state.  fast_gyro_integrate_grid gives the states at nt output times
+ * (DOP853 by its dense output) and the counts; max_steps <= 0 means FAST_GYRO_INTEGRATE_MAX_STEPS.
  * Op counts: energy 16, forces 21, mass_matrix 8, momentum 11, qdd 30, quad_terms 10, rhs 30.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.

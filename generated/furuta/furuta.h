@@ -12,7 +12,15 @@
  *   FURUTA_SINGULAR   1  M is not positive definite (a singular configuration)
  *   FURUTA_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   FURUTA_NO_PARAMS  3  p is NULL but the model has symbolic parameters
- * The double functions return NaN in the last case.
+ * The double functions return NaN in the last case.  The integrators add
+ *   FURUTA_STEP_UNDERFLOW 7, FURUTA_NO_CONVERGENCE 8 (GAUSS2's iteration: h too long),
+ *   FURUTA_TOO_MANY_STEPS 9, FURUTA_BAD_ARGUMENT 10.
+ *
+ * furuta_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
+ * (either direction) with u held constant: method FURUTA_RK4 (fixed step h), FURUTA_DOP853
+ * (adaptive, rtol/atol, h the first step or 0) or FURUTA_GAUSS2 (symmetric, fixed step h).  On
+ * failure x1 is the last accepted state.  furuta_integrate_grid gives the states at nt output times
+ * (DOP853 by its dense output) and the counts; max_steps <= 0 means FURUTA_INTEGRATE_MAX_STEPS.
  * Op counts: energy 23, forces 37, mass_matrix 9, momentum 12, qdd 55, rhs 55.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.

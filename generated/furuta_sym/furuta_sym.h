@@ -12,7 +12,15 @@
  *   FURUTA_SYM_SINGULAR   1  M is not positive definite (a singular configuration)
  *   FURUTA_SYM_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   FURUTA_SYM_NO_PARAMS  3  p is NULL but the model has symbolic parameters
- * The double functions return NaN in the last case.
+ * The double functions return NaN in the last case.  The integrators add
+ *   FURUTA_SYM_STEP_UNDERFLOW 7, FURUTA_SYM_NO_CONVERGENCE 8 (GAUSS2's iteration: h too long),
+ *   FURUTA_SYM_TOO_MANY_STEPS 9, FURUTA_SYM_BAD_ARGUMENT 10.
+ *
+ * furuta_sym_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
+ * (either direction) with u held constant: method FURUTA_SYM_RK4 (fixed step h), FURUTA_SYM_DOP853
+ * (adaptive, rtol/atol, h the first step or 0) or FURUTA_SYM_GAUSS2 (symmetric, fixed step h).  On
+ * failure x1 is the last accepted state.  furuta_sym_integrate_grid gives the states at nt output times
+ * (DOP853 by its dense output) and the counts; max_steps <= 0 means FURUTA_SYM_INTEGRATE_MAX_STEPS.
  * Op counts: energy 31, forces 66, mass_matrix 18, momentum 20, qdd 93, rhs 93.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.

@@ -12,7 +12,15 @@
  *   GIMBAL_SINGULAR   1  M is not positive definite (a singular configuration)
  *   GIMBAL_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   GIMBAL_NO_PARAMS  3  p is NULL but the model has symbolic parameters
- * The double functions return NaN in the last case.
+ * The double functions return NaN in the last case.  The integrators add
+ *   GIMBAL_STEP_UNDERFLOW 7, GIMBAL_NO_CONVERGENCE 8 (GAUSS2's iteration: h too long),
+ *   GIMBAL_TOO_MANY_STEPS 9, GIMBAL_BAD_ARGUMENT 10.
+ *
+ * gimbal_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
+ * (either direction) with u held constant: method GIMBAL_RK4 (fixed step h), GIMBAL_DOP853
+ * (adaptive, rtol/atol, h the first step or 0) or GIMBAL_GAUSS2 (symmetric, fixed step h).  On
+ * failure x1 is the last accepted state.  gimbal_integrate_grid gives the states at nt output times
+ * (DOP853 by its dense output) and the counts; max_steps <= 0 means GIMBAL_INTEGRATE_MAX_STEPS.
  * Op counts: energy 14, forces 19, mass_matrix 8, momentum 11, qdd 28, quad_terms 9, rhs 28.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.

@@ -12,7 +12,15 @@
  *   SPATIAL3_SINGULAR   1  M is not positive definite (a singular configuration)
  *   SPATIAL3_NONFINITE  2  an input (x, u) or a result is not finite (NaN or inf)
  *   SPATIAL3_NO_PARAMS  3  p is NULL but the model has symbolic parameters
- * The double functions return NaN in the last case.
+ * The double functions return NaN in the last case.  The integrators add
+ *   SPATIAL3_STEP_UNDERFLOW 7, SPATIAL3_NO_CONVERGENCE 8 (GAUSS2's iteration: h too long),
+ *   SPATIAL3_TOO_MANY_STEPS 9, SPATIAL3_BAD_ARGUMENT 10.
+ *
+ * spatial3_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
+ * (either direction) with u held constant: method SPATIAL3_RK4 (fixed step h), SPATIAL3_DOP853
+ * (adaptive, rtol/atol, h the first step or 0) or SPATIAL3_GAUSS2 (symmetric, fixed step h).  On
+ * failure x1 is the last accepted state.  spatial3_integrate_grid gives the states at nt output times
+ * (DOP853 by its dense output) and the counts; max_steps <= 0 means SPATIAL3_INTEGRATE_MAX_STEPS.
  * Op counts: energy 222, forces 376, mass_matrix 183, qdd 584, rhs 584.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
