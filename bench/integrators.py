@@ -30,14 +30,15 @@ from scipy.integrate import solve_ivp
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
+sys.path.insert(0, str(ROOT / "tests"))
 
 from codegen import build, reference  # noqa: E402
 from codegen.build import IntegrationError  # noqa: E402
 from codegen.spec import load_spec  # noqa: E402
+from conftest import example_params  # noqa: E402  (the values of furuta_sym's parameters)
 
 RESULTS = ROOT / "bench" / "results"
 GEN = ROOT / "generated"
-FURUTA_SYM_PARAMS = dict(g0=9.81, m1=0.3, r=0.2, J1=0.004, J1z=0.0002, m2=0.1, l=0.15, J2=0.00075, J2z=1e-5)
 
 
 def timed(fn, budget=0.2, max_repeats=5):
@@ -177,7 +178,7 @@ def rhs_cost(rows):
         d = GEN / name
         py = build.load_python(d)
         c = build.load(d)
-        params = FURUTA_SYM_PARAMS if name == "furuta_sym" else None
+        params = example_params(name)
         n = py.N
         init = ", ".join(repr(params[k]) for k in py.PARAMS) if params else "0"
         with tempfile.TemporaryDirectory() as tmp:

@@ -382,9 +382,8 @@ static int double_pendulum_fixed_(int method, int nt, const double *tt, double h
     }
     if (method == DOUBLE_PENDULUM_GAUSS2) {
         if ((code = double_pendulum_eval_(x, u, p, F[0], st)) != 0) {
-            return code;
+            return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
         }
-        double_pendulum_copy_(F[1], F[0]);
     }
     for (j = 1; j < nt; ++j) {
         const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = double_pendulum_nsteps_(ta, tt[j], h));
@@ -409,6 +408,19 @@ static int double_pendulum_fixed_(int method, int nt, const double *tt, double h
         double_pendulum_copy_(X + j * 4, x);
     }
     return DOUBLE_PENDULUM_OK;
+}
+
+/* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
+static void double_pendulum_ksum_(const double *w, int count, double k[][4], double hs, double *out)
+{
+    int i, j;
+    for (i = 0; i < 4; ++i) {
+        double acc = 0.0;
+        for (j = 0; j < count; ++j) {
+            acc += w[j] * k[j][i];
+        }
+        out[i] = hs * acc;
+    }
 }
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
@@ -500,12 +512,8 @@ static int double_pendulum_dop853_(int nt, const double *tt, double h0, double r
         code = 0;
         for (s = 1; s <= 12 && code == 0; ++s) {
             /* stages 1-11, then s = 12: the solution y and its f (the next step's k0) */
+            double_pendulum_ksum_(a[s], s, k, hs, dy);
             for (i = 0; i < 4; ++i) {
-                double acc = 0.0;
-                for (j = 0; j < s; ++j) {
-                    acc += a[s][j] * k[j][i];
-                }
-                dy[i] = hs * acc;
                 y[i] = x[i] + dy[i];
             }
             code = double_pendulum_eval_(y, u, p, k[s], st);
@@ -545,12 +553,9 @@ static int double_pendulum_dop853_(int nt, const double *tt, double h0, double r
             double F[7][4];
             int r;
             for (s = 13; s < 16 && code == 0; ++s) {
+                double_pendulum_ksum_(a[s], s, k, hs, sc);
                 for (i = 0; i < 4; ++i) {
-                    double acc = 0.0;
-                    for (j = 0; j < s; ++j) {
-                        acc += a[s][j] * k[j][i];
-                    }
-                    sc[i] = x[i] + hs * acc;
+                    sc[i] += x[i];
                 }
                 code = double_pendulum_eval_(sc, u, p, k[s], st);
             }
@@ -561,13 +566,9 @@ static int double_pendulum_dop853_(int nt, const double *tt, double h0, double r
                 F[0][i] = dy[i];
                 F[1][i] = hs * k[0][i] - dy[i];
                 F[2][i] = 2.0 * dy[i] - hs * (k[12][i] + k[0][i]);
-                for (r = 0; r < 4; ++r) {
-                    double acc = 0.0;
-                    for (j = 0; j < 16; ++j) {
-                        acc += dd[r][j] * k[j][i];
-                    }
-                    F[3 + r][i] = hs * acc;
-                }
+            }
+            for (r = 0; r < 4; ++r) {
+                double_pendulum_ksum_(dd[r], 16, k, hs, F[3 + r]);
             }
             for (; next < nt && dir * (tt[next] - tnew) < 0.0; ++next) {
                 const double th = (tt[next] - t) / hs, th1 = 1.0 - th;

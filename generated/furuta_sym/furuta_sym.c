@@ -478,9 +478,8 @@ static int furuta_sym_fixed_(int method, int nt, const double *tt, double h, lon
     }
     if (method == FURUTA_SYM_GAUSS2) {
         if ((code = furuta_sym_eval_(x, u, p, F[0], st)) != 0) {
-            return code;
+            return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
         }
-        furuta_sym_copy_(F[1], F[0]);
     }
     for (j = 1; j < nt; ++j) {
         const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = furuta_sym_nsteps_(ta, tt[j], h));
@@ -505,6 +504,19 @@ static int furuta_sym_fixed_(int method, int nt, const double *tt, double h, lon
         furuta_sym_copy_(X + j * 4, x);
     }
     return FURUTA_SYM_OK;
+}
+
+/* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
+static void furuta_sym_ksum_(const double *w, int count, double k[][4], double hs, double *out)
+{
+    int i, j;
+    for (i = 0; i < 4; ++i) {
+        double acc = 0.0;
+        for (j = 0; j < count; ++j) {
+            acc += w[j] * k[j][i];
+        }
+        out[i] = hs * acc;
+    }
 }
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
@@ -596,12 +608,8 @@ static int furuta_sym_dop853_(int nt, const double *tt, double h0, double rtol, 
         code = 0;
         for (s = 1; s <= 12 && code == 0; ++s) {
             /* stages 1-11, then s = 12: the solution y and its f (the next step's k0) */
+            furuta_sym_ksum_(a[s], s, k, hs, dy);
             for (i = 0; i < 4; ++i) {
-                double acc = 0.0;
-                for (j = 0; j < s; ++j) {
-                    acc += a[s][j] * k[j][i];
-                }
-                dy[i] = hs * acc;
                 y[i] = x[i] + dy[i];
             }
             code = furuta_sym_eval_(y, u, p, k[s], st);
@@ -641,12 +649,9 @@ static int furuta_sym_dop853_(int nt, const double *tt, double h0, double rtol, 
             double F[7][4];
             int r;
             for (s = 13; s < 16 && code == 0; ++s) {
+                furuta_sym_ksum_(a[s], s, k, hs, sc);
                 for (i = 0; i < 4; ++i) {
-                    double acc = 0.0;
-                    for (j = 0; j < s; ++j) {
-                        acc += a[s][j] * k[j][i];
-                    }
-                    sc[i] = x[i] + hs * acc;
+                    sc[i] += x[i];
                 }
                 code = furuta_sym_eval_(sc, u, p, k[s], st);
             }
@@ -657,13 +662,9 @@ static int furuta_sym_dop853_(int nt, const double *tt, double h0, double rtol, 
                 F[0][i] = dy[i];
                 F[1][i] = hs * k[0][i] - dy[i];
                 F[2][i] = 2.0 * dy[i] - hs * (k[12][i] + k[0][i]);
-                for (r = 0; r < 4; ++r) {
-                    double acc = 0.0;
-                    for (j = 0; j < 16; ++j) {
-                        acc += dd[r][j] * k[j][i];
-                    }
-                    F[3 + r][i] = hs * acc;
-                }
+            }
+            for (r = 0; r < 4; ++r) {
+                furuta_sym_ksum_(dd[r], 16, k, hs, F[3 + r]);
             }
             for (; next < nt && dir * (tt[next] - tnew) < 0.0; ++next) {
                 const double th = (tt[next] - t) / hs, th1 = 1.0 - th;

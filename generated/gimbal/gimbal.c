@@ -391,9 +391,8 @@ static int gimbal_fixed_(int method, int nt, const double *tt, double h, long ma
     }
     if (method == GIMBAL_GAUSS2) {
         if ((code = gimbal_eval_(x, u, p, F[0], st)) != 0) {
-            return code;
+            return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
         }
-        gimbal_copy_(F[1], F[0]);
     }
     for (j = 1; j < nt; ++j) {
         const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = gimbal_nsteps_(ta, tt[j], h));
@@ -418,6 +417,19 @@ static int gimbal_fixed_(int method, int nt, const double *tt, double h, long ma
         gimbal_copy_(X + j * 4, x);
     }
     return GIMBAL_OK;
+}
+
+/* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
+static void gimbal_ksum_(const double *w, int count, double k[][4], double hs, double *out)
+{
+    int i, j;
+    for (i = 0; i < 4; ++i) {
+        double acc = 0.0;
+        for (j = 0; j < count; ++j) {
+            acc += w[j] * k[j][i];
+        }
+        out[i] = hs * acc;
+    }
 }
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
@@ -509,12 +521,8 @@ static int gimbal_dop853_(int nt, const double *tt, double h0, double rtol, doub
         code = 0;
         for (s = 1; s <= 12 && code == 0; ++s) {
             /* stages 1-11, then s = 12: the solution y and its f (the next step's k0) */
+            gimbal_ksum_(a[s], s, k, hs, dy);
             for (i = 0; i < 4; ++i) {
-                double acc = 0.0;
-                for (j = 0; j < s; ++j) {
-                    acc += a[s][j] * k[j][i];
-                }
-                dy[i] = hs * acc;
                 y[i] = x[i] + dy[i];
             }
             code = gimbal_eval_(y, u, p, k[s], st);
@@ -554,12 +562,9 @@ static int gimbal_dop853_(int nt, const double *tt, double h0, double rtol, doub
             double F[7][4];
             int r;
             for (s = 13; s < 16 && code == 0; ++s) {
+                gimbal_ksum_(a[s], s, k, hs, sc);
                 for (i = 0; i < 4; ++i) {
-                    double acc = 0.0;
-                    for (j = 0; j < s; ++j) {
-                        acc += a[s][j] * k[j][i];
-                    }
-                    sc[i] = x[i] + hs * acc;
+                    sc[i] += x[i];
                 }
                 code = gimbal_eval_(sc, u, p, k[s], st);
             }
@@ -570,13 +575,9 @@ static int gimbal_dop853_(int nt, const double *tt, double h0, double rtol, doub
                 F[0][i] = dy[i];
                 F[1][i] = hs * k[0][i] - dy[i];
                 F[2][i] = 2.0 * dy[i] - hs * (k[12][i] + k[0][i]);
-                for (r = 0; r < 4; ++r) {
-                    double acc = 0.0;
-                    for (j = 0; j < 16; ++j) {
-                        acc += dd[r][j] * k[j][i];
-                    }
-                    F[3 + r][i] = hs * acc;
-                }
+            }
+            for (r = 0; r < 4; ++r) {
+                gimbal_ksum_(dd[r], 16, k, hs, F[3 + r]);
             }
             for (; next < nt && dir * (tt[next] - tnew) < 0.0; ++next) {
                 const double th = (tt[next] - t) / hs, th1 = 1.0 - th;
