@@ -89,7 +89,7 @@ def derive(spec: ChainSpec, kin: Kinematics, dyn: Dynamics) -> Articulated:
         U = [X[i][0] for i in range(6)]
         D[k] = U[0]
         rD[k] = P.reciprocal(f"rD{k}", U[0])
-        tau = kin.tau[k] if b.control else ZERO
+        tau = dyn.torques[k - 1]
         u[k] = P.let(f"u{k}", tau - p[0])
         W[k] = [ONE] + [P.let(f"W{k}_{i + 1}", U[i] * rD[k]) for i in range(1, 6)]  # U/Dᵏ
         if k == 1:

@@ -85,6 +85,12 @@ class CModel:
         self.n = getattr(self.lib, f"{name.upper()}_N")
         self.nu = getattr(self.lib, f"{name.upper()}_NU")
         self.has_momentum = hasattr(self.lib, f"{name}_momentum")
+        self.has_jacobi = hasattr(self.lib, f"{name}_jacobi")
+        # NAME_TIME_DEPENDENT (general models only): forces, qdd, energy, momentum take t first
+        self.time_dependent = bool(getattr(self.lib, f"{name.upper()}_TIME_DEPENDENT", 0))
+
+    def _t(self, t) -> tuple:
+        return (float(t),) if self.time_dependent else ()
 
     def _fn(self, what):
         return getattr(self.lib, f"{self.name}_{what}")
@@ -118,28 +124,33 @@ class CModel:
         qp, _k = self._arr(q, self.n)
         return self._call("mass_matrix", qp, self._p(params), out_len=self.n * self.n).reshape(self.n, self.n)
 
-    def forces(self, x, u=None, params=None):
+    def forces(self, x, u=None, params=None, t=0.0):
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
-        return self._call("forces", xp, up, self._p(params), out_len=self.n)
+        return self._call("forces", *self._t(t), xp, up, self._p(params), out_len=self.n)
 
-    def qdd(self, x, u=None, params=None):
+    def qdd(self, x, u=None, params=None, t=0.0):
+        """φ̈ at the state x (and the time t, for a time-dependent model)."""
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
-        return self._call("qdd", xp, up, self._p(params), out_len=self.n)
+        return self._call("qdd", *self._t(t), xp, up, self._p(params), out_len=self.n)
 
     def rhs(self, t, x, u=None, params=None):
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
         return self._call("rhs", float(t), xp, up, self._p(params), out_len=2 * self.n)
 
-    def energy(self, x, params=None):
+    def energy(self, x, params=None, t=0.0):
         xp, _k = self._arr(x, 2 * self.n)
-        return self._fn("energy")(xp, self._p(params))
+        return self._fn("energy")(*self._t(t), xp, self._p(params))
 
-    def momentum(self, x, params=None):
+    def momentum(self, x, params=None, t=0.0):
         xp, _k = self._arr(x, 2 * self.n)
-        return self._fn("momentum")(xp, self._p(params))
+        return self._fn("momentum")(*self._t(t), xp, self._p(params))
+
+    def jacobi(self, x, params=None):
+        xp, _k = self._arr(x, 2 * self.n)
+        return self._fn("jacobi")(xp, self._p(params))
 
     # ---- the integrators (NAME_integrate_grid)
     def integrate(self, t, x0, method="dop853", h=0.0, rtol=1e-8, atol=1e-10, u=None, params=None,

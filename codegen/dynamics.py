@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 from .algebra import ZERO, Poly
 from .kinematics import NULL, Kinematics, add, cross, dot, matvec, scale
-from .spec import ChainSpec
+from .spec import T, ChainSpec
 
 
 @dataclass(frozen=True)
@@ -39,12 +39,62 @@ class Dynamics:
     h: tuple  # first moment of sub-chain k..n about Oᵏ, frame k (Σ_{p≥k} m^p(c^p + O^kO^p))
     I: tuple  # inertia of sub-chain k..n about Oᵏ, frame k
     Lam: tuple  # Σ_{p≥k} λ^p in frame k
-    body_bias: tuple  # (force, moment about Oᵏ) of body k alone at φ̈ = 0, gravity included
+    body_bias: tuple  # (force, moment about Oᵏ) of body k alone at φ̈ = 0, gravity and loads included
+    joint: tuple = ()  # spring, damping and torque-expression torque per joint (right side; ZERO if none)
+    Lamdot: tuple = ()  # eᵏ·Σ_{p≥k} λ̊ᵖ (left side; () when every λ is constant)
+    Phi: tuple = ()  # generalized force of the external loads Fᵏ, Mᵏ (right side; () when none)
+    loads: tuple = ()  # (force, moment about Oᵏ) of the external loads on body k, frame k
+    force_vectors: tuple = ()  # per body, each [[body.force]] in frame k
+
+    @property
+    def torques(self) -> tuple:
+        """The whole joint torque: control Lᵏ plus spring, damping and torque expression."""
+        return tuple(l + j for l, j in zip(self.L, self.joint)) if self.joint else self.L
 
     @property
     def f(self) -> tuple:
         """Right side f of M φ̈ = f, as the code computes it."""
-        return tuple(l - b for l, b in zip(self.L, self.bias))
+        return tuple(l - b for l, b in zip(self.torques, self.bias))
+
+
+def _external(spec: ChainSpec, kin: Kinematics, k: int) -> tuple:
+    """Force and moment about Oᵏ of body k's external loads (its [[body.force]] and
+    [[body.moment]]), in frame k.  A "fixed" load's components are turned from the fixed frame into
+    the platform frame (Rᵀ) and then down the chain."""
+    P, pm, num = kin.prog, kin.platform, kin.prog.from_sympy
+    b = spec.bodies[k - 1]
+    F = N = NULL
+    vecs = []
+
+    def in_frame(load, tag):
+        vec = load.vec
+        if load.frame == "body":
+            return [num(x) for x in vec]
+        if pm is not None:
+            vec = pm.to_platform(vec)
+        return kin.to_frame(k, [num(x) for x in vec], tag)
+
+    for i, load in enumerate(b.forces, start=1):
+        f = P.vec(f"Fe{k}_{i}", in_frame(load, f"Fe{k}_{i}f"))
+        vecs.append(f)
+        F = add(F, f)
+        N = add(N, cross([num(x) for x in load.point], f))
+    for i, load in enumerate(b.moments, start=1):
+        N = add(N, P.vec(f"Me{k}_{i}", in_frame(load, f"Me{k}_{i}f")))
+    return F, N, tuple(vecs)
+
+
+def joint_torque(spec: ChainSpec, kin: Kinematics, k: int) -> Poly:
+    """Spring −kᵏ(φᵏ − restᵏ), damping −bᵏφ̇ᵏ and the torque expression of joint k."""
+    b, num = spec.bodies[k - 1], kin.prog.from_sympy
+    out = ZERO
+    if b.spring is not None:
+        out = out - num(b.spring) * (kin.prog.input(kin.phi[k]) - num(b.rest))
+    if b.damping is not None:
+        out = out - num(b.damping) * kin.qd[k]
+    if b.torque is not None:
+        out = out + num(b.torque)
+    return out
 
 
 def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
@@ -58,12 +108,21 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
     lam = [None] + [[num(x) for x in b.lam] for b in spec.bodies]
     m = [None] + [num(b.m) for b in spec.bodies]
     g = num(spec.g)
+    timed_lam = any(x.has(T) for b in spec.bodies for x in b.lam)
+    lamdot = [None] + [[num(x) for x in b.lam_dot] for b in spec.bodies]
+    has_loads = any(b.forces or b.moments for b in spec.bodies)
+    ext = [None] + [_external(spec, kin, k) for k in range(1, n + 1)]
 
-    # Forward recursions with φ̈ = 0: angular acceleration εᵏ (eq. (5)) and the acceleration of
-    # Oᵏ (eq. (6) summed over l < k), in frame k; aOg also carries gravity (base accelerating
-    # up with g), for the combined recursion.
-    eps = [NULL]
-    acc_O, acc_Og = [None, NULL], [None, P.vec("aOg1", scale(-g, kin.gamma[1]))]
+    # Forward recursions with φ̈ = 0: angular acceleration εᵏ (eq. (5), from ε⁰ of the platform)
+    # and the acceleration of Oᵏ (eq. (6) summed over l < k, from v̇₀), in frame k; aOg also
+    # carries gravity (base accelerating up with g), for the combined recursion.
+    if kin.platform is None:
+        eps = [NULL]
+        acc_O, acc_Og = [None, NULL], [None, P.vec("aOg1", scale(-g, kin.gamma[1]))]
+    else:
+        eps = [kin.eps0]
+        a1 = P.vec("aO1", J[1].down(kin.acc0), r"a^{1}")
+        acc_O, acc_Og = [None, a1], [None, P.vec("aOg1", add(a1, scale(-g, kin.gamma[1])))]
     for k in range(1, n + 1):
         eps.append(P.vec(f"eps{k}", add(J[k].down(eps[k - 1]), cross(w[k], [qd[k], ZERO, ZERO])), rf"\varepsilon^{{{k}}}"))
         if k > 1:
@@ -73,9 +132,10 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
             acc_Og.append(P.vec(f"aOg{k}", J[k].down(add(acc_Og[j], rel))))
 
     # Backward recursions over the sub-chains p ≥ k.
-    F_next = N_next = Gam_next = Lam_next = h_next = Fb_next = Nb_next = NULL
+    F_next = N_next = Gam_next = Lam_next = h_next = Fb_next = Nb_next = Ld_next = Fl_next = Nl_next = NULL
     m_next, I_next = ZERO, None
     Q, Gam, Gv, bias, m_c, h_c, I_c, Lam, body_bias = ([None] * (n + 1) for _ in range(9))
+    Lamdot, Phi = [None] * (n + 1), [None] * (n + 1)
     for k in range(n, 0, -1):
         sk = s[k]
         if k < n:
@@ -102,8 +162,20 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
         Gm = P.vec(f"Gm{k}", add(cross(w[k], lam[k]), Gam_in), rf"\Gamma^{{{k}}}")
         # the code's form: one recursion for Q + Γ − G; body k's own share first (force and
         # moment about Oᵏ of body k alone at the accelerations of φ̈ = 0, with gravity)
-        pF = P.vec(f"pF{k}", scale(m[k], add(acc_Og[k], rel_G)))
-        pN = P.vec(f"pN{k}", add(matvec(A[k], eps[k]), cross(w[k], add(Aw, lam[k])), scale(m[k], cross(c[k], acc_Og[k]))))
+        # (the external loads on the right side of (2)–(4), λ̊ of (7) on the left)
+        Fx, Nx, _ = ext[k]
+        pF = P.vec(f"pF{k}", add(scale(m[k], add(acc_Og[k], rel_G)), scale(-1.0, Fx)))
+        pN = P.vec(f"pN{k}", add(matvec(A[k], eps[k]), cross(w[k], add(Aw, lam[k])), scale(m[k], cross(c[k], acc_Og[k])),
+                                 lamdot[k], scale(-1.0, Nx)))
+        if timed_lam:  # the paper's split: e^k · Σ_{p≥k} λ̊^p
+            Ld = P.vec(f"Ld{k}", add(lamdot[k], P.vec(f"Ld{k + 1}in{k}", up(Ld_next)) if k < n else NULL))
+            Lamdot[k], Ld_next = Ld[0], Ld
+        if has_loads:  # and the generalized force of the loads: Σ e^k·M^p + e^k·(s^p × Σ F^q)
+            Fl_in = P.vec(f"Fl{k + 1}in{k}", up(Fl_next)) if k < n else NULL
+            Nl_in = P.vec(f"Nl{k + 1}in{k}", up(Nl_next)) if k < n else NULL
+            Fl = P.vec(f"Fl{k}", add(Fx, Fl_in))
+            Nl = P.vec(f"Nl{k}", add(Nx, Nl_in, cross(sk, Fl_in)))
+            Phi[k], Fl_next, Nl_next = Nl[0], Fl, Nl
         body_bias[k] = (pF, pN)
         Fb = P.vec(f"Fb{k}", add(pF, Fb_in))
         Nb = P.vec(f"Nb{k}", add(pN, Nb_in, cross(sk, Fb_in)))
@@ -146,6 +218,9 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
             M[j - 1][k - 1] = M[k - 1][j - 1] = nm[0]
 
     L = tuple(kin.tau[k] if spec.bodies[k - 1].control else ZERO for k in range(1, n + 1))
+    joint = tuple(joint_torque(spec, kin, k) for k in range(1, n + 1))
+    if all(j.is_zero() for j in joint):
+        joint = ()
     return Dynamics(
         M=tuple(tuple(row) for row in M),
         Q=tuple(Q[1:]),
@@ -158,4 +233,9 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
         I=tuple(I_c[1:]),
         Lam=tuple(Lam[1:]),
         body_bias=tuple(body_bias[1:]),
+        joint=joint,
+        Lamdot=tuple(Lamdot[1:]) if timed_lam else (),
+        Phi=tuple(Phi[1:]) if has_loads else (),
+        loads=tuple(e[:2] for e in ext[1:]),
+        force_vectors=tuple(e[2] for e in ext[1:]),
     )

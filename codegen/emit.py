@@ -22,7 +22,7 @@ from .integrals import Integrals
 from .kinematics import Kinematics
 from .algebra import Poly
 from .simplify import StraightLine, straight_line
-from .spec import ChainSpec
+from .spec import T as TIME, ChainSpec
 
 TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
 
@@ -195,17 +195,36 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
     lines["energy"] = straight_line(P, [ints.energy])
     if ints.momentum is not None:
         lines["momentum"] = straight_line(P, [ints.momentum])
+    if ints.jacobi is not None:
+        lines["jacobi"] = straight_line(P, [ints.jacobi])
     quad = quadratures.derive(spec, kin, dyn, ints)
     if quad is not None:
         lines["quad_terms"] = straight_line(P, quad.terms)
     return Model(spec, kin, dyn, ints, lines, form, quad)
 
 
+def reads_time(line: StraightLine) -> bool:
+    """Whether a straight-line program reads t (a prescribed motion, λ(t), a load of t)."""
+    for _, rhs in line.temporaries:
+        if isinstance(rhs, Poly):
+            if any(a.sym == TIME for a in rhs.atoms()):
+                return True
+        elif rhs.has(TIME):
+            return True
+    return any(a.sym == TIME for o in line.outputs for a in o.atoms())
+
+
+def time_dependent(model: Model) -> bool:
+    """Whether any emitted function of the state needs t (then all of them but NAME_mass_matrix
+    and NAME_jacobi take it, first; the header says so with NAME_TIME_DEPENDENT 1)."""
+    return any(reads_time(model.lines[k]) for k in ("forces", "qdd", "energy", "momentum") if k in model.lines)
+
+
 def _names(model: Model, style: str) -> dict:
     """How each symbol is spelled in C ('c') or Python ('py')."""
     spec, kin = model.spec, model.kin
     n = spec.n
-    names = {}
+    names = {TIME: "t"}
     for k in range(1, n + 1):
         names[kin.phi[k]] = f"x[{k - 1}]"
         names[kin.phidot[k]] = f"x[{n + k - 1}]"
@@ -254,6 +273,8 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
     }
     if "momentum" in model.lines:
         fs["momentum"] = _function("momentum", model.lines["momentum"], ["result"], pr)
+    if "jacobi" in model.lines:
+        fs["jacobi"] = _function("jacobi", model.lines["jacobi"], ["result"], pr)
     if "quad_terms" in model.lines:
         # a function of φ = φ² alone (ψ = φ¹ is cyclic); in Python on numpy arrays of φ
         qnames = {**names, model.kin.phi[2]: "phi"}
@@ -566,6 +587,9 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         has_params=bool(spec.params),
         has_controls=bool(spec.controls),
         has_momentum="momentum" in cfun,
+        general=spec.general,
+        time_dependent=time_dependent(model),
+        has_jacobi="jacobi" in cfun,
         articulated=model.qdd_form == "articulated",
         has_energy_integral=int(model.integrals.has_energy_integral),
         has_momentum_integral=int(model.integrals.has_momentum_integral),

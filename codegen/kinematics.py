@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from . import platform as platform_motion
 from .algebra import ONE, ZERO, Poly
 from .program import Program
 from .spec import ChainSpec
@@ -182,12 +183,31 @@ class Kinematics:
     alpha: list  # alpha[k] = αᵏ'ᵏ⁻¹ (eq. 15) in sympy, for LaTeX
     joint: list  # joint[k] applies αᵏ'ᵏ⁻¹ and its transpose to polynomial vectors
     gamma: list  # gamma[k] = ê⁰₁ (down) in frame k: the column (αᵏᵢ₁)ᵢ of eq. (14)
-    omega: list  # omega[k] = ωᵏ of eq. (1) in frame k (fixed base: ω⁰ = 0)
+    omega: list  # omega[k] = ωᵏ of eq. (1) in frame k (omega[0] = ω⁰, the platform's)
     qd: list  # qd[k] = φ̇ᵏ as a polynomial
     tau: list  # tau[k] = Lᵏ as a polynomial
+    # the platform (frame 0; all NULL for a fixed base): ε⁰, v₀, v̇₀ in the platform frame
+    platform: platform_motion.PlatformMotion | None = None
+    eps0: list = None
+    vel0: list = None
+    acc0: list = None
+    symbolic_platform: bool = False  # ω⁰, ε⁰, v̇₀, γ⁰ are the symbols of PLATFORM_SYMBOLS (LaTeX)
+
+    def to_frame(self, k: int, v, name: str) -> list:
+        """A vector of the platform frame (frame 0) in frame k, by the joints' αʲ'ʲ⁻¹, j ≤ k."""
+        for j in range(1, k + 1):
+            v = self.prog.vec(f"{name}in{j}", self.joint[j].down(v))
+        return v
 
 
-def derive(spec: ChainSpec) -> Kinematics:
+def platform_symbols() -> dict:
+    """The symbols ω⁰ᵢ, ε⁰ᵢ, v̇₀ᵢ, γ⁰ᵢ stand for in the LaTeX's grouped equations (8)–(10)."""
+    return {key: [sp.Symbol(f"{key}0_{i}", real=True) for i in range(1, 4)] for key in ("omega", "epsilon", "vdot", "gamma")}
+
+
+def derive(spec: ChainSpec, symbolic_platform: bool = False) -> Kinematics:
+    """The kinematics; with ``symbolic_platform``, the platform's ω⁰, ε⁰, v̇₀ and γ⁰ stay symbols
+    (for the LaTeX, which shows the platform terms apart and their values as functions of t)."""
     n = spec.n
     P = Program()
     phi, phidot, torque = state_symbols(n)
@@ -196,13 +216,33 @@ def derive(spec: ChainSpec) -> Kinematics:
     alpha, joint = [None], [None]
     gamma = [E1]
     omega = [NULL]
+    pm = platform_motion.derive(spec)
+    eps0 = vel0 = acc0 = NULL
+    if pm is not None:
+        num = P.from_sympy
+        if symbolic_platform:
+            sy = platform_symbols()
+            pick = lambda key, vals: [ZERO if v == 0 else P.input(s) for s, v in zip(sy[key], vals)]  # noqa: E731
+            omega = [pick("omega", pm.omega)]
+            eps0 = pick("epsilon", pm.eps)
+            acc0 = pick("vdot", pm.acc)
+            gamma = [pick("gamma", pm.down) if pm.rotates else [num(x) for x in pm.down]]
+        else:
+            gamma = [P.vec("gam0", [num(x) for x in pm.down], r"\gamma^{0}")]
+            omega = [P.vec("om0", [num(x) for x in pm.omega], r"\omega^{0}")]
+            eps0 = P.vec("eps0", [num(x) for x in pm.eps], r"\varepsilon^{0}")
+            acc0 = P.vec("a0", [num(x) for x in pm.acc], r"\dot{v}_{0}")
+        vel0 = P.vec("v0", [num(x) for x in pm.vel], r"v_{0}")
     for k, body in enumerate(spec.bodies, start=1):
         cp = P.let_sympy(f"cos_phi{k}", sp.cos(phi[k]), rf"\mathrm{{c}}_{{{k}}}")
         sph = P.let_sympy(f"sin_phi{k}", sp.sin(phi[k]), rf"\mathrm{{s}}_{{{k}}}")
+        P.alias(sp.cos(phi[k]), cp)
+        P.alias(sp.sin(phi[k]), sph)
         ct, st = (P.from_sympy(v) for v in folded_trig(body.theta))
         j = Joint(P, k, ct, st, cp, sph)
         joint.append(j)
         alpha.append(direction_cosines(body.theta, phi[k], *(next(iter(v.terms))[0].sym for v in (cp, sph))))
         gamma.append(P.vec(f"gam{k}", j.down(gamma[k - 1]), rf"\gamma^{{{k}}}"))  # (α^k_{i1})_i, eq. (14)
         omega.append(P.vec(f"om{k}", add(j.down(omega[k - 1]), scale(qd[k], E1)), rf"\omega^{{{k}}}"))  # eq. (1)
-    return Kinematics(P, n, phi, phidot, torque, alpha, joint, gamma, omega, qd, tau)
+    return Kinematics(P, n, phi, phidot, torque, alpha, joint, gamma, omega, qd, tau, pm, eps0, vel0, acc0,
+                      symbolic_platform and pm is not None)

@@ -70,6 +70,11 @@ class Program:
             self._opaque[expr] = self.let_sympy(f"pe{len(self._opaque) + 1}", expr)
         return self._opaque[expr]
 
+    def alias(self, expr: sp.Expr, value: Poly) -> None:
+        """Let ``from_sympy`` answer ``expr`` (cos φᵏ in a user's torque) with a quantity that
+        already exists, instead of computing it again."""
+        self._opaque[expr] = value
+
     # ---- definitions
     def _new(self, name: str, rhs, tex: str | None) -> Poly:
         if name in self._by_name:

@@ -18,7 +18,8 @@ from pathlib import Path
 
 import sympy as sp
 
-__all__ = ["SpecError", "BodySpec", "ChainSpec", "load_spec", "parse_spec", "parse_expression"]
+__all__ = ["SpecError", "BodySpec", "ChainSpec", "BaseSpec", "LoadSpec", "load_spec", "parse_spec", "parse_expression",
+           "T", "phi_symbol", "phidot_symbol"]
 
 
 class SpecError(ValueError):
@@ -52,6 +53,49 @@ IDENT = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 MAX_EXPR_LEN = 200
 
 
+# The time and the state as they appear in spec expressions (``t``, ``phi1``, ``phidot1``): the
+# same sympy symbols the derivation uses (kinematics.state_symbols), so they never become parameters.
+T = sp.Symbol("t", real=True)
+
+
+def phi_symbol(k: int) -> sp.Symbol:
+    return sp.Symbol(f"phi_{k}", real=True)
+
+
+def phidot_symbol(k: int) -> sp.Symbol:
+    return sp.Symbol(f"phidot_{k}", real=True)
+
+
+@dataclass(frozen=True)
+class LoadSpec:
+    """An external force F^k (at ``point``, from O^k in body axes) or a pure moment M^k of the
+    paper's (2)–(4).  ``frame``: "body" (components turn with the body: a follower load) or
+    "fixed" (components in the fixed frame ê⁰)."""
+
+    vec: tuple[sp.Expr, sp.Expr, sp.Expr]
+    frame: str
+    point: tuple[sp.Expr, sp.Expr, sp.Expr] | None = None  # None for a moment
+
+    @property
+    def is_force(self) -> bool:
+        return self.point is not None
+
+
+@dataclass(frozen=True)
+class BaseSpec:
+    """The platform's prescribed motion: O¹ at ``position`` r₀(t) (fixed frame), attitude the
+    product of rotations about platform-fixed unit ``axes`` by ``angles`` (intrinsic, in order)."""
+
+    position: tuple[sp.Expr, sp.Expr, sp.Expr]
+    axes: tuple[tuple[sp.Expr, sp.Expr, sp.Expr], ...]
+    angles: tuple[sp.Expr, ...]
+
+    @property
+    def moves(self) -> bool:
+        """Whether the platform moves at all (a constant position and no rotation is a fixed base)."""
+        return any(e.has(T) for e in self.position) or any(a.has(T) for a in self.angles)
+
+
 @dataclass(frozen=True)
 class BodySpec:
     """Gyrostat S^k.  ``A`` is the inertia tensor about O^k (not the centre of mass)."""
@@ -61,8 +105,25 @@ class BodySpec:
     c: tuple[sp.Expr, sp.Expr, sp.Expr]
     A: tuple[tuple[sp.Expr, ...], ...]
     s: tuple[sp.Expr, sp.Expr, sp.Expr]  # zero for the last body (unused)
-    lam: tuple[sp.Expr, sp.Expr, sp.Expr]  # gyrostatic moment lambda^k, body axes
+    lam: tuple[sp.Expr, sp.Expr, sp.Expr]  # gyrostatic moment lambda^k, body axes (may depend on t)
     control: bool
+    spring: sp.Expr | None = None  # joint stiffness: torque -spring (phi - rest)
+    rest: sp.Expr = sp.Integer(0)
+    damping: sp.Expr | None = None  # viscous joint friction: torque -damping phidot
+    torque: sp.Expr | None = None  # any other joint torque, of t, the state and parameters
+    forces: tuple[LoadSpec, ...] = ()
+    moments: tuple[LoadSpec, ...] = ()
+
+    @property
+    def lam_dot(self) -> tuple:
+        """The star derivative of λᵏ (its components' rate in the body frame), eq. (7)."""
+        return tuple(sp.diff(x, T) for x in self.lam)
+
+    @property
+    def loaded(self) -> bool:
+        """Whether the body has any of the general case's fields."""
+        return (self.spring is not None or self.damping is not None or self.torque is not None
+                or bool(self.forces) or bool(self.moments) or any(x.has(T) for x in self.lam))
 
 
 @dataclass(frozen=True)
@@ -74,6 +135,12 @@ class ChainSpec:
     params: tuple[sp.Symbol, ...]  # symbolic parameters, in order of first appearance
     initial: dict | None = field(default=None, compare=False)
     source: str = ""  # the spec text (for provenance and the LaTeX table)
+    base: BaseSpec | None = None  # None: a fixed base
+
+    @property
+    def general(self) -> bool:
+        """Whether the spec uses any field of the general equations (8)–(10)."""
+        return self.base is not None or any(b.loaded for b in self.bodies)
 
     @property
     def n(self) -> int:
@@ -93,9 +160,10 @@ class ChainSpec:
 class _ExprBuilder:
     """Turns a whitelisted Python AST into a sympy expression; records names in order."""
 
-    def __init__(self, where: str, names: dict[str, sp.Symbol]):
+    def __init__(self, where: str, names: dict[str, sp.Symbol], state: dict | None = None):
         self.where = where
         self.names = names
+        self.state = state or {}
 
     def fail(self, why: str):
         raise SpecError(self.where, why)
@@ -151,6 +219,13 @@ class _ExprBuilder:
         self.fail(f"'{type(node).__name__}' is not allowed in an expression")
 
     def name(self, ident: str) -> sp.Symbol:
+        if ident in self.state:
+            sym = self.state[ident]
+            if sym is None:
+                self.fail(f"unknown symbol {ident!r}: there is no such body")
+            if isinstance(sym, str):
+                self.fail(sym)
+            return sym
         check_param_name(ident, self.where)
         if ident not in self.names:
             self.names[ident] = sp.Symbol(ident, real=True)
@@ -177,8 +252,10 @@ def _number(value, builder: _ExprBuilder) -> sp.Expr:
     return sp.Rational(repr(value))
 
 
-def parse_expression(text: str, where: str, names: dict[str, sp.Symbol] | None = None) -> sp.Expr:
-    """Parse one spec string (never evaluated as code) into a sympy expression."""
+def parse_expression(text: str, where: str, names: dict[str, sp.Symbol] | None = None, state: dict | None = None) -> sp.Expr:
+    """Parse one spec string (never evaluated as code) into a sympy expression.  ``state`` maps the
+    names an expression of this field may use besides parameters (t, phi1, …) to their symbols
+    (or to the message that says why not)."""
     names = {} if names is None else names
     if len(text) > MAX_EXPR_LEN:
         raise SpecError(where, f"expression longer than {MAX_EXPR_LEN} characters")
@@ -188,39 +265,57 @@ def parse_expression(text: str, where: str, names: dict[str, sp.Symbol] | None =
         tree = ast.parse(text.strip(), mode="eval")
     except SyntaxError:
         raise SpecError(where, f"expression {text!r} does not parse") from None
-    expr = _ExprBuilder(where, names).build(tree)
+    expr = _ExprBuilder(where, names, state).build(tree)
     if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
         raise SpecError(where, f"expression {text!r} is not finite")
     return expr
 
 
-def _scalar(value, where: str, names: dict) -> sp.Expr:
+def _scalar(value, where: str, names: dict, state: dict | None = None) -> sp.Expr:
     if isinstance(value, bool):
         raise SpecError(where, "expected a number or an expression string, got a boolean")
     if isinstance(value, (int, float)):
         return _number(value, _ExprBuilder(where, names))
     if isinstance(value, str):
-        return parse_expression(value, where, names)
+        return parse_expression(value, where, names, state)
     raise SpecError(where, f"expected a number or an expression string, got {type(value).__name__}")
 
 
-def _vector(value, where: str, names: dict) -> tuple:
+def _vector(value, where: str, names: dict, state: dict | None = None) -> tuple:
     if not isinstance(value, list) or len(value) != 3:
         raise SpecError(where, "expected a vector of 3 entries")
-    return tuple(_scalar(v, f"{where}[{i + 1}]", names) for i, v in enumerate(value))
+    return tuple(_scalar(v, f"{where}[{i + 1}]", names, state) for i, v in enumerate(value))
 
 
-def _matrix(value, where: str, names: dict) -> tuple:
+def _state_names(n: int, kind: str) -> dict:
+    """What the names t, phi1…, phidot1… mean in a field: ``kind`` "const" (numbers and
+    parameters only), "time" (t too: prescribed motions) or "state" (t and the state)."""
+    out: dict = {}
+    pattern_max = max(n, 9)
+    for k in range(1, pattern_max + 1):
+        for nm, sym in ((f"phi{k}", phi_symbol(k)), (f"phidot{k}", phidot_symbol(k))):
+            if k > n:
+                out[nm] = None
+            elif kind == "state":
+                out[nm] = sym
+            else:
+                out[nm] = (f"{nm!r} is not allowed here: " + ("this field is prescribed, a function of t and parameters only"
+                           if kind == "time" else "this field is a constant (numbers and parameters only)"))
+    out["t"] = T if kind in ("time", "state") else "'t' is not allowed here: this field is a constant (numbers and parameters only)"
+    return out
+
+
+def _matrix(value, where: str, names: dict, state: dict | None = None) -> tuple:
     if not isinstance(value, list) or len(value) != 3 or not all(isinstance(r, list) and len(r) == 3 for r in value):
         raise SpecError(where, "expected a 3×3 matrix (three rows of three entries)")
     return tuple(
-        tuple(_scalar(v, f"{where}[{i + 1}][{j + 1}]", names) for j, v in enumerate(row)) for i, row in enumerate(value)
+        tuple(_scalar(v, f"{where}[{i + 1}][{j + 1}]", names, state) for j, v in enumerate(row)) for i, row in enumerate(value)
     )
 
 
 # --------------------------------------------------------------------------- the spec
-TOP_FIELDS = {"name", "description", "g", "body", "initial"}
-BODY_FIELDS = {"theta", "m", "c", "A", "s", "lambda", "control"}
+TOP_FIELDS = {"name", "description", "g", "body", "initial", "base"}
+BODY_FIELDS = {"theta", "m", "c", "A", "s", "lambda", "control", "spring", "rest", "damping", "torque", "force", "moment"}
 BODY_REQUIRED = ("theta", "m", "c", "A")
 ZERO3 = (sp.Integer(0),) * 3
 
@@ -260,11 +355,13 @@ def parse_spec(text: str) -> ChainSpec:
         raise SpecError("description", "expected a string")
 
     names: dict[str, sp.Symbol] = {}
-    g = _scalar(data["g"], "g", names)
+    raw_bodies = data["body"]
+    n_guess = len(raw_bodies) if isinstance(raw_bodies, list) else 0
+    g = _scalar(data["g"], "g", names, _state_names(n_guess, "const"))
+    base = _base(data["base"], names, n_guess) if "base" in data else None
     if g.is_number and g < 0:
         raise SpecError("g", "gravity magnitude must not be negative (it acts along ê⁰₁, 'down')")
 
-    raw_bodies = data["body"]
     if not isinstance(raw_bodies, list) or not all(isinstance(b, dict) for b in raw_bodies):
         raise SpecError("body", "expected [[body]] tables")
     if not raw_bodies:
@@ -286,7 +383,57 @@ def parse_spec(text: str) -> ChainSpec:
         params=tuple(names.values()),
         initial=initial,
         source=text,
+        base=base,
     )
+
+
+def _base(raw, names: dict, n: int) -> BaseSpec:
+    if not isinstance(raw, dict):
+        raise SpecError("base", "expected a table with position and/or rotation")
+    for key in raw:
+        if key not in ("position", "rotation"):
+            raise SpecError(f"base.{key}", "unknown field (expected position, rotation)")
+    state = _state_names(n, "time")
+    const = _state_names(n, "const")
+    position = _vector(raw["position"], "base.position", names, state) if "position" in raw else ZERO3
+    rotation = raw.get("rotation", [])
+    if not isinstance(rotation, list) or not all(isinstance(r, dict) for r in rotation):
+        raise SpecError("base.rotation", "expected a list of tables {axis = [..], angle = ..}")
+    axes, angles = [], []
+    for i, r in enumerate(rotation, start=1):
+        at = f"base.rotation[{i}]"
+        for key in r:
+            if key not in ("axis", "angle"):
+                raise SpecError(f"{at}.{key}", "unknown field (expected axis, angle)")
+        for key in ("axis", "angle"):
+            if key not in r:
+                raise SpecError(f"{at}.{key}", "missing field")
+        axis = _vector(r["axis"], f"{at}.axis", names, const)
+        norm2 = sp.expand(sum(a * a for a in axis))
+        if norm2 == 0 or (norm2.is_number and float(norm2) < 1e-24):
+            raise SpecError(f"{at}.axis", "an axis of zero length")
+        axes.append(axis)
+        angles.append(_scalar(r["angle"], f"{at}.angle", names, state))
+    return BaseSpec(position=position, axes=tuple(axes), angles=tuple(angles))
+
+
+def _load(raw, at: str, names: dict, n: int, force: bool) -> LoadSpec:
+    if not isinstance(raw, dict):
+        raise SpecError(at, "expected a table")
+    key_vec = "F" if force else "M"
+    allowed = ("point", "F", "frame") if force else ("M", "frame")
+    for key in raw:
+        if key not in allowed:
+            raise SpecError(f"{at}.{key}", f"unknown field (expected {', '.join(allowed)})")
+    for key in allowed:
+        if key not in raw:
+            raise SpecError(f"{at}.{key}", "missing field")
+    frame = raw["frame"]
+    if frame not in ("body", "fixed"):
+        raise SpecError(f"{at}.frame", f"expected \"body\" or \"fixed\", got {frame!r}")
+    point = _vector(raw["point"], f"{at}.point", names, _state_names(n, "const")) if force else None
+    vec = _vector(raw[key_vec], f"{at}.{key_vec}", names, _state_names(n, "state"))
+    return LoadSpec(vec=vec, frame=frame, point=point)
 
 
 def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
@@ -303,18 +450,33 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
         raise SpecError(f"{at}.s", "the last body has no next joint; leave s out")
     # Read in the file's order so that parameters are numbered by first appearance.
     vals = {}
+    const, time, state = (_state_names(n, kind) for kind in ("const", "time", "state"))
     for key, value in raw.items():
         where = f"{at}.{key}"
-        if key in ("theta", "m"):
-            vals[key] = _scalar(value, where, names)
-        elif key in ("c", "s", "lambda"):
-            vals[key] = _vector(value, where, names)
+        if key in ("theta", "m", "spring", "rest", "damping"):
+            vals[key] = _scalar(value, where, names, const)
+        elif key in ("c", "s"):
+            vals[key] = _vector(value, where, names, const)
+        elif key == "lambda":
+            vals[key] = _vector(value, where, names, time)
+        elif key == "torque":
+            vals[key] = _scalar(value, where, names, state)
         elif key == "A":
-            vals[key] = _matrix(value, where, names)
+            vals[key] = _matrix(value, where, names, const)
         elif key == "control":
             if not isinstance(value, bool):
                 raise SpecError(where, "expected true or false")
             vals[key] = value
+        elif key in ("force", "moment"):
+            if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+                raise SpecError(where, f"expected [[{at.split('[')[0]}.{key}]] tables")
+            vals[key] = tuple(_load(v, f"{where}[{i}]", names, n, key == "force") for i, v in enumerate(value, start=1))
+    if "rest" in vals and "spring" not in vals:
+        raise SpecError(f"{at}.rest", "a rest angle without a spring (give spring = k too)")
+    for key, what in (("spring", "stiffness"), ("damping", "damping coefficient")):
+        v = vals.get(key)
+        if v is not None and v.is_number and v < 0:
+            raise SpecError(f"{at}.{key}", f"a negative {what} ({float(v):g}) would feed energy into the joint")
     m, c, A = vals["m"], vals["c"], vals["A"]
     if m.is_number and not m > 0:
         raise SpecError(f"{at}.m", f"mass must be positive, got {float(m):g}")
@@ -331,6 +493,12 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
         s=vals.get("s", ZERO3),
         lam=vals.get("lambda", ZERO3),
         control=vals.get("control", False),
+        spring=vals.get("spring"),
+        rest=vals.get("rest", sp.Integer(0)),
+        damping=vals.get("damping"),
+        torque=vals.get("torque"),
+        forces=vals.get("force", ()),
+        moments=vals.get("moment", ()),
     )
 
 
