@@ -104,7 +104,8 @@ def cmd_generate(args) -> int:
 
     counts = op_counts(model)
     ints = model.integrals
-    print(f"{spec.name}: n = {spec.n}, {len(spec.params)} symbolic parameters, {len(spec.controls)} control torques")
+    print(f"{spec.name}: n = {spec.n}, {len(spec.params)} symbolic parameters, {len(spec.controls)} control torques"
+          + (", moving platform" if spec.base is not None and spec.base.moves else ""))
     print("op counts: " + ", ".join(f"{spec.name}_{k} {v}" for k, v in counts.items()))
     print(f"qdd form: {model.qdd_form}" + (" (composite bodies + LDL^T)" if model.qdd_form == "composite" else " (articulated bodies, O(n))"))
     for line in _integral_lines(spec, model):
@@ -121,20 +122,38 @@ def _integral_lines(spec, model) -> list[str]:
     from .quadratures import why_not
 
     ints = model.integrals
-    energy = "energy T - U (23): " + ("conserved (fixed base, no control torque)" if ints.has_energy_integral
-                                      else "not conserved (control torques act)")
+    if spec.general:
+        energy = "energy T - U (23): " + ("conserved (" + ("U includes " + ", ".join(w for w, _ in ints.U_extra) if ints.U_extra
+                                                         else "no load but gravity does work") + ")"
+                                          if ints.has_energy_integral else "not conserved: " + "; ".join(ints.energy_reasons)
+                                          + (" removed it" if len(ints.energy_reasons) == 1 else " removed it"))
+    else:
+        energy = "energy T - U (23): " + ("conserved (fixed base, no control torque)" if ints.has_energy_integral
+                                          else "not conserved (control torques act)")
     if ints.momentum_condition:
         momentum = f"momentum (27): conserved only if {ints.momentum_condition}"
     elif ints.momentum is None:
         momentum = "momentum (27): not an integral (theta1 is not 0 or pi: the axis l1 is not vertical)"
     elif ints.has_momentum_integral:
         momentum = "momentum (27): conserved (axis l1 vertical, no torque in joint 1)"
+    elif ints.momentum_reasons:
+        momentum = "momentum (27): not conserved: " + "; ".join(ints.momentum_reasons)
     else:
         momentum = "momentum (27): not conserved (a control torque acts in joint 1)"
     reason = why_not(spec)
     quad = ("quadratures (30): emitted (" + ("Nikolai's balanced gyroscope, " if model.quad.nikolai else "")
             + "NAME_quad_period, NAME_quad_state)" if reason is None else f"quadratures (30): not emitted: {reason}")
-    return ["integrals: " + energy, "           " + momentum, quad.replace("NAME", spec.name)]
+    out = ["integrals: " + energy, "           " + momentum]
+    if spec.general and spec.base is not None and spec.base.moves:
+        out.append("           Jacobi integral T2 - T0 - U - sum lambda.omega0: " + (
+            "conserved (the platform turns uniformly, gravity fixed in it; NAME_jacobi)" if ints.jacobi is not None
+            else "none (the platform's motion or a load makes the Lagrangian depend on t)"))
+    if spec.general:
+        from .emit import time_dependent
+
+        out.append("time: " + ("the equations depend on t (NAME_TIME_DEPENDENT 1: forces, qdd, energy, momentum take t)"
+                               if time_dependent(model) else "autonomous (NAME_TIME_DEPENDENT 0)"))
+    return [line.replace("NAME_T", f"{spec.name.upper()}_T").replace("NAME", spec.name) for line in out] + [quad.replace("NAME", spec.name)]
 
 
 def _motion_line(spec, target: Path) -> str:
@@ -203,7 +222,7 @@ def cmd_simulate(args) -> int:
     cols = [f"phi{k}" for k in range(1, n + 1)] + [f"phidot{k}" for k in range(1, n + 1)]
     print(",".join(["t", *cols, "energy"]))
     for ti, xi in zip(t, X):
-        print(",".join(f"{v:.17g}" for v in [ti, *xi, reference.energy(ch, xi)]))
+        print(",".join(f"{v:.17g}" for v in [ti, *xi, reference.energy(ch, xi, ti)]))
     return 0
 
 

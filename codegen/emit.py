@@ -294,9 +294,15 @@ def fold_numbers(expr: sp.Expr) -> sp.Expr:
     return expr.func(*args) if any(a is not b for a, b in zip(args, expr.args)) else expr
 
 
-def _latex_names(model: Model) -> dict:
-    kin = model.kin
+def _latex_names(model: Model, kin: Kinematics | None = None) -> dict:
+    kin = kin or model.kin
     names = {}
+    from .kinematics import platform_symbols
+
+    tex = {"omega": r"\omega^{0}", "epsilon": r"\varepsilon^{0}", "vdot": r"\dot v_{0", "gamma": r"\gamma^{0}"}
+    for key, syms in platform_symbols().items():
+        for i, sym in enumerate(syms, start=1):
+            names[sym] = f"{tex[key]},{i}}}" if key == "vdot" else f"{tex[key]}_{{{i}}}"
     for a, _ in kin.prog.defs:
         names[a.sym] = kin.prog.tex.get(a.sym) or r"\mathrm{" + _tex_escape(a.name) + "}"
     for k in range(1, kin.n + 1):
@@ -443,10 +449,75 @@ class TexEquation:
     lines: tuple[str, ...]
 
 
+CLOSED_FORM_MAX_N_GENERAL = 2  # the same for a spec with platform motion or loads (more symbols)
+
+
+def _split_platform(prog, p: Poly, platform: set) -> tuple[sp.Expr, sp.Expr]:
+    """A closed form split into the terms without and with ω⁰, ε⁰, v̇₀ (the grouping of (8)–(10))."""
+    (full,) = prog.inline_poly([p])
+    rest = Poly({m: c for m, c in full.terms.items() if not any(a.sym in platform for a in m)})
+    plat = Poly({m: c for m, c in full.terms.items() if any(a.sym in platform for a in m)})
+    return rest.to_sympy(prog.sympy_of), plat.to_sympy(prog.sympy_of)
+
+
+def _general_tex_on(model: Model, kin, pr, closed: bool, lines, grouped) -> dict:
+    """The LaTeX of the general case: the platform's motion, the platform terms Π_k apart, λ̊, the
+    loads' generalized forces and the joint torques, from the derivation ``kin`` made again with
+    ω⁰, ε⁰, v̇₀, γ⁰ as symbols (kinematics.derive(symbolic_platform=True))."""
+    from . import dynamics, kinematics
+
+    spec = model.spec
+    dyn = dynamics.derive(spec, kin)
+    pm = kin.platform
+    sy = kinematics.platform_symbols()
+    platform = set(sy["omega"] + sy["epsilon"] + sy["vdot"])
+    n = spec.n
+    out = dict(platform=None, Pi=None, Lamdot=None, Phi=None, joint=None)
+    if pm is not None:
+        rows = []
+        for key, vals, what in (("omega", pm.omega, "angular velocity"), ("epsilon", pm.eps, "angular acceleration"),
+                                ("vdot", pm.acc, "acceleration of $O^1$"), ("gamma", pm.down, "$\\hat{\\mathbf e}^0_1$ (down)")):
+            for sym, v in zip(sy[key], vals):
+                rows.append(TexEquation(pr.doprint(sym), tuple(_tex_lines(sp.sympify(v), pr, 200, expand=False))))
+        out["platform"] = rows
+        if closed:
+            Pi = []
+            for k in range(n):
+                _, pq = _split_platform(kin.prog, dyn.Q[k], platform)
+                _, pg = _split_platform(kin.prog, dyn.Gamma[k], platform)
+                Pi.append(TexEquation(rf"\Pi_{{{k + 1}}}", tuple(grouped(pq + pg))))
+            out["Pi"] = Pi
+    if dyn.Lamdot:
+        out["Lamdot"] = [TexEquation(rf"\mathring\Lambda_{{{k + 1}}}", tuple(lines(e))) for k, e in enumerate(_vals(kin, dyn.Lamdot, closed))]
+    if dyn.Phi:
+        out["Phi"] = [TexEquation(rf"\Phi_{{{k + 1}}}", tuple(lines(e))) for k, e in enumerate(_vals(kin, dyn.Phi, closed))]
+    if dyn.joint:
+        out["joint"] = [TexEquation(rf"\tau_{{{k + 1}}}", tuple(lines(e))) for k, e in enumerate(_vals(kin, dyn.joint, closed))
+                        if not dyn.joint[k].is_zero()]
+    out["kin"], out["dyn"] = kin, dyn
+    return out
+
+
+def _vals(kin, polys, closed: bool) -> list:
+    return kin.prog.inline(polys) if closed else list(polys)
+
+
 def _tex(model: Model) -> dict:
     spec, kin, dyn, ints = model.spec, model.kin, model.dyn, model.integrals
     n = spec.n
-    pr = TexPrinter(_latex_names(model))
+    general = None
+    if spec.general:
+        closed = n <= CLOSED_FORM_MAX_N_GENERAL
+        from . import integrals as _i, kinematics as _k
+        kin_s = _k.derive(spec, symbolic_platform=True)
+        pr = TexPrinter(_latex_names(model, kin_s))
+        grouped_ = (lambda e: _grouped(e, kin_s.phidot[1:], pr)) if closed else (lambda e: _poly_tex_lines(e, pr))
+        lines_ = (lambda e: _tex_lines(e, pr)) if closed else (lambda e: _poly_tex_lines(e, pr))
+        general = _general_tex_on(model, kin_s, pr, closed, lines_, grouped_)
+        kin, dyn = general["kin"], general["dyn"]
+        ints = _i.derive(spec, kin, dyn)
+    else:
+        pr = TexPrinter(_latex_names(model))
     phidots = kin.phidot[1:]
 
     def mat(m):
@@ -476,20 +547,31 @@ def _tex(model: Model) -> dict:
     targets += list(dyn.Q) + list(dyn.Gamma) + list(dyn.G) + [ints.U]
     if ints.momentum is not None:
         targets.append(ints.momentum)
-    closed = n <= CLOSED_FORM_MAX_N
+    closed = n <= (CLOSED_FORM_MAX_N_GENERAL if general else CLOSED_FORM_MAX_N)
     recursion = []
+    extra = []
+    if general:
+        extra = list(dyn.Lamdot) + list(dyn.Phi) + [j for j in dyn.joint if not j.is_zero()]
     if closed:
         values = iter(kin.prog.inline(targets))
         lines, grouped = (lambda e: _tex_lines(e, pr)), (lambda e: _grouped(e, phidots, pr))
     else:
         values = iter(targets)
         lines = grouped = (lambda e: _poly_tex_lines(e, pr))
-        for a, rhs in kin.prog.needed(targets):
+        for a, rhs in kin.prog.needed(targets + extra):
             body = _poly_tex_lines(rhs, pr) if isinstance(rhs, Poly) else _tex_lines(rhs, pr, expand=False)
             recursion.append(TexEquation(pr.doprint(a.sym), tuple(body)))
     M = [TexEquation(f"M_{{{k + 1}{r + 1}}}", tuple(lines(next(values)))) for k in range(n) for r in range(k, n)]
-    Q = [TexEquation(f"Q_{{{k + 1}}}", tuple(grouped(next(values)))) for k in range(n)]
-    Gam = [TexEquation(rf"\Gamma_{{{k + 1}}}", tuple(grouped(next(values)))) for k in range(n)]
+    Qv, Gv = [next(values) for _ in range(n)], [next(values) for _ in range(n)]
+    if closed and general and kin.platform is not None:  # the platform terms are shown apart, as Π_k
+        from .kinematics import platform_symbols
+
+        sy = platform_symbols()
+        plat = set(sy["omega"] + sy["epsilon"] + sy["vdot"])
+        Qv = [_split_platform(kin.prog, q, plat)[0] for q in dyn.Q]
+        Gv = [_split_platform(kin.prog, q, plat)[0] for q in dyn.Gamma]
+    Q = [TexEquation(f"Q_{{{k + 1}}}", tuple(grouped(v))) for k, v in enumerate(Qv)]
+    Gam = [TexEquation(rf"\Gamma_{{{k + 1}}}", tuple(grouped(v))) for k, v in enumerate(Gv)]
     G = [TexEquation(f"G_{{{k + 1}}}", tuple(lines(next(values)))) for k in range(n)]
     U = TexEquation("U", tuple(lines(next(values))))
     K = TexEquation("k", tuple(grouped(next(values)))) if ints.momentum is not None else None
@@ -501,7 +583,17 @@ def _tex(model: Model) -> dict:
             U=tuple(_tex_lines(U2, pr)), beta=tuple(_tex_lines(beta, pr)), nikolai=model.quad.nikolai,
             U_const=not (U2.free_symbols & {kin.phi[2]}),
         )
+    gen = dict(platform=None, Pi=None, Lamdot=None, Phi=None, joint=None)
+    if general:
+        gen = {k: general[k] for k in gen}
+    ints_model = model.integrals
     return dict(
+        general=spec.general,
+        moving=kin.platform is not None,
+        energy_reasons=_tex_escape("; ".join(ints_model.energy_reasons)),
+        jacobi=ints_model.jacobi is not None,
+        U_extra=[_tex_escape(w) for w, _ in ints_model.U_extra],
+        **gen,
         quad=quad,
         momentum_condition=_tex_escape(ints.momentum_condition) if ints.momentum_condition else None,
         bodies=bodies,

@@ -101,11 +101,12 @@ def _momentum_reasons(spec: ChainSpec, pm) -> list[str]:
     out = []
     if pm is not None:
         const = platform_motion.is_constant
-        if not (const(pm.down) and pm.down[1] == 0 and pm.down[2] == 0):
+        zero = platform_motion.is_zero
+        if not (zero(pm.down[1]) and zero(pm.down[2])):
             out.append("base.rotation (l1 does not stay vertical)")
-        elif pm.omega[1] != 0 or pm.omega[2] != 0:
+        elif not (zero(pm.omega[1]) and zero(pm.omega[2])):
             out.append("base.rotation (the platform turns about another axis than l1)")
-        if any(sp.simplify(v) != 0 for v in pm.vel[1:]):
+        if not all(zero(v) for v in pm.vel[1:]):
             out.append("base.position (O1 moves off the axis l1)")
     b1 = spec.bodies[0]
     if b1.control:
@@ -116,11 +117,11 @@ def _momentum_reasons(spec: ChainSpec, pm) -> list[str]:
     for k, b in enumerate(spec.bodies, start=1):
         for i, f in enumerate(b.forces, start=1):
             vert = pm.to_platform(f.vec) if (pm is not None and f.frame == "fixed") else f.vec
-            if f.frame == "body" or any(sp.simplify(x) != 0 for x in vert[1:]):
+            if f.frame == "body" or not all(platform_motion.is_zero(x) for x in vert[1:]):
                 out.append(f"body[{k}].force[{i}] (a moment about the vertical)")
         for i, mo in enumerate(b.moments, start=1):
             vert = pm.to_platform(mo.vec) if (pm is not None and mo.frame == "fixed") else mo.vec
-            if mo.frame == "body" or sp.simplify(vert[0]) != 0:
+            if mo.frame == "body" or not platform_motion.is_zero(vert[0]):
                 out.append(f"body[{k}].moment[{i}] (a moment about the vertical)")
     return out
 

@@ -11,12 +11,18 @@ is fixed in (the frame "0" of α¹'⁰ in (15)):
     v₀ = Rᵀ ṙ₀,  v̇₀ = Rᵀ r̈₀ (the absolute velocity and acceleration of O¹),
     γ⁰ = Rᵀ ê⁰₁ (down), and the height ê⁰₁·r₀ that enters the force function U.
 
-All are sympy expressions of t and the spec's parameters, simplified once here (so that a turntable
-about the vertical gives a constant γ⁰ and ω⁰, which the integrals' rules rely on).
+All are sympy expressions of t and the spec's parameters.  They are not trig-simplified (that
+costs minutes for three rotations about oblique axes); a rotation about a coordinate axis gives
+exact zeros and ones by itself, so a turntable about the vertical has γ⁰ = (1, 0, 0) exactly.
+Whether a quantity is constant or zero (the integrals' rules) is decided by ``is_constant`` and
+``is_zero``: exactly where sympy can, else by evaluating at random times and parameter values
+(an identity test that a non-identity passes with probability zero).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+import random
 
 import sympy as sp
 
@@ -44,18 +50,18 @@ class PlatformMotion:
 
 
 def _simp(e: sp.Expr) -> sp.Expr:
-    e = sp.expand(e)
-    if e.has(sp.sin, sp.cos):
-        e = sp.trigsimp(e)
-    return e
+    return sp.expand(e)
 
 
 def _rotation(axis, angle) -> sp.Matrix:
-    """Rodrigues: the rotation by ``angle`` about the unit vector ``axis``."""
+    """Rodrigues: the rotation by ``angle`` about the unit vector ``axis`` (a numeric oblique axis
+    is normalized to 30 digits; a coordinate axis stays exact)."""
     a = sp.Matrix(axis)
     norm = sp.sqrt(sum(x * x for x in axis))
-    a = (a / norm).applyfunc(sp.nsimplify if norm.is_number and not norm.is_Rational else (lambda x: x))
-    a = a.applyfunc(sp.simplify)
+    if norm.is_number and sum(1 for x in axis if x != 0) > 1:
+        a = a.applyfunc(lambda x: sp.Float((x / norm).evalf(30), 30))
+    else:
+        a = (a / norm).applyfunc(sp.simplify)
     c, s = sp.cos(angle), sp.sin(angle)
     K = sp.Matrix([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
     return (c * sp.eye(3) + s * K + (1 - c) * a * a.T).applyfunc(sp.expand), a
@@ -83,6 +89,24 @@ def derive(spec: ChainSpec) -> PlatformMotion | None:
     return PlatformMotion(R=R, omega=omega, eps=eps, vel=vel, acc=acc, down=down, height=pm.height, position=r0)
 
 
+def is_zero(e, samples: int = 4) -> bool:
+    """Whether a sympy expression of t and parameters vanishes identically: exactly when it
+    expands to 0, else by its value at random (t, parameters) relative to the size of its terms."""
+    e = sp.expand(sp.sympify(e))
+    if e == 0:
+        return True
+    if e.is_number:
+        return abs(complex(e)) < 1e-25
+    syms = sorted(e.free_symbols, key=str)
+    rnd = random.Random(20261123)
+    f = sp.lambdify(syms, [e, sum(abs(a) for a in sp.Add.make_args(e))], modules="math")
+    for _ in range(samples):
+        val, size = f(*(rnd.uniform(0.3, 2.0) for _ in syms))
+        if abs(val) > 1e-12 * max(size, 1e-300):
+            return False
+    return True
+
+
 def is_constant(e) -> bool:
     """Whether a sympy expression (or a tuple of them) is free of t."""
     if isinstance(e, (tuple, list)):
@@ -90,4 +114,4 @@ def is_constant(e) -> bool:
     e = sp.sympify(e)
     if not e.has(T):
         return True
-    return _simp(sp.diff(e, T)) == 0
+    return is_zero(sp.diff(e, T))

@@ -52,6 +52,16 @@ def why_not(spec: ChainSpec) -> str | None:
     """None when the quadratures (30) apply to the spec, else the reason, in words."""
     if spec.n != 2:
         return f"n = {spec.n} (they need n = 2)"
+    if spec.general:
+        from .integrals import energy_reasons
+
+        why = energy_reasons(spec)
+        if why:
+            return f"{why[0]} does work (they need the energy integral (23) with a fixed base)"
+        fields = [f"body[{k}].{key}" for k, b in enumerate(spec.bodies, start=1) for key in ("spring", "force")
+                  if (b.spring is not None if key == "spring" else b.forces)]
+        return (f"{', '.join(fields) or 'base'}: (30) still holds, but the emitted method needs E(phi) J - K^2 to be "
+                "a trigonometric polynomial, which a spring or a force makes it not")
     if spec.controls:
         return "a control torque acts (they need the energy integral)"
     vertical = vertical_axis(spec)

@@ -23,8 +23,13 @@ EXAMPLES = sorted(p.stem for p in (ROOT / "specs").glob("*.toml"))
 FURUTA_SYM_PARAMS = dict(g0=9.81, m1=0.3, r=0.2, J1=0.004, J1z=0.0002, m2=0.1, l=0.15, J2=0.00075, J2z=1e-5)
 
 
+# the general-case examples' parameters: a table turning above its critical rate, a pivot vibrating
+# fast enough to hold the inverted pendulum up, a follower force below Ziegler's flutter load
+GENERAL_PARAMS = dict(turntable=dict(Omega=8.0), kapitza=dict(a=0.01, w=260.0), ziegler=dict(P=4.0))
+
+
 def example_params(name: str) -> dict | None:
-    return FURUTA_SYM_PARAMS if name == "furuta_sym" else None
+    return FURUTA_SYM_PARAMS if name == "furuta_sym" else GENERAL_PARAMS.get(name)
 
 
 @dataclass

@@ -70,11 +70,11 @@ int main(void)
         for (i = 0; i < 2 * {NAME}_N; ++i) x[i] = 3.0 * rnd(&seed);
         for (i = 0; i <= {NAME}_NU; ++i) u[i] = rnd(&seed);
         bad |= {name}_mass_matrix(x, p, M);
-        bad |= {name}_forces(x, u, p, f);
-        bad |= {name}_forces(x, NULL, p, f);
-        bad |= {name}_qdd(x, u, p, qdd);
+        bad |= {name}_forces({T}x, u, p, f);
+        bad |= {name}_forces({T}x, NULL, p, f);
+        bad |= {name}_qdd({T}x, u, p, qdd);
         bad |= {name}_rhs(0.0, x, NULL, p, xdot);
-        if (!isfinite({name}_energy(x, p))) bad |= 8;
+        if (!isfinite({name}_energy({T}x, p))) bad |= 8;
 {momentum}
 {quad}
         if (k % 20 == 0) {{
@@ -91,7 +91,7 @@ int main(void)
         }}
     }}
     x[0] = NAN;
-    if ({name}_qdd(x, u, p, qdd) != {NAME}_NONFINITE) bad |= 16;
+    if ({name}_qdd({T}x, u, p, qdd) != {NAME}_NONFINITE) bad |= 16;
     printf("%d\n", bad);
     return bad;
 }}
@@ -103,7 +103,11 @@ def test_sanitizers_clean(name, tmp_path):
     spec = load_spec(ROOT / "specs" / f"{name}.toml")
     params = example_params(name)
     init = ", ".join(repr(params[str(p)]) for p in spec.params) if params else "0"
-    mom = f"        if (!isfinite({name}_momentum(x, p))) bad |= 32;" if spec.bodies[0].theta == 0 else ""
+    header = (GEN / name / f"{name}.h").read_text()
+    T = "0.7, " if f"{name.upper()}_TIME_DEPENDENT 1" in header else ""
+    mom = f"        if (!isfinite({name}_momentum({T}x, p))) bad |= 32;" if f"{name}_momentum(" in header else ""
+    if f"{name}_jacobi(" in header:
+        mom += f"\n        if (!isfinite({name}_jacobi(x, p))) bad |= 32;"
     quad = ""
     if "_quad_state" in (GEN / name / f"{name}.h").read_text():
         # every quadrature entry point on random states: any documented code is allowed, the
@@ -112,7 +116,7 @@ def test_sanitizers_clean(name, tmp_path):
                 f"          rc |= {name}_quad_period(x, p, &T) | {name}_quad_state(3.7 * rnd(&seed), x, p, y)\n"
                 f"             | {name}_quad_functions(x[1], x, p, fo);\n"
                 f"          if (rc < 0 || rc > 7) bad |= 64; }}")
-    (tmp_path / "driver.c").write_text(DRIVER.format(name=name, NAME=name.upper(), init=init, momentum=mom, quad=quad))
+    (tmp_path / "driver.c").write_text(DRIVER.format(name=name, NAME=name.upper(), init=init, momentum=mom, quad=quad, T=T))
     exe = tmp_path / "driver"
     res = _run(["gcc", "-std=c99", "-g", "-O1", "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
                 "-fno-omit-frame-pointer", *STRICT, "-I", str(GEN / name), str(tmp_path / "driver.c"),
