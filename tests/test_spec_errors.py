@@ -77,6 +77,27 @@ CASES = [
     ("n-zero", 'name = "bad"\ng = 9.81\nbody = []\n', "body", "n = 0"),
     ("not-toml", 'name = "bad"\ng = = 9.81\n', "spec", "not valid TOML"),
     ("g-negative", spec(top='name = "bad"\ng = -9.81\n'), "g", "negative"),
+    # the general case (8)–(10)
+    ("base-unknown", spec(top='name = "bad"\ng = 9.81\n[base]\nspin = 1\n'), "base.spin", "unknown field"),
+    ("base-position-shape", spec(top='name = "bad"\ng = 9.81\n[base]\nposition = ["t", "0"]\n'), "base.position", "3 entries"),
+    ("base-position-state", spec(top='name = "bad"\ng = 9.81\n[base]\nposition = ["phi1", 0, 0]\n'), "base.position[1]", "prescribed"),
+    ("base-position-unknown-body", spec(top='name = "bad"\ng = 9.81\n[base]\nposition = ["phi3", 0, 0]\n'), "base.position[1]", "unknown symbol"),
+    ("base-axis-zero", spec(top='name = "bad"\ng = 9.81\n[base]\nrotation = [{axis = [0, 0, 0], angle = "t"}]\n'), "base.rotation[1].axis", "zero length"),
+    ("base-rotation-missing-angle", spec(top='name = "bad"\ng = 9.81\n[base]\nrotation = [{axis = [1, 0, 0]}]\n'), "base.rotation[1].angle", "missing"),
+    ("base-rotation-not-list", spec(top='name = "bad"\ng = 9.81\n[base]\nrotation = 3\n'), "base.rotation", "list of tables"),
+    ("t-in-constant", replace_body1("m", 'm = "1 + t"'), "body[1].m", "'t' is not allowed"),
+    ("state-in-lambda", replace_body1("lambda", 'lambda = ["phidot1", 0, 0]'), "body[1].lambda[1]", "prescribed"),
+    ("rest-without-spring", replace_body1("rest", "rest = 0.1"), "body[1].rest", "without a spring"),
+    ("spring-negative", replace_body1("spring", "spring = -1.0"), "body[1].spring", "negative"),
+    ("damping-negative", replace_body1("damping", "damping = -0.1"), "body[1].damping", "negative"),
+    ("torque-unknown-body", replace_body1("torque", 'torque = "-0.1*phidot7"'), "body[1].torque", "unknown symbol"),
+    ("torque-syntax", replace_body1("torque", 'torque = "sin(t"'), "body[1].torque", "does not parse"),
+    ("force-frame", spec(body2=BODY2 + '[[body.force]]\npoint = [0, 0, 1]\nF = [0, 0, 1]\nframe = "world"\n'), "body[2].force[1].frame", "\"body\" or \"fixed\""),
+    ("force-components", spec(body2=BODY2 + '[[body.force]]\npoint = [0, 0, 1]\nF = [0, 1]\nframe = "body"\n'), "body[2].force[1].F", "3 entries"),
+    ("force-missing-point", spec(body2=BODY2 + '[[body.force]]\nF = [0, 0, 1]\nframe = "body"\n'), "body[2].force[1].point", "missing"),
+    ("force-point-state", spec(body2=BODY2 + '[[body.force]]\npoint = [0, 0, "phi1"]\nF = [0, 0, 1]\nframe = "body"\n'), "body[2].force[1].point[3]", "constant"),
+    ("moment-unknown", spec(body2=BODY2 + '[[body.moment]]\nM = [0, 0, 1]\nframe = "body"\npoint = [0, 0, 0]\n'), "body[2].moment[1].point", "unknown field"),
+    ("force-not-table", spec(body2=BODY2 + 'force = 3\n'), "body[2].force", "expected"),
 ]
 
 
