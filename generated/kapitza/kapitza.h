@@ -21,6 +21,11 @@
  * (adaptive, rtol/atol, h the first step or 0) or KAPITZA_GAUSS2 (symmetric, fixed step h).  On
  * failure x1 is the last accepted state.  kapitza_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means KAPITZA_INTEGRATE_MAX_STEPS.
+ * General case (the paper's (8)-(10)): a moving platform, external loads, joint springs and dampers
+ * or gyrostatic moments lambda(t), as the spec gives them.  KAPITZA_TIME_DEPENDENT is 1 when a
+ * function reads the time t: then kapitza_forces, _qdd, _energy and _momentum take double t first;
+ * kapitza_mass_matrix never does and kapitza_rhs(t, ...) passes its t on.  kapitza_energy is
+ * T - U with absolute velocities, U including the springs and constant fixed forces.
  * Op counts: energy 26, forces 10, mass_matrix 0, qdd 10, rhs 10.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.

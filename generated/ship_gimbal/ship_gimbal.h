@@ -21,6 +21,11 @@
  * (adaptive, rtol/atol, h the first step or 0) or SHIP_GIMBAL_GAUSS2 (symmetric, fixed step h).  On
  * failure x1 is the last accepted state.  ship_gimbal_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means SHIP_GIMBAL_INTEGRATE_MAX_STEPS.
+ * General case (the paper's (8)-(10)): a moving platform, external loads, joint springs and dampers
+ * or gyrostatic moments lambda(t), as the spec gives them.  SHIP_GIMBAL_TIME_DEPENDENT is 1 when a
+ * function reads the time t: then ship_gimbal_forces, _qdd, _energy and _momentum take double t first;
+ * ship_gimbal_mass_matrix never does and ship_gimbal_rhs(t, ...) passes its t on.  ship_gimbal_energy is
+ * T - U with absolute velocities, U including the springs and constant fixed forces.
  * Op counts: energy 129, forces 148, mass_matrix 8, momentum 68, qdd 157, rhs 157.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.

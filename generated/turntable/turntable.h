@@ -21,6 +21,11 @@
  * (adaptive, rtol/atol, h the first step or 0) or TURNTABLE_GAUSS2 (symmetric, fixed step h).  On
  * failure x1 is the last accepted state.  turntable_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means TURNTABLE_INTEGRATE_MAX_STEPS.
+ * General case (the paper's (8)-(10)): a moving platform, external loads, joint springs and dampers
+ * or gyrostatic moments lambda(t), as the spec gives them.  TURNTABLE_TIME_DEPENDENT is 1 when a
+ * function reads the time t: then turntable_forces, _qdd, _energy and _momentum take double t first;
+ * turntable_mass_matrix never does and turntable_rhs(t, ...) passes its t on.  turntable_energy is
+ * T - U with absolute velocities, U including the springs and constant fixed forces.
  * Op counts: energy 14, forces 8, jacobi 14, mass_matrix 0, qdd 9, rhs 9.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.

@@ -21,6 +21,11 @@
  * (adaptive, rtol/atol, h the first step or 0) or ZIEGLER_GAUSS2 (symmetric, fixed step h).  On
  * failure x1 is the last accepted state.  ziegler_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means ZIEGLER_INTEGRATE_MAX_STEPS.
+ * General case (the paper's (8)-(10)): a moving platform, external loads, joint springs and dampers
+ * or gyrostatic moments lambda(t), as the spec gives them.  ZIEGLER_TIME_DEPENDENT is 1 when a
+ * function reads the time t: then ziegler_forces, _qdd, _energy and _momentum take double t first;
+ * ziegler_mass_matrix never does and ziegler_rhs(t, ...) passes its t on.  ziegler_energy is
+ * T - U with absolute velocities, U including the springs and constant fixed forces.
  * Op counts: energy 20, forces 24, mass_matrix 5, momentum 8, qdd 39, rhs 39.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
