@@ -120,17 +120,24 @@ def test_example_integrals_conserved_along_the_reference_solution(example, name)
     x0 = (np.array([*spec.initial["phi"], *spec.initial["phidot"]]) if spec.initial
           else np.concatenate([rng.uniform(-1, 1, n), rng.normal(size=n)]))
     t = np.linspace(0.0, 2.0, 41)
-    X = reference.simulate(m.ref, x0, t, rtol=1e-13, atol=1e-13)
+    if spec.general:  # the emitted DOP853 (checked against the reference in test_general*); the
+        # Python reference model is too slow for Kapitza's 260 rad/s vibration at 1e-13
+        X = m.c.integrate(t, x0, "dop853", rtol=1e-13, atol=1e-13, params=m.params)
+    else:
+        X = reference.simulate(m.ref, x0, t, rtol=1e-13, atol=1e-13)
     E = np.array([m.c.energy(x, m.params, t=ti) for ti, x in zip(t, X)])
     T0 = 0.5 * x0[n:] @ m.c.mass_matrix(x0[:n], m.params) @ x0[n:]
     drift = np.max(np.abs(E - E[0])) / max(abs(E[0]), T0)
     checked = 0
-    if m.py.HAS_ENERGY_INTEGRAL:
+    if not spec.general:  # zero control torque: the energy is conserved
+        assert drift <= 1e-10, drift
+        checked += 1
+    elif m.py.HAS_ENERGY_INTEGRAL:
         assert drift <= 1e-10, drift
         checked += 1
     else:  # the general examples: the platform or a load does work
         assert drift > 1e-6, drift
-    if m.py.HAS_MOMENTUM_INTEGRAL:
+    if m.py.HAS_MOMENTUM_INTEGRAL or (not spec.general and spec.bodies[0].theta == 0):
         K = np.array([m.c.momentum(x, m.params, t=ti) for ti, x in zip(t, X)])
         assert np.max(np.abs(K - K[0])) <= 1e-10 * max(1.0, abs(K[0]))
         checked += 1
