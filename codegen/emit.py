@@ -468,6 +468,7 @@ def _general_tex_on(model: Model, kin, pr, closed: bool, lines, grouped) -> dict
 
     spec = model.spec
     dyn = dynamics.derive(spec, kin)
+    rest = None
     pm = kin.platform
     sy = kinematics.platform_symbols()
     platform = set(sy["omega"] + sy["epsilon"] + sy["vdot"])
@@ -475,16 +476,17 @@ def _general_tex_on(model: Model, kin, pr, closed: bool, lines, grouped) -> dict
     out = dict(platform=None, Pi=None, Lamdot=None, Phi=None, joint=None)
     if pm is not None:
         rows = []
-        for key, vals, what in (("omega", pm.omega, "angular velocity"), ("epsilon", pm.eps, "angular acceleration"),
-                                ("vdot", pm.acc, "acceleration of $O^1$"), ("gamma", pm.down, "$\\hat{\\mathbf e}^0_1$ (down)")):
+        for key, vals in (("omega", pm.omega), ("epsilon", pm.eps), ("vdot", pm.acc), ("gamma", pm.down)):
             for sym, v in zip(sy[key], vals):
                 rows.append(TexEquation(pr.doprint(sym), tuple(_tex_lines(sp.sympify(v), pr, 200, expand=False))))
         out["platform"] = rows
         if closed:
-            Pi = []
+            Pi, rest = [], ([], [])
             for k in range(n):
-                _, pq = _split_platform(kin.prog, dyn.Q[k], platform)
-                _, pg = _split_platform(kin.prog, dyn.Gamma[k], platform)
+                rq, pq = _split_platform(kin.prog, dyn.Q[k], platform)
+                rg, pg = _split_platform(kin.prog, dyn.Gamma[k], platform)
+                rest[0].append(rq)
+                rest[1].append(rg)
                 Pi.append(TexEquation(rf"\Pi_{{{k + 1}}}", tuple(grouped(pq + pg))))
             out["Pi"] = Pi
     if dyn.Lamdot:
@@ -494,7 +496,7 @@ def _general_tex_on(model: Model, kin, pr, closed: bool, lines, grouped) -> dict
     if dyn.joint:
         out["joint"] = [TexEquation(rf"\tau_{{{k + 1}}}", tuple(lines(e))) for k, e in enumerate(_vals(kin, dyn.joint, closed))
                         if not dyn.joint[k].is_zero()]
-    out["kin"], out["dyn"] = kin, dyn
+    out["kin"], out["dyn"], out["rest"] = kin, dyn, rest  # rest: Q_k, Γ_k without the platform terms
     return out
 
 
@@ -563,13 +565,8 @@ def _tex(model: Model) -> dict:
             recursion.append(TexEquation(pr.doprint(a.sym), tuple(body)))
     M = [TexEquation(f"M_{{{k + 1}{r + 1}}}", tuple(lines(next(values)))) for k in range(n) for r in range(k, n)]
     Qv, Gv = [next(values) for _ in range(n)], [next(values) for _ in range(n)]
-    if closed and general and kin.platform is not None:  # the platform terms are shown apart, as Π_k
-        from .kinematics import platform_symbols
-
-        sy = platform_symbols()
-        plat = set(sy["omega"] + sy["epsilon"] + sy["vdot"])
-        Qv = [_split_platform(kin.prog, q, plat)[0] for q in dyn.Q]
-        Gv = [_split_platform(kin.prog, q, plat)[0] for q in dyn.Gamma]
+    if general and general["rest"] is not None:  # the platform terms are shown apart, as Π_k
+        Qv, Gv = general["rest"]
     Q = [TexEquation(f"Q_{{{k + 1}}}", tuple(grouped(v))) for k, v in enumerate(Qv)]
     Gam = [TexEquation(rf"\Gamma_{{{k + 1}}}", tuple(grouped(v))) for k, v in enumerate(Gv)]
     G = [TexEquation(f"G_{{{k + 1}}}", tuple(lines(next(values)))) for k in range(n)]

@@ -36,7 +36,7 @@ import sympy as sp
 from . import platform as platform_motion
 from .algebra import ZERO, Poly
 from .dynamics import Dynamics
-from .kinematics import E1, NULL, Kinematics, add, cross, dot, matvec, scale
+from .kinematics import NULL, Kinematics, add, cross, dot, matvec, scale
 from .spec import T as TIME, ChainSpec
 
 
@@ -100,7 +100,6 @@ def _momentum_reasons(spec: ChainSpec, pm) -> list[str]:
     """What keeps (27) from being conserved when l¹ is vertical in the platform (sin θ¹ = 0)."""
     out = []
     if pm is not None:
-        const = platform_motion.is_constant
         zero = platform_motion.is_zero
         if not (zero(pm.down[1]) and zero(pm.down[2])):
             out.append("base.rotation (l1 does not stay vertical)")

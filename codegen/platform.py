@@ -42,7 +42,7 @@ class PlatformMotion:
 
     def to_platform(self, v) -> tuple:
         """Rᵀ v: fixed-frame components of a vector → platform components."""
-        return tuple(_simp(sum(self.R[j, i] * v[j] for j in range(3))) for i in range(3))
+        return _transpose_times(self.R, v)
 
     @property
     def rotates(self) -> bool:
@@ -51,6 +51,10 @@ class PlatformMotion:
 
 def _simp(e: sp.Expr) -> sp.Expr:
     return sp.expand(e)
+
+
+def _transpose_times(R, v) -> tuple:
+    return tuple(_simp(sum(R[j, i] * v[j] for j in range(3))) for i in range(3))
 
 
 def _rotation(axis, angle) -> sp.Matrix:
@@ -82,11 +86,10 @@ def derive(spec: ChainSpec) -> PlatformMotion | None:
     omega = tuple(_simp(x) for x in W)
     eps = tuple(_simp(sp.diff(x, T)) for x in omega)
     r0 = tuple(sp.sympify(x) for x in base.position)
-    pm = PlatformMotion(R=R, omega=omega, eps=eps, vel=(), acc=(), down=(), height=_simp(r0[0]), position=r0)
-    vel = pm.to_platform([sp.diff(x, T) for x in r0])
-    acc = pm.to_platform([sp.diff(x, T, 2) for x in r0])
+    vel = _transpose_times(R, [sp.diff(x, T) for x in r0])
+    acc = _transpose_times(R, [sp.diff(x, T, 2) for x in r0])
     down = tuple(_simp(R[0, i]) for i in range(3))
-    return PlatformMotion(R=R, omega=omega, eps=eps, vel=vel, acc=acc, down=down, height=pm.height, position=r0)
+    return PlatformMotion(R=R, omega=omega, eps=eps, vel=vel, acc=acc, down=down, height=_simp(r0[0]), position=r0)
 
 
 def is_zero(e, samples: int = 4) -> bool:
