@@ -140,6 +140,29 @@ class CModel:
         up, _ku = self._u(u)
         return self._call("rhs", float(t), xp, up, self._p(params), out_len=2 * self.n)
 
+    def qdd_derivatives(self, x, u=None, params=None, t=0.0):
+        """(φ̈, ∂φ̈/∂φ, ∂φ̈/∂φ̇, ∂φ̈/∂u) from NAME_qdd_derivatives (arrays n, n×n, n×n, n×nu)."""
+        xp, _k = self._arr(x, 2 * self.n)
+        up, _ku = self._u(u)
+        n, nu = self.n, self.nu
+        out = [np.empty(n), np.empty((n, n)), np.empty((n, n)), np.empty((n, nu))]
+        ptrs = [self.ffi.cast("double *", self.ffi.from_buffer(a)) if a.size else self.ffi.NULL for a in out]
+        code = self._fn("qdd_derivatives")(*self._t(t), xp, up, self._p(params), *ptrs)
+        if code != 0:
+            raise ModelError(f"{self.name}_qdd_derivatives", code)
+        return tuple(out)
+
+    def linearize(self, x, u=None, params=None, t=0.0):
+        """(A, B) of ẋ ≈ A δx + B δu about (x, u), from NAME_linearize."""
+        xp, _k = self._arr(x, 2 * self.n)
+        up, _ku = self._u(u)
+        A, B = np.empty((2 * self.n, 2 * self.n)), np.empty((2 * self.n, self.nu))
+        bp = self.ffi.cast("double *", self.ffi.from_buffer(B)) if B.size else self.ffi.NULL
+        code = self._fn("linearize")(float(t), xp, up, self._p(params), self.ffi.cast("double *", self.ffi.from_buffer(A)), bp)
+        if code != 0:
+            raise ModelError(f"{self.name}_linearize", code)
+        return A, B
+
     def energy(self, x, params=None, t=0.0):
         xp, _k = self._arr(x, 2 * self.n)
         return self._fn("energy")(*self._t(t), xp, self._p(params))

@@ -16,7 +16,7 @@ from sympy.printing.c import C99CodePrinter
 from sympy.printing.latex import LatexPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from . import __version__, aba, quadratures
+from . import __version__, aba, derivatives, quadratures
 from .dynamics import Dynamics
 from .integrals import Integrals
 from .kinematics import Kinematics
@@ -164,6 +164,7 @@ class Model:
     lines: dict  # name → StraightLine (mass_matrix, forces, qdd, energy, momentum)
     qdd_form: str  # "composite" (M and f, then LDLᵀ) or "articulated" (aba.py: φ̈ and pivots)
     quad: quadratures.TwoBody | None = None  # the integrable two-body case (28)–(30), when it applies
+    der: derivatives.Derivatives | None = None  # ∂φ̈/∂(φ, φ̇, u): NAME_qdd_derivatives, NAME_linearize
 
 
 QDD_FORMS = ("auto", "composite", "articulated")
@@ -200,7 +201,19 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
     quad = quadratures.derive(spec, kin, dyn, ints)
     if quad is not None:
         lines["quad_terms"] = straight_line(P, quad.terms)
-    return Model(spec, kin, dyn, ints, lines, form, quad)
+    # last, so that the names of everything above do not depend on it
+    say("straight-line code: derivatives of qdd (forward mode over the articulated recursion)")
+    der = derivatives.derive(spec, kin, art)
+    lines["qdd_derivatives"] = articulated
+    have = frozenset(a for a, _ in P.needed(list(art.qdd) + list(art.pivots)))
+    for key, kind in DERIVATIVE_BLOCKS:
+        lines[key] = straight_line(P, der.block(kind), prefix=f"w{kind}", have=have)
+    return Model(spec, kin, dyn, ints, lines, form, quad, der)
+
+
+# the sections of NAME_qdd_derivatives after φ̈ itself (line key, direction kind); each is computed
+# only when its output is asked for
+DERIVATIVE_BLOCKS = (("dqdd_dphi", "q"), ("dqdd_dphidot", "v"), ("dqdd_du", "u"))
 
 
 def reads_time(line: StraightLine) -> bool:
@@ -245,10 +258,15 @@ def op_counts(model: Model) -> dict[str, int]:
     """Op count of each emitted function (multiplications, additions and function calls of the
     straight-line code; the qdd and rhs counts include the unrolled LDLᵀ solve)."""
     n = model.spec.n
-    counts = {name: line.op_count() for name, line in model.lines.items()}
+    blocks = ["qdd_derivatives"] + [key for key, _ in DERIVATIVE_BLOCKS]
+    counts = {name: line.op_count() for name, line in model.lines.items() if name not in blocks}
     if model.qdd_form == "composite":
         counts["qdd"] += ldlt_op_count(n)
     counts["rhs"] = counts["qdd"]
+    if model.der is not None:
+        # φ̈ by the articulated recursion, then every block of derivatives
+        counts["qdd_derivatives"] = sum(model.lines[b].op_count() for b in blocks)
+        counts["linearize"] = counts["qdd_derivatives"]
     return counts
 
 
@@ -275,6 +293,17 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
         fs["momentum"] = _function("momentum", model.lines["momentum"], ["result"], pr)
     if "jacobi" in model.lines:
         fs["jacobi"] = _function("jacobi", model.lines["jacobi"], ["result"], pr)
+    if model.der is not None:
+        nu = len(spec.controls)
+        acc = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
+        fs["qdd_derivatives"] = _function("qdd_derivatives", model.lines["qdd_derivatives"], acc, pr)
+        for key, kind in DERIVATIVE_BLOCKS:
+            cols = nu if kind == "u" else n
+            if style == "c":
+                targets = [f"{key}[{i * cols + j}]" for i in range(n) for j in range(cols)]
+            else:
+                targets = [f"{key}[{i}, {j}]" for i in range(n) for j in range(cols)]
+            fs[key] = _function(key, model.lines[key], targets, pr)
     if "quad_terms" in model.lines:
         # a function of φ = φ² alone (ψ = φ¹ is cyclic); in Python on numpy arrays of φ
         qnames = {**names, model.kin.phi[2]: "phi"}

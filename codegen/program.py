@@ -128,14 +128,16 @@ class Program:
         return out
 
     # ---- reading the program
-    def needed(self, exprs) -> list[tuple[Atom, object]]:
-        """The definitions the polynomials depend on, in program order (dead code dropped)."""
+    def needed(self, exprs, have=frozenset()) -> list[tuple[Atom, object]]:
+        """The definitions the polynomials depend on, in program order (dead code dropped);
+        those in ``have`` (computed already, by an earlier section of the same function) and what
+        only they need are left out."""
         need: set = set()
         for e in exprs:
             need.update(Poly.lift(e).atoms())
         out = []
         for a, rhs in reversed(self.defs):
-            if a in need:
+            if a in need and a not in have:
                 out.append((a, rhs))
                 need.update(rhs.atoms() if isinstance(rhs, Poly) else self._deps.get(a, ()))
         return out[::-1]

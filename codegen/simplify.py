@@ -33,9 +33,10 @@ def _sympy_ops(expr) -> int:
     return max(1, int(sp.count_ops(expr)))
 
 
-def straight_line(program: Program, outputs, prefix: str = "w") -> StraightLine:
+def straight_line(program: Program, outputs, prefix: str = "w", have=frozenset()) -> StraightLine:
+    """``have``: quantities an earlier section of the same function computed (not repeated)."""
     outputs = [Poly.lift(e) for e in outputs]
-    defs = program.needed(outputs)
+    defs = program.needed(outputs, have)
     polys = [rhs for _, rhs in defs if isinstance(rhs, Poly)] + outputs
     seen: dict = {}
     for p in polys:

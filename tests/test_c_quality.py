@@ -74,6 +74,16 @@ int main(void)
         bad |= {name}_forces({T}x, NULL, p, f);
         bad |= {name}_qdd({T}x, u, p, qdd);
         bad |= {name}_rhs(0.0, x, NULL, p, xdot);
+        {{
+            /* the derivatives: all blocks, then only some (NULL blocks are not written) */
+            double dq[{NAME}_N * {NAME}_N], dv[{NAME}_N * {NAME}_N], du[{NAME}_N * {NAME}_NU + 1];
+            double A[4 * {NAME}_N * {NAME}_N], B[2 * {NAME}_N * {NAME}_NU + 1];
+            bad |= {name}_qdd_derivatives({T}x, u, p, qdd, dq, dv, du);
+            bad |= {name}_qdd_derivatives({T}x, NULL, p, NULL, dq, NULL, NULL);
+            bad |= {name}_qdd_derivatives({T}x, u, p, NULL, NULL, NULL, du);
+            bad |= {name}_linearize(0.7, x, u, p, A, B);
+            bad |= {name}_linearize(0.7, x, NULL, p, A, NULL);
+        }}
         if (!isfinite({name}_energy({T}x, p))) bad |= 8;
 {momentum}
 {quad}
@@ -92,6 +102,10 @@ int main(void)
     }}
     x[0] = NAN;
     if ({name}_qdd({T}x, u, p, qdd) != {NAME}_NONFINITE) bad |= 16;
+    {{
+        double A[4 * {NAME}_N * {NAME}_N];
+        if ({name}_linearize(0.0, x, u, p, A, NULL) != {NAME}_NONFINITE) bad |= 16;
+    }}
     printf("%d\n", bad);
     return bad;
 }}

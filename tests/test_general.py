@@ -10,6 +10,7 @@ from scipy.integrate import solve_ivp
 
 from codegen import reference
 from codegen.randspec import random_general_spec_text
+from conftest import check_derivatives
 
 # (n, translate, rotate, loads, springs, spin_up)
 CASES = [
@@ -51,6 +52,14 @@ def test_flags(case):
     assert model.py.HAS_JACOBI_INTEGRAL is False
     assert model.py.HAS_QUADRATURES is False
     assert moves or any(b.loaded for b in spec.bodies)
+
+
+def test_derivatives_match_differences(case):
+    """∂φ̈/∂(φ, φ̇) of the time-dependent models (platform, loads, springs, dampers, torque
+    expressions of the state) against differences of the reference."""
+    model, rng = case
+    for _ in range(2):
+        check_derivatives(model, _state(rng, model.spec.n), t=rng.uniform(-2.0, 5.0))
 
 
 def test_qdd_matches_reference(case):

@@ -9,7 +9,7 @@ from scipy.integrate import solve_ivp
 
 from codegen import reference
 from codegen.randspec import random_spec_text
-from conftest import EXAMPLES
+from conftest import EXAMPLES, check_derivatives
 
 # (n, planar, gyrostats, controlled joints, θ¹ or None for random)
 CASES = [
@@ -43,6 +43,17 @@ def case(request, make_model):
 
 def random_state(rng, n):
     return np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.normal(size=n) * 2.0])
+
+
+def test_derivatives_match_differences(case):
+    """NAME_qdd_derivatives (C and Python) against Richardson central differences of the
+    reference φ̈, in φ, φ̇ and u, at random states."""
+    model, rng = case
+    n = model.spec.n
+    for _ in range(2):
+        x = random_state(rng, n)
+        u = rng.normal(size=len(model.spec.controls)) if model.spec.controls else None
+        check_derivatives(model, x, u)
 
 
 def test_qdd_matches_reference(case):

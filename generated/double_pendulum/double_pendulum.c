@@ -34,6 +34,29 @@ static void double_pendulum_symmetrize_(double *M)
     }
 }
 
+/* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
+ * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
+static int double_pendulum_pivots_(const double *piv)
+{
+    double tol = 0.0;
+    int i;
+    for (i = 0; i < 2; ++i) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
+        }
+    }
+    tol *= DOUBLE_PENDULUM_PIVOT_TOL;
+    for (i = 1; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return DOUBLE_PENDULUM_NONFINITE;
+        }
+        if (!(piv[i] > tol)) {
+            return DOUBLE_PENDULUM_SINGULAR;
+        }
+    }
+    return DOUBLE_PENDULUM_OK;
+}
+
 
 int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p, double *M)
 {
@@ -126,8 +149,7 @@ int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[2];
     double piv[2];
-    double tol = 0.0;
-    int i;
+    int i, code;
     (void)p;
 
     if (!double_pendulum_all_finite_(x, 4)) {
@@ -163,25 +185,147 @@ int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_
         piv[1] = 0.3335;
 
     }
-    for (i = 0; i < 2; ++i) {
-        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
-            tol = fabs(piv[i]);
-        }
-    }
-    tol *= DOUBLE_PENDULUM_PIVOT_TOL;
-    /* from the tip, where elimination starts: a zero pivot makes the ones before it NaN */
-    for (i = 1; i >= 0; --i) {
-        if (!isfinite(piv[i])) {
-            return DOUBLE_PENDULUM_NONFINITE;
-        }
-        if (!(piv[i] > tol)) {
-            return DOUBLE_PENDULUM_SINGULAR;
-        }
+    code = double_pendulum_pivots_(piv);
+    if (code != DOUBLE_PENDULUM_OK) {
+        return code;
     }
     for (i = 0; i < 2; ++i) {
         qdd[i] = acc[i];
     }
     return double_pendulum_all_finite_(qdd, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
+}
+
+int double_pendulum_qdd_derivatives(const double *x, const double *u, const double_pendulum_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
+{
+    /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
+     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
+    double acc[2];
+    double piv[2];
+    int i, code;
+    (void)p;
+
+    if (!double_pendulum_all_finite_(x, 4)) {
+        return DOUBLE_PENDULUM_NONFINITE;
+    }
+
+    {
+        (void)u;
+
+        const double cos_phi1 = cos(x[0]);
+        const double sin_phi1 = sin(x[0]);
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_1 = x[2] + x[3];
+        const double aOrel2in1_3 = -x[2]*x[2];
+        const double j2r5 = -9.81*cos_phi1 + aOrel2in1_3;
+        const double aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2;
+        const double pF2_3 = aOg2_3 - 0.5*om2_1*om2_1;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double Jm2rdr_22 = 0.6251874062968517 - 0.3748125937031484*c2phi2;
+        const double pc2f_2 = 0.2503748125937032*cos_phi2*aOg2_2 - sin_phi2*pF2_3;
+        const double IA1_11 = 0.3335 + Jm2rdr_22;
+        const double pA1_1 = 4.905*sin_phi1 - pc2f_2;
+        const double rD1 = 1.0/IA1_11;
+        const double qdd1 = -pA1_1*rD1;
+        const double dv2_2 = -cos_phi2*qdd1;
+        const double qdd2 = 1.4992503748125936*aOg2_2 - qdd1 + 1.4992503748125936*dv2_2;
+
+        acc[0] = qdd1;
+        acc[1] = qdd2;
+        piv[0] = IA1_11;
+        piv[1] = 0.3335;
+
+        code = double_pendulum_pivots_(piv);
+        if (code != DOUBLE_PENDULUM_OK) {
+            return code;
+        }
+        if (qdd) {
+            for (i = 0; i < 2; ++i) {
+                qdd[i] = acc[i];
+            }
+        }
+        if (dqdd_dphi) {
+            const double wq0 = sin_phi1*sin_phi2;
+            const double aOg2_2_dq1 = -9.81*cos_phi1*cos_phi2 + 9.81*wq0;
+            const double aOg2_2_dq2 = 9.81*wq0 + cos_phi2*j2r5;
+            const double wq1 = sin_phi1*cos_phi2;
+            const double aOg2_3_dq1 = 9.81*wq1 + 9.81*cos_phi1*sin_phi2;
+            const double aOg2_3_dq2 = -sin_phi2*j2r5 + 9.81*wq1;
+            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
+            const double pc2f_2_dq1 = 0.2503748125937032*cos_phi2*aOg2_2_dq1 - sin_phi2*aOg2_3_dq1;
+            const double pc2f_2_dq2 = -0.2503748125937032*sin_phi2*aOg2_2 + 0.2503748125937032*cos_phi2*aOg2_2_dq2 - cos_phi2*pF2_3 - sin_phi2*aOg2_3_dq2;
+            const double pA1_1_dq1 = 4.905*cos_phi1 - pc2f_2_dq1;
+            const double rD1_dq2 = 0.3748125937031484*rD1*rD1*c2phi2_dq2;
+            const double qdd1_dq1 = -rD1*pA1_1_dq1;
+            const double qdd1_dq2 = rD1*pc2f_2_dq2 - pA1_1*rD1_dq2;
+            const double dv2_2_dq1 = -cos_phi2*qdd1_dq1;
+            const double dv2_2_dq2 = sin_phi2*qdd1 - cos_phi2*qdd1_dq2;
+            const double qdd2_dq1 = 1.4992503748125936*aOg2_2_dq1 - qdd1_dq1 + 1.4992503748125936*dv2_2_dq1;
+            const double qdd2_dq2 = 1.4992503748125936*aOg2_2_dq2 - qdd1_dq2 + 1.4992503748125936*dv2_2_dq2;
+
+            dqdd_dphi[0] = qdd1_dq1;
+            dqdd_dphi[1] = qdd1_dq2;
+            dqdd_dphi[2] = qdd2_dq1;
+            dqdd_dphi[3] = qdd2_dq2;
+
+            if (!double_pendulum_all_finite_(dqdd_dphi, 4)) {
+                return DOUBLE_PENDULUM_NONFINITE;
+            }
+        }
+        if (dqdd_dphidot) {
+            const double aOg2_2_dv1 = -2.0*x[2]*sin_phi2;
+            const double aOg2_3_dv1 = -2.0*x[2]*cos_phi2;
+            const double pF2_3_dv1 = aOg2_3_dv1 - om2_1;
+            const double pc2f_2_dv1 = 0.2503748125937032*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1;
+            const double pc2f_2_dv2 = sin_phi2*om2_1;
+            const double qdd1_dv1 = rD1*pc2f_2_dv1;
+            const double qdd1_dv2 = rD1*pc2f_2_dv2;
+            const double dv2_2_dv1 = -cos_phi2*qdd1_dv1;
+            const double dv2_2_dv2 = -cos_phi2*qdd1_dv2;
+            const double qdd2_dv1 = 1.4992503748125936*aOg2_2_dv1 - qdd1_dv1 + 1.4992503748125936*dv2_2_dv1;
+            const double qdd2_dv2 = -qdd1_dv2 + 1.4992503748125936*dv2_2_dv2;
+
+            dqdd_dphidot[0] = qdd1_dv1;
+            dqdd_dphidot[1] = qdd1_dv2;
+            dqdd_dphidot[2] = qdd2_dv1;
+            dqdd_dphidot[3] = qdd2_dv2;
+
+            if (!double_pendulum_all_finite_(dqdd_dphidot, 4)) {
+                return DOUBLE_PENDULUM_NONFINITE;
+            }
+        }
+        (void)dqdd_du;  /* no control inputs: an n x 0 block */
+    }
+    return double_pendulum_all_finite_(acc, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
+}
+
+int double_pendulum_linearize(double t, const double *x, const double *u, const double_pendulum_params *p, double *A, double *B)
+{
+    /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
+     * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
+    double dq[4];
+    double dv[4];
+    int i, j, code;
+    (void)t;
+    code = double_pendulum_qdd_derivatives(x, u, p, 0, A ? dq : 0, A ? dv : 0, 0);
+    if (code != DOUBLE_PENDULUM_OK) {
+        return code;
+    }
+    if (A) {
+        for (i = 0; i < 2; ++i) {
+            for (j = 0; j < 2; ++j) {
+                A[i * 4 + j] = 0.0;
+                A[i * 4 + 2 + j] = i == j ? 1.0 : 0.0;
+                A[(2 + i) * 4 + j] = dq[i * 2 + j];
+                A[(2 + i) * 4 + 2 + j] = dv[i * 2 + j];
+            }
+        }
+    }
+    (void)B;  /* no control inputs: B is 2n x 0 */
+    return DOUBLE_PENDULUM_OK;
 }
 
 int double_pendulum_rhs(double t, const double *x, const double *u, const double_pendulum_params *p, double *xdot)

@@ -21,7 +21,11 @@
  * (adaptive, rtol/atol, h the first step or 0) or DOUBLE_PENDULUM_GAUSS2 (symmetric, fixed step h).  On
  * failure x1 is the last accepted state.  double_pendulum_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means DOUBLE_PENDULUM_INTEGRATE_MAX_STEPS.
- * Op counts: energy 26, forces 27, mass_matrix 4, qdd 38, rhs 38.
+ * double_pendulum_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
+ * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
+ * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
+ * double_pendulum_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
+ * Op counts: energy 26, forces 27, linearize 110, mass_matrix 4, qdd 38, qdd_derivatives 110, rhs 38.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -55,6 +59,9 @@ int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p
 int double_pendulum_forces(const double *x, const double *u, const double_pendulum_params *p, double *f);
 int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_params *p, double *qdd);
 int double_pendulum_rhs(double t, const double *x, const double *u, const double_pendulum_params *p, double *xdot);
+int double_pendulum_qdd_derivatives(const double *x, const double *u, const double_pendulum_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int double_pendulum_linearize(double t, const double *x, const double *u, const double_pendulum_params *p, double *A, double *B);
 double double_pendulum_energy(const double *x, const double_pendulum_params *p);
 typedef struct double_pendulum_integrate_stats {
     double t;

@@ -21,7 +21,11 @@
  * (adaptive, rtol/atol, h the first step or 0) or FAST_GYRO_GAUSS2 (symmetric, fixed step h).  On
  * failure x1 is the last accepted state.  fast_gyro_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means FAST_GYRO_INTEGRATE_MAX_STEPS.
- * Op counts: energy 16, forces 21, mass_matrix 8, momentum 11, qdd 30, quad_terms 10, rhs 30.
+ * fast_gyro_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
+ * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
+ * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
+ * fast_gyro_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
+ * Op counts: energy 16, forces 21, linearize 88, mass_matrix 8, momentum 11, qdd 30, qdd_derivatives 88, quad_terms 10, rhs 30.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -61,6 +65,9 @@ int fast_gyro_mass_matrix(const double *q, const fast_gyro_params *p, double *M)
 int fast_gyro_forces(const double *x, const double *u, const fast_gyro_params *p, double *f);
 int fast_gyro_qdd(const double *x, const double *u, const fast_gyro_params *p, double *qdd);
 int fast_gyro_rhs(double t, const double *x, const double *u, const fast_gyro_params *p, double *xdot);
+int fast_gyro_qdd_derivatives(const double *x, const double *u, const fast_gyro_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int fast_gyro_linearize(double t, const double *x, const double *u, const fast_gyro_params *p, double *A, double *B);
 double fast_gyro_energy(const double *x, const fast_gyro_params *p);
 double fast_gyro_momentum(const double *x, const fast_gyro_params *p);
 typedef struct fast_gyro_integrate_stats {

@@ -34,6 +34,29 @@ static void furuta_symmetrize_(double *M)
     }
 }
 
+/* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
+ * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
+static int furuta_pivots_(const double *piv)
+{
+    double tol = 0.0;
+    int i;
+    for (i = 0; i < 2; ++i) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
+        }
+    }
+    tol *= FURUTA_PIVOT_TOL;
+    for (i = 1; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return FURUTA_NONFINITE;
+        }
+        if (!(piv[i] > tol)) {
+            return FURUTA_SINGULAR;
+        }
+    }
+    return FURUTA_OK;
+}
+
 
 int furuta_mass_matrix(const double *q, const furuta_params *p, double *M)
 {
@@ -207,6 +230,177 @@ int furuta_qdd(const double *x, const double *u, const furuta_params *p, double 
         qdd[i] = f[i];
     }
     return furuta_all_finite_(qdd, 2) ? FURUTA_OK : FURUTA_NONFINITE;
+}
+
+int furuta_qdd_derivatives(const double *x, const double *u, const furuta_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
+{
+    /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
+     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
+    double acc[2];
+    double piv[2];
+    int i, code;
+    (void)p;
+
+    if (!furuta_all_finite_(x, 4) || (u && !furuta_all_finite_(u, 1))) {
+        return FURUTA_NONFINITE;
+    }
+
+    {
+        const double tau_1 = u ? u[0] : 0.0;
+
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_2 = x[2]*sin_phi2;
+        const double om2_3 = x[2]*cos_phi2;
+        const double w0 = x[3]*om2_3;
+        const double eps2_2 = w0;
+        const double eps2_3 = -x[3]*om2_2;
+        const double aOrel2in1_3 = 0.2*x[2]*x[2];
+        const double w1 = om2_2*om2_3;
+        const double pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
+        const double pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
+        const double pN2_1 = -0.00299*w1 + 0.14715*sin_phi2;
+        const double pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double pa2_5 = pF2_2 + 4.999999999999999*pN2_1;
+        const double Ja2rdr_33 = 0.001505 - 0.001495*c2phi2;
+        const double Jm2rdr_22 = 0.06250000000000001 - 0.03749999999999999*c2phi2;
+        const double j2r15 = sin_phi2*pN2_2 + 1e-05*cos_phi2*eps2_3;
+        const double pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3;
+        const double IA1_11 = 0.0042 + Ja2rdr_33 + 0.04000000000000001*Jm2rdr_22;
+        const double pA1_1 = j2r15 + 0.2*pc2f_2;
+        const double rD1 = 1.0/IA1_11;
+        const double u1 = tau_1 - pA1_1;
+        const double qdd1 = rD1*u1;
+        const double dv2_2 = 0.2*cos_phi2*qdd1;
+        const double qdd2 = -333.3333333333333*pN2_1 + 4.999999999999999*dv2_2;
+
+        acc[0] = qdd1;
+        acc[1] = qdd2;
+        piv[0] = IA1_11;
+        piv[1] = 0.003;
+
+        code = furuta_pivots_(piv);
+        if (code != FURUTA_OK) {
+            return code;
+        }
+        if (qdd) {
+            for (i = 0; i < 2; ++i) {
+                qdd[i] = acc[i];
+            }
+        }
+        if (dqdd_dphi) {
+            const double om2_2_dq2 = x[2]*cos_phi2;
+            const double om2_3_dq2 = -x[2]*sin_phi2;
+            const double wq0 = x[3]*om2_3_dq2;
+            const double eps2_2_dq2 = wq0;
+            const double eps2_3_dq2 = -x[3]*om2_2_dq2;
+            const double wq1 = om2_3*om2_2_dq2;
+            const double wq2 = om2_2*om2_3_dq2;
+            const double pF2_2_dq2 = -0.9810000000000001*cos_phi2 + 0.015*wq1 + 0.015*wq2;
+            const double pF2_3_dq2 = 0.9810000000000001*sin_phi2 - 0.03*om2_2*om2_2_dq2;
+            const double pN2_1_dq2 = -0.00299*wq1 - 0.00299*wq2 + 0.14715*cos_phi2;
+            const double pN2_2_dq2 = 0.003*eps2_2_dq2 + 0.00299*wq0;
+            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
+            const double pa2_5_dq2 = pF2_2_dq2 + 4.999999999999999*pN2_1_dq2;
+            const double j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 1e-05*sin_phi2*eps2_3 + 1e-05*cos_phi2*eps2_3_dq2;
+            const double pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - sin_phi2*pF2_3_dq2;
+            const double pA1_1_dq2 = j2r15_dq2 + 0.2*pc2f_2_dq2;
+            const double rD1_dq2 = 0.0029950000000000003*rD1*rD1*c2phi2_dq2;
+            const double qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2;
+            const double dv2_2_dq2 = -0.2*sin_phi2*qdd1 + 0.2*cos_phi2*qdd1_dq2;
+            const double qdd2_dq2 = -333.3333333333333*pN2_1_dq2 + 4.999999999999999*dv2_2_dq2;
+
+            dqdd_dphi[0] = 0.0;
+            dqdd_dphi[1] = qdd1_dq2;
+            dqdd_dphi[2] = 0.0;
+            dqdd_dphi[3] = qdd2_dq2;
+
+            if (!furuta_all_finite_(dqdd_dphi, 4)) {
+                return FURUTA_NONFINITE;
+            }
+        }
+        if (dqdd_dphidot) {
+            const double wv0 = x[3]*cos_phi2;
+            const double eps2_2_dv1 = wv0;
+            const double wv1 = x[3]*sin_phi2;
+            const double eps2_3_dv1 = -wv1;
+            const double wv2 = sin_phi2*om2_3;
+            const double wv3 = cos_phi2*om2_2;
+            const double pF2_2_dv1 = 0.015*wv2 + 0.015*wv3;
+            const double pF2_3_dv1 = -0.03*sin_phi2*om2_2;
+            const double pN2_1_dv1 = -0.00299*wv2 - 0.00299*wv3;
+            const double pN2_2_dv1 = 0.003*eps2_2_dv1 + 0.00299*wv0 - 0.006*x[2];
+            const double pa2_5_dv1 = pF2_2_dv1 + 4.999999999999999*pN2_1_dv1;
+            const double j2r15_dv1 = sin_phi2*pN2_2_dv1 + 1e-05*cos_phi2*eps2_3_dv1;
+            const double j2r15_dv2 = 0.0059900000000000005*wv2 - 1e-05*wv3;
+            const double pc2f_2_dv1 = cos_phi2*pa2_5_dv1 - sin_phi2*pF2_3_dv1;
+            const double pc2f_2_dv2 = 0.03*wv1;
+            const double pA1_1_dv1 = j2r15_dv1 + 0.2*pc2f_2_dv1;
+            const double pA1_1_dv2 = j2r15_dv2 + 0.2*pc2f_2_dv2;
+            const double qdd1_dv1 = -rD1*pA1_1_dv1;
+            const double qdd1_dv2 = -rD1*pA1_1_dv2;
+            const double dv2_2_dv1 = 0.2*cos_phi2*qdd1_dv1;
+            const double dv2_2_dv2 = 0.2*cos_phi2*qdd1_dv2;
+            const double qdd2_dv1 = -333.3333333333333*pN2_1_dv1 + 4.999999999999999*dv2_2_dv1;
+
+            dqdd_dphidot[0] = qdd1_dv1;
+            dqdd_dphidot[1] = qdd1_dv2;
+            dqdd_dphidot[2] = qdd2_dv1;
+            dqdd_dphidot[3] = 4.999999999999999*dv2_2_dv2;
+
+            if (!furuta_all_finite_(dqdd_dphidot, 4)) {
+                return FURUTA_NONFINITE;
+            }
+        }
+        if (dqdd_du) {
+            const double dv2_2_du1 = 0.2*cos_phi2*rD1;
+
+            dqdd_du[0] = rD1;
+            dqdd_du[1] = 4.999999999999999*dv2_2_du1;
+
+            if (!furuta_all_finite_(dqdd_du, 2)) {
+                return FURUTA_NONFINITE;
+            }
+        }
+    }
+    return furuta_all_finite_(acc, 2) ? FURUTA_OK : FURUTA_NONFINITE;
+}
+
+int furuta_linearize(double t, const double *x, const double *u, const furuta_params *p, double *A, double *B)
+{
+    /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
+     * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
+    double dq[4];
+    double dv[4];
+    double du[2];
+    int i, j, code;
+    (void)t;
+    code = furuta_qdd_derivatives(x, u, p, 0, A ? dq : 0, A ? dv : 0, B ? du : 0);
+    if (code != FURUTA_OK) {
+        return code;
+    }
+    if (A) {
+        for (i = 0; i < 2; ++i) {
+            for (j = 0; j < 2; ++j) {
+                A[i * 4 + j] = 0.0;
+                A[i * 4 + 2 + j] = i == j ? 1.0 : 0.0;
+                A[(2 + i) * 4 + j] = dq[i * 2 + j];
+                A[(2 + i) * 4 + 2 + j] = dv[i * 2 + j];
+            }
+        }
+    }
+    if (B) {
+        for (i = 0; i < 2; ++i) {
+            for (j = 0; j < 1; ++j) {
+                B[i * 1 + j] = 0.0;
+                B[(2 + i) * 1 + j] = du[i * 1 + j];
+            }
+        }
+    }
+    return FURUTA_OK;
 }
 
 int furuta_rhs(double t, const double *x, const double *u, const furuta_params *p, double *xdot)

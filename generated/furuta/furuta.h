@@ -21,7 +21,11 @@
  * (adaptive, rtol/atol, h the first step or 0) or FURUTA_GAUSS2 (symmetric, fixed step h).  On
  * failure x1 is the last accepted state.  furuta_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means FURUTA_INTEGRATE_MAX_STEPS.
- * Op counts: energy 23, forces 37, mass_matrix 9, momentum 12, qdd 55, rhs 55.
+ * furuta_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
+ * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
+ * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
+ * furuta_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
+ * Op counts: energy 23, forces 37, linearize 162, mass_matrix 9, momentum 12, qdd 55, qdd_derivatives 162, rhs 55.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -55,6 +59,9 @@ int furuta_mass_matrix(const double *q, const furuta_params *p, double *M);
 int furuta_forces(const double *x, const double *u, const furuta_params *p, double *f);
 int furuta_qdd(const double *x, const double *u, const furuta_params *p, double *qdd);
 int furuta_rhs(double t, const double *x, const double *u, const furuta_params *p, double *xdot);
+int furuta_qdd_derivatives(const double *x, const double *u, const furuta_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int furuta_linearize(double t, const double *x, const double *u, const furuta_params *p, double *A, double *B);
 double furuta_energy(const double *x, const furuta_params *p);
 double furuta_momentum(const double *x, const furuta_params *p);
 typedef struct furuta_integrate_stats {

@@ -20,7 +20,7 @@ HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
-OP_COUNTS = { "energy": 23, "forces": 37, "mass_matrix": 9, "momentum": 12, "qdd": 55, "rhs": 55, }
+OP_COUNTS = { "energy": 23, "forces": 37, "linearize": 162, "mass_matrix": 9, "momentum": 12, "qdd": 55, "qdd_derivatives": 162, "rhs": 55, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -62,6 +62,16 @@ def _ldlt_solve(M, b):
     for i in range(n - 1, -1, -1):
         y[i] -= L[i + 1:, i] @ y[i + 1:]
     return y
+
+
+def _check_pivots(piv):
+    """The pivots D^k of the articulated recursion, tested as the C tests them."""
+    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
+    for j in range(N - 1, -1, -1):  # from the tip, as in the C
+        if not math.isfinite(piv[j]):
+            raise NonFiniteResult("M is not finite")
+        if not piv[j] > tol:
+            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
 
 
 def mass_matrix(q, p=None):
@@ -149,6 +159,128 @@ def qdd(x, u=None, p=None):
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out
+
+
+def qdd_derivatives(x, u=None, p=None):
+    """(phi'', d phi''/d phi, d phi''/d phidot, d phi''/d u): the exact derivatives of the
+    articulated recursion (arrays N, N×N, N×N, N×NU), as NAME_qdd_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+    tau_1 = 0.0 if u is None else float(u[0])
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dqdd_dphi = np.empty((N, N))
+    dqdd_dphidot = np.empty((N, N))
+    dqdd_du = np.empty((N, 1))
+    try:
+        cos_phi2 = math.cos(x[1])
+        sin_phi2 = math.sin(x[1])
+        om2_2 = x[2]*sin_phi2
+        om2_3 = x[2]*cos_phi2
+        w0 = x[3]*om2_3
+        eps2_2 = w0
+        eps2_3 = -x[3]*om2_2
+        aOrel2in1_3 = 0.2*x[2]*x[2]
+        w1 = om2_2*om2_3
+        pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
+        pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
+        pN2_1 = -0.00299*w1 + 0.14715*sin_phi2
+        pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
+        c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
+        pa2_5 = pF2_2 + 4.999999999999999*pN2_1
+        Ja2rdr_33 = 0.001505 - 0.001495*c2phi2
+        Jm2rdr_22 = 0.06250000000000001 - 0.03749999999999999*c2phi2
+        j2r15 = sin_phi2*pN2_2 + 1e-05*cos_phi2*eps2_3
+        pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3
+        IA1_11 = 0.0042 + Ja2rdr_33 + 0.04000000000000001*Jm2rdr_22
+        pA1_1 = j2r15 + 0.2*pc2f_2
+        rD1 = 1.0/IA1_11
+        u1 = tau_1 - pA1_1
+        qdd1 = rD1*u1
+        dv2_2 = 0.2*cos_phi2*qdd1
+        qdd2 = -333.3333333333333*pN2_1 + 4.999999999999999*dv2_2
+        acc[0] = qdd1
+        acc[1] = qdd2
+        piv[0] = IA1_11
+        piv[1] = 0.003
+
+        om2_2_dq2 = x[2]*cos_phi2
+        om2_3_dq2 = -x[2]*sin_phi2
+        wq0 = x[3]*om2_3_dq2
+        eps2_2_dq2 = wq0
+        eps2_3_dq2 = -x[3]*om2_2_dq2
+        wq1 = om2_3*om2_2_dq2
+        wq2 = om2_2*om2_3_dq2
+        pF2_2_dq2 = -0.9810000000000001*cos_phi2 + 0.015*wq1 + 0.015*wq2
+        pF2_3_dq2 = 0.9810000000000001*sin_phi2 - 0.03*om2_2*om2_2_dq2
+        pN2_1_dq2 = -0.00299*wq1 - 0.00299*wq2 + 0.14715*cos_phi2
+        pN2_2_dq2 = 0.003*eps2_2_dq2 + 0.00299*wq0
+        c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
+        pa2_5_dq2 = pF2_2_dq2 + 4.999999999999999*pN2_1_dq2
+        j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 1e-05*sin_phi2*eps2_3 + 1e-05*cos_phi2*eps2_3_dq2
+        pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - sin_phi2*pF2_3_dq2
+        pA1_1_dq2 = j2r15_dq2 + 0.2*pc2f_2_dq2
+        rD1_dq2 = 0.0029950000000000003*rD1*rD1*c2phi2_dq2
+        qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2
+        dv2_2_dq2 = -0.2*sin_phi2*qdd1 + 0.2*cos_phi2*qdd1_dq2
+        qdd2_dq2 = -333.3333333333333*pN2_1_dq2 + 4.999999999999999*dv2_2_dq2
+        dqdd_dphi[0, 0] = 0.0
+        dqdd_dphi[0, 1] = qdd1_dq2
+        dqdd_dphi[1, 0] = 0.0
+        dqdd_dphi[1, 1] = qdd2_dq2
+
+        wv0 = x[3]*cos_phi2
+        eps2_2_dv1 = wv0
+        wv1 = x[3]*sin_phi2
+        eps2_3_dv1 = -wv1
+        wv2 = sin_phi2*om2_3
+        wv3 = cos_phi2*om2_2
+        pF2_2_dv1 = 0.015*wv2 + 0.015*wv3
+        pF2_3_dv1 = -0.03*sin_phi2*om2_2
+        pN2_1_dv1 = -0.00299*wv2 - 0.00299*wv3
+        pN2_2_dv1 = 0.003*eps2_2_dv1 + 0.00299*wv0 - 0.006*x[2]
+        pa2_5_dv1 = pF2_2_dv1 + 4.999999999999999*pN2_1_dv1
+        j2r15_dv1 = sin_phi2*pN2_2_dv1 + 1e-05*cos_phi2*eps2_3_dv1
+        j2r15_dv2 = 0.0059900000000000005*wv2 - 1e-05*wv3
+        pc2f_2_dv1 = cos_phi2*pa2_5_dv1 - sin_phi2*pF2_3_dv1
+        pc2f_2_dv2 = 0.03*wv1
+        pA1_1_dv1 = j2r15_dv1 + 0.2*pc2f_2_dv1
+        pA1_1_dv2 = j2r15_dv2 + 0.2*pc2f_2_dv2
+        qdd1_dv1 = -rD1*pA1_1_dv1
+        qdd1_dv2 = -rD1*pA1_1_dv2
+        dv2_2_dv1 = 0.2*cos_phi2*qdd1_dv1
+        dv2_2_dv2 = 0.2*cos_phi2*qdd1_dv2
+        qdd2_dv1 = -333.3333333333333*pN2_1_dv1 + 4.999999999999999*dv2_2_dv1
+        dqdd_dphidot[0, 0] = qdd1_dv1
+        dqdd_dphidot[0, 1] = qdd1_dv2
+        dqdd_dphidot[1, 0] = qdd2_dv1
+        dqdd_dphidot[1, 1] = 4.999999999999999*dv2_2_dv2
+
+        dv2_2_du1 = 0.2*cos_phi2*rD1
+        dqdd_du[0, 0] = rD1
+        dqdd_du[1, 0] = 4.999999999999999*dv2_2_du1
+
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def linearize(t, x, u=None, p=None):
+    """(A, B) of xdot = A dx + B du about (x, u), as NAME_linearize (t is ignored by a model that
+    does not depend on it)."""
+    _, dq, dv, du = qdd_derivatives(x, u, p)
+    A = np.zeros((2 * N, 2 * N))
+    A[:N, N:] = np.eye(N)
+    A[N:, :N], A[N:, N:] = dq, dv
+    B = np.zeros((2 * N, du.shape[1]))
+    B[N:] = du
+    return A, B
 
 
 def rhs(t, x, u=None, p=None):

@@ -34,6 +34,29 @@ static void furuta_sym_symmetrize_(double *M)
     }
 }
 
+/* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
+ * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
+static int furuta_sym_pivots_(const double *piv)
+{
+    double tol = 0.0;
+    int i;
+    for (i = 0; i < 2; ++i) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
+        }
+    }
+    tol *= FURUTA_SYM_PIVOT_TOL;
+    for (i = 1; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return FURUTA_SYM_NONFINITE;
+        }
+        if (!(piv[i] > tol)) {
+            return FURUTA_SYM_SINGULAR;
+        }
+    }
+    return FURUTA_SYM_OK;
+}
+
 
 int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *M)
 {
@@ -243,6 +266,214 @@ int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p,
         qdd[i] = f[i];
     }
     return furuta_sym_all_finite_(qdd, 2) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
+}
+
+int furuta_sym_qdd_derivatives(const double *x, const double *u, const furuta_sym_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
+{
+    /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
+     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
+    double acc[2];
+    double piv[2];
+    int i, code;
+    if (!p) {
+        return FURUTA_SYM_NO_PARAMS;
+    }
+
+    if (!furuta_sym_all_finite_(x, 4) || (u && !furuta_sym_all_finite_(u, 1))) {
+        return FURUTA_SYM_NONFINITE;
+    }
+
+    {
+        const double tau_1 = u ? u[0] : 0.0;
+
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_2 = x[2]*sin_phi2;
+        const double om2_3 = x[2]*cos_phi2;
+        const double eps2_2 = x[3]*om2_3;
+        const double eps2_3 = -x[3]*om2_2;
+        const double ws1_2 = x[2]*p->r;
+        const double aOrel2in1_3 = x[2]*ws1_2;
+        const double aOg2_2 = -sin_phi2*p->g0;
+        const double aOg2_3 = -cos_phi2*p->g0;
+        const double wc2_1 = om2_2*p->l;
+        const double wc2_2 = -x[3]*p->l;
+        const double Aw2_1 = x[3]*p->J2 + x[3]*p->m2*p->l*p->l;
+        const double Aw2_2 = om2_2*p->J2 + om2_2*p->m2*p->l*p->l;
+        const double Aw2_3 = om2_3*p->J2z;
+        const double pF2_2 = p->m2*aOg2_2 + om2_3*p->m2*wc2_1;
+        const double pF2_3 = p->m2*aOg2_3 + x[3]*p->m2*wc2_2 - om2_2*p->m2*wc2_1;
+        const double pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p->m2*p->l*aOg2_2;
+        const double pN2_2 = p->J2*eps2_2 + p->m2*p->l*p->l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p->m2*p->l*aOrel2in1_3;
+        const double pN2_3 = p->J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1;
+        const double w0 = p->m2*p->l*p->l;
+        const double IA2_11 = p->J2 + w0;
+        const double IA2_22 = p->J2 + w0;
+        const double IA2_51 = -p->m2*p->l;
+        const double rD2 = 1.0/IA2_11;
+        const double W2_5 = IA2_51*rD2;
+        const double Ja2_55 = p->m2 - IA2_51*W2_5;
+        const double pa2_5 = pF2_2 - pN2_1*W2_5;
+        const double Ja2rra_23 = sin_phi2*IA2_22;
+        const double Ja2rra_33 = cos_phi2*p->J2z;
+        const double Ja2rr_33 = sin_phi2*Ja2rra_23 + cos_phi2*Ja2rra_33;
+        const double Jm2rra_22 = cos_phi2*Ja2_55;
+        const double Jm2rra_32 = -sin_phi2*p->m2;
+        const double Jm2rr_22 = cos_phi2*Jm2rra_22 - sin_phi2*Jm2rra_32;
+        const double j2r15 = sin_phi2*pN2_2 + cos_phi2*pN2_3;
+        const double pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3;
+        const double Jh2s_12 = p->r*Jm2rr_22;
+        const double IA1_11 = p->J1 + Ja2rr_33 + p->r*Jh2s_12;
+        const double pA1_1 = j2r15 + p->r*pc2f_2;
+        const double rD1 = 1.0/IA1_11;
+        const double u1 = tau_1 - pA1_1;
+        const double qdd1 = rD1*u1;
+        const double dv2_2 = cos_phi2*p->r*qdd1;
+        const double qdd2 = -pN2_1*rD2 - W2_5*dv2_2;
+
+        acc[0] = qdd1;
+        acc[1] = qdd2;
+        piv[0] = IA1_11;
+        piv[1] = IA2_11;
+
+        code = furuta_sym_pivots_(piv);
+        if (code != FURUTA_SYM_OK) {
+            return code;
+        }
+        if (qdd) {
+            for (i = 0; i < 2; ++i) {
+                qdd[i] = acc[i];
+            }
+        }
+        if (dqdd_dphi) {
+            const double om2_2_dq2 = x[2]*cos_phi2;
+            const double om2_3_dq2 = -x[2]*sin_phi2;
+            const double eps2_2_dq2 = x[3]*om2_3_dq2;
+            const double eps2_3_dq2 = -x[3]*om2_2_dq2;
+            const double aOg2_2_dq2 = -cos_phi2*p->g0;
+            const double aOg2_3_dq2 = sin_phi2*p->g0;
+            const double wc2_1_dq2 = p->l*om2_2_dq2;
+            const double Aw2_2_dq2 = p->J2*om2_2_dq2 + p->m2*p->l*p->l*om2_2_dq2;
+            const double Aw2_3_dq2 = p->J2z*om2_3_dq2;
+            const double pF2_2_dq2 = p->m2*aOg2_2_dq2 + p->m2*wc2_1*om2_3_dq2 + om2_3*p->m2*wc2_1_dq2;
+            const double pF2_3_dq2 = p->m2*aOg2_3_dq2 - p->m2*wc2_1*om2_2_dq2 - om2_2*p->m2*wc2_1_dq2;
+            const double pN2_1_dq2 = Aw2_3*om2_2_dq2 + om2_2*Aw2_3_dq2 - Aw2_2*om2_3_dq2 - om2_3*Aw2_2_dq2 - p->m2*p->l*aOg2_2_dq2;
+            const double pN2_2_dq2 = p->J2*eps2_2_dq2 + p->m2*p->l*p->l*eps2_2_dq2 + Aw2_1*om2_3_dq2 - x[3]*Aw2_3_dq2;
+            const double pN2_3_dq2 = p->J2z*eps2_3_dq2 + x[3]*Aw2_2_dq2 - Aw2_1*om2_2_dq2;
+            const double pa2_5_dq2 = pF2_2_dq2 - W2_5*pN2_1_dq2;
+            const double Ja2rra_23_dq2 = cos_phi2*IA2_22;
+            const double Ja2rra_33_dq2 = -sin_phi2*p->J2z;
+            const double Ja2rr_33_dq2 = cos_phi2*Ja2rra_23 + sin_phi2*Ja2rra_23_dq2 - sin_phi2*Ja2rra_33 + cos_phi2*Ja2rra_33_dq2;
+            const double Jm2rra_22_dq2 = -sin_phi2*Ja2_55;
+            const double Jm2rra_32_dq2 = -cos_phi2*p->m2;
+            const double Jm2rr_22_dq2 = -sin_phi2*Jm2rra_22 + cos_phi2*Jm2rra_22_dq2 - cos_phi2*Jm2rra_32 - sin_phi2*Jm2rra_32_dq2;
+            const double j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - sin_phi2*pN2_3 + cos_phi2*pN2_3_dq2;
+            const double pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - sin_phi2*pF2_3_dq2;
+            const double Jh2s_12_dq2 = p->r*Jm2rr_22_dq2;
+            const double IA1_11_dq2 = Ja2rr_33_dq2 + p->r*Jh2s_12_dq2;
+            const double pA1_1_dq2 = j2r15_dq2 + p->r*pc2f_2_dq2;
+            const double rD1_dq2 = -rD1*rD1*IA1_11_dq2;
+            const double qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2;
+            const double dv2_2_dq2 = -sin_phi2*p->r*qdd1 + cos_phi2*p->r*qdd1_dq2;
+            const double qdd2_dq2 = -rD2*pN2_1_dq2 - W2_5*dv2_2_dq2;
+
+            dqdd_dphi[0] = 0.0;
+            dqdd_dphi[1] = qdd1_dq2;
+            dqdd_dphi[2] = 0.0;
+            dqdd_dphi[3] = qdd2_dq2;
+
+            if (!furuta_sym_all_finite_(dqdd_dphi, 4)) {
+                return FURUTA_SYM_NONFINITE;
+            }
+        }
+        if (dqdd_dphidot) {
+            const double eps2_2_dv1 = x[3]*cos_phi2;
+            const double eps2_3_dv1 = -x[3]*sin_phi2;
+            const double aOrel2in1_3_dv1 = ws1_2 + x[2]*p->r;
+            const double wc2_1_dv1 = sin_phi2*p->l;
+            const double Aw2_1_dv2 = p->J2 + p->m2*p->l*p->l;
+            const double Aw2_2_dv1 = sin_phi2*p->J2 + sin_phi2*p->m2*p->l*p->l;
+            const double Aw2_3_dv1 = cos_phi2*p->J2z;
+            const double pF2_2_dv1 = cos_phi2*p->m2*wc2_1 + om2_3*p->m2*wc2_1_dv1;
+            const double pF2_3_dv1 = -sin_phi2*p->m2*wc2_1 - om2_2*p->m2*wc2_1_dv1;
+            const double pF2_3_dv2 = p->m2*wc2_2 - x[3]*p->m2*p->l;
+            const double pN2_1_dv1 = sin_phi2*Aw2_3 + om2_2*Aw2_3_dv1 - cos_phi2*Aw2_2 - om2_3*Aw2_2_dv1;
+            const double pN2_2_dv1 = p->J2*eps2_2_dv1 + p->m2*p->l*p->l*eps2_2_dv1 + cos_phi2*Aw2_1 - x[3]*Aw2_3_dv1 - p->m2*p->l*aOrel2in1_3_dv1;
+            const double pN2_2_dv2 = om2_3*p->J2 + om2_3*p->m2*p->l*p->l + om2_3*Aw2_1_dv2 - Aw2_3;
+            const double pN2_3_dv1 = p->J2z*eps2_3_dv1 + x[3]*Aw2_2_dv1 - sin_phi2*Aw2_1;
+            const double pN2_3_dv2 = -om2_2*p->J2z + Aw2_2 - om2_2*Aw2_1_dv2;
+            const double pa2_5_dv1 = pF2_2_dv1 - W2_5*pN2_1_dv1;
+            const double j2r15_dv1 = sin_phi2*pN2_2_dv1 + cos_phi2*pN2_3_dv1;
+            const double j2r15_dv2 = sin_phi2*pN2_2_dv2 + cos_phi2*pN2_3_dv2;
+            const double pc2f_2_dv1 = cos_phi2*pa2_5_dv1 - sin_phi2*pF2_3_dv1;
+            const double pc2f_2_dv2 = -sin_phi2*pF2_3_dv2;
+            const double pA1_1_dv1 = j2r15_dv1 + p->r*pc2f_2_dv1;
+            const double pA1_1_dv2 = j2r15_dv2 + p->r*pc2f_2_dv2;
+            const double qdd1_dv1 = -rD1*pA1_1_dv1;
+            const double qdd1_dv2 = -rD1*pA1_1_dv2;
+            const double dv2_2_dv1 = cos_phi2*p->r*qdd1_dv1;
+            const double dv2_2_dv2 = cos_phi2*p->r*qdd1_dv2;
+            const double qdd2_dv1 = -rD2*pN2_1_dv1 - W2_5*dv2_2_dv1;
+            const double qdd2_dv2 = -W2_5*dv2_2_dv2;
+
+            dqdd_dphidot[0] = qdd1_dv1;
+            dqdd_dphidot[1] = qdd1_dv2;
+            dqdd_dphidot[2] = qdd2_dv1;
+            dqdd_dphidot[3] = qdd2_dv2;
+
+            if (!furuta_sym_all_finite_(dqdd_dphidot, 4)) {
+                return FURUTA_SYM_NONFINITE;
+            }
+        }
+        if (dqdd_du) {
+            const double dv2_2_du1 = cos_phi2*p->r*rD1;
+            const double qdd2_du1 = -W2_5*dv2_2_du1;
+
+            dqdd_du[0] = rD1;
+            dqdd_du[1] = qdd2_du1;
+
+            if (!furuta_sym_all_finite_(dqdd_du, 2)) {
+                return FURUTA_SYM_NONFINITE;
+            }
+        }
+    }
+    return furuta_sym_all_finite_(acc, 2) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
+}
+
+int furuta_sym_linearize(double t, const double *x, const double *u, const furuta_sym_params *p, double *A, double *B)
+{
+    /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
+     * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
+    double dq[4];
+    double dv[4];
+    double du[2];
+    int i, j, code;
+    (void)t;
+    code = furuta_sym_qdd_derivatives(x, u, p, 0, A ? dq : 0, A ? dv : 0, B ? du : 0);
+    if (code != FURUTA_SYM_OK) {
+        return code;
+    }
+    if (A) {
+        for (i = 0; i < 2; ++i) {
+            for (j = 0; j < 2; ++j) {
+                A[i * 4 + j] = 0.0;
+                A[i * 4 + 2 + j] = i == j ? 1.0 : 0.0;
+                A[(2 + i) * 4 + j] = dq[i * 2 + j];
+                A[(2 + i) * 4 + 2 + j] = dv[i * 2 + j];
+            }
+        }
+    }
+    if (B) {
+        for (i = 0; i < 2; ++i) {
+            for (j = 0; j < 1; ++j) {
+                B[i * 1 + j] = 0.0;
+                B[(2 + i) * 1 + j] = du[i * 1 + j];
+            }
+        }
+    }
+    return FURUTA_SYM_OK;
 }
 
 int furuta_sym_rhs(double t, const double *x, const double *u, const furuta_sym_params *p, double *xdot)

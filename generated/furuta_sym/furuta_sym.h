@@ -21,7 +21,11 @@
  * (adaptive, rtol/atol, h the first step or 0) or FURUTA_SYM_GAUSS2 (symmetric, fixed step h).  On
  * failure x1 is the last accepted state.  furuta_sym_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means FURUTA_SYM_INTEGRATE_MAX_STEPS.
- * Op counts: energy 31, forces 66, mass_matrix 18, momentum 20, qdd 93, rhs 93.
+ * furuta_sym_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
+ * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
+ * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
+ * furuta_sym_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
+ * Op counts: energy 31, forces 66, linearize 294, mass_matrix 18, momentum 20, qdd 93, qdd_derivatives 294, rhs 93.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -63,6 +67,9 @@ int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *
 int furuta_sym_forces(const double *x, const double *u, const furuta_sym_params *p, double *f);
 int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p, double *qdd);
 int furuta_sym_rhs(double t, const double *x, const double *u, const furuta_sym_params *p, double *xdot);
+int furuta_sym_qdd_derivatives(const double *x, const double *u, const furuta_sym_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int furuta_sym_linearize(double t, const double *x, const double *u, const furuta_sym_params *p, double *A, double *B);
 double furuta_sym_energy(const double *x, const furuta_sym_params *p);
 double furuta_sym_momentum(const double *x, const furuta_sym_params *p);
 typedef struct furuta_sym_integrate_stats {

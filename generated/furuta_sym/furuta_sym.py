@@ -20,7 +20,7 @@ HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
-OP_COUNTS = { "energy": 31, "forces": 66, "mass_matrix": 18, "momentum": 20, "qdd": 93, "rhs": 93, }
+OP_COUNTS = { "energy": 31, "forces": 66, "linearize": 294, "mass_matrix": 18, "momentum": 20, "qdd": 93, "qdd_derivatives": 294, "rhs": 93, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -62,6 +62,16 @@ def _ldlt_solve(M, b):
     for i in range(n - 1, -1, -1):
         y[i] -= L[i + 1:, i] @ y[i + 1:]
     return y
+
+
+def _check_pivots(piv):
+    """The pivots D^k of the articulated recursion, tested as the C tests them."""
+    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
+    for j in range(N - 1, -1, -1):  # from the tip, as in the C
+        if not math.isfinite(piv[j]):
+            raise NonFiniteResult("M is not finite")
+        if not piv[j] > tol:
+            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
 
 
 def mass_matrix(q, p=None):
@@ -206,6 +216,172 @@ def qdd(x, u=None, p=None):
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out
+
+
+def qdd_derivatives(x, u=None, p=None):
+    """(phi'', d phi''/d phi, d phi''/d phidot, d phi''/d u): the exact derivatives of the
+    articulated recursion (arrays N, N×N, N×N, N×NU), as NAME_qdd_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+    p_g0 = _param(p, "g0")
+    p_m1 = _param(p, "m1")
+    p_r = _param(p, "r")
+    p_J1 = _param(p, "J1")
+    p_J1z = _param(p, "J1z")
+    p_m2 = _param(p, "m2")
+    p_l = _param(p, "l")
+    p_J2 = _param(p, "J2")
+    p_J2z = _param(p, "J2z")
+    tau_1 = 0.0 if u is None else float(u[0])
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dqdd_dphi = np.empty((N, N))
+    dqdd_dphidot = np.empty((N, N))
+    dqdd_du = np.empty((N, 1))
+    try:
+        cos_phi2 = math.cos(x[1])
+        sin_phi2 = math.sin(x[1])
+        om2_2 = x[2]*sin_phi2
+        om2_3 = x[2]*cos_phi2
+        eps2_2 = x[3]*om2_3
+        eps2_3 = -x[3]*om2_2
+        ws1_2 = x[2]*p_r
+        aOrel2in1_3 = x[2]*ws1_2
+        aOg2_2 = -sin_phi2*p_g0
+        aOg2_3 = -cos_phi2*p_g0
+        wc2_1 = om2_2*p_l
+        wc2_2 = -x[3]*p_l
+        Aw2_1 = x[3]*p_J2 + x[3]*p_m2*p_l*p_l
+        Aw2_2 = om2_2*p_J2 + om2_2*p_m2*p_l*p_l
+        Aw2_3 = om2_3*p_J2z
+        pF2_2 = p_m2*aOg2_2 + om2_3*p_m2*wc2_1
+        pF2_3 = p_m2*aOg2_3 + x[3]*p_m2*wc2_2 - om2_2*p_m2*wc2_1
+        pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p_m2*p_l*aOg2_2
+        pN2_2 = p_J2*eps2_2 + p_m2*p_l*p_l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p_m2*p_l*aOrel2in1_3
+        pN2_3 = p_J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1
+        w0 = p_m2*p_l*p_l
+        IA2_11 = p_J2 + w0
+        IA2_22 = p_J2 + w0
+        IA2_51 = -p_m2*p_l
+        rD2 = 1.0/IA2_11
+        W2_5 = IA2_51*rD2
+        Ja2_55 = p_m2 - IA2_51*W2_5
+        pa2_5 = pF2_2 - pN2_1*W2_5
+        Ja2rra_23 = sin_phi2*IA2_22
+        Ja2rra_33 = cos_phi2*p_J2z
+        Ja2rr_33 = sin_phi2*Ja2rra_23 + cos_phi2*Ja2rra_33
+        Jm2rra_22 = cos_phi2*Ja2_55
+        Jm2rra_32 = -sin_phi2*p_m2
+        Jm2rr_22 = cos_phi2*Jm2rra_22 - sin_phi2*Jm2rra_32
+        j2r15 = sin_phi2*pN2_2 + cos_phi2*pN2_3
+        pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3
+        Jh2s_12 = p_r*Jm2rr_22
+        IA1_11 = p_J1 + Ja2rr_33 + p_r*Jh2s_12
+        pA1_1 = j2r15 + p_r*pc2f_2
+        rD1 = 1.0/IA1_11
+        u1 = tau_1 - pA1_1
+        qdd1 = rD1*u1
+        dv2_2 = cos_phi2*p_r*qdd1
+        qdd2 = -pN2_1*rD2 - W2_5*dv2_2
+        acc[0] = qdd1
+        acc[1] = qdd2
+        piv[0] = IA1_11
+        piv[1] = IA2_11
+
+        om2_2_dq2 = x[2]*cos_phi2
+        om2_3_dq2 = -x[2]*sin_phi2
+        eps2_2_dq2 = x[3]*om2_3_dq2
+        eps2_3_dq2 = -x[3]*om2_2_dq2
+        aOg2_2_dq2 = -cos_phi2*p_g0
+        aOg2_3_dq2 = sin_phi2*p_g0
+        wc2_1_dq2 = p_l*om2_2_dq2
+        Aw2_2_dq2 = p_J2*om2_2_dq2 + p_m2*p_l*p_l*om2_2_dq2
+        Aw2_3_dq2 = p_J2z*om2_3_dq2
+        pF2_2_dq2 = p_m2*aOg2_2_dq2 + p_m2*wc2_1*om2_3_dq2 + om2_3*p_m2*wc2_1_dq2
+        pF2_3_dq2 = p_m2*aOg2_3_dq2 - p_m2*wc2_1*om2_2_dq2 - om2_2*p_m2*wc2_1_dq2
+        pN2_1_dq2 = Aw2_3*om2_2_dq2 + om2_2*Aw2_3_dq2 - Aw2_2*om2_3_dq2 - om2_3*Aw2_2_dq2 - p_m2*p_l*aOg2_2_dq2
+        pN2_2_dq2 = p_J2*eps2_2_dq2 + p_m2*p_l*p_l*eps2_2_dq2 + Aw2_1*om2_3_dq2 - x[3]*Aw2_3_dq2
+        pN2_3_dq2 = p_J2z*eps2_3_dq2 + x[3]*Aw2_2_dq2 - Aw2_1*om2_2_dq2
+        pa2_5_dq2 = pF2_2_dq2 - W2_5*pN2_1_dq2
+        Ja2rra_23_dq2 = cos_phi2*IA2_22
+        Ja2rra_33_dq2 = -sin_phi2*p_J2z
+        Ja2rr_33_dq2 = cos_phi2*Ja2rra_23 + sin_phi2*Ja2rra_23_dq2 - sin_phi2*Ja2rra_33 + cos_phi2*Ja2rra_33_dq2
+        Jm2rra_22_dq2 = -sin_phi2*Ja2_55
+        Jm2rra_32_dq2 = -cos_phi2*p_m2
+        Jm2rr_22_dq2 = -sin_phi2*Jm2rra_22 + cos_phi2*Jm2rra_22_dq2 - cos_phi2*Jm2rra_32 - sin_phi2*Jm2rra_32_dq2
+        j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - sin_phi2*pN2_3 + cos_phi2*pN2_3_dq2
+        pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - sin_phi2*pF2_3_dq2
+        Jh2s_12_dq2 = p_r*Jm2rr_22_dq2
+        IA1_11_dq2 = Ja2rr_33_dq2 + p_r*Jh2s_12_dq2
+        pA1_1_dq2 = j2r15_dq2 + p_r*pc2f_2_dq2
+        rD1_dq2 = -rD1*rD1*IA1_11_dq2
+        qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2
+        dv2_2_dq2 = -sin_phi2*p_r*qdd1 + cos_phi2*p_r*qdd1_dq2
+        qdd2_dq2 = -rD2*pN2_1_dq2 - W2_5*dv2_2_dq2
+        dqdd_dphi[0, 0] = 0.0
+        dqdd_dphi[0, 1] = qdd1_dq2
+        dqdd_dphi[1, 0] = 0.0
+        dqdd_dphi[1, 1] = qdd2_dq2
+
+        eps2_2_dv1 = x[3]*cos_phi2
+        eps2_3_dv1 = -x[3]*sin_phi2
+        aOrel2in1_3_dv1 = ws1_2 + x[2]*p_r
+        wc2_1_dv1 = sin_phi2*p_l
+        Aw2_1_dv2 = p_J2 + p_m2*p_l*p_l
+        Aw2_2_dv1 = sin_phi2*p_J2 + sin_phi2*p_m2*p_l*p_l
+        Aw2_3_dv1 = cos_phi2*p_J2z
+        pF2_2_dv1 = cos_phi2*p_m2*wc2_1 + om2_3*p_m2*wc2_1_dv1
+        pF2_3_dv1 = -sin_phi2*p_m2*wc2_1 - om2_2*p_m2*wc2_1_dv1
+        pF2_3_dv2 = p_m2*wc2_2 - x[3]*p_m2*p_l
+        pN2_1_dv1 = sin_phi2*Aw2_3 + om2_2*Aw2_3_dv1 - cos_phi2*Aw2_2 - om2_3*Aw2_2_dv1
+        pN2_2_dv1 = p_J2*eps2_2_dv1 + p_m2*p_l*p_l*eps2_2_dv1 + cos_phi2*Aw2_1 - x[3]*Aw2_3_dv1 - p_m2*p_l*aOrel2in1_3_dv1
+        pN2_2_dv2 = om2_3*p_J2 + om2_3*p_m2*p_l*p_l + om2_3*Aw2_1_dv2 - Aw2_3
+        pN2_3_dv1 = p_J2z*eps2_3_dv1 + x[3]*Aw2_2_dv1 - sin_phi2*Aw2_1
+        pN2_3_dv2 = -om2_2*p_J2z + Aw2_2 - om2_2*Aw2_1_dv2
+        pa2_5_dv1 = pF2_2_dv1 - W2_5*pN2_1_dv1
+        j2r15_dv1 = sin_phi2*pN2_2_dv1 + cos_phi2*pN2_3_dv1
+        j2r15_dv2 = sin_phi2*pN2_2_dv2 + cos_phi2*pN2_3_dv2
+        pc2f_2_dv1 = cos_phi2*pa2_5_dv1 - sin_phi2*pF2_3_dv1
+        pc2f_2_dv2 = -sin_phi2*pF2_3_dv2
+        pA1_1_dv1 = j2r15_dv1 + p_r*pc2f_2_dv1
+        pA1_1_dv2 = j2r15_dv2 + p_r*pc2f_2_dv2
+        qdd1_dv1 = -rD1*pA1_1_dv1
+        qdd1_dv2 = -rD1*pA1_1_dv2
+        dv2_2_dv1 = cos_phi2*p_r*qdd1_dv1
+        dv2_2_dv2 = cos_phi2*p_r*qdd1_dv2
+        qdd2_dv1 = -rD2*pN2_1_dv1 - W2_5*dv2_2_dv1
+        qdd2_dv2 = -W2_5*dv2_2_dv2
+        dqdd_dphidot[0, 0] = qdd1_dv1
+        dqdd_dphidot[0, 1] = qdd1_dv2
+        dqdd_dphidot[1, 0] = qdd2_dv1
+        dqdd_dphidot[1, 1] = qdd2_dv2
+
+        dv2_2_du1 = cos_phi2*p_r*rD1
+        qdd2_du1 = -W2_5*dv2_2_du1
+        dqdd_du[0, 0] = rD1
+        dqdd_du[1, 0] = qdd2_du1
+
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def linearize(t, x, u=None, p=None):
+    """(A, B) of xdot = A dx + B du about (x, u), as NAME_linearize (t is ignored by a model that
+    does not depend on it)."""
+    _, dq, dv, du = qdd_derivatives(x, u, p)
+    A = np.zeros((2 * N, 2 * N))
+    A[:N, N:] = np.eye(N)
+    A[N:, :N], A[N:, N:] = dq, dv
+    B = np.zeros((2 * N, du.shape[1]))
+    B[N:] = du
+    return A, B
 
 
 def rhs(t, x, u=None, p=None):

@@ -34,6 +34,29 @@ static void gimbal_symmetrize_(double *M)
     }
 }
 
+/* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
+ * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
+static int gimbal_pivots_(const double *piv)
+{
+    double tol = 0.0;
+    int i;
+    for (i = 0; i < 2; ++i) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
+        }
+    }
+    tol *= GIMBAL_PIVOT_TOL;
+    for (i = 1; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return GIMBAL_NONFINITE;
+        }
+        if (!(piv[i] > tol)) {
+            return GIMBAL_SINGULAR;
+        }
+    }
+    return GIMBAL_OK;
+}
+
 
 int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M)
 {
@@ -125,8 +148,7 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[2];
     double piv[2];
-    double tol = 0.0;
-    int i;
+    int i, code;
     (void)p;
 
     if (!gimbal_all_finite_(x, 4)) {
@@ -158,25 +180,137 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
         piv[1] = 0.006;
 
     }
-    for (i = 0; i < 2; ++i) {
-        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
-            tol = fabs(piv[i]);
-        }
-    }
-    tol *= GIMBAL_PIVOT_TOL;
-    /* from the tip, where elimination starts: a zero pivot makes the ones before it NaN */
-    for (i = 1; i >= 0; --i) {
-        if (!isfinite(piv[i])) {
-            return GIMBAL_NONFINITE;
-        }
-        if (!(piv[i] > tol)) {
-            return GIMBAL_SINGULAR;
-        }
+    code = gimbal_pivots_(piv);
+    if (code != GIMBAL_OK) {
+        return code;
     }
     for (i = 0; i < 2; ++i) {
         qdd[i] = acc[i];
     }
     return gimbal_all_finite_(qdd, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
+}
+
+int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
+{
+    /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
+     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
+    double acc[2];
+    double piv[2];
+    int i, code;
+    (void)p;
+
+    if (!gimbal_all_finite_(x, 4)) {
+        return GIMBAL_NONFINITE;
+    }
+
+    {
+        (void)u;
+
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_2 = x[2]*sin_phi2;
+        const double om2_3 = x[2]*cos_phi2;
+        const double w0 = x[3]*om2_3;
+        const double eps2_2 = w0;
+        const double eps2_3 = -x[3]*om2_2;
+        const double pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
+        const double pN2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double Ja2rdr_33 = 0.0075 + 0.0014999999999999996*c2phi2;
+        const double j2r15 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
+        const double IA1_11 = 0.005 + Ja2rdr_33;
+        const double rD1 = 1.0/IA1_11;
+        const double qdd1 = -j2r15*rD1;
+
+        acc[0] = qdd1;
+        acc[1] = -166.66666666666666*pN2_1;
+        piv[0] = IA1_11;
+        piv[1] = 0.006;
+
+        code = gimbal_pivots_(piv);
+        if (code != GIMBAL_OK) {
+            return code;
+        }
+        if (qdd) {
+            for (i = 0; i < 2; ++i) {
+                qdd[i] = acc[i];
+            }
+        }
+        if (dqdd_dphi) {
+            const double om2_2_dq2 = x[2]*cos_phi2;
+            const double om2_3_dq2 = -x[2]*sin_phi2;
+            const double wq0 = x[3]*om2_3_dq2;
+            const double eps2_2_dq2 = wq0;
+            const double eps2_3_dq2 = -x[3]*om2_2_dq2;
+            const double pN2_1_dq2 = 0.002999999999999999*om2_3*om2_2_dq2 + 0.002999999999999999*om2_2*om2_3_dq2 + 0.5*om2_2_dq2;
+            const double pN2_2_dq2 = 0.006*eps2_2_dq2 - 0.002999999999999999*wq0;
+            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
+            const double j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 0.009*sin_phi2*eps2_3 + 0.009*cos_phi2*eps2_3_dq2;
+            const double rD1_dq2 = -0.0014999999999999996*rD1*rD1*c2phi2_dq2;
+            const double qdd1_dq2 = -rD1*j2r15_dq2 - j2r15*rD1_dq2;
+
+            dqdd_dphi[0] = 0.0;
+            dqdd_dphi[1] = qdd1_dq2;
+            dqdd_dphi[2] = 0.0;
+            dqdd_dphi[3] = -166.66666666666666*pN2_1_dq2;
+
+            if (!gimbal_all_finite_(dqdd_dphi, 4)) {
+                return GIMBAL_NONFINITE;
+            }
+        }
+        if (dqdd_dphidot) {
+            const double wv0 = x[3]*cos_phi2;
+            const double eps2_2_dv1 = wv0;
+            const double eps2_3_dv1 = -x[3]*sin_phi2;
+            const double wv1 = cos_phi2*om2_2;
+            const double pN2_1_dv1 = 0.002999999999999999*sin_phi2*om2_3 + 0.002999999999999999*wv1 + 0.5*sin_phi2;
+            const double pN2_2_dv1 = 0.006*eps2_2_dv1 - 0.002999999999999999*wv0;
+            const double pN2_2_dv2 = 0.003000000000000001*om2_3 - 0.5;
+            const double j2r15_dv1 = sin_phi2*pN2_2_dv1 + 0.009*cos_phi2*eps2_3_dv1;
+            const double j2r15_dv2 = sin_phi2*pN2_2_dv2 - 0.009*wv1;
+            const double qdd1_dv1 = -rD1*j2r15_dv1;
+            const double qdd1_dv2 = -rD1*j2r15_dv2;
+
+            dqdd_dphidot[0] = qdd1_dv1;
+            dqdd_dphidot[1] = qdd1_dv2;
+            dqdd_dphidot[2] = -166.66666666666666*pN2_1_dv1;
+            dqdd_dphidot[3] = 0.0;
+
+            if (!gimbal_all_finite_(dqdd_dphidot, 4)) {
+                return GIMBAL_NONFINITE;
+            }
+        }
+        (void)dqdd_du;  /* no control inputs: an n x 0 block */
+    }
+    return gimbal_all_finite_(acc, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
+}
+
+int gimbal_linearize(double t, const double *x, const double *u, const gimbal_params *p, double *A, double *B)
+{
+    /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
+     * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
+    double dq[4];
+    double dv[4];
+    int i, j, code;
+    (void)t;
+    code = gimbal_qdd_derivatives(x, u, p, 0, A ? dq : 0, A ? dv : 0, 0);
+    if (code != GIMBAL_OK) {
+        return code;
+    }
+    if (A) {
+        for (i = 0; i < 2; ++i) {
+            for (j = 0; j < 2; ++j) {
+                A[i * 4 + j] = 0.0;
+                A[i * 4 + 2 + j] = i == j ? 1.0 : 0.0;
+                A[(2 + i) * 4 + j] = dq[i * 2 + j];
+                A[(2 + i) * 4 + 2 + j] = dv[i * 2 + j];
+            }
+        }
+    }
+    (void)B;  /* no control inputs: B is 2n x 0 */
+    return GIMBAL_OK;
 }
 
 int gimbal_rhs(double t, const double *x, const double *u, const gimbal_params *p, double *xdot)

@@ -21,7 +21,11 @@
  * (adaptive, rtol/atol, h the first step or 0) or GIMBAL_GAUSS2 (symmetric, fixed step h).  On
  * failure x1 is the last accepted state.  gimbal_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means GIMBAL_INTEGRATE_MAX_STEPS.
- * Op counts: energy 14, forces 19, mass_matrix 8, momentum 11, qdd 28, quad_terms 9, rhs 28.
+ * gimbal_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
+ * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
+ * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
+ * gimbal_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
+ * Op counts: energy 14, forces 19, linearize 84, mass_matrix 8, momentum 11, qdd 28, qdd_derivatives 84, quad_terms 9, rhs 28.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -61,6 +65,9 @@ int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M);
 int gimbal_forces(const double *x, const double *u, const gimbal_params *p, double *f);
 int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double *qdd);
 int gimbal_rhs(double t, const double *x, const double *u, const gimbal_params *p, double *xdot);
+int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int gimbal_linearize(double t, const double *x, const double *u, const gimbal_params *p, double *A, double *B);
 double gimbal_energy(const double *x, const gimbal_params *p);
 double gimbal_momentum(const double *x, const gimbal_params *p);
 typedef struct gimbal_integrate_stats {

@@ -20,7 +20,7 @@ HAS_ENERGY_INTEGRAL = True
 HAS_MOMENTUM_INTEGRAL = True
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = True
-OP_COUNTS = { "energy": 14, "forces": 19, "mass_matrix": 8, "momentum": 11, "qdd": 28, "quad_terms": 9, "rhs": 28, }
+OP_COUNTS = { "energy": 14, "forces": 19, "linearize": 84, "mass_matrix": 8, "momentum": 11, "qdd": 28, "qdd_derivatives": 84, "quad_terms": 9, "rhs": 28, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -62,6 +62,16 @@ def _ldlt_solve(M, b):
     for i in range(n - 1, -1, -1):
         y[i] -= L[i + 1:, i] @ y[i + 1:]
     return y
+
+
+def _check_pivots(piv):
+    """The pivots D^k of the articulated recursion, tested as the C tests them."""
+    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
+    for j in range(N - 1, -1, -1):  # from the tip, as in the C
+        if not math.isfinite(piv[j]):
+            raise NonFiniteResult("M is not finite")
+        if not piv[j] > tol:
+            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
 
 
 def mass_matrix(q, p=None):
@@ -133,16 +143,98 @@ def qdd(x, u=None, p=None):
 
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
-    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
-    for j in range(N - 1, -1, -1):  # from the tip, as in the C
-        if not math.isfinite(piv[j]):
-            raise NonFiniteResult("M is not finite")
-        if not piv[j] > tol:
-            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
+    _check_pivots(piv)
     out = acc
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out
+
+
+def qdd_derivatives(x, u=None, p=None):
+    """(phi'', d phi''/d phi, d phi''/d phidot, d phi''/d u): the exact derivatives of the
+    articulated recursion (arrays N, N×N, N×N, N×NU), as NAME_qdd_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dqdd_dphi = np.empty((N, N))
+    dqdd_dphidot = np.empty((N, N))
+    dqdd_du = np.empty((N, 0))
+    try:
+        cos_phi2 = math.cos(x[1])
+        sin_phi2 = math.sin(x[1])
+        om2_2 = x[2]*sin_phi2
+        om2_3 = x[2]*cos_phi2
+        w0 = x[3]*om2_3
+        eps2_2 = w0
+        eps2_3 = -x[3]*om2_2
+        pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2
+        pN2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3]
+        c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
+        Ja2rdr_33 = 0.0075 + 0.0014999999999999996*c2phi2
+        j2r15 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3
+        IA1_11 = 0.005 + Ja2rdr_33
+        rD1 = 1.0/IA1_11
+        qdd1 = -j2r15*rD1
+        acc[0] = qdd1
+        acc[1] = -166.66666666666666*pN2_1
+        piv[0] = IA1_11
+        piv[1] = 0.006
+
+        om2_2_dq2 = x[2]*cos_phi2
+        om2_3_dq2 = -x[2]*sin_phi2
+        wq0 = x[3]*om2_3_dq2
+        eps2_2_dq2 = wq0
+        eps2_3_dq2 = -x[3]*om2_2_dq2
+        pN2_1_dq2 = 0.002999999999999999*om2_3*om2_2_dq2 + 0.002999999999999999*om2_2*om2_3_dq2 + 0.5*om2_2_dq2
+        pN2_2_dq2 = 0.006*eps2_2_dq2 - 0.002999999999999999*wq0
+        c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
+        j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 0.009*sin_phi2*eps2_3 + 0.009*cos_phi2*eps2_3_dq2
+        rD1_dq2 = -0.0014999999999999996*rD1*rD1*c2phi2_dq2
+        qdd1_dq2 = -rD1*j2r15_dq2 - j2r15*rD1_dq2
+        dqdd_dphi[0, 0] = 0.0
+        dqdd_dphi[0, 1] = qdd1_dq2
+        dqdd_dphi[1, 0] = 0.0
+        dqdd_dphi[1, 1] = -166.66666666666666*pN2_1_dq2
+
+        wv0 = x[3]*cos_phi2
+        eps2_2_dv1 = wv0
+        eps2_3_dv1 = -x[3]*sin_phi2
+        wv1 = cos_phi2*om2_2
+        pN2_1_dv1 = 0.002999999999999999*sin_phi2*om2_3 + 0.002999999999999999*wv1 + 0.5*sin_phi2
+        pN2_2_dv1 = 0.006*eps2_2_dv1 - 0.002999999999999999*wv0
+        pN2_2_dv2 = 0.003000000000000001*om2_3 - 0.5
+        j2r15_dv1 = sin_phi2*pN2_2_dv1 + 0.009*cos_phi2*eps2_3_dv1
+        j2r15_dv2 = sin_phi2*pN2_2_dv2 - 0.009*wv1
+        qdd1_dv1 = -rD1*j2r15_dv1
+        qdd1_dv2 = -rD1*j2r15_dv2
+        dqdd_dphidot[0, 0] = qdd1_dv1
+        dqdd_dphidot[0, 1] = qdd1_dv2
+        dqdd_dphidot[1, 0] = -166.66666666666666*pN2_1_dv1
+        dqdd_dphidot[1, 1] = 0.0
+
+    
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def linearize(t, x, u=None, p=None):
+    """(A, B) of xdot = A dx + B du about (x, u), as NAME_linearize (t is ignored by a model that
+    does not depend on it)."""
+    _, dq, dv, du = qdd_derivatives(x, u, p)
+    A = np.zeros((2 * N, 2 * N))
+    A[:N, N:] = np.eye(N)
+    A[N:, :N], A[N:, N:] = dq, dv
+    B = np.zeros((2 * N, du.shape[1]))
+    B[N:] = du
+    return A, B
 
 
 def rhs(t, x, u=None, p=None):

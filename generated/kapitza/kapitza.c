@@ -34,6 +34,29 @@ static void kapitza_symmetrize_(double *M)
     }
 }
 
+/* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
+ * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
+static int kapitza_pivots_(const double *piv)
+{
+    double tol = 0.0;
+    int i;
+    for (i = 0; i < 1; ++i) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
+        }
+    }
+    tol *= KAPITZA_PIVOT_TOL;
+    for (i = 0; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return KAPITZA_NONFINITE;
+        }
+        if (!(piv[i] > tol)) {
+            return KAPITZA_SINGULAR;
+        }
+    }
+    return KAPITZA_OK;
+}
+
 
 int kapitza_mass_matrix(const double *q, const kapitza_params *p, double *M)
 {
@@ -109,8 +132,7 @@ int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[1];
     double piv[1];
-    double tol = 0.0;
-    int i;
+    int i, code;
     if (!p) {
         return KAPITZA_NO_PARAMS;
     }
@@ -132,25 +154,101 @@ int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params
         piv[0] = 0.004001;
 
     }
-    for (i = 0; i < 1; ++i) {
-        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
-            tol = fabs(piv[i]);
-        }
-    }
-    tol *= KAPITZA_PIVOT_TOL;
-    /* from the tip, where elimination starts: a zero pivot makes the ones before it NaN */
-    for (i = 0; i >= 0; --i) {
-        if (!isfinite(piv[i])) {
-            return KAPITZA_NONFINITE;
-        }
-        if (!(piv[i] > tol)) {
-            return KAPITZA_SINGULAR;
-        }
+    code = kapitza_pivots_(piv);
+    if (code != KAPITZA_OK) {
+        return code;
     }
     for (i = 0; i < 1; ++i) {
         qdd[i] = acc[i];
     }
     return kapitza_all_finite_(qdd, 1) ? KAPITZA_OK : KAPITZA_NONFINITE;
+}
+
+int kapitza_qdd_derivatives(double t, const double *x, const double *u, const kapitza_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
+{
+    /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
+     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
+    double acc[1];
+    double piv[1];
+    int i, code;
+    if (!p) {
+        return KAPITZA_NO_PARAMS;
+    }
+
+    if (!kapitza_all_finite_(x, 2)) {
+        return KAPITZA_NONFINITE;
+    }
+
+    {
+        (void)u;
+
+        const double pe1 = cos(t*p->w);
+        const double a0_1 = -p->a*p->w*p->w*pe1;
+        const double sin_phi1 = sin(x[0]);
+        const double aO1_2 = a0_1*sin_phi1;
+        const double aOg1_2 = aO1_2 - 9.81*sin_phi1;
+
+        acc[0] = 4.998750312421896*aOg1_2;
+        piv[0] = 0.004001;
+
+        code = kapitza_pivots_(piv);
+        if (code != KAPITZA_OK) {
+            return code;
+        }
+        if (qdd) {
+            for (i = 0; i < 1; ++i) {
+                qdd[i] = acc[i];
+            }
+        }
+        if (dqdd_dphi) {
+            const double cos_phi1 = cos(x[0]);
+            const double aO1_2_dq1 = a0_1*cos_phi1;
+            const double aOg1_2_dq1 = aO1_2_dq1 - 9.81*cos_phi1;
+
+            dqdd_dphi[0] = 4.998750312421896*aOg1_2_dq1;
+
+            if (!kapitza_all_finite_(dqdd_dphi, 1)) {
+                return KAPITZA_NONFINITE;
+            }
+        }
+        if (dqdd_dphidot) {
+        
+            dqdd_dphidot[0] = 0.0;
+
+            if (!kapitza_all_finite_(dqdd_dphidot, 1)) {
+                return KAPITZA_NONFINITE;
+            }
+        }
+        (void)dqdd_du;  /* no control inputs: an n x 0 block */
+    }
+    return kapitza_all_finite_(acc, 1) ? KAPITZA_OK : KAPITZA_NONFINITE;
+}
+
+int kapitza_linearize(double t, const double *x, const double *u, const kapitza_params *p, double *A, double *B)
+{
+    /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
+     * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
+    double dq[1];
+    double dv[1];
+    int i, j, code;
+    code = kapitza_qdd_derivatives(t, x, u, p, 0, A ? dq : 0, A ? dv : 0, 0);
+    if (code != KAPITZA_OK) {
+        return code;
+    }
+    if (A) {
+        for (i = 0; i < 1; ++i) {
+            for (j = 0; j < 1; ++j) {
+                A[i * 2 + j] = 0.0;
+                A[i * 2 + 1 + j] = i == j ? 1.0 : 0.0;
+                A[(1 + i) * 2 + j] = dq[i * 1 + j];
+                A[(1 + i) * 2 + 1 + j] = dv[i * 1 + j];
+            }
+        }
+    }
+    (void)B;  /* no control inputs: B is 2n x 0 */
+    return KAPITZA_OK;
 }
 
 int kapitza_rhs(double t, const double *x, const double *u, const kapitza_params *p, double *xdot)

@@ -26,7 +26,11 @@
  * function reads the time t: then kapitza_forces, _qdd, _energy and _momentum take double t first;
  * kapitza_mass_matrix never does and kapitza_rhs(t, ...) passes its t on.  kapitza_energy is
  * T - U with absolute velocities, U including the springs and constant fixed forces.
- * Op counts: energy 26, forces 10, mass_matrix 0, qdd 10, rhs 10.
+ * kapitza_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
+ * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
+ * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
+ * kapitza_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
+ * Op counts: energy 26, forces 10, linearize 15, mass_matrix 0, qdd 10, qdd_derivatives 15, rhs 10.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -63,6 +67,9 @@ int kapitza_mass_matrix(const double *q, const kapitza_params *p, double *M);
 int kapitza_forces(double t, const double *x, const double *u, const kapitza_params *p, double *f);
 int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params *p, double *qdd);
 int kapitza_rhs(double t, const double *x, const double *u, const kapitza_params *p, double *xdot);
+int kapitza_qdd_derivatives(double t, const double *x, const double *u, const kapitza_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int kapitza_linearize(double t, const double *x, const double *u, const kapitza_params *p, double *A, double *B);
 double kapitza_energy(double t, const double *x, const kapitza_params *p);
 typedef struct kapitza_integrate_stats {
     double t;

@@ -22,7 +22,7 @@ MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
 HAS_JACOBI_INTEGRAL = False
 TIME_DEPENDENT = True  # forces, qdd, energy, momentum take t first
-OP_COUNTS = { "energy": 26, "forces": 10, "mass_matrix": 0, "qdd": 10, "rhs": 10, }
+OP_COUNTS = { "energy": 26, "forces": 10, "linearize": 15, "mass_matrix": 0, "qdd": 10, "qdd_derivatives": 15, "rhs": 10, }
 PIVOT_TOL = 1 * 2.220446049250313e-16
 
 
@@ -64,6 +64,16 @@ def _ldlt_solve(M, b):
     for i in range(n - 1, -1, -1):
         y[i] -= L[i + 1:, i] @ y[i + 1:]
     return y
+
+
+def _check_pivots(piv):
+    """The pivots D^k of the articulated recursion, tested as the C tests them."""
+    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
+    for j in range(N - 1, -1, -1):  # from the tip, as in the C
+        if not math.isfinite(piv[j]):
+            raise NonFiniteResult("M is not finite")
+        if not piv[j] > tol:
+            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
 
 
 def mass_matrix(q, p=None):
@@ -117,16 +127,63 @@ def qdd(t, x, u=None, p=None):
 
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
-    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
-    for j in range(N - 1, -1, -1):  # from the tip, as in the C
-        if not math.isfinite(piv[j]):
-            raise NonFiniteResult("M is not finite")
-        if not piv[j] > tol:
-            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
+    _check_pivots(piv)
     out = acc
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out
+
+
+def qdd_derivatives(t, x, u=None, p=None):
+    """(phi'', d phi''/d phi, d phi''/d phidot, d phi''/d u): the exact derivatives of the
+    articulated recursion (arrays N, N×N, N×N, N×NU), as NAME_qdd_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+    p_a = _param(p, "a")
+    p_w = _param(p, "w")
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dqdd_dphi = np.empty((N, N))
+    dqdd_dphidot = np.empty((N, N))
+    dqdd_du = np.empty((N, 0))
+    try:
+        pe1 = math.cos(t*p_w)
+        a0_1 = -p_a*p_w*p_w*pe1
+        sin_phi1 = math.sin(x[0])
+        aO1_2 = a0_1*sin_phi1
+        aOg1_2 = aO1_2 - 9.81*sin_phi1
+        acc[0] = 4.998750312421896*aOg1_2
+        piv[0] = 0.004001
+
+        cos_phi1 = math.cos(x[0])
+        aO1_2_dq1 = a0_1*cos_phi1
+        aOg1_2_dq1 = aO1_2_dq1 - 9.81*cos_phi1
+        dqdd_dphi[0, 0] = 4.998750312421896*aOg1_2_dq1
+
+        dqdd_dphidot[0, 0] = 0.0
+
+    
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def linearize(t, x, u=None, p=None):
+    """(A, B) of xdot = A dx + B du about (x, u), as NAME_linearize (t is ignored by a model that
+    does not depend on it)."""
+    _, dq, dv, du = qdd_derivatives(t, x, u, p)
+    A = np.zeros((2 * N, 2 * N))
+    A[:N, N:] = np.eye(N)
+    A[N:, :N], A[N:, N:] = dq, dv
+    B = np.zeros((2 * N, du.shape[1]))
+    B[N:] = du
+    return A, B
 
 
 def rhs(t, x, u=None, p=None):

@@ -34,6 +34,29 @@ static void ship_gimbal_symmetrize_(double *M)
     }
 }
 
+/* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
+ * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
+static int ship_gimbal_pivots_(const double *piv)
+{
+    double tol = 0.0;
+    int i;
+    for (i = 0; i < 2; ++i) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
+        }
+    }
+    tol *= SHIP_GIMBAL_PIVOT_TOL;
+    for (i = 1; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return SHIP_GIMBAL_NONFINITE;
+        }
+        if (!(piv[i] > tol)) {
+            return SHIP_GIMBAL_SINGULAR;
+        }
+    }
+    return SHIP_GIMBAL_OK;
+}
+
 
 int ship_gimbal_mass_matrix(const double *q, const ship_gimbal_params *p, double *M)
 {
@@ -159,8 +182,7 @@ int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimba
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[2];
     double piv[2];
-    double tol = 0.0;
-    int i;
+    int i, code;
     (void)p;
 
     if (!ship_gimbal_all_finite_(x, 4)) {
@@ -226,25 +248,188 @@ int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimba
         piv[1] = 0.00612;
 
     }
-    for (i = 0; i < 2; ++i) {
-        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
-            tol = fabs(piv[i]);
-        }
-    }
-    tol *= SHIP_GIMBAL_PIVOT_TOL;
-    /* from the tip, where elimination starts: a zero pivot makes the ones before it NaN */
-    for (i = 1; i >= 0; --i) {
-        if (!isfinite(piv[i])) {
-            return SHIP_GIMBAL_NONFINITE;
-        }
-        if (!(piv[i] > tol)) {
-            return SHIP_GIMBAL_SINGULAR;
-        }
+    code = ship_gimbal_pivots_(piv);
+    if (code != SHIP_GIMBAL_OK) {
+        return code;
     }
     for (i = 0; i < 2; ++i) {
         qdd[i] = acc[i];
     }
     return ship_gimbal_all_finite_(qdd, 2) ? SHIP_GIMBAL_OK : SHIP_GIMBAL_NONFINITE;
+}
+
+int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, const ship_gimbal_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
+{
+    /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
+     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
+    double acc[2];
+    double piv[2];
+    int i, code;
+    (void)p;
+
+    if (!ship_gimbal_all_finite_(x, 4)) {
+        return SHIP_GIMBAL_NONFINITE;
+    }
+
+    {
+        (void)u;
+
+        const double pe1 = cos(0.2*sin(0.5*t));
+        const double pe2 = cos(0.08*sin(0.7*t + 1.0));
+        const double pe3 = sin(0.2*sin(0.5*t));
+        const double pe4 = sin(0.08*sin(0.7*t + 1.0));
+        const double gam0_1 = pe1*pe2;
+        const double gam0_3 = pe1*pe4;
+        const double pe5 = cos(0.5*t);
+        const double pe6 = cos(0.7*t + 1.0);
+        const double om0_1 = -0.1*pe4*pe5;
+        const double om0_3 = 0.1*pe2*pe5;
+        const double pe7 = sin(0.5*t);
+        const double pe8 = sin(0.7*t + 1.0);
+        const double eps0_1 = 0.05*pe4*pe7 - 0.0056*pe2*pe5*pe6;
+        const double eps0_3 = -0.05*pe2*pe7 - 0.0056*pe4*pe5*pe6;
+        const double pe9 = sin(0.6*t);
+        const double a0_1 = -0.18*pe1*pe2*pe9;
+        const double a0_2 = 0.18*pe3*pe9;
+        const double a0_3 = -0.18*pe1*pe4*pe9;
+        const double cos_phi1 = cos(x[0]);
+        const double sin_phi1 = sin(x[0]);
+        const double gam1_2 = -pe3*cos_phi1 + gam0_3*sin_phi1;
+        const double gam1_3 = gam0_3*cos_phi1 + pe3*sin_phi1;
+        const double om1_1 = om0_1 + x[2];
+        const double om1_2 = 0.056*pe6*cos_phi1 + om0_3*sin_phi1;
+        const double om1_3 = om0_3*cos_phi1 - 0.056*pe6*sin_phi1;
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_1 = -om1_3 + x[3];
+        const double om2_2 = om1_2*cos_phi2 + om1_1*sin_phi2;
+        const double om2_3 = om1_1*cos_phi2 - om1_2*sin_phi2;
+        const double aO1_2 = a0_2*cos_phi1 + a0_3*sin_phi1;
+        const double aO1_3 = a0_3*cos_phi1 - a0_2*sin_phi1;
+        const double aOg1_1 = a0_1 - 9.81*gam0_1;
+        const double aOg1_2 = aO1_2 - 9.81*gam1_2;
+        const double aOg1_3 = aO1_3 - 9.81*gam1_3;
+        const double eps1_2 = -0.0392*pe8*cos_phi1 + eps0_3*sin_phi1 + x[2]*om1_3;
+        const double eps1_3 = eps0_3*cos_phi1 + 0.0392*pe8*sin_phi1 - x[2]*om1_2;
+        const double eps2_2 = cos_phi2*eps1_2 + eps0_1*sin_phi2 + x[3]*om2_3;
+        const double eps2_3 = eps0_1*cos_phi2 - sin_phi2*eps1_2 - x[3]*om2_2;
+        const double aOg2_2 = cos_phi2*aOg1_2 + sin_phi2*aOg1_1;
+        const double pN2_1 = -0.00612*eps1_3 + 0.0028799999999999997*om2_2*om2_3 + 0.5*om2_2 - 0.012*aOg2_2;
+        const double pN2_2 = 0.00612*eps2_2 - 0.0028799999999999997*om2_1*om2_3 - 0.5*om2_1 - 0.012*aOg1_3;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double Ja2rdr_33 = 0.007559999999999999 + 0.0014399999999999999*c2phi2;
+        const double j2r18 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
+        const double IA1_11 = 0.005 + Ja2rdr_33;
+        const double pA1_1 = 0.005*eps0_1 + j2r18;
+        const double rD1 = 1.0/IA1_11;
+        const double qdd1 = -pA1_1*rD1;
+
+        acc[0] = qdd1;
+        acc[1] = -163.39869281045753*pN2_1;
+        piv[0] = IA1_11;
+        piv[1] = 0.00612;
+
+        code = ship_gimbal_pivots_(piv);
+        if (code != SHIP_GIMBAL_OK) {
+            return code;
+        }
+        if (qdd) {
+            for (i = 0; i < 2; ++i) {
+                qdd[i] = acc[i];
+            }
+        }
+        if (dqdd_dphi) {
+            const double gam1_2_dq1 = pe3*sin_phi1 + gam0_3*cos_phi1;
+            const double gam1_3_dq1 = -gam0_3*sin_phi1 + pe3*cos_phi1;
+            const double om1_2_dq1 = -0.056*pe6*sin_phi1 + om0_3*cos_phi1;
+            const double om1_3_dq1 = -om0_3*sin_phi1 - 0.056*pe6*cos_phi1;
+            const double om2_2_dq1 = cos_phi2*om1_2_dq1;
+            const double om2_2_dq2 = -om1_2*sin_phi2 + om1_1*cos_phi2;
+            const double om2_3_dq1 = -sin_phi2*om1_2_dq1;
+            const double om2_3_dq2 = -om1_1*sin_phi2 - om1_2*cos_phi2;
+            const double aO1_2_dq1 = -a0_2*sin_phi1 + a0_3*cos_phi1;
+            const double aO1_3_dq1 = -a0_3*sin_phi1 - a0_2*cos_phi1;
+            const double aOg1_2_dq1 = aO1_2_dq1 - 9.81*gam1_2_dq1;
+            const double aOg1_3_dq1 = aO1_3_dq1 - 9.81*gam1_3_dq1;
+            const double eps1_2_dq1 = 0.0392*pe8*sin_phi1 + eps0_3*cos_phi1 + x[2]*om1_3_dq1;
+            const double eps1_3_dq1 = -eps0_3*sin_phi1 + 0.0392*pe8*cos_phi1 - x[2]*om1_2_dq1;
+            const double eps2_2_dq1 = cos_phi2*eps1_2_dq1 + x[3]*om2_3_dq1;
+            const double eps2_2_dq2 = -sin_phi2*eps1_2 + eps0_1*cos_phi2 + x[3]*om2_3_dq2;
+            const double eps2_3_dq1 = -sin_phi2*eps1_2_dq1 - x[3]*om2_2_dq1;
+            const double eps2_3_dq2 = -eps0_1*sin_phi2 - cos_phi2*eps1_2 - x[3]*om2_2_dq2;
+            const double aOg2_2_dq1 = cos_phi2*aOg1_2_dq1;
+            const double aOg2_2_dq2 = -sin_phi2*aOg1_2 + cos_phi2*aOg1_1;
+            const double pN2_1_dq1 = -0.00612*eps1_3_dq1 + 0.0028799999999999997*om2_3*om2_2_dq1 + 0.0028799999999999997*om2_2*om2_3_dq1 + 0.5*om2_2_dq1 - 0.012*aOg2_2_dq1;
+            const double pN2_1_dq2 = 0.0028799999999999997*om2_3*om2_2_dq2 + 0.0028799999999999997*om2_2*om2_3_dq2 + 0.5*om2_2_dq2 - 0.012*aOg2_2_dq2;
+            const double pN2_2_dq1 = 0.00612*eps2_2_dq1 + 0.0028799999999999997*om2_3*om1_3_dq1 - 0.0028799999999999997*om2_1*om2_3_dq1 + 0.5*om1_3_dq1 - 0.012*aOg1_3_dq1;
+            const double pN2_2_dq2 = 0.00612*eps2_2_dq2 - 0.0028799999999999997*om2_1*om2_3_dq2;
+            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
+            const double j2r18_dq1 = sin_phi2*pN2_2_dq1 + 0.009*cos_phi2*eps2_3_dq1;
+            const double j2r18_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 0.009*sin_phi2*eps2_3 + 0.009*cos_phi2*eps2_3_dq2;
+            const double rD1_dq2 = -0.0014399999999999999*rD1*rD1*c2phi2_dq2;
+            const double qdd1_dq1 = -rD1*j2r18_dq1;
+            const double qdd1_dq2 = -rD1*j2r18_dq2 - pA1_1*rD1_dq2;
+
+            dqdd_dphi[0] = qdd1_dq1;
+            dqdd_dphi[1] = qdd1_dq2;
+            dqdd_dphi[2] = -163.39869281045753*pN2_1_dq1;
+            dqdd_dphi[3] = -163.39869281045753*pN2_1_dq2;
+
+            if (!ship_gimbal_all_finite_(dqdd_dphi, 4)) {
+                return SHIP_GIMBAL_NONFINITE;
+            }
+        }
+        if (dqdd_dphidot) {
+            const double eps2_2_dv1 = om1_3*cos_phi2 + x[3]*cos_phi2;
+            const double eps2_3_dv1 = -om1_3*sin_phi2 - x[3]*sin_phi2;
+            const double wv0 = cos_phi2*om2_2;
+            const double pN2_1_dv1 = 0.00612*om1_2 + 0.0028799999999999997*sin_phi2*om2_3 + 0.0028799999999999997*wv0 + 0.5*sin_phi2;
+            const double pN2_2_dv1 = 0.00612*eps2_2_dv1 - 0.0028799999999999997*cos_phi2*om2_1;
+            const double pN2_2_dv2 = 0.00324*om2_3 - 0.5;
+            const double j2r18_dv1 = sin_phi2*pN2_2_dv1 + 0.009*cos_phi2*eps2_3_dv1;
+            const double j2r18_dv2 = sin_phi2*pN2_2_dv2 - 0.009*wv0;
+            const double qdd1_dv1 = -rD1*j2r18_dv1;
+            const double qdd1_dv2 = -rD1*j2r18_dv2;
+
+            dqdd_dphidot[0] = qdd1_dv1;
+            dqdd_dphidot[1] = qdd1_dv2;
+            dqdd_dphidot[2] = -163.39869281045753*pN2_1_dv1;
+            dqdd_dphidot[3] = 0.0;
+
+            if (!ship_gimbal_all_finite_(dqdd_dphidot, 4)) {
+                return SHIP_GIMBAL_NONFINITE;
+            }
+        }
+        (void)dqdd_du;  /* no control inputs: an n x 0 block */
+    }
+    return ship_gimbal_all_finite_(acc, 2) ? SHIP_GIMBAL_OK : SHIP_GIMBAL_NONFINITE;
+}
+
+int ship_gimbal_linearize(double t, const double *x, const double *u, const ship_gimbal_params *p, double *A, double *B)
+{
+    /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
+     * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
+    double dq[4];
+    double dv[4];
+    int i, j, code;
+    code = ship_gimbal_qdd_derivatives(t, x, u, p, 0, A ? dq : 0, A ? dv : 0, 0);
+    if (code != SHIP_GIMBAL_OK) {
+        return code;
+    }
+    if (A) {
+        for (i = 0; i < 2; ++i) {
+            for (j = 0; j < 2; ++j) {
+                A[i * 4 + j] = 0.0;
+                A[i * 4 + 2 + j] = i == j ? 1.0 : 0.0;
+                A[(2 + i) * 4 + j] = dq[i * 2 + j];
+                A[(2 + i) * 4 + 2 + j] = dv[i * 2 + j];
+            }
+        }
+    }
+    (void)B;  /* no control inputs: B is 2n x 0 */
+    return SHIP_GIMBAL_OK;
 }
 
 int ship_gimbal_rhs(double t, const double *x, const double *u, const ship_gimbal_params *p, double *xdot)

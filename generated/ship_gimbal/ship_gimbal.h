@@ -26,7 +26,11 @@
  * function reads the time t: then ship_gimbal_forces, _qdd, _energy and _momentum take double t first;
  * ship_gimbal_mass_matrix never does and ship_gimbal_rhs(t, ...) passes its t on.  ship_gimbal_energy is
  * T - U with absolute velocities, U including the springs and constant fixed forces.
- * Op counts: energy 129, forces 148, mass_matrix 8, momentum 68, qdd 157, rhs 157.
+ * ship_gimbal_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
+ * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
+ * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
+ * ship_gimbal_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
+ * Op counts: energy 129, forces 148, linearize 311, mass_matrix 8, momentum 68, qdd 157, qdd_derivatives 311, rhs 157.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -62,6 +66,9 @@ int ship_gimbal_mass_matrix(const double *q, const ship_gimbal_params *p, double
 int ship_gimbal_forces(double t, const double *x, const double *u, const ship_gimbal_params *p, double *f);
 int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimbal_params *p, double *qdd);
 int ship_gimbal_rhs(double t, const double *x, const double *u, const ship_gimbal_params *p, double *xdot);
+int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, const ship_gimbal_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int ship_gimbal_linearize(double t, const double *x, const double *u, const ship_gimbal_params *p, double *A, double *B);
 double ship_gimbal_energy(double t, const double *x, const ship_gimbal_params *p);
 double ship_gimbal_momentum(double t, const double *x, const ship_gimbal_params *p);
 typedef struct ship_gimbal_integrate_stats {

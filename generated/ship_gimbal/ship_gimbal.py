@@ -22,7 +22,7 @@ MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
 HAS_JACOBI_INTEGRAL = False
 TIME_DEPENDENT = True  # forces, qdd, energy, momentum take t first
-OP_COUNTS = { "energy": 129, "forces": 148, "mass_matrix": 8, "momentum": 68, "qdd": 157, "rhs": 157, }
+OP_COUNTS = { "energy": 129, "forces": 148, "linearize": 311, "mass_matrix": 8, "momentum": 68, "qdd": 157, "qdd_derivatives": 311, "rhs": 157, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -64,6 +64,16 @@ def _ldlt_solve(M, b):
     for i in range(n - 1, -1, -1):
         y[i] -= L[i + 1:, i] @ y[i + 1:]
     return y
+
+
+def _check_pivots(piv):
+    """The pivots D^k of the articulated recursion, tested as the C tests them."""
+    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
+    for j in range(N - 1, -1, -1):  # from the tip, as in the C
+        if not math.isfinite(piv[j]):
+            raise NonFiniteResult("M is not finite")
+        if not piv[j] > tol:
+            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
 
 
 def mass_matrix(q, p=None):
@@ -203,16 +213,150 @@ def qdd(t, x, u=None, p=None):
 
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
-    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
-    for j in range(N - 1, -1, -1):  # from the tip, as in the C
-        if not math.isfinite(piv[j]):
-            raise NonFiniteResult("M is not finite")
-        if not piv[j] > tol:
-            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
+    _check_pivots(piv)
     out = acc
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out
+
+
+def qdd_derivatives(t, x, u=None, p=None):
+    """(phi'', d phi''/d phi, d phi''/d phidot, d phi''/d u): the exact derivatives of the
+    articulated recursion (arrays N, N×N, N×N, N×NU), as NAME_qdd_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dqdd_dphi = np.empty((N, N))
+    dqdd_dphidot = np.empty((N, N))
+    dqdd_du = np.empty((N, 0))
+    try:
+        pe1 = math.cos(0.2*math.sin(0.5*t))
+        pe2 = math.cos(0.08*math.sin(0.7*t + 1.0))
+        pe3 = math.sin(0.2*math.sin(0.5*t))
+        pe4 = math.sin(0.08*math.sin(0.7*t + 1.0))
+        gam0_1 = pe1*pe2
+        gam0_3 = pe1*pe4
+        pe5 = math.cos(0.5*t)
+        pe6 = math.cos(0.7*t + 1.0)
+        om0_1 = -0.1*pe4*pe5
+        om0_3 = 0.1*pe2*pe5
+        pe7 = math.sin(0.5*t)
+        pe8 = math.sin(0.7*t + 1.0)
+        eps0_1 = 0.05*pe4*pe7 - 0.0056*pe2*pe5*pe6
+        eps0_3 = -0.05*pe2*pe7 - 0.0056*pe4*pe5*pe6
+        pe9 = math.sin(0.6*t)
+        a0_1 = -0.18*pe1*pe2*pe9
+        a0_2 = 0.18*pe3*pe9
+        a0_3 = -0.18*pe1*pe4*pe9
+        cos_phi1 = math.cos(x[0])
+        sin_phi1 = math.sin(x[0])
+        gam1_2 = -pe3*cos_phi1 + gam0_3*sin_phi1
+        gam1_3 = gam0_3*cos_phi1 + pe3*sin_phi1
+        om1_1 = om0_1 + x[2]
+        om1_2 = 0.056*pe6*cos_phi1 + om0_3*sin_phi1
+        om1_3 = om0_3*cos_phi1 - 0.056*pe6*sin_phi1
+        cos_phi2 = math.cos(x[1])
+        sin_phi2 = math.sin(x[1])
+        om2_1 = -om1_3 + x[3]
+        om2_2 = om1_2*cos_phi2 + om1_1*sin_phi2
+        om2_3 = om1_1*cos_phi2 - om1_2*sin_phi2
+        aO1_2 = a0_2*cos_phi1 + a0_3*sin_phi1
+        aO1_3 = a0_3*cos_phi1 - a0_2*sin_phi1
+        aOg1_1 = a0_1 - 9.81*gam0_1
+        aOg1_2 = aO1_2 - 9.81*gam1_2
+        aOg1_3 = aO1_3 - 9.81*gam1_3
+        eps1_2 = -0.0392*pe8*cos_phi1 + eps0_3*sin_phi1 + x[2]*om1_3
+        eps1_3 = eps0_3*cos_phi1 + 0.0392*pe8*sin_phi1 - x[2]*om1_2
+        eps2_2 = cos_phi2*eps1_2 + eps0_1*sin_phi2 + x[3]*om2_3
+        eps2_3 = eps0_1*cos_phi2 - sin_phi2*eps1_2 - x[3]*om2_2
+        aOg2_2 = cos_phi2*aOg1_2 + sin_phi2*aOg1_1
+        pN2_1 = -0.00612*eps1_3 + 0.0028799999999999997*om2_2*om2_3 + 0.5*om2_2 - 0.012*aOg2_2
+        pN2_2 = 0.00612*eps2_2 - 0.0028799999999999997*om2_1*om2_3 - 0.5*om2_1 - 0.012*aOg1_3
+        c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
+        Ja2rdr_33 = 0.007559999999999999 + 0.0014399999999999999*c2phi2
+        j2r18 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3
+        IA1_11 = 0.005 + Ja2rdr_33
+        pA1_1 = 0.005*eps0_1 + j2r18
+        rD1 = 1.0/IA1_11
+        qdd1 = -pA1_1*rD1
+        acc[0] = qdd1
+        acc[1] = -163.39869281045753*pN2_1
+        piv[0] = IA1_11
+        piv[1] = 0.00612
+
+        gam1_2_dq1 = pe3*sin_phi1 + gam0_3*cos_phi1
+        gam1_3_dq1 = -gam0_3*sin_phi1 + pe3*cos_phi1
+        om1_2_dq1 = -0.056*pe6*sin_phi1 + om0_3*cos_phi1
+        om1_3_dq1 = -om0_3*sin_phi1 - 0.056*pe6*cos_phi1
+        om2_2_dq1 = cos_phi2*om1_2_dq1
+        om2_2_dq2 = -om1_2*sin_phi2 + om1_1*cos_phi2
+        om2_3_dq1 = -sin_phi2*om1_2_dq1
+        om2_3_dq2 = -om1_1*sin_phi2 - om1_2*cos_phi2
+        aO1_2_dq1 = -a0_2*sin_phi1 + a0_3*cos_phi1
+        aO1_3_dq1 = -a0_3*sin_phi1 - a0_2*cos_phi1
+        aOg1_2_dq1 = aO1_2_dq1 - 9.81*gam1_2_dq1
+        aOg1_3_dq1 = aO1_3_dq1 - 9.81*gam1_3_dq1
+        eps1_2_dq1 = 0.0392*pe8*sin_phi1 + eps0_3*cos_phi1 + x[2]*om1_3_dq1
+        eps1_3_dq1 = -eps0_3*sin_phi1 + 0.0392*pe8*cos_phi1 - x[2]*om1_2_dq1
+        eps2_2_dq1 = cos_phi2*eps1_2_dq1 + x[3]*om2_3_dq1
+        eps2_2_dq2 = -sin_phi2*eps1_2 + eps0_1*cos_phi2 + x[3]*om2_3_dq2
+        eps2_3_dq1 = -sin_phi2*eps1_2_dq1 - x[3]*om2_2_dq1
+        eps2_3_dq2 = -eps0_1*sin_phi2 - cos_phi2*eps1_2 - x[3]*om2_2_dq2
+        aOg2_2_dq1 = cos_phi2*aOg1_2_dq1
+        aOg2_2_dq2 = -sin_phi2*aOg1_2 + cos_phi2*aOg1_1
+        pN2_1_dq1 = -0.00612*eps1_3_dq1 + 0.0028799999999999997*om2_3*om2_2_dq1 + 0.0028799999999999997*om2_2*om2_3_dq1 + 0.5*om2_2_dq1 - 0.012*aOg2_2_dq1
+        pN2_1_dq2 = 0.0028799999999999997*om2_3*om2_2_dq2 + 0.0028799999999999997*om2_2*om2_3_dq2 + 0.5*om2_2_dq2 - 0.012*aOg2_2_dq2
+        pN2_2_dq1 = 0.00612*eps2_2_dq1 + 0.0028799999999999997*om2_3*om1_3_dq1 - 0.0028799999999999997*om2_1*om2_3_dq1 + 0.5*om1_3_dq1 - 0.012*aOg1_3_dq1
+        pN2_2_dq2 = 0.00612*eps2_2_dq2 - 0.0028799999999999997*om2_1*om2_3_dq2
+        c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
+        j2r18_dq1 = sin_phi2*pN2_2_dq1 + 0.009*cos_phi2*eps2_3_dq1
+        j2r18_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 0.009*sin_phi2*eps2_3 + 0.009*cos_phi2*eps2_3_dq2
+        rD1_dq2 = -0.0014399999999999999*rD1*rD1*c2phi2_dq2
+        qdd1_dq1 = -rD1*j2r18_dq1
+        qdd1_dq2 = -rD1*j2r18_dq2 - pA1_1*rD1_dq2
+        dqdd_dphi[0, 0] = qdd1_dq1
+        dqdd_dphi[0, 1] = qdd1_dq2
+        dqdd_dphi[1, 0] = -163.39869281045753*pN2_1_dq1
+        dqdd_dphi[1, 1] = -163.39869281045753*pN2_1_dq2
+
+        eps2_2_dv1 = om1_3*cos_phi2 + x[3]*cos_phi2
+        eps2_3_dv1 = -om1_3*sin_phi2 - x[3]*sin_phi2
+        wv0 = cos_phi2*om2_2
+        pN2_1_dv1 = 0.00612*om1_2 + 0.0028799999999999997*sin_phi2*om2_3 + 0.0028799999999999997*wv0 + 0.5*sin_phi2
+        pN2_2_dv1 = 0.00612*eps2_2_dv1 - 0.0028799999999999997*cos_phi2*om2_1
+        pN2_2_dv2 = 0.00324*om2_3 - 0.5
+        j2r18_dv1 = sin_phi2*pN2_2_dv1 + 0.009*cos_phi2*eps2_3_dv1
+        j2r18_dv2 = sin_phi2*pN2_2_dv2 - 0.009*wv0
+        qdd1_dv1 = -rD1*j2r18_dv1
+        qdd1_dv2 = -rD1*j2r18_dv2
+        dqdd_dphidot[0, 0] = qdd1_dv1
+        dqdd_dphidot[0, 1] = qdd1_dv2
+        dqdd_dphidot[1, 0] = -163.39869281045753*pN2_1_dv1
+        dqdd_dphidot[1, 1] = 0.0
+
+    
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def linearize(t, x, u=None, p=None):
+    """(A, B) of xdot = A dx + B du about (x, u), as NAME_linearize (t is ignored by a model that
+    does not depend on it)."""
+    _, dq, dv, du = qdd_derivatives(t, x, u, p)
+    A = np.zeros((2 * N, 2 * N))
+    A[:N, N:] = np.eye(N)
+    A[N:, :N], A[N:, N:] = dq, dv
+    B = np.zeros((2 * N, du.shape[1]))
+    B[N:] = du
+    return A, B
 
 
 def rhs(t, x, u=None, p=None):

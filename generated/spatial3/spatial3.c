@@ -34,6 +34,29 @@ static void spatial3_symmetrize_(double *M)
     }
 }
 
+/* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
+ * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
+static int spatial3_pivots_(const double *piv)
+{
+    double tol = 0.0;
+    int i;
+    for (i = 0; i < 3; ++i) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
+        }
+    }
+    tol *= SPATIAL3_PIVOT_TOL;
+    for (i = 2; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return SPATIAL3_NONFINITE;
+        }
+        if (!(piv[i] > tol)) {
+            return SPATIAL3_SINGULAR;
+        }
+    }
+    return SPATIAL3_OK;
+}
+
 
 int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M)
 {
@@ -492,6 +515,867 @@ int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, dou
         qdd[i] = f[i];
     }
     return spatial3_all_finite_(qdd, 3) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
+}
+
+int spatial3_qdd_derivatives(const double *x, const double *u, const spatial3_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
+{
+    /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
+     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
+    double acc[3];
+    double piv[3];
+    int i, code;
+    (void)p;
+
+    if (!spatial3_all_finite_(x, 6) || (u && !spatial3_all_finite_(u, 1))) {
+        return SPATIAL3_NONFINITE;
+    }
+
+    {
+        const double tau_3 = u ? u[0] : 0.0;
+
+        const double cos_phi1 = cos(x[0]);
+        const double sin_phi1 = sin(x[0]);
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_1 = 0.45359612142557737*x[3] + x[4];
+        const double om2_2 = 0.8912073600614353*x[3]*sin_phi2;
+        const double om2_3 = 0.8912073600614353*x[3]*cos_phi2;
+        const double cos_phi3 = cos(x[2]);
+        const double sin_phi3 = sin(x[2]);
+        const double j3r2 = 0.9092974268256817*om2_1 - 0.4161468365471424*om2_3;
+        const double om3_1 = -0.4161468365471424*om2_1 - 0.9092974268256817*om2_3 + x[5];
+        const double om3_2 = om2_2*cos_phi3 + sin_phi3*j3r2;
+        const double om3_3 = cos_phi3*j3r2 - om2_2*sin_phi3;
+        const double eps2_2 = x[4]*om2_3;
+        const double eps2_3 = -x[4]*om2_2;
+        const double w0 = x[3]*x[3];
+        const double aOrel2in1_2 = -0.25*w0;
+        const double aOrel2in1_3 = -0.05*w0;
+        const double j2r5 = -8.052600665193761 - 1.7328251533920123*cos_phi1 + 0.45359612142557737*aOrel2in1_3;
+        const double aOg2_1 = -4.098516902810498 + 3.404584954450333*cos_phi1 - 0.8912073600614353*aOrel2in1_3;
+        const double aOg2_2 = -3.8201939380478613*sin_phi1*cos_phi2 + cos_phi2*aOrel2in1_2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 3.8201939380478613*sin_phi1*sin_phi2 - sin_phi2*aOrel2in1_2;
+        const double eps3_2 = cos_phi3*eps2_2 - 0.4161468365471424*sin_phi3*eps2_3 + x[5]*om3_3;
+        const double eps3_3 = -0.4161468365471424*cos_phi3*eps2_3 - sin_phi3*eps2_2 - x[5]*om3_2;
+        const double ws2_1 = -0.08*om2_2 - 0.2*om2_3;
+        const double ws2_2 = 0.05*om2_3 + 0.08*om2_1;
+        const double ws2_3 = 0.2*om2_1 - 0.05*om2_2;
+        const double aOrel3in2_1 = -0.08*eps2_2 - 0.2*eps2_3 + om2_2*ws2_3 - om2_3*ws2_2;
+        const double aOrel3in2_2 = 0.05*eps2_3 + om2_3*ws2_1 - om2_1*ws2_3;
+        const double aOrel3in2_3 = -0.05*eps2_2 + om2_1*ws2_2 - om2_2*ws2_1;
+        const double j3r5 = 0.9092974268256817*aOg2_1 + 0.9092974268256817*aOrel3in2_1 - 0.4161468365471424*aOg2_3 - 0.4161468365471424*aOrel3in2_3;
+        const double aOg3_1 = -0.4161468365471424*aOg2_1 - 0.4161468365471424*aOrel3in2_1 - 0.9092974268256817*aOg2_3 - 0.9092974268256817*aOrel3in2_3;
+        const double aOg3_2 = cos_phi3*aOg2_2 + cos_phi3*aOrel3in2_2 + sin_phi3*j3r5;
+        const double aOg3_3 = cos_phi3*j3r5 - sin_phi3*aOg2_2 - sin_phi3*aOrel3in2_2;
+        const double wc3_1 = 0.11*om3_2 + 0.05*om3_3;
+        const double wc3_2 = 0.06*om3_3 - 0.11*om3_1;
+        const double wc3_3 = -0.05*om3_1 - 0.06*om3_2;
+        const double Aw3_1 = 0.00784*om3_1 + 0.0013*om3_2 - 0.00244*om3_3;
+        const double Aw3_2 = 0.0013*om3_1 + 0.00868*om3_2 + 0.002*om3_3;
+        const double Aw3_3 = -0.00244*om3_1 + 0.002*om3_2 + 0.00424*om3_3;
+        const double pF3_1 = 0.4*aOg3_1 + 0.044000000000000004*eps3_2 + 0.020000000000000004*eps3_3 + 0.4*om3_2*wc3_3 - 0.4*om3_3*wc3_2;
+        const double pF3_2 = 0.4*aOg3_2 + 0.024*eps3_3 + 0.040009086780329994*eps2_3 + 0.4*om3_3*wc3_1 - 0.4*om3_1*wc3_3;
+        const double pF3_3 = 0.4*aOg3_3 + 0.018185948536513636*eps2_3 - 0.024*eps3_2 + 0.4*om3_1*wc3_2 - 0.4*om3_2*wc3_1;
+        const double pN3_1 = -0.007128891826313344*eps2_3 + 0.0013*eps3_2 - 0.00244*eps3_3 + om3_2*Aw3_3 + 0.012*om3_2 - om3_3*Aw3_2 - 0.020000000000000004*aOg3_3 - 0.044000000000000004*aOg3_2;
+        const double pN3_2 = -0.0011820866548733861*eps2_3 + 0.00868*eps3_2 + 0.002*eps3_3 + om3_3*Aw3_1 + 0.02*om3_3 - om3_1*Aw3_3 - 0.012*om3_1 + 0.044000000000000004*aOg3_1 - 0.024*aOg3_3;
+        const double pN3_3 = 0.002218685721454663*eps2_3 + 0.002*eps3_2 + 0.00424*eps3_3 + om3_1*Aw3_2 - om3_2*Aw3_1 - 0.02*om3_2 + 0.024*aOg3_2 + 0.020000000000000004*aOg3_1;
+        const double c2phi3 = cos_phi3*cos_phi3 - sin_phi3*sin_phi3;
+        const double s2phi3 = 2.0*cos_phi3*sin_phi3;
+        const double wc2_1 = 0.07*om2_2 - 0.1*om2_3;
+        const double wc2_2 = -0.04*om2_3 - 0.07*om2_1;
+        const double wc2_3 = 0.1*om2_1 + 0.04*om2_2;
+        const double Aw2_1 = 0.01194*om2_1 + 0.0021*om2_2 + 0.00188*om2_3;
+        const double Aw2_2 = 0.0021*om2_1 + 0.0074*om2_2 - 0.0041*om2_3;
+        const double Aw2_3 = 0.00188*om2_1 - 0.0041*om2_2 + 0.00976*om2_3;
+        const double pF2_1 = 0.6*aOg2_1 + 0.042*eps2_2 - 0.06*eps2_3 + 0.6*om2_2*wc2_3 - 0.6*om2_3*wc2_2;
+        const double pF2_2 = 0.6*aOg2_2 - 0.024*eps2_3 + 0.6*om2_3*wc2_1 - 0.6*om2_1*wc2_3;
+        const double pF2_3 = 0.6*aOg2_3 + 0.024*eps2_2 + 0.6*om2_1*wc2_2 - 0.6*om2_2*wc2_1;
+        const double pN2_1 = 0.0021*eps2_2 + 0.00188*eps2_3 + om2_2*Aw2_3 - 0.01*om2_2 - om2_3*Aw2_2 - 0.015*om2_3 + 0.06*aOg2_3 - 0.042*aOg2_2;
+        const double pN2_2 = 0.0074*eps2_2 - 0.0041*eps2_3 + om2_3*Aw2_1 - om2_1*Aw2_3 + 0.01*om2_1 + 0.042*aOg2_1 + 0.024*aOg2_3;
+        const double pN2_3 = -0.0041*eps2_2 + 0.00976*eps2_3 + om2_1*Aw2_2 + 0.015*om2_1 - om2_2*Aw2_1 - 0.024*aOg2_2 - 0.06*aOg2_1;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double s2phi2 = 2.0*cos_phi2*sin_phi2;
+        const double pN1_1 = -0.36673861805259467*cos_phi1 - 0.09168465451314867*sin_phi1;
+        const double u3 = tau_3 - pN3_1;
+        const double pa3_2 = pN3_2 + 0.16581632653061223*u3;
+        const double pa3_3 = pN3_3 - 0.3112244897959184*u3;
+        const double pa3_5 = pF3_2 - 5.612244897959184*u3;
+        const double pa3_6 = pF3_3 - 2.5510204081632657*u3;
+        const double Ja3rdrt = 0.0024919132653061227*c2phi3 - 0.002404591836734694*s2phi3;
+        const double Ja3rdr_22 = 0.0059725255102040815 + Ja3rdrt;
+        const double Ja3rdr_33 = 0.0059725255102040815 - Ja3rdrt;
+        const double Ja3rdr_32 = 0.0024919132653061227*s2phi3 + 0.002404591836734694*c2phi3;
+        const double Jh3rra_22 = 0.007295918367346939*cos_phi3 + 0.020683673469387754*sin_phi3;
+        const double Jh3rra_23 = 0.007295918367346939*sin_phi3 - 0.020683673469387754*cos_phi3;
+        const double Jh3rra_32 = 0.010306122448979592*cos_phi3 + 0.006224489795918368*sin_phi3;
+        const double Jh3rra_33 = 0.010306122448979592*sin_phi3 - 0.006224489795918368*cos_phi3;
+        const double Jh3rr_21 = 0.044000000000000004*cos_phi3 - 0.020000000000000004*sin_phi3;
+        const double Jh3rr_22 = cos_phi3*Jh3rra_22 - sin_phi3*Jh3rra_32;
+        const double Jh3rr_23 = cos_phi3*Jh3rra_23 - sin_phi3*Jh3rra_33;
+        const double Jh3rr_31 = 0.044000000000000004*sin_phi3 + 0.020000000000000004*cos_phi3;
+        const double Jh3rr_32 = sin_phi3*Jh3rra_22 + cos_phi3*Jh3rra_32;
+        const double Jh3rr_33 = sin_phi3*Jh3rra_23 + cos_phi3*Jh3rra_33;
+        const double Jh3ra_21 = -0.4161468365471424*Jh3rr_21 + 0.9092974268256817*Jh3rr_23;
+        const double Jh3ra_23 = -0.9092974268256817*Jh3rr_21 - 0.4161468365471424*Jh3rr_23;
+        const double Jh3ra_31 = -0.4161468365471424*Jh3rr_31 + 0.9092974268256817*Jh3rr_33;
+        const double Jh3ra_33 = -0.9092974268256817*Jh3rr_31 - 0.4161468365471424*Jh3rr_33;
+        const double Jm3rdrt = -0.09795918367346941*c2phi3 + 0.1122448979591837*s2phi3;
+        const double Jm3rdr_22 = 0.2510204081632653 + Jm3rdrt;
+        const double Jm3rdr_33 = 0.2510204081632653 - Jm3rdrt;
+        const double Jm3rdr_32 = -0.09795918367346941*s2phi3 - 0.1122448979591837*c2phi3;
+        const double Jm3rdsig = 0.2 + 0.5*Jm3rdr_33;
+        const double Jm3rddlt = 0.2 - 0.5*Jm3rdr_33;
+        const double Jm3rd_11 = Jm3rdsig - 0.6536436208636119*Jm3rddlt;
+        const double Jm3rd_33 = Jm3rdsig + 0.6536436208636119*Jm3rddlt;
+        const double j3r15 = sin_phi3*pa3_2 + cos_phi3*pa3_3;
+        const double pc3n_1 = -0.4161468365471424*tau_3 + 0.9092974268256817*j3r15;
+        const double pc3n_2 = cos_phi3*pa3_2 - sin_phi3*pa3_3;
+        const double pc3n_3 = -0.4161468365471424*j3r15 - 0.9092974268256817*tau_3;
+        const double j3r16 = sin_phi3*pa3_5 + cos_phi3*pa3_6;
+        const double pc3f_1 = -0.4161468365471424*pF3_1 + 0.9092974268256817*j3r16;
+        const double pc3f_2 = cos_phi3*pa3_5 - sin_phi3*pa3_6;
+        const double pc3f_3 = -0.4161468365471424*j3r16 - 0.9092974268256817*pF3_1;
+        const double Jh3s_11 = 0.9092974268256817*Jh3ra_31 + 0.15136049906158566*Jm3rddlt + 0.07274379414605454*Jm3rdr_32;
+        const double Jh3s_12 = 0.9092974268256817*Jh3rr_32 - 0.08322936730942848*Jm3rdr_32 + 0.08*Jm3rdr_22;
+        const double Jh3s_13 = 0.9092974268256817*Jh3ra_33 + 0.2*Jm3rd_33 - 0.03329174692377139*Jm3rdr_32;
+        const double Jh3s_21 = Jh3ra_21 - 0.08*Jm3rd_11 - 0.037840124765396416*Jm3rddlt;
+        const double Jh3s_22 = Jh3rr_22 - 0.051936452318697424*Jm3rdr_32;
+        const double Jh3s_23 = Jh3ra_23 - 0.06054419962463427*Jm3rddlt - 0.05*Jm3rd_33;
+        const double Jh3s_31 = -0.4161468365471424*Jh3ra_31 + 0.04546487134128409*Jm3rdr_32 - 0.2*Jm3rd_11;
+        const double Jh3s_32 = -0.4161468365471424*Jh3rr_32 + 0.05*Jm3rdr_22 - 0.18185948536513635*Jm3rdr_32;
+        const double Jh3s_33 = -0.4161468365471424*Jh3ra_33 - 0.02080734182735712*Jm3rdr_32 - 0.15136049906158566*Jm3rddlt;
+        const double IA2_11 = 0.01194 + 0.8268218104318059*Ja3rdr_33 + 0.18185948536513635*Jh3ra_33 + 0.07274379414605454*Jh3rr_32 + 0.2*Jh3s_13 + 0.08*Jh3s_12;
+        const double IA2_21 = 0.0021 + 0.9092974268256817*Ja3rdr_32 - 0.07274379414605454*Jh3ra_31 - 0.04546487134128409*Jh3ra_33 + 0.2*Jh3s_23 + 0.08*Jh3s_22;
+        const double IA2_22 = 0.0074 + Ja3rdr_22 - 0.08*Jh3ra_21 - 0.05*Jh3ra_23 - 0.08*Jh3s_21 - 0.05*Jh3s_23;
+        const double IA2_31 = 0.00188 - 0.37840124765396416*Ja3rdr_33 + 0.04546487134128409*Jh3rr_32 - 0.18185948536513635*Jh3ra_31 + 0.2*Jh3s_33 + 0.08*Jh3s_32;
+        const double IA2_32 = -0.0041 - 0.4161468365471424*Ja3rdr_32 + 0.05*Jh3rr_22 - 0.2*Jh3ra_21 - 0.08*Jh3s_31 - 0.05*Jh3s_33;
+        const double IA2_33 = 0.00976 + 0.17317818956819403*Ja3rdr_33 - 0.02080734182735712*Jh3rr_32 + 0.08322936730942848*Jh3ra_31 + 0.05*Jh3s_32 - 0.2*Jh3s_31;
+        const double IA2_42 = 0.042 + Jh3s_21;
+        const double IA2_43 = -0.06 + Jh3s_31;
+        const double IA2_44 = 0.6 + Jm3rd_11;
+        const double IA2_51 = -0.042 + Jh3s_12;
+        const double IA2_53 = -0.024 + Jh3s_32;
+        const double IA2_55 = 0.6 + Jm3rdr_22;
+        const double IA2_61 = 0.06 + Jh3s_13;
+        const double IA2_62 = 0.024 + Jh3s_23;
+        const double IA2_66 = 0.6 + Jm3rd_33;
+        const double pA2_1 = pN2_1 + pc3n_1 + 0.2*pc3f_3 + 0.08*pc3f_2;
+        const double pA2_2 = pN2_2 + pc3n_2 - 0.08*pc3f_1 - 0.05*pc3f_3;
+        const double pA2_3 = pN2_3 + pc3n_3 + 0.05*pc3f_2 - 0.2*pc3f_1;
+        const double pA2_4 = pF2_1 + pc3f_1;
+        const double pA2_5 = pF2_2 + pc3f_2;
+        const double pA2_6 = pF2_3 + pc3f_3;
+        const double rD2 = 1.0/IA2_11;
+        const double W2_2 = IA2_21*rD2;
+        const double W2_3 = IA2_31*rD2;
+        const double W2_4 = Jh3s_11*rD2;
+        const double W2_5 = IA2_51*rD2;
+        const double W2_6 = IA2_61*rD2;
+        const double Ja2_22 = IA2_22 - IA2_21*W2_2;
+        const double Ja2_32 = IA2_32 - IA2_21*W2_3;
+        const double Ja2_33 = IA2_33 - IA2_31*W2_3;
+        const double Ja2_42 = IA2_42 - IA2_21*W2_4;
+        const double Ja2_43 = IA2_43 - IA2_31*W2_4;
+        const double Ja2_44 = IA2_44 - Jh3s_11*W2_4;
+        const double Ja2_52 = Jh3s_22 - IA2_21*W2_5;
+        const double Ja2_53 = IA2_53 - IA2_31*W2_5;
+        const double Ja2_54 = 0.9092974268256817*Jm3rdr_32 - Jh3s_11*W2_5;
+        const double Ja2_55 = IA2_55 - IA2_51*W2_5;
+        const double Ja2_62 = IA2_62 - IA2_21*W2_6;
+        const double Ja2_63 = Jh3s_33 - IA2_31*W2_6;
+        const double Ja2_64 = 0.7568024953079283*Jm3rddlt - Jh3s_11*W2_6;
+        const double Ja2_65 = -0.4161468365471424*Jm3rdr_32 - IA2_51*W2_6;
+        const double Ja2_66 = IA2_66 - IA2_61*W2_6;
+        const double pa2_2 = pA2_2 - pA2_1*W2_2;
+        const double pa2_3 = pA2_3 - pA2_1*W2_3;
+        const double pa2_4 = pA2_4 - pA2_1*W2_4;
+        const double pa2_5 = pA2_5 - pA2_1*W2_5;
+        const double pa2_6 = pA2_6 - pA2_1*W2_6;
+        const double Ja2rdrsig = 0.5*Ja2_22 + 0.5*Ja2_33;
+        const double Ja2rdrdlt = 0.5*Ja2_22 - 0.5*Ja2_33;
+        const double Ja2rdrt = c2phi2*Ja2rdrdlt - s2phi2*Ja2_32;
+        const double Ja2rdr_33 = Ja2rdrsig - Ja2rdrt;
+        const double Jh2rra_22 = cos_phi2*Ja2_52 - sin_phi2*Ja2_62;
+        const double Jh2rra_23 = sin_phi2*Ja2_52 + cos_phi2*Ja2_62;
+        const double Jh2rra_32 = cos_phi2*Ja2_53 - sin_phi2*Ja2_63;
+        const double Jh2rra_33 = sin_phi2*Ja2_53 + cos_phi2*Ja2_63;
+        const double Jh2rr_31 = sin_phi2*Ja2_42 + cos_phi2*Ja2_43;
+        const double Jh2rr_32 = sin_phi2*Jh2rra_22 + cos_phi2*Jh2rra_32;
+        const double Jh2rr_33 = sin_phi2*Jh2rra_23 + cos_phi2*Jh2rra_33;
+        const double Jh2ra_33 = -0.8912073600614353*Jh2rr_31 + 0.45359612142557737*Jh2rr_33;
+        const double Jm2rdrsig = 0.5*Ja2_55 + 0.5*Ja2_66;
+        const double Jm2rdrdlt = 0.5*Ja2_55 - 0.5*Ja2_66;
+        const double Jm2rdrt = c2phi2*Jm2rdrdlt - s2phi2*Ja2_65;
+        const double Jm2rdr_22 = Jm2rdrsig + Jm2rdrt;
+        const double Jm2rdr_33 = Jm2rdrsig - Jm2rdrt;
+        const double Jm2rdr_32 = s2phi2*Jm2rdrdlt + c2phi2*Ja2_65;
+        const double Jm2rdr_21 = cos_phi2*Ja2_54 - sin_phi2*Ja2_64;
+        const double Jm2rdr_31 = sin_phi2*Ja2_54 + cos_phi2*Ja2_64;
+        const double Jm2rdsig = 0.5*Ja2_44 + 0.5*Jm2rdr_33;
+        const double Jm2rddlt = 0.5*Ja2_44 - 0.5*Jm2rdr_33;
+        const double Jm2rdt = -0.5885011172553457*Jm2rddlt + 0.8084964038195901*Jm2rdr_31;
+        const double Jm2rd_33 = Jm2rdsig - Jm2rdt;
+        const double Jm2rd_32 = -0.8912073600614353*Jm2rdr_21 + 0.45359612142557737*Jm2rdr_32;
+        const double j2r17 = sin_phi2*pa2_2 + cos_phi2*pa2_3;
+        const double j2r18 = sin_phi2*pa2_5 + cos_phi2*pa2_6;
+        const double pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pa2_6;
+        const double pc2f_3 = 0.45359612142557737*j2r18 - 0.8912073600614353*pa2_4;
+        const double Jh2s_12 = 0.8912073600614353*Jh2rr_32 + 0.25*Jm2rd_32 - 0.05*Jm2rdr_22;
+        const double Jh2s_13 = 0.8912073600614353*Jh2ra_33 + 0.25*Jm2rd_33 - 0.05*Jm2rd_32;
+        const double IA1_11 = 0.01824 + 0.7942505586276729*Ja2rdr_33 + 0.22280184001535883*Jh2ra_33 - 0.04456036800307177*Jh2rr_32 + 0.25*Jh2s_13 - 0.05*Jh2s_12;
+        const double pA1_1 = pN1_1 + 0.8912073600614353*j2r17 + 0.25*pc2f_3 - 0.05*pc2f_2;
+        const double rD1 = 1.0/IA1_11;
+        const double qdd1 = -pA1_1*rD1;
+        const double w1 = sin_phi2*qdd1;
+        const double dw2_2 = 0.8912073600614353*w1;
+        const double w2 = cos_phi2*qdd1;
+        const double dw2_3 = 0.8912073600614353*w2;
+        const double dv2_2 = -0.05*w2 + 0.11339903035639434*w1;
+        const double dv2_3 = 0.11339903035639434*w2 + 0.05*w1;
+        const double qdd2 = -pA2_1*rD2 - 0.45359612142557737*qdd1 - W2_2*dw2_2 - W2_3*dw2_3 + 0.22280184001535883*W2_4*qdd1 - W2_5*dv2_2 - W2_6*dv2_3;
+        const double j3r17 = 0.41245378603038696*qdd1 + 0.9092974268256817*qdd2 - 0.4161468365471424*dw2_3;
+        const double dw3_1 = -0.18876259100130752*qdd1 - 0.4161468365471424*qdd2 - 0.9092974268256817*dw2_3;
+        const double dw3_2 = cos_phi3*dw2_2 + sin_phi3*j3r17;
+        const double dw3_3 = cos_phi3*j3r17 - sin_phi3*dw2_2;
+        const double j3r18 = -0.24034565801825447*qdd1 - 0.051936452318697424*dw2_2 - 0.18185948536513635*dw2_3 - 0.4161468365471424*dv2_3 - 0.08322936730942848*qdd2;
+        const double dv3_2 = cos_phi3*dv2_2 + 0.05*cos_phi3*dw2_3 + 0.03628768971404619*cos_phi3*qdd1 + 0.08*cos_phi3*qdd2 + sin_phi3*j3r18;
+        const double dv3_3 = cos_phi3*j3r18 - sin_phi3*dv2_2 - 0.05*sin_phi3*dw2_3 - 0.03628768971404619*sin_phi3*qdd1 - 0.08*sin_phi3*qdd2;
+        const double qdd3 = 127.55102040816327*u3 - dw3_1 - 0.16581632653061223*dw3_2 + 0.3112244897959184*dw3_3 + 5.612244897959184*dv3_2 + 2.5510204081632657*dv3_3;
+
+        acc[0] = qdd1;
+        acc[1] = qdd2;
+        acc[2] = qdd3;
+        piv[0] = IA1_11;
+        piv[1] = IA2_11;
+        piv[2] = 0.00784;
+
+        code = spatial3_pivots_(piv);
+        if (code != SPATIAL3_OK) {
+            return code;
+        }
+        if (qdd) {
+            for (i = 0; i < 3; ++i) {
+                qdd[i] = acc[i];
+            }
+        }
+        if (dqdd_dphi) {
+            const double om2_2_dq2 = 0.8912073600614353*x[3]*cos_phi2;
+            const double om2_3_dq2 = -0.8912073600614353*x[3]*sin_phi2;
+            const double om3_2_dq2 = cos_phi3*om2_2_dq2 - 0.4161468365471424*sin_phi3*om2_3_dq2;
+            const double om3_2_dq3 = -om2_2*sin_phi3 + cos_phi3*j3r2;
+            const double om3_3_dq2 = -0.4161468365471424*cos_phi3*om2_3_dq2 - sin_phi3*om2_2_dq2;
+            const double om3_3_dq3 = -sin_phi3*j3r2 - om2_2*cos_phi3;
+            const double eps2_2_dq2 = x[4]*om2_3_dq2;
+            const double eps2_3_dq2 = -x[4]*om2_2_dq2;
+            const double wq0 = sin_phi1*sin_phi2;
+            const double aOg2_2_dq1 = -3.8201939380478613*cos_phi1*cos_phi2 + 1.7328251533920123*wq0;
+            const double aOg2_2_dq2 = 3.8201939380478613*wq0 - sin_phi2*aOrel2in1_2 + cos_phi2*j2r5;
+            const double wq1 = sin_phi1*cos_phi2;
+            const double aOg2_3_dq1 = 1.7328251533920123*wq1 + 3.8201939380478613*cos_phi1*sin_phi2;
+            const double aOg2_3_dq2 = -sin_phi2*j2r5 + 3.8201939380478613*wq1 - cos_phi2*aOrel2in1_2;
+            const double eps3_2_dq2 = cos_phi3*eps2_2_dq2 - 0.4161468365471424*sin_phi3*eps2_3_dq2 + x[5]*om3_3_dq2;
+            const double eps3_2_dq3 = -sin_phi3*eps2_2 - 0.4161468365471424*cos_phi3*eps2_3 + x[5]*om3_3_dq3;
+            const double eps3_3_dq2 = -0.4161468365471424*cos_phi3*eps2_3_dq2 - sin_phi3*eps2_2_dq2 - x[5]*om3_2_dq2;
+            const double eps3_3_dq3 = 0.4161468365471424*sin_phi3*eps2_3 - cos_phi3*eps2_2 - x[5]*om3_2_dq3;
+            const double ws2_1_dq2 = -0.08*om2_2_dq2 - 0.2*om2_3_dq2;
+            const double wq2 = om2_2*om2_2_dq2;
+            const double wq3 = om2_3*om2_3_dq2;
+            const double aOrel3in2_1_dq2 = -0.08*eps2_2_dq2 - 0.2*eps2_3_dq2 + ws2_3*om2_2_dq2 - 0.05*wq2 - ws2_2*om2_3_dq2 - 0.05*wq3;
+            const double wq4 = om2_1*om2_2_dq2;
+            const double aOrel3in2_2_dq2 = 0.05*eps2_3_dq2 + ws2_1*om2_3_dq2 + om2_3*ws2_1_dq2 + 0.05*wq4;
+            const double wq5 = om2_1*om2_3_dq2;
+            const double aOrel3in2_3_dq2 = -0.05*eps2_2_dq2 + 0.05*wq5 - ws2_1*om2_2_dq2 - om2_2*ws2_1_dq2;
+            const double j3r5_dq1 = -3.0957803384911182*sin_phi1 - 0.4161468365471424*aOg2_3_dq1;
+            const double j3r5_dq2 = 0.9092974268256817*aOrel3in2_1_dq2 - 0.4161468365471424*aOg2_3_dq2 - 0.4161468365471424*aOrel3in2_3_dq2;
+            const double aOg3_1_dq1 = 1.416807258550503*sin_phi1 - 0.9092974268256817*aOg2_3_dq1;
+            const double aOg3_1_dq2 = -0.4161468365471424*aOrel3in2_1_dq2 - 0.9092974268256817*aOg2_3_dq2 - 0.9092974268256817*aOrel3in2_3_dq2;
+            const double aOg3_2_dq1 = cos_phi3*aOg2_2_dq1 + sin_phi3*j3r5_dq1;
+            const double aOg3_2_dq2 = cos_phi3*aOg2_2_dq2 + cos_phi3*aOrel3in2_2_dq2 + sin_phi3*j3r5_dq2;
+            const double aOg3_2_dq3 = -sin_phi3*aOg2_2 - sin_phi3*aOrel3in2_2 + cos_phi3*j3r5;
+            const double aOg3_3_dq1 = cos_phi3*j3r5_dq1 - sin_phi3*aOg2_2_dq1;
+            const double aOg3_3_dq2 = cos_phi3*j3r5_dq2 - sin_phi3*aOg2_2_dq2 - sin_phi3*aOrel3in2_2_dq2;
+            const double aOg3_3_dq3 = -sin_phi3*j3r5 - cos_phi3*aOg2_2 - cos_phi3*aOrel3in2_2;
+            const double wc3_1_dq2 = 0.11*om3_2_dq2 + 0.05*om3_3_dq2;
+            const double wc3_1_dq3 = 0.11*om3_2_dq3 + 0.05*om3_3_dq3;
+            const double wc3_2_dq2 = 0.06*om3_3_dq2 + 0.10002271695082499*om2_3_dq2;
+            const double wc3_3_dq2 = 0.04546487134128409*om2_3_dq2 - 0.06*om3_2_dq2;
+            const double Aw3_1_dq2 = -0.007128891826313344*om2_3_dq2 + 0.0013*om3_2_dq2 - 0.00244*om3_3_dq2;
+            const double Aw3_1_dq3 = 0.0013*om3_2_dq3 - 0.00244*om3_3_dq3;
+            const double Aw3_2_dq2 = -0.0011820866548733861*om2_3_dq2 + 0.00868*om3_2_dq2 + 0.002*om3_3_dq2;
+            const double Aw3_2_dq3 = 0.00868*om3_2_dq3 + 0.002*om3_3_dq3;
+            const double Aw3_3_dq2 = 0.002218685721454663*om2_3_dq2 + 0.002*om3_2_dq2 + 0.00424*om3_3_dq2;
+            const double Aw3_3_dq3 = 0.002*om3_2_dq3 + 0.00424*om3_3_dq3;
+            const double pF3_1_dq2 = 0.4*aOg3_1_dq2 + 0.044000000000000004*eps3_2_dq2 + 0.020000000000000004*eps3_3_dq2 + 0.4*wc3_3*om3_2_dq2 + 0.4*om3_2*wc3_3_dq2 - 0.4*wc3_2*om3_3_dq2 - 0.4*om3_3*wc3_2_dq2;
+            const double pF3_1_dq3 = 0.044000000000000004*eps3_2_dq3 + 0.020000000000000004*eps3_3_dq3 + 0.4*wc3_3*om3_2_dq3 - 0.024*om3_2*om3_2_dq3 - 0.4*wc3_2*om3_3_dq3 - 0.024*om3_3*om3_3_dq3;
+            const double pF3_2_dq2 = 0.4*aOg3_2_dq2 + 0.024*eps3_3_dq2 + 0.040009086780329994*eps2_3_dq2 + 0.4*wc3_1*om3_3_dq2 + 0.4*om3_3*wc3_1_dq2 + 0.3637189707302727*wc3_3*om2_3_dq2 - 0.4*om3_1*wc3_3_dq2;
+            const double pF3_2_dq3 = 0.4*aOg3_2_dq3 + 0.024*eps3_3_dq3 + 0.4*wc3_1*om3_3_dq3 + 0.4*om3_3*wc3_1_dq3 + 0.024*om3_1*om3_2_dq3;
+            const double pF3_3_dq2 = 0.4*aOg3_3_dq2 + 0.018185948536513636*eps2_3_dq2 - 0.024*eps3_2_dq2 - 0.3637189707302727*wc3_2*om2_3_dq2 + 0.4*om3_1*wc3_2_dq2 - 0.4*wc3_1*om3_2_dq2 - 0.4*om3_2*wc3_1_dq2;
+            const double pF3_3_dq3 = 0.4*aOg3_3_dq3 - 0.024*eps3_2_dq3 + 0.024*om3_1*om3_3_dq3 - 0.4*wc3_1*om3_2_dq3 - 0.4*om3_2*wc3_1_dq3;
+            const double pN3_1_dq1 = -0.020000000000000004*aOg3_3_dq1 - 0.044000000000000004*aOg3_2_dq1;
+            const double pN3_1_dq2 = -0.007128891826313344*eps2_3_dq2 + 0.0013*eps3_2_dq2 - 0.00244*eps3_3_dq2 + Aw3_3*om3_2_dq2 + om3_2*Aw3_3_dq2 + 0.012*om3_2_dq2 - Aw3_2*om3_3_dq2 - om3_3*Aw3_2_dq2 - 0.020000000000000004*aOg3_3_dq2 - 0.044000000000000004*aOg3_2_dq2;
+            const double pN3_1_dq3 = 0.0013*eps3_2_dq3 - 0.00244*eps3_3_dq3 + Aw3_3*om3_2_dq3 + om3_2*Aw3_3_dq3 + 0.012*om3_2_dq3 - Aw3_2*om3_3_dq3 - om3_3*Aw3_2_dq3 - 0.020000000000000004*aOg3_3_dq3 - 0.044000000000000004*aOg3_2_dq3;
+            const double pN3_2_dq1 = 0.044000000000000004*aOg3_1_dq1 - 0.024*aOg3_3_dq1;
+            const double pN3_2_dq2 = -0.0011820866548733861*eps2_3_dq2 + 0.00868*eps3_2_dq2 + 0.002*eps3_3_dq2 + Aw3_1*om3_3_dq2 + om3_3*Aw3_1_dq2 + 0.02*om3_3_dq2 + 0.9092974268256817*Aw3_3*om2_3_dq2 - om3_1*Aw3_3_dq2 + 0.010911569121908181*om2_3_dq2 + 0.044000000000000004*aOg3_1_dq2 - 0.024*aOg3_3_dq2;
+            const double pN3_2_dq3 = 0.00868*eps3_2_dq3 + 0.002*eps3_3_dq3 + Aw3_1*om3_3_dq3 + om3_3*Aw3_1_dq3 + 0.02*om3_3_dq3 - om3_1*Aw3_3_dq3 - 0.024*aOg3_3_dq3;
+            const double pN3_3_dq1 = 0.024*aOg3_2_dq1 + 0.020000000000000004*aOg3_1_dq1;
+            const double pN3_3_dq2 = 0.002218685721454663*eps2_3_dq2 + 0.002*eps3_2_dq2 + 0.00424*eps3_3_dq2 - 0.9092974268256817*Aw3_2*om2_3_dq2 + om3_1*Aw3_2_dq2 - Aw3_1*om3_2_dq2 - om3_2*Aw3_1_dq2 - 0.02*om3_2_dq2 + 0.024*aOg3_2_dq2 + 0.020000000000000004*aOg3_1_dq2;
+            const double pN3_3_dq3 = 0.002*eps3_2_dq3 + 0.00424*eps3_3_dq3 + om3_1*Aw3_2_dq3 - Aw3_1*om3_2_dq3 - om3_2*Aw3_1_dq3 - 0.02*om3_2_dq3 + 0.024*aOg3_2_dq3;
+            const double c2phi3_dq3 = -4.0*cos_phi3*sin_phi3;
+            const double s2phi3_dq3 = -2.0*sin_phi3*sin_phi3 + 2.0*cos_phi3*cos_phi3;
+            const double wc2_1_dq2 = 0.07*om2_2_dq2 - 0.1*om2_3_dq2;
+            const double Aw2_1_dq2 = 0.0021*om2_2_dq2 + 0.00188*om2_3_dq2;
+            const double Aw2_2_dq2 = 0.0074*om2_2_dq2 - 0.0041*om2_3_dq2;
+            const double Aw2_3_dq2 = -0.0041*om2_2_dq2 + 0.00976*om2_3_dq2;
+            const double pF2_1_dq2 = 0.042*eps2_2_dq2 - 0.06*eps2_3_dq2 + 0.6*wc2_3*om2_2_dq2 + 0.024*wq2 - 0.6*wc2_2*om2_3_dq2 + 0.024*wq3;
+            const double pF2_2_dq2 = 0.6*aOg2_2_dq2 - 0.024*eps2_3_dq2 + 0.6*wc2_1*om2_3_dq2 + 0.6*om2_3*wc2_1_dq2 - 0.024*wq4;
+            const double pF2_3_dq2 = 0.6*aOg2_3_dq2 + 0.024*eps2_2_dq2 - 0.024*wq5 - 0.6*wc2_1*om2_2_dq2 - 0.6*om2_2*wc2_1_dq2;
+            const double pN2_1_dq1 = 0.06*aOg2_3_dq1 - 0.042*aOg2_2_dq1;
+            const double pN2_1_dq2 = 0.0021*eps2_2_dq2 + 0.00188*eps2_3_dq2 + Aw2_3*om2_2_dq2 + om2_2*Aw2_3_dq2 - 0.01*om2_2_dq2 - Aw2_2*om2_3_dq2 - om2_3*Aw2_2_dq2 - 0.015*om2_3_dq2 + 0.06*aOg2_3_dq2 - 0.042*aOg2_2_dq2;
+            const double pN2_2_dq1 = -0.142992568086914*sin_phi1 + 0.024*aOg2_3_dq1;
+            const double pN2_2_dq2 = 0.0074*eps2_2_dq2 - 0.0041*eps2_3_dq2 + Aw2_1*om2_3_dq2 + om2_3*Aw2_1_dq2 - om2_1*Aw2_3_dq2 + 0.024*aOg2_3_dq2;
+            const double pN2_3_dq1 = -0.024*aOg2_2_dq1 + 0.20427509726701995*sin_phi1;
+            const double pN2_3_dq2 = -0.0041*eps2_2_dq2 + 0.00976*eps2_3_dq2 + om2_1*Aw2_2_dq2 - Aw2_1*om2_2_dq2 - om2_2*Aw2_1_dq2 - 0.024*aOg2_2_dq2;
+            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
+            const double s2phi2_dq2 = -2.0*sin_phi2*sin_phi2 + 2.0*cos_phi2*cos_phi2;
+            const double pN1_1_dq1 = 0.36673861805259467*sin_phi1 - 0.09168465451314867*cos_phi1;
+            const double pa3_2_dq1 = pN3_2_dq1 - 0.16581632653061223*pN3_1_dq1;
+            const double pa3_2_dq2 = pN3_2_dq2 - 0.16581632653061223*pN3_1_dq2;
+            const double pa3_2_dq3 = pN3_2_dq3 - 0.16581632653061223*pN3_1_dq3;
+            const double pa3_3_dq1 = pN3_3_dq1 + 0.3112244897959184*pN3_1_dq1;
+            const double pa3_3_dq2 = pN3_3_dq2 + 0.3112244897959184*pN3_1_dq2;
+            const double pa3_3_dq3 = pN3_3_dq3 + 0.3112244897959184*pN3_1_dq3;
+            const double pa3_5_dq1 = 0.4*aOg3_2_dq1 + 5.612244897959184*pN3_1_dq1;
+            const double pa3_5_dq2 = pF3_2_dq2 + 5.612244897959184*pN3_1_dq2;
+            const double pa3_5_dq3 = pF3_2_dq3 + 5.612244897959184*pN3_1_dq3;
+            const double pa3_6_dq1 = 0.4*aOg3_3_dq1 + 2.5510204081632657*pN3_1_dq1;
+            const double pa3_6_dq2 = pF3_3_dq2 + 2.5510204081632657*pN3_1_dq2;
+            const double pa3_6_dq3 = pF3_3_dq3 + 2.5510204081632657*pN3_1_dq3;
+            const double Ja3rdrt_dq3 = 0.0024919132653061227*c2phi3_dq3 - 0.002404591836734694*s2phi3_dq3;
+            const double Ja3rdr_32_dq3 = 0.0024919132653061227*s2phi3_dq3 + 0.002404591836734694*c2phi3_dq3;
+            const double Jh3rra_22_dq3 = -0.007295918367346939*sin_phi3 + 0.020683673469387754*cos_phi3;
+            const double Jh3rra_23_dq3 = 0.007295918367346939*cos_phi3 + 0.020683673469387754*sin_phi3;
+            const double Jh3rra_32_dq3 = -0.010306122448979592*sin_phi3 + 0.006224489795918368*cos_phi3;
+            const double Jh3rra_33_dq3 = 0.010306122448979592*cos_phi3 + 0.006224489795918368*sin_phi3;
+            const double Jh3rr_21_dq3 = -0.044000000000000004*sin_phi3 - 0.020000000000000004*cos_phi3;
+            const double Jh3rr_22_dq3 = -sin_phi3*Jh3rra_22 + cos_phi3*Jh3rra_22_dq3 - cos_phi3*Jh3rra_32 - sin_phi3*Jh3rra_32_dq3;
+            const double Jh3rr_23_dq3 = -sin_phi3*Jh3rra_23 + cos_phi3*Jh3rra_23_dq3 - cos_phi3*Jh3rra_33 - sin_phi3*Jh3rra_33_dq3;
+            const double Jh3rr_31_dq3 = 0.044000000000000004*cos_phi3 - 0.020000000000000004*sin_phi3;
+            const double Jh3rr_32_dq3 = cos_phi3*Jh3rra_22 + sin_phi3*Jh3rra_22_dq3 - sin_phi3*Jh3rra_32 + cos_phi3*Jh3rra_32_dq3;
+            const double Jh3rr_33_dq3 = cos_phi3*Jh3rra_23 + sin_phi3*Jh3rra_23_dq3 - sin_phi3*Jh3rra_33 + cos_phi3*Jh3rra_33_dq3;
+            const double Jh3ra_21_dq3 = -0.4161468365471424*Jh3rr_21_dq3 + 0.9092974268256817*Jh3rr_23_dq3;
+            const double Jh3ra_23_dq3 = -0.9092974268256817*Jh3rr_21_dq3 - 0.4161468365471424*Jh3rr_23_dq3;
+            const double Jh3ra_31_dq3 = -0.4161468365471424*Jh3rr_31_dq3 + 0.9092974268256817*Jh3rr_33_dq3;
+            const double Jh3ra_33_dq3 = -0.9092974268256817*Jh3rr_31_dq3 - 0.4161468365471424*Jh3rr_33_dq3;
+            const double Jm3rdrt_dq3 = -0.09795918367346941*c2phi3_dq3 + 0.1122448979591837*s2phi3_dq3;
+            const double Jm3rdr_32_dq3 = -0.09795918367346941*s2phi3_dq3 - 0.1122448979591837*c2phi3_dq3;
+            const double j3r15_dq1 = sin_phi3*pa3_2_dq1 + cos_phi3*pa3_3_dq1;
+            const double j3r15_dq2 = sin_phi3*pa3_2_dq2 + cos_phi3*pa3_3_dq2;
+            const double j3r15_dq3 = cos_phi3*pa3_2 + sin_phi3*pa3_2_dq3 - sin_phi3*pa3_3 + cos_phi3*pa3_3_dq3;
+            const double pc3n_2_dq1 = cos_phi3*pa3_2_dq1 - sin_phi3*pa3_3_dq1;
+            const double pc3n_2_dq2 = cos_phi3*pa3_2_dq2 - sin_phi3*pa3_3_dq2;
+            const double pc3n_2_dq3 = -sin_phi3*pa3_2 + cos_phi3*pa3_2_dq3 - cos_phi3*pa3_3 - sin_phi3*pa3_3_dq3;
+            const double j3r16_dq1 = sin_phi3*pa3_5_dq1 + cos_phi3*pa3_6_dq1;
+            const double j3r16_dq2 = sin_phi3*pa3_5_dq2 + cos_phi3*pa3_6_dq2;
+            const double j3r16_dq3 = cos_phi3*pa3_5 + sin_phi3*pa3_5_dq3 - sin_phi3*pa3_6 + cos_phi3*pa3_6_dq3;
+            const double pc3f_1_dq1 = -0.16645873461885696*aOg3_1_dq1 + 0.9092974268256817*j3r16_dq1;
+            const double pc3f_1_dq2 = -0.4161468365471424*pF3_1_dq2 + 0.9092974268256817*j3r16_dq2;
+            const double pc3f_1_dq3 = -0.4161468365471424*pF3_1_dq3 + 0.9092974268256817*j3r16_dq3;
+            const double pc3f_2_dq1 = cos_phi3*pa3_5_dq1 - sin_phi3*pa3_6_dq1;
+            const double pc3f_2_dq2 = cos_phi3*pa3_5_dq2 - sin_phi3*pa3_6_dq2;
+            const double pc3f_2_dq3 = -sin_phi3*pa3_5 + cos_phi3*pa3_5_dq3 - cos_phi3*pa3_6 - sin_phi3*pa3_6_dq3;
+            const double pc3f_3_dq1 = -0.4161468365471424*j3r16_dq1 - 0.3637189707302727*aOg3_1_dq1;
+            const double pc3f_3_dq2 = -0.4161468365471424*j3r16_dq2 - 0.9092974268256817*pF3_1_dq2;
+            const double pc3f_3_dq3 = -0.4161468365471424*j3r16_dq3 - 0.9092974268256817*pF3_1_dq3;
+            const double Jh3s_11_dq3 = 0.9092974268256817*Jh3ra_31_dq3 + 0.07568024953079283*Jm3rdrt_dq3 + 0.07274379414605454*Jm3rdr_32_dq3;
+            const double Jh3s_12_dq3 = 0.9092974268256817*Jh3rr_32_dq3 - 0.08322936730942848*Jm3rdr_32_dq3 + 0.08*Jm3rdrt_dq3;
+            const double Jh3s_13_dq3 = 0.9092974268256817*Jh3ra_33_dq3 - 0.03463563791363881*Jm3rdrt_dq3 - 0.03329174692377139*Jm3rdr_32_dq3;
+            const double Jh3s_21_dq3 = Jh3ra_21_dq3 + 0.04722568245184626*Jm3rdrt_dq3;
+            const double Jh3s_22_dq3 = Jh3rr_22_dq3 - 0.051936452318697424*Jm3rdr_32_dq3;
+            const double Jh3s_23_dq3 = Jh3ra_23_dq3 - 0.021613190333907434*Jm3rdrt_dq3;
+            const double Jh3s_31_dq3 = -0.4161468365471424*Jh3ra_31_dq3 + 0.04546487134128409*Jm3rdr_32_dq3 + 0.16536436208636118*Jm3rdrt_dq3;
+            const double Jh3s_32_dq3 = -0.4161468365471424*Jh3rr_32_dq3 + 0.05*Jm3rdrt_dq3 - 0.18185948536513635*Jm3rdr_32_dq3;
+            const double Jh3s_33_dq3 = -0.4161468365471424*Jh3ra_33_dq3 - 0.02080734182735712*Jm3rdr_32_dq3 - 0.07568024953079283*Jm3rdrt_dq3;
+            const double IA2_11_dq3 = -0.8268218104318059*Ja3rdrt_dq3 + 0.18185948536513635*Jh3ra_33_dq3 + 0.07274379414605454*Jh3rr_32_dq3 + 0.2*Jh3s_13_dq3 + 0.08*Jh3s_12_dq3;
+            const double IA2_21_dq3 = 0.9092974268256817*Ja3rdr_32_dq3 - 0.07274379414605454*Jh3ra_31_dq3 - 0.04546487134128409*Jh3ra_33_dq3 + 0.2*Jh3s_23_dq3 + 0.08*Jh3s_22_dq3;
+            const double IA2_22_dq3 = Ja3rdrt_dq3 - 0.08*Jh3ra_21_dq3 - 0.05*Jh3ra_23_dq3 - 0.08*Jh3s_21_dq3 - 0.05*Jh3s_23_dq3;
+            const double IA2_31_dq3 = 0.37840124765396416*Ja3rdrt_dq3 + 0.04546487134128409*Jh3rr_32_dq3 - 0.18185948536513635*Jh3ra_31_dq3 + 0.2*Jh3s_33_dq3 + 0.08*Jh3s_32_dq3;
+            const double IA2_32_dq3 = -0.4161468365471424*Ja3rdr_32_dq3 + 0.05*Jh3rr_22_dq3 - 0.2*Jh3ra_21_dq3 - 0.08*Jh3s_31_dq3 - 0.05*Jh3s_33_dq3;
+            const double IA2_33_dq3 = -0.17317818956819403*Ja3rdrt_dq3 - 0.02080734182735712*Jh3rr_32_dq3 + 0.08322936730942848*Jh3ra_31_dq3 + 0.05*Jh3s_32_dq3 - 0.2*Jh3s_31_dq3;
+            const double pA2_1_dq1 = pN2_1_dq1 + 0.9092974268256817*j3r15_dq1 + 0.2*pc3f_3_dq1 + 0.08*pc3f_2_dq1;
+            const double pA2_1_dq2 = pN2_1_dq2 + 0.9092974268256817*j3r15_dq2 + 0.2*pc3f_3_dq2 + 0.08*pc3f_2_dq2;
+            const double pA2_1_dq3 = 0.9092974268256817*j3r15_dq3 + 0.2*pc3f_3_dq3 + 0.08*pc3f_2_dq3;
+            const double pA2_2_dq1 = pN2_2_dq1 + pc3n_2_dq1 - 0.08*pc3f_1_dq1 - 0.05*pc3f_3_dq1;
+            const double pA2_2_dq2 = pN2_2_dq2 + pc3n_2_dq2 - 0.08*pc3f_1_dq2 - 0.05*pc3f_3_dq2;
+            const double pA2_2_dq3 = pc3n_2_dq3 - 0.08*pc3f_1_dq3 - 0.05*pc3f_3_dq3;
+            const double pA2_3_dq1 = pN2_3_dq1 - 0.4161468365471424*j3r15_dq1 + 0.05*pc3f_2_dq1 - 0.2*pc3f_1_dq1;
+            const double pA2_3_dq2 = pN2_3_dq2 - 0.4161468365471424*j3r15_dq2 + 0.05*pc3f_2_dq2 - 0.2*pc3f_1_dq2;
+            const double pA2_3_dq3 = -0.4161468365471424*j3r15_dq3 + 0.05*pc3f_2_dq3 - 0.2*pc3f_1_dq3;
+            const double pA2_4_dq1 = -2.0427509726702*sin_phi1 + pc3f_1_dq1;
+            const double pA2_4_dq2 = pF2_1_dq2 + pc3f_1_dq2;
+            const double pA2_5_dq1 = 0.6*aOg2_2_dq1 + pc3f_2_dq1;
+            const double pA2_5_dq2 = pF2_2_dq2 + pc3f_2_dq2;
+            const double pA2_6_dq1 = 0.6*aOg2_3_dq1 + pc3f_3_dq1;
+            const double pA2_6_dq2 = pF2_3_dq2 + pc3f_3_dq2;
+            const double rD2_dq3 = -rD2*rD2*IA2_11_dq3;
+            const double W2_2_dq3 = rD2*IA2_21_dq3 + IA2_21*rD2_dq3;
+            const double W2_3_dq3 = rD2*IA2_31_dq3 + IA2_31*rD2_dq3;
+            const double W2_4_dq3 = rD2*Jh3s_11_dq3 + Jh3s_11*rD2_dq3;
+            const double W2_5_dq3 = rD2*Jh3s_12_dq3 + IA2_51*rD2_dq3;
+            const double W2_6_dq3 = rD2*Jh3s_13_dq3 + IA2_61*rD2_dq3;
+            const double Ja2_22_dq3 = IA2_22_dq3 - W2_2*IA2_21_dq3 - IA2_21*W2_2_dq3;
+            const double Ja2_32_dq3 = IA2_32_dq3 - W2_3*IA2_21_dq3 - IA2_21*W2_3_dq3;
+            const double Ja2_33_dq3 = IA2_33_dq3 - W2_3*IA2_31_dq3 - IA2_31*W2_3_dq3;
+            const double Ja2_42_dq3 = Jh3s_21_dq3 - W2_4*IA2_21_dq3 - IA2_21*W2_4_dq3;
+            const double Ja2_43_dq3 = Jh3s_31_dq3 - W2_4*IA2_31_dq3 - IA2_31*W2_4_dq3;
+            const double Ja2_44_dq3 = -0.8268218104318059*Jm3rdrt_dq3 - W2_4*Jh3s_11_dq3 - Jh3s_11*W2_4_dq3;
+            const double Ja2_52_dq3 = Jh3s_22_dq3 - W2_5*IA2_21_dq3 - IA2_21*W2_5_dq3;
+            const double Ja2_53_dq3 = Jh3s_32_dq3 - W2_5*IA2_31_dq3 - IA2_31*W2_5_dq3;
+            const double Ja2_54_dq3 = 0.9092974268256817*Jm3rdr_32_dq3 - W2_5*Jh3s_11_dq3 - Jh3s_11*W2_5_dq3;
+            const double Ja2_55_dq3 = Jm3rdrt_dq3 - W2_5*Jh3s_12_dq3 - IA2_51*W2_5_dq3;
+            const double Ja2_62_dq3 = Jh3s_23_dq3 - W2_6*IA2_21_dq3 - IA2_21*W2_6_dq3;
+            const double Ja2_63_dq3 = Jh3s_33_dq3 - W2_6*IA2_31_dq3 - IA2_31*W2_6_dq3;
+            const double Ja2_64_dq3 = 0.37840124765396416*Jm3rdrt_dq3 - W2_6*Jh3s_11_dq3 - Jh3s_11*W2_6_dq3;
+            const double Ja2_65_dq3 = -0.4161468365471424*Jm3rdr_32_dq3 - W2_6*Jh3s_12_dq3 - IA2_51*W2_6_dq3;
+            const double Ja2_66_dq3 = -0.17317818956819403*Jm3rdrt_dq3 - W2_6*Jh3s_13_dq3 - IA2_61*W2_6_dq3;
+            const double pa2_2_dq1 = pA2_2_dq1 - W2_2*pA2_1_dq1;
+            const double pa2_2_dq2 = pA2_2_dq2 - W2_2*pA2_1_dq2;
+            const double pa2_2_dq3 = pA2_2_dq3 - W2_2*pA2_1_dq3 - pA2_1*W2_2_dq3;
+            const double pa2_3_dq1 = pA2_3_dq1 - W2_3*pA2_1_dq1;
+            const double pa2_3_dq2 = pA2_3_dq2 - W2_3*pA2_1_dq2;
+            const double pa2_3_dq3 = pA2_3_dq3 - W2_3*pA2_1_dq3 - pA2_1*W2_3_dq3;
+            const double pa2_4_dq1 = pA2_4_dq1 - W2_4*pA2_1_dq1;
+            const double pa2_4_dq2 = pA2_4_dq2 - W2_4*pA2_1_dq2;
+            const double pa2_4_dq3 = pc3f_1_dq3 - W2_4*pA2_1_dq3 - pA2_1*W2_4_dq3;
+            const double pa2_5_dq1 = pA2_5_dq1 - W2_5*pA2_1_dq1;
+            const double pa2_5_dq2 = pA2_5_dq2 - W2_5*pA2_1_dq2;
+            const double pa2_5_dq3 = pc3f_2_dq3 - W2_5*pA2_1_dq3 - pA2_1*W2_5_dq3;
+            const double pa2_6_dq1 = pA2_6_dq1 - W2_6*pA2_1_dq1;
+            const double pa2_6_dq2 = pA2_6_dq2 - W2_6*pA2_1_dq2;
+            const double pa2_6_dq3 = pc3f_3_dq3 - W2_6*pA2_1_dq3 - pA2_1*W2_6_dq3;
+            const double Ja2rdrsig_dq3 = 0.5*Ja2_22_dq3 + 0.5*Ja2_33_dq3;
+            const double Ja2rdrdlt_dq3 = 0.5*Ja2_22_dq3 - 0.5*Ja2_33_dq3;
+            const double Ja2rdrt_dq2 = Ja2rdrdlt*c2phi2_dq2 - Ja2_32*s2phi2_dq2;
+            const double Ja2rdrt_dq3 = c2phi2*Ja2rdrdlt_dq3 - s2phi2*Ja2_32_dq3;
+            const double Ja2rdr_33_dq3 = Ja2rdrsig_dq3 - Ja2rdrt_dq3;
+            const double Jh2rra_22_dq2 = -sin_phi2*Ja2_52 - cos_phi2*Ja2_62;
+            const double Jh2rra_22_dq3 = cos_phi2*Ja2_52_dq3 - sin_phi2*Ja2_62_dq3;
+            const double Jh2rra_23_dq2 = cos_phi2*Ja2_52 - sin_phi2*Ja2_62;
+            const double Jh2rra_23_dq3 = sin_phi2*Ja2_52_dq3 + cos_phi2*Ja2_62_dq3;
+            const double Jh2rra_32_dq2 = -sin_phi2*Ja2_53 - cos_phi2*Ja2_63;
+            const double Jh2rra_32_dq3 = cos_phi2*Ja2_53_dq3 - sin_phi2*Ja2_63_dq3;
+            const double Jh2rra_33_dq2 = cos_phi2*Ja2_53 - sin_phi2*Ja2_63;
+            const double Jh2rra_33_dq3 = sin_phi2*Ja2_53_dq3 + cos_phi2*Ja2_63_dq3;
+            const double Jh2rr_31_dq2 = cos_phi2*Ja2_42 - sin_phi2*Ja2_43;
+            const double Jh2rr_31_dq3 = sin_phi2*Ja2_42_dq3 + cos_phi2*Ja2_43_dq3;
+            const double Jh2rr_32_dq2 = cos_phi2*Jh2rra_22 + sin_phi2*Jh2rra_22_dq2 - sin_phi2*Jh2rra_32 + cos_phi2*Jh2rra_32_dq2;
+            const double Jh2rr_32_dq3 = sin_phi2*Jh2rra_22_dq3 + cos_phi2*Jh2rra_32_dq3;
+            const double Jh2rr_33_dq2 = cos_phi2*Jh2rra_23 + sin_phi2*Jh2rra_23_dq2 - sin_phi2*Jh2rra_33 + cos_phi2*Jh2rra_33_dq2;
+            const double Jh2rr_33_dq3 = sin_phi2*Jh2rra_23_dq3 + cos_phi2*Jh2rra_33_dq3;
+            const double Jh2ra_33_dq2 = -0.8912073600614353*Jh2rr_31_dq2 + 0.45359612142557737*Jh2rr_33_dq2;
+            const double Jh2ra_33_dq3 = -0.8912073600614353*Jh2rr_31_dq3 + 0.45359612142557737*Jh2rr_33_dq3;
+            const double Jm2rdrsig_dq3 = 0.5*Ja2_55_dq3 + 0.5*Ja2_66_dq3;
+            const double Jm2rdrdlt_dq3 = 0.5*Ja2_55_dq3 - 0.5*Ja2_66_dq3;
+            const double Jm2rdrt_dq2 = Jm2rdrdlt*c2phi2_dq2 - Ja2_65*s2phi2_dq2;
+            const double Jm2rdrt_dq3 = c2phi2*Jm2rdrdlt_dq3 - s2phi2*Ja2_65_dq3;
+            const double Jm2rdr_22_dq3 = Jm2rdrsig_dq3 + Jm2rdrt_dq3;
+            const double Jm2rdr_33_dq3 = Jm2rdrsig_dq3 - Jm2rdrt_dq3;
+            const double Jm2rdr_32_dq2 = Jm2rdrdlt*s2phi2_dq2 + Ja2_65*c2phi2_dq2;
+            const double Jm2rdr_32_dq3 = s2phi2*Jm2rdrdlt_dq3 + c2phi2*Ja2_65_dq3;
+            const double Jm2rdr_21_dq2 = -sin_phi2*Ja2_54 - cos_phi2*Ja2_64;
+            const double Jm2rdr_21_dq3 = cos_phi2*Ja2_54_dq3 - sin_phi2*Ja2_64_dq3;
+            const double Jm2rdr_31_dq2 = cos_phi2*Ja2_54 - sin_phi2*Ja2_64;
+            const double Jm2rdr_31_dq3 = sin_phi2*Ja2_54_dq3 + cos_phi2*Ja2_64_dq3;
+            const double Jm2rdsig_dq3 = 0.5*Ja2_44_dq3 + 0.5*Jm2rdr_33_dq3;
+            const double Jm2rddlt_dq3 = 0.5*Ja2_44_dq3 - 0.5*Jm2rdr_33_dq3;
+            const double Jm2rdt_dq2 = -0.29425055862767285*Jm2rdrt_dq2 + 0.8084964038195901*Jm2rdr_31_dq2;
+            const double Jm2rdt_dq3 = -0.5885011172553457*Jm2rddlt_dq3 + 0.8084964038195901*Jm2rdr_31_dq3;
+            const double Jm2rd_33_dq2 = -0.5*Jm2rdrt_dq2 - Jm2rdt_dq2;
+            const double Jm2rd_33_dq3 = Jm2rdsig_dq3 - Jm2rdt_dq3;
+            const double Jm2rd_32_dq2 = -0.8912073600614353*Jm2rdr_21_dq2 + 0.45359612142557737*Jm2rdr_32_dq2;
+            const double Jm2rd_32_dq3 = -0.8912073600614353*Jm2rdr_21_dq3 + 0.45359612142557737*Jm2rdr_32_dq3;
+            const double j2r17_dq1 = sin_phi2*pa2_2_dq1 + cos_phi2*pa2_3_dq1;
+            const double j2r17_dq2 = cos_phi2*pa2_2 + sin_phi2*pa2_2_dq2 - sin_phi2*pa2_3 + cos_phi2*pa2_3_dq2;
+            const double j2r17_dq3 = sin_phi2*pa2_2_dq3 + cos_phi2*pa2_3_dq3;
+            const double j2r18_dq1 = sin_phi2*pa2_5_dq1 + cos_phi2*pa2_6_dq1;
+            const double j2r18_dq2 = cos_phi2*pa2_5 + sin_phi2*pa2_5_dq2 - sin_phi2*pa2_6 + cos_phi2*pa2_6_dq2;
+            const double j2r18_dq3 = sin_phi2*pa2_5_dq3 + cos_phi2*pa2_6_dq3;
+            const double pc2f_2_dq1 = cos_phi2*pa2_5_dq1 - sin_phi2*pa2_6_dq1;
+            const double pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pa2_6 - sin_phi2*pa2_6_dq2;
+            const double pc2f_2_dq3 = cos_phi2*pa2_5_dq3 - sin_phi2*pa2_6_dq3;
+            const double pc2f_3_dq1 = 0.45359612142557737*j2r18_dq1 - 0.8912073600614353*pa2_4_dq1;
+            const double pc2f_3_dq2 = 0.45359612142557737*j2r18_dq2 - 0.8912073600614353*pa2_4_dq2;
+            const double pc2f_3_dq3 = 0.45359612142557737*j2r18_dq3 - 0.8912073600614353*pa2_4_dq3;
+            const double Jh2s_12_dq2 = 0.8912073600614353*Jh2rr_32_dq2 + 0.25*Jm2rd_32_dq2 - 0.05*Jm2rdrt_dq2;
+            const double Jh2s_12_dq3 = 0.8912073600614353*Jh2rr_32_dq3 + 0.25*Jm2rd_32_dq3 - 0.05*Jm2rdr_22_dq3;
+            const double Jh2s_13_dq2 = 0.8912073600614353*Jh2ra_33_dq2 + 0.25*Jm2rd_33_dq2 - 0.05*Jm2rd_32_dq2;
+            const double Jh2s_13_dq3 = 0.8912073600614353*Jh2ra_33_dq3 + 0.25*Jm2rd_33_dq3 - 0.05*Jm2rd_32_dq3;
+            const double IA1_11_dq2 = -0.7942505586276729*Ja2rdrt_dq2 + 0.22280184001535883*Jh2ra_33_dq2 - 0.04456036800307177*Jh2rr_32_dq2 + 0.25*Jh2s_13_dq2 - 0.05*Jh2s_12_dq2;
+            const double IA1_11_dq3 = 0.7942505586276729*Ja2rdr_33_dq3 + 0.22280184001535883*Jh2ra_33_dq3 - 0.04456036800307177*Jh2rr_32_dq3 + 0.25*Jh2s_13_dq3 - 0.05*Jh2s_12_dq3;
+            const double pA1_1_dq1 = pN1_1_dq1 + 0.8912073600614353*j2r17_dq1 + 0.25*pc2f_3_dq1 - 0.05*pc2f_2_dq1;
+            const double pA1_1_dq2 = 0.8912073600614353*j2r17_dq2 + 0.25*pc2f_3_dq2 - 0.05*pc2f_2_dq2;
+            const double pA1_1_dq3 = 0.8912073600614353*j2r17_dq3 + 0.25*pc2f_3_dq3 - 0.05*pc2f_2_dq3;
+            const double rD1_dq2 = -rD1*rD1*IA1_11_dq2;
+            const double rD1_dq3 = -rD1*rD1*IA1_11_dq3;
+            const double qdd1_dq1 = -rD1*pA1_1_dq1;
+            const double qdd1_dq2 = -rD1*pA1_1_dq2 - pA1_1*rD1_dq2;
+            const double qdd1_dq3 = -rD1*pA1_1_dq3 - pA1_1*rD1_dq3;
+            const double wq6 = sin_phi2*qdd1_dq1;
+            const double dw2_2_dq1 = 0.8912073600614353*wq6;
+            const double wq7 = cos_phi2*qdd1;
+            const double wq8 = sin_phi2*qdd1_dq2;
+            const double dw2_2_dq2 = 0.8912073600614353*wq7 + 0.8912073600614353*wq8;
+            const double wq9 = sin_phi2*qdd1_dq3;
+            const double dw2_2_dq3 = 0.8912073600614353*wq9;
+            const double wq10 = cos_phi2*qdd1_dq1;
+            const double dw2_3_dq1 = 0.8912073600614353*wq10;
+            const double wq11 = sin_phi2*qdd1;
+            const double wq12 = cos_phi2*qdd1_dq2;
+            const double dw2_3_dq2 = -0.8912073600614353*wq11 + 0.8912073600614353*wq12;
+            const double wq13 = cos_phi2*qdd1_dq3;
+            const double dw2_3_dq3 = 0.8912073600614353*wq13;
+            const double dv2_2_dq1 = -0.05*wq10 + 0.11339903035639434*wq6;
+            const double dv2_2_dq2 = 0.05*wq11 - 0.05*wq12 + 0.11339903035639434*wq7 + 0.11339903035639434*wq8;
+            const double dv2_2_dq3 = -0.05*wq13 + 0.11339903035639434*wq9;
+            const double dv2_3_dq1 = 0.11339903035639434*wq10 + 0.05*wq6;
+            const double dv2_3_dq2 = -0.11339903035639434*wq11 + 0.11339903035639434*wq12 + 0.05*wq7 + 0.05*wq8;
+            const double dv2_3_dq3 = 0.11339903035639434*wq13 + 0.05*wq9;
+            const double qdd2_dq1 = -rD2*pA2_1_dq1 - 0.45359612142557737*qdd1_dq1 - W2_2*dw2_2_dq1 - W2_3*dw2_3_dq1 + 0.22280184001535883*W2_4*qdd1_dq1 - W2_5*dv2_2_dq1 - W2_6*dv2_3_dq1;
+            const double qdd2_dq2 = -rD2*pA2_1_dq2 - 0.45359612142557737*qdd1_dq2 - W2_2*dw2_2_dq2 - W2_3*dw2_3_dq2 + 0.22280184001535883*W2_4*qdd1_dq2 - W2_5*dv2_2_dq2 - W2_6*dv2_3_dq2;
+            const double qdd2_dq3 = -rD2*pA2_1_dq3 - pA2_1*rD2_dq3 - 0.45359612142557737*qdd1_dq3 - dw2_2*W2_2_dq3 - W2_2*dw2_2_dq3 - dw2_3*W2_3_dq3 - W2_3*dw2_3_dq3 + 0.22280184001535883*qdd1*W2_4_dq3 + 0.22280184001535883*W2_4*qdd1_dq3 - dv2_2*W2_5_dq3 - W2_5*dv2_2_dq3 - dv2_3*W2_6_dq3 - W2_6*dv2_3_dq3;
+            const double j3r17_dq1 = 0.41245378603038696*qdd1_dq1 + 0.9092974268256817*qdd2_dq1 - 0.4161468365471424*dw2_3_dq1;
+            const double j3r17_dq2 = 0.41245378603038696*qdd1_dq2 + 0.9092974268256817*qdd2_dq2 - 0.4161468365471424*dw2_3_dq2;
+            const double j3r17_dq3 = 0.41245378603038696*qdd1_dq3 + 0.9092974268256817*qdd2_dq3 - 0.4161468365471424*dw2_3_dq3;
+            const double dw3_1_dq1 = -0.18876259100130752*qdd1_dq1 - 0.4161468365471424*qdd2_dq1 - 0.9092974268256817*dw2_3_dq1;
+            const double dw3_1_dq2 = -0.18876259100130752*qdd1_dq2 - 0.4161468365471424*qdd2_dq2 - 0.9092974268256817*dw2_3_dq2;
+            const double dw3_1_dq3 = -0.18876259100130752*qdd1_dq3 - 0.4161468365471424*qdd2_dq3 - 0.9092974268256817*dw2_3_dq3;
+            const double dw3_2_dq1 = cos_phi3*dw2_2_dq1 + sin_phi3*j3r17_dq1;
+            const double dw3_2_dq2 = cos_phi3*dw2_2_dq2 + sin_phi3*j3r17_dq2;
+            const double dw3_2_dq3 = -sin_phi3*dw2_2 + cos_phi3*dw2_2_dq3 + cos_phi3*j3r17 + sin_phi3*j3r17_dq3;
+            const double dw3_3_dq1 = cos_phi3*j3r17_dq1 - sin_phi3*dw2_2_dq1;
+            const double dw3_3_dq2 = cos_phi3*j3r17_dq2 - sin_phi3*dw2_2_dq2;
+            const double dw3_3_dq3 = -sin_phi3*j3r17 + cos_phi3*j3r17_dq3 - cos_phi3*dw2_2 - sin_phi3*dw2_2_dq3;
+            const double j3r18_dq1 = -0.24034565801825447*qdd1_dq1 - 0.051936452318697424*dw2_2_dq1 - 0.18185948536513635*dw2_3_dq1 - 0.4161468365471424*dv2_3_dq1 - 0.08322936730942848*qdd2_dq1;
+            const double j3r18_dq2 = -0.24034565801825447*qdd1_dq2 - 0.051936452318697424*dw2_2_dq2 - 0.18185948536513635*dw2_3_dq2 - 0.4161468365471424*dv2_3_dq2 - 0.08322936730942848*qdd2_dq2;
+            const double j3r18_dq3 = -0.24034565801825447*qdd1_dq3 - 0.051936452318697424*dw2_2_dq3 - 0.18185948536513635*dw2_3_dq3 - 0.4161468365471424*dv2_3_dq3 - 0.08322936730942848*qdd2_dq3;
+            const double dv3_2_dq1 = cos_phi3*dv2_2_dq1 + 0.05*cos_phi3*dw2_3_dq1 + 0.03628768971404619*cos_phi3*qdd1_dq1 + 0.08*cos_phi3*qdd2_dq1 + sin_phi3*j3r18_dq1;
+            const double dv3_2_dq2 = cos_phi3*dv2_2_dq2 + 0.05*cos_phi3*dw2_3_dq2 + 0.03628768971404619*cos_phi3*qdd1_dq2 + 0.08*cos_phi3*qdd2_dq2 + sin_phi3*j3r18_dq2;
+            const double dv3_2_dq3 = -sin_phi3*dv2_2 + cos_phi3*dv2_2_dq3 - 0.05*sin_phi3*dw2_3 + 0.05*cos_phi3*dw2_3_dq3 - 0.03628768971404619*sin_phi3*qdd1 + 0.03628768971404619*cos_phi3*qdd1_dq3 - 0.08*sin_phi3*qdd2 + 0.08*cos_phi3*qdd2_dq3 + cos_phi3*j3r18 + sin_phi3*j3r18_dq3;
+            const double dv3_3_dq1 = cos_phi3*j3r18_dq1 - sin_phi3*dv2_2_dq1 - 0.05*sin_phi3*dw2_3_dq1 - 0.03628768971404619*sin_phi3*qdd1_dq1 - 0.08*sin_phi3*qdd2_dq1;
+            const double dv3_3_dq2 = cos_phi3*j3r18_dq2 - sin_phi3*dv2_2_dq2 - 0.05*sin_phi3*dw2_3_dq2 - 0.03628768971404619*sin_phi3*qdd1_dq2 - 0.08*sin_phi3*qdd2_dq2;
+            const double dv3_3_dq3 = -sin_phi3*j3r18 + cos_phi3*j3r18_dq3 - cos_phi3*dv2_2 - sin_phi3*dv2_2_dq3 - 0.05*cos_phi3*dw2_3 - 0.05*sin_phi3*dw2_3_dq3 - 0.03628768971404619*cos_phi3*qdd1 - 0.03628768971404619*sin_phi3*qdd1_dq3 - 0.08*cos_phi3*qdd2 - 0.08*sin_phi3*qdd2_dq3;
+            const double qdd3_dq1 = -127.55102040816327*pN3_1_dq1 - dw3_1_dq1 - 0.16581632653061223*dw3_2_dq1 + 0.3112244897959184*dw3_3_dq1 + 5.612244897959184*dv3_2_dq1 + 2.5510204081632657*dv3_3_dq1;
+            const double qdd3_dq2 = -127.55102040816327*pN3_1_dq2 - dw3_1_dq2 - 0.16581632653061223*dw3_2_dq2 + 0.3112244897959184*dw3_3_dq2 + 5.612244897959184*dv3_2_dq2 + 2.5510204081632657*dv3_3_dq2;
+            const double qdd3_dq3 = -127.55102040816327*pN3_1_dq3 - dw3_1_dq3 - 0.16581632653061223*dw3_2_dq3 + 0.3112244897959184*dw3_3_dq3 + 5.612244897959184*dv3_2_dq3 + 2.5510204081632657*dv3_3_dq3;
+
+            dqdd_dphi[0] = qdd1_dq1;
+            dqdd_dphi[1] = qdd1_dq2;
+            dqdd_dphi[2] = qdd1_dq3;
+            dqdd_dphi[3] = qdd2_dq1;
+            dqdd_dphi[4] = qdd2_dq2;
+            dqdd_dphi[5] = qdd2_dq3;
+            dqdd_dphi[6] = qdd3_dq1;
+            dqdd_dphi[7] = qdd3_dq2;
+            dqdd_dphi[8] = qdd3_dq3;
+
+            if (!spatial3_all_finite_(dqdd_dphi, 9)) {
+                return SPATIAL3_NONFINITE;
+            }
+        }
+        if (dqdd_dphidot) {
+            const double j3r2_dv1 = 0.41245378603038696 - 0.3708731235970964*cos_phi2;
+            const double om3_1_dv1 = -0.18876259100130752 - 0.8103725592719719*cos_phi2;
+            const double om3_2_dv1 = 0.8912073600614353*sin_phi2*cos_phi3 + sin_phi3*j3r2_dv1;
+            const double om3_3_dv1 = cos_phi3*j3r2_dv1 - 0.8912073600614353*sin_phi2*sin_phi3;
+            const double eps2_2_dv1 = 0.8912073600614353*x[4]*cos_phi2;
+            const double eps2_3_dv1 = -0.8912073600614353*x[4]*sin_phi2;
+            const double wv0 = x[3]*cos_phi2;
+            const double wv1 = x[3]*sin_phi2;
+            const double aOg2_2_dv1 = -0.5*wv0 - 0.04535961214255774*wv1;
+            const double aOg2_3_dv1 = -0.04535961214255774*wv0 + 0.5*wv1;
+            const double eps3_2_dv1 = cos_phi3*eps2_2_dv1 - 0.4161468365471424*sin_phi3*eps2_3_dv1 + x[5]*om3_3_dv1;
+            const double eps3_2_dv2 = om2_3*cos_phi3 + 0.4161468365471424*om2_2*sin_phi3 + 0.9092974268256817*x[5]*cos_phi3;
+            const double eps3_3_dv1 = -0.4161468365471424*cos_phi3*eps2_3_dv1 - sin_phi3*eps2_2_dv1 - x[5]*om3_2_dv1;
+            const double eps3_3_dv2 = 0.4161468365471424*om2_2*cos_phi3 - om2_3*sin_phi3 - 0.9092974268256817*x[5]*sin_phi3;
+            const double ws2_1_dv1 = -0.07129658880491482*sin_phi2 - 0.17824147201228707*cos_phi2;
+            const double ws2_2_dv1 = 0.04456036800307177*cos_phi2 + 0.03628768971404619;
+            const double ws2_3_dv1 = 0.09071922428511547 - 0.04456036800307177*sin_phi2;
+            const double aOrel3in2_1_dv1 = -0.08*eps2_2_dv1 - 0.2*eps2_3_dv1 + 0.8912073600614353*sin_phi2*ws2_3 + om2_2*ws2_3_dv1 - 0.8912073600614353*cos_phi2*ws2_2 - om2_3*ws2_2_dv1;
+            const double aOrel3in2_1_dv2 = -0.16*om2_3 + 0.4*om2_2;
+            const double aOrel3in2_2_dv1 = 0.05*eps2_3_dv1 + 0.8912073600614353*cos_phi2*ws2_1 + om2_3*ws2_1_dv1 - 0.45359612142557737*ws2_3 - om2_1*ws2_3_dv1;
+            const double aOrel3in2_2_dv2 = -0.05*om2_2 - ws2_3 - 0.2*om2_1;
+            const double aOrel3in2_3_dv1 = -0.05*eps2_2_dv1 + 0.45359612142557737*ws2_2 + om2_1*ws2_2_dv1 - 0.8912073600614353*sin_phi2*ws2_1 - om2_2*ws2_1_dv1;
+            const double aOrel3in2_3_dv2 = -0.05*om2_3 + ws2_2 + 0.08*om2_1;
+            const double j3r5_dv1 = 0.0810372559271972*x[3] + 0.9092974268256817*aOrel3in2_1_dv1 - 0.4161468365471424*aOg2_3_dv1 - 0.4161468365471424*aOrel3in2_3_dv1;
+            const double j3r5_dv2 = 0.9092974268256817*aOrel3in2_1_dv2 - 0.4161468365471424*aOrel3in2_3_dv2;
+            const double aOg3_1_dv1 = -0.03708731235970964*x[3] - 0.4161468365471424*aOrel3in2_1_dv1 - 0.9092974268256817*aOg2_3_dv1 - 0.9092974268256817*aOrel3in2_3_dv1;
+            const double aOg3_1_dv2 = -0.4161468365471424*aOrel3in2_1_dv2 - 0.9092974268256817*aOrel3in2_3_dv2;
+            const double aOg3_2_dv1 = cos_phi3*aOg2_2_dv1 + cos_phi3*aOrel3in2_2_dv1 + sin_phi3*j3r5_dv1;
+            const double aOg3_2_dv2 = cos_phi3*aOrel3in2_2_dv2 + sin_phi3*j3r5_dv2;
+            const double aOg3_3_dv1 = cos_phi3*j3r5_dv1 - sin_phi3*aOg2_2_dv1 - sin_phi3*aOrel3in2_2_dv1;
+            const double aOg3_3_dv2 = cos_phi3*j3r5_dv2 - sin_phi3*aOrel3in2_2_dv2;
+            const double wc3_1_dv1 = 0.11*om3_2_dv1 + 0.05*om3_3_dv1;
+            const double wc3_1_dv2 = 0.10002271695082499*sin_phi3 + 0.04546487134128409*cos_phi3;
+            const double wc3_2_dv1 = 0.06*om3_3_dv1 - 0.11*om3_1_dv1;
+            const double wc3_2_dv2 = 0.0545578456095409*cos_phi3 + 0.045776152020185666;
+            const double wc3_3_dv1 = -0.05*om3_1_dv1 - 0.06*om3_2_dv1;
+            const double wc3_3_dv2 = 0.02080734182735712 - 0.0545578456095409*sin_phi3;
+            const double Aw3_1_dv1 = 0.00784*om3_1_dv1 + 0.0013*om3_2_dv1 - 0.00244*om3_3_dv1;
+            const double Aw3_1_dv2 = -0.0032625911985295964 + 0.0011820866548733861*sin_phi3 - 0.002218685721454663*cos_phi3;
+            const double Aw3_2_dv1 = 0.0013*om3_1_dv1 + 0.00868*om3_2_dv1 + 0.002*om3_3_dv1;
+            const double Aw3_2_dv2 = -0.0005409908875112851 + 0.007892701664846917*sin_phi3 + 0.0018185948536513636*cos_phi3;
+            const double Aw3_3_dv1 = -0.00244*om3_1_dv1 + 0.002*om3_2_dv1 + 0.00424*om3_3_dv1;
+            const double Aw3_3_dv2 = 0.0010153982811750275 + 0.0018185948536513636*sin_phi3 + 0.0038554210897408904*cos_phi3;
+            const double pF3_1_dv1 = 0.4*aOg3_1_dv1 + 0.044000000000000004*eps3_2_dv1 + 0.020000000000000004*eps3_3_dv1 + 0.4*wc3_3*om3_2_dv1 + 0.4*om3_2*wc3_3_dv1 - 0.4*wc3_2*om3_3_dv1 - 0.4*om3_3*wc3_2_dv1;
+            const double pF3_1_dv2 = 0.4*aOg3_1_dv2 + 0.044000000000000004*eps3_2_dv2 + 0.020000000000000004*eps3_3_dv2 + 0.3637189707302727*sin_phi3*wc3_3 + 0.4*om3_2*wc3_3_dv2 - 0.3637189707302727*cos_phi3*wc3_2 - 0.4*om3_3*wc3_2_dv2;
+            const double pF3_1_dv3 = 0.08800000000000001*om3_3 - 0.04000000000000001*om3_2;
+            const double pF3_2_dv1 = 0.4*aOg3_2_dv1 + 0.024*eps3_3_dv1 + 0.040009086780329994*eps2_3_dv1 + 0.4*wc3_1*om3_3_dv1 + 0.4*om3_3*wc3_1_dv1 - 0.4*wc3_3*om3_1_dv1 - 0.4*om3_1*wc3_3_dv1;
+            const double pF3_2_dv2 = 0.4*aOg3_2_dv2 + 0.024*eps3_3_dv2 - 0.040009086780329994*om2_2 + 0.3637189707302727*cos_phi3*wc3_1 + 0.4*om3_3*wc3_1_dv2 + 0.16645873461885696*wc3_3 - 0.4*om3_1*wc3_3_dv2;
+            const double pF3_2_dv3 = -0.024*om3_2 - 0.4*wc3_3 + 0.020000000000000004*om3_1;
+            const double pF3_3_dv1 = 0.4*aOg3_3_dv1 + 0.018185948536513636*eps2_3_dv1 - 0.024*eps3_2_dv1 + 0.4*wc3_2*om3_1_dv1 + 0.4*om3_1*wc3_2_dv1 - 0.4*wc3_1*om3_2_dv1 - 0.4*om3_2*wc3_1_dv1;
+            const double pF3_3_dv2 = 0.4*aOg3_3_dv2 - 0.018185948536513636*om2_2 - 0.024*eps3_2_dv2 - 0.16645873461885696*wc3_2 + 0.4*om3_1*wc3_2_dv2 - 0.3637189707302727*sin_phi3*wc3_1 - 0.4*om3_2*wc3_1_dv2;
+            const double pF3_3_dv3 = -0.024*om3_3 + 0.4*wc3_2 - 0.044000000000000004*om3_1;
+            const double pN3_1_dv1 = -0.007128891826313344*eps2_3_dv1 + 0.0013*eps3_2_dv1 - 0.00244*eps3_3_dv1 + Aw3_3*om3_2_dv1 + om3_2*Aw3_3_dv1 + 0.012*om3_2_dv1 - Aw3_2*om3_3_dv1 - om3_3*Aw3_2_dv1 - 0.020000000000000004*aOg3_3_dv1 - 0.044000000000000004*aOg3_2_dv1;
+            const double pN3_1_dv2 = 0.007128891826313344*om2_2 + 0.0013*eps3_2_dv2 - 0.00244*eps3_3_dv2 + 0.9092974268256817*sin_phi3*Aw3_3 + om3_2*Aw3_3_dv2 + 0.010911569121908181*sin_phi3 - 0.9092974268256817*cos_phi3*Aw3_2 - om3_3*Aw3_2_dv2 - 0.020000000000000004*aOg3_3_dv2 - 0.044000000000000004*aOg3_2_dv2;
+            const double pN3_2_dv1 = -0.0011820866548733861*eps2_3_dv1 + 0.00868*eps3_2_dv1 + 0.002*eps3_3_dv1 + Aw3_1*om3_3_dv1 + om3_3*Aw3_1_dv1 + 0.02*om3_3_dv1 - Aw3_3*om3_1_dv1 - om3_1*Aw3_3_dv1 - 0.012*om3_1_dv1 + 0.044000000000000004*aOg3_1_dv1 - 0.024*aOg3_3_dv1;
+            const double pN3_2_dv2 = 0.0011820866548733861*om2_2 + 0.00868*eps3_2_dv2 + 0.002*eps3_3_dv2 + 0.9092974268256817*cos_phi3*Aw3_1 + om3_3*Aw3_1_dv2 + 0.018185948536513636*cos_phi3 + 0.4161468365471424*Aw3_3 - om3_1*Aw3_3_dv2 + 0.004993762038565709 + 0.044000000000000004*aOg3_1_dv2 - 0.024*aOg3_3_dv2;
+            const double pN3_2_dv3 = 0.01652*om3_3 - 0.002*om3_2 - Aw3_3 + 0.00244*om3_1 - 0.012;
+            const double pN3_3_dv1 = 0.002218685721454663*eps2_3_dv1 + 0.002*eps3_2_dv1 + 0.00424*eps3_3_dv1 + Aw3_2*om3_1_dv1 + om3_1*Aw3_2_dv1 - Aw3_1*om3_2_dv1 - om3_2*Aw3_1_dv1 - 0.02*om3_2_dv1 + 0.024*aOg3_2_dv1 + 0.020000000000000004*aOg3_1_dv1;
+            const double pN3_3_dv2 = -0.002218685721454663*om2_2 + 0.002*eps3_2_dv2 + 0.00424*eps3_3_dv2 - 0.4161468365471424*Aw3_2 + om3_1*Aw3_2_dv2 - 0.9092974268256817*sin_phi3*Aw3_1 - om3_2*Aw3_1_dv2 - 0.018185948536513636*sin_phi3 + 0.024*aOg3_2_dv2 + 0.020000000000000004*aOg3_1_dv2;
+            const double pN3_3_dv3 = 0.002*om3_3 - 0.01208*om3_2 + Aw3_2 + 0.0013*om3_1;
+            const double wc2_1_dv1 = 0.062384515204300474*sin_phi2 - 0.08912073600614354*cos_phi2;
+            const double wc2_2_dv1 = -0.03564829440245741*cos_phi2 - 0.03175172849979042;
+            const double wc2_3_dv1 = 0.04535961214255774 + 0.03564829440245741*sin_phi2;
+            const double Aw2_1_dv1 = 0.005415937689821394 + 0.001871535456129014*sin_phi2 + 0.0016754698369154982*cos_phi2;
+            const double Aw2_2_dv1 = 0.0009525518549937124 + 0.006594934464454622*sin_phi2 - 0.003653950176251885*cos_phi2;
+            const double Aw2_3_dv1 = 0.0008527607082800854 - 0.003653950176251885*sin_phi2 + 0.008698183834199609*cos_phi2;
+            const double pF2_1_dv1 = 0.05347244160368612*x[3] + 0.042*eps2_2_dv1 - 0.06*eps2_3_dv1 + 0.5347244160368612*sin_phi2*wc2_3 + 0.6*om2_2*wc2_3_dv1 - 0.5347244160368612*cos_phi2*wc2_2 - 0.6*om2_3*wc2_2_dv1;
+            const double pF2_1_dv2 = 0.084*om2_3 + 0.12*om2_2;
+            const double pF2_2_dv1 = 0.6*aOg2_2_dv1 - 0.024*eps2_3_dv1 + 0.5347244160368612*cos_phi2*wc2_1 + 0.6*om2_3*wc2_1_dv1 - 0.2721576728553464*wc2_3 - 0.6*om2_1*wc2_3_dv1;
+            const double pF2_2_dv2 = 0.024*om2_2 - 0.6*wc2_3 - 0.06*om2_1;
+            const double pF2_3_dv1 = 0.6*aOg2_3_dv1 + 0.024*eps2_2_dv1 + 0.2721576728553464*wc2_2 + 0.6*om2_1*wc2_2_dv1 - 0.5347244160368612*sin_phi2*wc2_1 - 0.6*om2_2*wc2_1_dv1;
+            const double pF2_3_dv2 = 0.024*om2_3 + 0.6*wc2_2 - 0.042*om2_1;
+            const double pN2_1_dv1 = 0.0021*eps2_2_dv1 + 0.00188*eps2_3_dv1 + 0.8912073600614353*sin_phi2*Aw2_3 + om2_2*Aw2_3_dv1 - 0.008912073600614353*sin_phi2 - 0.8912073600614353*cos_phi2*Aw2_2 - om2_3*Aw2_2_dv1 - 0.01336811040092153*cos_phi2 + 0.06*aOg2_3_dv1 - 0.042*aOg2_2_dv1;
+            const double pN2_2_dv1 = 0.0074*eps2_2_dv1 - 0.0041*eps2_3_dv1 + 0.8912073600614353*cos_phi2*Aw2_1 + om2_3*Aw2_1_dv1 - 0.45359612142557737*Aw2_3 - om2_1*Aw2_3_dv1 + 0.0045359612142557735 + 0.003743070912258029*x[3] + 0.024*aOg2_3_dv1;
+            const double pN2_2_dv2 = 0.01934*om2_3 + 0.0041*om2_2 - Aw2_3 - 0.00188*om2_1 + 0.01;
+            const double pN2_3_dv1 = -0.0041*eps2_2_dv1 + 0.00976*eps2_3_dv1 + 0.45359612142557737*Aw2_2 + om2_1*Aw2_2_dv1 + 0.006803941821383661 - 0.8912073600614353*sin_phi2*Aw2_1 - om2_2*Aw2_1_dv1 - 0.024*aOg2_2_dv1 - 0.005347244160368612*x[3];
+            const double pN2_3_dv2 = -0.0041*om2_3 - 0.021699999999999997*om2_2 + Aw2_2 + 0.0021*om2_1 + 0.015;
+            const double pa3_2_dv1 = pN3_2_dv1 - 0.16581632653061223*pN3_1_dv1;
+            const double pa3_2_dv2 = pN3_2_dv2 - 0.16581632653061223*pN3_1_dv2;
+            const double pa3_3_dv1 = pN3_3_dv1 + 0.3112244897959184*pN3_1_dv1;
+            const double pa3_3_dv2 = pN3_3_dv2 + 0.3112244897959184*pN3_1_dv2;
+            const double pa3_5_dv1 = pF3_2_dv1 + 5.612244897959184*pN3_1_dv1;
+            const double pa3_5_dv2 = pF3_2_dv2 + 5.612244897959184*pN3_1_dv2;
+            const double pa3_6_dv1 = pF3_3_dv1 + 2.5510204081632657*pN3_1_dv1;
+            const double pa3_6_dv2 = pF3_3_dv2 + 2.5510204081632657*pN3_1_dv2;
+            const double j3r15_dv1 = sin_phi3*pa3_2_dv1 + cos_phi3*pa3_3_dv1;
+            const double j3r15_dv2 = sin_phi3*pa3_2_dv2 + cos_phi3*pa3_3_dv2;
+            const double j3r15_dv3 = sin_phi3*pN3_2_dv3 + cos_phi3*pN3_3_dv3;
+            const double pc3n_2_dv1 = cos_phi3*pa3_2_dv1 - sin_phi3*pa3_3_dv1;
+            const double pc3n_2_dv2 = cos_phi3*pa3_2_dv2 - sin_phi3*pa3_3_dv2;
+            const double pc3n_2_dv3 = cos_phi3*pN3_2_dv3 - sin_phi3*pN3_3_dv3;
+            const double j3r16_dv1 = sin_phi3*pa3_5_dv1 + cos_phi3*pa3_6_dv1;
+            const double j3r16_dv2 = sin_phi3*pa3_5_dv2 + cos_phi3*pa3_6_dv2;
+            const double j3r16_dv3 = sin_phi3*pF3_2_dv3 + cos_phi3*pF3_3_dv3;
+            const double pc3f_1_dv1 = -0.4161468365471424*pF3_1_dv1 + 0.9092974268256817*j3r16_dv1;
+            const double pc3f_1_dv2 = -0.4161468365471424*pF3_1_dv2 + 0.9092974268256817*j3r16_dv2;
+            const double pc3f_1_dv3 = -0.4161468365471424*pF3_1_dv3 + 0.9092974268256817*j3r16_dv3;
+            const double pc3f_2_dv1 = cos_phi3*pa3_5_dv1 - sin_phi3*pa3_6_dv1;
+            const double pc3f_2_dv2 = cos_phi3*pa3_5_dv2 - sin_phi3*pa3_6_dv2;
+            const double pc3f_2_dv3 = cos_phi3*pF3_2_dv3 - sin_phi3*pF3_3_dv3;
+            const double pc3f_3_dv1 = -0.4161468365471424*j3r16_dv1 - 0.9092974268256817*pF3_1_dv1;
+            const double pc3f_3_dv2 = -0.4161468365471424*j3r16_dv2 - 0.9092974268256817*pF3_1_dv2;
+            const double pc3f_3_dv3 = -0.4161468365471424*j3r16_dv3 - 0.9092974268256817*pF3_1_dv3;
+            const double pA2_1_dv1 = pN2_1_dv1 + 0.9092974268256817*j3r15_dv1 + 0.2*pc3f_3_dv1 + 0.08*pc3f_2_dv1;
+            const double pA2_1_dv2 = 0.9092974268256817*j3r15_dv2 + 0.2*pc3f_3_dv2 + 0.08*pc3f_2_dv2;
+            const double pA2_1_dv3 = 0.9092974268256817*j3r15_dv3 + 0.2*pc3f_3_dv3 + 0.08*pc3f_2_dv3;
+            const double pA2_2_dv1 = pN2_2_dv1 + pc3n_2_dv1 - 0.08*pc3f_1_dv1 - 0.05*pc3f_3_dv1;
+            const double pA2_2_dv2 = pN2_2_dv2 + pc3n_2_dv2 - 0.08*pc3f_1_dv2 - 0.05*pc3f_3_dv2;
+            const double pA2_2_dv3 = pc3n_2_dv3 - 0.08*pc3f_1_dv3 - 0.05*pc3f_3_dv3;
+            const double pA2_3_dv1 = pN2_3_dv1 - 0.4161468365471424*j3r15_dv1 + 0.05*pc3f_2_dv1 - 0.2*pc3f_1_dv1;
+            const double pA2_3_dv2 = pN2_3_dv2 - 0.4161468365471424*j3r15_dv2 + 0.05*pc3f_2_dv2 - 0.2*pc3f_1_dv2;
+            const double pA2_3_dv3 = -0.4161468365471424*j3r15_dv3 + 0.05*pc3f_2_dv3 - 0.2*pc3f_1_dv3;
+            const double pA2_4_dv1 = pF2_1_dv1 + pc3f_1_dv1;
+            const double pA2_4_dv2 = pF2_1_dv2 + pc3f_1_dv2;
+            const double pA2_5_dv1 = pF2_2_dv1 + pc3f_2_dv1;
+            const double pA2_5_dv2 = pF2_2_dv2 + pc3f_2_dv2;
+            const double pA2_6_dv1 = pF2_3_dv1 + pc3f_3_dv1;
+            const double pA2_6_dv2 = pF2_3_dv2 + pc3f_3_dv2;
+            const double pa2_2_dv1 = pA2_2_dv1 - W2_2*pA2_1_dv1;
+            const double pa2_2_dv2 = pA2_2_dv2 - W2_2*pA2_1_dv2;
+            const double pa2_2_dv3 = pA2_2_dv3 - W2_2*pA2_1_dv3;
+            const double pa2_3_dv1 = pA2_3_dv1 - W2_3*pA2_1_dv1;
+            const double pa2_3_dv2 = pA2_3_dv2 - W2_3*pA2_1_dv2;
+            const double pa2_3_dv3 = pA2_3_dv3 - W2_3*pA2_1_dv3;
+            const double pa2_4_dv1 = pA2_4_dv1 - W2_4*pA2_1_dv1;
+            const double pa2_4_dv2 = pA2_4_dv2 - W2_4*pA2_1_dv2;
+            const double pa2_4_dv3 = pc3f_1_dv3 - W2_4*pA2_1_dv3;
+            const double pa2_5_dv1 = pA2_5_dv1 - W2_5*pA2_1_dv1;
+            const double pa2_5_dv2 = pA2_5_dv2 - W2_5*pA2_1_dv2;
+            const double pa2_5_dv3 = pc3f_2_dv3 - W2_5*pA2_1_dv3;
+            const double pa2_6_dv1 = pA2_6_dv1 - W2_6*pA2_1_dv1;
+            const double pa2_6_dv2 = pA2_6_dv2 - W2_6*pA2_1_dv2;
+            const double pa2_6_dv3 = pc3f_3_dv3 - W2_6*pA2_1_dv3;
+            const double j2r17_dv1 = sin_phi2*pa2_2_dv1 + cos_phi2*pa2_3_dv1;
+            const double j2r17_dv2 = sin_phi2*pa2_2_dv2 + cos_phi2*pa2_3_dv2;
+            const double j2r17_dv3 = sin_phi2*pa2_2_dv3 + cos_phi2*pa2_3_dv3;
+            const double j2r18_dv1 = sin_phi2*pa2_5_dv1 + cos_phi2*pa2_6_dv1;
+            const double j2r18_dv2 = sin_phi2*pa2_5_dv2 + cos_phi2*pa2_6_dv2;
+            const double j2r18_dv3 = sin_phi2*pa2_5_dv3 + cos_phi2*pa2_6_dv3;
+            const double pc2f_2_dv1 = cos_phi2*pa2_5_dv1 - sin_phi2*pa2_6_dv1;
+            const double pc2f_2_dv2 = cos_phi2*pa2_5_dv2 - sin_phi2*pa2_6_dv2;
+            const double pc2f_2_dv3 = cos_phi2*pa2_5_dv3 - sin_phi2*pa2_6_dv3;
+            const double pc2f_3_dv1 = 0.45359612142557737*j2r18_dv1 - 0.8912073600614353*pa2_4_dv1;
+            const double pc2f_3_dv2 = 0.45359612142557737*j2r18_dv2 - 0.8912073600614353*pa2_4_dv2;
+            const double pc2f_3_dv3 = 0.45359612142557737*j2r18_dv3 - 0.8912073600614353*pa2_4_dv3;
+            const double pA1_1_dv1 = 0.8912073600614353*j2r17_dv1 + 0.25*pc2f_3_dv1 - 0.05*pc2f_2_dv1;
+            const double pA1_1_dv2 = 0.8912073600614353*j2r17_dv2 + 0.25*pc2f_3_dv2 - 0.05*pc2f_2_dv2;
+            const double pA1_1_dv3 = 0.8912073600614353*j2r17_dv3 + 0.25*pc2f_3_dv3 - 0.05*pc2f_2_dv3;
+            const double qdd1_dv1 = -rD1*pA1_1_dv1;
+            const double qdd1_dv2 = -rD1*pA1_1_dv2;
+            const double qdd1_dv3 = -rD1*pA1_1_dv3;
+            const double wv2 = sin_phi2*qdd1_dv1;
+            const double dw2_2_dv1 = 0.8912073600614353*wv2;
+            const double wv3 = sin_phi2*qdd1_dv2;
+            const double dw2_2_dv2 = 0.8912073600614353*wv3;
+            const double wv4 = sin_phi2*qdd1_dv3;
+            const double dw2_2_dv3 = 0.8912073600614353*wv4;
+            const double wv5 = cos_phi2*qdd1_dv1;
+            const double dw2_3_dv1 = 0.8912073600614353*wv5;
+            const double wv6 = cos_phi2*qdd1_dv2;
+            const double dw2_3_dv2 = 0.8912073600614353*wv6;
+            const double wv7 = cos_phi2*qdd1_dv3;
+            const double dw2_3_dv3 = 0.8912073600614353*wv7;
+            const double dv2_2_dv1 = -0.05*wv5 + 0.11339903035639434*wv2;
+            const double dv2_2_dv2 = -0.05*wv6 + 0.11339903035639434*wv3;
+            const double dv2_2_dv3 = -0.05*wv7 + 0.11339903035639434*wv4;
+            const double dv2_3_dv1 = 0.11339903035639434*wv5 + 0.05*wv2;
+            const double dv2_3_dv2 = 0.11339903035639434*wv6 + 0.05*wv3;
+            const double dv2_3_dv3 = 0.11339903035639434*wv7 + 0.05*wv4;
+            const double qdd2_dv1 = -rD2*pA2_1_dv1 - 0.45359612142557737*qdd1_dv1 - W2_2*dw2_2_dv1 - W2_3*dw2_3_dv1 + 0.22280184001535883*W2_4*qdd1_dv1 - W2_5*dv2_2_dv1 - W2_6*dv2_3_dv1;
+            const double qdd2_dv2 = -rD2*pA2_1_dv2 - 0.45359612142557737*qdd1_dv2 - W2_2*dw2_2_dv2 - W2_3*dw2_3_dv2 + 0.22280184001535883*W2_4*qdd1_dv2 - W2_5*dv2_2_dv2 - W2_6*dv2_3_dv2;
+            const double qdd2_dv3 = -rD2*pA2_1_dv3 - 0.45359612142557737*qdd1_dv3 - W2_2*dw2_2_dv3 - W2_3*dw2_3_dv3 + 0.22280184001535883*W2_4*qdd1_dv3 - W2_5*dv2_2_dv3 - W2_6*dv2_3_dv3;
+            const double j3r17_dv1 = 0.41245378603038696*qdd1_dv1 + 0.9092974268256817*qdd2_dv1 - 0.4161468365471424*dw2_3_dv1;
+            const double j3r17_dv2 = 0.41245378603038696*qdd1_dv2 + 0.9092974268256817*qdd2_dv2 - 0.4161468365471424*dw2_3_dv2;
+            const double j3r17_dv3 = 0.41245378603038696*qdd1_dv3 + 0.9092974268256817*qdd2_dv3 - 0.4161468365471424*dw2_3_dv3;
+            const double dw3_1_dv1 = -0.18876259100130752*qdd1_dv1 - 0.4161468365471424*qdd2_dv1 - 0.9092974268256817*dw2_3_dv1;
+            const double dw3_1_dv2 = -0.18876259100130752*qdd1_dv2 - 0.4161468365471424*qdd2_dv2 - 0.9092974268256817*dw2_3_dv2;
+            const double dw3_1_dv3 = -0.18876259100130752*qdd1_dv3 - 0.4161468365471424*qdd2_dv3 - 0.9092974268256817*dw2_3_dv3;
+            const double dw3_2_dv1 = cos_phi3*dw2_2_dv1 + sin_phi3*j3r17_dv1;
+            const double dw3_2_dv2 = cos_phi3*dw2_2_dv2 + sin_phi3*j3r17_dv2;
+            const double dw3_2_dv3 = cos_phi3*dw2_2_dv3 + sin_phi3*j3r17_dv3;
+            const double dw3_3_dv1 = cos_phi3*j3r17_dv1 - sin_phi3*dw2_2_dv1;
+            const double dw3_3_dv2 = cos_phi3*j3r17_dv2 - sin_phi3*dw2_2_dv2;
+            const double dw3_3_dv3 = cos_phi3*j3r17_dv3 - sin_phi3*dw2_2_dv3;
+            const double j3r18_dv1 = -0.24034565801825447*qdd1_dv1 - 0.051936452318697424*dw2_2_dv1 - 0.18185948536513635*dw2_3_dv1 - 0.4161468365471424*dv2_3_dv1 - 0.08322936730942848*qdd2_dv1;
+            const double j3r18_dv2 = -0.24034565801825447*qdd1_dv2 - 0.051936452318697424*dw2_2_dv2 - 0.18185948536513635*dw2_3_dv2 - 0.4161468365471424*dv2_3_dv2 - 0.08322936730942848*qdd2_dv2;
+            const double j3r18_dv3 = -0.24034565801825447*qdd1_dv3 - 0.051936452318697424*dw2_2_dv3 - 0.18185948536513635*dw2_3_dv3 - 0.4161468365471424*dv2_3_dv3 - 0.08322936730942848*qdd2_dv3;
+            const double dv3_2_dv1 = cos_phi3*dv2_2_dv1 + 0.05*cos_phi3*dw2_3_dv1 + 0.03628768971404619*cos_phi3*qdd1_dv1 + 0.08*cos_phi3*qdd2_dv1 + sin_phi3*j3r18_dv1;
+            const double dv3_2_dv2 = cos_phi3*dv2_2_dv2 + 0.05*cos_phi3*dw2_3_dv2 + 0.03628768971404619*cos_phi3*qdd1_dv2 + 0.08*cos_phi3*qdd2_dv2 + sin_phi3*j3r18_dv2;
+            const double dv3_2_dv3 = cos_phi3*dv2_2_dv3 + 0.05*cos_phi3*dw2_3_dv3 + 0.03628768971404619*cos_phi3*qdd1_dv3 + 0.08*cos_phi3*qdd2_dv3 + sin_phi3*j3r18_dv3;
+            const double dv3_3_dv1 = cos_phi3*j3r18_dv1 - sin_phi3*dv2_2_dv1 - 0.05*sin_phi3*dw2_3_dv1 - 0.03628768971404619*sin_phi3*qdd1_dv1 - 0.08*sin_phi3*qdd2_dv1;
+            const double dv3_3_dv2 = cos_phi3*j3r18_dv2 - sin_phi3*dv2_2_dv2 - 0.05*sin_phi3*dw2_3_dv2 - 0.03628768971404619*sin_phi3*qdd1_dv2 - 0.08*sin_phi3*qdd2_dv2;
+            const double dv3_3_dv3 = cos_phi3*j3r18_dv3 - sin_phi3*dv2_2_dv3 - 0.05*sin_phi3*dw2_3_dv3 - 0.03628768971404619*sin_phi3*qdd1_dv3 - 0.08*sin_phi3*qdd2_dv3;
+            const double qdd3_dv1 = -127.55102040816327*pN3_1_dv1 - dw3_1_dv1 - 0.16581632653061223*dw3_2_dv1 + 0.3112244897959184*dw3_3_dv1 + 5.612244897959184*dv3_2_dv1 + 2.5510204081632657*dv3_3_dv1;
+            const double qdd3_dv2 = -127.55102040816327*pN3_1_dv2 - dw3_1_dv2 - 0.16581632653061223*dw3_2_dv2 + 0.3112244897959184*dw3_3_dv2 + 5.612244897959184*dv3_2_dv2 + 2.5510204081632657*dv3_3_dv2;
+            const double qdd3_dv3 = -dw3_1_dv3 - 0.16581632653061223*dw3_2_dv3 + 0.3112244897959184*dw3_3_dv3 + 5.612244897959184*dv3_2_dv3 + 2.5510204081632657*dv3_3_dv3;
+
+            dqdd_dphidot[0] = qdd1_dv1;
+            dqdd_dphidot[1] = qdd1_dv2;
+            dqdd_dphidot[2] = qdd1_dv3;
+            dqdd_dphidot[3] = qdd2_dv1;
+            dqdd_dphidot[4] = qdd2_dv2;
+            dqdd_dphidot[5] = qdd2_dv3;
+            dqdd_dphidot[6] = qdd3_dv1;
+            dqdd_dphidot[7] = qdd3_dv2;
+            dqdd_dphidot[8] = qdd3_dv3;
+
+            if (!spatial3_all_finite_(dqdd_dphidot, 9)) {
+                return SPATIAL3_NONFINITE;
+            }
+        }
+        if (dqdd_du) {
+            const double j3r15_du1 = 0.16581632653061223*sin_phi3 - 0.3112244897959184*cos_phi3;
+            const double pc3n_1_du1 = -0.4161468365471424 + 0.9092974268256817*j3r15_du1;
+            const double pc3n_2_du1 = 0.16581632653061223*cos_phi3 + 0.3112244897959184*sin_phi3;
+            const double pc3n_3_du1 = -0.4161468365471424*j3r15_du1 - 0.9092974268256817;
+            const double j3r16_du1 = -5.612244897959184*sin_phi3 - 2.5510204081632657*cos_phi3;
+            const double pc3f_2_du1 = -5.612244897959184*cos_phi3 + 2.5510204081632657*sin_phi3;
+            const double pA2_1_du1 = pc3n_1_du1 - 0.08322936730942848*j3r16_du1 + 0.08*pc3f_2_du1;
+            const double pA2_2_du1 = pc3n_2_du1 - 0.051936452318697424*j3r16_du1;
+            const double pA2_3_du1 = pc3n_3_du1 + 0.05*pc3f_2_du1 - 0.18185948536513635*j3r16_du1;
+            const double pa2_2_du1 = pA2_2_du1 - W2_2*pA2_1_du1;
+            const double pa2_3_du1 = pA2_3_du1 - W2_3*pA2_1_du1;
+            const double pa2_4_du1 = 0.9092974268256817*j3r16_du1 - W2_4*pA2_1_du1;
+            const double pa2_5_du1 = pc3f_2_du1 - W2_5*pA2_1_du1;
+            const double pa2_6_du1 = -0.4161468365471424*j3r16_du1 - W2_6*pA2_1_du1;
+            const double j2r17_du1 = sin_phi2*pa2_2_du1 + cos_phi2*pa2_3_du1;
+            const double j2r18_du1 = sin_phi2*pa2_5_du1 + cos_phi2*pa2_6_du1;
+            const double pc2f_2_du1 = cos_phi2*pa2_5_du1 - sin_phi2*pa2_6_du1;
+            const double pc2f_3_du1 = 0.45359612142557737*j2r18_du1 - 0.8912073600614353*pa2_4_du1;
+            const double pA1_1_du1 = 0.8912073600614353*j2r17_du1 + 0.25*pc2f_3_du1 - 0.05*pc2f_2_du1;
+            const double qdd1_du1 = -rD1*pA1_1_du1;
+            const double wu0 = sin_phi2*qdd1_du1;
+            const double dw2_2_du1 = 0.8912073600614353*wu0;
+            const double wu1 = cos_phi2*qdd1_du1;
+            const double dw2_3_du1 = 0.8912073600614353*wu1;
+            const double dv2_2_du1 = -0.05*wu1 + 0.11339903035639434*wu0;
+            const double dv2_3_du1 = 0.11339903035639434*wu1 + 0.05*wu0;
+            const double qdd2_du1 = -rD2*pA2_1_du1 - 0.45359612142557737*qdd1_du1 - W2_2*dw2_2_du1 - W2_3*dw2_3_du1 + 0.22280184001535883*W2_4*qdd1_du1 - W2_5*dv2_2_du1 - W2_6*dv2_3_du1;
+            const double j3r17_du1 = 0.41245378603038696*qdd1_du1 + 0.9092974268256817*qdd2_du1 - 0.4161468365471424*dw2_3_du1;
+            const double dw3_1_du1 = -0.18876259100130752*qdd1_du1 - 0.4161468365471424*qdd2_du1 - 0.9092974268256817*dw2_3_du1;
+            const double dw3_2_du1 = cos_phi3*dw2_2_du1 + sin_phi3*j3r17_du1;
+            const double dw3_3_du1 = cos_phi3*j3r17_du1 - sin_phi3*dw2_2_du1;
+            const double j3r18_du1 = -0.24034565801825447*qdd1_du1 - 0.051936452318697424*dw2_2_du1 - 0.18185948536513635*dw2_3_du1 - 0.4161468365471424*dv2_3_du1 - 0.08322936730942848*qdd2_du1;
+            const double dv3_2_du1 = cos_phi3*dv2_2_du1 + 0.05*cos_phi3*dw2_3_du1 + 0.03628768971404619*cos_phi3*qdd1_du1 + 0.08*cos_phi3*qdd2_du1 + sin_phi3*j3r18_du1;
+            const double dv3_3_du1 = cos_phi3*j3r18_du1 - sin_phi3*dv2_2_du1 - 0.05*sin_phi3*dw2_3_du1 - 0.03628768971404619*sin_phi3*qdd1_du1 - 0.08*sin_phi3*qdd2_du1;
+            const double qdd3_du1 = 127.55102040816327 - dw3_1_du1 - 0.16581632653061223*dw3_2_du1 + 0.3112244897959184*dw3_3_du1 + 5.612244897959184*dv3_2_du1 + 2.5510204081632657*dv3_3_du1;
+
+            dqdd_du[0] = qdd1_du1;
+            dqdd_du[1] = qdd2_du1;
+            dqdd_du[2] = qdd3_du1;
+
+            if (!spatial3_all_finite_(dqdd_du, 3)) {
+                return SPATIAL3_NONFINITE;
+            }
+        }
+    }
+    return spatial3_all_finite_(acc, 3) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
+}
+
+int spatial3_linearize(double t, const double *x, const double *u, const spatial3_params *p, double *A, double *B)
+{
+    /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
+     * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
+    double dq[9];
+    double dv[9];
+    double du[3];
+    int i, j, code;
+    (void)t;
+    code = spatial3_qdd_derivatives(x, u, p, 0, A ? dq : 0, A ? dv : 0, B ? du : 0);
+    if (code != SPATIAL3_OK) {
+        return code;
+    }
+    if (A) {
+        for (i = 0; i < 3; ++i) {
+            for (j = 0; j < 3; ++j) {
+                A[i * 6 + j] = 0.0;
+                A[i * 6 + 3 + j] = i == j ? 1.0 : 0.0;
+                A[(3 + i) * 6 + j] = dq[i * 3 + j];
+                A[(3 + i) * 6 + 3 + j] = dv[i * 3 + j];
+            }
+        }
+    }
+    if (B) {
+        for (i = 0; i < 3; ++i) {
+            for (j = 0; j < 1; ++j) {
+                B[i * 1 + j] = 0.0;
+                B[(3 + i) * 1 + j] = du[i * 1 + j];
+            }
+        }
+    }
+    return SPATIAL3_OK;
 }
 
 int spatial3_rhs(double t, const double *x, const double *u, const spatial3_params *p, double *xdot)

@@ -21,7 +21,11 @@
  * (adaptive, rtol/atol, h the first step or 0) or SPATIAL3_GAUSS2 (symmetric, fixed step h).  On
  * failure x1 is the last accepted state.  spatial3_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means SPATIAL3_INTEGRATE_MAX_STEPS.
- * Op counts: energy 222, forces 376, mass_matrix 183, qdd 584, rhs 584.
+ * spatial3_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
+ * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
+ * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
+ * spatial3_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
+ * Op counts: energy 222, forces 376, linearize 3422, mass_matrix 183, qdd 584, qdd_derivatives 3422, rhs 584.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -55,6 +59,9 @@ int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M);
 int spatial3_forces(const double *x, const double *u, const spatial3_params *p, double *f);
 int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, double *qdd);
 int spatial3_rhs(double t, const double *x, const double *u, const spatial3_params *p, double *xdot);
+int spatial3_qdd_derivatives(const double *x, const double *u, const spatial3_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int spatial3_linearize(double t, const double *x, const double *u, const spatial3_params *p, double *A, double *B);
 double spatial3_energy(const double *x, const spatial3_params *p);
 typedef struct spatial3_integrate_stats {
     double t;

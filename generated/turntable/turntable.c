@@ -34,6 +34,29 @@ static void turntable_symmetrize_(double *M)
     }
 }
 
+/* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
+ * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
+static int turntable_pivots_(const double *piv)
+{
+    double tol = 0.0;
+    int i;
+    for (i = 0; i < 1; ++i) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
+        }
+    }
+    tol *= TURNTABLE_PIVOT_TOL;
+    for (i = 0; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return TURNTABLE_NONFINITE;
+        }
+        if (!(piv[i] > tol)) {
+            return TURNTABLE_SINGULAR;
+        }
+    }
+    return TURNTABLE_OK;
+}
+
 
 int turntable_mass_matrix(const double *q, const turntable_params *p, double *M)
 {
@@ -109,8 +132,7 @@ int turntable_qdd(const double *x, const double *u, const turntable_params *p, d
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[1];
     double piv[1];
-    double tol = 0.0;
-    int i;
+    int i, code;
     if (!p) {
         return TURNTABLE_NO_PARAMS;
     }
@@ -132,25 +154,102 @@ int turntable_qdd(const double *x, const double *u, const turntable_params *p, d
         piv[0] = 0.041666666666666664;
 
     }
-    for (i = 0; i < 1; ++i) {
-        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
-            tol = fabs(piv[i]);
-        }
-    }
-    tol *= TURNTABLE_PIVOT_TOL;
-    /* from the tip, where elimination starts: a zero pivot makes the ones before it NaN */
-    for (i = 0; i >= 0; --i) {
-        if (!isfinite(piv[i])) {
-            return TURNTABLE_NONFINITE;
-        }
-        if (!(piv[i] > tol)) {
-            return TURNTABLE_SINGULAR;
-        }
+    code = turntable_pivots_(piv);
+    if (code != TURNTABLE_OK) {
+        return code;
     }
     for (i = 0; i < 1; ++i) {
         qdd[i] = acc[i];
     }
     return turntable_all_finite_(qdd, 1) ? TURNTABLE_OK : TURNTABLE_NONFINITE;
+}
+
+int turntable_qdd_derivatives(const double *x, const double *u, const turntable_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
+{
+    /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
+     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
+    double acc[1];
+    double piv[1];
+    int i, code;
+    if (!p) {
+        return TURNTABLE_NO_PARAMS;
+    }
+
+    if (!turntable_all_finite_(x, 2)) {
+        return TURNTABLE_NONFINITE;
+    }
+
+    {
+        (void)u;
+
+        const double cos_phi1 = cos(x[0]);
+        const double sin_phi1 = sin(x[0]);
+        const double om1_2 = p->Omega*sin_phi1;
+        const double om1_3 = p->Omega*cos_phi1;
+        const double pN1_1 = -0.04156666666666666*om1_2*om1_3 + 1.22625*sin_phi1;
+
+        acc[0] = -24.0*pN1_1;
+        piv[0] = 0.041666666666666664;
+
+        code = turntable_pivots_(piv);
+        if (code != TURNTABLE_OK) {
+            return code;
+        }
+        if (qdd) {
+            for (i = 0; i < 1; ++i) {
+                qdd[i] = acc[i];
+            }
+        }
+        if (dqdd_dphi) {
+            const double om1_2_dq1 = p->Omega*cos_phi1;
+            const double om1_3_dq1 = -p->Omega*sin_phi1;
+            const double pN1_1_dq1 = -0.04156666666666666*om1_3*om1_2_dq1 - 0.04156666666666666*om1_2*om1_3_dq1 + 1.22625*cos_phi1;
+
+            dqdd_dphi[0] = -24.0*pN1_1_dq1;
+
+            if (!turntable_all_finite_(dqdd_dphi, 1)) {
+                return TURNTABLE_NONFINITE;
+            }
+        }
+        if (dqdd_dphidot) {
+        
+            dqdd_dphidot[0] = 0.0;
+
+            if (!turntable_all_finite_(dqdd_dphidot, 1)) {
+                return TURNTABLE_NONFINITE;
+            }
+        }
+        (void)dqdd_du;  /* no control inputs: an n x 0 block */
+    }
+    return turntable_all_finite_(acc, 1) ? TURNTABLE_OK : TURNTABLE_NONFINITE;
+}
+
+int turntable_linearize(double t, const double *x, const double *u, const turntable_params *p, double *A, double *B)
+{
+    /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
+     * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
+    double dq[1];
+    double dv[1];
+    int i, j, code;
+    (void)t;
+    code = turntable_qdd_derivatives(x, u, p, 0, A ? dq : 0, A ? dv : 0, 0);
+    if (code != TURNTABLE_OK) {
+        return code;
+    }
+    if (A) {
+        for (i = 0; i < 1; ++i) {
+            for (j = 0; j < 1; ++j) {
+                A[i * 2 + j] = 0.0;
+                A[i * 2 + 1 + j] = i == j ? 1.0 : 0.0;
+                A[(1 + i) * 2 + j] = dq[i * 1 + j];
+                A[(1 + i) * 2 + 1 + j] = dv[i * 1 + j];
+            }
+        }
+    }
+    (void)B;  /* no control inputs: B is 2n x 0 */
+    return TURNTABLE_OK;
 }
 
 int turntable_rhs(double t, const double *x, const double *u, const turntable_params *p, double *xdot)

@@ -26,7 +26,11 @@
  * function reads the time t: then turntable_forces, _qdd, _energy and _momentum take double t first;
  * turntable_mass_matrix never does and turntable_rhs(t, ...) passes its t on.  turntable_energy is
  * T - U with absolute velocities, U including the springs and constant fixed forces.
- * Op counts: energy 14, forces 8, jacobi 14, mass_matrix 0, qdd 9, rhs 9.
+ * turntable_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
+ * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
+ * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
+ * turntable_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
+ * Op counts: energy 14, forces 8, jacobi 14, linearize 19, mass_matrix 0, qdd 9, qdd_derivatives 19, rhs 9.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -62,6 +66,9 @@ int turntable_mass_matrix(const double *q, const turntable_params *p, double *M)
 int turntable_forces(const double *x, const double *u, const turntable_params *p, double *f);
 int turntable_qdd(const double *x, const double *u, const turntable_params *p, double *qdd);
 int turntable_rhs(double t, const double *x, const double *u, const turntable_params *p, double *xdot);
+int turntable_qdd_derivatives(const double *x, const double *u, const turntable_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int turntable_linearize(double t, const double *x, const double *u, const turntable_params *p, double *A, double *B);
 double turntable_energy(const double *x, const turntable_params *p);
 double turntable_jacobi(const double *x, const turntable_params *p);
 typedef struct turntable_integrate_stats {

@@ -22,7 +22,7 @@ MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
 HAS_JACOBI_INTEGRAL = True
 TIME_DEPENDENT = False  # forces, qdd, energy, momentum take t first
-OP_COUNTS = { "energy": 14, "forces": 8, "jacobi": 14, "mass_matrix": 0, "qdd": 9, "rhs": 9, }
+OP_COUNTS = { "energy": 14, "forces": 8, "jacobi": 14, "linearize": 19, "mass_matrix": 0, "qdd": 9, "qdd_derivatives": 19, "rhs": 9, }
 PIVOT_TOL = 1 * 2.220446049250313e-16
 
 
@@ -64,6 +64,16 @@ def _ldlt_solve(M, b):
     for i in range(n - 1, -1, -1):
         y[i] -= L[i + 1:, i] @ y[i + 1:]
     return y
+
+
+def _check_pivots(piv):
+    """The pivots D^k of the articulated recursion, tested as the C tests them."""
+    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
+    for j in range(N - 1, -1, -1):  # from the tip, as in the C
+        if not math.isfinite(piv[j]):
+            raise NonFiniteResult("M is not finite")
+        if not piv[j] > tol:
+            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
 
 
 def mass_matrix(q, p=None):
@@ -114,16 +124,62 @@ def qdd(x, u=None, p=None):
 
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
-    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
-    for j in range(N - 1, -1, -1):  # from the tip, as in the C
-        if not math.isfinite(piv[j]):
-            raise NonFiniteResult("M is not finite")
-        if not piv[j] > tol:
-            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
+    _check_pivots(piv)
     out = acc
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out
+
+
+def qdd_derivatives(x, u=None, p=None):
+    """(phi'', d phi''/d phi, d phi''/d phidot, d phi''/d u): the exact derivatives of the
+    articulated recursion (arrays N, N×N, N×N, N×NU), as NAME_qdd_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+    p_Omega = _param(p, "Omega")
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dqdd_dphi = np.empty((N, N))
+    dqdd_dphidot = np.empty((N, N))
+    dqdd_du = np.empty((N, 0))
+    try:
+        cos_phi1 = math.cos(x[0])
+        sin_phi1 = math.sin(x[0])
+        om1_2 = p_Omega*sin_phi1
+        om1_3 = p_Omega*cos_phi1
+        pN1_1 = -0.04156666666666666*om1_2*om1_3 + 1.22625*sin_phi1
+        acc[0] = -24.0*pN1_1
+        piv[0] = 0.041666666666666664
+
+        om1_2_dq1 = p_Omega*cos_phi1
+        om1_3_dq1 = -p_Omega*sin_phi1
+        pN1_1_dq1 = -0.04156666666666666*om1_3*om1_2_dq1 - 0.04156666666666666*om1_2*om1_3_dq1 + 1.22625*cos_phi1
+        dqdd_dphi[0, 0] = -24.0*pN1_1_dq1
+
+        dqdd_dphidot[0, 0] = 0.0
+
+    
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def linearize(t, x, u=None, p=None):
+    """(A, B) of xdot = A dx + B du about (x, u), as NAME_linearize (t is ignored by a model that
+    does not depend on it)."""
+    _, dq, dv, du = qdd_derivatives(x, u, p)
+    A = np.zeros((2 * N, 2 * N))
+    A[:N, N:] = np.eye(N)
+    A[N:, :N], A[N:, N:] = dq, dv
+    B = np.zeros((2 * N, du.shape[1]))
+    B[N:] = du
+    return A, B
 
 
 def rhs(t, x, u=None, p=None):

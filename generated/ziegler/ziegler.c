@@ -34,6 +34,29 @@ static void ziegler_symmetrize_(double *M)
     }
 }
 
+/* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
+ * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
+static int ziegler_pivots_(const double *piv)
+{
+    double tol = 0.0;
+    int i;
+    for (i = 0; i < 2; ++i) {
+        if (isfinite(piv[i]) && fabs(piv[i]) > tol) {
+            tol = fabs(piv[i]);
+        }
+    }
+    tol *= ZIEGLER_PIVOT_TOL;
+    for (i = 1; i >= 0; --i) {
+        if (!isfinite(piv[i])) {
+            return ZIEGLER_NONFINITE;
+        }
+        if (!(piv[i] > tol)) {
+            return ZIEGLER_SINGULAR;
+        }
+    }
+    return ZIEGLER_OK;
+}
+
 
 int ziegler_mass_matrix(const double *q, const ziegler_params *p, double *M)
 {
@@ -198,6 +221,137 @@ int ziegler_qdd(const double *x, const double *u, const ziegler_params *p, doubl
         qdd[i] = f[i];
     }
     return ziegler_all_finite_(qdd, 2) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
+}
+
+int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
+{
+    /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
+     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
+    double acc[2];
+    double piv[2];
+    int i, code;
+    if (!p) {
+        return ZIEGLER_NO_PARAMS;
+    }
+
+    if (!ziegler_all_finite_(x, 4)) {
+        return ZIEGLER_NONFINITE;
+    }
+
+    {
+        (void)u;
+
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_1 = x[2] + x[3];
+        const double aOrel2in1_3 = -0.5*x[2]*x[2];
+        const double aOg2_2 = sin_phi2*aOrel2in1_3;
+        const double aOg2_3 = cos_phi2*aOrel2in1_3;
+        const double pF2_3 = 0.5*aOg2_3 - 0.25*om2_1*om2_1 + p->P;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double u2 = -2.0*x[1] + 0.25*aOg2_2;
+        const double pa2_5 = 0.5*aOg2_2 - 1.9999920000320002*u2;
+        const double Jm2rdr_22 = 0.250000999996 - 0.24999900000400002*c2phi2;
+        const double pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3;
+        const double IA1_11 = 0.250001 + 0.25*Jm2rdr_22;
+        const double pA1_1 = -2.0*x[1] - 0.5*pc2f_2;
+        const double rD1 = 1.0/IA1_11;
+        const double u1 = -2.0*x[0] - pA1_1;
+        const double qdd1 = rD1*u1;
+        const double dv2_2 = -0.5*cos_phi2*qdd1;
+        const double qdd2 = 7.999968000128001*u2 - qdd1 + 1.9999920000320002*dv2_2;
+
+        acc[0] = qdd1;
+        acc[1] = qdd2;
+        piv[0] = IA1_11;
+        piv[1] = 0.1250005;
+
+        code = ziegler_pivots_(piv);
+        if (code != ZIEGLER_OK) {
+            return code;
+        }
+        if (qdd) {
+            for (i = 0; i < 2; ++i) {
+                qdd[i] = acc[i];
+            }
+        }
+        if (dqdd_dphi) {
+            const double aOg2_2_dq2 = cos_phi2*aOrel2in1_3;
+            const double aOg2_3_dq2 = -sin_phi2*aOrel2in1_3;
+            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
+            const double u2_dq2 = -2.0 + 0.25*aOg2_2_dq2;
+            const double pa2_5_dq2 = 0.5*aOg2_2_dq2 - 1.9999920000320002*u2_dq2;
+            const double pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - 0.5*sin_phi2*aOg2_3_dq2;
+            const double pA1_1_dq2 = -2.0 - 0.5*pc2f_2_dq2;
+            const double rD1_dq2 = 0.062499750001000005*rD1*rD1*c2phi2_dq2;
+            const double qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2;
+            const double dv2_2_dq1 = cos_phi2*rD1;
+            const double dv2_2_dq2 = 0.5*sin_phi2*qdd1 - 0.5*cos_phi2*qdd1_dq2;
+            const double qdd2_dq1 = 2.0*rD1 + 1.9999920000320002*dv2_2_dq1;
+            const double qdd2_dq2 = 7.999968000128001*u2_dq2 - qdd1_dq2 + 1.9999920000320002*dv2_2_dq2;
+
+            dqdd_dphi[0] = -2.0*rD1;
+            dqdd_dphi[1] = qdd1_dq2;
+            dqdd_dphi[2] = qdd2_dq1;
+            dqdd_dphi[3] = qdd2_dq2;
+
+            if (!ziegler_all_finite_(dqdd_dphi, 4)) {
+                return ZIEGLER_NONFINITE;
+            }
+        }
+        if (dqdd_dphidot) {
+            const double aOg2_2_dv1 = -x[2]*sin_phi2;
+            const double aOg2_3_dv1 = -x[2]*cos_phi2;
+            const double pF2_3_dv1 = 0.5*aOg2_3_dv1 - 0.5*om2_1;
+            const double pc2f_2_dv1 = 1.9999919999569293e-06*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1;
+            const double pc2f_2_dv2 = 0.5*sin_phi2*om2_1;
+            const double qdd1_dv1 = 0.5*rD1*pc2f_2_dv1;
+            const double qdd1_dv2 = 0.5*rD1*pc2f_2_dv2;
+            const double dv2_2_dv1 = -0.5*cos_phi2*qdd1_dv1;
+            const double dv2_2_dv2 = -0.5*cos_phi2*qdd1_dv2;
+            const double qdd2_dv1 = 1.9999920000320002*aOg2_2_dv1 - qdd1_dv1 + 1.9999920000320002*dv2_2_dv1;
+            const double qdd2_dv2 = -qdd1_dv2 + 1.9999920000320002*dv2_2_dv2;
+
+            dqdd_dphidot[0] = qdd1_dv1;
+            dqdd_dphidot[1] = qdd1_dv2;
+            dqdd_dphidot[2] = qdd2_dv1;
+            dqdd_dphidot[3] = qdd2_dv2;
+
+            if (!ziegler_all_finite_(dqdd_dphidot, 4)) {
+                return ZIEGLER_NONFINITE;
+            }
+        }
+        (void)dqdd_du;  /* no control inputs: an n x 0 block */
+    }
+    return ziegler_all_finite_(acc, 2) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
+}
+
+int ziegler_linearize(double t, const double *x, const double *u, const ziegler_params *p, double *A, double *B)
+{
+    /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
+     * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
+    double dq[4];
+    double dv[4];
+    int i, j, code;
+    (void)t;
+    code = ziegler_qdd_derivatives(x, u, p, 0, A ? dq : 0, A ? dv : 0, 0);
+    if (code != ZIEGLER_OK) {
+        return code;
+    }
+    if (A) {
+        for (i = 0; i < 2; ++i) {
+            for (j = 0; j < 2; ++j) {
+                A[i * 4 + j] = 0.0;
+                A[i * 4 + 2 + j] = i == j ? 1.0 : 0.0;
+                A[(2 + i) * 4 + j] = dq[i * 2 + j];
+                A[(2 + i) * 4 + 2 + j] = dv[i * 2 + j];
+            }
+        }
+    }
+    (void)B;  /* no control inputs: B is 2n x 0 */
+    return ZIEGLER_OK;
 }
 
 int ziegler_rhs(double t, const double *x, const double *u, const ziegler_params *p, double *xdot)

@@ -26,7 +26,11 @@
  * function reads the time t: then ziegler_forces, _qdd, _energy and _momentum take double t first;
  * ziegler_mass_matrix never does and ziegler_rhs(t, ...) passes its t on.  ziegler_energy is
  * T - U with absolute velocities, U including the springs and constant fixed forces.
- * Op counts: energy 20, forces 24, mass_matrix 5, momentum 8, qdd 39, rhs 39.
+ * ziegler_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
+ * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
+ * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
+ * ziegler_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
+ * Op counts: energy 20, forces 24, linearize 105, mass_matrix 5, momentum 8, qdd 39, qdd_derivatives 105, rhs 39.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -62,6 +66,9 @@ int ziegler_mass_matrix(const double *q, const ziegler_params *p, double *M);
 int ziegler_forces(const double *x, const double *u, const ziegler_params *p, double *f);
 int ziegler_qdd(const double *x, const double *u, const ziegler_params *p, double *qdd);
 int ziegler_rhs(double t, const double *x, const double *u, const ziegler_params *p, double *xdot);
+int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_params *p,
+                         double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int ziegler_linearize(double t, const double *x, const double *u, const ziegler_params *p, double *A, double *B);
 double ziegler_energy(const double *x, const ziegler_params *p);
 double ziegler_momentum(const double *x, const ziegler_params *p);
 typedef struct ziegler_integrate_stats {

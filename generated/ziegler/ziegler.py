@@ -22,7 +22,7 @@ MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
 HAS_JACOBI_INTEGRAL = False
 TIME_DEPENDENT = False  # forces, qdd, energy, momentum take t first
-OP_COUNTS = { "energy": 20, "forces": 24, "mass_matrix": 5, "momentum": 8, "qdd": 39, "rhs": 39, }
+OP_COUNTS = { "energy": 20, "forces": 24, "linearize": 105, "mass_matrix": 5, "momentum": 8, "qdd": 39, "qdd_derivatives": 105, "rhs": 39, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -64,6 +64,16 @@ def _ldlt_solve(M, b):
     for i in range(n - 1, -1, -1):
         y[i] -= L[i + 1:, i] @ y[i + 1:]
     return y
+
+
+def _check_pivots(piv):
+    """The pivots D^k of the articulated recursion, tested as the C tests them."""
+    tol = PIVOT_TOL * np.max(np.abs(piv), initial=0.0, where=np.isfinite(piv))
+    for j in range(N - 1, -1, -1):  # from the tip, as in the C
+        if not math.isfinite(piv[j]):
+            raise NonFiniteResult("M is not finite")
+        if not piv[j] > tol:
+            raise SingularMassMatrix(f"M is not positive definite (pivot {j + 1} is {piv[j]:.3g})")
 
 
 def mass_matrix(q, p=None):
@@ -137,6 +147,100 @@ def qdd(x, u=None, p=None):
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out
+
+
+def qdd_derivatives(x, u=None, p=None):
+    """(phi'', d phi''/d phi, d phi''/d phidot, d phi''/d u): the exact derivatives of the
+    articulated recursion (arrays N, N×N, N×N, N×NU), as NAME_qdd_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+    p_P = _param(p, "P")
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dqdd_dphi = np.empty((N, N))
+    dqdd_dphidot = np.empty((N, N))
+    dqdd_du = np.empty((N, 0))
+    try:
+        cos_phi2 = math.cos(x[1])
+        sin_phi2 = math.sin(x[1])
+        om2_1 = x[2] + x[3]
+        aOrel2in1_3 = -0.5*x[2]*x[2]
+        aOg2_2 = sin_phi2*aOrel2in1_3
+        aOg2_3 = cos_phi2*aOrel2in1_3
+        pF2_3 = 0.5*aOg2_3 - 0.25*om2_1*om2_1 + p_P
+        c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
+        u2 = -2.0*x[1] + 0.25*aOg2_2
+        pa2_5 = 0.5*aOg2_2 - 1.9999920000320002*u2
+        Jm2rdr_22 = 0.250000999996 - 0.24999900000400002*c2phi2
+        pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3
+        IA1_11 = 0.250001 + 0.25*Jm2rdr_22
+        pA1_1 = -2.0*x[1] - 0.5*pc2f_2
+        rD1 = 1.0/IA1_11
+        u1 = -2.0*x[0] - pA1_1
+        qdd1 = rD1*u1
+        dv2_2 = -0.5*cos_phi2*qdd1
+        qdd2 = 7.999968000128001*u2 - qdd1 + 1.9999920000320002*dv2_2
+        acc[0] = qdd1
+        acc[1] = qdd2
+        piv[0] = IA1_11
+        piv[1] = 0.1250005
+
+        aOg2_2_dq2 = cos_phi2*aOrel2in1_3
+        aOg2_3_dq2 = -sin_phi2*aOrel2in1_3
+        c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
+        u2_dq2 = -2.0 + 0.25*aOg2_2_dq2
+        pa2_5_dq2 = 0.5*aOg2_2_dq2 - 1.9999920000320002*u2_dq2
+        pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - 0.5*sin_phi2*aOg2_3_dq2
+        pA1_1_dq2 = -2.0 - 0.5*pc2f_2_dq2
+        rD1_dq2 = 0.062499750001000005*rD1*rD1*c2phi2_dq2
+        qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2
+        dv2_2_dq1 = cos_phi2*rD1
+        dv2_2_dq2 = 0.5*sin_phi2*qdd1 - 0.5*cos_phi2*qdd1_dq2
+        qdd2_dq1 = 2.0*rD1 + 1.9999920000320002*dv2_2_dq1
+        qdd2_dq2 = 7.999968000128001*u2_dq2 - qdd1_dq2 + 1.9999920000320002*dv2_2_dq2
+        dqdd_dphi[0, 0] = -2.0*rD1
+        dqdd_dphi[0, 1] = qdd1_dq2
+        dqdd_dphi[1, 0] = qdd2_dq1
+        dqdd_dphi[1, 1] = qdd2_dq2
+
+        aOg2_2_dv1 = -x[2]*sin_phi2
+        aOg2_3_dv1 = -x[2]*cos_phi2
+        pF2_3_dv1 = 0.5*aOg2_3_dv1 - 0.5*om2_1
+        pc2f_2_dv1 = 1.9999919999569293e-06*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1
+        pc2f_2_dv2 = 0.5*sin_phi2*om2_1
+        qdd1_dv1 = 0.5*rD1*pc2f_2_dv1
+        qdd1_dv2 = 0.5*rD1*pc2f_2_dv2
+        dv2_2_dv1 = -0.5*cos_phi2*qdd1_dv1
+        dv2_2_dv2 = -0.5*cos_phi2*qdd1_dv2
+        qdd2_dv1 = 1.9999920000320002*aOg2_2_dv1 - qdd1_dv1 + 1.9999920000320002*dv2_2_dv1
+        qdd2_dv2 = -qdd1_dv2 + 1.9999920000320002*dv2_2_dv2
+        dqdd_dphidot[0, 0] = qdd1_dv1
+        dqdd_dphidot[0, 1] = qdd1_dv2
+        dqdd_dphidot[1, 0] = qdd2_dv1
+        dqdd_dphidot[1, 1] = qdd2_dv2
+
+    
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def linearize(t, x, u=None, p=None):
+    """(A, B) of xdot = A dx + B du about (x, u), as NAME_linearize (t is ignored by a model that
+    does not depend on it)."""
+    _, dq, dv, du = qdd_derivatives(x, u, p)
+    A = np.zeros((2 * N, 2 * N))
+    A[:N, N:] = np.eye(N)
+    A[N:, :N], A[N:, N:] = dq, dv
+    B = np.zeros((2 * N, du.shape[1]))
+    B[N:] = du
+    return A, B
 
 
 def rhs(t, x, u=None, p=None):

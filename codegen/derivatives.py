@@ -1,0 +1,146 @@
+"""Exact derivatives of φ̈: forward-mode differentiation of the straight-line program.
+
+φ̈ is the articulated-body recursion of aba.py, a straight-line program of named quantities.
+Differentiating each definition in program order (the chain rule, one tangent per input
+direction) gives the derivative of exactly the code that is emitted, not of a closed form and not
+a finite difference.  The tangents are quantities of the same program: named when they are not
+simple, folded when they are numbers, and absent when they are zero, so the sparsity of the
+chain is used by construction (nothing upstream of φᵏ depends on it, the inertias do not depend
+on φ̇ at all, a control torque only enters its joint's bias).  The directions are φ¹…φⁿ, φ̇¹…φ̇ⁿ
+and the controls u; per direction the cost is O(n) (the recursion is O(n)), so the whole
+Jacobian is O(n²).
+
+A polynomial definition c·a₁a₂⋯ differentiates term by term (product rule); a non-polynomial one
+(cos φᵏ, a reciprocal 1/Dᵏ, a user's expression) by sympy's ``diff`` of its right side, with the
+result written in the program's quantities where they exist (−sin φᵏ is the existing sin_phi;
+d(1/D) = −(1/D)² dD reuses the reciprocal).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .algebra import Atom, Poly, ZERO
+from .program import Program, Var
+
+
+@dataclass(frozen=True)
+class Derivatives:
+    """``qdd[k]``, ``pivots[k]``: the recursion's φ̈ and Dᵏ; ``dqdd[k][j]``: ∂φ̈ᵏ⁺¹/∂(direction j)
+    with the directions ``labels`` (q1…qn, v1…vn, u1…): φ, φ̇, then the controls in order."""
+
+    labels: tuple
+    qdd: tuple
+    pivots: tuple
+    dqdd: tuple
+
+    def block(self, kind: str) -> list:
+        """The n×m block of ∂φ̈ for 'q', 'v' or 'u', row-major as a flat list."""
+        cols = [j for j, lab in enumerate(self.labels) if lab[0] == kind]
+        return [self.dqdd[k][j] for k in range(len(self.qdd)) for j in cols]
+
+
+def _to_poly(P: Program, expr: sp.Expr, atom: Atom, rhs: sp.Expr, name: str) -> Poly:
+    """A partial derivative (sympy) as a polynomial of the program's quantities.  Powers of the
+    definition's own right side reuse its atom (d(1/D)/dD = −(1/D)²); cos φ, sin φ and the user's
+    expressions the program already has are found by their alias; anything else is named."""
+    if expr.is_number:
+        return Poly.const(float(expr.evalf(30)))
+    if isinstance(expr, Var):
+        return Poly.atom(P._by_name[expr.name])
+    if expr.is_Symbol:
+        return P.input(expr)
+    if expr == rhs:
+        return Poly.atom(atom)
+    if expr.is_Add:
+        return sum((_to_poly(P, a, atom, rhs, name) for a in expr.args), ZERO)
+    if expr.is_Mul:
+        out = Poly.const(1)
+        for a in expr.args:
+            out = out * _to_poly(P, a, atom, rhs, name)
+        return out
+    if expr.is_Pow and expr.exp.is_Integer:
+        e = int(expr.exp)
+        if e > 0:
+            base = _to_poly(P, expr.base, atom, rhs, name)
+        elif sp.Pow(expr.base, -1) == rhs:
+            base, e = Poly.atom(atom), -e
+        else:
+            base = None
+        if base is not None:
+            out = Poly.const(1)
+            for _ in range(e):
+                out = out * base
+            return out
+    if expr in P._opaque:
+        return P._opaque[expr]
+    k = 1
+    while f"{name}_{k}" in P._by_name:
+        k += 1
+    value = P.let_sympy(f"{name}_{k}", expr)
+    P._opaque[expr] = value
+    return value
+
+
+def _tangent_poly(rhs: Poly, tan: dict) -> dict:
+    out: dict = {}
+    for m, c in rhs.terms.items():
+        for i, a in enumerate(m):
+            ta = tan.get(a)
+            if not ta:
+                continue
+            rest = Poly({m[:i] + m[i + 1:]: c})
+            for j, d in ta.items():
+                out[j] = out.get(j, ZERO) + rest * d
+    return out
+
+
+def _tangent_sympy(P: Program, a: Atom, rhs: sp.Expr, tan: dict) -> dict:
+    out: dict = {}
+    for s in sorted(rhs.free_symbols, key=str):
+        src = P._by_name[s.name] if isinstance(s, Var) else P._inputs.get(s)
+        ts = tan.get(src)
+        if not ts:
+            continue
+        partial = _to_poly(P, sp.diff(rhs, s), a, rhs, f"{a.name}_p")
+        for j, d in ts.items():
+            out[j] = out.get(j, ZERO) + partial * d
+    return out
+
+
+def tangents(P: Program, outputs, seeds: dict, labels) -> dict:
+    """Forward mode over the definitions the outputs need: atom → {direction: Poly}.  ``seeds``
+    gives the inputs' tangents (φᵏ ↦ {j: 1}).  Every nonzero tangent that is not simple is a
+    named quantity ``<name>_d<label>``."""
+    tan = dict(seeds)
+    for a, rhs in P.needed(outputs):
+        d = _tangent_poly(rhs, tan) if isinstance(rhs, Poly) else _tangent_sympy(P, a, rhs, tan)
+        named = {}
+        for j in sorted(d):
+            if not d[j].is_zero():
+                named[j] = P.let(f"{a.name}_d{labels[j]}", d[j])
+        if named:
+            tan[a] = named
+    return tan
+
+
+def derive(spec, kin, art) -> Derivatives:
+    """∂φ̈/∂(φ, φ̇, u) of the articulated recursion ``art`` (aba.derive)."""
+    P = kin.prog
+    n = spec.n
+    syms = [kin.phi[k] for k in range(1, n + 1)] + [kin.phidot[k] for k in range(1, n + 1)]
+    syms += [kin.torque[k] for k in spec.controls]
+    labels = tuple([f"q{k}" for k in range(1, n + 1)] + [f"v{k}" for k in range(1, n + 1)]
+                   + [f"u{i + 1}" for i in range(len(spec.controls))])
+    seeds = {}
+    for j, s in enumerate(syms):
+        seeds[next(iter(P.input(s).terms))[0]] = {j: Poly.const(1)}
+    outs = list(art.qdd)
+    tan = tangents(P, outs, seeds, labels)
+
+    dqdd = []
+    for k in range(n):
+        row = _tangent_poly(art.qdd[k], tan)
+        dqdd.append(tuple(row.get(j, ZERO) for j in range(len(labels))))
+    return Derivatives(labels, tuple(art.qdd), tuple(art.pivots), tuple(dqdd))

@@ -1,0 +1,92 @@
+"""NAME_qdd_derivatives and NAME_linearize: exact derivatives of the emitted φ̈ (forward mode over
+the articulated recursion).  The random chains of test_models.py and test_general.py check them
+against differences of the reference model; here: every example, the API's NULL blocks and
+codes, the structure of A and B, and a mutation check (a perturbed derivative is caught)."""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+from codegen import build
+from codegen.build import ModelError
+from conftest import EXAMPLES, check_derivatives
+
+
+def _state(rng, n):
+    return np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.normal(size=n)])
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_examples_derivatives(example, name, rng):
+    m = example(name)
+    nu = len(m.spec.controls)
+    for _ in range(3):
+        x = _state(rng, m.spec.n)
+        check_derivatives(m, x, rng.normal(size=nu) if nu else None, t=rng.uniform(0.0, 1.0) if m.c.time_dependent else None)
+
+
+def test_null_blocks_and_linearize(example, rng):
+    m = example("furuta")  # a control torque: all three blocks exist
+    c, ffi, n, nu = m.c, m.c.ffi, m.spec.n, m.c.nu
+    x, u = _state(rng, n), rng.normal(size=nu)
+    q, dq, dv, du = c.qdd_derivatives(x, u)
+    assert np.allclose(q, c.qdd(x, u), rtol=1e-13, atol=1e-13)  # the articulated and the model's form agree
+    # only the φ̇ block asked for: the others stay untouched
+    out = np.full((n, n), 7.0)
+    xp = ffi.cast("double *", ffi.from_buffer(np.ascontiguousarray(x)))
+    up = ffi.cast("double *", ffi.from_buffer(np.ascontiguousarray(u)))
+    assert c.lib.furuta_qdd_derivatives(xp, up, ffi.NULL, ffi.NULL, ffi.NULL, ffi.cast("double *", ffi.from_buffer(out)), ffi.NULL) == 0
+    assert np.array_equal(out, dv)
+    A, B = c.linearize(x, u)
+    assert np.array_equal(A[:n, :n], np.zeros((n, n))) and np.array_equal(A[:n, n:], np.eye(n))
+    assert np.array_equal(A[n:, :n], dq) and np.array_equal(A[n:, n:], dv)
+    assert np.array_equal(B[:n], np.zeros((n, nu))) and np.array_equal(B[n:], du)
+    Ap, Bp = m.py.linearize(0.0, x, u)
+    assert np.allclose(Ap, A, rtol=1e-13, atol=1e-12) and np.allclose(Bp, B, rtol=1e-13, atol=1e-12)
+    # B depends on the control only through M: the linearisation is exact in u
+    dx = 1e-3 * rng.normal(size=nu)
+    assert np.allclose(c.qdd(x, u + dx) - c.qdd(x, u), du @ dx, rtol=1e-9, atol=1e-14)
+
+
+def test_time_dependent_linearize_reads_t(example):
+    m = example("kapitza")
+    x = np.array([np.pi - 0.1, 0.0])
+    A0, _ = m.c.linearize(x, params=m.params, t=0.0)
+    A1, _ = m.c.linearize(x, params=m.params, t=0.3 * 2 * np.pi / m.params["w"])
+    assert not np.allclose(A0, A1)  # the pivot's acceleration enters ∂φ̈/∂φ
+    assert np.allclose(A1, m.py.linearize(0.3 * 2 * np.pi / m.params["w"], x, None, m.params)[0], rtol=1e-13, atol=1e-12)
+
+
+def test_codes(example):
+    m = example("furuta_sym")
+    x = np.array([0.1, 0.2, 0.3, 0.4])
+    with pytest.raises(ModelError) as err:
+        m.c.qdd_derivatives(x, None, {k: 0.0 for k in m.params})
+    assert err.value.code == 1  # M = 0: SINGULAR, as NAME_qdd says
+    with pytest.raises(ModelError) as err:
+        m.c.linearize(np.array([np.nan, 0, 0, 0]), None, m.params)
+    assert err.value.code == 2
+    with pytest.raises(ModelError) as err:
+        m.c.linearize(x)  # p NULL with symbolic parameters
+    assert err.value.code == 3
+
+
+def test_mutation_is_caught(example, tmp_path, rng):
+    """A derivative perturbed in the emitted code by one part in 10⁶ fails the difference check:
+    the check can fail (and would catch a wrong chain rule)."""
+    m = example("spatial3")
+    x = _state(rng, 3)
+    u = rng.normal(size=len(m.spec.controls))
+    check_derivatives(m, x, u)  # the original passes
+    dq = m.py.qdd_derivatives(x, u)[1]
+    i, j = np.unravel_index(np.argmax(np.abs(dq)), dq.shape)  # an entry that is not zero here
+    lines = (m.folder / "spatial3.py").read_text().splitlines()
+    target = next(k for k, ln in enumerate(lines) if ln.strip().startswith(f"dqdd_dphi[{i}, {j}] = "))
+    lhs, rhs = lines[target].split(" = ", 1)
+    lines[target] = f"{lhs} = (1.0 + 1e-6) * ({rhs})"
+    (tmp_path / "spatial3.py").write_text("\n".join(lines) + "\n")
+    mutated = build.load_python(tmp_path, "spatial3")
+    with pytest.raises(AssertionError):
+        check_derivatives(type(m)(m.spec, mutated, m.c, m.ref, m.params, tmp_path), x, u)
