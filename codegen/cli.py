@@ -226,6 +226,34 @@ def cmd_simulate(args) -> int:
     return 0
 
 
+def cmd_steady(args) -> int:
+    """Equilibria and steady rotations of a spec, with their stability."""
+    from . import steady
+
+    spec = load_spec(args.spec)
+    params = {}
+    for item in args.param or []:
+        key, _, val = item.partition("=")
+        try:
+            params[key] = float(val)
+        except ValueError:
+            raise SpecError(f"--param {key}", "expected name=number") from None
+    unknown = sorted(set(params) - {str(p) for p in spec.params})
+    if unknown:
+        raise SpecError("--param", f"unknown parameter {unknown[0]} (the spec's are: {', '.join(map(str, spec.params)) or 'none'})")
+    u = _floats(args.u, "--u", len(spec.controls)) if args.u else None
+    starts = [_floats(s, "--start", spec.n) for s in args.start or []]
+    try:
+        omegas = steady.parse_range(args.omega) if args.omega else None
+        an, eqs, branches, omegas = steady.analyze_spec(spec, params or None, u, omegas, starts, rotations=not args.no_rotations)
+    except steady.SteadyError as exc:
+        what, _, why = str(exc).partition(": ")
+        raise SpecError(what, why) from None
+    print(f"{spec.name}: n = {spec.n}" + (f", u = {u}" if u else "") + (f", {params}" if params else ""))
+    print(steady.report(an, eqs, branches, omegas))
+    return 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m codegen", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -249,9 +277,16 @@ def main(argv=None) -> int:
     s.add_argument("--phidot", default="")
     s.add_argument("--u", default="", help="constant torques of the controlled joints")
     s.add_argument("--param", action="append", help="name=value for a symbolic parameter")
+    st = sub.add_parser("steady", help="equilibria and steady rotations, with their stability")
+    st.add_argument("spec")
+    st.add_argument("--u", default="", help="constant torques of the controlled joints (required if the spec has any)")
+    st.add_argument("--param", action="append", help="name=value for a symbolic parameter")
+    st.add_argument("--omega", default="", help="a:b:N grid of the rotation rate phidot1 (default: from the equilibria)")
+    st.add_argument("--start", action="append", help="an extra Newton start phi1,...,phin")
+    st.add_argument("--no-rotations", action="store_true", help="equilibria only")
     args = ap.parse_args(argv)
     try:
-        return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate}[args.cmd](args)
+        return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady}[args.cmd](args)
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -1,0 +1,412 @@
+"""Steady motions of a generated model and their stability: ``python -m codegen steady SPEC``.
+
+Everything here runs on the emitted C through its exact derivatives (NAME_qdd_derivatives,
+NAME_mass_matrix); nothing is differenced.
+
+* Equilibria: φ̇ = 0, φ̈(φ) = 0, by Newton's method with ∂φ̈/∂φ from a documented set of starts
+  (``STARTS``).  When φ¹ is cyclic (l¹ vertical, no torque in joint 1: ∂φ̈/∂φ¹ ≡ 0) an equilibrium
+  is the ω = 0 member of the steady rotations below and φ¹ is arbitrary (reported as 0).
+* Steady rotations / precessions φ̇¹ = ω, φ², … at rest, where φ¹ is cyclic: φ̈ʳ(φ; ω) = 0 for
+  r ≥ 2 (then φ̈¹ = 0 too, from the conservation of p₁ = ∂ℒ/∂φ̇¹), continued over a grid of ω and
+  joined into branches; new branches are looked for from every start at every ω.
+* Stability.  The linearisation A = NAME_linearize; for a steady rotation the reduced system at
+  fixed momentum: δφ¹ drops out (cyclic), and δφ̇¹ = −(∂p₁/∂φʳ δφʳ + M₁ᵣ δφ̇ʳ)/M₁₁ on δp₁ = 0,
+  where ∂p₁/∂φ̇ = M₁· (the first row of M) and ∂p₁/∂φʳ = −M₁·∂φ̈/∂φ̇ʳ (p₁ is conserved, so its
+  gradient is a left null vector of A).  The reduced equations are M_red δq̈ + G δq̇ + K δq = 0
+  with M_red = M_rr − M_r1 M_1r/M₁₁ (Routh), so K = −M_red ∂δq̈/∂δq is the Hessian of the energy
+  at an equilibrium, of the amended potential at a steady rotation (Routh), and G the
+  gyroscopic matrix.  Verdicts (``classify``):
+  - "unstable": an eigenvalue of A with positive real part (Lyapunov's first method);
+  - "stable (energy–momentum)": K positive definite and the energy (or Jacobi) integral exists
+    at constant u — a Lyapunov function (Lagrange–Dirichlet; Routh for steady rotations);
+  - "asymptotically stable": every eigenvalue in the open left half plane (damping);
+  - "linearly stable": every eigenvalue on the imaginary axis and distinct; when K is not
+    positive definite this is gyroscopic stabilisation (Kelvin–Tait–Chetaev), stable to first
+    order but not proved by the linearisation — the reason says so;
+  - "degenerate": a zero eigenvalue of K (a family of steady motions, or higher-order terms
+    decide).
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+STARTS = "every combination of 0, pi/2, pi, -pi/2 per free coordinate (n_free <= 4); beyond that 0 and pi per coordinate (at most 256) and 32 random points (seed 0)"
+
+VERDICTS = ("unstable", "stable (energy–momentum)", "asymptotically stable", "linearly stable", "degenerate")
+
+
+class SteadyError(ValueError):
+    """Bad input to the analysis (one line, naming what)."""
+
+
+@dataclass
+class Steady:
+    phi: np.ndarray  # the coordinates (φ¹ = 0 when it is cyclic)
+    omega: float  # φ̇¹ (0 for an equilibrium)
+    eigenvalues: np.ndarray  # of the (reduced) linearisation
+    K: np.ndarray  # Hessian of the energy / amended potential (reduced coordinates)
+    G: np.ndarray  # gyroscopic (and damping) matrix
+    verdict: str
+    reason: str
+
+    @property
+    def x(self) -> np.ndarray:
+        n = len(self.phi)
+        return np.concatenate([self.phi, [self.omega] + [0.0] * (n - 1)])
+
+
+@dataclass
+class Branch:
+    """Steady rotations continued over ω: ``points`` in increasing ω; ``changes`` the values of ω
+    where the verdict changes (refined by bisection), with the verdicts on either side."""
+
+    points: list = field(default_factory=list)
+    changes: list = field(default_factory=list)
+
+
+def _wrap(phi):
+    """Angles in (−π, π]."""
+    r = (np.asarray(phi, float) + np.pi) % (2 * np.pi) - np.pi
+    return np.where(r <= -np.pi + 1e-12, r + 2 * np.pi, r)
+
+
+TIME_DEPENDENT = "steady: the model depends on t (a moving platform or a load of t): it has no steady motions in this sense"
+
+
+def check_inputs(spec, params, u) -> None:
+    """The inputs the analysis needs, checked before anything is built."""
+    if spec.controls and u is None:
+        ks = ", ".join(map(str, spec.controls))
+        raise SteadyError(f"--u: the spec has control torques (joints {ks}): give their constant values")
+    missing = [str(p) for p in spec.params if params is None or str(p) not in params]
+    if missing:
+        raise SteadyError("--param: give a value for every symbolic parameter; missing: " + ", ".join(missing))
+    if u is not None and not np.all(np.isfinite(u)):
+        raise SteadyError("--u: not finite")
+
+
+class Analysis:
+    """A built model (codegen.build.CModel) with the facts the verdicts need."""
+
+    def __init__(self, cmodel, model, params=None, u=None):
+        from .emit import time_dependent
+
+        spec = model.spec
+        self.c, self.n = cmodel, spec.n
+        if time_dependent(model):
+            raise SteadyError(TIME_DEPENDENT)
+        check_inputs(spec, params, u)
+        self.params, self.u = params, (None if u is None else np.asarray(u, float))
+        ints = model.integrals
+        others = [r for r in ints.energy_reasons if not r.startswith("control torques")]
+        self.conservative = not others or ints.jacobi is not None
+        self.integral = "Jacobi integral" if ints.jacobi is not None and others else "energy"
+        u1 = 1 in spec.controls and self.u[spec.controls.index(1)] != 0.0
+        self.cyclic = ints.momentum is not None and not u1 and self._cyclic_numerically()
+        self.rate = self._reference_rate()
+
+    def _reference_rate(self) -> float:
+        """The fastest rate of the linearisations at rest over the starts (the scale of 'zero'
+        for eigenvalues and for K / M)."""
+        rate = 0.0
+        for s in self.starts():
+            try:
+                A, _ = self.c.linearize(np.concatenate([s, np.zeros(self.n)]), self.u, self.params)
+            except ArithmeticError:
+                continue
+            rate = max(rate, np.max(np.abs(np.linalg.eigvals(A))))
+        return rate if rate > 0 else 1.0
+
+    def _cyclic_numerically(self) -> bool:
+        rng = np.random.default_rng(0)
+        for _ in range(2):
+            x = np.concatenate([rng.uniform(-3, 3, self.n), rng.normal(size=self.n)])
+            try:
+                _, dq, _, _ = self.c.qdd_derivatives(x, self.u, self.params)
+            except ArithmeticError:
+                continue
+            if np.max(np.abs(dq[:, 0])) > 1e-13 * max(1.0, np.max(np.abs(dq))):
+                return False
+        return True
+
+    # ---- Newton on φ̈ = 0
+    def solve(self, start, omega: float = 0.0, tol: float = 1e-12, iters: int = 60):
+        """Newton (least squares, with backtracking) for φ̈ = 0 in the free coordinates; None if
+        it does not converge."""
+        n = self.n
+        free = list(range(1, n)) if self.cyclic else list(range(n))
+        rows = free
+        phi = np.array(start, float)
+        if self.cyclic:
+            phi[0] = 0.0
+
+        def resid(ph):
+            x = np.concatenate([ph, [omega if self.cyclic else 0.0] + [0.0] * (n - 1)])
+            q, dq, _, _ = self.c.qdd_derivatives(x, self.u, self.params)
+            return q[rows], dq[np.ix_(rows, free)]
+
+        if not free:
+            return phi
+        try:
+            r, J = resid(phi)
+        except ArithmeticError:
+            return None
+        scale = max(1.0, np.max(np.abs(J)))
+        for _ in range(iters):
+            if np.max(np.abs(r)) <= tol * scale:
+                return phi
+            step = np.linalg.lstsq(J, -r, rcond=None)[0]
+            lam = 1.0
+            while lam > 1e-4:
+                trial = phi.copy()
+                trial[free] += lam * step
+                try:
+                    r2, J2 = resid(trial)
+                except ArithmeticError:
+                    lam /= 2
+                    continue
+                if np.max(np.abs(r2)) < np.max(np.abs(r)) or np.max(np.abs(r2)) <= tol * scale:
+                    break
+                lam /= 2
+            else:
+                return None
+            phi, r, J = trial, r2, J2
+        return phi if np.max(np.abs(r)) <= 1e3 * tol * scale else None
+
+    def starts(self, extra=()):
+        nf = self.n - 1 if self.cyclic else self.n
+        if nf <= 4:
+            grid = [list(c) for c in itertools.product((0.0, np.pi / 2, np.pi, -np.pi / 2), repeat=nf)]
+        else:
+            grid = [list(c) for c in itertools.islice(itertools.product((0.0, np.pi), repeat=nf), 256)]
+            grid += [list(r) for r in np.random.default_rng(0).uniform(-np.pi, np.pi, (32, nf))]
+        pre = [0.0] if self.cyclic else []
+        return [np.array(pre + g) for g in grid] + [np.asarray(e, float) for e in extra]
+
+    # ---- the linearisation and the verdict
+    def classify(self, phi, omega: float = 0.0) -> Steady:
+        n = self.n
+        x = np.concatenate([phi, [omega if self.cyclic else 0.0] + [0.0] * (n - 1)])
+        _, dq, dv, _ = self.c.qdd_derivatives(x, self.u, self.params)
+        M = self.c.mass_matrix(x[:n], self.params)
+        if self.cyclic:
+            l_v = M[0]
+            l_q = -l_v @ dv[:, 1:]  # ∂p₁/∂φʳ, r ≥ 2
+            col = dv[1:, 0]  # how φ̈ʳ reads δφ̇¹
+            corr = np.outer(col, l_q / l_v[0])
+            Kq = dq[1:, 1:] - corr
+            terms = max(np.max(np.abs(dq[1:, 1:]), initial=0.0), np.max(np.abs(corr), initial=0.0))
+            Kv = dv[1:, 1:] - np.outer(col, l_v[1:] / l_v[0])
+            Mr = M[1:, 1:] - np.outer(M[1:, 0], M[0, 1:]) / M[0, 0]
+        else:
+            Kq, Kv, Mr = dq, dv, M
+            terms = np.max(np.abs(dq))
+        m = Kq.shape[0]
+        A = np.block([[np.zeros((m, m)), np.eye(m)], [Kq, Kv]]) if m else np.zeros((0, 0))
+        K, G = -Mr @ Kq, -Mr @ Kv
+        K = (K + K.T) / 2
+        ev = np.linalg.eigvals(A) if m else np.zeros(0)
+        # what zero means for K: round-off of the terms it was computed from, and a floor at
+        # 1e-14 of the fastest rate's scale (K exactly zero in exact arithmetic)
+        big = np.max(np.abs(Mr)) if m else 1.0
+        kzero = max(1e-11 * big * terms, 1e-14 * big * max(self.rate, abs(omega)) ** 2)
+        verdict, reason = self._verdict(ev, K, G, kzero, omega)
+        return Steady(np.array(phi, float), float(omega), ev, K, G, verdict, reason)
+
+    def _verdict(self, ev, K, G, kzero: float, omega: float):
+        """``kzero``: below this an eigenvalue of K counts as zero."""
+        if not len(ev):
+            return "stable (energy–momentum)", "no coordinate left to perturb: a uniform rotation of the whole chain"
+        size = max(self.rate, abs(omega), np.max(np.abs(ev)))
+        tol = 1e-7 * size
+        kev = np.linalg.eigvalsh(K)
+        neg = int(np.sum(kev < -kzero))
+        zero = int(np.sum(np.abs(kev) <= kzero))
+        what = "amended potential" if self.cyclic else ("energy" if self.integral == "energy" else "effective potential (Jacobi integral)")
+        worst = ev[np.argmax(ev.real)]
+        if worst.real > tol:
+            why = f"eigenvalue {worst.real:.6g}{worst.imag:+.6g}i has a positive real part"
+            if neg:
+                why += f"; the Hessian of the {what} has {neg} negative eigenvalue{'s' if neg > 1 else ''}"
+            return "unstable", why
+        if self.conservative and neg == 0 and zero == 0:
+            return "stable (energy–momentum)", f"the Hessian of the {what} is positive definite (smallest eigenvalue {kev[0]:.6g})"
+        if np.all(ev.real < -tol):
+            return "asymptotically stable", f"every eigenvalue has a negative real part (largest {worst.real:.6g})"
+        if zero:
+            return "degenerate", f"the Hessian of the {what} is singular ({zero} zero eigenvalue{'s' if zero > 1 else ''}): a family of steady motions or higher-order terms decide"
+        if neg:
+            return "linearly stable", (f"gyroscopic stabilisation: the Hessian of the {what} has {neg} negative eigenvalues, the gyroscopic "
+                                       "terms make every eigenvalue imaginary (stable to first order, not proved)")
+        return "linearly stable", "every eigenvalue is on the imaginary axis"
+
+    # ---- the searches
+    def equilibria(self, extra_starts=()) -> list[Steady]:
+        found = []
+        for s in self.starts(extra_starts):
+            phi = self.solve(s, 0.0)
+            if phi is None:
+                continue
+            phi = _wrap(phi)
+            if any(np.max(np.abs(_wrap(phi - f))) < 1e-7 for f in found):
+                continue
+            found.append(phi)
+        found.sort(key=lambda p: tuple(np.round(p, 9)))
+        return [self.classify(p, 0.0) for p in found]
+
+    def rotations(self, omegas, extra_starts=()) -> list[Branch]:
+        """Steady rotations φ̇¹ = ω over the grid ``omegas`` (increasing), as branches."""
+        if not self.cyclic:
+            raise SteadyError("--omega: phi1 is not cyclic (l1 not vertical, or a torque in joint 1): no steady rotations")
+        omegas = np.asarray(omegas, float)
+        branches: list[Branch] = []
+        active: list[Branch] = []
+        for w in omegas:
+            still, ended = [], []
+            for br in active:
+                last = br.points[-1]
+                phi = self.solve(last.phi, w)
+                if phi is None or np.max(np.abs(_wrap(phi - last.phi))) >= 0.5:
+                    ended.append(br)  # a fold, or Newton jumped away (steep near a pitchfork)
+                    continue
+                phi = _wrap(phi)
+                if any(np.max(np.abs(_wrap(phi - b.points[-1].phi))) < 1e-6 for b in still):
+                    ended.append(br)  # Newton fell onto a branch already continued (a pitchfork)
+                    continue
+                br.points.append(self.classify(phi, w))
+                still.append(br)
+            active = still
+            for s in self.starts(extra_starts):
+                phi = self.solve(s, w)
+                if phi is None:
+                    continue
+                phi = _wrap(phi)
+                if any(np.max(np.abs(_wrap(phi - b.points[-1].phi))) < 1e-6 for b in active):
+                    continue
+                near = [b for b in ended if np.max(np.abs(_wrap(phi - b.points[-1].phi))) < 1.0]
+                if near:  # the branch Newton lost from its last point, found again from a start
+                    br = min(near, key=lambda b: np.max(np.abs(_wrap(phi - b.points[-1].phi))))
+                    ended.remove(br)
+                    br.points.append(self.classify(phi, w))
+                else:
+                    br = Branch([self.classify(phi, w)])
+                    branches.append(br)
+                active.append(br)
+        for br in branches:
+            self._changes(br)
+        return branches
+
+    def _changes(self, br: Branch) -> None:
+        for a, b in zip(br.points, br.points[1:]):
+            if a.verdict == b.verdict:
+                continue
+            lo, hi, phi = a.omega, b.omega, a.phi
+            for _ in range(50):
+                mid = (lo + hi) / 2
+                p = self.solve(phi, mid)
+                if p is None:
+                    break
+                if self.classify(_wrap(p), mid).verdict == a.verdict:
+                    lo, phi = mid, _wrap(p)
+                else:
+                    hi = mid
+                if hi - lo <= 1e-12 * max(1.0, abs(hi)):
+                    break
+            br.changes.append(((lo + hi) / 2, a.verdict, b.verdict))
+
+
+# --------------------------------------------------------------------------- report
+def _fmt_phi(phi) -> str:
+    return "[" + ", ".join(f"{v:.9g}" for v in phi) + "]"
+
+
+def _fmt_ev(ev) -> str:
+    ev = sorted(ev, key=lambda z: (-z.real, -z.imag))
+    return ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" if abs(z.imag) > 0 else f"{z.real:.4g}" for z in ev)
+
+
+def report(an: Analysis, eqs, branches=None, omegas=None) -> str:
+    out = []
+    n = an.n
+    cyc = " (phi1 is cyclic: any phi1; phi1 = 0 shown)" if an.cyclic else ""
+    out.append(f"equilibria{cyc}: {len(eqs)} found by Newton from {STARTS}")
+    for e in eqs:
+        out.append(f"  phi = {_fmt_phi(e.phi)}: {e.verdict}: {e.reason}")
+        out.append(f"    eigenvalues: {_fmt_ev(e.eigenvalues)}")
+    if branches is not None:
+        out.append(f"steady rotations phidot1 = omega, phi2..{n} at rest, omega in [{omegas[0]:.6g}, {omegas[-1]:.6g}] ({len(omegas)} values): {len(branches)} branch{'es' if len(branches) != 1 else ''}")
+        for i, br in enumerate(branches, 1):
+            a, b = br.points[0], br.points[-1]
+            out.append(f"  branch {i}: omega {a.omega:.6g} .. {b.omega:.6g}, phi from {_fmt_phi(a.phi)} to {_fmt_phi(b.phi)}")
+            segs, cur = [], br.points[0]
+            for p in br.points[1:]:
+                if p.verdict != cur.verdict:
+                    segs.append(cur)
+                    cur = p
+            segs.append(cur)
+            ends = [q.omega for q in segs[1:]] + [b.omega]
+            for p, end in zip(segs, ends):
+                out.append(f"    omega from {p.omega:.6g} (up to {end:.6g}): {p.verdict}: {p.reason}")
+            for w, v1, v2 in br.changes:
+                out.append(f"    verdict changes at omega = {w:.10g}: {v1} -> {v2}")
+    return "\n".join(out)
+
+
+def default_omegas(an: Analysis, eqs) -> np.ndarray:
+    """A symmetric grid of ω over four times the fastest small-oscillation rate of the
+    equilibria (10 rad/s if they have none), 161 values."""
+    rate = max((np.max(np.abs(e.eigenvalues)) for e in eqs if len(e.eigenvalues)), default=0.0)
+    top = 4.0 * rate if rate > 0 else 10.0
+    return np.linspace(-top, top, 161)
+
+
+def parse_range(text: str) -> np.ndarray:
+    """``a:b:N`` (N values from a to b, N ≥ 2, a < b)."""
+    try:
+        a, b, count = text.split(":")
+        a, b, count = float(a), float(b), int(count)
+    except ValueError:
+        raise SteadyError("--omega: expected a:b:N, for example -20:20:81") from None
+    if not (np.isfinite(a) and np.isfinite(b) and a < b and count >= 2):
+        raise SteadyError("--omega: expected finite a < b and N >= 2")
+    return np.linspace(a, b, count)
+
+
+def compile_spec(spec):
+    """Generate and build the spec's model in a temporary folder: (CModel, emit.Model)."""
+    import tempfile
+    from pathlib import Path
+
+    from .build import load
+    from .cli import derive_and_render, write_tree
+
+    from .emit import time_dependent
+
+    files, model = derive_and_render(spec, f"{spec.name}.toml")
+    if time_dependent(model):
+        raise SteadyError(TIME_DEPENDENT)
+    with tempfile.TemporaryDirectory(prefix="codegen-steady-") as tmp:
+        target = Path(tmp) / spec.name
+        write_tree(files, target, build=True, name=spec.name)
+        cm = load(target)  # the extension stays loaded when its folder goes
+    return cm, model
+
+
+def analyze_spec(spec, params=None, u=None, omegas=None, starts=(), rotations: bool = True):
+    """Find and classify the spec's steady motions: (Analysis, equilibria, branches or None,
+    ω grid or None)."""
+    for s in starts:
+        if len(s) != spec.n or not np.all(np.isfinite(s)):
+            raise SteadyError(f"--start: expected {spec.n} finite numbers")
+    check_inputs(spec, params, u)
+    cm, model = compile_spec(spec)
+    an = Analysis(cm, model, params, u)
+    eqs = an.equilibria(starts)
+    branches = None
+    if an.cyclic and rotations:
+        omegas = default_omegas(an, eqs) if omegas is None else omegas
+        branches = an.rotations(omegas, starts)
+    return an, eqs, branches, omegas
