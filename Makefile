@@ -1,6 +1,6 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
 # make test                           set up .venv and run the test suite
-# make plot                           the gimbal's quadrature over an ODE solution (docs/gimbal_quadrature.png)
+# make plot                           the gimbal's quadrature over an ODE solution, the Furuta LQR loop (docs/)
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost (bench/results/)
 # make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo (bench/results/)
 SHELL := /bin/bash
@@ -39,6 +39,8 @@ $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
 plot: $(VENV)/.plot-installed
 	$(VPY) -m codegen generate -q specs/gimbal.toml >/dev/null
 	$(VPY) examples/plot_gimbal.py docs/gimbal_quadrature.png
+	$(VPY) -m codegen generate -q specs/furuta.toml >/dev/null
+	$(VPY) examples/furuta_lqr.py docs/furuta_lqr.png
 
 $(VENV)/.bench-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,bench]'
