@@ -1,8 +1,9 @@
 /* Common timing harness of bench/speed.py: one forward-dynamics implementation per program.
  * The including file defines bench_setup() (returns the number of bodies n) and
- * bench_qdd(x, qdd).
- * stdin: K states x (2N numbers each).  stdout: qdd of each state (for the correctness check
- * against the reference model), then "ns <median> <min>" per call over repeated sweeps. */
+ * bench_qdd(x, qdd); it may define BENCH_NOUT(n), the number of outputs of bench_qdd (default n;
+ * n * 2n for a Jacobian).
+ * stdin: K states x (2N numbers each).  stdout: the outputs for each state (for the correctness
+ * check against the reference model), then "ns <median> <min>" per call over repeated sweeps. */
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 199309L
 #endif
@@ -26,10 +27,13 @@ static int bench_cmp(const void *a, const void *b)
 #define BENCH_K 64
 #define BENCH_NMAX 64
 #define BENCH_REPEATS 21
+#ifndef BENCH_NOUT
+#define BENCH_NOUT(n) (n)
+#endif
 
 int main(void)
 {
-    static double xs[BENCH_K][2 * BENCH_NMAX], out[BENCH_NMAX], times[BENCH_REPEATS];
+    static double xs[BENCH_K][2 * BENCH_NMAX], out[2 * BENCH_NMAX * BENCH_NMAX], times[BENCH_REPEATS];
     volatile double sink = 0.0;
     long sweeps, r, i;
     int k, j, K = 0;
@@ -54,7 +58,7 @@ done:
         if (bench_qdd(xs[k], out) != 0) {
             printf("error\n");
         }
-        for (j = 0; j < BENCH_N; ++j) {
+        for (j = 0; j < BENCH_NOUT(BENCH_N); ++j) {
             printf("%.17g ", out[j]);
         }
         printf("\n");

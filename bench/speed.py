@@ -177,17 +177,18 @@ PIN_DEFINES = [
 ]
 
 
-def build_pinocchio(ch, n: int, d: Path) -> Path | None:
+def build_pinocchio(ch, n: int, d: Path, program: str = "pinocchio") -> Path | None:
     """One executable for every n (Pinocchio's headers take a minute to compile); the chain is
-    read at run time from the file in BENCH_CHAIN."""
+    read at run time from the file in BENCH_CHAIN.  ``program``: bench/<program>.cpp."""
     from peers import pinocchio_data
 
     pre = _pin_prefix()
     if pre is None or not Path("/usr/include/eigen3").exists() or shutil.which("g++") is None:
         return None
-    exe = BUILD / "pinocchio"
-    src = ROOT / "bench" / "pinocchio.cpp"
-    if not exe.exists() or exe.stat().st_mtime < src.stat().st_mtime:
+    exe = BUILD / program
+    src = ROOT / "bench" / f"{program}.cpp"
+    newest = max(src.stat().st_mtime, (ROOT / "bench" / "pinocchio_chain.h").stat().st_mtime)
+    if not exe.exists() or exe.stat().st_mtime < newest:
         lib = pre / "lib"
         subprocess.run(
             ["g++", *CFLAGS, "-std=c++17", "-w", *PIN_DEFINES, f"-I{pre / 'include'}", "-I/usr/include/eigen3",

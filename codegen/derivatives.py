@@ -26,6 +26,18 @@ from .program import Program, Var
 
 
 @dataclass(frozen=True)
+class Tangent:
+    """The generic form for long chains: ``jvp[k]`` = Σⱼ ∂φ̈ᵏ⁺¹/∂(direction j)·dⱼ, the forward-mode
+    tangent along a direction d given at run time (``dirs``: its input symbols, one per label).
+    One compact function called once per column instead of one specialised function per column:
+    the same exact numbers, a few times less code for gcc."""
+
+    labels: tuple
+    dirs: tuple
+    jvp: tuple
+
+
+@dataclass(frozen=True)
 class Derivatives:
     """``qdd[k]``, ``pivots[k]``: the recursion's φ̈ and Dᵏ; ``dqdd[k][j]``: ∂φ̈ᵏ⁺¹/∂(direction j)
     with the directions ``labels`` (q1…qn, v1…vn, u1…): φ, φ̇, then the controls in order."""
@@ -125,14 +137,31 @@ def tangents(P: Program, outputs, seeds: dict, labels) -> dict:
     return tan
 
 
-def derive(spec, kin, art) -> Derivatives:
-    """∂φ̈/∂(φ, φ̇, u) of the articulated recursion ``art`` (aba.derive)."""
-    P = kin.prog
+def _directions(spec, kin):
     n = spec.n
     syms = [kin.phi[k] for k in range(1, n + 1)] + [kin.phidot[k] for k in range(1, n + 1)]
     syms += [kin.torque[k] for k in spec.controls]
     labels = tuple([f"q{k}" for k in range(1, n + 1)] + [f"v{k}" for k in range(1, n + 1)]
                    + [f"u{i + 1}" for i in range(len(spec.controls))])
+    return syms, labels
+
+
+def derive_tangent(spec, kin, art) -> Tangent:
+    """The tangent of φ̈ along a run-time direction d (the generic form)."""
+    P = kin.prog
+    syms, labels = _directions(spec, kin)
+    dirs = tuple(sp.Symbol(f"dir_{lab}") for lab in labels)
+    seeds = {next(iter(P.input(s).terms))[0]: {0: P.input(d)} for s, d in zip(syms, dirs)}
+    tan = tangents(P, list(art.qdd), seeds, ("t",))
+    jvp = tuple(_tangent_poly(q, tan).get(0, ZERO) for q in art.qdd)
+    return Tangent(labels, dirs, jvp)
+
+
+def derive(spec, kin, art) -> Derivatives:
+    """∂φ̈/∂(φ, φ̇, u) of the articulated recursion ``art`` (aba.derive), one tangent per direction."""
+    P = kin.prog
+    n = spec.n
+    syms, labels = _directions(spec, kin)
     seeds = {}
     for j, s in enumerate(syms):
         seeds[next(iter(P.input(s).terms))[0]] = {j: Poly.const(1)}

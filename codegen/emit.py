@@ -165,6 +165,7 @@ class Model:
     qdd_form: str  # "composite" (M and f, then LDLᵀ) or "articulated" (aba.py: φ̈ and pivots)
     quad: quadratures.TwoBody | None = None  # the integrable two-body case (28)–(30), when it applies
     der: derivatives.Derivatives | None = None  # ∂φ̈/∂(φ, φ̇, u): NAME_qdd_derivatives, NAME_linearize
+    der_store: tuple = ()  # the recursion's quantities the columns of ∂φ̈ read (C: the array b)
 
 
 QDD_FORMS = ("auto", "composite", "articulated")
@@ -205,15 +206,49 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
     say("straight-line code: derivatives of qdd (forward mode over the articulated recursion)")
     der = derivatives.derive(spec, kin, art)
     lines["qdd_derivatives"] = articulated
-    have = frozenset(a for a, _ in P.needed(list(art.qdd) + list(art.pivots)))
-    for key, kind in DERIVATIVE_BLOCKS:
-        lines[key] = straight_line(P, der.block(kind), prefix=f"w{kind}", have=have)
-    return Model(spec, kin, dyn, ints, lines, form, quad, der)
+    base = [a for a, _ in P.needed(list(art.qdd) + list(art.pivots))]
+    have = frozenset(base)
+    used: set = set()
+    for j, label in enumerate(der.labels):
+        line = straight_line(P, [der.dqdd[k][j] for k in range(n)], prefix=f"w{label}_", have=have)
+        lines[f"d_{label}"] = line
+        used |= _reads(P, line) & have
+    if sum(lines[f"d_{lab}"].op_count() for lab in der.labels) > SPECIALISED_MAX_OPS:
+        for lab in der.labels:
+            del lines[f"d_{lab}"]
+        der = derivatives.derive_tangent(spec, kin, art)
+        line = lines["d_jvp"] = straight_line(P, list(der.jvp), prefix="wt", have=have)
+        used = _reads(P, line) & have
+    store = tuple(a for a in base if a in used)
+    return Model(spec, kin, dyn, ints, lines, form, quad, der, store)
 
 
-# the sections of NAME_qdd_derivatives after φ̈ itself (line key, direction kind); each is computed
-# only when its output is asked for
-DERIVATIVE_BLOCKS = (("dqdd_dphi", "q"), ("dqdd_dphidot", "v"), ("dqdd_du", "u"))
+# Above this many operations in all the specialised columns of ∂φ̈ together (about n = 10 for a
+# spatial gyrostat chain), NAME_qdd_derivatives uses one generic tangent function called per column
+# instead: exact all the same, ~2n times less code to compile, at most a few times the run time.
+SPECIALISED_MAX_OPS = 60000
+
+
+def _reads(P, line: StraightLine) -> set:
+    """The program quantities a straight-line section reads."""
+    from .program import Var
+
+    out: set = set()
+    for _, rhs in line.temporaries:
+        if isinstance(rhs, Poly):
+            out.update(rhs.atoms())
+        else:
+            out.update(P._by_name[s.name] for s in rhs.free_symbols if isinstance(s, Var) and s.name in P._by_name)
+    for o in line.outputs:
+        out.update(o.atoms())
+    return out
+
+
+# NAME_qdd_derivatives: φ̈ by the articulated recursion (line "qdd_derivatives"), then one column of
+# ∂φ̈ per direction (lines "d_q1" …), each its own static C function reading the recursion's values
+# it needs from an array: a Jacobian of a long chain is too big for one function (gcc's time grows
+# faster than its length); a block whose output is NULL is not computed.
+DERIVATIVE_KINDS = (("dqdd_dphi", "q"), ("dqdd_dphidot", "v"), ("dqdd_du", "u"))
 
 
 def reads_time(line: StraightLine) -> bool:
@@ -258,14 +293,18 @@ def op_counts(model: Model) -> dict[str, int]:
     """Op count of each emitted function (multiplications, additions and function calls of the
     straight-line code; the qdd and rhs counts include the unrolled LDLᵀ solve)."""
     n = model.spec.n
-    blocks = ["qdd_derivatives"] + [key for key, _ in DERIVATIVE_BLOCKS]
+    blocks = ["qdd_derivatives", "d_jvp"] + ([f"d_{lab}" for lab in model.der.labels] if model.der else [])
     counts = {name: line.op_count() for name, line in model.lines.items() if name not in blocks}
     if model.qdd_form == "composite":
         counts["qdd"] += ldlt_op_count(n)
     counts["rhs"] = counts["qdd"]
     if model.der is not None:
         # φ̈ by the articulated recursion, then every block of derivatives
-        counts["qdd_derivatives"] = sum(model.lines[b].op_count() for b in blocks)
+        if "d_jvp" in model.lines:  # run-time count: the tangent once per column
+            cols = len(model.der.labels) * model.lines["d_jvp"].op_count()
+            counts["qdd_derivatives"] = model.lines["qdd_derivatives"].op_count() + cols
+        else:
+            counts["qdd_derivatives"] = sum(model.lines[b].op_count() for b in blocks if b in model.lines)
         counts["linearize"] = counts["qdd_derivatives"]
     return counts
 
@@ -294,16 +333,18 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
     if "jacobi" in model.lines:
         fs["jacobi"] = _function("jacobi", model.lines["jacobi"], ["result"], pr)
     if model.der is not None:
-        nu = len(spec.controls)
         acc = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
         fs["qdd_derivatives"] = _function("qdd_derivatives", model.lines["qdd_derivatives"], acc, pr)
-        for key, kind in DERIVATIVE_BLOCKS:
-            cols = nu if kind == "u" else n
-            if style == "c":
-                targets = [f"{key}[{i * cols + j}]" for i in range(n) for j in range(cols)]
-            else:
-                targets = [f"{key}[{i}, {j}]" for i in range(n) for j in range(cols)]
-            fs[key] = _function(key, model.lines[key], targets, pr)
+        # C: a column function reads the recursion's values from b[]; Python: they are locals
+        prb = printer_cls({**names, **{a.sym: f"b[{i}]" for i, a in enumerate(model.der_store)}}) if style == "c" else pr
+        if "d_jvp" in model.lines:
+            prb.names.update({d: f"d[{i}]" for i, d in enumerate(model.der.dirs)})
+            fs["d_jvp"] = _function("d_jvp", model.lines["d_jvp"], [f"col[{i}]" for i in range(n)], prb)
+        for j, label in enumerate(model.der.labels if "d_jvp" not in model.lines else ()):
+            key = dict((kind, key) for key, kind in DERIVATIVE_KINDS)[label[0]]
+            col = int(label[1:]) - 1
+            targets = [f"col[{i}]" for i in range(n)] if style == "c" else [f"{key}[{i}, {col}]" for i in range(n)]
+            fs[f"d_{label}"] = _function(f"d_{label}", model.lines[f"d_{label}"], targets, prb)
     if "quad_terms" in model.lines:
         # a function of φ = φ² alone (ψ = φ¹ is cyclic); in Python on numpy arrays of φ
         qnames = {**names, model.kin.phi[2]: "phi"}
@@ -715,6 +756,9 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         quad=model.quad is not None,
         fn=cfun,
         py=pyfun,
+        der_store=[a.name for a in model.der_store],
+        der_dirs=[(lab, lab[0], int(lab[1:]) - 1, j) for j, lab in enumerate(model.der.labels)] if model.der else [],
+        der_generic="d_jvp" in model.lines,
         counts=counts,
         codegen_version=__version__,
         sympy_version=sp.__version__,

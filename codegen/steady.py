@@ -347,9 +347,9 @@ def report(an: Analysis, eqs, branches=None, omegas=None) -> str:
                     segs.append(cur)
                     cur = p
             segs.append(cur)
-            ends = [q.omega for q in segs[1:]] + [b.omega]
+            ends = [f"{q.omega:.6g})" for q in segs[1:]] + [f"{b.omega:.6g}]"]
             for p, end in zip(segs, ends):
-                out.append(f"    omega from {p.omega:.6g} (up to {end:.6g}): {p.verdict}: {p.reason}")
+                out.append(f"    omega in [{p.omega:.6g}, {end} on the grid: {p.verdict}: {p.reason}")
             for w, v1, v2 in br.changes:
                 out.append(f"    verdict changes at omega = {w:.10g}: {v1} -> {v2}")
     return "\n".join(out)

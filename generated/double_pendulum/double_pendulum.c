@@ -195,14 +195,97 @@ int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_
     return double_pendulum_all_finite_(qdd, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
 }
 
+/* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q1, reading the recursion's values it needs from b. */
+static void double_pendulum_dq1_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double aOg2_2_dq1 = -9.81*b[0]*b[2] + 9.81*b[1]*b[3];
+    const double aOg2_3_dq1 = 9.81*b[1]*b[2] + 9.81*b[0]*b[3];
+    const double pc2f_2_dq1 = 0.2503748125937032*b[2]*aOg2_2_dq1 - b[3]*aOg2_3_dq1;
+    const double pA1_1_dq1 = 4.905*b[0] - pc2f_2_dq1;
+    const double qdd1_dq1 = -b[9]*pA1_1_dq1;
+    const double dv2_2_dq1 = -b[2]*qdd1_dq1;
+    const double qdd2_dq1 = 1.4992503748125936*aOg2_2_dq1 - qdd1_dq1 + 1.4992503748125936*dv2_2_dq1;
+
+    col[0] = qdd1_dq1;
+    col[1] = qdd2_dq1;
+
+}
+
+/* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q2, reading the recursion's values it needs from b. */
+static void double_pendulum_dq2_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double aOg2_2_dq2 = 9.81*b[1]*b[3] + b[2]*b[5];
+    const double aOg2_3_dq2 = -b[3]*b[5] + 9.81*b[1]*b[2];
+    const double c2phi2_dq2 = -4.0*b[2]*b[3];
+    const double pc2f_2_dq2 = -0.2503748125937032*b[3]*b[6] + 0.2503748125937032*b[2]*aOg2_2_dq2 - b[2]*b[7] - b[3]*aOg2_3_dq2;
+    const double rD1_dq2 = 0.3748125937031484*b[9]*b[9]*c2phi2_dq2;
+    const double qdd1_dq2 = b[9]*pc2f_2_dq2 - b[8]*rD1_dq2;
+    const double dv2_2_dq2 = b[3]*b[10] - b[2]*qdd1_dq2;
+    const double qdd2_dq2 = 1.4992503748125936*aOg2_2_dq2 - qdd1_dq2 + 1.4992503748125936*dv2_2_dq2;
+
+    col[0] = qdd1_dq2;
+    col[1] = qdd2_dq2;
+
+}
+
+/* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v1, reading the recursion's values it needs from b. */
+static void double_pendulum_dv1_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double aOg2_2_dv1 = -2.0*x[2]*b[3];
+    const double aOg2_3_dv1 = -2.0*x[2]*b[2];
+    const double pF2_3_dv1 = aOg2_3_dv1 - b[4];
+    const double pc2f_2_dv1 = 0.2503748125937032*b[2]*aOg2_2_dv1 - b[3]*pF2_3_dv1;
+    const double qdd1_dv1 = b[9]*pc2f_2_dv1;
+    const double dv2_2_dv1 = -b[2]*qdd1_dv1;
+    const double qdd2_dv1 = 1.4992503748125936*aOg2_2_dv1 - qdd1_dv1 + 1.4992503748125936*dv2_2_dv1;
+
+    col[0] = qdd1_dv1;
+    col[1] = qdd2_dv1;
+
+}
+
+/* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v2, reading the recursion's values it needs from b. */
+static void double_pendulum_dv2_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double pc2f_2_dv2 = b[3]*b[4];
+    const double qdd1_dv2 = b[9]*pc2f_2_dv2;
+    const double dv2_2_dv2 = -b[2]*qdd1_dv2;
+    const double qdd2_dv2 = -qdd1_dv2 + 1.4992503748125936*dv2_2_dv2;
+
+    col[0] = qdd1_dv2;
+    col[1] = qdd2_dv2;
+
+}
+
 int double_pendulum_qdd_derivatives(const double *x, const double *u, const double_pendulum_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[2];
     double piv[2];
+    double b[11];
     int i, code;
     (void)p;
 
@@ -238,67 +321,58 @@ int double_pendulum_qdd_derivatives(const double *x, const double *u, const doub
         piv[0] = IA1_11;
         piv[1] = 0.3335;
 
-        code = double_pendulum_pivots_(piv);
-        if (code != DOUBLE_PENDULUM_OK) {
-            return code;
+        b[0] = cos_phi1;
+        b[1] = sin_phi1;
+        b[2] = cos_phi2;
+        b[3] = sin_phi2;
+        b[4] = om2_1;
+        b[5] = j2r5;
+        b[6] = aOg2_2;
+        b[7] = pF2_3;
+        b[8] = pA1_1;
+        b[9] = rD1;
+        b[10] = qdd1;
+    }
+    code = double_pendulum_pivots_(piv);
+    if (code != DOUBLE_PENDULUM_OK) {
+        return code;
+    }
+    if (qdd) {
+        for (i = 0; i < 2; ++i) {
+            qdd[i] = acc[i];
         }
-        if (qdd) {
-            for (i = 0; i < 2; ++i) {
-                qdd[i] = acc[i];
-            }
-        }
+    }
         if (dqdd_dphi) {
-            const double wq0 = sin_phi1*sin_phi2;
-            const double aOg2_2_dq1 = -9.81*cos_phi1*cos_phi2 + 9.81*wq0;
-            const double aOg2_2_dq2 = 9.81*wq0 + cos_phi2*j2r5;
-            const double wq1 = sin_phi1*cos_phi2;
-            const double aOg2_3_dq1 = 9.81*wq1 + 9.81*cos_phi1*sin_phi2;
-            const double aOg2_3_dq2 = -sin_phi2*j2r5 + 9.81*wq1;
-            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
-            const double pc2f_2_dq1 = 0.2503748125937032*cos_phi2*aOg2_2_dq1 - sin_phi2*aOg2_3_dq1;
-            const double pc2f_2_dq2 = -0.2503748125937032*sin_phi2*aOg2_2 + 0.2503748125937032*cos_phi2*aOg2_2_dq2 - cos_phi2*pF2_3 - sin_phi2*aOg2_3_dq2;
-            const double pA1_1_dq1 = 4.905*cos_phi1 - pc2f_2_dq1;
-            const double rD1_dq2 = 0.3748125937031484*rD1*rD1*c2phi2_dq2;
-            const double qdd1_dq1 = -rD1*pA1_1_dq1;
-            const double qdd1_dq2 = rD1*pc2f_2_dq2 - pA1_1*rD1_dq2;
-            const double dv2_2_dq1 = -cos_phi2*qdd1_dq1;
-            const double dv2_2_dq2 = sin_phi2*qdd1 - cos_phi2*qdd1_dq2;
-            const double qdd2_dq1 = 1.4992503748125936*aOg2_2_dq1 - qdd1_dq1 + 1.4992503748125936*dv2_2_dq1;
-            const double qdd2_dq2 = 1.4992503748125936*aOg2_2_dq2 - qdd1_dq2 + 1.4992503748125936*dv2_2_dq2;
-
-            dqdd_dphi[0] = qdd1_dq1;
-            dqdd_dphi[1] = qdd1_dq2;
-            dqdd_dphi[2] = qdd2_dq1;
-            dqdd_dphi[3] = qdd2_dq2;
-
+            double col[2];
+            double_pendulum_dq1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 0] = col[i];
+            }
+            double_pendulum_dq2_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 1] = col[i];
+            }
             if (!double_pendulum_all_finite_(dqdd_dphi, 4)) {
                 return DOUBLE_PENDULUM_NONFINITE;
             }
         }
+
         if (dqdd_dphidot) {
-            const double aOg2_2_dv1 = -2.0*x[2]*sin_phi2;
-            const double aOg2_3_dv1 = -2.0*x[2]*cos_phi2;
-            const double pF2_3_dv1 = aOg2_3_dv1 - om2_1;
-            const double pc2f_2_dv1 = 0.2503748125937032*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1;
-            const double pc2f_2_dv2 = sin_phi2*om2_1;
-            const double qdd1_dv1 = rD1*pc2f_2_dv1;
-            const double qdd1_dv2 = rD1*pc2f_2_dv2;
-            const double dv2_2_dv1 = -cos_phi2*qdd1_dv1;
-            const double dv2_2_dv2 = -cos_phi2*qdd1_dv2;
-            const double qdd2_dv1 = 1.4992503748125936*aOg2_2_dv1 - qdd1_dv1 + 1.4992503748125936*dv2_2_dv1;
-            const double qdd2_dv2 = -qdd1_dv2 + 1.4992503748125936*dv2_2_dv2;
-
-            dqdd_dphidot[0] = qdd1_dv1;
-            dqdd_dphidot[1] = qdd1_dv2;
-            dqdd_dphidot[2] = qdd2_dv1;
-            dqdd_dphidot[3] = qdd2_dv2;
-
+            double col[2];
+            double_pendulum_dv1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 0] = col[i];
+            }
+            double_pendulum_dv2_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 1] = col[i];
+            }
             if (!double_pendulum_all_finite_(dqdd_dphidot, 4)) {
                 return DOUBLE_PENDULUM_NONFINITE;
             }
         }
-        (void)dqdd_du;  /* no control inputs: an n x 0 block */
-    }
+
+    (void)dqdd_du;  /* no control inputs: an n x 0 block */
     return double_pendulum_all_finite_(acc, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
 }
 

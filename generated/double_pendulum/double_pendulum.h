@@ -25,7 +25,7 @@
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * double_pendulum_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 26, forces 27, linearize 110, mass_matrix 4, qdd 38, qdd_derivatives 110, rhs 38.
+ * Op counts: energy 26, forces 27, linearize 112, mass_matrix 4, qdd 38, qdd_derivatives 112, rhs 38.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

@@ -20,7 +20,7 @@ HAS_ENERGY_INTEGRAL = True
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
-OP_COUNTS = { "energy": 26, "forces": 27, "linearize": 110, "mass_matrix": 4, "qdd": 38, "qdd_derivatives": 110, "rhs": 38, }
+OP_COUNTS = { "energy": 26, "forces": 27, "linearize": 112, "mass_matrix": 4, "qdd": 38, "qdd_derivatives": 112, "rhs": 38, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -192,45 +192,44 @@ def qdd_derivatives(x, u=None, p=None):
         piv[0] = IA1_11
         piv[1] = 0.3335
 
-        wq0 = sin_phi1*sin_phi2
-        aOg2_2_dq1 = -9.81*cos_phi1*cos_phi2 + 9.81*wq0
-        aOg2_2_dq2 = 9.81*wq0 + cos_phi2*j2r5
-        wq1 = sin_phi1*cos_phi2
-        aOg2_3_dq1 = 9.81*wq1 + 9.81*cos_phi1*sin_phi2
-        aOg2_3_dq2 = -sin_phi2*j2r5 + 9.81*wq1
-        c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
+        aOg2_2_dq1 = -9.81*cos_phi1*cos_phi2 + 9.81*sin_phi1*sin_phi2
+        aOg2_3_dq1 = 9.81*sin_phi1*cos_phi2 + 9.81*cos_phi1*sin_phi2
         pc2f_2_dq1 = 0.2503748125937032*cos_phi2*aOg2_2_dq1 - sin_phi2*aOg2_3_dq1
-        pc2f_2_dq2 = -0.2503748125937032*sin_phi2*aOg2_2 + 0.2503748125937032*cos_phi2*aOg2_2_dq2 - cos_phi2*pF2_3 - sin_phi2*aOg2_3_dq2
         pA1_1_dq1 = 4.905*cos_phi1 - pc2f_2_dq1
-        rD1_dq2 = 0.3748125937031484*rD1*rD1*c2phi2_dq2
         qdd1_dq1 = -rD1*pA1_1_dq1
-        qdd1_dq2 = rD1*pc2f_2_dq2 - pA1_1*rD1_dq2
         dv2_2_dq1 = -cos_phi2*qdd1_dq1
-        dv2_2_dq2 = sin_phi2*qdd1 - cos_phi2*qdd1_dq2
         qdd2_dq1 = 1.4992503748125936*aOg2_2_dq1 - qdd1_dq1 + 1.4992503748125936*dv2_2_dq1
-        qdd2_dq2 = 1.4992503748125936*aOg2_2_dq2 - qdd1_dq2 + 1.4992503748125936*dv2_2_dq2
         dqdd_dphi[0, 0] = qdd1_dq1
-        dqdd_dphi[0, 1] = qdd1_dq2
         dqdd_dphi[1, 0] = qdd2_dq1
+
+        aOg2_2_dq2 = 9.81*sin_phi1*sin_phi2 + cos_phi2*j2r5
+        aOg2_3_dq2 = -sin_phi2*j2r5 + 9.81*sin_phi1*cos_phi2
+        c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
+        pc2f_2_dq2 = -0.2503748125937032*sin_phi2*aOg2_2 + 0.2503748125937032*cos_phi2*aOg2_2_dq2 - cos_phi2*pF2_3 - sin_phi2*aOg2_3_dq2
+        rD1_dq2 = 0.3748125937031484*rD1*rD1*c2phi2_dq2
+        qdd1_dq2 = rD1*pc2f_2_dq2 - pA1_1*rD1_dq2
+        dv2_2_dq2 = sin_phi2*qdd1 - cos_phi2*qdd1_dq2
+        qdd2_dq2 = 1.4992503748125936*aOg2_2_dq2 - qdd1_dq2 + 1.4992503748125936*dv2_2_dq2
+        dqdd_dphi[0, 1] = qdd1_dq2
         dqdd_dphi[1, 1] = qdd2_dq2
 
         aOg2_2_dv1 = -2.0*x[2]*sin_phi2
         aOg2_3_dv1 = -2.0*x[2]*cos_phi2
         pF2_3_dv1 = aOg2_3_dv1 - om2_1
         pc2f_2_dv1 = 0.2503748125937032*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1
-        pc2f_2_dv2 = sin_phi2*om2_1
         qdd1_dv1 = rD1*pc2f_2_dv1
-        qdd1_dv2 = rD1*pc2f_2_dv2
         dv2_2_dv1 = -cos_phi2*qdd1_dv1
-        dv2_2_dv2 = -cos_phi2*qdd1_dv2
         qdd2_dv1 = 1.4992503748125936*aOg2_2_dv1 - qdd1_dv1 + 1.4992503748125936*dv2_2_dv1
-        qdd2_dv2 = -qdd1_dv2 + 1.4992503748125936*dv2_2_dv2
         dqdd_dphidot[0, 0] = qdd1_dv1
-        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 0] = qdd2_dv1
+
+        pc2f_2_dv2 = sin_phi2*om2_1
+        qdd1_dv2 = rD1*pc2f_2_dv2
+        dv2_2_dv2 = -cos_phi2*qdd1_dv2
+        qdd2_dv2 = -qdd1_dv2 + 1.4992503748125936*dv2_2_dv2
+        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 1] = qdd2_dv2
 
-    
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
     _check_pivots(piv)

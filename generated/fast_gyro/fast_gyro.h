@@ -25,7 +25,7 @@
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * fast_gyro_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 16, forces 21, linearize 88, mass_matrix 8, momentum 11, qdd 30, qdd_derivatives 88, quad_terms 10, rhs 30.
+ * Op counts: energy 16, forces 21, linearize 89, mass_matrix 8, momentum 11, qdd 30, qdd_derivatives 89, quad_terms 10, rhs 30.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

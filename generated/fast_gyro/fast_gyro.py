@@ -20,7 +20,7 @@ HAS_ENERGY_INTEGRAL = True
 HAS_MOMENTUM_INTEGRAL = True
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = True
-OP_COUNTS = { "energy": 16, "forces": 21, "linearize": 88, "mass_matrix": 8, "momentum": 11, "qdd": 30, "qdd_derivatives": 88, "quad_terms": 10, "rhs": 30, }
+OP_COUNTS = { "energy": 16, "forces": 21, "linearize": 89, "mass_matrix": 8, "momentum": 11, "qdd": 30, "qdd_derivatives": 89, "quad_terms": 10, "rhs": 30, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -183,39 +183,39 @@ def qdd_derivatives(x, u=None, p=None):
         piv[0] = IA1_11
         piv[1] = 0.00648
 
+        dqdd_dphi[0, 0] = 0.0
+        dqdd_dphi[1, 0] = 0.0
+
         om2_2_dq2 = x[2]*cos_phi2
         om2_3_dq2 = -x[2]*sin_phi2
-        wq0 = x[3]*om2_3_dq2
-        eps2_2_dq2 = wq0
+        wq2_0 = x[3]*om2_3_dq2
+        eps2_2_dq2 = wq2_0
         eps2_3_dq2 = -x[3]*om2_2_dq2
         pN2_1_dq2 = 0.0025199999999999997*om2_3*om2_2_dq2 + 0.0025199999999999997*om2_2*om2_3_dq2 + 5.0*om2_2_dq2 - 0.23544*cos_phi2
-        pN2_2_dq2 = 0.00648*eps2_2_dq2 - 0.0025199999999999997*wq0
+        pN2_2_dq2 = 0.00648*eps2_2_dq2 - 0.0025199999999999997*wq2_0
         c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
         j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 0.009*sin_phi2*eps2_3 + 0.009*cos_phi2*eps2_3_dq2
         rD1_dq2 = -0.0012599999999999998*rD1*rD1*c2phi2_dq2
         qdd1_dq2 = -rD1*j2r15_dq2 - j2r15*rD1_dq2
-        dqdd_dphi[0, 0] = 0.0
         dqdd_dphi[0, 1] = qdd1_dq2
-        dqdd_dphi[1, 0] = 0.0
         dqdd_dphi[1, 1] = -154.320987654321*pN2_1_dq2
 
-        wv0 = x[3]*cos_phi2
-        eps2_2_dv1 = wv0
+        wv1_0 = x[3]*cos_phi2
+        eps2_2_dv1 = wv1_0
         eps2_3_dv1 = -x[3]*sin_phi2
-        wv1 = cos_phi2*om2_2
-        pN2_1_dv1 = 0.0025199999999999997*sin_phi2*om2_3 + 0.0025199999999999997*wv1 + 5.0*sin_phi2
-        pN2_2_dv1 = 0.00648*eps2_2_dv1 - 0.0025199999999999997*wv0
-        pN2_2_dv2 = 0.00396*om2_3 - 5.0
+        pN2_1_dv1 = 0.0025199999999999997*sin_phi2*om2_3 + 0.0025199999999999997*cos_phi2*om2_2 + 5.0*sin_phi2
+        pN2_2_dv1 = 0.00648*eps2_2_dv1 - 0.0025199999999999997*wv1_0
         j2r15_dv1 = sin_phi2*pN2_2_dv1 + 0.009*cos_phi2*eps2_3_dv1
-        j2r15_dv2 = sin_phi2*pN2_2_dv2 - 0.009*wv1
         qdd1_dv1 = -rD1*j2r15_dv1
-        qdd1_dv2 = -rD1*j2r15_dv2
         dqdd_dphidot[0, 0] = qdd1_dv1
-        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 0] = -154.320987654321*pN2_1_dv1
+
+        pN2_2_dv2 = 0.00396*om2_3 - 5.0
+        j2r15_dv2 = sin_phi2*pN2_2_dv2 - 0.009*cos_phi2*om2_2
+        qdd1_dv2 = -rD1*j2r15_dv2
+        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 1] = 0.0
 
-    
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
     _check_pivots(piv)

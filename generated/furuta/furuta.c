@@ -232,14 +232,137 @@ int furuta_qdd(const double *x, const double *u, const furuta_params *p, double 
     return furuta_all_finite_(qdd, 2) ? FURUTA_OK : FURUTA_NONFINITE;
 }
 
+/* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q1, reading the recursion's values it needs from b. */
+static void furuta_dq1_(const double *x, const double *u, const furuta_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double tau_1 = u ? u[0] : 0.0;
+    (void)tau_1;
+
+    col[0] = 0.0;
+    col[1] = 0.0;
+
+}
+
+/* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q2, reading the recursion's values it needs from b. */
+static void furuta_dq2_(const double *x, const double *u, const furuta_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double tau_1 = u ? u[0] : 0.0;
+    (void)tau_1;
+    const double om2_2_dq2 = x[2]*b[0];
+    const double om2_3_dq2 = -x[2]*b[1];
+    const double wq2_0 = x[3]*om2_3_dq2;
+    const double eps2_2_dq2 = wq2_0;
+    const double eps2_3_dq2 = -x[3]*om2_2_dq2;
+    const double wq2_1 = b[3]*om2_2_dq2;
+    const double wq2_2 = b[2]*om2_3_dq2;
+    const double pF2_2_dq2 = -0.9810000000000001*b[0] + 0.015*wq2_1 + 0.015*wq2_2;
+    const double pF2_3_dq2 = 0.9810000000000001*b[1] - 0.03*b[2]*om2_2_dq2;
+    const double pN2_1_dq2 = -0.00299*wq2_1 - 0.00299*wq2_2 + 0.14715*b[0];
+    const double pN2_2_dq2 = 0.003*eps2_2_dq2 + 0.00299*wq2_0;
+    const double c2phi2_dq2 = -4.0*b[0]*b[1];
+    const double pa2_5_dq2 = pF2_2_dq2 + 4.999999999999999*pN2_1_dq2;
+    const double j2r15_dq2 = b[0]*b[6] + b[1]*pN2_2_dq2 - 1e-05*b[1]*b[4] + 1e-05*b[0]*eps2_3_dq2;
+    const double pc2f_2_dq2 = -b[1]*b[7] + b[0]*pa2_5_dq2 - b[0]*b[5] - b[1]*pF2_3_dq2;
+    const double pA1_1_dq2 = j2r15_dq2 + 0.2*pc2f_2_dq2;
+    const double rD1_dq2 = 0.0029950000000000003*b[8]*b[8]*c2phi2_dq2;
+    const double qdd1_dq2 = b[9]*rD1_dq2 - b[8]*pA1_1_dq2;
+    const double dv2_2_dq2 = -0.2*b[1]*b[10] + 0.2*b[0]*qdd1_dq2;
+    const double qdd2_dq2 = -333.3333333333333*pN2_1_dq2 + 4.999999999999999*dv2_2_dq2;
+
+    col[0] = qdd1_dq2;
+    col[1] = qdd2_dq2;
+
+}
+
+/* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v1, reading the recursion's values it needs from b. */
+static void furuta_dv1_(const double *x, const double *u, const furuta_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double tau_1 = u ? u[0] : 0.0;
+    (void)tau_1;
+    const double wv1_0 = x[3]*b[0];
+    const double eps2_2_dv1 = wv1_0;
+    const double eps2_3_dv1 = -x[3]*b[1];
+    const double wv1_1 = b[1]*b[3];
+    const double wv1_2 = b[0]*b[2];
+    const double pF2_2_dv1 = 0.015*wv1_1 + 0.015*wv1_2;
+    const double pF2_3_dv1 = -0.03*b[1]*b[2];
+    const double pN2_1_dv1 = -0.00299*wv1_1 - 0.00299*wv1_2;
+    const double pN2_2_dv1 = 0.003*eps2_2_dv1 + 0.00299*wv1_0 - 0.006*x[2];
+    const double pa2_5_dv1 = pF2_2_dv1 + 4.999999999999999*pN2_1_dv1;
+    const double j2r15_dv1 = b[1]*pN2_2_dv1 + 1e-05*b[0]*eps2_3_dv1;
+    const double pc2f_2_dv1 = b[0]*pa2_5_dv1 - b[1]*pF2_3_dv1;
+    const double pA1_1_dv1 = j2r15_dv1 + 0.2*pc2f_2_dv1;
+    const double qdd1_dv1 = -b[8]*pA1_1_dv1;
+    const double dv2_2_dv1 = 0.2*b[0]*qdd1_dv1;
+    const double qdd2_dv1 = -333.3333333333333*pN2_1_dv1 + 4.999999999999999*dv2_2_dv1;
+
+    col[0] = qdd1_dv1;
+    col[1] = qdd2_dv1;
+
+}
+
+/* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v2, reading the recursion's values it needs from b. */
+static void furuta_dv2_(const double *x, const double *u, const furuta_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double tau_1 = u ? u[0] : 0.0;
+    (void)tau_1;
+    const double j2r15_dv2 = 0.0059900000000000005*b[1]*b[3] - 1e-05*b[0]*b[2];
+    const double pc2f_2_dv2 = 0.03*x[3]*b[1];
+    const double pA1_1_dv2 = j2r15_dv2 + 0.2*pc2f_2_dv2;
+    const double qdd1_dv2 = -b[8]*pA1_1_dv2;
+    const double dv2_2_dv2 = 0.2*b[0]*qdd1_dv2;
+
+    col[0] = qdd1_dv2;
+    col[1] = 4.999999999999999*dv2_2_dv2;
+
+}
+
+/* Column 1 of d phi''/d u: the forward-mode tangent of the recursion
+ * along u1, reading the recursion's values it needs from b. */
+static void furuta_du1_(const double *x, const double *u, const furuta_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double tau_1 = u ? u[0] : 0.0;
+    (void)tau_1;
+    const double dv2_2_du1 = 0.2*b[0]*b[8];
+
+    col[0] = b[8];
+    col[1] = 4.999999999999999*dv2_2_du1;
+
+}
+
 int furuta_qdd_derivatives(const double *x, const double *u, const furuta_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[2];
     double piv[2];
+    double b[11];
     int i, code;
     (void)p;
 
@@ -282,90 +405,68 @@ int furuta_qdd_derivatives(const double *x, const double *u, const furuta_params
         piv[0] = IA1_11;
         piv[1] = 0.003;
 
-        code = furuta_pivots_(piv);
-        if (code != FURUTA_OK) {
-            return code;
+        b[0] = cos_phi2;
+        b[1] = sin_phi2;
+        b[2] = om2_2;
+        b[3] = om2_3;
+        b[4] = eps2_3;
+        b[5] = pF2_3;
+        b[6] = pN2_2;
+        b[7] = pa2_5;
+        b[8] = rD1;
+        b[9] = u1;
+        b[10] = qdd1;
+    }
+    code = furuta_pivots_(piv);
+    if (code != FURUTA_OK) {
+        return code;
+    }
+    if (qdd) {
+        for (i = 0; i < 2; ++i) {
+            qdd[i] = acc[i];
         }
-        if (qdd) {
-            for (i = 0; i < 2; ++i) {
-                qdd[i] = acc[i];
-            }
-        }
+    }
         if (dqdd_dphi) {
-            const double om2_2_dq2 = x[2]*cos_phi2;
-            const double om2_3_dq2 = -x[2]*sin_phi2;
-            const double wq0 = x[3]*om2_3_dq2;
-            const double eps2_2_dq2 = wq0;
-            const double eps2_3_dq2 = -x[3]*om2_2_dq2;
-            const double wq1 = om2_3*om2_2_dq2;
-            const double wq2 = om2_2*om2_3_dq2;
-            const double pF2_2_dq2 = -0.9810000000000001*cos_phi2 + 0.015*wq1 + 0.015*wq2;
-            const double pF2_3_dq2 = 0.9810000000000001*sin_phi2 - 0.03*om2_2*om2_2_dq2;
-            const double pN2_1_dq2 = -0.00299*wq1 - 0.00299*wq2 + 0.14715*cos_phi2;
-            const double pN2_2_dq2 = 0.003*eps2_2_dq2 + 0.00299*wq0;
-            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
-            const double pa2_5_dq2 = pF2_2_dq2 + 4.999999999999999*pN2_1_dq2;
-            const double j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 1e-05*sin_phi2*eps2_3 + 1e-05*cos_phi2*eps2_3_dq2;
-            const double pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - sin_phi2*pF2_3_dq2;
-            const double pA1_1_dq2 = j2r15_dq2 + 0.2*pc2f_2_dq2;
-            const double rD1_dq2 = 0.0029950000000000003*rD1*rD1*c2phi2_dq2;
-            const double qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2;
-            const double dv2_2_dq2 = -0.2*sin_phi2*qdd1 + 0.2*cos_phi2*qdd1_dq2;
-            const double qdd2_dq2 = -333.3333333333333*pN2_1_dq2 + 4.999999999999999*dv2_2_dq2;
-
-            dqdd_dphi[0] = 0.0;
-            dqdd_dphi[1] = qdd1_dq2;
-            dqdd_dphi[2] = 0.0;
-            dqdd_dphi[3] = qdd2_dq2;
-
+            double col[2];
+            furuta_dq1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 0] = col[i];
+            }
+            furuta_dq2_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 1] = col[i];
+            }
             if (!furuta_all_finite_(dqdd_dphi, 4)) {
                 return FURUTA_NONFINITE;
             }
         }
+
         if (dqdd_dphidot) {
-            const double wv0 = x[3]*cos_phi2;
-            const double eps2_2_dv1 = wv0;
-            const double wv1 = x[3]*sin_phi2;
-            const double eps2_3_dv1 = -wv1;
-            const double wv2 = sin_phi2*om2_3;
-            const double wv3 = cos_phi2*om2_2;
-            const double pF2_2_dv1 = 0.015*wv2 + 0.015*wv3;
-            const double pF2_3_dv1 = -0.03*sin_phi2*om2_2;
-            const double pN2_1_dv1 = -0.00299*wv2 - 0.00299*wv3;
-            const double pN2_2_dv1 = 0.003*eps2_2_dv1 + 0.00299*wv0 - 0.006*x[2];
-            const double pa2_5_dv1 = pF2_2_dv1 + 4.999999999999999*pN2_1_dv1;
-            const double j2r15_dv1 = sin_phi2*pN2_2_dv1 + 1e-05*cos_phi2*eps2_3_dv1;
-            const double j2r15_dv2 = 0.0059900000000000005*wv2 - 1e-05*wv3;
-            const double pc2f_2_dv1 = cos_phi2*pa2_5_dv1 - sin_phi2*pF2_3_dv1;
-            const double pc2f_2_dv2 = 0.03*wv1;
-            const double pA1_1_dv1 = j2r15_dv1 + 0.2*pc2f_2_dv1;
-            const double pA1_1_dv2 = j2r15_dv2 + 0.2*pc2f_2_dv2;
-            const double qdd1_dv1 = -rD1*pA1_1_dv1;
-            const double qdd1_dv2 = -rD1*pA1_1_dv2;
-            const double dv2_2_dv1 = 0.2*cos_phi2*qdd1_dv1;
-            const double dv2_2_dv2 = 0.2*cos_phi2*qdd1_dv2;
-            const double qdd2_dv1 = -333.3333333333333*pN2_1_dv1 + 4.999999999999999*dv2_2_dv1;
-
-            dqdd_dphidot[0] = qdd1_dv1;
-            dqdd_dphidot[1] = qdd1_dv2;
-            dqdd_dphidot[2] = qdd2_dv1;
-            dqdd_dphidot[3] = 4.999999999999999*dv2_2_dv2;
-
+            double col[2];
+            furuta_dv1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 0] = col[i];
+            }
+            furuta_dv2_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 1] = col[i];
+            }
             if (!furuta_all_finite_(dqdd_dphidot, 4)) {
                 return FURUTA_NONFINITE;
             }
         }
+
         if (dqdd_du) {
-            const double dv2_2_du1 = 0.2*cos_phi2*rD1;
-
-            dqdd_du[0] = rD1;
-            dqdd_du[1] = 4.999999999999999*dv2_2_du1;
-
+            double col[2];
+            furuta_du1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_du[i * 1 + 0] = col[i];
+            }
             if (!furuta_all_finite_(dqdd_du, 2)) {
                 return FURUTA_NONFINITE;
             }
         }
-    }
+
     return furuta_all_finite_(acc, 2) ? FURUTA_OK : FURUTA_NONFINITE;
 }
 

@@ -25,7 +25,7 @@
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * furuta_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 23, forces 37, linearize 162, mass_matrix 9, momentum 12, qdd 55, qdd_derivatives 162, rhs 55.
+ * Op counts: energy 23, forces 37, linearize 165, mass_matrix 9, momentum 12, qdd 55, qdd_derivatives 165, rhs 55.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

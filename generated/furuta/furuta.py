@@ -20,7 +20,7 @@ HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
-OP_COUNTS = { "energy": 23, "forces": 37, "linearize": 162, "mass_matrix": 9, "momentum": 12, "qdd": 55, "qdd_derivatives": 162, "rhs": 55, }
+OP_COUNTS = { "energy": 23, "forces": 37, "linearize": 165, "mass_matrix": 9, "momentum": 12, "qdd": 55, "qdd_derivatives": 165, "rhs": 55, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -206,17 +206,20 @@ def qdd_derivatives(x, u=None, p=None):
         piv[0] = IA1_11
         piv[1] = 0.003
 
+        dqdd_dphi[0, 0] = 0.0
+        dqdd_dphi[1, 0] = 0.0
+
         om2_2_dq2 = x[2]*cos_phi2
         om2_3_dq2 = -x[2]*sin_phi2
-        wq0 = x[3]*om2_3_dq2
-        eps2_2_dq2 = wq0
+        wq2_0 = x[3]*om2_3_dq2
+        eps2_2_dq2 = wq2_0
         eps2_3_dq2 = -x[3]*om2_2_dq2
-        wq1 = om2_3*om2_2_dq2
-        wq2 = om2_2*om2_3_dq2
-        pF2_2_dq2 = -0.9810000000000001*cos_phi2 + 0.015*wq1 + 0.015*wq2
+        wq2_1 = om2_3*om2_2_dq2
+        wq2_2 = om2_2*om2_3_dq2
+        pF2_2_dq2 = -0.9810000000000001*cos_phi2 + 0.015*wq2_1 + 0.015*wq2_2
         pF2_3_dq2 = 0.9810000000000001*sin_phi2 - 0.03*om2_2*om2_2_dq2
-        pN2_1_dq2 = -0.00299*wq1 - 0.00299*wq2 + 0.14715*cos_phi2
-        pN2_2_dq2 = 0.003*eps2_2_dq2 + 0.00299*wq0
+        pN2_1_dq2 = -0.00299*wq2_1 - 0.00299*wq2_2 + 0.14715*cos_phi2
+        pN2_2_dq2 = 0.003*eps2_2_dq2 + 0.00299*wq2_0
         c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
         pa2_5_dq2 = pF2_2_dq2 + 4.999999999999999*pN2_1_dq2
         j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 1e-05*sin_phi2*eps2_3 + 1e-05*cos_phi2*eps2_3_dq2
@@ -226,36 +229,34 @@ def qdd_derivatives(x, u=None, p=None):
         qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2
         dv2_2_dq2 = -0.2*sin_phi2*qdd1 + 0.2*cos_phi2*qdd1_dq2
         qdd2_dq2 = -333.3333333333333*pN2_1_dq2 + 4.999999999999999*dv2_2_dq2
-        dqdd_dphi[0, 0] = 0.0
         dqdd_dphi[0, 1] = qdd1_dq2
-        dqdd_dphi[1, 0] = 0.0
         dqdd_dphi[1, 1] = qdd2_dq2
 
-        wv0 = x[3]*cos_phi2
-        eps2_2_dv1 = wv0
-        wv1 = x[3]*sin_phi2
-        eps2_3_dv1 = -wv1
-        wv2 = sin_phi2*om2_3
-        wv3 = cos_phi2*om2_2
-        pF2_2_dv1 = 0.015*wv2 + 0.015*wv3
+        wv1_0 = x[3]*cos_phi2
+        eps2_2_dv1 = wv1_0
+        eps2_3_dv1 = -x[3]*sin_phi2
+        wv1_1 = sin_phi2*om2_3
+        wv1_2 = cos_phi2*om2_2
+        pF2_2_dv1 = 0.015*wv1_1 + 0.015*wv1_2
         pF2_3_dv1 = -0.03*sin_phi2*om2_2
-        pN2_1_dv1 = -0.00299*wv2 - 0.00299*wv3
-        pN2_2_dv1 = 0.003*eps2_2_dv1 + 0.00299*wv0 - 0.006*x[2]
+        pN2_1_dv1 = -0.00299*wv1_1 - 0.00299*wv1_2
+        pN2_2_dv1 = 0.003*eps2_2_dv1 + 0.00299*wv1_0 - 0.006*x[2]
         pa2_5_dv1 = pF2_2_dv1 + 4.999999999999999*pN2_1_dv1
         j2r15_dv1 = sin_phi2*pN2_2_dv1 + 1e-05*cos_phi2*eps2_3_dv1
-        j2r15_dv2 = 0.0059900000000000005*wv2 - 1e-05*wv3
         pc2f_2_dv1 = cos_phi2*pa2_5_dv1 - sin_phi2*pF2_3_dv1
-        pc2f_2_dv2 = 0.03*wv1
         pA1_1_dv1 = j2r15_dv1 + 0.2*pc2f_2_dv1
-        pA1_1_dv2 = j2r15_dv2 + 0.2*pc2f_2_dv2
         qdd1_dv1 = -rD1*pA1_1_dv1
-        qdd1_dv2 = -rD1*pA1_1_dv2
         dv2_2_dv1 = 0.2*cos_phi2*qdd1_dv1
-        dv2_2_dv2 = 0.2*cos_phi2*qdd1_dv2
         qdd2_dv1 = -333.3333333333333*pN2_1_dv1 + 4.999999999999999*dv2_2_dv1
         dqdd_dphidot[0, 0] = qdd1_dv1
-        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 0] = qdd2_dv1
+
+        j2r15_dv2 = 0.0059900000000000005*sin_phi2*om2_3 - 1e-05*cos_phi2*om2_2
+        pc2f_2_dv2 = 0.03*x[3]*sin_phi2
+        pA1_1_dv2 = j2r15_dv2 + 0.2*pc2f_2_dv2
+        qdd1_dv2 = -rD1*pA1_1_dv2
+        dv2_2_dv2 = 0.2*cos_phi2*qdd1_dv2
+        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 1] = 4.999999999999999*dv2_2_dv2
 
         dv2_2_du1 = 0.2*cos_phi2*rD1

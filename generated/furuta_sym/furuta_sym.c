@@ -268,14 +268,155 @@ int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p,
     return furuta_sym_all_finite_(qdd, 2) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
 }
 
+/* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q1, reading the recursion's values it needs from b. */
+static void furuta_sym_dq1_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double tau_1 = u ? u[0] : 0.0;
+    (void)tau_1;
+
+    col[0] = 0.0;
+    col[1] = 0.0;
+
+}
+
+/* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q2, reading the recursion's values it needs from b. */
+static void furuta_sym_dq2_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double tau_1 = u ? u[0] : 0.0;
+    (void)tau_1;
+    const double om2_2_dq2 = x[2]*b[0];
+    const double om2_3_dq2 = -x[2]*b[1];
+    const double eps2_2_dq2 = x[3]*om2_3_dq2;
+    const double eps2_3_dq2 = -x[3]*om2_2_dq2;
+    const double aOg2_2_dq2 = -b[0]*p->g0;
+    const double aOg2_3_dq2 = b[1]*p->g0;
+    const double wc2_1_dq2 = p->l*om2_2_dq2;
+    const double Aw2_2_dq2 = p->J2*om2_2_dq2 + p->m2*p->l*p->l*om2_2_dq2;
+    const double Aw2_3_dq2 = p->J2z*om2_3_dq2;
+    const double pF2_2_dq2 = p->m2*aOg2_2_dq2 + p->m2*b[5]*om2_3_dq2 + b[3]*p->m2*wc2_1_dq2;
+    const double pF2_3_dq2 = p->m2*aOg2_3_dq2 - p->m2*b[5]*om2_2_dq2 - b[2]*p->m2*wc2_1_dq2;
+    const double pN2_1_dq2 = b[9]*om2_2_dq2 + b[2]*Aw2_3_dq2 - b[8]*om2_3_dq2 - b[3]*Aw2_2_dq2 - p->m2*p->l*aOg2_2_dq2;
+    const double pN2_2_dq2 = p->J2*eps2_2_dq2 + p->m2*p->l*p->l*eps2_2_dq2 + b[7]*om2_3_dq2 - x[3]*Aw2_3_dq2;
+    const double pN2_3_dq2 = p->J2z*eps2_3_dq2 + x[3]*Aw2_2_dq2 - b[7]*om2_2_dq2;
+    const double pa2_5_dq2 = pF2_2_dq2 - b[15]*pN2_1_dq2;
+    const double Ja2rra_23_dq2 = b[0]*b[13];
+    const double Ja2rra_33_dq2 = -b[1]*p->J2z;
+    const double Ja2rr_33_dq2 = b[0]*b[18] + b[1]*Ja2rra_23_dq2 - b[1]*b[19] + b[0]*Ja2rra_33_dq2;
+    const double Jm2rra_22_dq2 = -b[1]*b[16];
+    const double Jm2rra_32_dq2 = -b[0]*p->m2;
+    const double Jm2rr_22_dq2 = -b[1]*b[20] + b[0]*Jm2rra_22_dq2 - b[0]*b[21] - b[1]*Jm2rra_32_dq2;
+    const double j2r15_dq2 = b[0]*b[11] + b[1]*pN2_2_dq2 - b[1]*b[12] + b[0]*pN2_3_dq2;
+    const double pc2f_2_dq2 = -b[1]*b[17] + b[0]*pa2_5_dq2 - b[0]*b[10] - b[1]*pF2_3_dq2;
+    const double Jh2s_12_dq2 = p->r*Jm2rr_22_dq2;
+    const double IA1_11_dq2 = Ja2rr_33_dq2 + p->r*Jh2s_12_dq2;
+    const double pA1_1_dq2 = j2r15_dq2 + p->r*pc2f_2_dq2;
+    const double rD1_dq2 = -b[22]*b[22]*IA1_11_dq2;
+    const double qdd1_dq2 = b[23]*rD1_dq2 - b[22]*pA1_1_dq2;
+    const double dv2_2_dq2 = -b[1]*p->r*b[24] + b[0]*p->r*qdd1_dq2;
+    const double qdd2_dq2 = -b[14]*pN2_1_dq2 - b[15]*dv2_2_dq2;
+
+    col[0] = qdd1_dq2;
+    col[1] = qdd2_dq2;
+
+}
+
+/* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v1, reading the recursion's values it needs from b. */
+static void furuta_sym_dv1_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double tau_1 = u ? u[0] : 0.0;
+    (void)tau_1;
+    const double eps2_2_dv1 = x[3]*b[0];
+    const double eps2_3_dv1 = -x[3]*b[1];
+    const double aOrel2in1_3_dv1 = b[4] + x[2]*p->r;
+    const double wc2_1_dv1 = b[1]*p->l;
+    const double Aw2_2_dv1 = b[1]*p->J2 + b[1]*p->m2*p->l*p->l;
+    const double Aw2_3_dv1 = b[0]*p->J2z;
+    const double pF2_2_dv1 = b[0]*p->m2*b[5] + b[3]*p->m2*wc2_1_dv1;
+    const double pF2_3_dv1 = -b[1]*p->m2*b[5] - b[2]*p->m2*wc2_1_dv1;
+    const double pN2_1_dv1 = b[1]*b[9] + b[2]*Aw2_3_dv1 - b[0]*b[8] - b[3]*Aw2_2_dv1;
+    const double pN2_2_dv1 = p->J2*eps2_2_dv1 + p->m2*p->l*p->l*eps2_2_dv1 + b[0]*b[7] - x[3]*Aw2_3_dv1 - p->m2*p->l*aOrel2in1_3_dv1;
+    const double pN2_3_dv1 = p->J2z*eps2_3_dv1 + x[3]*Aw2_2_dv1 - b[1]*b[7];
+    const double pa2_5_dv1 = pF2_2_dv1 - b[15]*pN2_1_dv1;
+    const double j2r15_dv1 = b[1]*pN2_2_dv1 + b[0]*pN2_3_dv1;
+    const double pc2f_2_dv1 = b[0]*pa2_5_dv1 - b[1]*pF2_3_dv1;
+    const double pA1_1_dv1 = j2r15_dv1 + p->r*pc2f_2_dv1;
+    const double qdd1_dv1 = -b[22]*pA1_1_dv1;
+    const double dv2_2_dv1 = b[0]*p->r*qdd1_dv1;
+    const double qdd2_dv1 = -b[14]*pN2_1_dv1 - b[15]*dv2_2_dv1;
+
+    col[0] = qdd1_dv1;
+    col[1] = qdd2_dv1;
+
+}
+
+/* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v2, reading the recursion's values it needs from b. */
+static void furuta_sym_dv2_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double tau_1 = u ? u[0] : 0.0;
+    (void)tau_1;
+    const double Aw2_1_dv2 = p->J2 + p->m2*p->l*p->l;
+    const double pF2_3_dv2 = p->m2*b[6] - x[3]*p->m2*p->l;
+    const double pN2_2_dv2 = b[3]*p->J2 + b[3]*p->m2*p->l*p->l + b[3]*Aw2_1_dv2 - b[9];
+    const double pN2_3_dv2 = -b[2]*p->J2z + b[8] - b[2]*Aw2_1_dv2;
+    const double j2r15_dv2 = b[1]*pN2_2_dv2 + b[0]*pN2_3_dv2;
+    const double pc2f_2_dv2 = -b[1]*pF2_3_dv2;
+    const double pA1_1_dv2 = j2r15_dv2 + p->r*pc2f_2_dv2;
+    const double qdd1_dv2 = -b[22]*pA1_1_dv2;
+    const double dv2_2_dv2 = b[0]*p->r*qdd1_dv2;
+    const double qdd2_dv2 = -b[15]*dv2_2_dv2;
+
+    col[0] = qdd1_dv2;
+    col[1] = qdd2_dv2;
+
+}
+
+/* Column 1 of d phi''/d u: the forward-mode tangent of the recursion
+ * along u1, reading the recursion's values it needs from b. */
+static void furuta_sym_du1_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double tau_1 = u ? u[0] : 0.0;
+    (void)tau_1;
+    const double dv2_2_du1 = b[0]*p->r*b[22];
+    const double qdd2_du1 = -b[15]*dv2_2_du1;
+
+    col[0] = b[22];
+    col[1] = qdd2_du1;
+
+}
+
 int furuta_sym_qdd_derivatives(const double *x, const double *u, const furuta_sym_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[2];
     double piv[2];
+    double b[25];
     int i, code;
     if (!p) {
         return FURUTA_SYM_NO_PARAMS;
@@ -338,107 +479,82 @@ int furuta_sym_qdd_derivatives(const double *x, const double *u, const furuta_sy
         piv[0] = IA1_11;
         piv[1] = IA2_11;
 
-        code = furuta_sym_pivots_(piv);
-        if (code != FURUTA_SYM_OK) {
-            return code;
+        b[0] = cos_phi2;
+        b[1] = sin_phi2;
+        b[2] = om2_2;
+        b[3] = om2_3;
+        b[4] = ws1_2;
+        b[5] = wc2_1;
+        b[6] = wc2_2;
+        b[7] = Aw2_1;
+        b[8] = Aw2_2;
+        b[9] = Aw2_3;
+        b[10] = pF2_3;
+        b[11] = pN2_2;
+        b[12] = pN2_3;
+        b[13] = IA2_22;
+        b[14] = rD2;
+        b[15] = W2_5;
+        b[16] = Ja2_55;
+        b[17] = pa2_5;
+        b[18] = Ja2rra_23;
+        b[19] = Ja2rra_33;
+        b[20] = Jm2rra_22;
+        b[21] = Jm2rra_32;
+        b[22] = rD1;
+        b[23] = u1;
+        b[24] = qdd1;
+    }
+    code = furuta_sym_pivots_(piv);
+    if (code != FURUTA_SYM_OK) {
+        return code;
+    }
+    if (qdd) {
+        for (i = 0; i < 2; ++i) {
+            qdd[i] = acc[i];
         }
-        if (qdd) {
-            for (i = 0; i < 2; ++i) {
-                qdd[i] = acc[i];
-            }
-        }
+    }
         if (dqdd_dphi) {
-            const double om2_2_dq2 = x[2]*cos_phi2;
-            const double om2_3_dq2 = -x[2]*sin_phi2;
-            const double eps2_2_dq2 = x[3]*om2_3_dq2;
-            const double eps2_3_dq2 = -x[3]*om2_2_dq2;
-            const double aOg2_2_dq2 = -cos_phi2*p->g0;
-            const double aOg2_3_dq2 = sin_phi2*p->g0;
-            const double wc2_1_dq2 = p->l*om2_2_dq2;
-            const double Aw2_2_dq2 = p->J2*om2_2_dq2 + p->m2*p->l*p->l*om2_2_dq2;
-            const double Aw2_3_dq2 = p->J2z*om2_3_dq2;
-            const double pF2_2_dq2 = p->m2*aOg2_2_dq2 + p->m2*wc2_1*om2_3_dq2 + om2_3*p->m2*wc2_1_dq2;
-            const double pF2_3_dq2 = p->m2*aOg2_3_dq2 - p->m2*wc2_1*om2_2_dq2 - om2_2*p->m2*wc2_1_dq2;
-            const double pN2_1_dq2 = Aw2_3*om2_2_dq2 + om2_2*Aw2_3_dq2 - Aw2_2*om2_3_dq2 - om2_3*Aw2_2_dq2 - p->m2*p->l*aOg2_2_dq2;
-            const double pN2_2_dq2 = p->J2*eps2_2_dq2 + p->m2*p->l*p->l*eps2_2_dq2 + Aw2_1*om2_3_dq2 - x[3]*Aw2_3_dq2;
-            const double pN2_3_dq2 = p->J2z*eps2_3_dq2 + x[3]*Aw2_2_dq2 - Aw2_1*om2_2_dq2;
-            const double pa2_5_dq2 = pF2_2_dq2 - W2_5*pN2_1_dq2;
-            const double Ja2rra_23_dq2 = cos_phi2*IA2_22;
-            const double Ja2rra_33_dq2 = -sin_phi2*p->J2z;
-            const double Ja2rr_33_dq2 = cos_phi2*Ja2rra_23 + sin_phi2*Ja2rra_23_dq2 - sin_phi2*Ja2rra_33 + cos_phi2*Ja2rra_33_dq2;
-            const double Jm2rra_22_dq2 = -sin_phi2*Ja2_55;
-            const double Jm2rra_32_dq2 = -cos_phi2*p->m2;
-            const double Jm2rr_22_dq2 = -sin_phi2*Jm2rra_22 + cos_phi2*Jm2rra_22_dq2 - cos_phi2*Jm2rra_32 - sin_phi2*Jm2rra_32_dq2;
-            const double j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - sin_phi2*pN2_3 + cos_phi2*pN2_3_dq2;
-            const double pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - sin_phi2*pF2_3_dq2;
-            const double Jh2s_12_dq2 = p->r*Jm2rr_22_dq2;
-            const double IA1_11_dq2 = Ja2rr_33_dq2 + p->r*Jh2s_12_dq2;
-            const double pA1_1_dq2 = j2r15_dq2 + p->r*pc2f_2_dq2;
-            const double rD1_dq2 = -rD1*rD1*IA1_11_dq2;
-            const double qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2;
-            const double dv2_2_dq2 = -sin_phi2*p->r*qdd1 + cos_phi2*p->r*qdd1_dq2;
-            const double qdd2_dq2 = -rD2*pN2_1_dq2 - W2_5*dv2_2_dq2;
-
-            dqdd_dphi[0] = 0.0;
-            dqdd_dphi[1] = qdd1_dq2;
-            dqdd_dphi[2] = 0.0;
-            dqdd_dphi[3] = qdd2_dq2;
-
+            double col[2];
+            furuta_sym_dq1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 0] = col[i];
+            }
+            furuta_sym_dq2_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 1] = col[i];
+            }
             if (!furuta_sym_all_finite_(dqdd_dphi, 4)) {
                 return FURUTA_SYM_NONFINITE;
             }
         }
+
         if (dqdd_dphidot) {
-            const double eps2_2_dv1 = x[3]*cos_phi2;
-            const double eps2_3_dv1 = -x[3]*sin_phi2;
-            const double aOrel2in1_3_dv1 = ws1_2 + x[2]*p->r;
-            const double wc2_1_dv1 = sin_phi2*p->l;
-            const double Aw2_1_dv2 = p->J2 + p->m2*p->l*p->l;
-            const double Aw2_2_dv1 = sin_phi2*p->J2 + sin_phi2*p->m2*p->l*p->l;
-            const double Aw2_3_dv1 = cos_phi2*p->J2z;
-            const double pF2_2_dv1 = cos_phi2*p->m2*wc2_1 + om2_3*p->m2*wc2_1_dv1;
-            const double pF2_3_dv1 = -sin_phi2*p->m2*wc2_1 - om2_2*p->m2*wc2_1_dv1;
-            const double pF2_3_dv2 = p->m2*wc2_2 - x[3]*p->m2*p->l;
-            const double pN2_1_dv1 = sin_phi2*Aw2_3 + om2_2*Aw2_3_dv1 - cos_phi2*Aw2_2 - om2_3*Aw2_2_dv1;
-            const double pN2_2_dv1 = p->J2*eps2_2_dv1 + p->m2*p->l*p->l*eps2_2_dv1 + cos_phi2*Aw2_1 - x[3]*Aw2_3_dv1 - p->m2*p->l*aOrel2in1_3_dv1;
-            const double pN2_2_dv2 = om2_3*p->J2 + om2_3*p->m2*p->l*p->l + om2_3*Aw2_1_dv2 - Aw2_3;
-            const double pN2_3_dv1 = p->J2z*eps2_3_dv1 + x[3]*Aw2_2_dv1 - sin_phi2*Aw2_1;
-            const double pN2_3_dv2 = -om2_2*p->J2z + Aw2_2 - om2_2*Aw2_1_dv2;
-            const double pa2_5_dv1 = pF2_2_dv1 - W2_5*pN2_1_dv1;
-            const double j2r15_dv1 = sin_phi2*pN2_2_dv1 + cos_phi2*pN2_3_dv1;
-            const double j2r15_dv2 = sin_phi2*pN2_2_dv2 + cos_phi2*pN2_3_dv2;
-            const double pc2f_2_dv1 = cos_phi2*pa2_5_dv1 - sin_phi2*pF2_3_dv1;
-            const double pc2f_2_dv2 = -sin_phi2*pF2_3_dv2;
-            const double pA1_1_dv1 = j2r15_dv1 + p->r*pc2f_2_dv1;
-            const double pA1_1_dv2 = j2r15_dv2 + p->r*pc2f_2_dv2;
-            const double qdd1_dv1 = -rD1*pA1_1_dv1;
-            const double qdd1_dv2 = -rD1*pA1_1_dv2;
-            const double dv2_2_dv1 = cos_phi2*p->r*qdd1_dv1;
-            const double dv2_2_dv2 = cos_phi2*p->r*qdd1_dv2;
-            const double qdd2_dv1 = -rD2*pN2_1_dv1 - W2_5*dv2_2_dv1;
-            const double qdd2_dv2 = -W2_5*dv2_2_dv2;
-
-            dqdd_dphidot[0] = qdd1_dv1;
-            dqdd_dphidot[1] = qdd1_dv2;
-            dqdd_dphidot[2] = qdd2_dv1;
-            dqdd_dphidot[3] = qdd2_dv2;
-
+            double col[2];
+            furuta_sym_dv1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 0] = col[i];
+            }
+            furuta_sym_dv2_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 1] = col[i];
+            }
             if (!furuta_sym_all_finite_(dqdd_dphidot, 4)) {
                 return FURUTA_SYM_NONFINITE;
             }
         }
+
         if (dqdd_du) {
-            const double dv2_2_du1 = cos_phi2*p->r*rD1;
-            const double qdd2_du1 = -W2_5*dv2_2_du1;
-
-            dqdd_du[0] = rD1;
-            dqdd_du[1] = qdd2_du1;
-
+            double col[2];
+            furuta_sym_du1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_du[i * 1 + 0] = col[i];
+            }
             if (!furuta_sym_all_finite_(dqdd_du, 2)) {
                 return FURUTA_SYM_NONFINITE;
             }
         }
-    }
+
     return furuta_sym_all_finite_(acc, 2) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
 }
 

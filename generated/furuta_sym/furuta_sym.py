@@ -290,6 +290,9 @@ def qdd_derivatives(x, u=None, p=None):
         piv[0] = IA1_11
         piv[1] = IA2_11
 
+        dqdd_dphi[0, 0] = 0.0
+        dqdd_dphi[1, 0] = 0.0
+
         om2_2_dq2 = x[2]*cos_phi2
         om2_3_dq2 = -x[2]*sin_phi2
         eps2_2_dq2 = x[3]*om2_3_dq2
@@ -320,42 +323,41 @@ def qdd_derivatives(x, u=None, p=None):
         qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2
         dv2_2_dq2 = -sin_phi2*p_r*qdd1 + cos_phi2*p_r*qdd1_dq2
         qdd2_dq2 = -rD2*pN2_1_dq2 - W2_5*dv2_2_dq2
-        dqdd_dphi[0, 0] = 0.0
         dqdd_dphi[0, 1] = qdd1_dq2
-        dqdd_dphi[1, 0] = 0.0
         dqdd_dphi[1, 1] = qdd2_dq2
 
         eps2_2_dv1 = x[3]*cos_phi2
         eps2_3_dv1 = -x[3]*sin_phi2
         aOrel2in1_3_dv1 = ws1_2 + x[2]*p_r
         wc2_1_dv1 = sin_phi2*p_l
-        Aw2_1_dv2 = p_J2 + p_m2*p_l*p_l
         Aw2_2_dv1 = sin_phi2*p_J2 + sin_phi2*p_m2*p_l*p_l
         Aw2_3_dv1 = cos_phi2*p_J2z
         pF2_2_dv1 = cos_phi2*p_m2*wc2_1 + om2_3*p_m2*wc2_1_dv1
         pF2_3_dv1 = -sin_phi2*p_m2*wc2_1 - om2_2*p_m2*wc2_1_dv1
-        pF2_3_dv2 = p_m2*wc2_2 - x[3]*p_m2*p_l
         pN2_1_dv1 = sin_phi2*Aw2_3 + om2_2*Aw2_3_dv1 - cos_phi2*Aw2_2 - om2_3*Aw2_2_dv1
         pN2_2_dv1 = p_J2*eps2_2_dv1 + p_m2*p_l*p_l*eps2_2_dv1 + cos_phi2*Aw2_1 - x[3]*Aw2_3_dv1 - p_m2*p_l*aOrel2in1_3_dv1
-        pN2_2_dv2 = om2_3*p_J2 + om2_3*p_m2*p_l*p_l + om2_3*Aw2_1_dv2 - Aw2_3
         pN2_3_dv1 = p_J2z*eps2_3_dv1 + x[3]*Aw2_2_dv1 - sin_phi2*Aw2_1
-        pN2_3_dv2 = -om2_2*p_J2z + Aw2_2 - om2_2*Aw2_1_dv2
         pa2_5_dv1 = pF2_2_dv1 - W2_5*pN2_1_dv1
         j2r15_dv1 = sin_phi2*pN2_2_dv1 + cos_phi2*pN2_3_dv1
-        j2r15_dv2 = sin_phi2*pN2_2_dv2 + cos_phi2*pN2_3_dv2
         pc2f_2_dv1 = cos_phi2*pa2_5_dv1 - sin_phi2*pF2_3_dv1
-        pc2f_2_dv2 = -sin_phi2*pF2_3_dv2
         pA1_1_dv1 = j2r15_dv1 + p_r*pc2f_2_dv1
-        pA1_1_dv2 = j2r15_dv2 + p_r*pc2f_2_dv2
         qdd1_dv1 = -rD1*pA1_1_dv1
-        qdd1_dv2 = -rD1*pA1_1_dv2
         dv2_2_dv1 = cos_phi2*p_r*qdd1_dv1
-        dv2_2_dv2 = cos_phi2*p_r*qdd1_dv2
         qdd2_dv1 = -rD2*pN2_1_dv1 - W2_5*dv2_2_dv1
-        qdd2_dv2 = -W2_5*dv2_2_dv2
         dqdd_dphidot[0, 0] = qdd1_dv1
-        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 0] = qdd2_dv1
+
+        Aw2_1_dv2 = p_J2 + p_m2*p_l*p_l
+        pF2_3_dv2 = p_m2*wc2_2 - x[3]*p_m2*p_l
+        pN2_2_dv2 = om2_3*p_J2 + om2_3*p_m2*p_l*p_l + om2_3*Aw2_1_dv2 - Aw2_3
+        pN2_3_dv2 = -om2_2*p_J2z + Aw2_2 - om2_2*Aw2_1_dv2
+        j2r15_dv2 = sin_phi2*pN2_2_dv2 + cos_phi2*pN2_3_dv2
+        pc2f_2_dv2 = -sin_phi2*pF2_3_dv2
+        pA1_1_dv2 = j2r15_dv2 + p_r*pc2f_2_dv2
+        qdd1_dv2 = -rD1*pA1_1_dv2
+        dv2_2_dv2 = cos_phi2*p_r*qdd1_dv2
+        qdd2_dv2 = -W2_5*dv2_2_dv2
+        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 1] = qdd2_dv2
 
         dv2_2_du1 = cos_phi2*p_r*rD1

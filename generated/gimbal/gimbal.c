@@ -190,14 +190,92 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
     return gimbal_all_finite_(qdd, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
 }
 
+/* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q1, reading the recursion's values it needs from b. */
+static void gimbal_dq1_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+
+    col[0] = 0.0;
+    col[1] = 0.0;
+
+}
+
+/* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q2, reading the recursion's values it needs from b. */
+static void gimbal_dq2_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double om2_2_dq2 = x[2]*b[0];
+    const double om2_3_dq2 = -x[2]*b[1];
+    const double wq2_0 = x[3]*om2_3_dq2;
+    const double eps2_2_dq2 = wq2_0;
+    const double eps2_3_dq2 = -x[3]*om2_2_dq2;
+    const double pN2_1_dq2 = 0.002999999999999999*b[3]*om2_2_dq2 + 0.002999999999999999*b[2]*om2_3_dq2 + 0.5*om2_2_dq2;
+    const double pN2_2_dq2 = 0.006*eps2_2_dq2 - 0.002999999999999999*wq2_0;
+    const double c2phi2_dq2 = -4.0*b[0]*b[1];
+    const double j2r15_dq2 = b[0]*b[5] + b[1]*pN2_2_dq2 - 0.009*b[1]*b[4] + 0.009*b[0]*eps2_3_dq2;
+    const double rD1_dq2 = -0.0014999999999999996*b[7]*b[7]*c2phi2_dq2;
+    const double qdd1_dq2 = -b[7]*j2r15_dq2 - b[6]*rD1_dq2;
+
+    col[0] = qdd1_dq2;
+    col[1] = -166.66666666666666*pN2_1_dq2;
+
+}
+
+/* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v1, reading the recursion's values it needs from b. */
+static void gimbal_dv1_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double wv1_0 = x[3]*b[0];
+    const double eps2_2_dv1 = wv1_0;
+    const double eps2_3_dv1 = -x[3]*b[1];
+    const double pN2_1_dv1 = 0.002999999999999999*b[1]*b[3] + 0.002999999999999999*b[0]*b[2] + 0.5*b[1];
+    const double pN2_2_dv1 = 0.006*eps2_2_dv1 - 0.002999999999999999*wv1_0;
+    const double j2r15_dv1 = b[1]*pN2_2_dv1 + 0.009*b[0]*eps2_3_dv1;
+    const double qdd1_dv1 = -b[7]*j2r15_dv1;
+
+    col[0] = qdd1_dv1;
+    col[1] = -166.66666666666666*pN2_1_dv1;
+
+}
+
+/* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v2, reading the recursion's values it needs from b. */
+static void gimbal_dv2_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double pN2_2_dv2 = 0.003000000000000001*b[3] - 0.5;
+    const double j2r15_dv2 = b[1]*pN2_2_dv2 - 0.009*b[0]*b[2];
+    const double qdd1_dv2 = -b[7]*j2r15_dv2;
+
+    col[0] = qdd1_dv2;
+    col[1] = 0.0;
+
+}
+
 int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[2];
     double piv[2];
+    double b[8];
     int i, code;
     (void)p;
 
@@ -229,61 +307,55 @@ int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params
         piv[0] = IA1_11;
         piv[1] = 0.006;
 
-        code = gimbal_pivots_(piv);
-        if (code != GIMBAL_OK) {
-            return code;
+        b[0] = cos_phi2;
+        b[1] = sin_phi2;
+        b[2] = om2_2;
+        b[3] = om2_3;
+        b[4] = eps2_3;
+        b[5] = pN2_2;
+        b[6] = j2r15;
+        b[7] = rD1;
+    }
+    code = gimbal_pivots_(piv);
+    if (code != GIMBAL_OK) {
+        return code;
+    }
+    if (qdd) {
+        for (i = 0; i < 2; ++i) {
+            qdd[i] = acc[i];
         }
-        if (qdd) {
-            for (i = 0; i < 2; ++i) {
-                qdd[i] = acc[i];
-            }
-        }
+    }
         if (dqdd_dphi) {
-            const double om2_2_dq2 = x[2]*cos_phi2;
-            const double om2_3_dq2 = -x[2]*sin_phi2;
-            const double wq0 = x[3]*om2_3_dq2;
-            const double eps2_2_dq2 = wq0;
-            const double eps2_3_dq2 = -x[3]*om2_2_dq2;
-            const double pN2_1_dq2 = 0.002999999999999999*om2_3*om2_2_dq2 + 0.002999999999999999*om2_2*om2_3_dq2 + 0.5*om2_2_dq2;
-            const double pN2_2_dq2 = 0.006*eps2_2_dq2 - 0.002999999999999999*wq0;
-            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
-            const double j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 0.009*sin_phi2*eps2_3 + 0.009*cos_phi2*eps2_3_dq2;
-            const double rD1_dq2 = -0.0014999999999999996*rD1*rD1*c2phi2_dq2;
-            const double qdd1_dq2 = -rD1*j2r15_dq2 - j2r15*rD1_dq2;
-
-            dqdd_dphi[0] = 0.0;
-            dqdd_dphi[1] = qdd1_dq2;
-            dqdd_dphi[2] = 0.0;
-            dqdd_dphi[3] = -166.66666666666666*pN2_1_dq2;
-
+            double col[2];
+            gimbal_dq1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 0] = col[i];
+            }
+            gimbal_dq2_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 1] = col[i];
+            }
             if (!gimbal_all_finite_(dqdd_dphi, 4)) {
                 return GIMBAL_NONFINITE;
             }
         }
+
         if (dqdd_dphidot) {
-            const double wv0 = x[3]*cos_phi2;
-            const double eps2_2_dv1 = wv0;
-            const double eps2_3_dv1 = -x[3]*sin_phi2;
-            const double wv1 = cos_phi2*om2_2;
-            const double pN2_1_dv1 = 0.002999999999999999*sin_phi2*om2_3 + 0.002999999999999999*wv1 + 0.5*sin_phi2;
-            const double pN2_2_dv1 = 0.006*eps2_2_dv1 - 0.002999999999999999*wv0;
-            const double pN2_2_dv2 = 0.003000000000000001*om2_3 - 0.5;
-            const double j2r15_dv1 = sin_phi2*pN2_2_dv1 + 0.009*cos_phi2*eps2_3_dv1;
-            const double j2r15_dv2 = sin_phi2*pN2_2_dv2 - 0.009*wv1;
-            const double qdd1_dv1 = -rD1*j2r15_dv1;
-            const double qdd1_dv2 = -rD1*j2r15_dv2;
-
-            dqdd_dphidot[0] = qdd1_dv1;
-            dqdd_dphidot[1] = qdd1_dv2;
-            dqdd_dphidot[2] = -166.66666666666666*pN2_1_dv1;
-            dqdd_dphidot[3] = 0.0;
-
+            double col[2];
+            gimbal_dv1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 0] = col[i];
+            }
+            gimbal_dv2_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 1] = col[i];
+            }
             if (!gimbal_all_finite_(dqdd_dphidot, 4)) {
                 return GIMBAL_NONFINITE;
             }
         }
-        (void)dqdd_du;  /* no control inputs: an n x 0 block */
-    }
+
+    (void)dqdd_du;  /* no control inputs: an n x 0 block */
     return gimbal_all_finite_(acc, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
 }
 

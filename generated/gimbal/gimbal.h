@@ -25,7 +25,7 @@
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * gimbal_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 14, forces 19, linearize 84, mass_matrix 8, momentum 11, qdd 28, qdd_derivatives 84, quad_terms 9, rhs 28.
+ * Op counts: energy 14, forces 19, linearize 85, mass_matrix 8, momentum 11, qdd 28, qdd_derivatives 85, quad_terms 9, rhs 28.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

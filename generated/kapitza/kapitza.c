@@ -164,14 +164,46 @@ int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params
     return kapitza_all_finite_(qdd, 1) ? KAPITZA_OK : KAPITZA_NONFINITE;
 }
 
+/* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q1, reading the recursion's values it needs from b. */
+static void kapitza_dq1_(double t, const double *x, const double *u, const kapitza_params *p, const double *b, double *col)
+{
+    (void)t;
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double cos_phi1 = cos(x[0]);
+    const double aO1_2_dq1 = b[0]*cos_phi1;
+    const double aOg1_2_dq1 = aO1_2_dq1 - 9.81*cos_phi1;
+
+    col[0] = 4.998750312421896*aOg1_2_dq1;
+
+}
+
+/* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v1, reading the recursion's values it needs from b. */
+static void kapitza_dv1_(double t, const double *x, const double *u, const kapitza_params *p, const double *b, double *col)
+{
+    (void)t;
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+
+    col[0] = 0.0;
+
+}
+
 int kapitza_qdd_derivatives(double t, const double *x, const double *u, const kapitza_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[1];
     double piv[1];
+    double b[1];
     int i, code;
     if (!p) {
         return KAPITZA_NO_PARAMS;
@@ -193,36 +225,40 @@ int kapitza_qdd_derivatives(double t, const double *x, const double *u, const ka
         acc[0] = 4.998750312421896*aOg1_2;
         piv[0] = 0.004001;
 
-        code = kapitza_pivots_(piv);
-        if (code != KAPITZA_OK) {
-            return code;
+        b[0] = a0_1;
+    }
+    code = kapitza_pivots_(piv);
+    if (code != KAPITZA_OK) {
+        return code;
+    }
+    if (qdd) {
+        for (i = 0; i < 1; ++i) {
+            qdd[i] = acc[i];
         }
-        if (qdd) {
-            for (i = 0; i < 1; ++i) {
-                qdd[i] = acc[i];
-            }
-        }
+    }
         if (dqdd_dphi) {
-            const double cos_phi1 = cos(x[0]);
-            const double aO1_2_dq1 = a0_1*cos_phi1;
-            const double aOg1_2_dq1 = aO1_2_dq1 - 9.81*cos_phi1;
-
-            dqdd_dphi[0] = 4.998750312421896*aOg1_2_dq1;
-
+            double col[1];
+            kapitza_dq1_(t, x, u, p, b, col);
+            for (i = 0; i < 1; ++i) {
+                dqdd_dphi[i * 1 + 0] = col[i];
+            }
             if (!kapitza_all_finite_(dqdd_dphi, 1)) {
                 return KAPITZA_NONFINITE;
             }
         }
-        if (dqdd_dphidot) {
-        
-            dqdd_dphidot[0] = 0.0;
 
+        if (dqdd_dphidot) {
+            double col[1];
+            kapitza_dv1_(t, x, u, p, b, col);
+            for (i = 0; i < 1; ++i) {
+                dqdd_dphidot[i * 1 + 0] = col[i];
+            }
             if (!kapitza_all_finite_(dqdd_dphidot, 1)) {
                 return KAPITZA_NONFINITE;
             }
         }
-        (void)dqdd_du;  /* no control inputs: an n x 0 block */
-    }
+
+    (void)dqdd_du;  /* no control inputs: an n x 0 block */
     return kapitza_all_finite_(acc, 1) ? KAPITZA_OK : KAPITZA_NONFINITE;
 }
 

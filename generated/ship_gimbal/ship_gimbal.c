@@ -258,14 +258,114 @@ int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimba
     return ship_gimbal_all_finite_(qdd, 2) ? SHIP_GIMBAL_OK : SHIP_GIMBAL_NONFINITE;
 }
 
+/* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q1, reading the recursion's values it needs from b. */
+static void ship_gimbal_dq1_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
+{
+    (void)t;
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double gam1_2_dq1 = b[0]*b[10] + b[1]*b[9];
+    const double gam1_3_dq1 = -b[1]*b[10] + b[0]*b[9];
+    const double om1_2_dq1 = -0.056*b[2]*b[10] + b[3]*b[9];
+    const double om1_3_dq1 = -b[3]*b[10] - 0.056*b[2]*b[9];
+    const double om2_2_dq1 = b[14]*om1_2_dq1;
+    const double om2_3_dq1 = -b[15]*om1_2_dq1;
+    const double aO1_2_dq1 = -b[7]*b[10] + b[8]*b[9];
+    const double aO1_3_dq1 = -b[8]*b[10] - b[7]*b[9];
+    const double aOg1_2_dq1 = aO1_2_dq1 - 9.81*gam1_2_dq1;
+    const double aOg1_3_dq1 = aO1_3_dq1 - 9.81*gam1_3_dq1;
+    const double eps1_2_dq1 = 0.0392*b[4]*b[10] + b[6]*b[9] + x[2]*om1_3_dq1;
+    const double eps1_3_dq1 = -b[6]*b[10] + 0.0392*b[4]*b[9] - x[2]*om1_2_dq1;
+    const double eps2_2_dq1 = b[14]*eps1_2_dq1 + x[3]*om2_3_dq1;
+    const double eps2_3_dq1 = -b[15]*eps1_2_dq1 - x[3]*om2_2_dq1;
+    const double aOg2_2_dq1 = b[14]*aOg1_2_dq1;
+    const double pN2_1_dq1 = -0.00612*eps1_3_dq1 + 0.0028799999999999997*b[18]*om2_2_dq1 + 0.0028799999999999997*b[17]*om2_3_dq1 + 0.5*om2_2_dq1 - 0.012*aOg2_2_dq1;
+    const double pN2_2_dq1 = 0.00612*eps2_2_dq1 + 0.0028799999999999997*b[18]*om1_3_dq1 - 0.0028799999999999997*b[16]*om2_3_dq1 + 0.5*om1_3_dq1 - 0.012*aOg1_3_dq1;
+    const double j2r18_dq1 = b[15]*pN2_2_dq1 + 0.009*b[14]*eps2_3_dq1;
+    const double qdd1_dq1 = -b[25]*j2r18_dq1;
+
+    col[0] = qdd1_dq1;
+    col[1] = -163.39869281045753*pN2_1_dq1;
+
+}
+
+/* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q2, reading the recursion's values it needs from b. */
+static void ship_gimbal_dq2_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
+{
+    (void)t;
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double om2_2_dq2 = -b[12]*b[15] + b[11]*b[14];
+    const double om2_3_dq2 = -b[11]*b[15] - b[12]*b[14];
+    const double eps2_2_dq2 = -b[15]*b[21] + b[5]*b[14] + x[3]*om2_3_dq2;
+    const double eps2_3_dq2 = -b[5]*b[15] - b[14]*b[21] - x[3]*om2_2_dq2;
+    const double aOg2_2_dq2 = -b[15]*b[20] + b[14]*b[19];
+    const double pN2_1_dq2 = 0.0028799999999999997*b[18]*om2_2_dq2 + 0.0028799999999999997*b[17]*om2_3_dq2 + 0.5*om2_2_dq2 - 0.012*aOg2_2_dq2;
+    const double pN2_2_dq2 = 0.00612*eps2_2_dq2 - 0.0028799999999999997*b[16]*om2_3_dq2;
+    const double c2phi2_dq2 = -4.0*b[14]*b[15];
+    const double j2r18_dq2 = b[14]*b[23] + b[15]*pN2_2_dq2 - 0.009*b[15]*b[22] + 0.009*b[14]*eps2_3_dq2;
+    const double rD1_dq2 = -0.0014399999999999999*b[25]*b[25]*c2phi2_dq2;
+    const double qdd1_dq2 = -b[25]*j2r18_dq2 - b[24]*rD1_dq2;
+
+    col[0] = qdd1_dq2;
+    col[1] = -163.39869281045753*pN2_1_dq2;
+
+}
+
+/* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v1, reading the recursion's values it needs from b. */
+static void ship_gimbal_dv1_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
+{
+    (void)t;
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double eps2_2_dv1 = b[13]*b[14] + x[3]*b[14];
+    const double eps2_3_dv1 = -b[13]*b[15] - x[3]*b[15];
+    const double pN2_1_dv1 = 0.00612*b[12] + 0.0028799999999999997*b[15]*b[18] + 0.0028799999999999997*b[14]*b[17] + 0.5*b[15];
+    const double pN2_2_dv1 = 0.00612*eps2_2_dv1 - 0.0028799999999999997*b[14]*b[16];
+    const double j2r18_dv1 = b[15]*pN2_2_dv1 + 0.009*b[14]*eps2_3_dv1;
+    const double qdd1_dv1 = -b[25]*j2r18_dv1;
+
+    col[0] = qdd1_dv1;
+    col[1] = -163.39869281045753*pN2_1_dv1;
+
+}
+
+/* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v2, reading the recursion's values it needs from b. */
+static void ship_gimbal_dv2_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
+{
+    (void)t;
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double pN2_2_dv2 = 0.00324*b[18] - 0.5;
+    const double j2r18_dv2 = b[15]*pN2_2_dv2 - 0.009*b[14]*b[17];
+    const double qdd1_dv2 = -b[25]*j2r18_dv2;
+
+    col[0] = qdd1_dv2;
+    col[1] = 0.0;
+
+}
+
 int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, const ship_gimbal_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[2];
     double piv[2];
+    double b[26];
     int i, code;
     (void)p;
 
@@ -331,79 +431,73 @@ int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, cons
         piv[0] = IA1_11;
         piv[1] = 0.00612;
 
-        code = ship_gimbal_pivots_(piv);
-        if (code != SHIP_GIMBAL_OK) {
-            return code;
+        b[0] = pe3;
+        b[1] = gam0_3;
+        b[2] = pe6;
+        b[3] = om0_3;
+        b[4] = pe8;
+        b[5] = eps0_1;
+        b[6] = eps0_3;
+        b[7] = a0_2;
+        b[8] = a0_3;
+        b[9] = cos_phi1;
+        b[10] = sin_phi1;
+        b[11] = om1_1;
+        b[12] = om1_2;
+        b[13] = om1_3;
+        b[14] = cos_phi2;
+        b[15] = sin_phi2;
+        b[16] = om2_1;
+        b[17] = om2_2;
+        b[18] = om2_3;
+        b[19] = aOg1_1;
+        b[20] = aOg1_2;
+        b[21] = eps1_2;
+        b[22] = eps2_3;
+        b[23] = pN2_2;
+        b[24] = pA1_1;
+        b[25] = rD1;
+    }
+    code = ship_gimbal_pivots_(piv);
+    if (code != SHIP_GIMBAL_OK) {
+        return code;
+    }
+    if (qdd) {
+        for (i = 0; i < 2; ++i) {
+            qdd[i] = acc[i];
         }
-        if (qdd) {
-            for (i = 0; i < 2; ++i) {
-                qdd[i] = acc[i];
-            }
-        }
+    }
         if (dqdd_dphi) {
-            const double gam1_2_dq1 = pe3*sin_phi1 + gam0_3*cos_phi1;
-            const double gam1_3_dq1 = -gam0_3*sin_phi1 + pe3*cos_phi1;
-            const double om1_2_dq1 = -0.056*pe6*sin_phi1 + om0_3*cos_phi1;
-            const double om1_3_dq1 = -om0_3*sin_phi1 - 0.056*pe6*cos_phi1;
-            const double om2_2_dq1 = cos_phi2*om1_2_dq1;
-            const double om2_2_dq2 = -om1_2*sin_phi2 + om1_1*cos_phi2;
-            const double om2_3_dq1 = -sin_phi2*om1_2_dq1;
-            const double om2_3_dq2 = -om1_1*sin_phi2 - om1_2*cos_phi2;
-            const double aO1_2_dq1 = -a0_2*sin_phi1 + a0_3*cos_phi1;
-            const double aO1_3_dq1 = -a0_3*sin_phi1 - a0_2*cos_phi1;
-            const double aOg1_2_dq1 = aO1_2_dq1 - 9.81*gam1_2_dq1;
-            const double aOg1_3_dq1 = aO1_3_dq1 - 9.81*gam1_3_dq1;
-            const double eps1_2_dq1 = 0.0392*pe8*sin_phi1 + eps0_3*cos_phi1 + x[2]*om1_3_dq1;
-            const double eps1_3_dq1 = -eps0_3*sin_phi1 + 0.0392*pe8*cos_phi1 - x[2]*om1_2_dq1;
-            const double eps2_2_dq1 = cos_phi2*eps1_2_dq1 + x[3]*om2_3_dq1;
-            const double eps2_2_dq2 = -sin_phi2*eps1_2 + eps0_1*cos_phi2 + x[3]*om2_3_dq2;
-            const double eps2_3_dq1 = -sin_phi2*eps1_2_dq1 - x[3]*om2_2_dq1;
-            const double eps2_3_dq2 = -eps0_1*sin_phi2 - cos_phi2*eps1_2 - x[3]*om2_2_dq2;
-            const double aOg2_2_dq1 = cos_phi2*aOg1_2_dq1;
-            const double aOg2_2_dq2 = -sin_phi2*aOg1_2 + cos_phi2*aOg1_1;
-            const double pN2_1_dq1 = -0.00612*eps1_3_dq1 + 0.0028799999999999997*om2_3*om2_2_dq1 + 0.0028799999999999997*om2_2*om2_3_dq1 + 0.5*om2_2_dq1 - 0.012*aOg2_2_dq1;
-            const double pN2_1_dq2 = 0.0028799999999999997*om2_3*om2_2_dq2 + 0.0028799999999999997*om2_2*om2_3_dq2 + 0.5*om2_2_dq2 - 0.012*aOg2_2_dq2;
-            const double pN2_2_dq1 = 0.00612*eps2_2_dq1 + 0.0028799999999999997*om2_3*om1_3_dq1 - 0.0028799999999999997*om2_1*om2_3_dq1 + 0.5*om1_3_dq1 - 0.012*aOg1_3_dq1;
-            const double pN2_2_dq2 = 0.00612*eps2_2_dq2 - 0.0028799999999999997*om2_1*om2_3_dq2;
-            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
-            const double j2r18_dq1 = sin_phi2*pN2_2_dq1 + 0.009*cos_phi2*eps2_3_dq1;
-            const double j2r18_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 0.009*sin_phi2*eps2_3 + 0.009*cos_phi2*eps2_3_dq2;
-            const double rD1_dq2 = -0.0014399999999999999*rD1*rD1*c2phi2_dq2;
-            const double qdd1_dq1 = -rD1*j2r18_dq1;
-            const double qdd1_dq2 = -rD1*j2r18_dq2 - pA1_1*rD1_dq2;
-
-            dqdd_dphi[0] = qdd1_dq1;
-            dqdd_dphi[1] = qdd1_dq2;
-            dqdd_dphi[2] = -163.39869281045753*pN2_1_dq1;
-            dqdd_dphi[3] = -163.39869281045753*pN2_1_dq2;
-
+            double col[2];
+            ship_gimbal_dq1_(t, x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 0] = col[i];
+            }
+            ship_gimbal_dq2_(t, x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 1] = col[i];
+            }
             if (!ship_gimbal_all_finite_(dqdd_dphi, 4)) {
                 return SHIP_GIMBAL_NONFINITE;
             }
         }
+
         if (dqdd_dphidot) {
-            const double eps2_2_dv1 = om1_3*cos_phi2 + x[3]*cos_phi2;
-            const double eps2_3_dv1 = -om1_3*sin_phi2 - x[3]*sin_phi2;
-            const double wv0 = cos_phi2*om2_2;
-            const double pN2_1_dv1 = 0.00612*om1_2 + 0.0028799999999999997*sin_phi2*om2_3 + 0.0028799999999999997*wv0 + 0.5*sin_phi2;
-            const double pN2_2_dv1 = 0.00612*eps2_2_dv1 - 0.0028799999999999997*cos_phi2*om2_1;
-            const double pN2_2_dv2 = 0.00324*om2_3 - 0.5;
-            const double j2r18_dv1 = sin_phi2*pN2_2_dv1 + 0.009*cos_phi2*eps2_3_dv1;
-            const double j2r18_dv2 = sin_phi2*pN2_2_dv2 - 0.009*wv0;
-            const double qdd1_dv1 = -rD1*j2r18_dv1;
-            const double qdd1_dv2 = -rD1*j2r18_dv2;
-
-            dqdd_dphidot[0] = qdd1_dv1;
-            dqdd_dphidot[1] = qdd1_dv2;
-            dqdd_dphidot[2] = -163.39869281045753*pN2_1_dv1;
-            dqdd_dphidot[3] = 0.0;
-
+            double col[2];
+            ship_gimbal_dv1_(t, x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 0] = col[i];
+            }
+            ship_gimbal_dv2_(t, x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 1] = col[i];
+            }
             if (!ship_gimbal_all_finite_(dqdd_dphidot, 4)) {
                 return SHIP_GIMBAL_NONFINITE;
             }
         }
-        (void)dqdd_du;  /* no control inputs: an n x 0 block */
-    }
+
+    (void)dqdd_du;  /* no control inputs: an n x 0 block */
     return ship_gimbal_all_finite_(acc, 2) ? SHIP_GIMBAL_OK : SHIP_GIMBAL_NONFINITE;
 }
 

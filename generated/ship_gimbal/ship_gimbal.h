@@ -30,7 +30,7 @@
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * ship_gimbal_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 129, forces 148, linearize 311, mass_matrix 8, momentum 68, qdd 157, qdd_derivatives 311, rhs 157.
+ * Op counts: energy 129, forces 148, linearize 312, mass_matrix 8, momentum 68, qdd 157, qdd_derivatives 312, rhs 157.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

@@ -22,7 +22,7 @@ MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
 HAS_JACOBI_INTEGRAL = False
 TIME_DEPENDENT = True  # forces, qdd, energy, momentum take t first
-OP_COUNTS = { "energy": 129, "forces": 148, "linearize": 311, "mass_matrix": 8, "momentum": 68, "qdd": 157, "qdd_derivatives": 311, "rhs": 157, }
+OP_COUNTS = { "energy": 129, "forces": 148, "linearize": 312, "mass_matrix": 8, "momentum": 68, "qdd": 157, "qdd_derivatives": 312, "rhs": 157, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -292,9 +292,7 @@ def qdd_derivatives(t, x, u=None, p=None):
         om1_2_dq1 = -0.056*pe6*sin_phi1 + om0_3*cos_phi1
         om1_3_dq1 = -om0_3*sin_phi1 - 0.056*pe6*cos_phi1
         om2_2_dq1 = cos_phi2*om1_2_dq1
-        om2_2_dq2 = -om1_2*sin_phi2 + om1_1*cos_phi2
         om2_3_dq1 = -sin_phi2*om1_2_dq1
-        om2_3_dq2 = -om1_1*sin_phi2 - om1_2*cos_phi2
         aO1_2_dq1 = -a0_2*sin_phi1 + a0_3*cos_phi1
         aO1_3_dq1 = -a0_3*sin_phi1 - a0_2*cos_phi1
         aOg1_2_dq1 = aO1_2_dq1 - 9.81*gam1_2_dq1
@@ -302,42 +300,44 @@ def qdd_derivatives(t, x, u=None, p=None):
         eps1_2_dq1 = 0.0392*pe8*sin_phi1 + eps0_3*cos_phi1 + x[2]*om1_3_dq1
         eps1_3_dq1 = -eps0_3*sin_phi1 + 0.0392*pe8*cos_phi1 - x[2]*om1_2_dq1
         eps2_2_dq1 = cos_phi2*eps1_2_dq1 + x[3]*om2_3_dq1
-        eps2_2_dq2 = -sin_phi2*eps1_2 + eps0_1*cos_phi2 + x[3]*om2_3_dq2
         eps2_3_dq1 = -sin_phi2*eps1_2_dq1 - x[3]*om2_2_dq1
-        eps2_3_dq2 = -eps0_1*sin_phi2 - cos_phi2*eps1_2 - x[3]*om2_2_dq2
         aOg2_2_dq1 = cos_phi2*aOg1_2_dq1
-        aOg2_2_dq2 = -sin_phi2*aOg1_2 + cos_phi2*aOg1_1
         pN2_1_dq1 = -0.00612*eps1_3_dq1 + 0.0028799999999999997*om2_3*om2_2_dq1 + 0.0028799999999999997*om2_2*om2_3_dq1 + 0.5*om2_2_dq1 - 0.012*aOg2_2_dq1
-        pN2_1_dq2 = 0.0028799999999999997*om2_3*om2_2_dq2 + 0.0028799999999999997*om2_2*om2_3_dq2 + 0.5*om2_2_dq2 - 0.012*aOg2_2_dq2
         pN2_2_dq1 = 0.00612*eps2_2_dq1 + 0.0028799999999999997*om2_3*om1_3_dq1 - 0.0028799999999999997*om2_1*om2_3_dq1 + 0.5*om1_3_dq1 - 0.012*aOg1_3_dq1
+        j2r18_dq1 = sin_phi2*pN2_2_dq1 + 0.009*cos_phi2*eps2_3_dq1
+        qdd1_dq1 = -rD1*j2r18_dq1
+        dqdd_dphi[0, 0] = qdd1_dq1
+        dqdd_dphi[1, 0] = -163.39869281045753*pN2_1_dq1
+
+        om2_2_dq2 = -om1_2*sin_phi2 + om1_1*cos_phi2
+        om2_3_dq2 = -om1_1*sin_phi2 - om1_2*cos_phi2
+        eps2_2_dq2 = -sin_phi2*eps1_2 + eps0_1*cos_phi2 + x[3]*om2_3_dq2
+        eps2_3_dq2 = -eps0_1*sin_phi2 - cos_phi2*eps1_2 - x[3]*om2_2_dq2
+        aOg2_2_dq2 = -sin_phi2*aOg1_2 + cos_phi2*aOg1_1
+        pN2_1_dq2 = 0.0028799999999999997*om2_3*om2_2_dq2 + 0.0028799999999999997*om2_2*om2_3_dq2 + 0.5*om2_2_dq2 - 0.012*aOg2_2_dq2
         pN2_2_dq2 = 0.00612*eps2_2_dq2 - 0.0028799999999999997*om2_1*om2_3_dq2
         c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
-        j2r18_dq1 = sin_phi2*pN2_2_dq1 + 0.009*cos_phi2*eps2_3_dq1
         j2r18_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 0.009*sin_phi2*eps2_3 + 0.009*cos_phi2*eps2_3_dq2
         rD1_dq2 = -0.0014399999999999999*rD1*rD1*c2phi2_dq2
-        qdd1_dq1 = -rD1*j2r18_dq1
         qdd1_dq2 = -rD1*j2r18_dq2 - pA1_1*rD1_dq2
-        dqdd_dphi[0, 0] = qdd1_dq1
         dqdd_dphi[0, 1] = qdd1_dq2
-        dqdd_dphi[1, 0] = -163.39869281045753*pN2_1_dq1
         dqdd_dphi[1, 1] = -163.39869281045753*pN2_1_dq2
 
         eps2_2_dv1 = om1_3*cos_phi2 + x[3]*cos_phi2
         eps2_3_dv1 = -om1_3*sin_phi2 - x[3]*sin_phi2
-        wv0 = cos_phi2*om2_2
-        pN2_1_dv1 = 0.00612*om1_2 + 0.0028799999999999997*sin_phi2*om2_3 + 0.0028799999999999997*wv0 + 0.5*sin_phi2
+        pN2_1_dv1 = 0.00612*om1_2 + 0.0028799999999999997*sin_phi2*om2_3 + 0.0028799999999999997*cos_phi2*om2_2 + 0.5*sin_phi2
         pN2_2_dv1 = 0.00612*eps2_2_dv1 - 0.0028799999999999997*cos_phi2*om2_1
-        pN2_2_dv2 = 0.00324*om2_3 - 0.5
         j2r18_dv1 = sin_phi2*pN2_2_dv1 + 0.009*cos_phi2*eps2_3_dv1
-        j2r18_dv2 = sin_phi2*pN2_2_dv2 - 0.009*wv0
         qdd1_dv1 = -rD1*j2r18_dv1
-        qdd1_dv2 = -rD1*j2r18_dv2
         dqdd_dphidot[0, 0] = qdd1_dv1
-        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 0] = -163.39869281045753*pN2_1_dv1
+
+        pN2_2_dv2 = 0.00324*om2_3 - 0.5
+        j2r18_dv2 = sin_phi2*pN2_2_dv2 - 0.009*cos_phi2*om2_2
+        qdd1_dv2 = -rD1*j2r18_dv2
+        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 1] = 0.0
 
-    
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
     _check_pivots(piv)

@@ -25,7 +25,7 @@
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * spatial3_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 222, forces 376, linearize 3422, mass_matrix 183, qdd 584, qdd_derivatives 3422, rhs 584.
+ * Op counts: energy 222, forces 376, linearize 3424, mass_matrix 183, qdd 584, qdd_derivatives 3424, rhs 584.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

@@ -164,14 +164,44 @@ int turntable_qdd(const double *x, const double *u, const turntable_params *p, d
     return turntable_all_finite_(qdd, 1) ? TURNTABLE_OK : TURNTABLE_NONFINITE;
 }
 
+/* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q1, reading the recursion's values it needs from b. */
+static void turntable_dq1_(const double *x, const double *u, const turntable_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double om1_2_dq1 = p->Omega*b[0];
+    const double om1_3_dq1 = -p->Omega*b[1];
+    const double pN1_1_dq1 = -0.04156666666666666*b[3]*om1_2_dq1 - 0.04156666666666666*b[2]*om1_3_dq1 + 1.22625*b[0];
+
+    col[0] = -24.0*pN1_1_dq1;
+
+}
+
+/* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v1, reading the recursion's values it needs from b. */
+static void turntable_dv1_(const double *x, const double *u, const turntable_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+
+    col[0] = 0.0;
+
+}
+
 int turntable_qdd_derivatives(const double *x, const double *u, const turntable_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[1];
     double piv[1];
+    double b[4];
     int i, code;
     if (!p) {
         return TURNTABLE_NO_PARAMS;
@@ -193,36 +223,43 @@ int turntable_qdd_derivatives(const double *x, const double *u, const turntable_
         acc[0] = -24.0*pN1_1;
         piv[0] = 0.041666666666666664;
 
-        code = turntable_pivots_(piv);
-        if (code != TURNTABLE_OK) {
-            return code;
+        b[0] = cos_phi1;
+        b[1] = sin_phi1;
+        b[2] = om1_2;
+        b[3] = om1_3;
+    }
+    code = turntable_pivots_(piv);
+    if (code != TURNTABLE_OK) {
+        return code;
+    }
+    if (qdd) {
+        for (i = 0; i < 1; ++i) {
+            qdd[i] = acc[i];
         }
-        if (qdd) {
-            for (i = 0; i < 1; ++i) {
-                qdd[i] = acc[i];
-            }
-        }
+    }
         if (dqdd_dphi) {
-            const double om1_2_dq1 = p->Omega*cos_phi1;
-            const double om1_3_dq1 = -p->Omega*sin_phi1;
-            const double pN1_1_dq1 = -0.04156666666666666*om1_3*om1_2_dq1 - 0.04156666666666666*om1_2*om1_3_dq1 + 1.22625*cos_phi1;
-
-            dqdd_dphi[0] = -24.0*pN1_1_dq1;
-
+            double col[1];
+            turntable_dq1_(x, u, p, b, col);
+            for (i = 0; i < 1; ++i) {
+                dqdd_dphi[i * 1 + 0] = col[i];
+            }
             if (!turntable_all_finite_(dqdd_dphi, 1)) {
                 return TURNTABLE_NONFINITE;
             }
         }
-        if (dqdd_dphidot) {
-        
-            dqdd_dphidot[0] = 0.0;
 
+        if (dqdd_dphidot) {
+            double col[1];
+            turntable_dv1_(x, u, p, b, col);
+            for (i = 0; i < 1; ++i) {
+                dqdd_dphidot[i * 1 + 0] = col[i];
+            }
             if (!turntable_all_finite_(dqdd_dphidot, 1)) {
                 return TURNTABLE_NONFINITE;
             }
         }
-        (void)dqdd_du;  /* no control inputs: an n x 0 block */
-    }
+
+    (void)dqdd_du;  /* no control inputs: an n x 0 block */
     return turntable_all_finite_(acc, 1) ? TURNTABLE_OK : TURNTABLE_NONFINITE;
 }
 

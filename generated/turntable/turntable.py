@@ -160,7 +160,6 @@ def qdd_derivatives(x, u=None, p=None):
 
         dqdd_dphidot[0, 0] = 0.0
 
-    
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
     _check_pivots(piv)

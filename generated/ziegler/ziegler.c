@@ -223,14 +223,95 @@ int ziegler_qdd(const double *x, const double *u, const ziegler_params *p, doubl
     return ziegler_all_finite_(qdd, 2) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
 }
 
+/* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q1, reading the recursion's values it needs from b. */
+static void ziegler_dq1_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double dv2_2_dq1 = b[0]*b[6];
+    const double qdd2_dq1 = 2.0*b[6] + 1.9999920000320002*dv2_2_dq1;
+
+    col[0] = -2.0*b[6];
+    col[1] = qdd2_dq1;
+
+}
+
+/* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
+ * along q2, reading the recursion's values it needs from b. */
+static void ziegler_dq2_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double aOg2_2_dq2 = b[0]*b[3];
+    const double aOg2_3_dq2 = -b[1]*b[3];
+    const double c2phi2_dq2 = -4.0*b[0]*b[1];
+    const double u2_dq2 = -2.0 + 0.25*aOg2_2_dq2;
+    const double pa2_5_dq2 = 0.5*aOg2_2_dq2 - 1.9999920000320002*u2_dq2;
+    const double pc2f_2_dq2 = -b[1]*b[5] + b[0]*pa2_5_dq2 - b[0]*b[4] - 0.5*b[1]*aOg2_3_dq2;
+    const double pA1_1_dq2 = -2.0 - 0.5*pc2f_2_dq2;
+    const double rD1_dq2 = 0.062499750001000005*b[6]*b[6]*c2phi2_dq2;
+    const double qdd1_dq2 = b[7]*rD1_dq2 - b[6]*pA1_1_dq2;
+    const double dv2_2_dq2 = 0.5*b[1]*b[8] - 0.5*b[0]*qdd1_dq2;
+    const double qdd2_dq2 = 7.999968000128001*u2_dq2 - qdd1_dq2 + 1.9999920000320002*dv2_2_dq2;
+
+    col[0] = qdd1_dq2;
+    col[1] = qdd2_dq2;
+
+}
+
+/* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v1, reading the recursion's values it needs from b. */
+static void ziegler_dv1_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double aOg2_2_dv1 = -x[2]*b[1];
+    const double aOg2_3_dv1 = -x[2]*b[0];
+    const double pF2_3_dv1 = 0.5*aOg2_3_dv1 - 0.5*b[2];
+    const double pc2f_2_dv1 = 1.9999919999569293e-06*b[0]*aOg2_2_dv1 - b[1]*pF2_3_dv1;
+    const double qdd1_dv1 = 0.5*b[6]*pc2f_2_dv1;
+    const double dv2_2_dv1 = -0.5*b[0]*qdd1_dv1;
+    const double qdd2_dv1 = 1.9999920000320002*aOg2_2_dv1 - qdd1_dv1 + 1.9999920000320002*dv2_2_dv1;
+
+    col[0] = qdd1_dv1;
+    col[1] = qdd2_dv1;
+
+}
+
+/* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
+ * along v2, reading the recursion's values it needs from b. */
+static void ziegler_dv2_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
+{
+    (void)x;
+    (void)u;
+    (void)p;
+    (void)b;
+    const double pc2f_2_dv2 = 0.5*b[1]*b[2];
+    const double qdd1_dv2 = 0.5*b[6]*pc2f_2_dv2;
+    const double dv2_2_dv2 = -0.5*b[0]*qdd1_dv2;
+    const double qdd2_dv2 = -qdd1_dv2 + 1.9999920000320002*dv2_2_dv2;
+
+    col[0] = qdd1_dv2;
+    col[1] = qdd2_dv2;
+
+}
+
 int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one tangent per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; codegen/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[2];
     double piv[2];
+    double b[9];
     int i, code;
     if (!p) {
         return ZIEGLER_NO_PARAMS;
@@ -268,63 +349,56 @@ int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_para
         piv[0] = IA1_11;
         piv[1] = 0.1250005;
 
-        code = ziegler_pivots_(piv);
-        if (code != ZIEGLER_OK) {
-            return code;
+        b[0] = cos_phi2;
+        b[1] = sin_phi2;
+        b[2] = om2_1;
+        b[3] = aOrel2in1_3;
+        b[4] = pF2_3;
+        b[5] = pa2_5;
+        b[6] = rD1;
+        b[7] = u1;
+        b[8] = qdd1;
+    }
+    code = ziegler_pivots_(piv);
+    if (code != ZIEGLER_OK) {
+        return code;
+    }
+    if (qdd) {
+        for (i = 0; i < 2; ++i) {
+            qdd[i] = acc[i];
         }
-        if (qdd) {
-            for (i = 0; i < 2; ++i) {
-                qdd[i] = acc[i];
-            }
-        }
+    }
         if (dqdd_dphi) {
-            const double aOg2_2_dq2 = cos_phi2*aOrel2in1_3;
-            const double aOg2_3_dq2 = -sin_phi2*aOrel2in1_3;
-            const double c2phi2_dq2 = -4.0*cos_phi2*sin_phi2;
-            const double u2_dq2 = -2.0 + 0.25*aOg2_2_dq2;
-            const double pa2_5_dq2 = 0.5*aOg2_2_dq2 - 1.9999920000320002*u2_dq2;
-            const double pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - 0.5*sin_phi2*aOg2_3_dq2;
-            const double pA1_1_dq2 = -2.0 - 0.5*pc2f_2_dq2;
-            const double rD1_dq2 = 0.062499750001000005*rD1*rD1*c2phi2_dq2;
-            const double qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2;
-            const double dv2_2_dq1 = cos_phi2*rD1;
-            const double dv2_2_dq2 = 0.5*sin_phi2*qdd1 - 0.5*cos_phi2*qdd1_dq2;
-            const double qdd2_dq1 = 2.0*rD1 + 1.9999920000320002*dv2_2_dq1;
-            const double qdd2_dq2 = 7.999968000128001*u2_dq2 - qdd1_dq2 + 1.9999920000320002*dv2_2_dq2;
-
-            dqdd_dphi[0] = -2.0*rD1;
-            dqdd_dphi[1] = qdd1_dq2;
-            dqdd_dphi[2] = qdd2_dq1;
-            dqdd_dphi[3] = qdd2_dq2;
-
+            double col[2];
+            ziegler_dq1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 0] = col[i];
+            }
+            ziegler_dq2_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphi[i * 2 + 1] = col[i];
+            }
             if (!ziegler_all_finite_(dqdd_dphi, 4)) {
                 return ZIEGLER_NONFINITE;
             }
         }
+
         if (dqdd_dphidot) {
-            const double aOg2_2_dv1 = -x[2]*sin_phi2;
-            const double aOg2_3_dv1 = -x[2]*cos_phi2;
-            const double pF2_3_dv1 = 0.5*aOg2_3_dv1 - 0.5*om2_1;
-            const double pc2f_2_dv1 = 1.9999919999569293e-06*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1;
-            const double pc2f_2_dv2 = 0.5*sin_phi2*om2_1;
-            const double qdd1_dv1 = 0.5*rD1*pc2f_2_dv1;
-            const double qdd1_dv2 = 0.5*rD1*pc2f_2_dv2;
-            const double dv2_2_dv1 = -0.5*cos_phi2*qdd1_dv1;
-            const double dv2_2_dv2 = -0.5*cos_phi2*qdd1_dv2;
-            const double qdd2_dv1 = 1.9999920000320002*aOg2_2_dv1 - qdd1_dv1 + 1.9999920000320002*dv2_2_dv1;
-            const double qdd2_dv2 = -qdd1_dv2 + 1.9999920000320002*dv2_2_dv2;
-
-            dqdd_dphidot[0] = qdd1_dv1;
-            dqdd_dphidot[1] = qdd1_dv2;
-            dqdd_dphidot[2] = qdd2_dv1;
-            dqdd_dphidot[3] = qdd2_dv2;
-
+            double col[2];
+            ziegler_dv1_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 0] = col[i];
+            }
+            ziegler_dv2_(x, u, p, b, col);
+            for (i = 0; i < 2; ++i) {
+                dqdd_dphidot[i * 2 + 1] = col[i];
+            }
             if (!ziegler_all_finite_(dqdd_dphidot, 4)) {
                 return ZIEGLER_NONFINITE;
             }
         }
-        (void)dqdd_du;  /* no control inputs: an n x 0 block */
-    }
+
+    (void)dqdd_du;  /* no control inputs: an n x 0 block */
     return ziegler_all_finite_(acc, 2) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
 }
 

@@ -187,6 +187,11 @@ def qdd_derivatives(x, u=None, p=None):
         piv[0] = IA1_11
         piv[1] = 0.1250005
 
+        dv2_2_dq1 = cos_phi2*rD1
+        qdd2_dq1 = 2.0*rD1 + 1.9999920000320002*dv2_2_dq1
+        dqdd_dphi[0, 0] = -2.0*rD1
+        dqdd_dphi[1, 0] = qdd2_dq1
+
         aOg2_2_dq2 = cos_phi2*aOrel2in1_3
         aOg2_3_dq2 = -sin_phi2*aOrel2in1_3
         c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
@@ -196,32 +201,28 @@ def qdd_derivatives(x, u=None, p=None):
         pA1_1_dq2 = -2.0 - 0.5*pc2f_2_dq2
         rD1_dq2 = 0.062499750001000005*rD1*rD1*c2phi2_dq2
         qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2
-        dv2_2_dq1 = cos_phi2*rD1
         dv2_2_dq2 = 0.5*sin_phi2*qdd1 - 0.5*cos_phi2*qdd1_dq2
-        qdd2_dq1 = 2.0*rD1 + 1.9999920000320002*dv2_2_dq1
         qdd2_dq2 = 7.999968000128001*u2_dq2 - qdd1_dq2 + 1.9999920000320002*dv2_2_dq2
-        dqdd_dphi[0, 0] = -2.0*rD1
         dqdd_dphi[0, 1] = qdd1_dq2
-        dqdd_dphi[1, 0] = qdd2_dq1
         dqdd_dphi[1, 1] = qdd2_dq2
 
         aOg2_2_dv1 = -x[2]*sin_phi2
         aOg2_3_dv1 = -x[2]*cos_phi2
         pF2_3_dv1 = 0.5*aOg2_3_dv1 - 0.5*om2_1
         pc2f_2_dv1 = 1.9999919999569293e-06*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1
-        pc2f_2_dv2 = 0.5*sin_phi2*om2_1
         qdd1_dv1 = 0.5*rD1*pc2f_2_dv1
-        qdd1_dv2 = 0.5*rD1*pc2f_2_dv2
         dv2_2_dv1 = -0.5*cos_phi2*qdd1_dv1
-        dv2_2_dv2 = -0.5*cos_phi2*qdd1_dv2
         qdd2_dv1 = 1.9999920000320002*aOg2_2_dv1 - qdd1_dv1 + 1.9999920000320002*dv2_2_dv1
-        qdd2_dv2 = -qdd1_dv2 + 1.9999920000320002*dv2_2_dv2
         dqdd_dphidot[0, 0] = qdd1_dv1
-        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 0] = qdd2_dv1
+
+        pc2f_2_dv2 = 0.5*sin_phi2*om2_1
+        qdd1_dv2 = 0.5*rD1*pc2f_2_dv2
+        dv2_2_dv2 = -0.5*cos_phi2*qdd1_dv2
+        qdd2_dv2 = -qdd1_dv2 + 1.9999920000320002*dv2_2_dv2
+        dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 1] = qdd2_dv2
 
-    
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
     _check_pivots(piv)
