@@ -570,6 +570,29 @@ def _general_tex_on(model: Model, kin, pr, closed: bool, lines, grouped) -> dict
     return out
 
 
+DERIVATIVE_TEX_MAX_N = 2  # closed forms of the derivatives in the LaTeX up to this n
+
+
+def _derivative_tex(model: Model, pr) -> list:
+    """∂R/∂φʲ and ∂R/∂φ̇ʲ of R = M φ̈ − f (closed forms, φ̈ as symbols): with them
+    ∂φ̈/∂x = −M⁻¹ ∂R/∂x, the implicit derivative of (17)–(19) that the emitted code computes."""
+    kin, dyn, n = model.kin, model.dyn, model.spec.n
+    names = pr._settings["symbol_names"]
+    acc = [sp.Symbol(f"qddot_{k}") for k in range(1, n + 1)]
+    for k, a in enumerate(acc, start=1):
+        names[a] = rf"\ddot\varphi^{{{k}}}"
+    vals = kin.prog.inline([dyn.M[i][j] for i in range(n) for j in range(n)] + list(dyn.f))
+    M = [vals[i * n:(i + 1) * n] for i in range(n)]
+    R = [sum((M[i][j] * acc[j] for j in range(n)), sp.Integer(0)) - vals[n * n + i] for i in range(n)]
+    out = []
+    for kind, syms, tex in (("q", kin.phi, r"\varphi"), ("v", kin.phidot, r"\dot\varphi")):
+        for j in range(1, n + 1):
+            for i in range(n):
+                d = sp.diff(R[i], syms[j])
+                out.append(TexEquation(rf"\frac{{\partial R_{{{i + 1}}}}}{{\partial {tex}^{{{j}}}}}", tuple(_tex_lines(d, pr))))
+    return out
+
+
 def _vals(kin, polys, closed: bool) -> list:
     return kin.prog.inline(polys) if closed else list(polys)
 
@@ -650,6 +673,7 @@ def _tex(model: Model) -> dict:
             U=tuple(_tex_lines(U2, pr)), beta=tuple(_tex_lines(beta, pr)), nikolai=model.quad.nikolai,
             U_const=not (U2.free_symbols & {kin.phi[2]}),
         )
+    deriv = _derivative_tex(model, pr) if n <= DERIVATIVE_TEX_MAX_N else None
     gen = dict(platform=None, Pi=None, Lamdot=None, Phi=None, joint=None)
     if general:
         gen = {k: general[k] for k in gen}
@@ -675,6 +699,8 @@ def _tex(model: Model) -> dict:
         closed=closed,
         recursion=recursion,
         controls=", ".join(f"$L^{{{k}}}$" for k in spec.controls),
+        deriv=deriv,
+        deriv_generic="d_jvp" in model.lines,
     )
 
 
