@@ -72,7 +72,7 @@ class IntegrationError(ModelError):
         self.args = (f"{self.args[0]} at t = {self.t!r}",)
 
 
-METHODS = {"rk4": 1, "dop853": 2, "gauss2": 3}
+METHODS = {"rk4": 1, "dop853": 2, "gauss2": 3, "gauss2_fixed": 4}
 
 
 class CModel:
@@ -180,8 +180,9 @@ class CModel:
                   max_steps=0, full_output=False):
         """The trajectory at the times t (monotone; t[0] is the start, x0 the state there), as an
         array (len(t), 2N), by the C integrator `method` (rk4, gauss2: fixed step h; dop853:
-        adaptive, h the first step or 0).  Raises IntegrationError when it stops early.  With
-        full_output, also a dict of counts (n_rhs, n_steps, n_rejected, n_iter)."""
+        adaptive, h the first step or 0; gauss2_fixed: GAUSS2 by fixed-point sweeps only).  Raises
+        IntegrationError when it stops early.  With full_output, also a dict of counts (n_rhs,
+        n_steps, n_rejected, n_iter, n_newton: GAUSS2 steps solved by Newton)."""
         ts = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
         xp, _k = self._arr(x0, 2 * self.n)
         up, _ku = self._u(u)
@@ -191,7 +192,7 @@ class CModel:
             METHODS[method], len(ts), self.ffi.cast("double *", self.ffi.from_buffer(ts)), float(h), float(rtol),
             float(atol), int(max_steps), xp, up, self._p(params), self.ffi.cast("double *", self.ffi.from_buffer(X)), st)
         stats = dict(t=st.t, x=np.array(list(st.x)), n_rhs=st.n_rhs, n_steps=st.n_steps,
-                     n_rejected=st.n_rejected, n_iter=st.n_iter)
+                     n_rejected=st.n_rejected, n_iter=st.n_iter, n_newton=st.n_newton)
         if code != 0:
             raise IntegrationError(f"{self.name}_integrate_grid({method})", code, X, stats)
         return (X, stats) if full_output else X

@@ -244,6 +244,17 @@ def _reads(P, line: StraightLine) -> set:
     return out
 
 
+GAUSS2_NEWTON_MAX_N = 16  # GAUSS2's Newton matrix is 2n × 2n on the stack: 8 KB at n = 16
+
+
+def _newton_sweeps(n: int, counts: dict) -> int:
+    """A simplified Newton solve of GAUSS2's stages in fixed-point sweeps (2 rhs each): the
+    Jacobian, the LU of the 2n × 2n matrix (⅔(2n)³ flops) and ~3 iterations of 2 rhs."""
+    rhs = max(1, counts["qdd"])
+    setup = (counts.get("qdd_derivatives", 0) + 2 * (2 * n) ** 3 // 3) / rhs
+    return int(round(setup / 2 + 3))
+
+
 # NAME_qdd_derivatives: φ̈ by the articulated recursion (line "qdd_derivatives"), then one column of
 # ∂φ̈ per direction (lines "d_q1" …), each its own static C function reading the recursion's values
 # it needs from an array: a Jacobian of a long chain is too big for one function (gcc's time grows
@@ -785,6 +796,8 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         der_store=[a.name for a in model.der_store],
         der_dirs=[(lab, lab[0], int(lab[1:]) - 1, j) for j, lab in enumerate(model.der.labels)] if model.der else [],
         der_generic="d_jvp" in model.lines,
+        newton=n <= GAUSS2_NEWTON_MAX_N,
+        newton_sweeps=_newton_sweeps(n, counts),
         counts=counts,
         codegen_version=__version__,
         sympy_version=sp.__version__,

@@ -93,7 +93,7 @@ int main(void)
             long nrhs;
             int m, rc;
             {name}_integrate_stats st;
-            for (m = {NAME}_RK4; m <= {NAME}_GAUSS2; ++m) {{
+            for (m = {NAME}_RK4; m <= {NAME}_GAUSS2_FIXED; ++m) {{
                 rc = {name}_integrate(m, 0.0, 0.05, 0.01, 1e-8, 1e-8, x, u, p, x1, &nrhs);
                 rc |= {name}_integrate_grid(m, 3, tt, 0.0125, 1e-6, 1e-6, 1000, x, NULL, p, X, &st);
                 if (rc < 0 || rc > 15) bad |= 128;

@@ -18,7 +18,9 @@
  *
  * double_pendulum_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
  * (either direction) with u held constant: method DOUBLE_PENDULUM_RK4 (fixed step h), DOUBLE_PENDULUM_DOP853
- * (adaptive, rtol/atol, h the first step or 0) or DOUBLE_PENDULUM_GAUSS2 (symmetric, fixed step h).  On
+ * (adaptive, rtol/atol, h the first step or 0) or DOUBLE_PENDULUM_GAUSS2 (symmetric, fixed step h; its stage
+ * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
+ * Newton with the exact Jacobian: stats n_newton; DOUBLE_PENDULUM_GAUSS2_FIXED = the sweeps only).  On
  * failure x1 is the last accepted state.  double_pendulum_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means DOUBLE_PENDULUM_INTEGRATE_MAX_STEPS.
  * double_pendulum_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
@@ -52,6 +54,7 @@ extern "C" {
 #define DOUBLE_PENDULUM_RK4 1
 #define DOUBLE_PENDULUM_DOP853 2
 #define DOUBLE_PENDULUM_GAUSS2 3
+#define DOUBLE_PENDULUM_GAUSS2_FIXED 4
 typedef struct double_pendulum_params {
     double unused_;
 } double_pendulum_params;
@@ -70,6 +73,7 @@ typedef struct double_pendulum_integrate_stats {
     long n_steps;
     long n_rejected;
     long n_iter;
+    long n_newton;
 } double_pendulum_integrate_stats;
 int double_pendulum_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const double_pendulum_params *p, double *x1, long *n_rhs);

@@ -18,7 +18,9 @@
  *
  * fast_gyro_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
  * (either direction) with u held constant: method FAST_GYRO_RK4 (fixed step h), FAST_GYRO_DOP853
- * (adaptive, rtol/atol, h the first step or 0) or FAST_GYRO_GAUSS2 (symmetric, fixed step h).  On
+ * (adaptive, rtol/atol, h the first step or 0) or FAST_GYRO_GAUSS2 (symmetric, fixed step h; its stage
+ * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
+ * Newton with the exact Jacobian: stats n_newton; FAST_GYRO_GAUSS2_FIXED = the sweeps only).  On
  * failure x1 is the last accepted state.  fast_gyro_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means FAST_GYRO_INTEGRATE_MAX_STEPS.
  * fast_gyro_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
@@ -52,6 +54,7 @@ extern "C" {
 #define FAST_GYRO_RK4 1
 #define FAST_GYRO_DOP853 2
 #define FAST_GYRO_GAUSS2 3
+#define FAST_GYRO_GAUSS2_FIXED 4
 #define FAST_GYRO_SEPARATRIX 4
 #define FAST_GYRO_NO_PERIOD 5
 #define FAST_GYRO_QUAD_FAILED 6
@@ -77,6 +80,7 @@ typedef struct fast_gyro_integrate_stats {
     long n_steps;
     long n_rejected;
     long n_iter;
+    long n_newton;
 } fast_gyro_integrate_stats;
 int fast_gyro_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const fast_gyro_params *p, double *x1, long *n_rhs);

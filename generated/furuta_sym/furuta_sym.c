@@ -667,7 +667,9 @@ double furuta_sym_momentum(const double *x, const furuta_sym_params *p)
  *           error norm these are).
  *   GAUSS2  2-stage Gauss-Legendre collocation, order 4, symmetric (time-reversible), fixed step;
  *           the stage equations are solved by fixed-point iteration until the correction stops
- *           decreasing (round-off).
+ *           decreasing (round-off), or, where the sweeps contract too slowly to pay (long
+ *           steps), by simplified Newton with the exact Jacobian (stats n_newton counts those steps);
+ *           GAUSS2_FIXED is the fixed-point iteration alone.
  * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
  * (do not compile with -ffast-math, which removes the compensation).  A stage that meets a
  * singular M or a non-finite value ends a fixed-step run with that code and the last good state;
@@ -679,6 +681,10 @@ double furuta_sym_momentum(const double *x, const furuta_sym_params *p)
 #endif
 #define FURUTA_SYM_GAUSS_MAXIT 100                   /* fixed-point iterations per step */
 #define FURUTA_SYM_EPS 2.220446049250313e-16
+/* What a simplified Newton solve of GAUSS2's stages costs, in fixed-point sweeps (2 rhs each): the
+ * Jacobian (294 ops), the LU of the 4 x 4 matrix and ~3 iterations, against
+ * 93 ops per rhs.  Newton is used when more sweeps than this are still needed. */
+#define FURUTA_SYM_NEWTON_SWEEPS 5
 
 static int furuta_sym_eval_(const double *x, const double *u, const furuta_sym_params *p, double *xdot,
                             furuta_sym_integrate_stats *st)
@@ -740,13 +746,151 @@ static int furuta_sym_rk4_step_(const double *x, double h, const double *u, cons
     return FURUTA_SYM_OK;
 }
 
+/* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
+ * is zero (the Newton matrix is singular: h far too long). */
+static int furuta_sym_lu_(double *A, int *piv, int m)
+{
+    int i, j, k, r;
+    for (k = 0; k < m; ++k) {
+        double big = 0.0;
+        r = k;
+        for (i = k; i < m; ++i) {
+            if (fabs(A[i * m + k]) > big) {
+                big = fabs(A[i * m + k]);
+                r = i;
+            }
+        }
+        if (!(big > 0.0)) {
+            return 0;
+        }
+        piv[k] = r;
+        if (r != k) {
+            for (j = 0; j < m; ++j) {
+                const double tmp = A[k * m + j];
+                A[k * m + j] = A[r * m + j];
+                A[r * m + j] = tmp;
+            }
+        }
+        for (i = k + 1; i < m; ++i) {
+            const double l = A[i * m + k] / A[k * m + k];
+            A[i * m + k] = l;
+            for (j = k + 1; j < m; ++j) {
+                A[i * m + j] -= l * A[k * m + j];
+            }
+        }
+    }
+    return 1;
+}
+
+static void furuta_sym_lu_solve_(const double *A, const int *piv, int m, double *b)
+{
+    int i, j;
+    for (i = 0; i < m; ++i) {
+        const double tmp = b[piv[i]];
+        b[piv[i]] = b[i];
+        b[i] = tmp;
+        for (j = 0; j < i; ++j) {
+            b[i] -= A[i * m + j] * b[j];
+        }
+    }
+    for (i = m - 1; i >= 0; --i) {
+        for (j = i + 1; j < m; ++j) {
+            b[i] -= A[i * m + j] * b[j];
+        }
+        b[i] /= A[i * m + i];
+    }
+}
+
+/* GAUSS2's stage equations by simplified Newton, for long steps where the fixed-point sweeps
+ * converge slowly or not at all.  The position increments are linear in the velocity ones,
+ * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
+ * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of furuta_sym_qdd_derivatives at the step's start:
+ *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
+static int furuta_sym_gauss2_newton_(const double *x, double h, const double *u, const furuta_sym_params *p,
+                                     double Z[2][4], double F[2][4], furuta_sym_integrate_stats *st)
+{
+    static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
+    static const double c[2] = {0.21132486540518713, 0.7886751345948129};
+    double Dq[4], Dv[4], J[16], G[4], Zv[4], Y[4];
+    double d, dprev = HUGE_VAL;
+    int piv[4], i, j, s, r, it, code;
+    if ((code = furuta_sym_qdd_derivatives(x, u, p, 0, Dq, Dv, 0)) != 0) {
+        return code;
+    }
+    for (s = 0; s < 2; ++s) {
+        for (r = 0; r < 2; ++r) {
+            const double A2 = a[s][0] * a[0][r] + a[s][1] * a[1][r];
+            for (i = 0; i < 2; ++i) {
+                for (j = 0; j < 2; ++j) {
+                    J[(s * 2 + i) * 4 + r * 2 + j] = (s == r && i == j ? 1.0 : 0.0)
+                        - h * a[s][r] * Dv[i * 2 + j] - h * h * A2 * Dq[i * 2 + j];
+                }
+            }
+        }
+    }
+    if (!furuta_sym_lu_(J, piv, 4)) {
+        return FURUTA_SYM_NO_CONVERGENCE;
+    }
+    for (s = 0; s < 2; ++s) {
+        for (i = 0; i < 2; ++i) {
+            Zv[s * 2 + i] = Z[s][2 + i];
+        }
+    }
+    for (it = 1;; ++it) {
+        for (s = 0; s < 2; ++s) {
+            for (i = 0; i < 2; ++i) {
+                Y[i] = x[i] + h * (c[s] * x[2 + i] + a[s][0] * Zv[i] + a[s][1] * Zv[2 + i]);
+                Y[2 + i] = x[2 + i] + Zv[s * 2 + i];
+            }
+            if ((code = furuta_sym_eval_(Y, u, p, F[s], st)) != 0) {
+                return code;
+            }
+        }
+        for (s = 0; s < 2; ++s) {
+            for (i = 0; i < 2; ++i) {
+                G[s * 2 + i] = -(Zv[s * 2 + i] - h * (a[s][0] * F[0][2 + i] + a[s][1] * F[1][2 + i]));
+            }
+        }
+        furuta_sym_lu_solve_(J, piv, 4, G);
+        st->n_iter++;
+        d = 0.0;
+        for (s = 0; s < 2; ++s) {
+            for (i = 0; i < 2; ++i) {
+                const double sc = fabs(x[2 + i]) + fabs(Zv[s * 2 + i]) + 1e-300;
+                const double e = fabs(G[s * 2 + i]) / sc;
+                d = e > d ? e : d;
+                Zv[s * 2 + i] += G[s * 2 + i];
+            }
+        }
+        if (!(d < HUGE_VAL)) {
+            return FURUTA_SYM_NO_CONVERGENCE;
+        }
+        if (d <= FURUTA_SYM_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+            break;
+        }
+        if (it >= 30 || (it >= 4 && d > 0.9 * dprev && d > 1e-12)) {
+            return FURUTA_SYM_NO_CONVERGENCE;  /* hardly contracting: the caller goes back to the sweeps */
+        }
+        dprev = d;
+    }
+    /* the stage increments of the full state, for the next step's guess */
+    for (s = 0; s < 2; ++s) {
+        for (i = 0; i < 2; ++i) {
+            Z[s][i] = h * (c[s] * x[2 + i] + a[s][0] * Zv[i] + a[s][1] * Zv[2 + i]);
+            Z[s][2 + i] = Zv[s * 2 + i];
+        }
+    }
+    st->n_newton++;
+    return FURUTA_SYM_OK;
+}
+
 /* One GAUSS2 step of size h from x.  Stage increments Z_i = h sum_j a_ij f(x + Z_j), nodes
  * c = 1/2 -+ sqrt(3)/6; dx = h (F_1 + F_2) / 2.  F holds the stage derivatives of the previous
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int furuta_sym_gauss2_step_(const double *x, double h, double hp, const double *u, const furuta_sym_params *p,
-                                   double F[2][4], double *dx, furuta_sym_integrate_stats *st)
+static int furuta_sym_gauss2_step_(const double *x, double h, double hp, int newton, const double *u,
+                                   const furuta_sym_params *p, double F[2][4], double *dx, furuta_sym_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
     static const double c1 = 0.21132486540518713, c2 = 0.7886751345948129;
@@ -799,6 +943,20 @@ static int furuta_sym_gauss2_step_(const double *x, double h, double hp, const d
         if (d <= FURUTA_SYM_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
             break;  /* at round-off: exact to the last bit, or no longer decreasing */
         }
+        if (newton && it >= 2) {
+            /* the sweeps still needed at the observed rate, against Newton's cost in sweeps */
+            const double rate = d / dprev;
+            if (rate >= 1.0 || log(FURUTA_SYM_EPS / d) / log(rate) > FURUTA_SYM_NEWTON_SWEEPS) {
+                code = furuta_sym_gauss2_newton_(x, h, u, p, Z, F, st);
+                if (code == FURUTA_SYM_OK) {
+                    break;
+                }
+                if (code != FURUTA_SYM_NO_CONVERGENCE) {
+                    return code;
+                }
+                newton = 0;  /* Newton did not converge from here: the sweeps go on from Z (F is recomputed) */
+            }
+        }
         if (it >= FURUTA_SYM_GAUSS_MAXIT) {
             return FURUTA_SYM_NO_CONVERGENCE;
         }
@@ -823,7 +981,7 @@ static int furuta_sym_fixed_(int method, int nt, const double *tt, double h, lon
     for (i = 0; i < 4; ++i) {
         cmp[i] = 0.0;
     }
-    if (method == FURUTA_SYM_GAUSS2) {
+    if (method != FURUTA_SYM_RK4) {
         if ((code = furuta_sym_eval_(x, u, p, F[0], st)) != 0) {
             return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
         }
@@ -835,7 +993,7 @@ static int furuta_sym_fixed_(int method, int nt, const double *tt, double h, lon
                 return FURUTA_SYM_TOO_MANY_STEPS;
             }
             code = method == FURUTA_SYM_RK4 ? furuta_sym_rk4_step_(x, hs, u, p, dx, st)
-                                         : furuta_sym_gauss2_step_(x, hs, hp, u, p, F, dx, st);
+                                         : furuta_sym_gauss2_step_(x, hs, hp, method == FURUTA_SYM_GAUSS2, u, p, F, dx, st);
             if (code != 0) {
                 return code;
             }
@@ -1050,7 +1208,7 @@ int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, dou
     furuta_sym_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
-    st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = 0;
+    st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = st->n_newton = 0;
     for (i = 0; i < 4; ++i) {
         st->x[i] = NAN;
     }
@@ -1067,7 +1225,7 @@ int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, dou
         if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
             return FURUTA_SYM_BAD_ARGUMENT;
         }
-    } else if (method == FURUTA_SYM_RK4 || method == FURUTA_SYM_GAUSS2) {
+    } else if (method == FURUTA_SYM_RK4 || method == FURUTA_SYM_GAUSS2 || method == FURUTA_SYM_GAUSS2_FIXED) {
         if (!(h != 0.0 && fabs(h) < HUGE_VAL)) {
             return FURUTA_SYM_BAD_ARGUMENT;
         }

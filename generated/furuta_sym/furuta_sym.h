@@ -18,7 +18,9 @@
  *
  * furuta_sym_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
  * (either direction) with u held constant: method FURUTA_SYM_RK4 (fixed step h), FURUTA_SYM_DOP853
- * (adaptive, rtol/atol, h the first step or 0) or FURUTA_SYM_GAUSS2 (symmetric, fixed step h).  On
+ * (adaptive, rtol/atol, h the first step or 0) or FURUTA_SYM_GAUSS2 (symmetric, fixed step h; its stage
+ * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
+ * Newton with the exact Jacobian: stats n_newton; FURUTA_SYM_GAUSS2_FIXED = the sweeps only).  On
  * failure x1 is the last accepted state.  furuta_sym_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means FURUTA_SYM_INTEGRATE_MAX_STEPS.
  * furuta_sym_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
@@ -52,6 +54,7 @@ extern "C" {
 #define FURUTA_SYM_RK4 1
 #define FURUTA_SYM_DOP853 2
 #define FURUTA_SYM_GAUSS2 3
+#define FURUTA_SYM_GAUSS2_FIXED 4
 typedef struct furuta_sym_params {
     double g0;
     double m1;
@@ -79,6 +82,7 @@ typedef struct furuta_sym_integrate_stats {
     long n_steps;
     long n_rejected;
     long n_iter;
+    long n_newton;
 } furuta_sym_integrate_stats;
 int furuta_sym_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const furuta_sym_params *p, double *x1, long *n_rhs);

@@ -18,7 +18,9 @@
  *
  * gimbal_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
  * (either direction) with u held constant: method GIMBAL_RK4 (fixed step h), GIMBAL_DOP853
- * (adaptive, rtol/atol, h the first step or 0) or GIMBAL_GAUSS2 (symmetric, fixed step h).  On
+ * (adaptive, rtol/atol, h the first step or 0) or GIMBAL_GAUSS2 (symmetric, fixed step h; its stage
+ * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
+ * Newton with the exact Jacobian: stats n_newton; GIMBAL_GAUSS2_FIXED = the sweeps only).  On
  * failure x1 is the last accepted state.  gimbal_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means GIMBAL_INTEGRATE_MAX_STEPS.
  * gimbal_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
@@ -52,6 +54,7 @@ extern "C" {
 #define GIMBAL_RK4 1
 #define GIMBAL_DOP853 2
 #define GIMBAL_GAUSS2 3
+#define GIMBAL_GAUSS2_FIXED 4
 #define GIMBAL_SEPARATRIX 4
 #define GIMBAL_NO_PERIOD 5
 #define GIMBAL_QUAD_FAILED 6
@@ -77,6 +80,7 @@ typedef struct gimbal_integrate_stats {
     long n_steps;
     long n_rejected;
     long n_iter;
+    long n_newton;
 } gimbal_integrate_stats;
 int gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const gimbal_params *p, double *x1, long *n_rhs);

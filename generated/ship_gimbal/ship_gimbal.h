@@ -18,7 +18,9 @@
  *
  * ship_gimbal_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
  * (either direction) with u held constant: method SHIP_GIMBAL_RK4 (fixed step h), SHIP_GIMBAL_DOP853
- * (adaptive, rtol/atol, h the first step or 0) or SHIP_GIMBAL_GAUSS2 (symmetric, fixed step h).  On
+ * (adaptive, rtol/atol, h the first step or 0) or SHIP_GIMBAL_GAUSS2 (symmetric, fixed step h; its stage
+ * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
+ * Newton with the exact Jacobian: stats n_newton; SHIP_GIMBAL_GAUSS2_FIXED = the sweeps only).  On
  * failure x1 is the last accepted state.  ship_gimbal_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means SHIP_GIMBAL_INTEGRATE_MAX_STEPS.
  * General case (the paper's (8)-(10)): a moving platform, external loads, joint springs and dampers
@@ -59,6 +61,7 @@ extern "C" {
 #define SHIP_GIMBAL_RK4 1
 #define SHIP_GIMBAL_DOP853 2
 #define SHIP_GIMBAL_GAUSS2 3
+#define SHIP_GIMBAL_GAUSS2_FIXED 4
 typedef struct ship_gimbal_params {
     double unused_;
 } ship_gimbal_params;
@@ -78,6 +81,7 @@ typedef struct ship_gimbal_integrate_stats {
     long n_steps;
     long n_rejected;
     long n_iter;
+    long n_newton;
 } ship_gimbal_integrate_stats;
 int ship_gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const ship_gimbal_params *p, double *x1, long *n_rhs);

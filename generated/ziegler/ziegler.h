@@ -18,7 +18,9 @@
  *
  * ziegler_integrate(method, t0, t1, h, rtol, atol, x0, u, p, x1, n_rhs) integrates from t0 to t1
  * (either direction) with u held constant: method ZIEGLER_RK4 (fixed step h), ZIEGLER_DOP853
- * (adaptive, rtol/atol, h the first step or 0) or ZIEGLER_GAUSS2 (symmetric, fixed step h).  On
+ * (adaptive, rtol/atol, h the first step or 0) or ZIEGLER_GAUSS2 (symmetric, fixed step h; its stage
+ * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
+ * Newton with the exact Jacobian: stats n_newton; ZIEGLER_GAUSS2_FIXED = the sweeps only).  On
  * failure x1 is the last accepted state.  ziegler_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means ZIEGLER_INTEGRATE_MAX_STEPS.
  * General case (the paper's (8)-(10)): a moving platform, external loads, joint springs and dampers
@@ -59,6 +61,7 @@ extern "C" {
 #define ZIEGLER_RK4 1
 #define ZIEGLER_DOP853 2
 #define ZIEGLER_GAUSS2 3
+#define ZIEGLER_GAUSS2_FIXED 4
 typedef struct ziegler_params {
     double P;
 } ziegler_params;
@@ -78,6 +81,7 @@ typedef struct ziegler_integrate_stats {
     long n_steps;
     long n_rejected;
     long n_iter;
+    long n_newton;
 } ziegler_integrate_stats;
 int ziegler_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const ziegler_params *p, double *x1, long *n_rhs);
