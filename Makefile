@@ -2,7 +2,7 @@
 # make test                           set up .venv and run the test suite
 # make plot                           the gimbal's quadrature over an ODE solution, the Furuta LQR loop (docs/)
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost (bench/results/)
-# make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo (bench/results/)
+# make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo; derivatives against Pinocchio, CasADi, differences (bench/results/)
 SHELL := /bin/bash
 PY ?= python3
 VENV := .venv
@@ -57,6 +57,7 @@ bench: $(VENV)/.plot-installed
 
 bench-speed: bench-setup
 	$(VPY) bench/speed.py
+	$(VPY) bench/derivatives.py
 
 pdf: generate
 	@name=$$($(VPY) -c "from codegen.spec import load_spec; print(load_spec('$(SPEC)').name)"); \
