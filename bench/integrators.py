@@ -169,6 +169,49 @@ def drift(rows):
     return out
 
 
+def gauss2_solver(rows):
+    """GAUSS2's stage solver: the sweeps alone (GAUSS2_FIXED) against the automatic choice (sweeps,
+    or simplified Newton with the exact Jacobian where it pays), per step: rhs calls, iterations,
+    share of Newton steps, wall time (best of 5 runs of 1 s of motion)."""
+    cases = [("gimbal", GIMBAL_X0_), ("double_pendulum", None), ("furuta", None), ("spatial3", None), ("fast_gyro", None)]
+    for name, x0 in cases:
+        spec = load_spec(ROOT / "specs" / f"{name}.toml")
+        c = build.load(GEN / name)
+        n = spec.n
+        if x0 is None:
+            x0 = (np.array([*spec.initial["phi"], *spec.initial["phidot"]]) if spec.initial
+                  else np.concatenate([np.full(n, 0.5), np.zeros(n)]))
+        u = np.zeros(len(spec.controls)) if spec.controls else None
+        params = example_params(name)
+        for h in (0.001, 0.01, 0.03, 0.1):
+            row = dict(example=name, h=h)
+            for m in ("gauss2_fixed", "gauss2"):
+                try:
+                    sec, (X, st) = timed(lambda: c.integrate([0.0, 1.0], x0, m, h=h, u=u, params=params, full_output=True))
+                    row[f"{m}_rhs_per_step"] = st["n_rhs"] / st["n_steps"]
+                    row[f"{m}_iter_per_step"] = st["n_iter"] / st["n_steps"]
+                    row[f"{m}_newton_share"] = st["n_newton"] / st["n_steps"]
+                    row[f"{m}_us_per_step"] = sec / st["n_steps"] * 1e6
+                except IntegrationError as e:
+                    row[f"{m}_rhs_per_step"] = row[f"{m}_iter_per_step"] = row[f"{m}_newton_share"] = None
+                    row[f"{m}_us_per_step"] = None
+                    row[f"{m}_code"] = e.code
+            rows.append(row)
+
+            def fmt(key, f=".1f"):
+                v = row.get(key)
+                return "fails (NO_CONVERGENCE)" if v is None else format(v, f)
+            def show(m):
+                if row.get(f"{m}_rhs_per_step") is None:
+                    return "fails (NO_CONVERGENCE)"
+                out = f"{fmt(m + '_rhs_per_step')} rhs/step, {fmt(m + '_us_per_step', '.2f')} us/step"
+                return out + (f", Newton on {fmt(m + '_newton_share', '.0%')} of steps" if m == "gauss2" else "")
+            print(f"  {name:16s} h = {h:<6} sweeps only: {show('gauss2_fixed')}  | auto: {show('gauss2')}", flush=True)
+
+
+GIMBAL_X0_ = np.array([0.0, 0.3, 2.0, 0.5])
+
+
 def rhs_cost(rows):
     """ns per call of the generated C rhs (the timing harness of bench/speed.py), and the Python costs."""
     from speed import run
@@ -278,7 +321,11 @@ def main():
     dr_rows = []
     dr = drift(dr_rows)
     write_csv(RESULTS / "drift.csv", dr_rows)
-    print("\n4. rhs cost", flush=True)
+    print("\n4. GAUSS2's stage solver: sweeps only against sweeps or Newton (1 s of motion)", flush=True)
+    gs = []
+    gauss2_solver(gs)
+    write_csv(RESULTS / "gauss2_solver.csv", [dict((k, r.get(k)) for k in sorted(set().union(*gs))) for r in gs])
+    print("\n5. rhs cost", flush=True)
     rc = []
     rhs_cost(rc)
     write_csv(RESULTS / "rhs_cost.csv", rc)
