@@ -15,6 +15,7 @@ import dataclasses
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -138,12 +139,62 @@ def build_casadi(ch, n: int, d: Path) -> Path | None:
     return exe
 
 
+def symbolic_check(cases) -> list[dict]:
+    """Our derivatives against the exact symbolic derivatives of the sympy Lagrangian (tests/
+    lagrange.py, built in the fixed frame independently of the generator), evaluated in double
+    precision: φ̈ = H⁻¹(τ − b), so ∂φ̈/∂x = −H⁻¹(∂b/∂x + (∂H/∂x) φ̈).  Slow (sympy): n ≤ 3."""
+    import sympy as sp
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from conftest import generate as gen_model
+    from lagrange import lagrangian
+    from codegen.randspec import random_spec_text
+
+    rows = []
+    for n, planar in cases:
+        rng = np.random.default_rng(40 + n)
+        spec = parse_spec(random_spec_text(rng, n, name=f"lag{n}{'p' if planar else 's'}", planar=planar, gyro=True, controls=(n,), theta1=None))
+        t0 = time.perf_counter()
+        phi, v = sp.symbols(f"q1:{n + 1}"), sp.symbols(f"v1:{n + 1}")
+        L = lagrangian(spec, phi, v)
+        p = [sp.diff(L, vi) for vi in v]
+        H = [[sp.diff(p[i], v[j]) for j in range(n)] for i in range(n)]
+        b = [sum(sp.diff(p[i], phi[r]) * v[r] for r in range(n)) - sp.diff(L, phi[i]) for i in range(n)]
+        dH = [[[sp.diff(H[i][j], s) for s in phi] for j in range(n)] for i in range(n)]
+        db = [[sp.diff(b[i], s) for s in list(phi) + list(v)] for i in range(n)]
+        f = sp.lambdify([phi, v], [H, b, dH, db], modules="numpy", cse=True)
+        sym_s = time.perf_counter() - t0
+        model = gen_model(spec, BUILD / "lagrange")
+        worst = 0.0
+        for _ in range(5):
+            x = np.concatenate([rng.uniform(-3, 3, n), rng.normal(size=n)])
+            u = rng.normal(size=1)
+            Hn, bn, dHn, dbn = (np.array(a, dtype=float) for a in f(x[:n], x[n:]))
+            tau = np.zeros(n)
+            tau[n - 1] = u[0]
+            a = np.linalg.solve(Hn, tau - bn)
+            J = np.empty((n, 2 * n))
+            for j in range(2 * n):
+                dHj = dHn[:, :, j] if j < n else np.zeros((n, n))
+                J[:, j] = -np.linalg.solve(Hn, dbn[:, j] + dHj @ a)
+            Ju = np.linalg.solve(Hn, np.eye(n)[:, n - 1])
+            _, dq, dv, du = model.c.qdd_derivatives(x, u)
+            got = np.hstack([dq, dv, du])
+            want = np.hstack([J, Ju[:, None]])
+            worst = max(worst, float(np.max(np.abs(got - want)) / np.max(np.abs(want))))
+        rows.append(dict(n=n, planar=planar, max_rel_err=worst, sympy_s=sym_s))
+        print(f"symbolic Lagrangian n={n} {'planar' if planar else 'spatial'} (rotors, a control): "
+              f"max relative difference {worst:.1e} over 5 states (sympy took {sym_s:.0f} s)", flush=True)
+    return rows
+
+
 PEERS = ("pinocchio", "casadi", "fd")
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, nargs="*", default=[2, 4, 8, 16, 32])
+    ap.add_argument("--symbolic", action="store_true", help="also the n <= 3 check against the sympy Lagrangian (minutes)")
     args = ap.parse_args()
     BUILD.mkdir(parents=True, exist_ok=True)
     RESULTS.mkdir(parents=True, exist_ok=True)
@@ -187,6 +238,8 @@ def main() -> int:
               f"  best peer / ours {f(row['best_peer_over_ours'], '.2f')}", flush=True)
     write_csv(RESULTS / "derivatives.csv", rows)
     print(f"wrote {(RESULTS / 'derivatives.csv').relative_to(ROOT)}")
+    if args.symbolic:
+        write_csv(RESULTS / "derivatives_symbolic.csv", symbolic_check([(2, False), (3, True)]))
     return 0
 
 
