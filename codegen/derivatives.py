@@ -14,6 +14,11 @@ A polynomial definition c·a₁a₂⋯ differentiates term by term (product rule
 (cos φᵏ, a reciprocal 1/Dᵏ, a user's expression) by sympy's ``diff`` of its right side, with the
 result written in the program's quantities where they exist (−sin φᵏ is the existing sin_phi;
 d(1/D) = −(1/D)² dD reuses the reciprocal).
+
+``derive`` gives one tangent per direction (emitted as one C function per column of the Jacobian,
+sparse); ``derive_tangent`` one tangent along a direction given at run time (one compact function
+called per column), which emit.py uses when the specialised columns together grow too long to
+compile quickly (long chains).
 """
 from __future__ import annotations
 
@@ -46,11 +51,6 @@ class Derivatives:
     qdd: tuple
     pivots: tuple
     dqdd: tuple
-
-    def block(self, kind: str) -> list:
-        """The n×m block of ∂φ̈ for 'q', 'v' or 'u', row-major as a flat list."""
-        cols = [j for j, lab in enumerate(self.labels) if lab[0] == kind]
-        return [self.dqdd[k][j] for k in range(len(self.qdd)) for j in cols]
 
 
 def _to_poly(P: Program, expr: sp.Expr, atom: Atom, rhs: sp.Expr, name: str) -> Poly:
