@@ -204,17 +204,22 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
         lines["quad_terms"] = straight_line(P, quad.terms)
     # last, so that the names of everything above do not depend on it
     say("straight-line code: derivatives of qdd (forward mode over the articulated recursion)")
-    der = derivatives.derive(spec, kin, art)
     lines["qdd_derivatives"] = articulated
     base = [a for a, _ in P.needed(list(art.qdd) + list(art.pivots))]
     have = frozenset(base)
     used: set = set()
-    for j, label in enumerate(der.labels):
-        line = straight_line(P, [der.dqdd[k][j] for k in range(n)], prefix=f"w{label}_", have=have)
-        lines[f"d_{label}"] = line
-        used |= _reads(P, line) & have
-    if sum(lines[f"d_{lab}"].op_count() for lab in der.labels) > SPECIALISED_MAX_OPS:
-        for lab in der.labels:
+    ndir = 2 * n + len(spec.controls)
+    # the specialised columns cost about 0.1–0.6 of the recursion per direction: past 4× the budget
+    # by that estimate they are not derived at all (n = 32 would take minutes of Python)
+    specialised = articulated.op_count() * ndir <= 4 * SPECIALISED_MAX_OPS
+    if specialised:
+        der = derivatives.derive(spec, kin, art)
+        for j, label in enumerate(der.labels):
+            line = straight_line(P, [der.dqdd[k][j] for k in range(n)], prefix=f"w{label}_", have=have)
+            lines[f"d_{label}"] = line
+            used |= _reads(P, line) & have
+    if not specialised or sum(lines[f"d_{lab}"].op_count() for lab in der.labels) > SPECIALISED_MAX_OPS:
+        for lab in (der.labels if specialised else ()):
             del lines[f"d_{lab}"]
         der = derivatives.derive_tangent(spec, kin, art)
         line = lines["d_jvp"] = straight_line(P, list(der.jvp), prefix="wt", have=have)
