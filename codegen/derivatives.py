@@ -44,12 +44,10 @@ class Tangent:
 
 @dataclass(frozen=True)
 class Derivatives:
-    """``qdd[k]``, ``pivots[k]``: the recursion's φ̈ and Dᵏ; ``dqdd[k][j]``: ∂φ̈ᵏ⁺¹/∂(direction j)
-    with the directions ``labels`` (q1…qn, v1…vn, u1…): φ, φ̇, then the controls in order."""
+    """``dqdd[k][j]``: ∂φ̈ᵏ⁺¹/∂(direction j) with the directions ``labels`` (q1…qn, v1…vn,
+    u1…): φ, φ̇, then the controls in order."""
 
     labels: tuple
-    qdd: tuple
-    pivots: tuple
     dqdd: tuple
 
 
@@ -172,4 +170,4 @@ def derive(spec, kin, art) -> Derivatives:
     for k in range(n):
         row = _tangent_poly(art.qdd[k], tan)
         dqdd.append(tuple(row.get(j, ZERO) for j in range(len(labels))))
-    return Derivatives(labels, tuple(art.qdd), tuple(art.pivots), tuple(dqdd))
+    return Derivatives(labels, tuple(dqdd))

@@ -264,7 +264,7 @@ def _newton_sweeps(n: int, counts: dict) -> int:
 # ∂φ̈ per direction (lines "d_q1" …), each its own static C function reading the recursion's values
 # it needs from an array: a Jacobian of a long chain is too big for one function (gcc's time grows
 # faster than its length); a block whose output is NULL is not computed.
-DERIVATIVE_KINDS = (("dqdd_dphi", "q"), ("dqdd_dphidot", "v"), ("dqdd_du", "u"))
+BLOCK_OF_KIND = {"q": "dqdd_dphi", "v": "dqdd_dphidot", "u": "dqdd_du"}
 
 
 def reads_time(line: StraightLine) -> bool:
@@ -357,7 +357,7 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
             prb.names.update({d: f"d[{i}]" for i, d in enumerate(model.der.dirs)})
             fs["d_jvp"] = _function("d_jvp", model.lines["d_jvp"], [f"col[{i}]" for i in range(n)], prb)
         for j, label in enumerate(model.der.labels if "d_jvp" not in model.lines else ()):
-            key = dict((kind, key) for key, kind in DERIVATIVE_KINDS)[label[0]]
+            key = BLOCK_OF_KIND[label[0]]
             col = int(label[1:]) - 1
             targets = [f"col[{i}]" for i in range(n)] if style == "c" else [f"{key}[{i}, {col}]" for i in range(n)]
             fs[f"d_{label}"] = _function(f"d_{label}", model.lines[f"d_{label}"], targets, prb)

@@ -35,8 +35,6 @@ import numpy as np
 
 STARTS = "every combination of 0, pi/2, pi, -pi/2 per free coordinate (n_free <= 4); beyond that 0 and pi per coordinate (at most 256) and 32 random points (seed 0)"
 
-VERDICTS = ("unstable", "stable (energy–momentum)", "asymptotically stable", "linearly stable", "degenerate")
-
 
 class SteadyError(ValueError):
     """Bad input to the analysis (one line, naming what)."""
@@ -51,11 +49,6 @@ class Steady:
     G: np.ndarray  # gyroscopic (and damping) matrix
     verdict: str
     reason: str
-
-    @property
-    def x(self) -> np.ndarray:
-        n = len(self.phi)
-        return np.concatenate([self.phi, [self.omega] + [0.0] * (n - 1)])
 
 
 @dataclass
@@ -138,7 +131,6 @@ class Analysis:
         it does not converge."""
         n = self.n
         free = list(range(1, n)) if self.cyclic else list(range(n))
-        rows = free
         phi = np.array(start, float)
         if self.cyclic:
             phi[0] = 0.0
@@ -146,7 +138,7 @@ class Analysis:
         def resid(ph):
             x = np.concatenate([ph, [omega if self.cyclic else 0.0] + [0.0] * (n - 1)])
             q, dq, _, _ = self.c.qdd_derivatives(x, self.u, self.params)
-            return q[rows], dq[np.ix_(rows, free)]
+            return q[free], dq[np.ix_(free, free)]
 
         if not free:
             return phi
