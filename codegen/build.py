@@ -72,7 +72,7 @@ class IntegrationError(ModelError):
         self.args = (f"{self.args[0]} at t = {self.t!r}",)
 
 
-METHODS = {"rk4": 1, "dop853": 2, "gauss2": 3, "gauss2_fixed": 4}
+METHODS = {"rk4": 1, "dop853": 2, "gauss2": 3, "gauss2_fixed": 4, "gauss2_symplectic": 5}
 
 
 class CModel:
@@ -86,6 +86,7 @@ class CModel:
         self.nu = getattr(self.lib, f"{name.upper()}_NU")
         self.has_momentum = hasattr(self.lib, f"{name}_momentum")
         self.has_jacobi = hasattr(self.lib, f"{name}_jacobi")
+        self.has_canonical = bool(getattr(self.lib, f"{name.upper()}_HAS_CANONICAL", 0))
         # NAME_TIME_DEPENDENT (general models only): forces, qdd, energy, momentum take t first
         self.time_dependent = bool(getattr(self.lib, f"{name.upper()}_TIME_DEPENDENT", 0))
 
@@ -175,14 +176,36 @@ class CModel:
         xp, _k = self._arr(x, 2 * self.n)
         return self._fn("jacobi")(xp, self._p(params))
 
+    # ---- Hamilton's variables (models with NAME_HAS_CANONICAL: fixed base, autonomous)
+    def momenta(self, x, params=None):
+        """p = ∂ℒ/∂φ̇ = M φ̇ + k(φ) at the state x."""
+        xp, _k = self._arr(x, 2 * self.n)
+        return self._call("momenta", xp, self._p(params), out_len=self.n)
+
+    def velocities(self, q, pm, params=None):
+        """φ̇ from the coordinates q and the momenta pm (M φ̇ = p − k)."""
+        qp, _k = self._arr(q, self.n)
+        pp, _kp = self._arr(pm, self.n)
+        return self._call("velocities", qp, pp, self._p(params), out_len=self.n)
+
+    def pdot(self, x, u=None, params=None):
+        """ṗ = ∂ℒ/∂φ + the torques without a force function, at the state x."""
+        xp, _k = self._arr(x, 2 * self.n)
+        up, _ku = self._u(u)
+        return self._call("pdot", xp, up, self._p(params), out_len=self.n)
+
     # ---- the integrators (NAME_integrate_grid)
     def integrate(self, t, x0, method="dop853", h=0.0, rtol=1e-8, atol=1e-10, u=None, params=None,
                   max_steps=0, full_output=False):
         """The trajectory at the times t (monotone; t[0] is the start, x0 the state there), as an
         array (len(t), 2N), by the C integrator `method` (rk4, gauss2: fixed step h; dop853:
-        adaptive, h the first step or 0; gauss2_fixed: GAUSS2 by fixed-point sweeps only).  Raises
+        adaptive, h the first step or 0; gauss2_fixed: GAUSS2 by fixed-point sweeps only;
+        gauss2_symplectic: GAUSS2 on Hamilton's variables (φ, p), symplectic, fixed step h).  Raises
         IntegrationError when it stops early.  With full_output, also a dict of counts (n_rhs,
         n_steps, n_rejected, n_iter, n_newton: GAUSS2 steps solved by Newton)."""
+        if method == "gauss2_symplectic" and not self.has_canonical:
+            raise ValueError(f"{self.name}: gauss2_symplectic needs Hamilton's variables, which a model with a moving "
+                             "platform, a lambda(t) or a load of t does not have")
         ts = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
         xp, _k = self._arr(x0, 2 * self.n)
         up, _ku = self._u(u)

@@ -171,3 +171,30 @@ def derive(spec, kin, art) -> Derivatives:
         row = _tangent_poly(art.qdd[k], tan)
         dqdd.append(tuple(row.get(j, ZERO) for j in range(len(labels))))
     return Derivatives(labels, tuple(dqdd))
+
+
+@dataclass(frozen=True)
+class Canonical:
+    """Hamilton's variables of a chain on a fixed base: the momenta p = ∂ℒ/∂φ̇ = M φ̇ + k(φ) with
+    kⱼ = eʲ·Σ_{p≥j} λᵖ (ℒ = T + Σλᵏ·ωᵏ + U, digest §7, and ∂ωᵏ/∂φ̇ʲ = eʲ for k ≥ j), and their
+    rate ṗ = ∂ℒ/∂φ + (the torques that have no force function).  ṗ is computed as
+    (∂p/∂φ)·φ̇ + M φ̈ = (∂p/∂φ)·φ̇ + f: by Lagrange's equations that is the same, and it needs
+    only the forward-mode tangent of p along (φ̇, 0) next to the f the model already has.
+    ``k`` is what φ̇ = M⁻¹(p − k) needs besides M."""
+
+    p: tuple
+    k: tuple
+    pdot: tuple
+
+
+def canonical(spec, kin, dyn) -> Canonical:
+    n = spec.n
+    P = kin.prog
+    qd = [P.input(kin.phidot[j]) for j in range(1, n + 1)]
+    k = tuple(dyn.Lam[i][0] for i in range(n))
+    p = tuple(sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO) + k[i] for i in range(n))
+    # the tangent along (φ, φ̇) ↦ (φ̇, 0): each φʲ's tangent is φ̇ʲ (label "p": names <quantity>_dp)
+    seeds = {next(iter(P.input(kin.phi[j]).terms))[0]: {0: qd[j - 1]} for j in range(1, n + 1)}
+    tan = tangents(P, list(p), seeds, ("p",))
+    pdot = tuple(f + _tangent_poly(pi, tan).get(0, ZERO) for f, pi in zip(dyn.f, p))
+    return Canonical(p, k, pdot)

@@ -225,7 +225,20 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
         line = lines["d_jvp"] = straight_line(P, list(der.jvp), prefix="wt", have=have)
         used = _reads(P, line) & have
     store = tuple(a for a in base if a in used)
+    if canonical_applies(spec, kin, dyn, lines):
+        say("straight-line code: momenta p = dL/dphidot and their rate (the symplectic GAUSS2)")
+        can = derivatives.canonical(spec, kin, dyn)
+        lines["momenta"] = straight_line(P, list(can.p))
+        lines["velocity_terms"] = straight_line(P, lower + list(can.k))
+        lines["pdot"] = straight_line(P, list(can.pdot))
     return Model(spec, kin, dyn, ints, lines, form, quad, der, store)
+
+
+def canonical_applies(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, lines: dict) -> bool:
+    """Whether the model gets Hamilton's variables (NAME_momenta, NAME_velocities, NAME_pdot and
+    NAME_GAUSS2_SYMPLECTIC): a fixed base, every λ constant and nothing that reads t, so that
+    p = M φ̇ + k(φ) and the flow in (φ, p) is autonomous."""
+    return kin.platform is None and not dyn.Lamdot and not any(reads_time(lines[k]) for k in ("forces", "qdd"))
 
 
 # Above this many operations in all the specialised columns of ∂φ̈ together (about n = 10 for a
@@ -314,6 +327,8 @@ def op_counts(model: Model) -> dict[str, int]:
     if model.qdd_form == "composite":
         counts["qdd"] += ldlt_op_count(n)
     counts["rhs"] = counts["qdd"]
+    if "velocity_terms" in counts:  # M and k, then φ̇ = M⁻¹(p − k) by LDLᵀ
+        counts["velocities"] = counts.pop("velocity_terms") + ldlt_op_count(n) + n
     if model.der is not None:
         # φ̈ by the articulated recursion, then every block of derivatives
         if "d_jvp" in model.lines:  # run-time count: the tangent once per column
@@ -361,6 +376,11 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
             col = int(label[1:]) - 1
             targets = [f"col[{i}]" for i in range(n)] if style == "c" else [f"{key}[{i}, {col}]" for i in range(n)]
             fs[f"d_{label}"] = _function(f"d_{label}", model.lines[f"d_{label}"], targets, prb)
+    if "momenta" in model.lines:
+        fs["momenta"] = _function("momenta", model.lines["momenta"], [f"pm[{k}]" for k in range(n)], pr)
+        fs["velocity_terms"] = _function("velocity_terms", model.lines["velocity_terms"],
+                                         lower + [f"k[{i}]" for i in range(n)], prq)
+        fs["pdot"] = _function("pdot", model.lines["pdot"], [f"pdot[{k}]" for k in range(n)], pr)
     if "quad_terms" in model.lines:
         # a function of φ = φ² alone (ψ = φ¹ is cyclic); in Python on numpy arrays of φ
         qnames = {**names, model.kin.phi[2]: "phi"}
@@ -791,6 +811,7 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         general=spec.general,
         time_dependent=time_dependent(model),
         has_jacobi="jacobi" in cfun,
+        canonical="momenta" in cfun,
         articulated=model.qdd_form == "articulated",
         has_energy_integral=int(model.integrals.has_energy_integral),
         has_momentum_integral=int(model.integrals.has_momentum_integral),

@@ -110,6 +110,13 @@ def fd_jacobian(f, x, h: float = 1e-3) -> np.ndarray:
     return np.array(cols).T if cols else np.zeros((0, 0))
 
 
+def richardson(f, h: float = 1e-3):
+    """d/ds f(s) at s = 0 by central differences with one Richardson step (error O(h⁴))."""
+    d1 = (np.asarray(f(h)) - np.asarray(f(-h))) / (2 * h)
+    d2 = (np.asarray(f(h / 2)) - np.asarray(f(-h / 2))) / h
+    return (4 * d2 - d1) / 3
+
+
 def check_derivatives(model, x, u=None, t=None, tol=1e-8):
     """NAME_qdd_derivatives of the C and the Python against differences of the reference model's
     φ̈ (relative to the largest entry); returns the largest relative error seen."""

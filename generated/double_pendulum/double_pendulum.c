@@ -434,6 +434,124 @@ double double_pendulum_energy(const double *x, const double_pendulum_params *p)
     return result;
 }
 
+/* Hamilton's variables (codegen/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
+int double_pendulum_momenta(const double *x, const double_pendulum_params *p, double *pm)
+{
+    (void)p;
+
+    if (!double_pendulum_all_finite_(x, 4)) {
+        return DOUBLE_PENDULUM_NONFINITE;
+    }
+    {
+        const double cos_phi2 = cos(x[1]);
+        const double I1_11 = 1.667 + cos_phi2;
+        const double n2in1_1 = 0.3335 + 0.5*cos_phi2;
+
+        pm[0] = x[2]*I1_11 + x[3]*n2in1_1;
+        pm[1] = x[2]*n2in1_1 + 0.3335*x[3];
+
+    }
+    return double_pendulum_all_finite_(pm, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
+}
+
+/* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
+int double_pendulum_velocities(const double *q, const double *pm, const double_pendulum_params *p, double *qd)
+{
+    double M[4];
+    double k[2];
+    double v[2];
+    double tol, d, r = 0.0;
+    (void)v;
+    int i;
+    (void)p;
+
+    if (!double_pendulum_all_finite_(q, 2) || !double_pendulum_all_finite_(pm, 2)) {
+        return DOUBLE_PENDULUM_NONFINITE;
+    }
+    {
+        const double cos_phi2 = cos(q[1]);
+        const double I1_11 = 1.667 + cos_phi2;
+        const double n2in1_1 = 0.3335 + 0.5*cos_phi2;
+
+        M[0] = I1_11;
+        M[2] = n2in1_1;
+        M[3] = 0.3335;
+        k[0] = 0.0;
+        k[1] = 0.0;
+
+    }
+    for (i = 0; i < 2; ++i) {
+        if (!isfinite(M[i * 3]) || !isfinite(k[i])) {
+            return DOUBLE_PENDULUM_NONFINITE;
+        }
+        qd[i] = pm[i] - k[i];
+    }
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 2; ++i) {
+        if (fabs(M[i * 3]) > tol) {
+            tol = fabs(M[i * 3]);
+        }
+    }
+    tol *= DOUBLE_PENDULUM_PIVOT_TOL;
+    d = M[0];
+    if (!(d > tol)) {
+        return DOUBLE_PENDULUM_SINGULAR;
+    }
+    M[0] = d;
+    r = 1.0 / d;
+    M[2] = (M[2]) * r;
+    v[0] = M[2] * M[0];
+    d = M[3] - M[2] * v[0];
+    if (!(d > tol)) {
+        return DOUBLE_PENDULUM_SINGULAR;
+    }
+    M[3] = d;
+
+    (void)r;
+    qd[1] -= M[2] * qd[0];
+    qd[0] /= M[0];
+    qd[1] /= M[3];
+    qd[0] -= M[2] * qd[1];
+
+    return double_pendulum_all_finite_(qd, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
+}
+
+/* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
+ * dampers), computed as (dp/dphi) phidot + f. */
+int double_pendulum_pdot(const double *x, const double *u, const double_pendulum_params *p, double *pdot)
+{
+    (void)p;
+
+    if (!double_pendulum_all_finite_(x, 4)) {
+        return DOUBLE_PENDULUM_NONFINITE;
+    }
+
+    {
+        (void)u;
+
+        const double cos_phi1 = cos(x[0]);
+        const double sin_phi1 = sin(x[0]);
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_1 = x[2] + x[3];
+        const double aOrel2in1_3 = -x[2]*x[2];
+        const double j2r5 = -9.81*cos_phi1 + aOrel2in1_3;
+        const double aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2;
+        const double pF2_3 = aOg2_3 - 0.5*om2_1*om2_1;
+        const double Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*pF2_3;
+        const double Nb1_1 = 4.905*sin_phi1 - 0.5*aOg2_2 - Fb2in1_2;
+        const double cos_phi2_dp = -x[3]*sin_phi2;
+        const double w0 = x[2]*cos_phi2_dp;
+
+        pdot[0] = -Nb1_1 + w0 + 0.5*x[3]*cos_phi2_dp;
+        pdot[1] = 0.5*aOg2_2 + 0.5*w0;
+
+    }
+    return double_pendulum_all_finite_(pdot, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
+}
+
 /* ---------------------------------------------------------------------------------------
  * Integrators: NAME_integrate and NAME_integrate_grid, written once over double_pendulum_rhs.
  *   RK4     classical Runge-Kutta, order 4, fixed step.
@@ -444,8 +562,12 @@ double double_pendulum_energy(const double *x, const double_pendulum_params *p)
  *           the stage equations are solved by fixed-point iteration until the correction stops
  *           decreasing (round-off), or, where the sweeps contract too slowly to pay (long
  *           steps), by simplified Newton with the exact Jacobian (stats n_newton counts those steps);
- *           GAUSS2_FIXED is the fixed-point iteration alone.
- * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
+ *           GAUSS2_FIXED is the fixed-point iteration alone. *   GAUSS2_SYMPLECTIC  the same collocation on Hamilton's variables y = (phi, p), p = dL/dphidot:
+ *           Gauss methods are symplectic in canonical variables (not in (phi, phidot), where M(phi)
+ *           makes the change of variables nonlinear), so the energy error stays bounded where
+ *           GAUSS2 drifts on a system without a reversing symmetry, and p1 (the momentum (27)) is
+ *           kept to round-off.  Fixed-point sweeps only; one evaluation costs
+ *           52 ops against GAUSS2's 38. * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
  * (do not compile with -ffast-math, which removes the compensation).  A stage that meets a
  * singular M or a non-finite value ends a fixed-step run with that code and the last good state;
  * DOP853 retries the step smaller first, and returns the code only when the step underflows
@@ -455,6 +577,9 @@ double double_pendulum_energy(const double *x, const double_pendulum_params *p)
 #define DOUBLE_PENDULUM_INTEGRATE_MAX_STEPS 100000000L  /* default budget of steps (max_steps <= 0) */
 #endif
 #define DOUBLE_PENDULUM_GAUSS_MAXIT 100                   /* fixed-point iterations per step */
+/* A correction that stops decreasing below this (relative) is round-off: a component computed with
+ * cancellation (a small momentum, a small phi'') has a floor above EPS. */
+#define DOUBLE_PENDULUM_GAUSS_FLOOR 1e-12
 #define DOUBLE_PENDULUM_EPS 2.220446049250313e-16
 /* What a simplified Newton solve of GAUSS2's stages costs, in fixed-point sweeps (2 rhs each): the
  * Jacobian (112 ops), the LU of the 4 x 4 matrix and ~3 iterations, against
@@ -466,6 +591,40 @@ static int double_pendulum_eval_(const double *x, const double *u, const double_
 {
     st->n_rhs++;
     return double_pendulum_rhs(0.0, x, u, p, xdot);
+}
+
+/* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
+ * p' = double_pendulum_pdot.  One call costs 17 + 35 ops. */
+static int double_pendulum_eval_canonical_(const double *y, const double *u, const double_pendulum_params *p, double *ydot,
+                                      double_pendulum_integrate_stats *st)
+{
+    double x[4];
+    int i, code;
+    st->n_rhs++;
+    for (i = 0; i < 2; ++i) {
+        x[i] = y[i];
+    }
+    if ((code = double_pendulum_velocities(y, y + 2, p, x + 2)) != 0) {
+        return code;
+    }
+    for (i = 0; i < 2; ++i) {
+        ydot[i] = x[2 + i];
+    }
+    return double_pendulum_pdot(x, u, p, ydot + 2);
+}
+
+/* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
+static void double_pendulum_to_state_(const double *y, const double_pendulum_params *p, double *x)
+{
+    int i;
+    for (i = 0; i < 2; ++i) {
+        x[i] = y[i];
+    }
+    if (double_pendulum_velocities(y, y + 2, p, x + 2) != 0) {
+        for (i = 0; i < 2; ++i) {
+            x[2 + i] = NAN;
+        }
+    }
 }
 
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
@@ -640,7 +799,7 @@ static int double_pendulum_gauss2_newton_(const double *x, double h, const doubl
         if (!(d < HUGE_VAL)) {
             return DOUBLE_PENDULUM_NO_CONVERGENCE;
         }
-        if (d <= DOUBLE_PENDULUM_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+        if (d <= DOUBLE_PENDULUM_EPS || (it >= 2 && d >= dprev && dprev <= DOUBLE_PENDULUM_GAUSS_FLOOR)) {
             break;
         }
         if (it >= 30 || (it >= 4 && d > 0.9 * dprev && d > 1e-12)) {
@@ -664,14 +823,14 @@ static int double_pendulum_gauss2_newton_(const double *x, double h, const doubl
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int double_pendulum_gauss2_step_(const double *x, double h, double hp, int newton, const double *u,
+static int double_pendulum_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const double_pendulum_params *p, double F[2][4], double *dx, double_pendulum_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
     static const double c1 = 0.21132486540518713, c2 = 0.7886751345948129;
     double Z[2][4], Y[4], L[3][2];
     double d, dprev = HUGE_VAL;
-    int i, s, it, code;
+    int i, s, it, code, newton = method == DOUBLE_PENDULUM_GAUSS2;
     if (hp != 0.0) {
         /* Lagrange weights of (Z_1, Z_2) at theta = 1 + c_1 r, 1 + c_2 r, 1 */
         const double r = h / hp, th[3] = {1.0 + c1 * r, 1.0 + c2 * r, 1.0};
@@ -696,7 +855,9 @@ static int double_pendulum_gauss2_step_(const double *x, double h, double hp, in
             for (i = 0; i < 4; ++i) {
                 Y[i] = x[i] + Z[s][i];
             }
-            if ((code = double_pendulum_eval_(Y, u, p, F[s], st)) != 0) {
+            code = method == DOUBLE_PENDULUM_GAUSS2_SYMPLECTIC ? double_pendulum_eval_canonical_(Y, u, p, F[s], st)
+                                                       : double_pendulum_eval_(Y, u, p, F[s], st);
+            if (code != 0) {
                 return code;
             }
         }
@@ -715,7 +876,7 @@ static int double_pendulum_gauss2_step_(const double *x, double h, double hp, in
         if (!(d < HUGE_VAL)) {
             return DOUBLE_PENDULUM_NO_CONVERGENCE;
         }
-        if (d <= DOUBLE_PENDULUM_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+        if (d <= DOUBLE_PENDULUM_EPS || (it >= 2 && d >= dprev && dprev <= DOUBLE_PENDULUM_GAUSS_FLOOR)) {
             break;  /* at round-off: exact to the last bit, or no longer decreasing */
         }
         if (newton && it >= 2) {
@@ -744,46 +905,67 @@ static int double_pendulum_gauss2_step_(const double *x, double h, double hp, in
 }
 
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
- * output times (so output times that are multiples of h keep the step constant). */
+ * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
+ * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
 static int double_pendulum_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const double_pendulum_params *p, double *X,
                              double_pendulum_integrate_stats *st)
 {
     double x[4], cmp[4], dx[4], F[2][4], hp = 0.0;
     long k, m;
-    int i, j, code;
+    int i, j, code = DOUBLE_PENDULUM_OK;
+    const int canonical = method == DOUBLE_PENDULUM_GAUSS2_SYMPLECTIC;
+    double ylast[4];
     double_pendulum_copy_(x, X);
     for (i = 0; i < 4; ++i) {
         cmp[i] = 0.0;
     }
-    if (method != DOUBLE_PENDULUM_RK4) {
-        if ((code = double_pendulum_eval_(x, u, p, F[0], st)) != 0) {
-            return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
+    if (canonical) {
+        if ((code = double_pendulum_momenta(X, p, x + 2)) != 0) {
+            return code;
         }
+        double_pendulum_copy_(ylast, x);
+        code = double_pendulum_eval_canonical_(x, u, p, F[0], st);
+    } else if (method != DOUBLE_PENDULUM_RK4) {
+        code = double_pendulum_eval_(x, u, p, F[0], st);
     }
-    for (j = 1; j < nt; ++j) {
+    if (code != 0) {
+        return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
+    }
+    for (j = 1; j < nt && code == 0; ++j) {
         const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = double_pendulum_nsteps_(ta, tt[j], h));
         for (k = 0; k < m; ++k) {
             if (st->n_steps >= max_steps) {
-                return DOUBLE_PENDULUM_TOO_MANY_STEPS;
+                code = DOUBLE_PENDULUM_TOO_MANY_STEPS;
+                break;
             }
             code = method == DOUBLE_PENDULUM_RK4 ? double_pendulum_rk4_step_(x, hs, u, p, dx, st)
-                                         : double_pendulum_gauss2_step_(x, hs, hp, method == DOUBLE_PENDULUM_GAUSS2, u, p, F, dx, st);
+                                         : double_pendulum_gauss2_step_(x, hs, hp, method, u, p, F, dx, st);
             if (code != 0) {
-                return code;
+                break;
             }
             double_pendulum_add_(x, cmp, dx);
             hp = hs;
             if (!double_pendulum_all_finite_(x, 4)) {
-                return DOUBLE_PENDULUM_NONFINITE;  /* st->x keeps the last finite state */
+                code = DOUBLE_PENDULUM_NONFINITE;  /* st->x keeps the last finite state */
+                break;
             }
             st->n_steps++;
             st->t = k + 1 == m ? tt[j] : ta + (double)(k + 1) * hs;
-            double_pendulum_copy_(st->x, x);
+            double_pendulum_copy_(canonical ? ylast : st->x, x);
         }
-        double_pendulum_copy_(X + j * 4, x);
+        if (code == 0) {
+            if (canonical) {
+                double_pendulum_to_state_(x, p, X + j * 4);
+            } else {
+                double_pendulum_copy_(X + j * 4, x);
+            }
+        }
     }
-    return DOUBLE_PENDULUM_OK;
+    if (canonical && st->n_steps > 0) {
+        double_pendulum_to_state_(ylast, p, st->x);  /* (before the first step st->x is x0 as given) */
+    }
+    return code;
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
@@ -1000,7 +1182,7 @@ int double_pendulum_integrate_grid(int method, int nt, const double *t, double h
         if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
             return DOUBLE_PENDULUM_BAD_ARGUMENT;
         }
-    } else if (method == DOUBLE_PENDULUM_RK4 || method == DOUBLE_PENDULUM_GAUSS2 || method == DOUBLE_PENDULUM_GAUSS2_FIXED) {
+    } else if (method == DOUBLE_PENDULUM_RK4 || method == DOUBLE_PENDULUM_GAUSS2 || method == DOUBLE_PENDULUM_GAUSS2_FIXED               || method == DOUBLE_PENDULUM_GAUSS2_SYMPLECTIC) {
         if (!(h != 0.0 && fabs(h) < HUGE_VAL)) {
             return DOUBLE_PENDULUM_BAD_ARGUMENT;
         }

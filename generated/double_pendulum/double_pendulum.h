@@ -20,14 +20,20 @@
  * (either direction) with u held constant: method DOUBLE_PENDULUM_RK4 (fixed step h), DOUBLE_PENDULUM_DOP853
  * (adaptive, rtol/atol, h the first step or 0) or DOUBLE_PENDULUM_GAUSS2 (symmetric, fixed step h; its stage
  * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
- * Newton with the exact Jacobian: stats n_newton; DOUBLE_PENDULUM_GAUSS2_FIXED = the sweeps only).  On
+ * Newton with the exact Jacobian: stats n_newton; DOUBLE_PENDULUM_GAUSS2_FIXED = the sweeps only;
+ * DOUBLE_PENDULUM_GAUSS2_SYMPLECTIC = the same method on Hamilton's variables (phi, p), which makes it
+ * symplectic: no energy drift over long runs, linear integrals such as (27) kept to round-off; x0
+ * and the outputs stay (phi, phidot)).  On
  * failure x1 is the last accepted state.  double_pendulum_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means DOUBLE_PENDULUM_INTEGRATE_MAX_STEPS.
  * double_pendulum_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * double_pendulum_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 26, forces 27, linearize 112, mass_matrix 4, qdd 38, qdd_derivatives 112, rhs 38.
+ * Hamilton's variables (DOUBLE_PENDULUM_HAS_CANONICAL): double_pendulum_momenta(x, p, pm) gives p = dL/dphidot =
+ * M phidot + k(phi) (k_j = e^j . sum of lambda^k, k >= j), double_pendulum_velocities(q, pm, p, qd) the inverse,
+ * double_pendulum_pdot(x, u, p, pdot) the rate dp/dt = dL/dphi + the torques without a force function.
+ * Op counts: energy 26, forces 27, linearize 112, mass_matrix 4, momenta 10, pdot 35, qdd 38, qdd_derivatives 112, rhs 38, velocities 17.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -55,6 +61,8 @@ extern "C" {
 #define DOUBLE_PENDULUM_DOP853 2
 #define DOUBLE_PENDULUM_GAUSS2 3
 #define DOUBLE_PENDULUM_GAUSS2_FIXED 4
+#define DOUBLE_PENDULUM_GAUSS2_SYMPLECTIC 5
+#define DOUBLE_PENDULUM_HAS_CANONICAL 1
 typedef struct double_pendulum_params {
     double unused_;
 } double_pendulum_params;
@@ -66,6 +74,9 @@ int double_pendulum_qdd_derivatives(const double *x, const double *u, const doub
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
 int double_pendulum_linearize(double t, const double *x, const double *u, const double_pendulum_params *p, double *A, double *B);
 double double_pendulum_energy(const double *x, const double_pendulum_params *p);
+int double_pendulum_momenta(const double *x, const double_pendulum_params *p, double *pm);
+int double_pendulum_velocities(const double *q, const double *pm, const double_pendulum_params *p, double *qd);
+int double_pendulum_pdot(const double *x, const double *u, const double_pendulum_params *p, double *pdot);
 typedef struct double_pendulum_integrate_stats {
     double t;
     double x[4];

@@ -20,7 +20,8 @@ HAS_ENERGY_INTEGRAL = True
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
-OP_COUNTS = { "energy": 26, "forces": 27, "linearize": 112, "mass_matrix": 4, "qdd": 38, "qdd_derivatives": 112, "rhs": 38, }
+HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+OP_COUNTS = { "energy": 26, "forces": 27, "linearize": 112, "mass_matrix": 4, "momenta": 10, "pdot": 35, "qdd": 38, "qdd_derivatives": 112, "rhs": 38, "velocities": 17, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -272,3 +273,61 @@ def energy(x, p=None):
     result = 0.5*x[2]*Mqd1 + 0.5*x[3]*Mqd2 + 4.905*sin_phi1*sin_phi2 - 9.81*cos_phi1*h1_3
 
     return result
+
+
+def momenta(x, p=None):
+    """Hamilton's momenta p = dL/dphidot = M phidot + k(phi) (k from the gyrostatic moments)."""
+    x = [float(v) for v in x]
+
+    pm = np.empty(N)
+    cos_phi2 = math.cos(x[1])
+    I1_11 = 1.667 + cos_phi2
+    n2in1_1 = 0.3335 + 0.5*cos_phi2
+    pm[0] = x[2]*I1_11 + x[3]*n2in1_1
+    pm[1] = x[2]*n2in1_1 + 0.3335*x[3]
+
+    return pm
+
+
+def velocities(q, pm, p=None):
+    """phidot from the coordinates q and the momenta pm: M phidot = pm - k."""
+    q = [float(v) for v in q]
+
+    M = np.empty((N, N))
+    k = np.empty(N)
+    cos_phi2 = math.cos(q[1])
+    I1_11 = 1.667 + cos_phi2
+    n2in1_1 = 0.3335 + 0.5*cos_phi2
+    M[0, 0] = I1_11
+    M[1, 0] = n2in1_1
+    M[1, 1] = 0.3335
+    k[0] = 0.0
+    k[1] = 0.0
+
+    M = np.tril(M) + np.tril(M, -1).T
+    return _ldlt_solve(M, np.asarray(pm, dtype=float) - k)
+
+
+def pdot(x, u=None, p=None):
+    """The rate of the momenta: dL/dphi + the torques without a force function."""
+    x = [float(v) for v in x]
+
+    pdot = np.empty(N)
+    cos_phi1 = math.cos(x[0])
+    sin_phi1 = math.sin(x[0])
+    cos_phi2 = math.cos(x[1])
+    sin_phi2 = math.sin(x[1])
+    om2_1 = x[2] + x[3]
+    aOrel2in1_3 = -x[2]*x[2]
+    j2r5 = -9.81*cos_phi1 + aOrel2in1_3
+    aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5
+    aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2
+    pF2_3 = aOg2_3 - 0.5*om2_1*om2_1
+    Fb2in1_2 = cos_phi2*aOg2_2 - sin_phi2*pF2_3
+    Nb1_1 = 4.905*sin_phi1 - 0.5*aOg2_2 - Fb2in1_2
+    cos_phi2_dp = -x[3]*sin_phi2
+    w0 = x[2]*cos_phi2_dp
+    pdot[0] = -Nb1_1 + w0 + 0.5*x[3]*cos_phi2_dp
+    pdot[1] = 0.5*aOg2_2 + 0.5*w0
+
+    return pdot

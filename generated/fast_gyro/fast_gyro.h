@@ -20,14 +20,20 @@
  * (either direction) with u held constant: method FAST_GYRO_RK4 (fixed step h), FAST_GYRO_DOP853
  * (adaptive, rtol/atol, h the first step or 0) or FAST_GYRO_GAUSS2 (symmetric, fixed step h; its stage
  * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
- * Newton with the exact Jacobian: stats n_newton; FAST_GYRO_GAUSS2_FIXED = the sweeps only).  On
+ * Newton with the exact Jacobian: stats n_newton; FAST_GYRO_GAUSS2_FIXED = the sweeps only;
+ * FAST_GYRO_GAUSS2_SYMPLECTIC = the same method on Hamilton's variables (phi, p), which makes it
+ * symplectic: no energy drift over long runs, linear integrals such as (27) kept to round-off; x0
+ * and the outputs stay (phi, phidot)).  On
  * failure x1 is the last accepted state.  fast_gyro_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means FAST_GYRO_INTEGRATE_MAX_STEPS.
  * fast_gyro_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * fast_gyro_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 16, forces 21, linearize 89, mass_matrix 8, momentum 11, qdd 30, qdd_derivatives 89, quad_terms 10, rhs 30.
+ * Hamilton's variables (FAST_GYRO_HAS_CANONICAL): fast_gyro_momenta(x, p, pm) gives p = dL/dphidot =
+ * M phidot + k(phi) (k_j = e^j . sum of lambda^k, k >= j), fast_gyro_velocities(q, pm, p, qd) the inverse,
+ * fast_gyro_pdot(x, u, p, pdot) the rate dp/dt = dL/dphi + the torques without a force function.
+ * Op counts: energy 16, forces 21, linearize 89, mass_matrix 8, momenta 12, momentum 11, pdot 32, qdd 30, qdd_derivatives 89, quad_terms 10, rhs 30, velocities 22.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -55,6 +61,8 @@ extern "C" {
 #define FAST_GYRO_DOP853 2
 #define FAST_GYRO_GAUSS2 3
 #define FAST_GYRO_GAUSS2_FIXED 4
+#define FAST_GYRO_GAUSS2_SYMPLECTIC 5
+#define FAST_GYRO_HAS_CANONICAL 1
 #define FAST_GYRO_SEPARATRIX 4
 #define FAST_GYRO_NO_PERIOD 5
 #define FAST_GYRO_QUAD_FAILED 6
@@ -73,6 +81,9 @@ int fast_gyro_qdd_derivatives(const double *x, const double *u, const fast_gyro_
 int fast_gyro_linearize(double t, const double *x, const double *u, const fast_gyro_params *p, double *A, double *B);
 double fast_gyro_energy(const double *x, const fast_gyro_params *p);
 double fast_gyro_momentum(const double *x, const fast_gyro_params *p);
+int fast_gyro_momenta(const double *x, const fast_gyro_params *p, double *pm);
+int fast_gyro_velocities(const double *q, const double *pm, const fast_gyro_params *p, double *qd);
+int fast_gyro_pdot(const double *x, const double *u, const fast_gyro_params *p, double *pdot);
 typedef struct fast_gyro_integrate_stats {
     double t;
     double x[4];

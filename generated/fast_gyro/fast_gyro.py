@@ -20,7 +20,8 @@ HAS_ENERGY_INTEGRAL = True
 HAS_MOMENTUM_INTEGRAL = True
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = True
-OP_COUNTS = { "energy": 16, "forces": 21, "linearize": 89, "mass_matrix": 8, "momentum": 11, "qdd": 30, "qdd_derivatives": 89, "quad_terms": 10, "rhs": 30, }
+HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+OP_COUNTS = { "energy": 16, "forces": 21, "linearize": 89, "mass_matrix": 8, "momenta": 12, "momentum": 11, "pdot": 32, "qdd": 30, "qdd_derivatives": 89, "quad_terms": 10, "rhs": 30, "velocities": 22, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -268,6 +269,65 @@ def momentum(x, p=None):
     result = Mqd1 + 5.0*cos_phi2
 
     return result
+
+
+def momenta(x, p=None):
+    """Hamilton's momenta p = dL/dphidot = M phidot + k(phi) (k from the gyrostatic moments)."""
+    x = [float(v) for v in x]
+
+    pm = np.empty(N)
+    cos_phi2 = math.cos(x[1])
+    sin_phi2 = math.sin(x[1])
+    I2in1r_33 = 0.00648*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2
+    I1_11 = 0.005 + I2in1r_33
+    pm[0] = x[2]*I1_11 + 5.0*cos_phi2
+    pm[1] = 0.00648*x[3]
+
+    return pm
+
+
+def velocities(q, pm, p=None):
+    """phidot from the coordinates q and the momenta pm: M phidot = pm - k."""
+    q = [float(v) for v in q]
+
+    M = np.empty((N, N))
+    k = np.empty(N)
+    cos_phi2 = math.cos(q[1])
+    sin_phi2 = math.sin(q[1])
+    I2in1r_33 = 0.00648*sin_phi2*sin_phi2 + 0.009*cos_phi2*cos_phi2
+    I1_11 = 0.005 + I2in1r_33
+    M[0, 0] = I1_11
+    M[1, 0] = 0.0
+    M[1, 1] = 0.00648
+    k[0] = 5.0*cos_phi2
+    k[1] = 0.0
+
+    M = np.tril(M) + np.tril(M, -1).T
+    return _ldlt_solve(M, np.asarray(pm, dtype=float) - k)
+
+
+def pdot(x, u=None, p=None):
+    """The rate of the momenta: dL/dphi + the torques without a force function."""
+    x = [float(v) for v in x]
+
+    pdot = np.empty(N)
+    cos_phi2 = math.cos(x[1])
+    sin_phi2 = math.sin(x[1])
+    om2_2 = x[2]*sin_phi2
+    om2_3 = x[2]*cos_phi2
+    w0 = x[3]*om2_3
+    eps2_2 = w0
+    eps2_3 = -x[3]*om2_2
+    pN2_1 = 0.0025199999999999997*om2_2*om2_3 + 5.0*om2_2 - 0.23544*sin_phi2
+    pN2_2 = 0.00648*eps2_2 - 0.0025199999999999997*w0 - 5.0*x[3]
+    j2r12 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3
+    cos_phi2_dp = -x[3]*sin_phi2
+    sin_phi2_dp = x[3]*cos_phi2
+    I2in1r_33_dp = 0.01296*sin_phi2*sin_phi2_dp + 0.018*cos_phi2*cos_phi2_dp
+    pdot[0] = -j2r12 + x[2]*I2in1r_33_dp + 5.0*cos_phi2_dp
+    pdot[1] = -pN2_1
+
+    return pdot
 
 
 # ---------------------------------------------------------------------------------------------

@@ -551,6 +551,131 @@ double furuta_momentum(const double *x, const furuta_params *p)
     return result;
 }
 
+/* Hamilton's variables (codegen/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
+int furuta_momenta(const double *x, const furuta_params *p, double *pm)
+{
+    (void)p;
+
+    if (!furuta_all_finite_(x, 4)) {
+        return FURUTA_NONFINITE;
+    }
+    {
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2;
+        const double I1_11 = 0.0082 + I2in1r_33;
+
+        pm[0] = x[2]*I1_11 - 0.003*x[3]*cos_phi2;
+        pm[1] = -0.003*x[2]*cos_phi2 + 0.003*x[3];
+
+    }
+    return furuta_all_finite_(pm, 2) ? FURUTA_OK : FURUTA_NONFINITE;
+}
+
+/* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
+int furuta_velocities(const double *q, const double *pm, const furuta_params *p, double *qd)
+{
+    double M[4];
+    double k[2];
+    double v[2];
+    double tol, d, r = 0.0;
+    (void)v;
+    int i;
+    (void)p;
+
+    if (!furuta_all_finite_(q, 2) || !furuta_all_finite_(pm, 2)) {
+        return FURUTA_NONFINITE;
+    }
+    {
+        const double cos_phi2 = cos(q[1]);
+        const double sin_phi2 = sin(q[1]);
+        const double I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2;
+        const double I1_11 = 0.0082 + I2in1r_33;
+
+        M[0] = I1_11;
+        M[2] = -0.003*cos_phi2;
+        M[3] = 0.003;
+        k[0] = 0.0;
+        k[1] = 0.0;
+
+    }
+    for (i = 0; i < 2; ++i) {
+        if (!isfinite(M[i * 3]) || !isfinite(k[i])) {
+            return FURUTA_NONFINITE;
+        }
+        qd[i] = pm[i] - k[i];
+    }
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 2; ++i) {
+        if (fabs(M[i * 3]) > tol) {
+            tol = fabs(M[i * 3]);
+        }
+    }
+    tol *= FURUTA_PIVOT_TOL;
+    d = M[0];
+    if (!(d > tol)) {
+        return FURUTA_SINGULAR;
+    }
+    M[0] = d;
+    r = 1.0 / d;
+    M[2] = (M[2]) * r;
+    v[0] = M[2] * M[0];
+    d = M[3] - M[2] * v[0];
+    if (!(d > tol)) {
+        return FURUTA_SINGULAR;
+    }
+    M[3] = d;
+
+    (void)r;
+    qd[1] -= M[2] * qd[0];
+    qd[0] /= M[0];
+    qd[1] /= M[3];
+    qd[0] -= M[2] * qd[1];
+
+    return furuta_all_finite_(qd, 2) ? FURUTA_OK : FURUTA_NONFINITE;
+}
+
+/* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
+ * dampers), computed as (dp/dphi) phidot + f. */
+int furuta_pdot(const double *x, const double *u, const furuta_params *p, double *pdot)
+{
+    (void)p;
+
+    if (!furuta_all_finite_(x, 4) || (u && !furuta_all_finite_(u, 1))) {
+        return FURUTA_NONFINITE;
+    }
+
+    {
+        const double tau_1 = u ? u[0] : 0.0;
+
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_2 = x[2]*sin_phi2;
+        const double om2_3 = x[2]*cos_phi2;
+        const double w0 = x[3]*om2_3;
+        const double eps2_2 = w0;
+        const double eps2_3 = -x[3]*om2_2;
+        const double aOrel2in1_3 = 0.2*x[2]*x[2];
+        const double w1 = om2_2*om2_3;
+        const double pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
+        const double pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
+        const double pN2_1 = -0.00299*w1 + 0.14715*sin_phi2;
+        const double pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
+        const double Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3;
+        const double j2r12 = sin_phi2*pN2_2 + 1e-05*cos_phi2*eps2_3;
+        const double Nb1_1 = j2r12 + 0.2*Fb2in1_2;
+        const double cos_phi2_dp = -x[3]*sin_phi2;
+        const double sin_phi2_dp = x[3]*cos_phi2;
+        const double I2in1r_33_dp = 0.006*sin_phi2*sin_phi2_dp + 2e-05*cos_phi2*cos_phi2_dp;
+
+        pdot[0] = tau_1 - Nb1_1 + x[2]*I2in1r_33_dp - 0.003*x[3]*cos_phi2_dp;
+        pdot[1] = -pN2_1 - 0.003*x[2]*cos_phi2_dp;
+
+    }
+    return furuta_all_finite_(pdot, 2) ? FURUTA_OK : FURUTA_NONFINITE;
+}
+
 /* ---------------------------------------------------------------------------------------
  * Integrators: NAME_integrate and NAME_integrate_grid, written once over furuta_rhs.
  *   RK4     classical Runge-Kutta, order 4, fixed step.
@@ -561,8 +686,12 @@ double furuta_momentum(const double *x, const furuta_params *p)
  *           the stage equations are solved by fixed-point iteration until the correction stops
  *           decreasing (round-off), or, where the sweeps contract too slowly to pay (long
  *           steps), by simplified Newton with the exact Jacobian (stats n_newton counts those steps);
- *           GAUSS2_FIXED is the fixed-point iteration alone.
- * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
+ *           GAUSS2_FIXED is the fixed-point iteration alone. *   GAUSS2_SYMPLECTIC  the same collocation on Hamilton's variables y = (phi, p), p = dL/dphidot:
+ *           Gauss methods are symplectic in canonical variables (not in (phi, phidot), where M(phi)
+ *           makes the change of variables nonlinear), so the energy error stays bounded where
+ *           GAUSS2 drifts on a system without a reversing symmetry, and p1 (the momentum (27)) is
+ *           kept to round-off.  Fixed-point sweeps only; one evaluation costs
+ *           74 ops against GAUSS2's 55. * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
  * (do not compile with -ffast-math, which removes the compensation).  A stage that meets a
  * singular M or a non-finite value ends a fixed-step run with that code and the last good state;
  * DOP853 retries the step smaller first, and returns the code only when the step underflows
@@ -572,6 +701,9 @@ double furuta_momentum(const double *x, const furuta_params *p)
 #define FURUTA_INTEGRATE_MAX_STEPS 100000000L  /* default budget of steps (max_steps <= 0) */
 #endif
 #define FURUTA_GAUSS_MAXIT 100                   /* fixed-point iterations per step */
+/* A correction that stops decreasing below this (relative) is round-off: a component computed with
+ * cancellation (a small momentum, a small phi'') has a floor above EPS. */
+#define FURUTA_GAUSS_FLOOR 1e-12
 #define FURUTA_EPS 2.220446049250313e-16
 /* What a simplified Newton solve of GAUSS2's stages costs, in fixed-point sweeps (2 rhs each): the
  * Jacobian (165 ops), the LU of the 4 x 4 matrix and ~3 iterations, against
@@ -583,6 +715,40 @@ static int furuta_eval_(const double *x, const double *u, const furuta_params *p
 {
     st->n_rhs++;
     return furuta_rhs(0.0, x, u, p, xdot);
+}
+
+/* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
+ * p' = furuta_pdot.  One call costs 22 + 52 ops. */
+static int furuta_eval_canonical_(const double *y, const double *u, const furuta_params *p, double *ydot,
+                                      furuta_integrate_stats *st)
+{
+    double x[4];
+    int i, code;
+    st->n_rhs++;
+    for (i = 0; i < 2; ++i) {
+        x[i] = y[i];
+    }
+    if ((code = furuta_velocities(y, y + 2, p, x + 2)) != 0) {
+        return code;
+    }
+    for (i = 0; i < 2; ++i) {
+        ydot[i] = x[2 + i];
+    }
+    return furuta_pdot(x, u, p, ydot + 2);
+}
+
+/* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
+static void furuta_to_state_(const double *y, const furuta_params *p, double *x)
+{
+    int i;
+    for (i = 0; i < 2; ++i) {
+        x[i] = y[i];
+    }
+    if (furuta_velocities(y, y + 2, p, x + 2) != 0) {
+        for (i = 0; i < 2; ++i) {
+            x[2 + i] = NAN;
+        }
+    }
 }
 
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
@@ -757,7 +923,7 @@ static int furuta_gauss2_newton_(const double *x, double h, const double *u, con
         if (!(d < HUGE_VAL)) {
             return FURUTA_NO_CONVERGENCE;
         }
-        if (d <= FURUTA_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+        if (d <= FURUTA_EPS || (it >= 2 && d >= dprev && dprev <= FURUTA_GAUSS_FLOOR)) {
             break;
         }
         if (it >= 30 || (it >= 4 && d > 0.9 * dprev && d > 1e-12)) {
@@ -781,14 +947,14 @@ static int furuta_gauss2_newton_(const double *x, double h, const double *u, con
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int furuta_gauss2_step_(const double *x, double h, double hp, int newton, const double *u,
+static int furuta_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const furuta_params *p, double F[2][4], double *dx, furuta_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
     static const double c1 = 0.21132486540518713, c2 = 0.7886751345948129;
     double Z[2][4], Y[4], L[3][2];
     double d, dprev = HUGE_VAL;
-    int i, s, it, code;
+    int i, s, it, code, newton = method == FURUTA_GAUSS2;
     if (hp != 0.0) {
         /* Lagrange weights of (Z_1, Z_2) at theta = 1 + c_1 r, 1 + c_2 r, 1 */
         const double r = h / hp, th[3] = {1.0 + c1 * r, 1.0 + c2 * r, 1.0};
@@ -813,7 +979,9 @@ static int furuta_gauss2_step_(const double *x, double h, double hp, int newton,
             for (i = 0; i < 4; ++i) {
                 Y[i] = x[i] + Z[s][i];
             }
-            if ((code = furuta_eval_(Y, u, p, F[s], st)) != 0) {
+            code = method == FURUTA_GAUSS2_SYMPLECTIC ? furuta_eval_canonical_(Y, u, p, F[s], st)
+                                                       : furuta_eval_(Y, u, p, F[s], st);
+            if (code != 0) {
                 return code;
             }
         }
@@ -832,7 +1000,7 @@ static int furuta_gauss2_step_(const double *x, double h, double hp, int newton,
         if (!(d < HUGE_VAL)) {
             return FURUTA_NO_CONVERGENCE;
         }
-        if (d <= FURUTA_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+        if (d <= FURUTA_EPS || (it >= 2 && d >= dprev && dprev <= FURUTA_GAUSS_FLOOR)) {
             break;  /* at round-off: exact to the last bit, or no longer decreasing */
         }
         if (newton && it >= 2) {
@@ -861,46 +1029,67 @@ static int furuta_gauss2_step_(const double *x, double h, double hp, int newton,
 }
 
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
- * output times (so output times that are multiples of h keep the step constant). */
+ * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
+ * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
 static int furuta_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const furuta_params *p, double *X,
                              furuta_integrate_stats *st)
 {
     double x[4], cmp[4], dx[4], F[2][4], hp = 0.0;
     long k, m;
-    int i, j, code;
+    int i, j, code = FURUTA_OK;
+    const int canonical = method == FURUTA_GAUSS2_SYMPLECTIC;
+    double ylast[4];
     furuta_copy_(x, X);
     for (i = 0; i < 4; ++i) {
         cmp[i] = 0.0;
     }
-    if (method != FURUTA_RK4) {
-        if ((code = furuta_eval_(x, u, p, F[0], st)) != 0) {
-            return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
+    if (canonical) {
+        if ((code = furuta_momenta(X, p, x + 2)) != 0) {
+            return code;
         }
+        furuta_copy_(ylast, x);
+        code = furuta_eval_canonical_(x, u, p, F[0], st);
+    } else if (method != FURUTA_RK4) {
+        code = furuta_eval_(x, u, p, F[0], st);
     }
-    for (j = 1; j < nt; ++j) {
+    if (code != 0) {
+        return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
+    }
+    for (j = 1; j < nt && code == 0; ++j) {
         const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = furuta_nsteps_(ta, tt[j], h));
         for (k = 0; k < m; ++k) {
             if (st->n_steps >= max_steps) {
-                return FURUTA_TOO_MANY_STEPS;
+                code = FURUTA_TOO_MANY_STEPS;
+                break;
             }
             code = method == FURUTA_RK4 ? furuta_rk4_step_(x, hs, u, p, dx, st)
-                                         : furuta_gauss2_step_(x, hs, hp, method == FURUTA_GAUSS2, u, p, F, dx, st);
+                                         : furuta_gauss2_step_(x, hs, hp, method, u, p, F, dx, st);
             if (code != 0) {
-                return code;
+                break;
             }
             furuta_add_(x, cmp, dx);
             hp = hs;
             if (!furuta_all_finite_(x, 4)) {
-                return FURUTA_NONFINITE;  /* st->x keeps the last finite state */
+                code = FURUTA_NONFINITE;  /* st->x keeps the last finite state */
+                break;
             }
             st->n_steps++;
             st->t = k + 1 == m ? tt[j] : ta + (double)(k + 1) * hs;
-            furuta_copy_(st->x, x);
+            furuta_copy_(canonical ? ylast : st->x, x);
         }
-        furuta_copy_(X + j * 4, x);
+        if (code == 0) {
+            if (canonical) {
+                furuta_to_state_(x, p, X + j * 4);
+            } else {
+                furuta_copy_(X + j * 4, x);
+            }
+        }
     }
-    return FURUTA_OK;
+    if (canonical && st->n_steps > 0) {
+        furuta_to_state_(ylast, p, st->x);  /* (before the first step st->x is x0 as given) */
+    }
+    return code;
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
@@ -1117,7 +1306,7 @@ int furuta_integrate_grid(int method, int nt, const double *t, double h, double 
         if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
             return FURUTA_BAD_ARGUMENT;
         }
-    } else if (method == FURUTA_RK4 || method == FURUTA_GAUSS2 || method == FURUTA_GAUSS2_FIXED) {
+    } else if (method == FURUTA_RK4 || method == FURUTA_GAUSS2 || method == FURUTA_GAUSS2_FIXED               || method == FURUTA_GAUSS2_SYMPLECTIC) {
         if (!(h != 0.0 && fabs(h) < HUGE_VAL)) {
             return FURUTA_BAD_ARGUMENT;
         }

@@ -20,7 +20,8 @@ HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
-OP_COUNTS = { "energy": 23, "forces": 37, "linearize": 165, "mass_matrix": 9, "momentum": 12, "qdd": 55, "qdd_derivatives": 165, "rhs": 55, }
+HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+OP_COUNTS = { "energy": 23, "forces": 37, "linearize": 165, "mass_matrix": 9, "momenta": 16, "momentum": 12, "pdot": 52, "qdd": 55, "qdd_derivatives": 165, "rhs": 55, "velocities": 22, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -316,3 +317,69 @@ def momentum(x, p=None):
     result = Mqd1
 
     return result
+
+
+def momenta(x, p=None):
+    """Hamilton's momenta p = dL/dphidot = M phidot + k(phi) (k from the gyrostatic moments)."""
+    x = [float(v) for v in x]
+
+    pm = np.empty(N)
+    cos_phi2 = math.cos(x[1])
+    sin_phi2 = math.sin(x[1])
+    I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2
+    I1_11 = 0.0082 + I2in1r_33
+    pm[0] = x[2]*I1_11 - 0.003*x[3]*cos_phi2
+    pm[1] = -0.003*x[2]*cos_phi2 + 0.003*x[3]
+
+    return pm
+
+
+def velocities(q, pm, p=None):
+    """phidot from the coordinates q and the momenta pm: M phidot = pm - k."""
+    q = [float(v) for v in q]
+
+    M = np.empty((N, N))
+    k = np.empty(N)
+    cos_phi2 = math.cos(q[1])
+    sin_phi2 = math.sin(q[1])
+    I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2
+    I1_11 = 0.0082 + I2in1r_33
+    M[0, 0] = I1_11
+    M[1, 0] = -0.003*cos_phi2
+    M[1, 1] = 0.003
+    k[0] = 0.0
+    k[1] = 0.0
+
+    M = np.tril(M) + np.tril(M, -1).T
+    return _ldlt_solve(M, np.asarray(pm, dtype=float) - k)
+
+
+def pdot(x, u=None, p=None):
+    """The rate of the momenta: dL/dphi + the torques without a force function."""
+    x = [float(v) for v in x]
+    tau_1 = 0.0 if u is None else float(u[0])
+
+    pdot = np.empty(N)
+    cos_phi2 = math.cos(x[1])
+    sin_phi2 = math.sin(x[1])
+    om2_2 = x[2]*sin_phi2
+    om2_3 = x[2]*cos_phi2
+    w0 = x[3]*om2_3
+    eps2_2 = w0
+    eps2_3 = -x[3]*om2_2
+    aOrel2in1_3 = 0.2*x[2]*x[2]
+    w1 = om2_2*om2_3
+    pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
+    pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
+    pN2_1 = -0.00299*w1 + 0.14715*sin_phi2
+    pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
+    Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3
+    j2r12 = sin_phi2*pN2_2 + 1e-05*cos_phi2*eps2_3
+    Nb1_1 = j2r12 + 0.2*Fb2in1_2
+    cos_phi2_dp = -x[3]*sin_phi2
+    sin_phi2_dp = x[3]*cos_phi2
+    I2in1r_33_dp = 0.006*sin_phi2*sin_phi2_dp + 2e-05*cos_phi2*cos_phi2_dp
+    pdot[0] = tau_1 - Nb1_1 + x[2]*I2in1r_33_dp - 0.003*x[3]*cos_phi2_dp
+    pdot[1] = -pN2_1 - 0.003*x[2]*cos_phi2_dp
+
+    return pdot

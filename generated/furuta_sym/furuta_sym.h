@@ -20,14 +20,20 @@
  * (either direction) with u held constant: method FURUTA_SYM_RK4 (fixed step h), FURUTA_SYM_DOP853
  * (adaptive, rtol/atol, h the first step or 0) or FURUTA_SYM_GAUSS2 (symmetric, fixed step h; its stage
  * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
- * Newton with the exact Jacobian: stats n_newton; FURUTA_SYM_GAUSS2_FIXED = the sweeps only).  On
+ * Newton with the exact Jacobian: stats n_newton; FURUTA_SYM_GAUSS2_FIXED = the sweeps only;
+ * FURUTA_SYM_GAUSS2_SYMPLECTIC = the same method on Hamilton's variables (phi, p), which makes it
+ * symplectic: no energy drift over long runs, linear integrals such as (27) kept to round-off; x0
+ * and the outputs stay (phi, phidot)).  On
  * failure x1 is the last accepted state.  furuta_sym_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means FURUTA_SYM_INTEGRATE_MAX_STEPS.
  * furuta_sym_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * furuta_sym_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 31, forces 66, linearize 294, mass_matrix 18, momentum 20, qdd 93, qdd_derivatives 294, rhs 93.
+ * Hamilton's variables (FURUTA_SYM_HAS_CANONICAL): furuta_sym_momenta(x, p, pm) gives p = dL/dphidot =
+ * M phidot + k(phi) (k_j = e^j . sum of lambda^k, k >= j), furuta_sym_velocities(q, pm, p, qd) the inverse,
+ * furuta_sym_pdot(x, u, p, pdot) the rate dp/dt = dL/dphi + the torques without a force function.
+ * Op counts: energy 31, forces 66, linearize 294, mass_matrix 18, momenta 24, momentum 20, pdot 91, qdd 93, qdd_derivatives 294, rhs 93, velocities 31.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -55,6 +61,8 @@ extern "C" {
 #define FURUTA_SYM_DOP853 2
 #define FURUTA_SYM_GAUSS2 3
 #define FURUTA_SYM_GAUSS2_FIXED 4
+#define FURUTA_SYM_GAUSS2_SYMPLECTIC 5
+#define FURUTA_SYM_HAS_CANONICAL 1
 typedef struct furuta_sym_params {
     double g0;
     double m1;
@@ -75,6 +83,9 @@ int furuta_sym_qdd_derivatives(const double *x, const double *u, const furuta_sy
 int furuta_sym_linearize(double t, const double *x, const double *u, const furuta_sym_params *p, double *A, double *B);
 double furuta_sym_energy(const double *x, const furuta_sym_params *p);
 double furuta_sym_momentum(const double *x, const furuta_sym_params *p);
+int furuta_sym_momenta(const double *x, const furuta_sym_params *p, double *pm);
+int furuta_sym_velocities(const double *q, const double *pm, const furuta_sym_params *p, double *qd);
+int furuta_sym_pdot(const double *x, const double *u, const furuta_sym_params *p, double *pdot);
 typedef struct furuta_sym_integrate_stats {
     double t;
     double x[4];

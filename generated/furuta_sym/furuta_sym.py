@@ -20,7 +20,8 @@ HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
-OP_COUNTS = { "energy": 31, "forces": 66, "linearize": 294, "mass_matrix": 18, "momentum": 20, "qdd": 93, "qdd_derivatives": 294, "rhs": 93, }
+HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+OP_COUNTS = { "energy": 31, "forces": 66, "linearize": 294, "mass_matrix": 18, "momenta": 24, "momentum": 20, "pdot": 91, "qdd": 93, "qdd_derivatives": 294, "rhs": 93, "velocities": 31, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -452,3 +453,127 @@ def momentum(x, p=None):
     result = Mqd1
 
     return result
+
+
+def momenta(x, p=None):
+    """Hamilton's momenta p = dL/dphidot = M phidot + k(phi) (k from the gyrostatic moments)."""
+    x = [float(v) for v in x]
+    p_g0 = _param(p, "g0")
+    p_m1 = _param(p, "m1")
+    p_r = _param(p, "r")
+    p_J1 = _param(p, "J1")
+    p_J1z = _param(p, "J1z")
+    p_m2 = _param(p, "m2")
+    p_l = _param(p, "l")
+    p_J2 = _param(p, "J2")
+    p_J2z = _param(p, "J2z")
+
+    pm = np.empty(N)
+    cos_phi2 = math.cos(x[1])
+    sin_phi2 = math.sin(x[1])
+    h2_3 = p_m2*p_l
+    w0 = p_m2*p_l*p_l
+    I2_11 = p_J2 + w0
+    I2_22 = p_J2 + w0
+    I2in1ra_23 = sin_phi2*I2_22
+    I2in1ra_33 = cos_phi2*p_J2z
+    I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33
+    I1_11 = p_J1 + I2in1r_33 + p_m2*p_r*p_r
+    f2in1_2 = -cos_phi2*h2_3
+    n2in1_1 = p_r*f2in1_2
+    pm[0] = x[2]*I1_11 + x[3]*n2in1_1
+    pm[1] = x[2]*n2in1_1 + x[3]*I2_11
+
+    return pm
+
+
+def velocities(q, pm, p=None):
+    """phidot from the coordinates q and the momenta pm: M phidot = pm - k."""
+    q = [float(v) for v in q]
+    p_g0 = _param(p, "g0")
+    p_m1 = _param(p, "m1")
+    p_r = _param(p, "r")
+    p_J1 = _param(p, "J1")
+    p_J1z = _param(p, "J1z")
+    p_m2 = _param(p, "m2")
+    p_l = _param(p, "l")
+    p_J2 = _param(p, "J2")
+    p_J2z = _param(p, "J2z")
+
+    M = np.empty((N, N))
+    k = np.empty(N)
+    cos_phi2 = math.cos(q[1])
+    sin_phi2 = math.sin(q[1])
+    h2_3 = p_m2*p_l
+    w0 = p_m2*p_l*p_l
+    I2_11 = p_J2 + w0
+    I2_22 = p_J2 + w0
+    I2in1ra_23 = sin_phi2*I2_22
+    I2in1ra_33 = cos_phi2*p_J2z
+    I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33
+    I1_11 = p_J1 + I2in1r_33 + p_m2*p_r*p_r
+    f2in1_2 = -cos_phi2*h2_3
+    n2in1_1 = p_r*f2in1_2
+    M[0, 0] = I1_11
+    M[1, 0] = n2in1_1
+    M[1, 1] = I2_11
+    k[0] = 0.0
+    k[1] = 0.0
+
+    M = np.tril(M) + np.tril(M, -1).T
+    return _ldlt_solve(M, np.asarray(pm, dtype=float) - k)
+
+
+def pdot(x, u=None, p=None):
+    """The rate of the momenta: dL/dphi + the torques without a force function."""
+    x = [float(v) for v in x]
+    p_g0 = _param(p, "g0")
+    p_m1 = _param(p, "m1")
+    p_r = _param(p, "r")
+    p_J1 = _param(p, "J1")
+    p_J1z = _param(p, "J1z")
+    p_m2 = _param(p, "m2")
+    p_l = _param(p, "l")
+    p_J2 = _param(p, "J2")
+    p_J2z = _param(p, "J2z")
+    tau_1 = 0.0 if u is None else float(u[0])
+
+    pdot = np.empty(N)
+    cos_phi2 = math.cos(x[1])
+    sin_phi2 = math.sin(x[1])
+    om2_2 = x[2]*sin_phi2
+    om2_3 = x[2]*cos_phi2
+    eps2_2 = x[3]*om2_3
+    eps2_3 = -x[3]*om2_2
+    ws1_2 = x[2]*p_r
+    aOrel2in1_3 = x[2]*ws1_2
+    aOg2_2 = -sin_phi2*p_g0
+    aOg2_3 = -cos_phi2*p_g0
+    wc2_1 = om2_2*p_l
+    wc2_2 = -x[3]*p_l
+    Aw2_1 = x[3]*p_J2 + x[3]*p_m2*p_l*p_l
+    Aw2_2 = om2_2*p_J2 + om2_2*p_m2*p_l*p_l
+    Aw2_3 = om2_3*p_J2z
+    pF2_2 = p_m2*aOg2_2 + om2_3*p_m2*wc2_1
+    pF2_3 = p_m2*aOg2_3 + x[3]*p_m2*wc2_2 - om2_2*p_m2*wc2_1
+    pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p_m2*p_l*aOg2_2
+    pN2_2 = p_J2*eps2_2 + p_m2*p_l*p_l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p_m2*p_l*aOrel2in1_3
+    pN2_3 = p_J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1
+    h2_3 = p_m2*p_l
+    I2_22 = p_J2 + p_m2*p_l*p_l
+    I2in1ra_23 = sin_phi2*I2_22
+    I2in1ra_33 = cos_phi2*p_J2z
+    Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3
+    j2r12 = sin_phi2*pN2_2 + cos_phi2*pN2_3
+    Nb1_1 = j2r12 + p_r*Fb2in1_2
+    cos_phi2_dp = -x[3]*sin_phi2
+    sin_phi2_dp = x[3]*cos_phi2
+    I2in1ra_23_dp = I2_22*sin_phi2_dp
+    I2in1ra_33_dp = p_J2z*cos_phi2_dp
+    I2in1r_33_dp = I2in1ra_23*sin_phi2_dp + sin_phi2*I2in1ra_23_dp + I2in1ra_33*cos_phi2_dp + cos_phi2*I2in1ra_33_dp
+    f2in1_2_dp = -h2_3*cos_phi2_dp
+    n2in1_1_dp = p_r*f2in1_2_dp
+    pdot[0] = tau_1 - Nb1_1 + x[2]*I2in1r_33_dp + x[3]*n2in1_1_dp
+    pdot[1] = -pN2_1 + x[2]*n2in1_1_dp
+
+    return pdot

@@ -20,14 +20,20 @@
  * (either direction) with u held constant: method GIMBAL_RK4 (fixed step h), GIMBAL_DOP853
  * (adaptive, rtol/atol, h the first step or 0) or GIMBAL_GAUSS2 (symmetric, fixed step h; its stage
  * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
- * Newton with the exact Jacobian: stats n_newton; GIMBAL_GAUSS2_FIXED = the sweeps only).  On
+ * Newton with the exact Jacobian: stats n_newton; GIMBAL_GAUSS2_FIXED = the sweeps only;
+ * GIMBAL_GAUSS2_SYMPLECTIC = the same method on Hamilton's variables (phi, p), which makes it
+ * symplectic: no energy drift over long runs, linear integrals such as (27) kept to round-off; x0
+ * and the outputs stay (phi, phidot)).  On
  * failure x1 is the last accepted state.  gimbal_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means GIMBAL_INTEGRATE_MAX_STEPS.
  * gimbal_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * gimbal_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 14, forces 19, linearize 85, mass_matrix 8, momentum 11, qdd 28, qdd_derivatives 85, quad_terms 9, rhs 28.
+ * Hamilton's variables (GIMBAL_HAS_CANONICAL): gimbal_momenta(x, p, pm) gives p = dL/dphidot =
+ * M phidot + k(phi) (k_j = e^j . sum of lambda^k, k >= j), gimbal_velocities(q, pm, p, qd) the inverse,
+ * gimbal_pdot(x, u, p, pdot) the rate dp/dt = dL/dphi + the torques without a force function.
+ * Op counts: energy 14, forces 19, linearize 85, mass_matrix 8, momenta 12, momentum 11, pdot 30, qdd 28, qdd_derivatives 85, quad_terms 9, rhs 28, velocities 22.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -55,6 +61,8 @@ extern "C" {
 #define GIMBAL_DOP853 2
 #define GIMBAL_GAUSS2 3
 #define GIMBAL_GAUSS2_FIXED 4
+#define GIMBAL_GAUSS2_SYMPLECTIC 5
+#define GIMBAL_HAS_CANONICAL 1
 #define GIMBAL_SEPARATRIX 4
 #define GIMBAL_NO_PERIOD 5
 #define GIMBAL_QUAD_FAILED 6
@@ -73,6 +81,9 @@ int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params
 int gimbal_linearize(double t, const double *x, const double *u, const gimbal_params *p, double *A, double *B);
 double gimbal_energy(const double *x, const gimbal_params *p);
 double gimbal_momentum(const double *x, const gimbal_params *p);
+int gimbal_momenta(const double *x, const gimbal_params *p, double *pm);
+int gimbal_velocities(const double *q, const double *pm, const gimbal_params *p, double *qd);
+int gimbal_pdot(const double *x, const double *u, const gimbal_params *p, double *pdot);
 typedef struct gimbal_integrate_stats {
     double t;
     double x[4];

@@ -328,8 +328,7 @@ double kapitza_energy(double t, const double *x, const kapitza_params *p)
  *           the stage equations are solved by fixed-point iteration until the correction stops
  *           decreasing (round-off), or, where the sweeps contract too slowly to pay (long
  *           steps), by simplified Newton with the exact Jacobian (stats n_newton counts those steps);
- *           GAUSS2_FIXED is the fixed-point iteration alone.
- * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
+ *           GAUSS2_FIXED is the fixed-point iteration alone. * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
  * (do not compile with -ffast-math, which removes the compensation).  A stage that meets a
  * singular M or a non-finite value ends a fixed-step run with that code and the last good state;
  * DOP853 retries the step smaller first, and returns the code only when the step underflows
@@ -339,6 +338,9 @@ double kapitza_energy(double t, const double *x, const kapitza_params *p)
 #define KAPITZA_INTEGRATE_MAX_STEPS 100000000L  /* default budget of steps (max_steps <= 0) */
 #endif
 #define KAPITZA_GAUSS_MAXIT 100                   /* fixed-point iterations per step */
+/* A correction that stops decreasing below this (relative) is round-off: a component computed with
+ * cancellation (a small momentum, a small phi'') has a floor above EPS. */
+#define KAPITZA_GAUSS_FLOOR 1e-12
 #define KAPITZA_EPS 2.220446049250313e-16
 /* What a simplified Newton solve of GAUSS2's stages costs, in fixed-point sweeps (2 rhs each): the
  * Jacobian (15 ops), the LU of the 2 x 2 matrix and ~3 iterations, against
@@ -524,7 +526,7 @@ static int kapitza_gauss2_newton_(double t0, const double *x, double h, const do
         if (!(d < HUGE_VAL)) {
             return KAPITZA_NO_CONVERGENCE;
         }
-        if (d <= KAPITZA_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+        if (d <= KAPITZA_EPS || (it >= 2 && d >= dprev && dprev <= KAPITZA_GAUSS_FLOOR)) {
             break;
         }
         if (it >= 30 || (it >= 4 && d > 0.9 * dprev && d > 1e-12)) {
@@ -548,14 +550,14 @@ static int kapitza_gauss2_newton_(double t0, const double *x, double h, const do
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int kapitza_gauss2_step_(double t0, const double *x, double h, double hp, int newton, const double *u,
+static int kapitza_gauss2_step_(double t0, const double *x, double h, double hp, int method, const double *u,
                                    const kapitza_params *p, double F[2][2], double *dx, kapitza_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
     static const double c1 = 0.21132486540518713, c2 = 0.7886751345948129;
     double Z[2][2], Y[2], L[3][2];
     double d, dprev = HUGE_VAL;
-    int i, s, it, code;
+    int i, s, it, code, newton = method == KAPITZA_GAUSS2;
     if (hp != 0.0) {
         /* Lagrange weights of (Z_1, Z_2) at theta = 1 + c_1 r, 1 + c_2 r, 1 */
         const double r = h / hp, th[3] = {1.0 + c1 * r, 1.0 + c2 * r, 1.0};
@@ -580,7 +582,8 @@ static int kapitza_gauss2_step_(double t0, const double *x, double h, double hp,
             for (i = 0; i < 2; ++i) {
                 Y[i] = x[i] + Z[s][i];
             }
-            if ((code = kapitza_eval_(t0 + (s == 0 ? c1 : c2) * h, Y, u, p, F[s], st)) != 0) {
+            code = kapitza_eval_(t0 + (s == 0 ? c1 : c2) * h, Y, u, p, F[s], st);
+            if (code != 0) {
                 return code;
             }
         }
@@ -599,7 +602,7 @@ static int kapitza_gauss2_step_(double t0, const double *x, double h, double hp,
         if (!(d < HUGE_VAL)) {
             return KAPITZA_NO_CONVERGENCE;
         }
-        if (d <= KAPITZA_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+        if (d <= KAPITZA_EPS || (it >= 2 && d >= dprev && dprev <= KAPITZA_GAUSS_FLOOR)) {
             break;  /* at round-off: exact to the last bit, or no longer decreasing */
         }
         if (newton && it >= 2) {
@@ -635,7 +638,7 @@ static int kapitza_fixed_(int method, int nt, const double *tt, double h, long m
 {
     double x[2], cmp[2], dx[2], F[2][2], hp = 0.0;
     long k, m;
-    int i, j, code;
+    int i, j, code = KAPITZA_OK;
     kapitza_copy_(x, X);
     for (i = 0; i < 2; ++i) {
         cmp[i] = 0.0;
@@ -645,30 +648,34 @@ static int kapitza_fixed_(int method, int nt, const double *tt, double h, long m
             return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
         }
     }
-    for (j = 1; j < nt; ++j) {
+    for (j = 1; j < nt && code == 0; ++j) {
         const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = kapitza_nsteps_(ta, tt[j], h));
         for (k = 0; k < m; ++k) {
             if (st->n_steps >= max_steps) {
-                return KAPITZA_TOO_MANY_STEPS;
+                code = KAPITZA_TOO_MANY_STEPS;
+                break;
             }
             const double tk = ta + (double)k * hs;
             code = method == KAPITZA_RK4 ? kapitza_rk4_step_(tk, x, hs, u, p, dx, st)
-                                         : kapitza_gauss2_step_(tk, x, hs, hp, method == KAPITZA_GAUSS2, u, p, F, dx, st);
+                                         : kapitza_gauss2_step_(tk, x, hs, hp, method, u, p, F, dx, st);
             if (code != 0) {
-                return code;
+                break;
             }
             kapitza_add_(x, cmp, dx);
             hp = hs;
             if (!kapitza_all_finite_(x, 2)) {
-                return KAPITZA_NONFINITE;  /* st->x keeps the last finite state */
+                code = KAPITZA_NONFINITE;  /* st->x keeps the last finite state */
+                break;
             }
             st->n_steps++;
             st->t = k + 1 == m ? tt[j] : ta + (double)(k + 1) * hs;
             kapitza_copy_(st->x, x);
         }
-        kapitza_copy_(X + j * 2, x);
+        if (code == 0) {
+            kapitza_copy_(X + j * 2, x);
+        }
     }
-    return KAPITZA_OK;
+    return code;
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */

@@ -62,6 +62,8 @@ extern "C" {
 #define KAPITZA_DOP853 2
 #define KAPITZA_GAUSS2 3
 #define KAPITZA_GAUSS2_FIXED 4
+#define KAPITZA_GAUSS2_SYMPLECTIC 5
+#define KAPITZA_HAS_CANONICAL 0
 typedef struct kapitza_params {
     double a;
     double w;

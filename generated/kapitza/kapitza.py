@@ -20,6 +20,7 @@ HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
+HAS_CANONICAL = False  # momenta, velocities, pdot (Hamilton's variables)
 HAS_JACOBI_INTEGRAL = False
 TIME_DEPENDENT = True  # forces, qdd, energy, momentum take t first
 OP_COUNTS = { "energy": 26, "forces": 10, "linearize": 15, "mass_matrix": 0, "qdd": 10, "qdd_derivatives": 15, "rhs": 10, }

@@ -62,6 +62,8 @@ extern "C" {
 #define SHIP_GIMBAL_DOP853 2
 #define SHIP_GIMBAL_GAUSS2 3
 #define SHIP_GIMBAL_GAUSS2_FIXED 4
+#define SHIP_GIMBAL_GAUSS2_SYMPLECTIC 5
+#define SHIP_GIMBAL_HAS_CANONICAL 0
 typedef struct ship_gimbal_params {
     double unused_;
 } ship_gimbal_params;

@@ -20,6 +20,7 @@ HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
+HAS_CANONICAL = False  # momenta, velocities, pdot (Hamilton's variables)
 HAS_JACOBI_INTEGRAL = False
 TIME_DEPENDENT = True  # forces, qdd, energy, momentum take t first
 OP_COUNTS = { "energy": 129, "forces": 148, "linearize": 312, "mass_matrix": 8, "momentum": 68, "qdd": 157, "qdd_derivatives": 312, "rhs": 157, }

@@ -1691,6 +1691,459 @@ double spatial3_energy(const double *x, const spatial3_params *p)
     return result;
 }
 
+/* Hamilton's variables (codegen/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
+int spatial3_momenta(const double *x, const spatial3_params *p, double *pm)
+{
+    (void)p;
+
+    if (!spatial3_all_finite_(x, 6)) {
+        return SPATIAL3_NONFINITE;
+    }
+    {
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double cos_phi3 = cos(x[2]);
+        const double sin_phi3 = sin(x[2]);
+        const double Lam3in2_1 = -0.008322936730942847 + 0.010911569121908181*cos_phi3;
+        const double Lam3in2_3 = -0.004993762038565709*cos_phi3 - 0.018185948536513636;
+        const double j3r10 = -0.020000000000000004*sin_phi3 + 0.044000000000000004*cos_phi3;
+        const double h3in2_1 = -0.009987524077131419 + 0.9092974268256817*j3r10;
+        const double h3in2_2 = -0.020000000000000004*cos_phi3 - 0.044000000000000004*sin_phi3;
+        const double h3in2_3 = -0.4161468365471424*j3r10 - 0.021823138243816362;
+        const double c2phi3 = cos_phi3*cos_phi3 - sin_phi3*sin_phi3;
+        const double s2phi3 = 2.0*cos_phi3*sin_phi3;
+        const double I3in2drt = 0.00222*c2phi3 - 0.002*s2phi3;
+        const double I3in2dr_22 = 0.0064600000000000005 + I3in2drt;
+        const double I3in2dr_33 = 0.0064600000000000005 - I3in2drt;
+        const double I3in2dr_32 = 0.00222*s2phi3 + 0.002*c2phi3;
+        const double I3in2dr_21 = 0.0013*cos_phi3 + 0.00244*sin_phi3;
+        const double I3in2dr_31 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double I3in2dsig = 0.00392 + 0.5*I3in2dr_33;
+        const double I3in2ddlt = 0.00392 - 0.5*I3in2dr_33;
+        const double I3in2dt = -0.6536436208636119*I3in2ddlt - 0.7568024953079283*I3in2dr_31;
+        const double I3in2d_11 = I3in2dsig + I3in2dt;
+        const double I3in2d_33 = I3in2dsig - I3in2dt;
+        const double I3in2d_31 = 0.7568024953079283*I3in2ddlt - 0.6536436208636119*I3in2dr_31;
+        const double I3in2d_21 = -0.4161468365471424*I3in2dr_21 + 0.9092974268256817*I3in2dr_32;
+        const double I3in2d_32 = -0.9092974268256817*I3in2dr_21 - 0.4161468365471424*I3in2dr_32;
+        const double h2_1 = -0.003999999999999997 + h3in2_1;
+        const double h2_2 = 0.14 + h3in2_2;
+        const double h2_3 = 0.010000000000000002 + h3in2_3;
+        const double I2_11 = 0.030500000000000006 + I3in2d_11 + 0.4*h3in2_2 - 0.16*h3in2_3;
+        const double I2_21 = -0.001900000000000001 + I3in2d_21 - 0.2*h3in2_1 - 0.05*h3in2_2;
+        const double I2_22 = 0.010960000000000004 + I3in2dr_22 + 0.1*h3in2_1 - 0.16*h3in2_3;
+        const double I2_31 = 0.00348 + I3in2d_31 + 0.08*h3in2_1 - 0.05*h3in2_3;
+        const double I2_32 = 0.0023 + I3in2d_32 + 0.08*h3in2_2 - 0.2*h3in2_3;
+        const double I2_33 = 0.026760000000000006 + I3in2d_33 + 0.1*h3in2_1 + 0.4*h3in2_2;
+        const double Lam2_2 = 0.015 - 0.012*sin_phi3;
+        const double Lam2_3 = -0.01 + Lam3in2_3;
+        const double j2r9 = sin_phi2*Lam2_2 + cos_phi2*Lam2_3;
+        const double Lam2in1_1 = 0.45359612142557737*Lam3in2_1 + 0.8912073600614353*j2r9;
+        const double w0 = sin_phi2*h2_2;
+        const double w1 = cos_phi2*h2_3;
+        const double j2r10 = w0 + w1;
+        const double w2 = cos_phi2*h2_2;
+        const double w3 = sin_phi2*h2_3;
+        const double h2in1_2 = w2 - w3;
+        const double h2in1_3 = 0.45359612142557737*j2r10 - 0.8912073600614353*h2_1;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double s2phi2 = 2.0*cos_phi2*sin_phi2;
+        const double I2in1drsig = 0.5*I2_22 + 0.5*I2_33;
+        const double I2in1drdlt = 0.5*I2_22 - 0.5*I2_33;
+        const double I2in1drt = c2phi2*I2in1drdlt - I2_32*s2phi2;
+        const double I2in1dr_33 = I2in1drsig - I2in1drt;
+        const double w4 = sin_phi2*I2_21;
+        const double w5 = cos_phi2*I2_31;
+        const double I2in1dr_31 = w4 + w5;
+        const double I2in1dsig = 0.5*I2_11 + 0.5*I2in1dr_33;
+        const double I2in1ddlt = 0.5*I2_11 - 0.5*I2in1dr_33;
+        const double I2in1dt = -0.5885011172553457*I2in1ddlt + 0.8084964038195901*I2in1dr_31;
+        const double I2in1d_11 = I2in1dsig + I2in1dt;
+        const double I1_11 = 0.08324000000000001 + I2in1d_11 + 0.5*h2in1_2 + 0.1*h2in1_3;
+        const double Lam1_1 = 0.01 + Lam2in1_1;
+        const double j3r13 = -0.044000000000000004*sin_phi3 - 0.020000000000000004*cos_phi3;
+        const double f3in2_2 = -0.044000000000000004*cos_phi3 + 0.020000000000000004*sin_phi3;
+        const double j3r14 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double n3in2_1 = -0.0032625911985295964 + 0.9092974268256817*j3r14 - 0.08322936730942848*j3r13 + 0.08*f3in2_2;
+        const double n3in2_2 = 0.0013*cos_phi3 + 0.00244*sin_phi3 - 0.051936452318697424*j3r13;
+        const double n3in2_3 = -0.4161468365471424*j3r14 - 0.007128891826313344 + 0.05*f3in2_2 - 0.18185948536513635*j3r13;
+        const double j2r13 = sin_phi2*f3in2_2 - 0.4161468365471424*cos_phi2*j3r13;
+        const double f3in1_2 = cos_phi2*f3in2_2 + 0.4161468365471424*sin_phi2*j3r13;
+        const double f3in1_3 = 0.45359612142557737*j2r13 - 0.8103725592719719*j3r13;
+        const double j2r14 = sin_phi2*n3in2_2 + cos_phi2*n3in2_3;
+        const double n3in1_1 = 0.45359612142557737*n3in2_1 + 0.8912073600614353*j2r14 + 0.25*f3in1_3 - 0.05*f3in1_2;
+        const double j2r15 = -w3 + w2;
+        const double f2in1_2 = -w1 - w0;
+        const double j2r16 = w4 + w5;
+        const double n2in1_1 = 0.45359612142557737*I2_11 + 0.8912073600614353*j2r16 + 0.11339903035639434*j2r15 - 0.05*f2in1_2;
+
+        pm[0] = x[3]*I1_11 + x[4]*n2in1_1 + x[5]*n3in1_1 + Lam1_1;
+        pm[1] = x[3]*n2in1_1 + x[4]*I2_11 + x[5]*n3in2_1 + Lam3in2_1;
+        pm[2] = x[3]*n3in1_1 + x[4]*n3in2_1 + 0.00784*x[5] + 0.02;
+
+    }
+    return spatial3_all_finite_(pm, 3) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
+}
+
+/* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
+int spatial3_velocities(const double *q, const double *pm, const spatial3_params *p, double *qd)
+{
+    double M[9];
+    double k[3];
+    double v[3];
+    double tol, d, r = 0.0;
+    (void)v;
+    int i;
+    (void)p;
+
+    if (!spatial3_all_finite_(q, 3) || !spatial3_all_finite_(pm, 3)) {
+        return SPATIAL3_NONFINITE;
+    }
+    {
+        const double cos_phi2 = cos(q[1]);
+        const double sin_phi2 = sin(q[1]);
+        const double cos_phi3 = cos(q[2]);
+        const double sin_phi3 = sin(q[2]);
+        const double Lam3in2_1 = -0.008322936730942847 + 0.010911569121908181*cos_phi3;
+        const double Lam3in2_3 = -0.004993762038565709*cos_phi3 - 0.018185948536513636;
+        const double j3r10 = -0.020000000000000004*sin_phi3 + 0.044000000000000004*cos_phi3;
+        const double h3in2_1 = -0.009987524077131419 + 0.9092974268256817*j3r10;
+        const double h3in2_2 = -0.020000000000000004*cos_phi3 - 0.044000000000000004*sin_phi3;
+        const double h3in2_3 = -0.4161468365471424*j3r10 - 0.021823138243816362;
+        const double c2phi3 = cos_phi3*cos_phi3 - sin_phi3*sin_phi3;
+        const double s2phi3 = 2.0*cos_phi3*sin_phi3;
+        const double I3in2drt = 0.00222*c2phi3 - 0.002*s2phi3;
+        const double I3in2dr_22 = 0.0064600000000000005 + I3in2drt;
+        const double I3in2dr_33 = 0.0064600000000000005 - I3in2drt;
+        const double I3in2dr_32 = 0.00222*s2phi3 + 0.002*c2phi3;
+        const double I3in2dr_21 = 0.0013*cos_phi3 + 0.00244*sin_phi3;
+        const double I3in2dr_31 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double I3in2dsig = 0.00392 + 0.5*I3in2dr_33;
+        const double I3in2ddlt = 0.00392 - 0.5*I3in2dr_33;
+        const double I3in2dt = -0.6536436208636119*I3in2ddlt - 0.7568024953079283*I3in2dr_31;
+        const double I3in2d_11 = I3in2dsig + I3in2dt;
+        const double I3in2d_33 = I3in2dsig - I3in2dt;
+        const double I3in2d_31 = 0.7568024953079283*I3in2ddlt - 0.6536436208636119*I3in2dr_31;
+        const double I3in2d_21 = -0.4161468365471424*I3in2dr_21 + 0.9092974268256817*I3in2dr_32;
+        const double I3in2d_32 = -0.9092974268256817*I3in2dr_21 - 0.4161468365471424*I3in2dr_32;
+        const double h2_1 = -0.003999999999999997 + h3in2_1;
+        const double h2_2 = 0.14 + h3in2_2;
+        const double h2_3 = 0.010000000000000002 + h3in2_3;
+        const double I2_11 = 0.030500000000000006 + I3in2d_11 + 0.4*h3in2_2 - 0.16*h3in2_3;
+        const double I2_21 = -0.001900000000000001 + I3in2d_21 - 0.2*h3in2_1 - 0.05*h3in2_2;
+        const double I2_22 = 0.010960000000000004 + I3in2dr_22 + 0.1*h3in2_1 - 0.16*h3in2_3;
+        const double I2_31 = 0.00348 + I3in2d_31 + 0.08*h3in2_1 - 0.05*h3in2_3;
+        const double I2_32 = 0.0023 + I3in2d_32 + 0.08*h3in2_2 - 0.2*h3in2_3;
+        const double I2_33 = 0.026760000000000006 + I3in2d_33 + 0.1*h3in2_1 + 0.4*h3in2_2;
+        const double Lam2_2 = 0.015 - 0.012*sin_phi3;
+        const double Lam2_3 = -0.01 + Lam3in2_3;
+        const double j2r9 = sin_phi2*Lam2_2 + cos_phi2*Lam2_3;
+        const double Lam2in1_1 = 0.45359612142557737*Lam3in2_1 + 0.8912073600614353*j2r9;
+        const double w0 = sin_phi2*h2_2;
+        const double w1 = cos_phi2*h2_3;
+        const double j2r10 = w0 + w1;
+        const double w2 = cos_phi2*h2_2;
+        const double w3 = sin_phi2*h2_3;
+        const double h2in1_2 = w2 - w3;
+        const double h2in1_3 = 0.45359612142557737*j2r10 - 0.8912073600614353*h2_1;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double s2phi2 = 2.0*cos_phi2*sin_phi2;
+        const double I2in1drsig = 0.5*I2_22 + 0.5*I2_33;
+        const double I2in1drdlt = 0.5*I2_22 - 0.5*I2_33;
+        const double I2in1drt = c2phi2*I2in1drdlt - I2_32*s2phi2;
+        const double I2in1dr_33 = I2in1drsig - I2in1drt;
+        const double w4 = sin_phi2*I2_21;
+        const double w5 = cos_phi2*I2_31;
+        const double I2in1dr_31 = w4 + w5;
+        const double I2in1dsig = 0.5*I2_11 + 0.5*I2in1dr_33;
+        const double I2in1ddlt = 0.5*I2_11 - 0.5*I2in1dr_33;
+        const double I2in1dt = -0.5885011172553457*I2in1ddlt + 0.8084964038195901*I2in1dr_31;
+        const double I2in1d_11 = I2in1dsig + I2in1dt;
+        const double I1_11 = 0.08324000000000001 + I2in1d_11 + 0.5*h2in1_2 + 0.1*h2in1_3;
+        const double Lam1_1 = 0.01 + Lam2in1_1;
+        const double j3r13 = -0.044000000000000004*sin_phi3 - 0.020000000000000004*cos_phi3;
+        const double f3in2_2 = -0.044000000000000004*cos_phi3 + 0.020000000000000004*sin_phi3;
+        const double j3r14 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double n3in2_1 = -0.0032625911985295964 + 0.9092974268256817*j3r14 - 0.08322936730942848*j3r13 + 0.08*f3in2_2;
+        const double n3in2_2 = 0.0013*cos_phi3 + 0.00244*sin_phi3 - 0.051936452318697424*j3r13;
+        const double n3in2_3 = -0.4161468365471424*j3r14 - 0.007128891826313344 + 0.05*f3in2_2 - 0.18185948536513635*j3r13;
+        const double j2r13 = sin_phi2*f3in2_2 - 0.4161468365471424*cos_phi2*j3r13;
+        const double f3in1_2 = cos_phi2*f3in2_2 + 0.4161468365471424*sin_phi2*j3r13;
+        const double f3in1_3 = 0.45359612142557737*j2r13 - 0.8103725592719719*j3r13;
+        const double j2r14 = sin_phi2*n3in2_2 + cos_phi2*n3in2_3;
+        const double n3in1_1 = 0.45359612142557737*n3in2_1 + 0.8912073600614353*j2r14 + 0.25*f3in1_3 - 0.05*f3in1_2;
+        const double j2r15 = -w3 + w2;
+        const double f2in1_2 = -w1 - w0;
+        const double j2r16 = w4 + w5;
+        const double n2in1_1 = 0.45359612142557737*I2_11 + 0.8912073600614353*j2r16 + 0.11339903035639434*j2r15 - 0.05*f2in1_2;
+
+        M[0] = I1_11;
+        M[3] = n2in1_1;
+        M[4] = I2_11;
+        M[6] = n3in1_1;
+        M[7] = n3in2_1;
+        M[8] = 0.00784;
+        k[0] = Lam1_1;
+        k[1] = Lam3in2_1;
+        k[2] = 0.02;
+
+    }
+    for (i = 0; i < 3; ++i) {
+        if (!isfinite(M[i * 4]) || !isfinite(k[i])) {
+            return SPATIAL3_NONFINITE;
+        }
+        qd[i] = pm[i] - k[i];
+    }
+    /* the smallest admissible pivot: PIVOT_TOL times the largest |diagonal entry| */
+    tol = 0.0;
+    for (i = 0; i < 3; ++i) {
+        if (fabs(M[i * 4]) > tol) {
+            tol = fabs(M[i * 4]);
+        }
+    }
+    tol *= SPATIAL3_PIVOT_TOL;
+    d = M[0];
+    if (!(d > tol)) {
+        return SPATIAL3_SINGULAR;
+    }
+    M[0] = d;
+    r = 1.0 / d;
+    M[3] = (M[3]) * r;
+    M[6] = (M[6]) * r;
+    v[0] = M[3] * M[0];
+    d = M[4] - M[3] * v[0];
+    if (!(d > tol)) {
+        return SPATIAL3_SINGULAR;
+    }
+    M[4] = d;
+    r = 1.0 / d;
+    M[7] = (M[7] - M[6] * v[0]) * r;
+    v[0] = M[6] * M[0];
+    v[1] = M[7] * M[4];
+    d = M[8] - M[6] * v[0] - M[7] * v[1];
+    if (!(d > tol)) {
+        return SPATIAL3_SINGULAR;
+    }
+    M[8] = d;
+
+    (void)r;
+    qd[1] -= M[3] * qd[0];
+    qd[2] -= M[6] * qd[0] + M[7] * qd[1];
+    qd[0] /= M[0];
+    qd[1] /= M[4];
+    qd[2] /= M[8];
+    qd[1] -= M[7] * qd[2];
+    qd[0] -= M[3] * qd[1] + M[6] * qd[2];
+
+    return spatial3_all_finite_(qd, 3) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
+}
+
+/* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
+ * dampers), computed as (dp/dphi) phidot + f. */
+int spatial3_pdot(const double *x, const double *u, const spatial3_params *p, double *pdot)
+{
+    (void)p;
+
+    if (!spatial3_all_finite_(x, 6) || (u && !spatial3_all_finite_(u, 1))) {
+        return SPATIAL3_NONFINITE;
+    }
+
+    {
+        const double tau_3 = u ? u[0] : 0.0;
+
+        const double cos_phi1 = cos(x[0]);
+        const double sin_phi1 = sin(x[0]);
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_1 = 0.45359612142557737*x[3] + x[4];
+        const double om2_2 = 0.8912073600614353*x[3]*sin_phi2;
+        const double om2_3 = 0.8912073600614353*x[3]*cos_phi2;
+        const double cos_phi3 = cos(x[2]);
+        const double sin_phi3 = sin(x[2]);
+        const double j3r2 = 0.9092974268256817*om2_1 - 0.4161468365471424*om2_3;
+        const double om3_1 = -0.4161468365471424*om2_1 - 0.9092974268256817*om2_3 + x[5];
+        const double om3_2 = om2_2*cos_phi3 + sin_phi3*j3r2;
+        const double om3_3 = cos_phi3*j3r2 - om2_2*sin_phi3;
+        const double eps2_2 = x[4]*om2_3;
+        const double eps2_3 = -x[4]*om2_2;
+        const double w0 = x[3]*x[3];
+        const double aOrel2in1_2 = -0.25*w0;
+        const double aOrel2in1_3 = -0.05*w0;
+        const double j2r5 = -8.052600665193761 - 1.7328251533920123*cos_phi1 + 0.45359612142557737*aOrel2in1_3;
+        const double aOg2_1 = -4.098516902810498 + 3.404584954450333*cos_phi1 - 0.8912073600614353*aOrel2in1_3;
+        const double aOg2_2 = -3.8201939380478613*sin_phi1*cos_phi2 + cos_phi2*aOrel2in1_2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 3.8201939380478613*sin_phi1*sin_phi2 - sin_phi2*aOrel2in1_2;
+        const double eps3_2 = cos_phi3*eps2_2 - 0.4161468365471424*sin_phi3*eps2_3 + x[5]*om3_3;
+        const double eps3_3 = -0.4161468365471424*cos_phi3*eps2_3 - sin_phi3*eps2_2 - x[5]*om3_2;
+        const double ws2_1 = -0.08*om2_2 - 0.2*om2_3;
+        const double ws2_2 = 0.05*om2_3 + 0.08*om2_1;
+        const double ws2_3 = 0.2*om2_1 - 0.05*om2_2;
+        const double aOrel3in2_1 = -0.08*eps2_2 - 0.2*eps2_3 + om2_2*ws2_3 - om2_3*ws2_2;
+        const double aOrel3in2_2 = 0.05*eps2_3 + om2_3*ws2_1 - om2_1*ws2_3;
+        const double aOrel3in2_3 = -0.05*eps2_2 + om2_1*ws2_2 - om2_2*ws2_1;
+        const double j3r5 = 0.9092974268256817*aOg2_1 + 0.9092974268256817*aOrel3in2_1 - 0.4161468365471424*aOg2_3 - 0.4161468365471424*aOrel3in2_3;
+        const double aOg3_1 = -0.4161468365471424*aOg2_1 - 0.4161468365471424*aOrel3in2_1 - 0.9092974268256817*aOg2_3 - 0.9092974268256817*aOrel3in2_3;
+        const double aOg3_2 = cos_phi3*aOg2_2 + cos_phi3*aOrel3in2_2 + sin_phi3*j3r5;
+        const double aOg3_3 = cos_phi3*j3r5 - sin_phi3*aOg2_2 - sin_phi3*aOrel3in2_2;
+        const double wc3_1 = 0.11*om3_2 + 0.05*om3_3;
+        const double wc3_2 = 0.06*om3_3 - 0.11*om3_1;
+        const double wc3_3 = -0.05*om3_1 - 0.06*om3_2;
+        const double Aw3_1 = 0.00784*om3_1 + 0.0013*om3_2 - 0.00244*om3_3;
+        const double Aw3_2 = 0.0013*om3_1 + 0.00868*om3_2 + 0.002*om3_3;
+        const double Aw3_3 = -0.00244*om3_1 + 0.002*om3_2 + 0.00424*om3_3;
+        const double pF3_1 = 0.4*aOg3_1 + 0.044000000000000004*eps3_2 + 0.020000000000000004*eps3_3 + 0.4*om3_2*wc3_3 - 0.4*om3_3*wc3_2;
+        const double pF3_2 = 0.4*aOg3_2 + 0.024*eps3_3 + 0.040009086780329994*eps2_3 + 0.4*om3_3*wc3_1 - 0.4*om3_1*wc3_3;
+        const double pF3_3 = 0.4*aOg3_3 + 0.018185948536513636*eps2_3 - 0.024*eps3_2 + 0.4*om3_1*wc3_2 - 0.4*om3_2*wc3_1;
+        const double pN3_1 = -0.007128891826313344*eps2_3 + 0.0013*eps3_2 - 0.00244*eps3_3 + om3_2*Aw3_3 + 0.012*om3_2 - om3_3*Aw3_2 - 0.020000000000000004*aOg3_3 - 0.044000000000000004*aOg3_2;
+        const double pN3_2 = -0.0011820866548733861*eps2_3 + 0.00868*eps3_2 + 0.002*eps3_3 + om3_3*Aw3_1 + 0.02*om3_3 - om3_1*Aw3_3 - 0.012*om3_1 + 0.044000000000000004*aOg3_1 - 0.024*aOg3_3;
+        const double pN3_3 = 0.002218685721454663*eps2_3 + 0.002*eps3_2 + 0.00424*eps3_3 + om3_1*Aw3_2 - om3_2*Aw3_1 - 0.02*om3_2 + 0.024*aOg3_2 + 0.020000000000000004*aOg3_1;
+        const double Lam3in2_3 = -0.004993762038565709*cos_phi3 - 0.018185948536513636;
+        const double j3r10 = -0.020000000000000004*sin_phi3 + 0.044000000000000004*cos_phi3;
+        const double h3in2_1 = -0.009987524077131419 + 0.9092974268256817*j3r10;
+        const double h3in2_2 = -0.020000000000000004*cos_phi3 - 0.044000000000000004*sin_phi3;
+        const double h3in2_3 = -0.4161468365471424*j3r10 - 0.021823138243816362;
+        const double c2phi3 = cos_phi3*cos_phi3 - sin_phi3*sin_phi3;
+        const double s2phi3 = 2.0*cos_phi3*sin_phi3;
+        const double I3in2drt = 0.00222*c2phi3 - 0.002*s2phi3;
+        const double I3in2dr_22 = 0.0064600000000000005 + I3in2drt;
+        const double I3in2dr_33 = 0.0064600000000000005 - I3in2drt;
+        const double I3in2dr_32 = 0.00222*s2phi3 + 0.002*c2phi3;
+        const double I3in2dr_21 = 0.0013*cos_phi3 + 0.00244*sin_phi3;
+        const double I3in2dr_31 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double I3in2dsig = 0.00392 + 0.5*I3in2dr_33;
+        const double I3in2ddlt = 0.00392 - 0.5*I3in2dr_33;
+        const double I3in2dt = -0.6536436208636119*I3in2ddlt - 0.7568024953079283*I3in2dr_31;
+        const double I3in2d_33 = I3in2dsig - I3in2dt;
+        const double I3in2d_31 = 0.7568024953079283*I3in2ddlt - 0.6536436208636119*I3in2dr_31;
+        const double I3in2d_21 = -0.4161468365471424*I3in2dr_21 + 0.9092974268256817*I3in2dr_32;
+        const double I3in2d_32 = -0.9092974268256817*I3in2dr_21 - 0.4161468365471424*I3in2dr_32;
+        const double j3r11 = sin_phi3*pF3_2 + cos_phi3*pF3_3;
+        const double Fb3in2_1 = -0.4161468365471424*pF3_1 + 0.9092974268256817*j3r11;
+        const double Fb3in2_2 = cos_phi3*pF3_2 - sin_phi3*pF3_3;
+        const double Fb3in2_3 = -0.4161468365471424*j3r11 - 0.9092974268256817*pF3_1;
+        const double j3r12 = sin_phi3*pN3_2 + cos_phi3*pN3_3;
+        const double Nb3in2_1 = -0.4161468365471424*pN3_1 + 0.9092974268256817*j3r12;
+        const double Nb3in2_2 = cos_phi3*pN3_2 - sin_phi3*pN3_3;
+        const double Nb3in2_3 = -0.4161468365471424*j3r12 - 0.9092974268256817*pN3_1;
+        const double wc2_1 = 0.07*om2_2 - 0.1*om2_3;
+        const double wc2_2 = -0.04*om2_3 - 0.07*om2_1;
+        const double wc2_3 = 0.1*om2_1 + 0.04*om2_2;
+        const double Aw2_1 = 0.01194*om2_1 + 0.0021*om2_2 + 0.00188*om2_3;
+        const double Aw2_2 = 0.0021*om2_1 + 0.0074*om2_2 - 0.0041*om2_3;
+        const double Aw2_3 = 0.00188*om2_1 - 0.0041*om2_2 + 0.00976*om2_3;
+        const double pF2_1 = 0.6*aOg2_1 + 0.042*eps2_2 - 0.06*eps2_3 + 0.6*om2_2*wc2_3 - 0.6*om2_3*wc2_2;
+        const double pF2_2 = 0.6*aOg2_2 - 0.024*eps2_3 + 0.6*om2_3*wc2_1 - 0.6*om2_1*wc2_3;
+        const double pF2_3 = 0.6*aOg2_3 + 0.024*eps2_2 + 0.6*om2_1*wc2_2 - 0.6*om2_2*wc2_1;
+        const double pN2_1 = 0.0021*eps2_2 + 0.00188*eps2_3 + om2_2*Aw2_3 - 0.01*om2_2 - om2_3*Aw2_2 - 0.015*om2_3 + 0.06*aOg2_3 - 0.042*aOg2_2;
+        const double pN2_2 = 0.0074*eps2_2 - 0.0041*eps2_3 + om2_3*Aw2_1 - om2_1*Aw2_3 + 0.01*om2_1 + 0.042*aOg2_1 + 0.024*aOg2_3;
+        const double pN2_3 = -0.0041*eps2_2 + 0.00976*eps2_3 + om2_1*Aw2_2 + 0.015*om2_1 - om2_2*Aw2_1 - 0.024*aOg2_2 - 0.06*aOg2_1;
+        const double Fb2_1 = pF2_1 + Fb3in2_1;
+        const double Fb2_2 = pF2_2 + Fb3in2_2;
+        const double Fb2_3 = pF2_3 + Fb3in2_3;
+        const double Nb2_1 = pN2_1 + Nb3in2_1 + 0.2*Fb3in2_3 + 0.08*Fb3in2_2;
+        const double Nb2_2 = pN2_2 + Nb3in2_2 - 0.08*Fb3in2_1 - 0.05*Fb3in2_3;
+        const double Nb2_3 = pN2_3 + Nb3in2_3 + 0.05*Fb3in2_2 - 0.2*Fb3in2_1;
+        const double h2_2 = 0.14 + h3in2_2;
+        const double h2_3 = 0.010000000000000002 + h3in2_3;
+        const double I2_21 = -0.001900000000000001 + I3in2d_21 - 0.2*h3in2_1 - 0.05*h3in2_2;
+        const double I2_22 = 0.010960000000000004 + I3in2dr_22 + 0.1*h3in2_1 - 0.16*h3in2_3;
+        const double I2_31 = 0.00348 + I3in2d_31 + 0.08*h3in2_1 - 0.05*h3in2_3;
+        const double I2_32 = 0.0023 + I3in2d_32 + 0.08*h3in2_2 - 0.2*h3in2_3;
+        const double I2_33 = 0.026760000000000006 + I3in2d_33 + 0.1*h3in2_1 + 0.4*h3in2_2;
+        const double Lam2_2 = 0.015 - 0.012*sin_phi3;
+        const double Lam2_3 = -0.01 + Lam3in2_3;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double s2phi2 = 2.0*cos_phi2*sin_phi2;
+        const double I2in1drdlt = 0.5*I2_22 - 0.5*I2_33;
+        const double j2r11 = sin_phi2*Fb2_2 + cos_phi2*Fb2_3;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double Fb2in1_3 = 0.45359612142557737*j2r11 - 0.8912073600614353*Fb2_1;
+        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double Nb2in1_1 = 0.45359612142557737*Nb2_1 + 0.8912073600614353*j2r12;
+        const double pN1_1 = -0.36673861805259467*cos_phi1 - 0.09168465451314867*sin_phi1;
+        const double Nb1_1 = pN1_1 + Nb2in1_1 + 0.25*Fb2in1_3 - 0.05*Fb2in1_2;
+        const double j3r13 = -0.044000000000000004*sin_phi3 - 0.020000000000000004*cos_phi3;
+        const double f3in2_2 = -0.044000000000000004*cos_phi3 + 0.020000000000000004*sin_phi3;
+        const double j3r14 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double n3in2_2 = 0.0013*cos_phi3 + 0.00244*sin_phi3 - 0.051936452318697424*j3r13;
+        const double n3in2_3 = -0.4161468365471424*j3r14 - 0.007128891826313344 + 0.05*f3in2_2 - 0.18185948536513635*j3r13;
+        const double cos_phi2_dp = -x[4]*sin_phi2;
+        const double sin_phi2_dp = x[4]*cos_phi2;
+        const double cos_phi3_dp = -x[5]*sin_phi3;
+        const double sin_phi3_dp = x[5]*cos_phi3;
+        const double j3r10_dp = -0.020000000000000004*sin_phi3_dp + 0.044000000000000004*cos_phi3_dp;
+        const double h3in2_2_dp = -0.020000000000000004*cos_phi3_dp - 0.044000000000000004*sin_phi3_dp;
+        const double c2phi3_dp = 2.0*cos_phi3*cos_phi3_dp - 2.0*sin_phi3*sin_phi3_dp;
+        const double s2phi3_dp = 2.0*sin_phi3*cos_phi3_dp + 2.0*cos_phi3*sin_phi3_dp;
+        const double I3in2drt_dp = 0.00222*c2phi3_dp - 0.002*s2phi3_dp;
+        const double I3in2dr_32_dp = 0.00222*s2phi3_dp + 0.002*c2phi3_dp;
+        const double I3in2dr_21_dp = 0.0013*cos_phi3_dp + 0.00244*sin_phi3_dp;
+        const double I3in2dr_31_dp = 0.0013*sin_phi3_dp - 0.00244*cos_phi3_dp;
+        const double I3in2dt_dp = -0.32682181043180597*I3in2drt_dp - 0.7568024953079283*I3in2dr_31_dp;
+        const double I3in2d_11_dp = -0.5*I3in2drt_dp + I3in2dt_dp;
+        const double I3in2d_33_dp = -0.5*I3in2drt_dp - I3in2dt_dp;
+        const double I3in2d_31_dp = 0.37840124765396416*I3in2drt_dp - 0.6536436208636119*I3in2dr_31_dp;
+        const double I3in2d_21_dp = -0.4161468365471424*I3in2dr_21_dp + 0.9092974268256817*I3in2dr_32_dp;
+        const double I3in2d_32_dp = -0.9092974268256817*I3in2dr_21_dp - 0.4161468365471424*I3in2dr_32_dp;
+        const double I2_11_dp = I3in2d_11_dp + 0.4*h3in2_2_dp + 0.06658349384754278*j3r10_dp;
+        const double I2_21_dp = I3in2d_21_dp - 0.18185948536513635*j3r10_dp - 0.05*h3in2_2_dp;
+        const double I2_22_dp = I3in2drt_dp + 0.15751323653011096*j3r10_dp;
+        const double I2_31_dp = I3in2d_31_dp + 0.09355113597341166*j3r10_dp;
+        const double I2_32_dp = I3in2d_32_dp + 0.08*h3in2_2_dp + 0.08322936730942848*j3r10_dp;
+        const double I2_33_dp = I3in2d_33_dp + 0.09092974268256818*j3r10_dp + 0.4*h3in2_2_dp;
+        const double j2r9_dp = Lam2_2*sin_phi2_dp - 0.012*sin_phi2*sin_phi3_dp + Lam2_3*cos_phi2_dp - 0.004993762038565709*cos_phi2*cos_phi3_dp;
+        const double Lam2in1_1_dp = 0.0049494454323646435*cos_phi3_dp + 0.8912073600614353*j2r9_dp;
+        const double w1 = h2_2*sin_phi2_dp;
+        const double w2 = sin_phi2*h3in2_2_dp;
+        const double w3 = h2_3*cos_phi2_dp;
+        const double w4 = cos_phi2*j3r10_dp;
+        const double j2r10_dp = w1 + w2 + w3 - 0.4161468365471424*w4;
+        const double w5 = h2_2*cos_phi2_dp;
+        const double w6 = cos_phi2*h3in2_2_dp;
+        const double w7 = h2_3*sin_phi2_dp;
+        const double w8 = sin_phi2*j3r10_dp;
+        const double h2in1_2_dp = w5 + w6 - w7 + 0.4161468365471424*w8;
+        const double h2in1_3_dp = 0.45359612142557737*j2r10_dp - 0.8103725592719719*j3r10_dp;
+        const double c2phi2_dp = 2.0*cos_phi2*cos_phi2_dp - 2.0*sin_phi2*sin_phi2_dp;
+        const double s2phi2_dp = 2.0*sin_phi2*cos_phi2_dp + 2.0*cos_phi2*sin_phi2_dp;
+        const double I2in1drsig_dp = 0.5*I2_22_dp + 0.5*I2_33_dp;
+        const double I2in1drdlt_dp = 0.5*I2_22_dp - 0.5*I2_33_dp;
+        const double I2in1drt_dp = I2in1drdlt*c2phi2_dp + c2phi2*I2in1drdlt_dp - s2phi2*I2_32_dp - I2_32*s2phi2_dp;
+        const double I2in1dr_33_dp = I2in1drsig_dp - I2in1drt_dp;
+        const double w9 = I2_21*sin_phi2_dp;
+        const double w10 = sin_phi2*I2_21_dp;
+        const double w11 = I2_31*cos_phi2_dp;
+        const double w12 = cos_phi2*I2_31_dp;
+        const double I2in1dr_31_dp = w9 + w10 + w11 + w12;
+        const double I2in1dsig_dp = 0.5*I2_11_dp + 0.5*I2in1dr_33_dp;
+        const double I2in1ddlt_dp = 0.5*I2_11_dp - 0.5*I2in1dr_33_dp;
+        const double I2in1dt_dp = -0.5885011172553457*I2in1ddlt_dp + 0.8084964038195901*I2in1dr_31_dp;
+        const double I2in1d_11_dp = I2in1dsig_dp + I2in1dt_dp;
+        const double I1_11_dp = I2in1d_11_dp + 0.5*h2in1_2_dp + 0.1*h2in1_3_dp;
+        const double j3r13_dp = -0.044000000000000004*sin_phi3_dp - 0.020000000000000004*cos_phi3_dp;
+        const double f3in2_2_dp = -0.044000000000000004*cos_phi3_dp + 0.020000000000000004*sin_phi3_dp;
+        const double j3r14_dp = 0.0013*sin_phi3_dp - 0.00244*cos_phi3_dp;
+        const double n3in2_1_dp = 0.9092974268256817*j3r14_dp - 0.08322936730942848*j3r13_dp + 0.08*f3in2_2_dp;
+        const double n3in2_2_dp = 0.0013*cos_phi3_dp + 0.00244*sin_phi3_dp - 0.051936452318697424*j3r13_dp;
+        const double n3in2_3_dp = -0.4161468365471424*j3r14_dp + 0.05*f3in2_2_dp - 0.18185948536513635*j3r13_dp;
+        const double j2r13_dp = f3in2_2*sin_phi2_dp + sin_phi2*f3in2_2_dp - 0.4161468365471424*j3r13*cos_phi2_dp - 0.4161468365471424*cos_phi2*j3r13_dp;
+        const double f3in1_2_dp = f3in2_2*cos_phi2_dp + cos_phi2*f3in2_2_dp + 0.4161468365471424*j3r13*sin_phi2_dp + 0.4161468365471424*sin_phi2*j3r13_dp;
+        const double f3in1_3_dp = 0.45359612142557737*j2r13_dp - 0.8103725592719719*j3r13_dp;
+        const double j2r14_dp = n3in2_2*sin_phi2_dp + sin_phi2*n3in2_2_dp + n3in2_3*cos_phi2_dp + cos_phi2*n3in2_3_dp;
+        const double n3in1_1_dp = 0.45359612142557737*n3in2_1_dp + 0.8912073600614353*j2r14_dp + 0.25*f3in1_3_dp - 0.05*f3in1_2_dp;
+        const double j2r15_dp = -w7 + 0.4161468365471424*w8 + w5 + w6;
+        const double f2in1_2_dp = -w3 + 0.4161468365471424*w4 - w1 - w2;
+        const double j2r16_dp = w9 + w10 + w11 + w12;
+        const double n2in1_1_dp = 0.45359612142557737*I2_11_dp + 0.8912073600614353*j2r16_dp + 0.11339903035639434*j2r15_dp - 0.05*f2in1_2_dp;
+
+        pdot[0] = -Nb1_1 + x[3]*I1_11_dp + x[4]*n2in1_1_dp + x[5]*n3in1_1_dp + Lam2in1_1_dp;
+        pdot[1] = -Nb2_1 + x[3]*n2in1_1_dp + x[4]*I2_11_dp + x[5]*n3in2_1_dp + 0.010911569121908181*cos_phi3_dp;
+        pdot[2] = tau_3 - pN3_1 + x[3]*n3in1_1_dp + x[4]*n3in2_1_dp;
+
+    }
+    return spatial3_all_finite_(pdot, 3) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
+}
+
 /* ---------------------------------------------------------------------------------------
  * Integrators: NAME_integrate and NAME_integrate_grid, written once over spatial3_rhs.
  *   RK4     classical Runge-Kutta, order 4, fixed step.
@@ -1701,8 +2154,12 @@ double spatial3_energy(const double *x, const spatial3_params *p)
  *           the stage equations are solved by fixed-point iteration until the correction stops
  *           decreasing (round-off), or, where the sweeps contract too slowly to pay (long
  *           steps), by simplified Newton with the exact Jacobian (stats n_newton counts those steps);
- *           GAUSS2_FIXED is the fixed-point iteration alone.
- * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
+ *           GAUSS2_FIXED is the fixed-point iteration alone. *   GAUSS2_SYMPLECTIC  the same collocation on Hamilton's variables y = (phi, p), p = dL/dphidot:
+ *           Gauss methods are symplectic in canonical variables (not in (phi, phidot), where M(phi)
+ *           makes the change of variables nonlinear), so the energy error stays bounded where
+ *           GAUSS2 drifts on a system without a reversing symmetry, and p1 (the momentum (27)) is
+ *           kept to round-off.  Fixed-point sweeps only; one evaluation costs
+ *           951 ops against GAUSS2's 584. * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
  * (do not compile with -ffast-math, which removes the compensation).  A stage that meets a
  * singular M or a non-finite value ends a fixed-step run with that code and the last good state;
  * DOP853 retries the step smaller first, and returns the code only when the step underflows
@@ -1712,6 +2169,9 @@ double spatial3_energy(const double *x, const spatial3_params *p)
 #define SPATIAL3_INTEGRATE_MAX_STEPS 100000000L  /* default budget of steps (max_steps <= 0) */
 #endif
 #define SPATIAL3_GAUSS_MAXIT 100                   /* fixed-point iterations per step */
+/* A correction that stops decreasing below this (relative) is round-off: a component computed with
+ * cancellation (a small momentum, a small phi'') has a floor above EPS. */
+#define SPATIAL3_GAUSS_FLOOR 1e-12
 #define SPATIAL3_EPS 2.220446049250313e-16
 /* What a simplified Newton solve of GAUSS2's stages costs, in fixed-point sweeps (2 rhs each): the
  * Jacobian (3424 ops), the LU of the 6 x 6 matrix and ~3 iterations, against
@@ -1723,6 +2183,40 @@ static int spatial3_eval_(const double *x, const double *u, const spatial3_param
 {
     st->n_rhs++;
     return spatial3_rhs(0.0, x, u, p, xdot);
+}
+
+/* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
+ * p' = spatial3_pdot.  One call costs 229 + 722 ops. */
+static int spatial3_eval_canonical_(const double *y, const double *u, const spatial3_params *p, double *ydot,
+                                      spatial3_integrate_stats *st)
+{
+    double x[6];
+    int i, code;
+    st->n_rhs++;
+    for (i = 0; i < 3; ++i) {
+        x[i] = y[i];
+    }
+    if ((code = spatial3_velocities(y, y + 3, p, x + 3)) != 0) {
+        return code;
+    }
+    for (i = 0; i < 3; ++i) {
+        ydot[i] = x[3 + i];
+    }
+    return spatial3_pdot(x, u, p, ydot + 3);
+}
+
+/* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
+static void spatial3_to_state_(const double *y, const spatial3_params *p, double *x)
+{
+    int i;
+    for (i = 0; i < 3; ++i) {
+        x[i] = y[i];
+    }
+    if (spatial3_velocities(y, y + 3, p, x + 3) != 0) {
+        for (i = 0; i < 3; ++i) {
+            x[3 + i] = NAN;
+        }
+    }
 }
 
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
@@ -1897,7 +2391,7 @@ static int spatial3_gauss2_newton_(const double *x, double h, const double *u, c
         if (!(d < HUGE_VAL)) {
             return SPATIAL3_NO_CONVERGENCE;
         }
-        if (d <= SPATIAL3_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+        if (d <= SPATIAL3_EPS || (it >= 2 && d >= dprev && dprev <= SPATIAL3_GAUSS_FLOOR)) {
             break;
         }
         if (it >= 30 || (it >= 4 && d > 0.9 * dprev && d > 1e-12)) {
@@ -1921,14 +2415,14 @@ static int spatial3_gauss2_newton_(const double *x, double h, const double *u, c
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int spatial3_gauss2_step_(const double *x, double h, double hp, int newton, const double *u,
+static int spatial3_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const spatial3_params *p, double F[2][6], double *dx, spatial3_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
     static const double c1 = 0.21132486540518713, c2 = 0.7886751345948129;
     double Z[2][6], Y[6], L[3][2];
     double d, dprev = HUGE_VAL;
-    int i, s, it, code;
+    int i, s, it, code, newton = method == SPATIAL3_GAUSS2;
     if (hp != 0.0) {
         /* Lagrange weights of (Z_1, Z_2) at theta = 1 + c_1 r, 1 + c_2 r, 1 */
         const double r = h / hp, th[3] = {1.0 + c1 * r, 1.0 + c2 * r, 1.0};
@@ -1953,7 +2447,9 @@ static int spatial3_gauss2_step_(const double *x, double h, double hp, int newto
             for (i = 0; i < 6; ++i) {
                 Y[i] = x[i] + Z[s][i];
             }
-            if ((code = spatial3_eval_(Y, u, p, F[s], st)) != 0) {
+            code = method == SPATIAL3_GAUSS2_SYMPLECTIC ? spatial3_eval_canonical_(Y, u, p, F[s], st)
+                                                       : spatial3_eval_(Y, u, p, F[s], st);
+            if (code != 0) {
                 return code;
             }
         }
@@ -1972,7 +2468,7 @@ static int spatial3_gauss2_step_(const double *x, double h, double hp, int newto
         if (!(d < HUGE_VAL)) {
             return SPATIAL3_NO_CONVERGENCE;
         }
-        if (d <= SPATIAL3_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+        if (d <= SPATIAL3_EPS || (it >= 2 && d >= dprev && dprev <= SPATIAL3_GAUSS_FLOOR)) {
             break;  /* at round-off: exact to the last bit, or no longer decreasing */
         }
         if (newton && it >= 2) {
@@ -2001,46 +2497,67 @@ static int spatial3_gauss2_step_(const double *x, double h, double hp, int newto
 }
 
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
- * output times (so output times that are multiples of h keep the step constant). */
+ * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
+ * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
 static int spatial3_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const spatial3_params *p, double *X,
                              spatial3_integrate_stats *st)
 {
     double x[6], cmp[6], dx[6], F[2][6], hp = 0.0;
     long k, m;
-    int i, j, code;
+    int i, j, code = SPATIAL3_OK;
+    const int canonical = method == SPATIAL3_GAUSS2_SYMPLECTIC;
+    double ylast[6];
     spatial3_copy_(x, X);
     for (i = 0; i < 6; ++i) {
         cmp[i] = 0.0;
     }
-    if (method != SPATIAL3_RK4) {
-        if ((code = spatial3_eval_(x, u, p, F[0], st)) != 0) {
-            return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
+    if (canonical) {
+        if ((code = spatial3_momenta(X, p, x + 3)) != 0) {
+            return code;
         }
+        spatial3_copy_(ylast, x);
+        code = spatial3_eval_canonical_(x, u, p, F[0], st);
+    } else if (method != SPATIAL3_RK4) {
+        code = spatial3_eval_(x, u, p, F[0], st);
     }
-    for (j = 1; j < nt; ++j) {
+    if (code != 0) {
+        return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
+    }
+    for (j = 1; j < nt && code == 0; ++j) {
         const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = spatial3_nsteps_(ta, tt[j], h));
         for (k = 0; k < m; ++k) {
             if (st->n_steps >= max_steps) {
-                return SPATIAL3_TOO_MANY_STEPS;
+                code = SPATIAL3_TOO_MANY_STEPS;
+                break;
             }
             code = method == SPATIAL3_RK4 ? spatial3_rk4_step_(x, hs, u, p, dx, st)
-                                         : spatial3_gauss2_step_(x, hs, hp, method == SPATIAL3_GAUSS2, u, p, F, dx, st);
+                                         : spatial3_gauss2_step_(x, hs, hp, method, u, p, F, dx, st);
             if (code != 0) {
-                return code;
+                break;
             }
             spatial3_add_(x, cmp, dx);
             hp = hs;
             if (!spatial3_all_finite_(x, 6)) {
-                return SPATIAL3_NONFINITE;  /* st->x keeps the last finite state */
+                code = SPATIAL3_NONFINITE;  /* st->x keeps the last finite state */
+                break;
             }
             st->n_steps++;
             st->t = k + 1 == m ? tt[j] : ta + (double)(k + 1) * hs;
-            spatial3_copy_(st->x, x);
+            spatial3_copy_(canonical ? ylast : st->x, x);
         }
-        spatial3_copy_(X + j * 6, x);
+        if (code == 0) {
+            if (canonical) {
+                spatial3_to_state_(x, p, X + j * 6);
+            } else {
+                spatial3_copy_(X + j * 6, x);
+            }
+        }
     }
-    return SPATIAL3_OK;
+    if (canonical && st->n_steps > 0) {
+        spatial3_to_state_(ylast, p, st->x);  /* (before the first step st->x is x0 as given) */
+    }
+    return code;
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
@@ -2257,7 +2774,7 @@ int spatial3_integrate_grid(int method, int nt, const double *t, double h, doubl
         if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
             return SPATIAL3_BAD_ARGUMENT;
         }
-    } else if (method == SPATIAL3_RK4 || method == SPATIAL3_GAUSS2 || method == SPATIAL3_GAUSS2_FIXED) {
+    } else if (method == SPATIAL3_RK4 || method == SPATIAL3_GAUSS2 || method == SPATIAL3_GAUSS2_FIXED               || method == SPATIAL3_GAUSS2_SYMPLECTIC) {
         if (!(h != 0.0 && fabs(h) < HUGE_VAL)) {
             return SPATIAL3_BAD_ARGUMENT;
         }

@@ -20,14 +20,20 @@
  * (either direction) with u held constant: method SPATIAL3_RK4 (fixed step h), SPATIAL3_DOP853
  * (adaptive, rtol/atol, h the first step or 0) or SPATIAL3_GAUSS2 (symmetric, fixed step h; its stage
  * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
- * Newton with the exact Jacobian: stats n_newton; SPATIAL3_GAUSS2_FIXED = the sweeps only).  On
+ * Newton with the exact Jacobian: stats n_newton; SPATIAL3_GAUSS2_FIXED = the sweeps only;
+ * SPATIAL3_GAUSS2_SYMPLECTIC = the same method on Hamilton's variables (phi, p), which makes it
+ * symplectic: no energy drift over long runs, linear integrals such as (27) kept to round-off; x0
+ * and the outputs stay (phi, phidot)).  On
  * failure x1 is the last accepted state.  spatial3_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means SPATIAL3_INTEGRATE_MAX_STEPS.
  * spatial3_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * spatial3_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 222, forces 376, linearize 3424, mass_matrix 183, qdd 584, qdd_derivatives 3424, rhs 584.
+ * Hamilton's variables (SPATIAL3_HAS_CANONICAL): spatial3_momenta(x, p, pm) gives p = dL/dphidot =
+ * M phidot + k(phi) (k_j = e^j . sum of lambda^k, k >= j), spatial3_velocities(q, pm, p, qd) the inverse,
+ * spatial3_pdot(x, u, p, pdot) the rate dp/dt = dL/dphi + the torques without a force function.
+ * Op counts: energy 222, forces 376, linearize 3424, mass_matrix 183, momenta 215, pdot 722, qdd 584, qdd_derivatives 3424, rhs 584, velocities 229.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -55,6 +61,8 @@ extern "C" {
 #define SPATIAL3_DOP853 2
 #define SPATIAL3_GAUSS2 3
 #define SPATIAL3_GAUSS2_FIXED 4
+#define SPATIAL3_GAUSS2_SYMPLECTIC 5
+#define SPATIAL3_HAS_CANONICAL 1
 typedef struct spatial3_params {
     double unused_;
 } spatial3_params;
@@ -66,6 +74,9 @@ int spatial3_qdd_derivatives(const double *x, const double *u, const spatial3_pa
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
 int spatial3_linearize(double t, const double *x, const double *u, const spatial3_params *p, double *A, double *B);
 double spatial3_energy(const double *x, const spatial3_params *p);
+int spatial3_momenta(const double *x, const spatial3_params *p, double *pm);
+int spatial3_velocities(const double *q, const double *pm, const spatial3_params *p, double *qd);
+int spatial3_pdot(const double *x, const double *u, const spatial3_params *p, double *pdot);
 typedef struct spatial3_integrate_stats {
     double t;
     double x[6];

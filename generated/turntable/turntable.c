@@ -347,8 +347,7 @@ double turntable_jacobi(const double *x, const turntable_params *p)
  *           the stage equations are solved by fixed-point iteration until the correction stops
  *           decreasing (round-off), or, where the sweeps contract too slowly to pay (long
  *           steps), by simplified Newton with the exact Jacobian (stats n_newton counts those steps);
- *           GAUSS2_FIXED is the fixed-point iteration alone.
- * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
+ *           GAUSS2_FIXED is the fixed-point iteration alone. * The state updates x += dx are compensated (Kahan), so round-off does not drift over 1e7 steps
  * (do not compile with -ffast-math, which removes the compensation).  A stage that meets a
  * singular M or a non-finite value ends a fixed-step run with that code and the last good state;
  * DOP853 retries the step smaller first, and returns the code only when the step underflows
@@ -358,6 +357,9 @@ double turntable_jacobi(const double *x, const turntable_params *p)
 #define TURNTABLE_INTEGRATE_MAX_STEPS 100000000L  /* default budget of steps (max_steps <= 0) */
 #endif
 #define TURNTABLE_GAUSS_MAXIT 100                   /* fixed-point iterations per step */
+/* A correction that stops decreasing below this (relative) is round-off: a component computed with
+ * cancellation (a small momentum, a small phi'') has a floor above EPS. */
+#define TURNTABLE_GAUSS_FLOOR 1e-12
 #define TURNTABLE_EPS 2.220446049250313e-16
 /* What a simplified Newton solve of GAUSS2's stages costs, in fixed-point sweeps (2 rhs each): the
  * Jacobian (19 ops), the LU of the 2 x 2 matrix and ~3 iterations, against
@@ -543,7 +545,7 @@ static int turntable_gauss2_newton_(const double *x, double h, const double *u, 
         if (!(d < HUGE_VAL)) {
             return TURNTABLE_NO_CONVERGENCE;
         }
-        if (d <= TURNTABLE_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+        if (d <= TURNTABLE_EPS || (it >= 2 && d >= dprev && dprev <= TURNTABLE_GAUSS_FLOOR)) {
             break;
         }
         if (it >= 30 || (it >= 4 && d > 0.9 * dprev && d > 1e-12)) {
@@ -567,14 +569,14 @@ static int turntable_gauss2_newton_(const double *x, double h, const double *u, 
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int turntable_gauss2_step_(const double *x, double h, double hp, int newton, const double *u,
+static int turntable_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const turntable_params *p, double F[2][2], double *dx, turntable_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
     static const double c1 = 0.21132486540518713, c2 = 0.7886751345948129;
     double Z[2][2], Y[2], L[3][2];
     double d, dprev = HUGE_VAL;
-    int i, s, it, code;
+    int i, s, it, code, newton = method == TURNTABLE_GAUSS2;
     if (hp != 0.0) {
         /* Lagrange weights of (Z_1, Z_2) at theta = 1 + c_1 r, 1 + c_2 r, 1 */
         const double r = h / hp, th[3] = {1.0 + c1 * r, 1.0 + c2 * r, 1.0};
@@ -599,7 +601,8 @@ static int turntable_gauss2_step_(const double *x, double h, double hp, int newt
             for (i = 0; i < 2; ++i) {
                 Y[i] = x[i] + Z[s][i];
             }
-            if ((code = turntable_eval_(Y, u, p, F[s], st)) != 0) {
+            code = turntable_eval_(Y, u, p, F[s], st);
+            if (code != 0) {
                 return code;
             }
         }
@@ -618,7 +621,7 @@ static int turntable_gauss2_step_(const double *x, double h, double hp, int newt
         if (!(d < HUGE_VAL)) {
             return TURNTABLE_NO_CONVERGENCE;
         }
-        if (d <= TURNTABLE_EPS || (it >= 2 && d >= dprev && dprev <= 1e-14)) {
+        if (d <= TURNTABLE_EPS || (it >= 2 && d >= dprev && dprev <= TURNTABLE_GAUSS_FLOOR)) {
             break;  /* at round-off: exact to the last bit, or no longer decreasing */
         }
         if (newton && it >= 2) {
@@ -654,7 +657,7 @@ static int turntable_fixed_(int method, int nt, const double *tt, double h, long
 {
     double x[2], cmp[2], dx[2], F[2][2], hp = 0.0;
     long k, m;
-    int i, j, code;
+    int i, j, code = TURNTABLE_OK;
     turntable_copy_(x, X);
     for (i = 0; i < 2; ++i) {
         cmp[i] = 0.0;
@@ -664,29 +667,33 @@ static int turntable_fixed_(int method, int nt, const double *tt, double h, long
             return code;  /* F[0] = f(x): the first step's guess (F[1] is read from the second on) */
         }
     }
-    for (j = 1; j < nt; ++j) {
+    for (j = 1; j < nt && code == 0; ++j) {
         const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = turntable_nsteps_(ta, tt[j], h));
         for (k = 0; k < m; ++k) {
             if (st->n_steps >= max_steps) {
-                return TURNTABLE_TOO_MANY_STEPS;
+                code = TURNTABLE_TOO_MANY_STEPS;
+                break;
             }
             code = method == TURNTABLE_RK4 ? turntable_rk4_step_(x, hs, u, p, dx, st)
-                                         : turntable_gauss2_step_(x, hs, hp, method == TURNTABLE_GAUSS2, u, p, F, dx, st);
+                                         : turntable_gauss2_step_(x, hs, hp, method, u, p, F, dx, st);
             if (code != 0) {
-                return code;
+                break;
             }
             turntable_add_(x, cmp, dx);
             hp = hs;
             if (!turntable_all_finite_(x, 2)) {
-                return TURNTABLE_NONFINITE;  /* st->x keeps the last finite state */
+                code = TURNTABLE_NONFINITE;  /* st->x keeps the last finite state */
+                break;
             }
             st->n_steps++;
             st->t = k + 1 == m ? tt[j] : ta + (double)(k + 1) * hs;
             turntable_copy_(st->x, x);
         }
-        turntable_copy_(X + j * 2, x);
+        if (code == 0) {
+            turntable_copy_(X + j * 2, x);
+        }
     }
-    return TURNTABLE_OK;
+    return code;
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */

@@ -62,6 +62,8 @@ extern "C" {
 #define TURNTABLE_DOP853 2
 #define TURNTABLE_GAUSS2 3
 #define TURNTABLE_GAUSS2_FIXED 4
+#define TURNTABLE_GAUSS2_SYMPLECTIC 5
+#define TURNTABLE_HAS_CANONICAL 0
 typedef struct turntable_params {
     double Omega;
 } turntable_params;

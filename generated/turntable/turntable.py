@@ -20,6 +20,7 @@ HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
+HAS_CANONICAL = False  # momenta, velocities, pdot (Hamilton's variables)
 HAS_JACOBI_INTEGRAL = True
 TIME_DEPENDENT = False  # forces, qdd, energy, momentum take t first
 OP_COUNTS = { "energy": 14, "forces": 8, "jacobi": 14, "linearize": 19, "mass_matrix": 0, "qdd": 9, "qdd_derivatives": 19, "rhs": 9, }

@@ -20,7 +20,10 @@
  * (either direction) with u held constant: method ZIEGLER_RK4 (fixed step h), ZIEGLER_DOP853
  * (adaptive, rtol/atol, h the first step or 0) or ZIEGLER_GAUSS2 (symmetric, fixed step h; its stage
  * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
- * Newton with the exact Jacobian: stats n_newton; ZIEGLER_GAUSS2_FIXED = the sweeps only).  On
+ * Newton with the exact Jacobian: stats n_newton; ZIEGLER_GAUSS2_FIXED = the sweeps only;
+ * ZIEGLER_GAUSS2_SYMPLECTIC = the same method on Hamilton's variables (phi, p), which makes it
+ * symplectic: no energy drift over long runs, linear integrals such as (27) kept to round-off; x0
+ * and the outputs stay (phi, phidot)).  On
  * failure x1 is the last accepted state.  ziegler_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means ZIEGLER_INTEGRATE_MAX_STEPS.
  * General case (the paper's (8)-(10)): a moving platform, external loads, joint springs and dampers
@@ -32,7 +35,10 @@
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * ziegler_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 20, forces 24, linearize 105, mass_matrix 5, momentum 8, qdd 39, qdd_derivatives 105, rhs 39.
+ * Hamilton's variables (ZIEGLER_HAS_CANONICAL): ziegler_momenta(x, p, pm) gives p = dL/dphidot =
+ * M phidot + k(phi) (k_j = e^j . sum of lambda^k, k >= j), ziegler_velocities(q, pm, p, qd) the inverse,
+ * ziegler_pdot(x, u, p, pdot) the rate dp/dt = dL/dphi + the torques without a force function.
+ * Op counts: energy 20, forces 24, linearize 105, mass_matrix 5, momenta 11, momentum 8, pdot 33, qdd 39, qdd_derivatives 105, rhs 39, velocities 18.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -62,6 +68,8 @@ extern "C" {
 #define ZIEGLER_DOP853 2
 #define ZIEGLER_GAUSS2 3
 #define ZIEGLER_GAUSS2_FIXED 4
+#define ZIEGLER_GAUSS2_SYMPLECTIC 5
+#define ZIEGLER_HAS_CANONICAL 1
 typedef struct ziegler_params {
     double P;
 } ziegler_params;
@@ -74,6 +82,9 @@ int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_para
 int ziegler_linearize(double t, const double *x, const double *u, const ziegler_params *p, double *A, double *B);
 double ziegler_energy(const double *x, const ziegler_params *p);
 double ziegler_momentum(const double *x, const ziegler_params *p);
+int ziegler_momenta(const double *x, const ziegler_params *p, double *pm);
+int ziegler_velocities(const double *q, const double *pm, const ziegler_params *p, double *qd);
+int ziegler_pdot(const double *x, const double *u, const ziegler_params *p, double *pdot);
 typedef struct ziegler_integrate_stats {
     double t;
     double x[4];

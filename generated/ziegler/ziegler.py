@@ -20,9 +20,10 @@ HAS_ENERGY_INTEGRAL = False
 HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
+HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
 HAS_JACOBI_INTEGRAL = False
 TIME_DEPENDENT = False  # forces, qdd, energy, momentum take t first
-OP_COUNTS = { "energy": 20, "forces": 24, "linearize": 105, "mass_matrix": 5, "momentum": 8, "qdd": 39, "qdd_derivatives": 105, "rhs": 39, }
+OP_COUNTS = { "energy": 20, "forces": 24, "linearize": 105, "mass_matrix": 5, "momenta": 11, "momentum": 8, "pdot": 33, "qdd": 39, "qdd_derivatives": 105, "rhs": 39, "velocities": 18, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -277,3 +278,61 @@ def momentum(x, p=None):
     result = Mqd1
 
     return result
+
+
+def momenta(x, p=None):
+    """Hamilton's momenta p = dL/dphidot = M phidot + k(phi) (k from the gyrostatic moments)."""
+    x = [float(v) for v in x]
+    p_P = _param(p, "P")
+
+    pm = np.empty(N)
+    cos_phi2 = math.cos(x[1])
+    I1_11 = 0.5000015 + 0.25*cos_phi2
+    n2in1_1 = 0.1250005 + 0.125*cos_phi2
+    pm[0] = x[2]*I1_11 + x[3]*n2in1_1
+    pm[1] = x[2]*n2in1_1 + 0.1250005*x[3]
+
+    return pm
+
+
+def velocities(q, pm, p=None):
+    """phidot from the coordinates q and the momenta pm: M phidot = pm - k."""
+    q = [float(v) for v in q]
+    p_P = _param(p, "P")
+
+    M = np.empty((N, N))
+    k = np.empty(N)
+    cos_phi2 = math.cos(q[1])
+    I1_11 = 0.5000015 + 0.25*cos_phi2
+    n2in1_1 = 0.1250005 + 0.125*cos_phi2
+    M[0, 0] = I1_11
+    M[1, 0] = n2in1_1
+    M[1, 1] = 0.1250005
+    k[0] = 0.0
+    k[1] = 0.0
+
+    M = np.tril(M) + np.tril(M, -1).T
+    return _ldlt_solve(M, np.asarray(pm, dtype=float) - k)
+
+
+def pdot(x, u=None, p=None):
+    """The rate of the momenta: dL/dphi + the torques without a force function."""
+    x = [float(v) for v in x]
+    p_P = _param(p, "P")
+
+    pdot = np.empty(N)
+    cos_phi2 = math.cos(x[1])
+    sin_phi2 = math.sin(x[1])
+    om2_1 = x[2] + x[3]
+    aOrel2in1_3 = -0.5*x[2]*x[2]
+    aOg2_2 = sin_phi2*aOrel2in1_3
+    aOg2_3 = cos_phi2*aOrel2in1_3
+    pF2_3 = 0.5*aOg2_3 - 0.25*om2_1*om2_1 + p_P
+    Fb2in1_2 = 0.5*cos_phi2*aOg2_2 - sin_phi2*pF2_3
+    Nb1_1 = -0.25*aOg2_2 - 0.5*Fb2in1_2
+    cos_phi2_dp = -x[3]*sin_phi2
+    w0 = x[2]*cos_phi2_dp
+    pdot[0] = -2.0*x[0] - Nb1_1 + 0.25*w0 + 0.125*x[3]*cos_phi2_dp
+    pdot[1] = -2.0*x[1] + 0.25*aOg2_2 + 0.125*w0
+
+    return pdot
