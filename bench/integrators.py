@@ -8,10 +8,13 @@ scipy's solve_ivp (RK45, DOP853, Radau) driving the generated Python rhs and the
    exact reference from the quadratures).  Error = max |x - x_ref| / max |x_ref|.
 2. The speed target: at 1e-8 on the gimbal, C DOP853 against scipy DOP853 on the generated Python
    rhs (the cheapest run of each that reaches 1e-8), side by side.
-3. Long-time drift: energy and momentum error over 1e5 gimbal periods for each C method.
+3. Long-time drift: energy and momentum error over 1e5 gimbal periods for each C method; then
+   GAUSS2 against GAUSS2_SYMPLECTIC (and DOP853) where no reversing symmetry bounds GAUSS2's error:
+   the gyrostat gyrostat2 over 1e5 periods and the chaotic chain spatial3 over 5e4 s.
 4. rhs cost: ns per call of the generated C (every example), its op count, and the Python-level
    costs (generated Python rhs, cffi call through CModel.rhs).
-Results: bench/results/work_precision.csv, drift.csv, rhs_cost.csv, work_precision.png, drift.png.
+Results: bench/results/work_precision.csv, drift.csv, drift_symplectic.csv, rhs_cost.csv,
+work_precision.png, drift.png, drift_symplectic.png.
 """
 from __future__ import annotations
 
@@ -169,6 +172,43 @@ def drift(rows):
     return out
 
 
+def symplectic_drift(rows):
+    """GAUSS2 on (φ, φ̇) against GAUSS2_SYMPLECTIC on Hamilton's (φ, p), with DOP853 beside them, on
+    two systems without a reversing symmetry: the gyrostat gyrostat2 (C ≠ 0, λ ≠ 0; 1e5 periods
+    of its nutation, h = T/20) and the chaotic 3-link chain spatial3 without control (u = 0;
+    5e4 s, h = 0.01 s)."""
+    out = {}
+    gy = build.load(GEN / "gyrostat2")
+    x_gy = np.array([0.0, 0.8, 1.5, 0.0])
+    T = gy.quad_period(x_gy)
+    sp3 = build.load(GEN / "spatial3")
+    x_sp = np.array([0.5, 0.5, 0.5, 0.0, 0.0, 0.0])
+    for name, c, x0, h, t_end, unit, u in (("gyrostat2", gy, x_gy, T / 20, 1e5 * T, T, None),
+                                           ("spatial3", sp3, x_sp, 0.01, 5e4, 1.0, np.zeros(1))):
+        n_end = int(round(t_end / h))
+        ks = np.unique(np.round(np.logspace(0, np.log10(n_end), 400)).astype(int))
+        t = np.r_[0.0, ks * h]
+        E0 = c.energy(x0)
+        K0 = c.momentum(x0) if c.has_momentum and name == "gyrostat2" else None
+        out[name] = {}
+        for m, kw in (("gauss2", dict(h=h)), ("gauss2_symplectic", dict(h=h)), ("dop853", dict(rtol=1e-10, atol=1e-10))):
+            t0 = time.perf_counter()
+            X, st = c.integrate(t, x0, m, u=u, full_output=True, **kw)
+            sec = time.perf_counter() - t0
+            dE = np.abs([c.energy(x) / E0 - 1 for x in X[1:]])
+            dK = np.abs([c.momentum(x) / K0 - 1 for x in X[1:]]) if K0 is not None else None
+            out[name][m] = (t[1:] / unit, dE, dK)
+            for i, tk in enumerate(t[1:] / unit):
+                rows.append(dict(system=name, method=m.upper(), time=tk, energy_error=dE[i],
+                                 momentum_error=dK[i] if dK is not None else ""))
+            tenth = t[1:] <= t_end / 10
+            mom = f";  momentum (27): max {dK.max():.1e}" if dK is not None else ""
+            print(f"  {name:9s} {m.upper():17s} {sec:6.1f} s {st['n_rhs'] / st['n_steps']:5.1f} rhs/step  energy: "
+                  f"max over the first tenth {dE[tenth].max():.1e}, over all {dE.max():.1e}, at the end {dE[-1]:.1e}{mom}",
+                  flush=True)
+    return out
+
+
 def gauss2_solver(rows):
     """GAUSS2's stage solver: the sweeps alone (GAUSS2_FIXED) against the automatic choice (sweeps,
     or simplified Newton with the exact Jacobian where it pays), per step: rhs calls, iterations,
@@ -257,6 +297,35 @@ def write_csv(path, rows):
         w.writerows(rows)
 
 
+def symplectic_chart(sy, machine):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
+    colors = {"gauss2": "C2", "gauss2_symplectic": "C3", "dop853": "C0"}
+    labels = {"gauss2": "GAUSS2 on (φ, φ̇)", "gauss2_symplectic": "GAUSS2_SYMPLECTIC on (φ, p)", "dop853": "DOP853 1e-10"}
+    for m, (tp, dE, dK) in sy["gyrostat2"].items():
+        axes[0].loglog(tp, np.maximum(dE, 1e-17), color=colors[m], label=labels[m])
+        axes[1].loglog(tp, np.maximum(dK, 1e-17), color=colors[m], label=labels[m])
+    for m, (tp, dE, _) in sy["spatial3"].items():
+        axes[2].loglog(tp, np.maximum(dE, 1e-17), color=colors[m], label=labels[m])
+    axes[0].set_title("gyrostat2 (C ≠ 0, λ ≠ 0), h = T/20: energy", fontsize=9)
+    axes[1].set_title("gyrostat2: momentum (27)", fontsize=9)
+    axes[2].set_title("spatial3, chaotic, u = 0, h = 0.01 s: energy", fontsize=9)
+    axes[0].set_xlabel("periods")
+    axes[1].set_xlabel("periods")
+    axes[2].set_xlabel("time [s]")
+    axes[0].set_ylabel("relative error")
+    for ax in axes:
+        ax.grid(True, which="major", alpha=0.3)
+        ax.legend(fontsize=7, loc="upper left")
+    fig.suptitle(f"Symplectic or not: GAUSS2 on Hamilton's variables against GAUSS2 on (φ, φ̇)\n{machine}", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(RESULTS / "drift_symplectic.png", dpi=90)
+
+
 def charts(wp, dr, machine):
     import matplotlib
 
@@ -321,6 +390,11 @@ def main():
     dr_rows = []
     dr = drift(dr_rows)
     write_csv(RESULTS / "drift.csv", dr_rows)
+    print("\n3b. Symplectic or not, systems without a reversing symmetry", flush=True)
+    sy_rows = []
+    sy = symplectic_drift(sy_rows)
+    write_csv(RESULTS / "drift_symplectic.csv", sy_rows)
+    symplectic_chart(sy, machine)
     print("\n4. GAUSS2's stage solver: sweeps only against sweeps or Newton (1 s of motion)", flush=True)
     gs = []
     gauss2_solver(gs)

@@ -273,6 +273,14 @@ def _newton_sweeps(n: int, counts: dict) -> int:
     return int(round(setup / 2 + 3))
 
 
+def _newton_sweeps_canonical(n: int, counts: dict) -> int:
+    """The same for GAUSS2_SYMPLECTIC: 2n + 1 canonical evaluations for the Jacobian by differences,
+    the LU of the 4n × 4n matrix and ~4 iterations, in sweeps of 2 canonical evaluations."""
+    g = max(1, counts.get("velocities", 0) + counts.get("pdot", 0))
+    setup = ((2 * n + 1) * g + 2 * (4 * n) ** 3 // 3) / g
+    return int(round(setup / 2 + 4))
+
+
 # NAME_qdd_derivatives: φ̈ by the articulated recursion (line "qdd_derivatives"), then one column of
 # ∂φ̈ per direction (lines "d_q1" …), each its own static C function reading the recursion's values
 # it needs from an array: a Jacobian of a long chain is too big for one function (gcc's time grows
@@ -824,6 +832,7 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         der_generic="d_jvp" in model.lines,
         newton=n <= GAUSS2_NEWTON_MAX_N,
         newton_sweeps=_newton_sweeps(n, counts),
+        newton_sweeps_canonical=_newton_sweeps_canonical(n, counts),
         counts=counts,
         codegen_version=__version__,
         sympy_version=sp.__version__,

@@ -846,14 +846,18 @@ int furuta_sym_pdot(const double *x, const double *u, const furuta_sym_params *p
 #define FURUTA_SYM_INTEGRATE_MAX_STEPS 100000000L  /* default budget of steps (max_steps <= 0) */
 #endif
 #define FURUTA_SYM_GAUSS_MAXIT 100                   /* fixed-point iterations per step */
-/* A correction that stops decreasing below this (relative) is round-off: a component computed with
- * cancellation (a small momentum, a small phi'') has a floor above EPS. */
+/* A correction that stops decreasing below GAUSS_FLOOR times the largest |x_i| (at least 1) is
+ * round-off: a component computed with cancellation (a small momentum, a small phi'') has a floor
+ * above EPS, and an angle that has turned many times is known only to its ulp. */
 #define FURUTA_SYM_GAUSS_FLOOR 1e-12
 #define FURUTA_SYM_EPS 2.220446049250313e-16
 /* What a simplified Newton solve of GAUSS2's stages costs, in fixed-point sweeps (2 rhs each): the
  * Jacobian (294 ops), the LU of the 4 x 4 matrix and ~3 iterations, against
  * 93 ops per rhs.  Newton is used when more sweeps than this are still needed. */
 #define FURUTA_SYM_NEWTON_SWEEPS 5
+/* The same for GAUSS2_SYMPLECTIC: its Jacobian by 4 forward differences of the canonical right
+ * side, the LU of the 8 x 8 matrix and ~4 iterations. */
+#define FURUTA_SYM_NEWTON_SWEEPS_CANONICAL 8
 
 static int furuta_sym_eval_(const double *x, const double *u, const furuta_sym_params *p, double *xdot,
                             furuta_sym_integrate_stats *st)
@@ -914,6 +918,17 @@ static void furuta_sym_copy_(double *dst, const double *src)
     for (i = 0; i < 4; ++i) {
         dst[i] = src[i];
     }
+}
+
+/* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
+static double furuta_sym_floor_(const double *x)
+{
+    double big = 1.0;
+    int i;
+    for (i = 0; i < 4; ++i) {
+        big = fmax(big, fabs(x[i]));
+    }
+    return FURUTA_SYM_GAUSS_FLOOR * big;
 }
 
 /* The steps of a fixed-step method between two output times: the largest count m with
@@ -1016,6 +1031,7 @@ static int furuta_sym_gauss2_newton_(const double *x, double h, const double *u,
     static const double c[2] = {0.21132486540518713, 0.7886751345948129};
     double Dq[4], Dv[4], J[16], G[4], Zv[4], Y[4];
     double d, dprev = HUGE_VAL;
+    const double floor = furuta_sym_floor_(x);
     int piv[4], i, j, s, r, it, code;
     if ((code = furuta_sym_qdd_derivatives(x, u, p, 0, Dq, Dv, 0)) != 0) {
         return code;
@@ -1068,7 +1084,7 @@ static int furuta_sym_gauss2_newton_(const double *x, double h, const double *u,
         if (!(d < HUGE_VAL)) {
             return FURUTA_SYM_NO_CONVERGENCE;
         }
-        if (d <= FURUTA_SYM_EPS || (it >= 2 && d >= dprev && dprev <= FURUTA_SYM_GAUSS_FLOOR)) {
+        if (d <= FURUTA_SYM_EPS || (it >= 2 && d >= dprev && dprev <= floor)) {
             break;
         }
         if (it >= 30 || (it >= 4 && d > 0.9 * dprev && d > 1e-12)) {
@@ -1087,6 +1103,86 @@ static int furuta_sym_gauss2_newton_(const double *x, double h, const double *u,
     return FURUTA_SYM_OK;
 }
 
+/* GAUSS2_SYMPLECTIC's stage equations by simplified Newton on all 2 x 2n increments (in (phi, p) the
+ * position increments are not linear in the others).  J = d g/d y at the step's start by forward
+ * differences of the canonical right side g (the converged solution does not depend on J, only the
+ * rate does: differences are accurate enough and need nothing that is not emitted):
+ *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
+static int furuta_sym_canonical_newton_(const double *y, double h, const double *u, const furuta_sym_params *p,
+                                        double Z[2][4], double F[2][4], furuta_sym_integrate_stats *st)
+{
+    static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
+    double J[16], N[64], G[8], Y[4], g0[4], g1[4];
+    double d, dprev = HUGE_VAL;
+    const double floor = furuta_sym_floor_(y);
+    int piv[8], i, j, s, r, it, code;
+    if ((code = furuta_sym_eval_canonical_(y, u, p, g0, st)) != 0) {
+        return code;
+    }
+    for (j = 0; j < 4; ++j) {
+        const double e = 1.4901161193847656e-08 * fmax(fabs(y[j]), 1.0);
+        furuta_sym_copy_(Y, y);
+        Y[j] += e;
+        if ((code = furuta_sym_eval_canonical_(Y, u, p, g1, st)) != 0) {
+            return code;
+        }
+        for (i = 0; i < 4; ++i) {
+            J[i * 4 + j] = (g1[i] - g0[i]) / (Y[j] - y[j]);
+        }
+    }
+    for (s = 0; s < 2; ++s) {
+        for (r = 0; r < 2; ++r) {
+            for (i = 0; i < 4; ++i) {
+                for (j = 0; j < 4; ++j) {
+                    N[(s * 4 + i) * 8 + r * 4 + j] = (s == r && i == j ? 1.0 : 0.0)
+                        - h * a[s][r] * J[i * 4 + j];
+                }
+            }
+        }
+    }
+    if (!furuta_sym_lu_(N, piv, 8)) {
+        return FURUTA_SYM_NO_CONVERGENCE;
+    }
+    for (it = 1;; ++it) {
+        for (s = 0; s < 2; ++s) {
+            for (i = 0; i < 4; ++i) {
+                Y[i] = y[i] + Z[s][i];
+            }
+            if ((code = furuta_sym_eval_canonical_(Y, u, p, F[s], st)) != 0) {
+                return code;
+            }
+        }
+        for (s = 0; s < 2; ++s) {
+            for (i = 0; i < 4; ++i) {
+                G[s * 4 + i] = -(Z[s][i] - h * (a[s][0] * F[0][i] + a[s][1] * F[1][i]));
+            }
+        }
+        furuta_sym_lu_solve_(N, piv, 8, G);
+        st->n_iter++;
+        d = 0.0;
+        for (s = 0; s < 2; ++s) {
+            for (i = 0; i < 4; ++i) {
+                const double sc = fabs(y[i]) + fabs(Z[s][i]) + 1e-300;
+                const double e = fabs(G[s * 4 + i]) / sc;
+                d = e > d ? e : d;
+                Z[s][i] += G[s * 4 + i];
+            }
+        }
+        if (!(d < HUGE_VAL)) {
+            return FURUTA_SYM_NO_CONVERGENCE;
+        }
+        if (d <= FURUTA_SYM_EPS || (it >= 2 && d >= dprev && dprev <= floor)) {
+            break;
+        }
+        if (it >= 30 || (it >= 4 && d > 0.9 * dprev && d > 1e-12)) {
+            return FURUTA_SYM_NO_CONVERGENCE;  /* hardly contracting: the caller goes back to the sweeps */
+        }
+        dprev = d;
+    }
+    st->n_newton++;  /* F is g at the Z before the last (round-off) correction, as the sweeps leave it */
+    return FURUTA_SYM_OK;
+}
+
 /* One GAUSS2 step of size h from x.  Stage increments Z_i = h sum_j a_ij f(x + Z_j), nodes
  * c = 1/2 -+ sqrt(3)/6; dx = h (F_1 + F_2) / 2.  F holds the stage derivatives of the previous
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
@@ -1099,7 +1195,8 @@ static int furuta_sym_gauss2_step_(const double *x, double h, double hp, int met
     static const double c1 = 0.21132486540518713, c2 = 0.7886751345948129;
     double Z[2][4], Y[4], L[3][2];
     double d, dprev = HUGE_VAL;
-    int i, s, it, code, newton = method == FURUTA_SYM_GAUSS2;
+    const double floor = furuta_sym_floor_(x);
+    int i, s, it, code, newton = method == FURUTA_SYM_GAUSS2 || method == FURUTA_SYM_GAUSS2_SYMPLECTIC;
     if (hp != 0.0) {
         /* Lagrange weights of (Z_1, Z_2) at theta = 1 + c_1 r, 1 + c_2 r, 1 */
         const double r = h / hp, th[3] = {1.0 + c1 * r, 1.0 + c2 * r, 1.0};
@@ -1145,14 +1242,15 @@ static int furuta_sym_gauss2_step_(const double *x, double h, double hp, int met
         if (!(d < HUGE_VAL)) {
             return FURUTA_SYM_NO_CONVERGENCE;
         }
-        if (d <= FURUTA_SYM_EPS || (it >= 2 && d >= dprev && dprev <= FURUTA_SYM_GAUSS_FLOOR)) {
+        if (d <= FURUTA_SYM_EPS || (it >= 2 && d >= dprev && dprev <= floor)) {
             break;  /* at round-off: exact to the last bit, or no longer decreasing */
         }
         if (newton && it >= 2) {
             /* the sweeps still needed at the observed rate, against Newton's cost in sweeps */
             const double rate = d / dprev;
-            if (rate >= 1.0 || log(FURUTA_SYM_EPS / d) / log(rate) > FURUTA_SYM_NEWTON_SWEEPS) {
-                code = furuta_sym_gauss2_newton_(x, h, u, p, Z, F, st);
+            const int canonical = method == FURUTA_SYM_GAUSS2_SYMPLECTIC;
+            if (rate >= 1.0 || log(FURUTA_SYM_EPS / d) / log(rate) > (canonical ? FURUTA_SYM_NEWTON_SWEEPS_CANONICAL : FURUTA_SYM_NEWTON_SWEEPS)) {
+                code = canonical ? furuta_sym_canonical_newton_(x, h, u, p, Z, F, st) : furuta_sym_gauss2_newton_(x, h, u, p, Z, F, st);
                 if (code == FURUTA_SYM_OK) {
                     break;
                 }

@@ -635,8 +635,9 @@ double ship_gimbal_momentum(double t, const double *x, const ship_gimbal_params 
 #define SHIP_GIMBAL_INTEGRATE_MAX_STEPS 100000000L  /* default budget of steps (max_steps <= 0) */
 #endif
 #define SHIP_GIMBAL_GAUSS_MAXIT 100                   /* fixed-point iterations per step */
-/* A correction that stops decreasing below this (relative) is round-off: a component computed with
- * cancellation (a small momentum, a small phi'') has a floor above EPS. */
+/* A correction that stops decreasing below GAUSS_FLOOR times the largest |x_i| (at least 1) is
+ * round-off: a component computed with cancellation (a small momentum, a small phi'') has a floor
+ * above EPS, and an angle that has turned many times is known only to its ulp. */
 #define SHIP_GIMBAL_GAUSS_FLOOR 1e-12
 #define SHIP_GIMBAL_EPS 2.220446049250313e-16
 /* What a simplified Newton solve of GAUSS2's stages costs, in fixed-point sweeps (2 rhs each): the
@@ -669,6 +670,17 @@ static void ship_gimbal_copy_(double *dst, const double *src)
     for (i = 0; i < 4; ++i) {
         dst[i] = src[i];
     }
+}
+
+/* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
+static double ship_gimbal_floor_(const double *x)
+{
+    double big = 1.0;
+    int i;
+    for (i = 0; i < 4; ++i) {
+        big = fmax(big, fabs(x[i]));
+    }
+    return SHIP_GIMBAL_GAUSS_FLOOR * big;
 }
 
 /* The steps of a fixed-step method between two output times: the largest count m with
@@ -771,6 +783,7 @@ static int ship_gimbal_gauss2_newton_(double t0, const double *x, double h, cons
     static const double c[2] = {0.21132486540518713, 0.7886751345948129};
     double Dq[4], Dv[4], J[16], G[4], Zv[4], Y[4];
     double d, dprev = HUGE_VAL;
+    const double floor = ship_gimbal_floor_(x);
     int piv[4], i, j, s, r, it, code;
     if ((code = ship_gimbal_qdd_derivatives(t0, x, u, p, 0, Dq, Dv, 0)) != 0) {
         return code;
@@ -823,7 +836,7 @@ static int ship_gimbal_gauss2_newton_(double t0, const double *x, double h, cons
         if (!(d < HUGE_VAL)) {
             return SHIP_GIMBAL_NO_CONVERGENCE;
         }
-        if (d <= SHIP_GIMBAL_EPS || (it >= 2 && d >= dprev && dprev <= SHIP_GIMBAL_GAUSS_FLOOR)) {
+        if (d <= SHIP_GIMBAL_EPS || (it >= 2 && d >= dprev && dprev <= floor)) {
             break;
         }
         if (it >= 30 || (it >= 4 && d > 0.9 * dprev && d > 1e-12)) {
@@ -854,6 +867,7 @@ static int ship_gimbal_gauss2_step_(double t0, const double *x, double h, double
     static const double c1 = 0.21132486540518713, c2 = 0.7886751345948129;
     double Z[2][4], Y[4], L[3][2];
     double d, dprev = HUGE_VAL;
+    const double floor = ship_gimbal_floor_(x);
     int i, s, it, code, newton = method == SHIP_GIMBAL_GAUSS2;
     if (hp != 0.0) {
         /* Lagrange weights of (Z_1, Z_2) at theta = 1 + c_1 r, 1 + c_2 r, 1 */
@@ -899,7 +913,7 @@ static int ship_gimbal_gauss2_step_(double t0, const double *x, double h, double
         if (!(d < HUGE_VAL)) {
             return SHIP_GIMBAL_NO_CONVERGENCE;
         }
-        if (d <= SHIP_GIMBAL_EPS || (it >= 2 && d >= dprev && dprev <= SHIP_GIMBAL_GAUSS_FLOOR)) {
+        if (d <= SHIP_GIMBAL_EPS || (it >= 2 && d >= dprev && dprev <= floor)) {
             break;  /* at round-off: exact to the last bit, or no longer decreasing */
         }
         if (newton && it >= 2) {

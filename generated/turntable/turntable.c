@@ -357,8 +357,9 @@ double turntable_jacobi(const double *x, const turntable_params *p)
 #define TURNTABLE_INTEGRATE_MAX_STEPS 100000000L  /* default budget of steps (max_steps <= 0) */
 #endif
 #define TURNTABLE_GAUSS_MAXIT 100                   /* fixed-point iterations per step */
-/* A correction that stops decreasing below this (relative) is round-off: a component computed with
- * cancellation (a small momentum, a small phi'') has a floor above EPS. */
+/* A correction that stops decreasing below GAUSS_FLOOR times the largest |x_i| (at least 1) is
+ * round-off: a component computed with cancellation (a small momentum, a small phi'') has a floor
+ * above EPS, and an angle that has turned many times is known only to its ulp. */
 #define TURNTABLE_GAUSS_FLOOR 1e-12
 #define TURNTABLE_EPS 2.220446049250313e-16
 /* What a simplified Newton solve of GAUSS2's stages costs, in fixed-point sweeps (2 rhs each): the
@@ -391,6 +392,17 @@ static void turntable_copy_(double *dst, const double *src)
     for (i = 0; i < 2; ++i) {
         dst[i] = src[i];
     }
+}
+
+/* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
+static double turntable_floor_(const double *x)
+{
+    double big = 1.0;
+    int i;
+    for (i = 0; i < 2; ++i) {
+        big = fmax(big, fabs(x[i]));
+    }
+    return TURNTABLE_GAUSS_FLOOR * big;
 }
 
 /* The steps of a fixed-step method between two output times: the largest count m with
@@ -493,6 +505,7 @@ static int turntable_gauss2_newton_(const double *x, double h, const double *u, 
     static const double c[2] = {0.21132486540518713, 0.7886751345948129};
     double Dq[1], Dv[1], J[4], G[2], Zv[2], Y[2];
     double d, dprev = HUGE_VAL;
+    const double floor = turntable_floor_(x);
     int piv[2], i, j, s, r, it, code;
     if ((code = turntable_qdd_derivatives(x, u, p, 0, Dq, Dv, 0)) != 0) {
         return code;
@@ -545,7 +558,7 @@ static int turntable_gauss2_newton_(const double *x, double h, const double *u, 
         if (!(d < HUGE_VAL)) {
             return TURNTABLE_NO_CONVERGENCE;
         }
-        if (d <= TURNTABLE_EPS || (it >= 2 && d >= dprev && dprev <= TURNTABLE_GAUSS_FLOOR)) {
+        if (d <= TURNTABLE_EPS || (it >= 2 && d >= dprev && dprev <= floor)) {
             break;
         }
         if (it >= 30 || (it >= 4 && d > 0.9 * dprev && d > 1e-12)) {
@@ -576,6 +589,7 @@ static int turntable_gauss2_step_(const double *x, double h, double hp, int meth
     static const double c1 = 0.21132486540518713, c2 = 0.7886751345948129;
     double Z[2][2], Y[2], L[3][2];
     double d, dprev = HUGE_VAL;
+    const double floor = turntable_floor_(x);
     int i, s, it, code, newton = method == TURNTABLE_GAUSS2;
     if (hp != 0.0) {
         /* Lagrange weights of (Z_1, Z_2) at theta = 1 + c_1 r, 1 + c_2 r, 1 */
@@ -621,7 +635,7 @@ static int turntable_gauss2_step_(const double *x, double h, double hp, int meth
         if (!(d < HUGE_VAL)) {
             return TURNTABLE_NO_CONVERGENCE;
         }
-        if (d <= TURNTABLE_EPS || (it >= 2 && d >= dprev && dprev <= TURNTABLE_GAUSS_FLOOR)) {
+        if (d <= TURNTABLE_EPS || (it >= 2 && d >= dprev && dprev <= floor)) {
             break;  /* at round-off: exact to the last bit, or no longer decreasing */
         }
         if (newton && it >= 2) {
