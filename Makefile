@@ -29,8 +29,10 @@ generate: setup
 generate-all: setup
 	@for s in $(EXAMPLES); do $(VPY) -m codegen generate -q $$s || exit 1; done
 
+# the suite on JOBS processes (pytest-xdist; a file stays on one worker, so its models are built once)
+JOBS ?= 2
 test: setup
-	$(VPY) -m pytest -q
+	$(VPY) -m pytest -q -n $(JOBS) --dist loadfile
 
 $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,plot]'
