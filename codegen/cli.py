@@ -30,7 +30,8 @@ class _Progress:
             print(f"  [{time.perf_counter() - self.t0:6.2f} s] {msg}", file=sys.stderr, flush=True)
 
 
-def derive_and_render(spec, spec_label: str, progress=None, qdd_form: str = "auto") -> tuple[dict[str, str], object]:
+def derive_and_render(spec, spec_label: str, progress=None, qdd_form: str = "auto",
+                      der_form: str = "auto") -> tuple[dict[str, str], object]:
     from . import dynamics, emit, integrals, kinematics
 
     say = progress or (lambda msg: None)
@@ -40,7 +41,7 @@ def derive_and_render(spec, spec_label: str, progress=None, qdd_form: str = "aut
     dyn = dynamics.derive(spec, kin)
     say("integrals: energy (23) and, where l1 may be vertical, momentum (27)")
     ints = integrals.derive(spec, kin, dyn)
-    model = emit.build_model(spec, kin, dyn, ints, progress=say, qdd_form=qdd_form)
+    model = emit.build_model(spec, kin, dyn, ints, progress=say, qdd_form=qdd_form, der_form=der_form)
     say("printing C, Python and LaTeX")
     return emit.render(model, spec_label), model
 
@@ -96,7 +97,12 @@ def cmd_generate(args) -> int:
     label = Path(args.spec).name
     progress = _Progress(args.quiet)
     print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
-    files, model = derive_and_render(spec, label, progress, qdd_form=args.qdd_form)
+    from .emit import FormNotApplicable
+
+    try:
+        files, model = derive_and_render(spec, label, progress, qdd_form=args.qdd_form, der_form=args.derivative_form)
+    except FormNotApplicable as exc:
+        raise SpecError("--derivative-form", str(exc)) from None
     if not args.no_build:
         progress("compiling the cffi extension")
     write_tree(files, target, build=not args.no_build, name=spec.name)
@@ -108,6 +114,7 @@ def cmd_generate(args) -> int:
           + (", moving platform" if spec.base is not None and spec.base.moves else ""))
     print("op counts: " + ", ".join(f"{spec.name}_{k} {v}" for k, v in counts.items()))
     print(f"qdd form: {model.qdd_form}" + (" (composite bodies + LDL^T)" if model.qdd_form == "composite" else " (articulated bodies, O(n))"))
+    print(f"derivative form: {model.der_form} (" + DERIVATIVE_FORMS[model.der_form] + ")")
     for line in _integral_lines(spec, model):
         print(line)
     if model.quad is not None and spec.initial is not None:
@@ -115,6 +122,13 @@ def cmd_generate(args) -> int:
     print(f"wrote {target}/: " + ", ".join(sorted(files)) + ("" if args.no_build else " + cffi extension"))
     print(f"done in {time.perf_counter() - t0:.2f} s")
     return 0
+
+
+DERIVATIVE_FORMS = {
+    "specialised": "forward mode over the articulated recursion, one function per column",
+    "generic": "forward mode over the articulated recursion, one tangent called per column",
+    "world": "inverse dynamics differentiated in frame 0, M^-1 by LDL^T, O(n^2) pairs",
+}
 
 
 def _integral_lines(spec, model) -> list[str]:
@@ -266,6 +280,11 @@ def main(argv=None) -> int:
     g.add_argument(
         "--qdd-form", choices=("auto", "composite", "articulated"), default="auto",
         help="how NAME_qdd solves for phi'': auto (fewer operations, the default), composite bodies + LDL^T, or articulated bodies",
+    )
+    g.add_argument(
+        "--derivative-form", choices=("auto", "forward", "world"), default="auto",
+        help="how NAME_qdd_derivatives is computed: auto (fewer operations, the default), forward mode over the "
+             "articulated recursion, or inverse dynamics differentiated in frame 0 (fixed base, constant rotors, no body loads)",
     )
     c = sub.add_parser("check", help="validate a spec without generating")
     c.add_argument("spec")

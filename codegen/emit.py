@@ -16,7 +16,7 @@ from sympy.printing.c import C99CodePrinter
 from sympy.printing.latex import LatexPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from . import __version__, aba, derivatives, quadratures
+from . import __version__, aba, derivatives, quadratures, world
 from .dynamics import Dynamics
 from .integrals import Integrals
 from .kinematics import Kinematics
@@ -164,19 +164,33 @@ class Model:
     lines: dict  # name → StraightLine (mass_matrix, forces, qdd, energy, momentum)
     qdd_form: str  # "composite" (M and f, then LDLᵀ) or "articulated" (aba.py: φ̈ and pivots)
     quad: quadratures.TwoBody | None = None  # the integrable two-body case (28)–(30), when it applies
-    der: derivatives.Derivatives | None = None  # ∂φ̈/∂(φ, φ̇, u): NAME_qdd_derivatives, NAME_linearize
+    der: derivatives.Derivatives | derivatives.Tangent | world.World | None = None  # ∂φ̈/∂(φ, φ̇, u)
     der_store: tuple = ()  # the recursion's quantities the columns of ∂φ̈ read (C: the array b)
+    der_form: str = "specialised"  # "specialised", "generic" (forward mode) or "world" (world.py)
+
+
+class FormNotApplicable(ValueError):
+    """A forced form that this spec cannot have."""
 
 
 QDD_FORMS = ("auto", "composite", "articulated")
+DER_FORMS = ("auto", "forward", "world")  # NAME_qdd_derivatives: forward mode, or world.py's inverse dynamics
 
 
-def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None, qdd_form: str = "auto") -> Model:
+def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None, qdd_form: str = "auto",
+                der_form: str = "auto") -> Model:
     """The straight-line code of every function.  φ̈ is emitted in whichever form costs fewer
     operations for this spec (``qdd_form="auto"``): composite bodies + LDLᵀ (short chains) or
-    articulated bodies (long ones); ties go to the composite form."""
+    articulated bodies (long ones); ties go to the composite form.  Its derivatives likewise
+    (``der_form="auto"``): the forward mode of the articulated recursion, or the inverse dynamics
+    in frame 0 (world.py) where that applies and costs less."""
     if qdd_form not in QDD_FORMS:
         raise ValueError(f"qdd_form must be one of {', '.join(QDD_FORMS)}, not {qdd_form!r}")
+    if der_form not in DER_FORMS:
+        raise ValueError(f"der_form must be one of {', '.join(DER_FORMS)}, not {der_form!r}")
+    if der_form == "world" and not world.applies(spec, kin, dyn):
+        raise FormNotApplicable("the world form needs a fixed base, constant rotors and no body loads; this spec has "
+                                + ("a moving platform" if kin.platform is not None else "rotors that change" if dyn.Lamdot else "body loads"))
     n = spec.n
     say = progress or (lambda msg: None)
     lower = [dyn.M[i][j] for i in range(n) for j in range(i + 1)]
@@ -202,36 +216,91 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
     quad = quadratures.derive(spec, kin, dyn, ints)
     if quad is not None:
         lines["quad_terms"] = straight_line(P, quad.terms)
-    # last, so that the names of everything above do not depend on it
-    say("straight-line code: derivatives of qdd (forward mode over the articulated recursion)")
-    lines["qdd_derivatives"] = articulated
-    base = [a for a, _ in P.needed(list(art.qdd) + list(art.pivots))]
-    have = frozenset(base)
-    used: set = set()
-    ndir = 2 * n + len(spec.controls)
-    # the specialised columns cost about 0.1–0.6 of the recursion per direction: past 4× the budget
-    # by that estimate they are not derived at all (n = 32 would take minutes of Python)
-    specialised = articulated.op_count() * ndir <= 4 * SPECIALISED_MAX_OPS
-    if specialised:
-        der = derivatives.derive(spec, kin, art)
-        for j, label in enumerate(der.labels):
-            line = straight_line(P, [der.dqdd[k][j] for k in range(n)], prefix=f"w{label}_", have=have)
-            lines[f"d_{label}"] = line
-            used |= _reads(P, line) & have
-    if not specialised or sum(lines[f"d_{lab}"].op_count() for lab in der.labels) > SPECIALISED_MAX_OPS:
-        for lab in (der.labels if specialised else ()):
-            del lines[f"d_{lab}"]
-        der = derivatives.derive_tangent(spec, kin, art)
-        line = lines["d_jvp"] = straight_line(P, list(der.jvp), prefix="wt", have=have)
-        used = _reads(P, line) & have
-    store = tuple(a for a in base if a in used)
+    # last, so that the names of everything above do not depend on it; the world form after all
+    # the rest (where it applies and is not chosen, the other names stay what they were)
+    say("straight-line code: derivatives of qdd")
+    use_world = der_form != "forward" and world.applies(spec, kin, dyn)
+    forward = None if der_form == "world" else _forward(spec, kin, art, articulated, skip_generic=use_world)
+    if forward is not None:
+        der_lines = forward[2]
+        lines.update(der_lines)
     if canonical_applies(spec, kin, dyn, lines):
         say("straight-line code: momenta p = dL/dphidot and their rate (the symplectic GAUSS2)")
         can = derivatives.canonical(spec, kin, dyn)
         lines["momenta"] = straight_line(P, list(can.p))
         lines["velocity_terms"] = straight_line(P, lower + list(can.k))
         lines["pdot"] = straight_line(P, list(can.pdot))
-    return Model(spec, kin, dyn, ints, lines, form, quad, der, store)
+    chosen = forward
+    if use_world:
+        w = _world(spec, kin, dyn, art)
+        ndir = 2 * n + len(spec.controls)
+        line_ops = w[2]["qdd_derivatives"].op_count()
+        w_count = world_op_count(n, ndir, line_ops)
+        f_count = sum(line.op_count() for line in forward[2].values()) if forward is not None else None
+        if f_count is None or line_ops + WORLD_LOOP_WEIGHT * (w_count - line_ops) < f_count:
+            for key in forward[2] if forward is not None else ():
+                del lines[key]
+            lines.update(w[2])
+            chosen = w
+        say(f"derivatives: world form {w_count} ops" + (f", forward mode {f_count}" if f_count is not None else ""))
+    der, store, _, form_d = chosen
+    say(f"derivatives: {form_d} form")
+    return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d)
+
+
+def _forward(spec, kin, art, articulated: StraightLine, skip_generic: bool) -> tuple:
+    """(der, store, lines, form) of the forward mode: one specialised function per column, or past
+    SPECIALISED_MAX_OPS one generic tangent called per column (not derived when
+    ``skip_generic``: the world form will be used).  None when nothing was derived."""
+    n = spec.n
+    P = kin.prog
+    lines: dict = {"qdd_derivatives": articulated}
+    ndir = 2 * n + len(spec.controls)
+    base = [a for a, _ in P.needed(list(art.qdd) + list(art.pivots))]
+    have = frozenset(base)
+    # the specialised columns cost about 0.1–0.6 of the recursion per direction: past 4× the budget
+    # by that estimate they are not derived at all (n = 32 would take minutes of Python)
+    if articulated.op_count() * ndir <= 4 * SPECIALISED_MAX_OPS:
+        used: set = set()
+        der = derivatives.derive(spec, kin, art)
+        for j, label in enumerate(der.labels):
+            line = straight_line(P, [der.dqdd[k][j] for k in range(n)], prefix=f"w{label}_", have=have)
+            lines[f"d_{label}"] = line
+            used |= _reads(P, line) & have
+        if sum(lines[f"d_{lab}"].op_count() for lab in der.labels) <= SPECIALISED_MAX_OPS:
+            return der, tuple(a for a in base if a in used), lines, "specialised"
+    if skip_generic:
+        return None
+    der = derivatives.derive_tangent(spec, kin, art)
+    lines = {"qdd_derivatives": articulated, "d_jvp": straight_line(P, list(der.jvp), prefix="wt", have=have)}
+    used = _reads(P, lines["d_jvp"]) & have
+    return der, tuple(a for a in base if a in used), lines, "generic"
+
+
+def _world(spec, kin, dyn, art) -> tuple:
+    """(der, store, lines, form) of the world form: φ̈ and world.py's per-joint vectors in one
+    straight line; the pairs and the solve are loops of the template."""
+    P = kin.prog
+    der = world.derive(spec, kin, dyn, art)
+    outs = [c for name in world.VECTORS for v in der.vec[name] for c in v] + [d for _, _, d in der.ext]
+    return der, (), {"qdd_derivatives": straight_line(P, list(art.qdd) + list(art.pivots) + outs)}, "world"
+
+
+# An operation of the world form's loops (6-dots of arrays, the LDLᵀ solve) costs about twice one of
+# straight-line code (measured with gcc -O2: arm7 4.3 µs world vs 4.0 µs forward mode at op counts
+# 10.6k vs 13.6k; random spatial chain n = 8 5.5 µs vs 9.1 µs); the choice weighs them so.
+WORLD_LOOP_WEIGHT = 2
+
+
+def world_op_count(n: int, ndir: int, line_ops: int) -> int:
+    """Operations of the world form: its straight line, then in loops the 6-dots of M's lower
+    triangle and of ∂ID (two per pair below the diagonal, one on and above it, for φ and φ̇),
+    the LDLᵀ factorization and the solve with every column."""
+    below, upper = n * (n - 1) // 2, n * (n + 1) // 2
+    pairs = 11 * upper + 2 * (24 * below + 11 * upper)
+    factor = sum(2 * j * (n - j) + 2 * j for j in range(n))
+    solve = ndir * (2 * n * (n - 1) + n)
+    return line_ops + pairs + factor + solve
 
 
 def canonical_applies(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, lines: dict) -> bool:
@@ -339,7 +408,10 @@ def op_counts(model: Model) -> dict[str, int]:
         counts["velocities"] = counts.pop("velocity_terms") + ldlt_op_count(n) + n
     if model.der is not None:
         # φ̈ by the articulated recursion, then every block of derivatives
-        if "d_jvp" in model.lines:  # run-time count: the tangent once per column
+        if model.der_form == "world":  # the straight line, then the loops
+            ndir = 2 * n + len(model.spec.controls)
+            counts["qdd_derivatives"] = world_op_count(n, ndir, model.lines["qdd_derivatives"].op_count())
+        elif "d_jvp" in model.lines:  # run-time count: the tangent once per column
             cols = len(model.der.labels) * model.lines["d_jvp"].op_count()
             counts["qdd_derivatives"] = model.lines["qdd_derivatives"].op_count() + cols
         else:
@@ -371,7 +443,15 @@ def _functions(model: Model, printer_cls, style: str) -> dict[str, Function]:
         fs["momentum"] = _function("momentum", model.lines["momentum"], ["result"], pr)
     if "jacobi" in model.lines:
         fs["jacobi"] = _function("jacobi", model.lines["jacobi"], ["result"], pr)
-    if model.der is not None:
+    if model.der_form == "world":
+        acc = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
+        if style == "c":
+            vecs = [f"{name}_[{6 * k + i}]" for name in world.VECTORS for k in range(n) for i in range(6)]
+        else:
+            vecs = [f"{name}_[{k}, {i}]" for name in world.VECTORS for k in range(n) for i in range(6)]
+        ext = [f"ext[{i}]" for i in range(len(model.der.ext))]
+        fs["qdd_derivatives"] = _function("qdd_derivatives", model.lines["qdd_derivatives"], acc + vecs + ext, pr)
+    elif model.der is not None:
         acc = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
         fs["qdd_derivatives"] = _function("qdd_derivatives", model.lines["qdd_derivatives"], acc, pr)
         # C: a column function reads the recursion's values from b[]; Python: they are locals
@@ -745,6 +825,7 @@ def _tex(model: Model) -> dict:
         controls=", ".join(f"$L^{{{k}}}$" for k in spec.controls),
         deriv=deriv,
         deriv_generic="d_jvp" in model.lines,
+        deriv_world=model.der_form == "world",
     )
 
 
@@ -830,6 +911,9 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         der_store=[a.name for a in model.der_store],
         der_dirs=[(lab, lab[0], int(lab[1:]) - 1, j) for j, lab in enumerate(model.der.labels)] if model.der else [],
         der_generic="d_jvp" in model.lines,
+        der_world=model.der_form == "world",
+        world_vectors=world.VECTORS,
+        world_ext=[(k, c, i) for i, (k, c, _) in enumerate(model.der.ext)] if model.der_form == "world" else [],
         newton=n <= GAUSS2_NEWTON_MAX_N,
         newton_sweeps=_newton_sweeps(n, counts),
         newton_sweeps_canonical=_newton_sweeps_canonical(n, counts),

@@ -45,10 +45,10 @@ class Generated:
 _cache: dict = {}
 
 
-def generate(spec: ChainSpec, folder: Path, params=None, qdd_form: str = "auto") -> Generated:
-    key = (spec.source, str(params), qdd_form)
+def generate(spec: ChainSpec, folder: Path, params=None, qdd_form: str = "auto", der_form: str = "auto") -> Generated:
+    key = (spec.source, str(params), qdd_form, der_form)
     if key not in _cache:
-        files, _model = derive_and_render(spec, f"{spec.name}.toml", qdd_form=qdd_form)
+        files, _model = derive_and_render(spec, f"{spec.name}.toml", qdd_form=qdd_form, der_form=der_form)
         target = folder / spec.name
         write_tree(files, target, build=True, name=spec.name)
         _cache[key] = Generated(
@@ -64,9 +64,9 @@ def gen_dir(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def make_model(gen_dir):
-    def make(spec_or_text, params=None, qdd_form: str = "auto") -> Generated:
+    def make(spec_or_text, params=None, qdd_form: str = "auto", der_form: str = "auto") -> Generated:
         spec = parse_spec(spec_or_text) if isinstance(spec_or_text, str) else spec_or_text
-        return generate(spec, gen_dir, params, qdd_form)
+        return generate(spec, gen_dir, params, qdd_form, der_form)
 
     return make
 

@@ -5,13 +5,15 @@ codes, the structure of A and B, and a mutation check (a perturbed derivative is
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 from codegen import build
 from codegen.build import ModelError
-from conftest import EXAMPLES, check_derivatives
+from conftest import EXAMPLES, FURUTA_SYM_PARAMS, ROOT, check_derivatives
 
 
 def _state(rng, n):
@@ -108,3 +110,102 @@ def test_furuta_lqr_example(example):
     assert abs(X[-1, 1] - np.pi) < 1e-4 and abs(X[-1, 0]) < 1e-3 and np.max(np.abs(X[:, 1] - np.pi)) < 0.25
     _, Xo, _ = lqr.run(m.c, None, t1=1.5)
     assert np.max(np.abs(Xo[:, 1] - np.pi)) > 1.0
+
+
+# ------------------------------------------------------------------ the world form (codegen/world.py)
+# The same specs in both forms of NAME_qdd_derivatives: forward mode over the articulated recursion,
+# and the inverse dynamics differentiated in frame 0 (M⁻¹(∂τ/∂x − ∂ID/∂x)).  Both are exact, so they
+# agree to round-off; both against the reference's differences.
+WORLD_CASES = [  # (n, planar, gyro, controls, springs/dampers/torque expression of t)
+    (1, False, True, (1,), False),
+    (2, True, False, (), True),
+    (3, False, True, (2,), False),
+    (4, False, True, (), True),
+    (5, True, True, (5,), False),
+    (7, False, True, (1, 7), True),
+]
+
+
+def _world_pair(make_model, n, planar, gyro, controls, springs):
+    from codegen.randspec import random_general_spec_text, random_spec_text
+
+    rng = np.random.default_rng(700 + 10 * n + len(controls))
+    name = f"wf{n}{'p' if planar else 's'}{int(gyro)}{len(controls)}{int(springs)}"
+    if springs:
+        text = random_general_spec_text(rng, n, name=name, translate=False, rotate=False, loads=False, spin_up=False)
+        blocks = text.split("[[body]]")  # control torques on the joints asked for
+        text = blocks[0] + "".join("[[body]]" + ("\ncontrol = true" if k in controls else "") + b
+                                   for k, b in enumerate(blocks[1:], start=1))
+    else:
+        text = random_spec_text(rng, n, name=name, planar=planar, gyro=gyro, controls=controls)
+    fwd = make_model(text.replace(f'name = "{name}"', f'name = "{name}f"'), der_form="forward")
+    wld = make_model(text.replace(f'name = "{name}"', f'name = "{name}w"'), der_form="world")
+    return fwd, wld, rng
+
+
+@pytest.mark.parametrize("n, planar, gyro, controls, springs", WORLD_CASES,
+                         ids=[f"n{c[0]}-{'planar' if c[1] else 'spatial'}-{'gyro' if c[2] else 'nogyro'}-u{len(c[3])}"
+                              + ("-springs" if c[4] else "") for c in WORLD_CASES])
+def test_world_form_matches_forward_mode(make_model, n, planar, gyro, controls, springs):
+    fwd, wld, rng = _world_pair(make_model, n, planar, gyro, controls, springs)
+    assert "world.py" in (wld.folder / f"{wld.spec.name}.c").read_text()
+    assert "world.py" not in (fwd.folder / f"{fwd.spec.name}.c").read_text()
+    td = wld.c.time_dependent
+    for _ in range(3):
+        x = _state(rng, n)
+        u = rng.normal(size=len(controls)) if controls else None
+        t = rng.uniform(0.0, 2.0) if td else None
+        check_derivatives(wld, x, u, t=t)
+        tt = 0.0 if t is None else t
+        a = np.hstack(fwd.c.qdd_derivatives(x, u, t=tt)[1:])
+        scale = np.max(np.abs(a))
+        for b in (np.hstack(wld.c.qdd_derivatives(x, u, t=tt)[1:]),
+                  np.hstack(wld.py.qdd_derivatives(*((tt,) if td else ()), x, u)[1:])):
+            assert np.max(np.abs(a - b)) <= 1e-12 * scale, np.max(np.abs(a - b)) / scale
+
+
+def test_world_form_blocks_codes_and_mutation(make_model, tmp_path):
+    """Blocks whose pointer is NULL are not touched and the others are the full call's; a factor
+    of the pairs' formula perturbed by 1e-6 in the emitted Python fails the difference check."""
+    fwd, wld, rng = _world_pair(make_model, 3, False, True, (2,), False)
+    c, ffi, n = wld.c, wld.c.ffi, 3
+    x, u = _state(rng, n), rng.normal(size=1)
+    _, dq, dv, du = c.qdd_derivatives(x, u)
+    out = np.full((n, n), 7.0)
+    xp = ffi.cast("double *", ffi.from_buffer(np.ascontiguousarray(x)))
+    up = ffi.cast("double *", ffi.from_buffer(np.ascontiguousarray(u)))
+    fn = getattr(c.lib, f"{wld.spec.name}_qdd_derivatives")
+    assert fn(xp, up, ffi.NULL, ffi.NULL, ffi.NULL, ffi.cast("double *", ffi.from_buffer(out)), ffi.NULL) == 0
+    assert np.array_equal(out, dv)
+    for block in (0, 2):
+        outs = [ffi.NULL] * 3
+        keep = np.full((n, n if block == 0 else 1), 7.0)
+        outs[block] = ffi.cast("double *", ffi.from_buffer(keep))
+        assert fn(xp, up, ffi.NULL, ffi.NULL, *outs) == 0
+        assert np.array_equal(keep, dq if block == 0 else du)
+    check_derivatives(wld, x, u)  # the original passes
+    lines = (wld.folder / f"{wld.spec.name}.py").read_text().splitlines()
+    target = next(k for k, ln in enumerate(lines) if "-2.0 * (z1_ @ w_.T)" in ln)
+    lines[target] = lines[target].replace("-2.0 * (z1_ @ w_.T)", "-2.000002 * (z1_ @ w_.T)")
+    (tmp_path / f"{wld.spec.name}.py").write_text("\n".join(lines) + "\n")
+    mutated = build.load_python(tmp_path, wld.spec.name)
+    with pytest.raises(AssertionError):
+        check_derivatives(type(wld)(wld.spec, mutated, wld.c, wld.ref, wld.params, tmp_path), x, u)
+
+
+def test_world_form_singular_and_not_applicable(make_model, tmp_path):
+    text = (ROOT / "specs" / "furuta_sym.toml").read_text().replace('name = "furuta_sym"', 'name = "furuta_sym_w"')
+    m = make_model(text, FURUTA_SYM_PARAMS, der_form="world")
+    x = np.array([0.1, 0.2, 0.3, 0.4])
+    with pytest.raises(ModelError) as err:
+        m.c.qdd_derivatives(x, None, {k: 0.0 for k in m.params})
+    assert err.value.code == 1
+    check_derivatives(m, x, np.array([0.3]))
+    # a spec the world form does not cover: a one-line error naming the option, nothing written
+    out = tmp_path / "turn"
+    res = subprocess.run([sys.executable, "-m", "codegen", "generate", str(ROOT / "specs" / "turntable.toml"), "-o", str(out),
+                          "--derivative-form", "world", "--no-build", "-q"], capture_output=True, text=True, cwd=ROOT)
+    assert res.returncode != 0
+    assert "--derivative-form" in res.stderr and "moving platform" in res.stderr
+    assert "Traceback" not in res.stderr
+    assert not out.exists()

@@ -59,7 +59,7 @@ def _ldlt_solve(M, b):
             L[i, j] = (L[i, j] - L[i, :j] @ v) / d
     for i in range(n):
         y[i] -= L[i, :i] @ y[:i]
-    y /= np.diag(L)
+    y = (y.T / np.diag(L)).T  # one right side or a matrix of them
     for i in range(n - 1, -1, -1):
         y[i] -= L[i + 1:, i] @ y[i + 1:]
     return y

@@ -1,0 +1,205 @@
+"""∂φ̈/∂(φ, φ̇, u) by inverse dynamics in the fixed frame: the O(n²) form for long chains.
+
+M(φ) φ̈ + b(φ, φ̇) = τ(φ, φ̇, u) holds for every state, so at the state's φ̈
+
+    ∂φ̈/∂x = M⁻¹ (∂τ/∂x − ∂ID/∂x),     ID(φ, φ̇, a) = M(φ) a + b(φ, φ̇) with a held at φ̈,
+
+the identity Pinocchio's ``computeABADerivatives`` rests on (Carpentier & Mansard 2018).  The
+forward mode of derivatives.py differentiates the articulated recursion itself: every column
+carries tangents of the 6×6 articulated inertias, O(n) 6×6 work per column.  Here ∂ID/∂x has a
+closed form in frame 0, where every quantity of the bodies k ≥ j turns rigidly with joint j:
+
+    δ(any vector of body k ≥ j) / δφʲ = Sʲ × (that vector) + (what does not turn with it),
+
+and what does not turn is only the motion of the base of joint j (v_{j−1}, a_{j−1}, gravity as
+the upward acceleration a₀).  Summed over the sub-chain, the derivatives become two 6-dot
+products per pair (k, j) of per-joint vectors (world.py's quantities, O(n) to compute):
+
+    ∂ID_k/∂φʲ  = z1ᵏ·βʲ + z2ᵏ·wʲ        (k > j),   Sᵏ·Gʲ  (k ≤ j)
+    ∂ID_k/∂φ̇ʲ = −2 z1ᵏ·wʲ − z2ᵏ·Sʲ     (k > j),   Sᵏ·Kʲ  (k ≤ j)
+    M_kj        = z1ᵏ·Sʲ                (k ≥ j)
+
+with, in frame 0 at O¹ (motions (ω, v), forces (moment, force); × and ×* the spatial cross
+products; Iᶜ, Hᶜ, Fᶜ, Λᶜ, Dᶜ sums over the sub-chain k…n):
+  Sᵏ = (eᵏ, Oᵏ × eᵏ) the joint's twist, vᵏ = vᵏ⁻¹ + Sᵏφ̇ᵏ, aᵏ = aᵏ⁻¹ + Sᵏφ̈ᵏ + vᵏ × Sᵏ φ̇ᵏ;
+  fᵏ = Iᵏaᵏ + vᵏ ×* Iᵏvᵏ + (ωᵏ × λᵏ, 0) body k's inertial force (λᵏ the rotor, as in (17)–(19));
+  Dᵏ = Σ (Iᵖ[vᵖ×] + (Iᵖ[vᵖ×])ᵀ), symmetric with a zero force–force block;
+  wʲ = Sʲ × vʲ⁻¹, βʲ = −Sʲ × aʲ⁻¹ + wʲ × vʲ⁻¹;
+  z1ᵏ = Iᶜᵏ Sᵏ, z2ᵏ = Dᵏ Sᵏ + Sᵏ ×* Hᶜᵏ − (Λᶜᵏ × eᵏ, 0);
+  Gʲ = Sʲ ×* Fᶜʲ + Iᶜʲ βʲ + Dʲ wʲ − wʲ ×* Hᶜʲ − (wʲ_ω × Λᶜʲ, 0);
+  Kʲ = −2 Iᶜʲ wʲ − Dʲ Sʲ + Sʲ ×* Hᶜʲ + (eʲ × Λᶜʲ, 0).
+(The derivation is in the README's "Derivatives" section; the tests check every entry against the
+forward mode of the articulated recursion to round-off, and both against differences.)
+
+The per-joint vectors are straight-line code (numbers folded, zeros gone); the pairs, M's LDLᵀ
+and the solve with the 2n + nu columns are loops in the template (O(n²) code would be too long
+to compile for n = 32).  ∂τ/∂x, the joint torques' own derivatives (springs, dampers, controls,
+torque expressions), is the forward mode of derivatives.py on τ alone: a few entries.
+
+It applies where ID is that of a fixed-base chain with constant rotors and joint torques only
+(``applies``); a platform, body loads or λ(t) keep the forward mode.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from . import derivatives
+from .algebra import ONE, ZERO, Poly
+from .kinematics import add, cross, dot, scale
+
+VECTORS = ("S", "z1", "z2", "beta", "w", "G", "K")  # per joint, 6 components each (the C arrays)
+
+
+@dataclass(frozen=True)
+class World:
+    """``vec[name][k]``: the 6-vector ``name`` of joint k+1 (names ``VECTORS``); ``ext``: the
+    nonzero ∂τ_k/∂(direction c) as (k, c, Poly), directions φ, φ̇, u in that order."""
+
+    vec: dict
+    ext: tuple
+    labels: tuple
+
+
+def applies(spec, kin, dyn) -> bool:
+    """A fixed base, constant λ and no body loads: ID is rigid bodies, rotors and gravity."""
+    return kin.platform is None and not dyn.Lamdot and not dyn.Phi
+
+
+def _mcross(a, b) -> list:
+    """Motion × motion: (ω₁ × ω₂, ω₁ × v₂ + v₁ × ω₂)."""
+    return cross(a[:3], b[:3]) + add(cross(a[:3], b[3:]), cross(a[3:], b[:3]))
+
+
+def _fcross(a, f) -> list:
+    """Motion ×* force: (ω × n + v × F, ω × F)."""
+    return add(cross(a[:3], f[:3]), cross(a[3:], f[3:])) + cross(a[:3], f[3:])
+
+
+def _inertia(I, m6) -> list:
+    """(A, h, m) about O¹ applied to a motion: (Aω + h × v, m v − h × ω)."""
+    A, h, m = I
+    Aw = [sum((A[i][j] * m6[j] for j in range(3)), ZERO) for i in range(3)]
+    return add(Aw, cross(h, m6[3:])) + [m * m6[3 + i] - x for i, x in enumerate(cross(h, m6[:3]))]
+
+
+def _dot6(a, b) -> Poly:
+    return sum((a[i] * b[i] for i in range(6)), ZERO)
+
+
+def _dmul(D, m6) -> list:
+    """D m for D = [[D11, D12], [D12ᵀ, 0]] (D11 symmetric)."""
+    D11, D12 = D
+    top = [sum((D11[i][j] * m6[j] + D12[i][j] * m6[3 + j] for j in range(3)), ZERO) for i in range(3)]
+    return top + [sum((D12[j][i] * m6[j] for j in range(3)), ZERO) for i in range(3)]
+
+
+def _body_D(I, v) -> tuple:
+    """Iᵏ[vᵏ×] + its transpose as (D11, D12): D11 = A[ω×] − [ω×]A + h uᵀ + u hᵀ − 2(h·u)1,
+    D12 = [(h × ω)×] − m[u×] (v = (ω, u))."""
+    A, h, m = I
+    om, u = v[:3], v[3:]
+    Aw = [[sum((A[i][l] * _skew(om)[l][j] for l in range(3)), ZERO) for j in range(3)] for i in range(3)]
+    hu = dot(h, u)
+    D11 = [[Aw[i][j] + Aw[j][i] + h[i] * u[j] + u[i] * h[j] - (2 * hu if i == j else ZERO) for j in range(3)] for i in range(3)]
+    hw = cross(h, om)
+    D12 = [[_skew(hw)[i][j] - m * _skew(u)[i][j] for j in range(3)] for i in range(3)]
+    return D11, D12
+
+
+def _skew(a) -> list:
+    return [[ZERO, -a[2], a[1]], [a[2], ZERO, -a[0]], [-a[1], a[0], ZERO]]
+
+
+def derive(spec, kin, dyn, art) -> World:
+    """The per-joint vectors of the pairs' formulas and ∂τ/∂x; ``art`` gives φ̈ (aba.derive)."""
+    n = spec.n
+    P = kin.prog
+    J = kin.joint
+    num = P.from_sympy
+    qd = kin.qd
+    qdd = [None] + list(art.qdd)
+    E = [[ONE, ZERO, ZERO], [ZERO, ONE, ZERO], [ZERO, ZERO, ONE]]
+    rows = E  # rows of R_k (frame k → frame 0): row i holds êᵏ₁…êᵏ₃'s i-th components
+    O = [ZERO] * 3
+    v = [ZERO] * 6
+    a = [ZERO] * 3 + scale(-num(spec.g), kin.gamma[0])  # gravity as an upward acceleration of the base
+    S, w, beta, Iw, vb, fb, lam, D = ({} for _ in range(8))
+    for k in range(1, n + 1):
+        b = spec.bodies[k - 1]
+        if k > 1:  # Oᵏ = Oᵏ⁻¹ + R_{k−1} sᵏ⁻¹
+            s = [num(x) for x in spec.bodies[k - 2].s]
+            O = P.vec(f"WO{k}", [O[i] + dot(rows[i], s) for i in range(3)])
+        rows = [P.vec(f"WR{k}r{i + 1}", J[k].down(rows[i])) for i in range(3)]
+        e = [rows[i][0] for i in range(3)]
+        S[k] = e + P.vec(f"WSv{k}", cross(O, e))
+        wk = _mcross(S[k], v)
+        w[k] = P.vec(f"Ww{k}a", wk[:3]) + P.vec(f"Ww{k}l", wk[3:])
+        al, wv = _mcross(S[k], a), _mcross(w[k], v)  # with v = vᵏ⁻¹, a = aᵏ⁻¹
+        beta[k] = P.vec(f"Wb{k}a", [wv[i] - al[i] for i in range(3)]) + P.vec(f"Wb{k}l", [wv[3 + i] - al[3 + i] for i in range(3)])
+        # body k about O¹ in frame 0: A_w = R A Rᵀ, h = R m c, then moved from Oᵏ to O¹
+        m = num(b.m)
+        A = [[num(x) for x in row] for row in b.A]
+        Ar = [[dot(A[i], rows[j]) for i in range(3)] for j in range(3)]  # Ar[j] = A (row j of R)ᵀ
+        Aw = [[dot(rows[i], Ar[j]) for j in range(3)] for i in range(3)]
+        hw = [dot(rows[i], [m * num(x) for x in b.c]) for i in range(3)]
+        Oh = dot(O, hw)
+        diag = m * dot(O, O) + 2 * Oh
+        A0 = P.sym_mat(f"WA{k}", [[Aw[i][j] + (diag if i == j else ZERO) - m * O[i] * O[j] - hw[i] * O[j] - O[i] * hw[j]
+                                   for j in range(3)] for i in range(3)])
+        h0 = P.vec(f"Wh{k}", [hw[i] + m * O[i] for i in range(3)])
+        Iw[k] = (A0, h0, m)
+        lam[k] = P.vec(f"Wl{k}", [dot(rows[i], [num(x) for x in b.lam]) for i in range(3)])
+        v = P.vec(f"Wv{k}a", [v[i] + S[k][i] * qd[k] for i in range(3)]) + P.vec(f"Wv{k}l", [v[3 + i] + S[k][3 + i] * qd[k] for i in range(3)])
+        # aᵏ = aᵏ⁻¹ + Sᵏφ̈ᵏ − wᵏφ̇ᵏ  (vᵏ × Sᵏ = vᵏ⁻¹ × Sᵏ = −wᵏ)
+        a = P.vec(f"Wa{k}a", [a[i] + S[k][i] * qdd[k] - w[k][i] * qd[k] for i in range(3)]) + \
+            P.vec(f"Wa{k}l", [a[3 + i] + S[k][3 + i] * qdd[k] - w[k][3 + i] * qd[k] for i in range(3)])
+        hk = _inertia(Iw[k], v)
+        vb[k] = (v, P.vec(f"Wm{k}a", hk[:3]) + P.vec(f"Wm{k}l", hk[3:]))
+        f = add(_inertia(Iw[k], a)[:3], _fcross(v, vb[k][1])[:3], cross(v[:3], lam[k])) + \
+            add(_inertia(Iw[k], a)[3:], _fcross(v, vb[k][1])[3:])
+        fb[k] = f
+        D[k] = _body_D(Iw[k], v)
+
+    vec = {name: [None] * n for name in VECTORS}
+    IC = HC = FC = LC = DC = None
+    for k in range(n, 0, -1):
+        A0, h0, m = Iw[k]
+        if IC is None:
+            IC, HC, FC, LC, DC = Iw[k], vb[k][1], fb[k], lam[k], D[k]
+        else:
+            IC = ([[A0[i][j] + IC[0][i][j] for j in range(3)] for i in range(3)], add(h0, IC[1]), m + IC[2])
+            HC = [vb[k][1][i] + HC[i] for i in range(6)]
+            FC = [fb[k][i] + FC[i] for i in range(6)]
+            LC = add(lam[k], LC)
+            DC = tuple([[D[k][b][i][j] + DC[b][i][j] for j in range(3)] for i in range(3)] for b in range(2))
+        IC = (P.sym_mat(f"WIC{k}", IC[0]), P.vec(f"WhC{k}", IC[1]), P.let(f"WmC{k}", IC[2]))
+        HC = P.vec(f"WHC{k}a", HC[:3]) + P.vec(f"WHC{k}l", HC[3:])
+        FC = P.vec(f"WFC{k}a", FC[:3]) + P.vec(f"WFC{k}l", FC[3:])
+        LC = P.vec(f"WLC{k}", LC)
+        DC = (P.sym_mat(f"WD{k}a", DC[0]), [[P.let(f"WD{k}b_{i + 1}{j + 1}", DC[1][i][j]) for j in range(3)] for i in range(3)])
+        Sk, wk, e = S[k], w[k], S[k][:3]
+        z1 = _inertia(IC, Sk)
+        DS = _dmul(DC, Sk)
+        y = _fcross(Sk, HC)
+        rho = cross(LC, e)
+        DS = P.vec(f"WDS{k}a", DS[:3]) + P.vec(f"WDS{k}l", DS[3:])
+        y = P.vec(f"Wy{k}a", y[:3]) + P.vec(f"Wy{k}l", y[3:])
+        z2 = [DS[i] + y[i] - (rho[i] if i < 3 else ZERO) for i in range(6)]
+        Gv = [p + q + r - s for p, q, r, s in zip(_fcross(Sk, FC), _inertia(IC, beta[k]), _dmul(DC, wk), _fcross(wk, HC))]
+        Gv = [Gv[i] - (cross(wk[:3], LC)[i] if i < 3 else ZERO) for i in range(6)]
+        Kv = [-2 * x for x in _inertia(IC, wk)]
+        Kv = [Kv[i] - DS[i] + y[i] + (cross(e, LC)[i] if i < 3 else ZERO) for i in range(6)]
+        for name, val in zip(VECTORS, (Sk, z1, z2, beta[k], wk, Gv, Kv)):
+            vec[name][k - 1] = [Poly.lift(x) for x in val]
+
+    # ∂τ/∂x: the forward mode of derivatives.py on the joint torques alone
+    syms, labels = derivatives._directions(spec, kin)
+    seeds = {next(iter(P.input(s_).terms))[0]: {j: Poly.const(1)} for j, s_ in enumerate(syms)}
+    torques = list(dyn.torques)
+    tan = derivatives.tangents(P, torques, seeds, tuple(f"W{lab}" for lab in labels))
+    ext = []
+    for k, tk in enumerate(torques):
+        for c, d in sorted(derivatives._tangent_poly(Poly.lift(tk), tan).items()):
+            if not d.is_zero():
+                ext.append((k, c, d))
+    return World({name: tuple(tuple(x) for x in vec[name]) for name in VECTORS}, tuple(ext), labels)
