@@ -315,8 +315,11 @@ def _matrix(value, where: str, names: dict, state: dict | None = None) -> tuple:
 
 # --------------------------------------------------------------------------- the spec
 TOP_FIELDS = {"name", "description", "g", "body", "initial", "base"}
-BODY_FIELDS = {"theta", "m", "c", "A", "s", "lambda", "control", "spring", "rest", "damping", "torque", "force", "moment"}
-BODY_REQUIRED = ("theta", "m", "c", "A")
+BODY_FIELDS = {"theta", "m", "c", "A", "I_c", "s", "lambda", "rotor", "control", "spring", "rest", "damping", "torque",
+               "force", "moment"}
+BODY_REQUIRED = ("theta", "m", "c")
+ROTOR_FIELDS = ("axis", "inertia", "speed")
+SYMMETRY_TOL = 1e-12  # a 3×3 tensor whose A_ij, A_ji differ by at most this × its largest entry is symmetrised
 ZERO3 = (sp.Integer(0),) * 3
 
 
@@ -444,6 +447,11 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
     for key in BODY_REQUIRED:
         if key not in raw:
             raise SpecError(f"{at}.{key}", "missing field")
+    if ("A" in raw) == ("I_c" in raw):
+        raise SpecError(f"{at}.A", "give the inertia once: A (about O^k) or I_c (about the centre of mass)"
+                        if "A" in raw else "missing field (the inertia: A about O^k, or I_c about the centre of mass)")
+    if "lambda" in raw and "rotor" in raw:
+        raise SpecError(f"{at}.rotor", "give the rotor once: lambda (its angular momentum) or rotor = {axis, inertia, speed}")
     if k < n and "s" not in raw:
         raise SpecError(f"{at}.s", "missing field (offset O^k → O^(k+1), needed for every body but the last)")
     if k == n and "s" in raw:
@@ -461,8 +469,10 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
             vals[key] = _vector(value, where, names, time)
         elif key == "torque":
             vals[key] = _scalar(value, where, names, state)
-        elif key == "A":
-            vals[key] = _matrix(value, where, names, const)
+        elif key in ("A", "I_c"):
+            vals[key] = _tensor(value, where, names, const)
+        elif key == "rotor":
+            vals["lambda"] = _rotor(value, where, names, const, time)
         elif key == "control":
             if not isinstance(value, bool):
                 raise SpecError(where, "expected true or false")
@@ -477,14 +487,15 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
         v = vals.get(key)
         if v is not None and v.is_number and v < 0:
             raise SpecError(f"{at}.{key}", f"a negative {what} ({float(v):g}) would feed energy into the joint")
-    m, c, A = vals["m"], vals["c"], vals["A"]
+    m, c = vals["m"], vals["c"]
     if m.is_number and not m > 0:
         raise SpecError(f"{at}.m", f"mass must be positive, got {float(m):g}")
-    for i in range(3):
-        for j in range(i + 1, 3):
-            if sp.expand(A[i][j] - A[j][i]) != 0:
-                raise SpecError(f"{at}.A", f"not symmetric: A[{i + 1}][{j + 1}] ≠ A[{j + 1}][{i + 1}]")
-    _check_physical(at, m, c, A)
+    if "I_c" in vals:  # the parallel-axis theorem: A = I_c + m(|c|²1 − c cᵀ)
+        Ic, cc = vals["I_c"], sum(x * x for x in c)
+        A = tuple(tuple(Ic[i][j] + m * ((cc if i == j else 0) - c[i] * c[j]) for j in range(3)) for i in range(3))
+    else:
+        A = vals["A"]
+    _check_physical(at, m, c, A, "I_c" if "I_c" in vals else "A")
     return BodySpec(
         theta=vals["theta"],
         m=m,
@@ -502,7 +513,57 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
     )
 
 
-def _check_physical(at: str, m, c, A) -> None:
+def _tensor(value, where: str, names: dict, state: dict) -> tuple:
+    """An inertia tensor as a 3×3 matrix or six numbers [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (the
+    order of URDF's and MuJoCo's fullinertia), as a symmetric 3×3.  A 3×3 matrix must be
+    symmetric; numeric entries that differ by round-off (at most SYMMETRY_TOL of the largest
+    entry, as a rotated principal tensor gives) are replaced by their mean."""
+    if isinstance(value, list) and len(value) == 6 and not any(isinstance(v, list) for v in value):
+        xx, yy, zz, xy, xz, yz = (_scalar(v, f"{where}[{i + 1}]", names, state) for i, v in enumerate(value))
+        return ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz))
+    if not (isinstance(value, list) and len(value) == 3 and all(isinstance(r, list) and len(r) == 3 for r in value)):
+        raise SpecError(where, "expected a 3×3 matrix (three rows of three entries) or six numbers [Ixx, Iyy, Izz, Ixy, Ixz, Iyz]")
+    A = [list(row) for row in _matrix(value, where, names, state)]
+    big = max((abs(a) for row in A for a in row if a.is_number), default=sp.Integer(0))
+    for i in range(3):
+        for j in range(i + 1, 3):
+            d = sp.expand(A[i][j] - A[j][i])
+            if d == 0:
+                continue
+            if d.is_number and abs(d) <= SYMMETRY_TOL * big:
+                A[i][j] = A[j][i] = (A[i][j] + A[j][i]) / 2
+                continue
+            how = f" (they differ by {float(abs(d)):.3g}, more than round-off: {SYMMETRY_TOL:g} of the largest entry)" if d.is_number else ""
+            raise SpecError(where, f"not symmetric: [{i + 1}][{j + 1}] ≠ [{j + 1}][{i + 1}]{how}")
+    return tuple(tuple(row) for row in A)
+
+
+def _rotor(value, where: str, names: dict, const: dict, time: dict) -> tuple:
+    """rotor = {axis, inertia, speed}: a rotor of axial moment ``inertia`` spinning at ``speed``
+    relative to its carrier about ``axis`` (body axes; a direction, normalised) has the relative
+    angular momentum λ = inertia · speed · axis/|axis|.  The carrier's A or I_c includes the rotor
+    as a rigid part, as in the paper."""
+    if not isinstance(value, dict):
+        raise SpecError(where, "expected a table {axis = [x, y, z], inertia = J, speed = w}")
+    for key in value:
+        if key not in ROTOR_FIELDS:
+            raise SpecError(f"{where}.{key}", f"unknown field (expected one of {', '.join(ROTOR_FIELDS)})")
+    for key in ROTOR_FIELDS:
+        if key not in value:
+            raise SpecError(f"{where}.{key}", "missing field")
+    axis = _vector(value["axis"], f"{where}.axis", names, const)
+    inertia = _scalar(value["inertia"], f"{where}.inertia", names, const)
+    speed = _scalar(value["speed"], f"{where}.speed", names, time)
+    if inertia.is_number and not inertia > 0:
+        raise SpecError(f"{where}.inertia", f"the rotor's axial moment of inertia must be positive, got {float(inertia):g}")
+    norm2 = sp.expand(sum(x * x for x in axis))
+    if norm2.is_number and norm2 == 0:
+        raise SpecError(f"{where}.axis", "a zero axis has no direction")
+    norm = sp.sqrt(norm2)
+    return tuple(inertia * speed * x / norm if x != 0 else sp.Integer(0) for x in axis)
+
+
+def _check_physical(at: str, m, c, A, field: str = "A") -> None:
     """A minus the parallel-axis term must be a possible central inertia tensor.
 
     Only decidable when m, c and A are numbers; with symbolic entries the check is the
@@ -519,13 +580,13 @@ def _check_physical(at: str, m, c, A) -> None:
     scale = max(abs(ev).max(), 1e-300)
     if ev[0] <= 1e-12 * scale:
         raise SpecError(
-            f"{at}.A",
+            f"{at}.{field}",
             "not physically possible: the inertia about the centre of mass (A − m(|c|²1 − c cᵀ)) "
             f"is not positive definite (principal moments {', '.join(f'{e:.6g}' for e in ev)})",
         )
     if ev[2] > ev[0] + ev[1] + 1e-9 * scale:
         raise SpecError(
-            f"{at}.A",
+            f"{at}.{field}",
             "not physically possible: the central principal moments violate the triangle inequality "
             f"({ev[2]:.6g} > {ev[0]:.6g} + {ev[1]:.6g})",
         )

@@ -98,6 +98,26 @@ CASES = [
     ("force-point-state", spec(body2=BODY2 + '[[body.force]]\npoint = [0, 0, "phi1"]\nF = [0, 0, 1]\nframe = "body"\n'), "body[2].force[1].point[3]", "constant"),
     ("moment-unknown", spec(body2=BODY2 + '[[body.moment]]\nM = [0, 0, 1]\nframe = "body"\npoint = [0, 0, 0]\n'), "body[2].moment[1].point", "unknown field"),
     ("force-not-table", spec(body2=BODY2 + 'force = 3\n'), "body[2].force", "expected"),
+    # the inertia and the rotor as CAD, URDF and MuJoCo give them (A or I_c, 3×3 or six numbers)
+    ("A-and-I_c", replace_body1("I_c", "I_c = [0.001, 0.001, 0.0002, 0, 0, 0]"), "body[1].A", "give the inertia once"),
+    ("no-inertia", replace_body1("A", ""), "body[1].A", "missing field"),
+    ("tensor-five-numbers", replace_body1("A", "A = [0.0042, 0.0041, 0.0002, 0.0, 0.0]"), "body[1].A", "six numbers"),
+    ("A-asymmetric-beyond-round-off", replace_body1("A", "A = [[0.0042, 1e-9, 0.0], [0.0, 0.0041, 0.0], [0.0, 0.0, 0.0002]]"),
+     "body[1].A", "more than round-off"),
+    ("I_c-not-pd", replace_body1("A", "I_c = [0.0042, 0.0041, -0.0002, 0, 0, 0]"), "body[1].I_c", "positive definite"),
+    ("I_c-asymmetric", replace_body1("A", "I_c = [[0.001, 0.0002, 0], [0, 0.001, 0], [0, 0, 0.0005]]"), "body[1].I_c", "not symmetric"),
+    ("rotor-and-lambda", replace_body1("rotor", "lambda = [0, 0, 1]\nrotor = {axis = [0, 0, 1], inertia = 2e-4, speed = 500}"),
+     "body[1].rotor", "give the rotor once"),
+    ("rotor-negative-inertia", replace_body1("rotor", "rotor = {axis = [0, 0, 1], inertia = -2e-4, speed = 500}"),
+     "body[1].rotor.inertia", "positive"),
+    ("rotor-zero-inertia", replace_body1("rotor", "rotor = {axis = [0, 0, 1], inertia = 0, speed = 500}"), "body[1].rotor.inertia", "positive"),
+    ("rotor-zero-axis", replace_body1("rotor", "rotor = {axis = [0, 0, 0], inertia = 2e-4, speed = 500}"), "body[1].rotor.axis", "zero axis"),
+    ("rotor-axis-shape", replace_body1("rotor", "rotor = {axis = [0, 1], inertia = 2e-4, speed = 500}"), "body[1].rotor.axis", "3 entries"),
+    ("rotor-missing-speed", replace_body1("rotor", "rotor = {axis = [0, 0, 1], inertia = 2e-4}"), "body[1].rotor.speed", "missing"),
+    ("rotor-unknown", replace_body1("rotor", "rotor = {axis = [0, 0, 1], inertia = 2e-4, speed = 500, mass = 1}"), "body[1].rotor.mass", "unknown field"),
+    ("rotor-not-table", replace_body1("rotor", "rotor = 3"), "body[1].rotor", "expected a table"),
+    ("rotor-speed-of-state", replace_body1("rotor", 'rotor = {axis = [0, 0, 1], inertia = 2e-4, speed = "phidot1"}'),
+     "body[1].rotor.speed", "prescribed"),
 ]
 
 
