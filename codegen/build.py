@@ -16,6 +16,47 @@ def module_name(name: str) -> str:
     return f"_{name}_cffi"
 
 
+def build_key(src_dir: str | Path, name: str, extra_cflags=()) -> str:
+    """What an extension depends on: the C, header and cdef texts (they carry the spec and the
+    generator's output), the compiler flags, the compiler and the Python ABI.  ``generate``
+    reuses an extension whose key is unchanged instead of compiling it again."""
+    import hashlib
+    import sysconfig
+
+    import cffi
+
+    src_dir = Path(src_dir)
+    h = hashlib.sha256()
+    for suffix in (".c", ".h", ".cdef"):
+        h.update((src_dir / f"{name}{suffix}").read_bytes())
+        h.update(b"\0")
+    parts = [*CFLAGS, *extra_cflags, str(sysconfig.get_config_var("CC")), str(sysconfig.get_config_var("EXT_SUFFIX")),
+             cffi.__version__, sys.version]
+    h.update("\0".join(parts).encode("utf-8"))
+    return h.hexdigest()
+
+
+def key_path(directory: str | Path, name: str) -> Path:
+    """Where the build key of a folder's extension is kept (beside it, ignored by git)."""
+    return Path(directory) / f"{module_name(name)}.key"
+
+
+def reuse_extension(old_dir: str | Path, new_dir: str | Path, name: str) -> bool:
+    """Copy the extension of ``old_dir`` into ``new_dir`` when it was built from exactly the
+    sources now in ``new_dir`` with the same flags; False (nothing copied) otherwise."""
+    old_dir, new_dir = Path(old_dir), Path(new_dir)
+    key_file = key_path(old_dir, name)
+    found = sorted(old_dir.glob(f"{module_name(name)}.*.so")) + sorted(old_dir.glob(f"{module_name(name)}.so"))
+    if not key_file.is_file() or len(found) != 1:
+        return False
+    key = build_key(new_dir, name)
+    if key_file.read_text().strip() != key:
+        return False
+    shutil.copy2(found[0], new_dir / found[0].name)
+    key_path(new_dir, name).write_text(key + "\n")
+    return True
+
+
 def compile_model(src_dir: str | Path, name: str, out_dir: str | Path | None = None, extra_cflags=()) -> Path:
     """Build the extension from ``<name>.c``/``.h``/``.cdef`` in src_dir; returns the .so path
     (placed in out_dir, default src_dir).  The cffi wrapper source stays in a temporary folder."""
@@ -37,6 +78,8 @@ def compile_model(src_dir: str | Path, name: str, out_dir: str | Path | None = N
         so = Path(ffi.compile(tmpdir=tmp, verbose=False))
         target = out_dir / so.name
         shutil.copy2(so, target)
+    if out_dir == src_dir:
+        key_path(out_dir, name).write_text(build_key(src_dir, name, extra_cflags) + "\n")
     return target
 
 

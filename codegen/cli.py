@@ -62,18 +62,25 @@ def _is_ours(directory: Path) -> bool:
         return False
 
 
-def write_tree(files: dict[str, str], target: Path, build: bool, name: str) -> None:
-    """Write every file into a fresh temporary folder, build there, then swap it in."""
+def write_tree(files: dict[str, str], target: Path, build: bool, name: str) -> str | None:
+    """Write every file into a fresh temporary folder, build there, then swap it in.  The build
+    is skipped when the folder's extension was built from the same C, header and cdef with the
+    same flags (build.build_key): returns "compiled", "reused" or None (no build)."""
     target.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+    how = None
     try:
         for rel, text in sorted(files.items()):
             with open(tmp / rel, "w", encoding="utf-8", newline="\n") as fh:
                 fh.write(text)
         if build:
-            from .build import compile_model
+            from .build import compile_model, reuse_extension
 
-            compile_model(tmp, name)
+            if target.is_dir() and reuse_extension(target, tmp, name):
+                how = "reused"
+            else:
+                compile_model(tmp, name)
+                how = "compiled"
         old = None
         if target.exists():
             old = target.parent / f".{target.name}.old-{os.getpid()}"
@@ -84,6 +91,7 @@ def write_tree(files: dict[str, str], target: Path, build: bool, name: str) -> N
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
+    return how
 
 
 def cmd_generate(args) -> int:
@@ -104,8 +112,8 @@ def cmd_generate(args) -> int:
     except FormNotApplicable as exc:
         raise SpecError("--derivative-form", str(exc)) from None
     if not args.no_build:
-        progress("compiling the cffi extension")
-    write_tree(files, target, build=not args.no_build, name=spec.name)
+        progress("compiling the cffi extension (unless the one there was built from the same C and flags)")
+    how = write_tree(files, target, build=not args.no_build, name=spec.name)
     from .emit import op_counts
 
     counts = op_counts(model)
@@ -119,7 +127,9 @@ def cmd_generate(args) -> int:
         print(line)
     if model.quad is not None and spec.initial is not None:
         print(_motion_line(spec, target))
-    print(f"wrote {target}/: " + ", ".join(sorted(files)) + ("" if args.no_build else " + cffi extension"))
+    built = {None: "", "compiled": " + cffi extension",
+             "reused": " + cffi extension (not recompiled: the C, the header and the compiler flags are those it was built from)"}[how]
+    print(f"wrote {target}/: " + ", ".join(sorted(files)) + built)
     print(f"done in {time.perf_counter() - t0:.2f} s")
     return 0
 
@@ -268,8 +278,18 @@ def cmd_steady(args) -> int:
     return 0
 
 
+def _prog() -> str:
+    """The command as the user typed it: the console script, or python -m codegen."""
+    from . import DISTRIBUTION
+
+    return DISTRIBUTION if Path(sys.argv[0]).name == DISTRIBUTION else "python -m codegen"
+
+
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m codegen", description=__doc__.splitlines()[0])
+    from . import DISTRIBUTION, __version__
+
+    ap = argparse.ArgumentParser(prog=_prog(), description=__doc__.splitlines()[0])
+    ap.add_argument("--version", action="version", version=f"{DISTRIBUTION} {__version__}")
     sub = ap.add_subparsers(dest="cmd", required=True)
     g = sub.add_parser("generate", help="derive and emit C, Python and LaTeX for a spec")
     g.add_argument("spec")

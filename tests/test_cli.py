@@ -123,3 +123,59 @@ def test_a_condition_on_a_parameter_is_stated_not_guessed(tmp_path):
         sol = solve_ivp(lambda t, x: c.rhs(t, x, None, p), (0, 2.0), x0, method="DOP853", rtol=1e-12, atol=1e-12)
         k = [c.momentum(x, p) for x in sol.y.T]
         assert (max(k) - min(k) <= 1e-9) == conserved
+
+
+def test_distribution_console_command_and_version(tmp_path):
+    """The distribution is gyrochain (free on the index; "codegen" there is someone else's), its
+    console command does what python -m codegen does, and the version lives in one place."""
+    import importlib.metadata
+    import shutil
+    from pathlib import Path
+
+    import codegen
+
+    assert importlib.metadata.version("gyrochain") == codegen.__version__
+    res = run("--version")
+    assert res.returncode == 0 and res.stdout.strip() == f"gyrochain {codegen.__version__}"
+    exe = Path(sys.executable).parent / "gyrochain"
+    exe = exe if exe.exists() else shutil.which("gyrochain")
+    assert exe, "the console command gyrochain is installed with the package (pip install -e .)"
+    res = subprocess.run([str(exe), "--version"], capture_output=True, text=True)
+    assert res.returncode == 0 and res.stdout.strip() == f"gyrochain {codegen.__version__}"
+    a, b = tmp_path / "a", tmp_path / "b"
+    res = subprocess.run([str(exe), "generate", "specs/furuta.toml", "-o", str(a), "--no-build", "-q"],
+                         capture_output=True, text=True, cwd=ROOT)
+    assert res.returncode == 0, res.stderr
+    assert run("generate", "specs/furuta.toml", "-o", str(b), "--no-build", "-q").returncode == 0
+    assert sorted(p.name for p in a.iterdir()) == sorted(p.name for p in b.iterdir())
+    for p in a.iterdir():
+        assert p.read_bytes() == (b / p.name).read_bytes(), p.name
+    bad = subprocess.run([str(exe), "check", "nope.toml"], capture_output=True, text=True, cwd=tmp_path)
+    assert bad.returncode == 2 and bad.stderr.startswith("error: nope.toml")
+
+
+def test_generate_does_not_recompile_what_has_not_changed(tmp_path):
+    out = tmp_path / "g"
+    first = run("generate", "specs/gimbal.toml", "-o", str(out), "-q")
+    assert first.returncode == 0 and "not recompiled" not in first.stdout
+    so = next(out.glob("_gimbal_cffi*.so"))
+    stamp = so.stat().st_mtime_ns
+    second = run("generate", "specs/gimbal.toml", "-o", str(out), "-q")
+    assert second.returncode == 0 and "not recompiled" in second.stdout, second.stdout
+    so2 = next(out.glob("_gimbal_cffi*.so"))
+    assert so2.stat().st_mtime_ns == stamp  # the same file, copied with its time
+    from codegen.build import load
+    assert np.all(np.isfinite(load(out, "gimbal").qdd(np.array([0.1, 0.2, 0.3, 0.4]))))
+    # another mass of the balanced inner ring changes no equation (c = s = 0): the same C, reused
+    spec = tmp_path / "gimbal.toml"
+    spec.write_text((ROOT / "specs" / "gimbal.toml").read_text().replace("m = 1.2", "m = 1.25"))
+    assert "not recompiled" in run("generate", str(spec), "-o", str(out), "-q").stdout
+    # another inertia of the rotor ring does: compiled again
+    spec.write_text(spec.read_text().replace("0.009]]", "0.0095]]"))
+    third = run("generate", str(spec), "-o", str(out), "-q")
+    assert third.returncode == 0 and "+ cffi extension" in third.stdout and "not recompiled" not in third.stdout
+    # a key that does not match what is there (another compiler or flags): compiled again
+    key = next(out.glob("_gimbal_cffi.key"))
+    key.write_text("0" * 64 + "\n")
+    fourth = run("generate", str(spec), "-o", str(out), "-q")
+    assert "not recompiled" not in fourth.stdout and key.read_text().strip() != "0" * 64
