@@ -156,7 +156,8 @@ def symbolic_check(cases) -> list[dict]:
     rows = []
     for n, planar in cases:
         rng = np.random.default_rng(40 + n)
-        spec = parse_spec(random_spec_text(rng, n, name=f"lag{n}{'p' if planar else 's'}", planar=planar, gyro=True, controls=(n,), theta1=None))
+        text = random_spec_text(rng, n, name="lag", planar=planar, gyro=True, controls=(n,), theta1=None)
+        spec = parse_spec(text)
         t0 = time.perf_counter()
         phi, v = sp.symbols(f"q1:{n + 1}"), sp.symbols(f"v1:{n + 1}")
         L = lagrangian(spec, phi, v)
@@ -179,27 +180,30 @@ def symbolic_check(cases) -> list[dict]:
                 db[:, j] = bc.imag / tc
             return Hn, bn, dH, db
         sym_s = time.perf_counter() - t0
-        model = gen_model(spec, BUILD / "lagrange")
-        worst = 0.0
-        for _ in range(5):
-            x = np.concatenate([rng.uniform(-3, 3, n), rng.normal(size=n)])
-            u = rng.normal(size=1)
-            Hn, bn, dHn, dbn = (np.array(a, dtype=float) for a in f(x[:n], x[n:]))
-            tau = np.zeros(n)
-            tau[n - 1] = u[0]
-            a = np.linalg.solve(Hn, tau - bn)
-            J = np.empty((n, 2 * n))
-            for j in range(2 * n):
-                dHj = dHn[:, :, j] if j < n else np.zeros((n, n))
-                J[:, j] = -np.linalg.solve(Hn, dbn[:, j] + dHj @ a)
-            Ju = np.linalg.solve(Hn, np.eye(n)[:, n - 1])
-            _, dq, dv, du = model.c.qdd_derivatives(x, u)
-            got = np.hstack([dq, dv, du])
-            want = np.hstack([J, Ju[:, None]])
-            worst = max(worst, float(np.max(np.abs(got - want)) / np.max(np.abs(want))))
-        rows.append(dict(n=n, planar=planar, max_rel_err=worst, sympy_s=sym_s))
-        print(f"symbolic Lagrangian n={n} {'planar' if planar else 'spatial'} (rotors, a control): "
-              f"max relative difference {worst:.1e} over 5 states (sympy took {sym_s:.0f} s)", flush=True)
+        for form in ("forward", "world"):  # both forms of NAME_qdd_derivatives, on the same states
+            name = f"lag{n}{'p' if planar else 's'}{form[0]}"
+            model = gen_model(parse_spec(text.replace('name = "lag"', f'name = "{name}"')), BUILD / "lagrange", der_form=form)
+            states = np.random.default_rng(50 + n)
+            worst = 0.0
+            for _ in range(5):
+                x = np.concatenate([states.uniform(-3, 3, n), states.normal(size=n)])
+                u = states.normal(size=1)
+                Hn, bn, dHn, dbn = (np.array(a, dtype=float) for a in f(x[:n], x[n:]))
+                tau = np.zeros(n)
+                tau[n - 1] = u[0]
+                a = np.linalg.solve(Hn, tau - bn)
+                J = np.empty((n, 2 * n))
+                for j in range(2 * n):
+                    dHj = dHn[:, :, j] if j < n else np.zeros((n, n))
+                    J[:, j] = -np.linalg.solve(Hn, dbn[:, j] + dHj @ a)
+                Ju = np.linalg.solve(Hn, np.eye(n)[:, n - 1])
+                _, dq, dv, du = model.c.qdd_derivatives(x, u)
+                got = np.hstack([dq, dv, du])
+                want = np.hstack([J, Ju[:, None]])
+                worst = max(worst, float(np.max(np.abs(got - want)) / np.max(np.abs(want))))
+            rows.append(dict(n=n, planar=planar, form=form, max_rel_err=worst, sympy_s=sym_s))
+            print(f"symbolic Lagrangian n={n} {'planar' if planar else 'spatial'} (rotors, a control), {form} form: "
+                  f"max relative difference {worst:.1e} over 5 states (sympy took {sym_s:.0f} s)", flush=True)
     return rows
 
 
@@ -209,7 +213,7 @@ CASADI_MAX_N = 8  # CasADi's Jacobian of n = 16 is 4.6 MB of C that gcc had not 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--n", type=int, nargs="*", default=[2, 4, 8, 16, 32])
+    ap.add_argument("--n", type=int, nargs="*", default=[2, 4, 8, 16, 32], help="chain lengths timed (none: only --symbolic)")
     ap.add_argument("--skip", nargs="*", default=[], choices=PEERS, help="peers not to build (CasADi's Jacobian of n = 16 is 4.6 MB of C)")
     ap.add_argument("--symbolic", action="store_true", help="also the n <= 3 check against the sympy Lagrangian (minutes)")
     args = ap.parse_args()
@@ -253,8 +257,9 @@ def main() -> int:
               f"  FD of our qdd {f(row['fd_ns']):>8} (err {f(row['fd_err'], '.1e')})"
               f"  CasADi jacobian {f(row['casadi_ns']):>8}  Pinocchio (λ=0) {f(row['pinocchio_ns']):>8}"
               f"  best peer / ours {f(row['best_peer_over_ours'], '.2f')}", flush=True)
-    write_csv(RESULTS / "derivatives.csv", rows)
-    print(f"wrote {(RESULTS / 'derivatives.csv').relative_to(ROOT)}")
+    if rows:
+        write_csv(RESULTS / "derivatives.csv", rows)
+        print(f"wrote {(RESULTS / 'derivatives.csv').relative_to(ROOT)}")
     if args.symbolic:
         write_csv(RESULTS / "derivatives_symbolic.csv", symbolic_check([(2, False), (3, False)]))
     return 0
