@@ -117,7 +117,6 @@ def cmd_generate(args) -> int:
     from .emit import op_counts
 
     counts = op_counts(model)
-    ints = model.integrals
     print(f"{spec.name}: n = {spec.n}, {len(spec.params)} symbolic parameters, {len(spec.controls)} control torques"
           + (", moving platform" if spec.base is not None and spec.base.moves else ""))
     print("op counts: " + ", ".join(f"{spec.name}_{k} {v}" for k, v in counts.items()))

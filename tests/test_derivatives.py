@@ -1,10 +1,10 @@
 """NAME_qdd_derivatives and NAME_linearize: exact derivatives of the emitted φ̈ (forward mode over
-the articulated recursion).  The random chains of test_models.py and test_general.py check them
-against differences of the reference model; here: every example, the API's NULL blocks and
-codes, the structure of A and B, and a mutation check (a perturbed derivative is caught)."""
+the articulated recursion, or world.py's inverse dynamics in frame 0).  The random chains of
+test_models.py and test_general.py check them against differences of the reference model; here:
+every example, the API's NULL blocks and codes, the structure of A and B, a mutation check (a
+perturbed derivative is caught), and the two forms against each other."""
 from __future__ import annotations
 
-import re
 import subprocess
 import sys
 
