@@ -28,8 +28,10 @@ products; Iᶜ, Hᶜ, Fᶜ, Λᶜ, Dᶜ sums over the sub-chain k…n):
   z1ᵏ = Iᶜᵏ Sᵏ, z2ᵏ = Dᵏ Sᵏ + Sᵏ ×* Hᶜᵏ − (Λᶜᵏ × eᵏ, 0);
   Gʲ = Sʲ ×* Fᶜʲ + Iᶜʲ βʲ + Dʲ wʲ − wʲ ×* Hᶜʲ − (wʲ_ω × Λᶜʲ, 0);
   Kʲ = −2 Iᶜʲ wʲ − Dʲ Sʲ + Sʲ ×* Hᶜʲ + (eʲ × Λᶜʲ, 0).
-(The derivation is in the README's "Derivatives" section; the tests check every entry against the
-forward mode of the articulated recursion to round-off, and both against differences.)
+(Derived for this generator from δ(vector of body k ≥ j)/δφʲ = Sʲ × vector − the non-turning part,
+summed with Σ Iᵖ[vᵖ×] = −(Σ [vᵖ×*] Iᵖ)ᵀ; the tests check every entry against the forward mode of
+the articulated recursion to round-off, both against differences, and bench/derivatives.py
+--symbolic against the exact derivatives of the sympy Lagrangian.)
 
 The per-joint vectors are straight-line code (numbers folded, zeros gone); the pairs, M's LDLᵀ
 and the solve with the 2n + nu columns are loops in the template (O(n²) code would be too long
