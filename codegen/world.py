@@ -120,12 +120,11 @@ def derive(spec, kin, dyn, art) -> World:
     num = P.from_sympy
     qd = kin.qd
     qdd = [None] + list(art.qdd)
-    E = [[ONE, ZERO, ZERO], [ZERO, ONE, ZERO], [ZERO, ZERO, ONE]]
-    rows = E  # rows of R_k (frame k → frame 0): row i holds êᵏ₁…êᵏ₃'s i-th components
+    rows = [[ONE, ZERO, ZERO], [ZERO, ONE, ZERO], [ZERO, ZERO, ONE]]  # rows of R_k (frame k → frame 0): row i holds êᵏ₁…êᵏ₃'s i-th components
     O = [ZERO] * 3
     v = [ZERO] * 6
     a = [ZERO] * 3 + scale(-num(spec.g), kin.gamma[0])  # gravity as an upward acceleration of the base
-    S, w, beta, Iw, vb, fb, lam, D = ({} for _ in range(8))
+    S, w, beta, Iw, mom, fb, lam, D = ({} for _ in range(8))
     for k in range(1, n + 1):
         b = spec.bodies[k - 1]
         if k > 1:  # Oᵏ = Oᵏ⁻¹ + R_{k−1} sᵏ⁻¹
@@ -156,10 +155,9 @@ def derive(spec, kin, dyn, art) -> World:
         a = P.vec(f"Wa{k}a", [a[i] + S[k][i] * qdd[k] - w[k][i] * qd[k] for i in range(3)]) + \
             P.vec(f"Wa{k}l", [a[3 + i] + S[k][3 + i] * qdd[k] - w[k][3 + i] * qd[k] for i in range(3)])
         hk = _inertia(Iw[k], v)
-        vb[k] = (v, P.vec(f"Wm{k}a", hk[:3]) + P.vec(f"Wm{k}l", hk[3:]))
-        f = add(_inertia(Iw[k], a)[:3], _fcross(v, vb[k][1])[:3], cross(v[:3], lam[k])) + \
-            add(_inertia(Iw[k], a)[3:], _fcross(v, vb[k][1])[3:])
-        fb[k] = f
+        mom[k] = P.vec(f"Wm{k}a", hk[:3]) + P.vec(f"Wm{k}l", hk[3:])  # Iᵏvᵏ
+        Ia, vh = _inertia(Iw[k], a), _fcross(v, mom[k])
+        fb[k] = add(Ia[:3], vh[:3], cross(v[:3], lam[k])) + add(Ia[3:], vh[3:])
         D[k] = _body_D(Iw[k], v)
 
     vec = {name: [None] * n for name in VECTORS}
@@ -167,10 +165,10 @@ def derive(spec, kin, dyn, art) -> World:
     for k in range(n, 0, -1):
         A0, h0, m = Iw[k]
         if IC is None:
-            IC, HC, FC, LC, DC = Iw[k], vb[k][1], fb[k], lam[k], D[k]
+            IC, HC, FC, LC, DC = Iw[k], mom[k], fb[k], lam[k], D[k]
         else:
             IC = ([[A0[i][j] + IC[0][i][j] for j in range(3)] for i in range(3)], add(h0, IC[1]), m + IC[2])
-            HC = [vb[k][1][i] + HC[i] for i in range(6)]
+            HC = [mom[k][i] + HC[i] for i in range(6)]
             FC = [fb[k][i] + FC[i] for i in range(6)]
             LC = add(lam[k], LC)
             DC = tuple([[D[k][b][i][j] + DC[b][i][j] for j in range(3)] for i in range(3)] for b in range(2))
@@ -188,9 +186,8 @@ def derive(spec, kin, dyn, art) -> World:
         y = P.vec(f"Wy{k}a", y[:3]) + P.vec(f"Wy{k}l", y[3:])
         z2 = [DS[i] + y[i] - (rho[i] if i < 3 else ZERO) for i in range(6)]
         Gv = [p + q + r - s for p, q, r, s in zip(_fcross(Sk, FC), _inertia(IC, beta[k]), _dmul(DC, wk), _fcross(wk, HC))]
-        Gv = [Gv[i] - (cross(wk[:3], LC)[i] if i < 3 else ZERO) for i in range(6)]
-        Kv = [-2 * x for x in _inertia(IC, wk)]
-        Kv = [Kv[i] - DS[i] + y[i] + (cross(e, LC)[i] if i < 3 else ZERO) for i in range(6)]
+        Gv = [g - r for g, r in zip(Gv, cross(wk[:3], LC) + [ZERO] * 3)]
+        Kv = [-2 * x - d + yy + r for x, d, yy, r in zip(_inertia(IC, wk), DS, y, cross(e, LC) + [ZERO] * 3)]
         for name, val in zip(VECTORS, (Sk, z1, z2, beta[k], wk, Gv, Kv)):
             vec[name][k - 1] = [Poly.lift(x) for x in val]
 
