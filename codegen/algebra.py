@@ -1,4 +1,4 @@
-"""The derivation's algebra: polynomials with float coefficients over named atoms.
+"""The derivation's algebra: polynomials with exact coefficients over named atoms.
 
 Every recursion quantity is named (see program.py), so each definition is a short polynomial in
 earlier names, the state and the spec's symbolic parameters.  Sums and products of such
@@ -7,8 +7,10 @@ lets the generator reach n = 32 (sympy is kept for the spec's own expressions, L
 
 A ``Poly`` maps monomials to coefficients.  A monomial is a tuple of ``Atom``s sorted by their
 creation order, an atom repeated for a power; the empty tuple is the constant term.  Numbers of a
-numeric spec fold into the coefficients as they meet, and exact zeros vanish, so a planar chain,
-a chain without rotors or with zero offsets gets a smaller model by construction.
+numeric spec fold into the coefficients as they meet, exactly (exact.py: rationals, and the
+irrational constants of the structural angles with their relations), and exact zeros vanish, so a
+planar chain, a chain without rotors or with zero offsets gets a smaller model by construction,
+and no coefficient is the round-off of a cancellation.
 """
 from __future__ import annotations
 
@@ -16,6 +18,8 @@ import itertools
 from operator import attrgetter
 
 import sympy as sp
+
+from .exact import exact, is_unit, to_sympy as number_to_sympy
 
 _order = itertools.count()
 _by_order = attrgetter("order")
@@ -48,17 +52,17 @@ class Poly:
     __slots__ = ("terms",)
 
     def __init__(self, terms: dict):
-        self.terms = terms  # monomial → nonzero float
+        self.terms = terms  # monomial → nonzero exact number (int, Fraction or exact.Surd)
 
     # ---- construction
     @staticmethod
     def const(c) -> "Poly":
-        c = float(c)
-        return Poly({(): c} if c != 0.0 else {})
+        c = exact(c)
+        return Poly({(): c} if c else {})
 
     @staticmethod
     def atom(a: Atom) -> "Poly":
-        return Poly({(a,): 1.0})
+        return Poly({(a,): 1})
 
     # ---- queries
     def is_zero(self) -> bool:
@@ -67,7 +71,7 @@ class Poly:
     def constant(self):
         """The value if the polynomial is a number, else None."""
         if not self.terms:
-            return 0.0
+            return 0
         if len(self.terms) == 1 and () in self.terms:
             return self.terms[()]
         return None
@@ -103,11 +107,11 @@ class Poly:
             return other
         out = dict(self.terms)
         for m, c in other.terms.items():
-            v = out.get(m, 0.0) + c
-            if v == 0.0:
-                out.pop(m, None)
-            else:
+            v = out.get(m, 0) + c
+            if v:
                 out[m] = v
+            else:
+                out.pop(m, None)
         return Poly(out)
 
     __radd__ = __add__
@@ -129,11 +133,11 @@ class Poly:
         for ma, ca in self.terms.items():
             for mb, cb in other.terms.items():
                 m = _mono_mul(ma, mb)
-                v = out.get(m, 0.0) + ca * cb
-                if v == 0.0:
-                    out.pop(m, None)
-                else:
+                v = out.get(m, 0) + ca * cb
+                if v:
                     out[m] = v
+                else:
+                    out.pop(m, None)
         return Poly(out)
 
     __rmul__ = __mul__
@@ -150,7 +154,7 @@ class Poly:
                 else:
                     rest.append(a)
             if rest:
-                t = t * Poly({tuple(rest): 1.0})
+                t = t * Poly({tuple(rest): 1})
             out = out + t
         return out
 
@@ -162,27 +166,20 @@ class Poly:
         ops = len(self.terms) - 1
         for m, c in self.terms.items():
             if m:
-                ops += len(m) - 1 + (0 if abs(c) == 1.0 else 1)
+                ops += len(m) - 1 + (0 if is_unit(c) else 1)
         return ops
 
     # ---- conversion
-    def to_sympy(self, atom_sym=None) -> sp.Expr:
-        """The sympy expression; ``atom_sym`` may map an atom to its replacement."""
+    def to_sympy(self, atom_sym=None, symbolic: bool = False) -> sp.Expr:
+        """The sympy expression; ``atom_sym`` may map an atom to its replacement.  Rational
+        coefficients stay exact; irrational ones are their correctly rounded doubles, or with
+        ``symbolic`` sums of products of exact.ConstSymbols (for the LaTeX's canonical forms)."""
         get = atom_sym or (lambda a: a.sym)
         out = []
         for m, c in self.terms.items():
-            out.append(sp.Mul(number(c), *(get(a) for a in m)))
+            out.append(sp.Mul(number_to_sympy(c, symbolic), *(get(a) for a in m)))
         return sp.Add(*out)
 
 
-def number(c: float) -> sp.Expr:
-    """A coefficient as sympy: exact for integers and short binary fractions (½ of T), else Float."""
-    if c.is_integer():
-        return sp.Integer(int(c))
-    if (c * 1024).is_integer():
-        return sp.Rational(c)
-    return sp.Float(c)
-
-
 ZERO = Poly({})
-ONE = Poly({(): 1.0})
+ONE = Poly({(): 1})

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .algebra import Atom, Poly, ZERO
+from .exact import exact
 from .program import Program, Var
 
 
@@ -56,7 +57,7 @@ def _to_poly(P: Program, expr: sp.Expr, atom: Atom, rhs: sp.Expr, name: str) -> 
     definition's own right side reuse its atom (d(1/D)/dD = −(1/D)²); cos φ, sin φ and the user's
     expressions the program already has are found by their alias; anything else is named."""
     if expr.is_number:
-        return Poly.const(float(expr.evalf(30)))
+        return Poly.const(exact(expr))
     if isinstance(expr, Var):
         return Poly.atom(P._by_name[expr.name])
     if expr.is_Symbol:

@@ -16,11 +16,12 @@ from sympy.printing.c import C99CodePrinter
 from sympy.printing.latex import LatexPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from . import __version__, aba, derivatives, quadratures, world
+from . import __version__, aba, derivatives, quadratures, trigform, world
 from .dynamics import Dynamics
 from .integrals import Integrals
 from .kinematics import Kinematics
 from .algebra import Poly
+from .exact import Fraction, Surd, is_negative, is_unit, to_float
 from .simplify import StraightLine, straight_line
 from .spec import T as TIME, ChainSpec
 
@@ -29,8 +30,9 @@ TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
 
 # --------------------------------------------------------------------------- printers
 def _literal(value) -> str:
-    """A double literal that round-trips: the shortest repr of the nearest double."""
-    text = repr(float(value))
+    """A double literal that round-trips: the shortest repr of the nearest double (of an exact
+    coefficient: its correctly rounded double, exact.to_float)."""
+    text = repr(to_float(value) if isinstance(value, (int, Fraction, Surd)) else float(value))
     return text if any(ch in text for ch in ".en") else text + ".0"
 
 
@@ -108,18 +110,21 @@ def poly_code(p: Poly, spell) -> str:
         return "0.0"
     out = []
     for m, c in p.terms.items():
+        v = to_float(c)
+        if v == 0.0:  # a Surd that is zero by a relation exact.py does not know
+            continue
         factors = [spell(a) for a in m]
         if not m:
-            body = _literal(abs(c))
-        elif abs(c) == 1.0:
+            body = _literal(abs(v))
+        elif is_unit(c):
             body = "*".join(factors)
         else:
-            body = "*".join([_literal(abs(c))] + factors)
+            body = "*".join([_literal(abs(v))] + factors)
         if not out:
-            out.append(("-" if c < 0 else "") + body)
+            out.append(("-" if v < 0 else "") + body)
         else:
-            out.append((" - " if c < 0 else " + ") + body)
-    return "".join(out)
+            out.append((" - " if v < 0 else " + ") + body)
+    return "".join(out) or "0.0"
 
 
 @dataclass(frozen=True)
@@ -522,19 +527,30 @@ def _display(expr: sp.Expr) -> sp.Expr:
 
 MAX_LATEX_TERMS = 400
 CLOSED_FORM_MAX_N = 3  # above this the LaTeX shows the recursion instead of expanded closed forms
-ROUNDOFF = 1e-24  # relative size of a coefficient that is round-off of the 30-digit folding
 
 
-def _drop_roundoff(terms):
-    """Terms whose number is ~1e-34 are what is left of exact cancellations (sin²θ + cos²θ − 1)
-    after cos θ, sin θ were folded to 30 digits; they are not shown."""
-    def size(t):
-        coeff = t.as_coeff_Mul()[0]
-        return abs(float(coeff)) if coeff.is_Float else None
+class Shown(tuple):
+    """Printed lines of one quantity, with the canonical trigonometric form they are in
+    (trigform.py: "c", "s", "f", or None) and the number of terms."""
 
-    sizes = [size(t) for t in terms]
-    big = max((x for x in sizes if x is not None), default=0.0)
-    return [t for t, x in zip(terms, sizes) if x is None or x > ROUNDOFF * big]
+    form: str | None = None
+    terms: int | None = None
+
+    @staticmethod
+    def of(lines, form=None, terms=None) -> "Shown":
+        out = Shown(lines)
+        out.form, out.terms = form, terms
+        return out
+
+
+def _angles(expr: sp.Expr) -> list:
+    """The joint angles φᵏ whose cos or sin the expression has, in order."""
+    found = {a.args[0] for a in expr.atoms(sp.cos, sp.sin) if a.args[0].is_Symbol and a.args[0].name.startswith("phi_")}
+    return sorted(found, key=lambda s: int(s.name[4:]))
+
+
+def _canonical(expr: sp.Expr) -> trigform.Canonical:
+    return trigform.canonical(expr, _angles(expr))
 
 
 def _abbrev(f, phi: sp.Symbol) -> sp.Symbol:
@@ -547,8 +563,8 @@ def _abbreviate(expr: sp.Expr) -> sp.Expr:
     return expr.xreplace(reps)
 
 
-def _tex_number(c: float) -> str:
-    text = f"{abs(c):.10g}"
+def _tex_number(c) -> str:
+    text = f"{abs(to_float(c)):.10g}"
     if "e" in text:
         mant, exp = text.split("e")
         text = rf"{mant} \cdot 10^{{{int(exp)}}}"
@@ -586,18 +602,26 @@ def _poly_tex_lines(p: Poly, pr: TexPrinter, width: int = 260) -> list[str]:
             factors.append(name if j - i == 1 else f"{{{name}}}^{{{j - i}}}")
             i = j
         body = " ".join(factors)
-        if not m or abs(c) != 1.0:
+        if not m or not is_unit(c):
             body = _tex_number(c) + (r" \, " + body if body else "")
-        pieces.append(("-" if c < 0 else "") + body)
+        pieces.append(("-" if is_negative(c) else "") + body)
     return _break(pieces, width)
 
 
-def _tex_lines(expr: sp.Expr, pr: TexPrinter, width: int = 260, expand: bool = True) -> list[str]:
-    """A sum (expanded unless told not to), printed term by term and broken into lines."""
-    expr = _display(sp.expand(_abbreviate(expr)) if expand else expr)
+def _tex_lines(expr: sp.Expr, pr: TexPrinter, width: int = 260, expand: bool = True) -> Shown:
+    """A sum printed term by term and broken into lines: expanded into its canonical
+    trigonometric form with the fewest terms (trigform.py), or as it is (``expand=False``)."""
+    form = count = None
+    if expand:
+        can = _canonical(expr)
+        expr, form, count = can.expr, can.form, can.terms
+    return Shown.of(_sum_lines(_display(_abbreviate(expr)), pr, width), form, count)
+
+
+def _sum_lines(expr: sp.Expr, pr: TexPrinter, width: int) -> list[str]:
     if expr == 0:
         return ["0"]
-    terms = _drop_roundoff(sp.Add.make_args(expr))
+    terms = sp.Add.make_args(expr)
     if len(terms) > MAX_LATEX_TERMS:
         return [rf"\text{{({len(terms)} terms when expanded; not shown)}}"]
     lines, cur = [], ""
@@ -614,16 +638,17 @@ def _tex_lines(expr: sp.Expr, pr: TexPrinter, width: int = 260, expand: bool = T
     return lines
 
 
-def _grouped(expr: sp.Expr, gens: list, pr: TexPrinter) -> list[str]:
-    """Collect an expression by monomials of φ̇ (the paper's coefficient · φ̇ʰφ̇ʳ layout)."""
-    expr = sp.expand(_abbreviate(fold_numbers(expr)))
+def _grouped(expr: sp.Expr, gens: list, pr: TexPrinter) -> Shown:
+    """Collect an expression by monomials of φ̇ (the paper's coefficient · φ̇ʰφ̇ʳ layout), in its
+    canonical trigonometric form with the fewest terms."""
+    can = _canonical(expr)
     groups: dict = {}
-    for term in sp.Add.make_args(expr):
+    for term in sp.Add.make_args(can.expr):
         coeff, mono = term.as_independent(*gens, as_Add=False)
         groups[mono] = groups.get(mono, 0) + coeff
     out = []
     for mono in sorted(groups, key=lambda m: (sp.Poly(m, *gens).monoms()[0][::-1] if m != 1 else ())):
-        body = _tex_lines(groups[mono], pr, 220)
+        body = _sum_lines(_display(_abbreviate(groups[mono])), pr, 220)
         if body == ["0"]:
             continue
         factor = "" if mono == 1 else pr.doprint(mono)
@@ -634,13 +659,17 @@ def _grouped(expr: sp.Expr, gens: list, pr: TexPrinter) -> list[str]:
             out.append(plus + r"\Big(" + body[0])
             out.extend(body[1:-1])
             out.append(body[-1] + rf"\Big){factor}")
-    return out or ["0"]
+    return Shown.of(out or ["0"], can.form, can.terms)
 
 
 @dataclass(frozen=True)
 class TexEquation:
     lhs: str
-    lines: tuple[str, ...]
+    lines: tuple[str, ...]  # a Shown when the quantity was expanded
+
+    @property
+    def form(self) -> str | None:
+        return getattr(self.lines, "form", None)
 
 
 CLOSED_FORM_MAX_N_GENERAL = 2  # the same for a spec with platform motion or loads (more symbols)
@@ -651,7 +680,7 @@ def _split_platform(prog, p: Poly, platform: set) -> tuple[sp.Expr, sp.Expr]:
     (full,) = prog.inline_poly([p])
     rest = Poly({m: c for m, c in full.terms.items() if not any(a.sym in platform for a in m)})
     plat = Poly({m: c for m, c in full.terms.items() if any(a.sym in platform for a in m)})
-    return rest.to_sympy(prog.sympy_of), plat.to_sympy(prog.sympy_of)
+    return rest.to_sympy(prog.sympy_of, symbolic=True), plat.to_sympy(prog.sympy_of, symbolic=True)
 
 
 def _general_tex_on(model: Model, kin, pr, closed: bool, lines, grouped) -> dict:
@@ -672,7 +701,7 @@ def _general_tex_on(model: Model, kin, pr, closed: bool, lines, grouped) -> dict
         rows = []
         for key, vals in (("omega", pm.omega), ("epsilon", pm.eps), ("vdot", pm.acc), ("gamma", pm.down)):
             for sym, v in zip(sy[key], vals):
-                rows.append(TexEquation(pr.doprint(sym), tuple(_tex_lines(sp.sympify(v), pr, 200, expand=False))))
+                rows.append(TexEquation(pr.doprint(sym), _tex_lines(sp.sympify(v), pr, 200, expand=False)))
         out["platform"] = rows
         if closed:
             Pi, rest = [], ([], [])
@@ -681,14 +710,14 @@ def _general_tex_on(model: Model, kin, pr, closed: bool, lines, grouped) -> dict
                 rg, pg = _split_platform(kin.prog, dyn.Gamma[k], platform)
                 rest[0].append(rq)
                 rest[1].append(rg)
-                Pi.append(TexEquation(rf"\Pi_{{{k + 1}}}", tuple(grouped(pq + pg))))
+                Pi.append(TexEquation(rf"\Pi_{{{k + 1}}}", grouped(pq + pg)))
             out["Pi"] = Pi
     if dyn.Lamdot:
-        out["Lamdot"] = [TexEquation(rf"\mathring\Lambda_{{{k + 1}}}", tuple(lines(e))) for k, e in enumerate(_vals(kin, dyn.Lamdot, closed))]
+        out["Lamdot"] = [TexEquation(rf"\mathring\Lambda_{{{k + 1}}}", lines(e)) for k, e in enumerate(_vals(kin, dyn.Lamdot, closed))]
     if dyn.Phi:
-        out["Phi"] = [TexEquation(rf"\Phi_{{{k + 1}}}", tuple(lines(e))) for k, e in enumerate(_vals(kin, dyn.Phi, closed))]
+        out["Phi"] = [TexEquation(rf"\Phi_{{{k + 1}}}", lines(e)) for k, e in enumerate(_vals(kin, dyn.Phi, closed))]
     if dyn.joint:
-        out["joint"] = [TexEquation(rf"\tau_{{{k + 1}}}", tuple(lines(e))) for k, e in enumerate(_vals(kin, dyn.joint, closed))
+        out["joint"] = [TexEquation(rf"\tau_{{{k + 1}}}", lines(e)) for k, e in enumerate(_vals(kin, dyn.joint, closed))
                         if not dyn.joint[k].is_zero()]
     out["kin"], out["dyn"], out["rest"] = kin, dyn, rest  # rest: Q_k, Γ_k without the platform terms
     return out
@@ -705,7 +734,7 @@ def _derivative_tex(model: Model, pr) -> list:
     acc = [sp.Symbol(f"qddot_{k}") for k in range(1, n + 1)]
     for k, a in enumerate(acc, start=1):
         names[a] = rf"\ddot\varphi^{{{k}}}"
-    vals = kin.prog.inline([dyn.M[i][j] for i in range(n) for j in range(n)] + list(dyn.f))
+    vals = kin.prog.inline([dyn.M[i][j] for i in range(n) for j in range(n)] + list(dyn.f), symbolic=True)
     M = [vals[i * n:(i + 1) * n] for i in range(n)]
     R = [sum((M[i][j] * acc[j] for j in range(n)), sp.Integer(0)) - vals[n * n + i] for i in range(n)]
     out = []
@@ -713,12 +742,12 @@ def _derivative_tex(model: Model, pr) -> list:
         for j in range(1, n + 1):
             for i in range(n):
                 d = sp.diff(R[i], syms[j])
-                out.append(TexEquation(rf"\frac{{\partial R_{{{i + 1}}}}}{{\partial {tex}^{{{j}}}}}", tuple(_tex_lines(d, pr))))
+                out.append(TexEquation(rf"\frac{{\partial R_{{{i + 1}}}}}{{\partial {tex}^{{{j}}}}}", _tex_lines(d, pr)))
     return out
 
 
 def _vals(kin, polys, closed: bool) -> list:
-    return kin.prog.inline(polys) if closed else list(polys)
+    return kin.prog.inline(polys, symbolic=True) if closed else list(polys)
 
 
 def _tex(model: Model) -> dict:
@@ -730,8 +759,8 @@ def _tex(model: Model) -> dict:
         from . import integrals as _i, kinematics as _k
         kin_s = _k.derive(spec, symbolic_platform=True)
         pr = TexPrinter(_latex_names(model, kin_s))
-        grouped_ = (lambda e: _grouped(e, kin_s.phidot[1:], pr)) if closed else (lambda e: _poly_tex_lines(e, pr))
-        lines_ = (lambda e: _tex_lines(e, pr)) if closed else (lambda e: _poly_tex_lines(e, pr))
+        grouped_ = (lambda e: _grouped(e, kin_s.phidot[1:], pr)) if closed else (lambda e: Shown.of(_poly_tex_lines(e, pr)))
+        lines_ = (lambda e: _tex_lines(e, pr)) if closed else (lambda e: Shown.of(_poly_tex_lines(e, pr)))
         general = _general_tex_on(model, kin_s, pr, closed, lines_, grouped_)
         kin, dyn = general["kin"], general["dyn"]
         ints = _i.derive(spec, kin, dyn)
@@ -772,26 +801,28 @@ def _tex(model: Model) -> dict:
     if general:
         extra = list(dyn.Lamdot) + list(dyn.Phi) + [j for j in dyn.joint if not j.is_zero()]
     if closed:
-        values = iter(kin.prog.inline(targets))
+        values = iter(kin.prog.inline(targets, symbolic=True))
         lines, grouped = (lambda e: _tex_lines(e, pr)), (lambda e: _grouped(e, phidots, pr))
     else:
         values = iter(targets)
-        lines = grouped = (lambda e: _poly_tex_lines(e, pr))
+        lines = grouped = (lambda e: Shown.of(_poly_tex_lines(e, pr)))
         for a, rhs in kin.prog.needed(targets + extra):
             body = _poly_tex_lines(rhs, pr) if isinstance(rhs, Poly) else _tex_lines(rhs, pr, expand=False)
             recursion.append(TexEquation(pr.doprint(a.sym), tuple(body)))
-    M = [TexEquation(f"M_{{{k + 1}{r + 1}}}", tuple(lines(next(values)))) for k in range(n) for r in range(k, n)]
+    M = [TexEquation(f"M_{{{k + 1}{r + 1}}}", lines(next(values))) for k in range(n) for r in range(k, n)]
     Qv, Gv = [next(values) for _ in range(n)], [next(values) for _ in range(n)]
     if general and general["rest"] is not None:  # the platform terms are shown apart, as Π_k
         Qv, Gv = general["rest"]
-    Q = [TexEquation(f"Q_{{{k + 1}}}", tuple(grouped(v))) for k, v in enumerate(Qv)]
-    Gam = [TexEquation(rf"\Gamma_{{{k + 1}}}", tuple(grouped(v))) for k, v in enumerate(Gv)]
-    G = [TexEquation(f"G_{{{k + 1}}}", tuple(lines(next(values)))) for k in range(n)]
-    U = TexEquation("U", tuple(lines(next(values))))
-    K = TexEquation("k", tuple(grouped(next(values)))) if ints.momentum is not None else None
+    Q = [TexEquation(f"Q_{{{k + 1}}}", grouped(v)) for k, v in enumerate(Qv)]
+    Gam = [TexEquation(rf"\Gamma_{{{k + 1}}}", grouped(v)) for k, v in enumerate(Gv)]
+    G = [TexEquation(f"G_{{{k + 1}}}", lines(next(values))) for k in range(n)]
+    U = TexEquation("U", lines(next(values)))
+    K = TexEquation("k", grouped(next(values))) if ints.momentum is not None else None
+    term_counts = ", ".join(f"${sym}$ {sum(eq.lines.terms or 0 for eq in eqs)}" for sym, eqs in
+                            (("M", M), ("Q", Q), (r"\Gamma", Gam), ("G", G)))
     quad = None
     if model.quad is not None:
-        J, C, A, U2, beta = kin.prog.inline(model.quad.terms)
+        J, C, A, U2, beta = kin.prog.inline(model.quad.terms, symbolic=True)
         quad = dict(
             J=tuple(_tex_lines(J, pr)), C=tuple(_tex_lines(C, pr)), A=tuple(_tex_lines(A, pr)),
             U=tuple(_tex_lines(U2, pr)), beta=tuple(_tex_lines(beta, pr)), nikolai=model.quad.nikolai,
@@ -818,6 +849,7 @@ def _tex(model: Model) -> dict:
         Q=Q,
         Gamma=Gam,
         G=G,
+        term_counts=term_counts,
         U=U,
         K=K,
         closed=closed,

@@ -30,12 +30,9 @@ def state_symbols(n: int):
 
 
 def folded_trig(theta: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
-    """cos θ, sin θ of a structural angle; a numeric angle is folded to a number now."""
-    c, s = sp.cos(theta), sp.sin(theta)
-    if theta.is_number:  # exact zeros and ones stay exact (θ = pi/2 gives 0 and 1)
-        c = c if c.is_Rational else sp.Float(c.evalf(30), 30)
-        s = s if s.is_Rational else sp.Float(s.evalf(30), 30)
-    return c, s
+    """cos θ, sin θ of a structural angle, exact (θ = pi/2 gives 0 and 1, pi/4 gives sqrt(2)/2;
+    a numeric θ that sympy does not reduce stays cos(3/10), a constant of exact.py)."""
+    return sp.cos(theta), sp.sin(theta)
 
 
 def direction_cosines(theta: sp.Expr, phi: sp.Expr, cp=None, sph=None) -> sp.Matrix:

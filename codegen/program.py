@@ -15,6 +15,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .algebra import Atom, Poly
+from .exact import exact, inverse
 
 
 class Var(sp.Symbol):
@@ -46,7 +47,7 @@ class Program:
         named quantity computed once from its sympy form."""
         expr = sp.sympify(expr)
         if expr.is_number:
-            return Poly.const(float(expr.evalf(30)))
+            return Poly.const(exact(expr))
         if expr.is_Symbol:
             return self.input(expr)
         if expr.is_Add:
@@ -111,7 +112,7 @@ class Program:
         value = Poly.lift(value)
         c = value.constant()
         if c is not None:
-            return Poly.const(1.0 / c)
+            return Poly.const(inverse(c))
         value = self.let(f"{name}d", value)
         return self.let_sympy(name, 1 / value.to_sympy())
 
@@ -157,6 +158,7 @@ class Program:
         rhs = self.rhs.get(a)
         return rhs if rhs is not None and not isinstance(rhs, Poly) else a.sym
 
-    def inline(self, exprs) -> list[sp.Expr]:
-        """Closed forms in sympy (small n only)."""
-        return [p.to_sympy(self.sympy_of) for p in self.inline_poly(exprs)]
+    def inline(self, exprs, symbolic: bool = False) -> list[sp.Expr]:
+        """Closed forms in sympy (small n only); ``symbolic``: irrational constants as
+        exact.ConstSymbols (the LaTeX reduces and folds them, trigform.py)."""
+        return [p.to_sympy(self.sympy_of, symbolic) for p in self.inline_poly(exprs)]

@@ -54,7 +54,7 @@ def straight_line(program: Program, outputs, prefix: str = "w", have=frozenset()
                 t = temps.get(m)
                 if t is None:
                     t = temps[m] = Atom(Var(f"{prefix}{len(temps)}"))
-                    lines.append((t, Poly({m: 1.0})))
+                    lines.append((t, Poly({m: 1})))
                 m = (t,)
             out[m] = c
         return Poly(out)

@@ -170,8 +170,8 @@ int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_
         const double aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2;
         const double pF2_3 = aOg2_3 - 0.5*om2_1*om2_1;
         const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
-        const double Jm2rdr_22 = 0.6251874062968517 - 0.3748125937031484*c2phi2;
-        const double pc2f_2 = 0.2503748125937032*cos_phi2*aOg2_2 - sin_phi2*pF2_3;
+        const double Jm2rdr_22 = 0.6251874062968515 - 0.3748125937031484*c2phi2;
+        const double pc2f_2 = 0.25037481259370314*cos_phi2*aOg2_2 - sin_phi2*pF2_3;
         const double IA1_11 = 0.3335 + Jm2rdr_22;
         const double pA1_1 = 4.905*sin_phi1 - pc2f_2;
         const double rD1 = 1.0/IA1_11;
@@ -205,7 +205,7 @@ static void double_pendulum_dq1_(const double *x, const double *u, const double_
     (void)b;
     const double aOg2_2_dq1 = -9.81*b[0]*b[2] + 9.81*b[1]*b[3];
     const double aOg2_3_dq1 = 9.81*b[1]*b[2] + 9.81*b[0]*b[3];
-    const double pc2f_2_dq1 = 0.2503748125937032*b[2]*aOg2_2_dq1 - b[3]*aOg2_3_dq1;
+    const double pc2f_2_dq1 = 0.25037481259370314*b[2]*aOg2_2_dq1 - b[3]*aOg2_3_dq1;
     const double pA1_1_dq1 = 4.905*b[0] - pc2f_2_dq1;
     const double qdd1_dq1 = -b[9]*pA1_1_dq1;
     const double dv2_2_dq1 = -b[2]*qdd1_dq1;
@@ -227,7 +227,7 @@ static void double_pendulum_dq2_(const double *x, const double *u, const double_
     const double aOg2_2_dq2 = 9.81*b[1]*b[3] + b[2]*b[5];
     const double aOg2_3_dq2 = -b[3]*b[5] + 9.81*b[1]*b[2];
     const double c2phi2_dq2 = -4.0*b[2]*b[3];
-    const double pc2f_2_dq2 = -0.2503748125937032*b[3]*b[6] + 0.2503748125937032*b[2]*aOg2_2_dq2 - b[2]*b[7] - b[3]*aOg2_3_dq2;
+    const double pc2f_2_dq2 = -0.25037481259370314*b[3]*b[6] + 0.25037481259370314*b[2]*aOg2_2_dq2 - b[2]*b[7] - b[3]*aOg2_3_dq2;
     const double rD1_dq2 = 0.3748125937031484*b[9]*b[9]*c2phi2_dq2;
     const double qdd1_dq2 = b[9]*pc2f_2_dq2 - b[8]*rD1_dq2;
     const double dv2_2_dq2 = b[3]*b[10] - b[2]*qdd1_dq2;
@@ -249,7 +249,7 @@ static void double_pendulum_dv1_(const double *x, const double *u, const double_
     const double aOg2_2_dv1 = -2.0*x[2]*b[3];
     const double aOg2_3_dv1 = -2.0*x[2]*b[2];
     const double pF2_3_dv1 = aOg2_3_dv1 - b[4];
-    const double pc2f_2_dv1 = 0.2503748125937032*b[2]*aOg2_2_dv1 - b[3]*pF2_3_dv1;
+    const double pc2f_2_dv1 = 0.25037481259370314*b[2]*aOg2_2_dv1 - b[3]*pF2_3_dv1;
     const double qdd1_dv1 = b[9]*pc2f_2_dv1;
     const double dv2_2_dv1 = -b[2]*qdd1_dv1;
     const double qdd2_dv1 = 1.4992503748125936*aOg2_2_dv1 - qdd1_dv1 + 1.4992503748125936*dv2_2_dv1;
@@ -307,8 +307,8 @@ int double_pendulum_qdd_derivatives(const double *x, const double *u, const doub
         const double aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2;
         const double pF2_3 = aOg2_3 - 0.5*om2_1*om2_1;
         const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
-        const double Jm2rdr_22 = 0.6251874062968517 - 0.3748125937031484*c2phi2;
-        const double pc2f_2 = 0.2503748125937032*cos_phi2*aOg2_2 - sin_phi2*pF2_3;
+        const double Jm2rdr_22 = 0.6251874062968515 - 0.3748125937031484*c2phi2;
+        const double pc2f_2 = 0.25037481259370314*cos_phi2*aOg2_2 - sin_phi2*pF2_3;
         const double IA1_11 = 0.3335 + Jm2rdr_22;
         const double pA1_1 = 4.905*sin_phi1 - pc2f_2;
         const double rD1 = 1.0/IA1_11;

@@ -134,8 +134,8 @@ def qdd(x, u=None, p=None):
         aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2
         pF2_3 = aOg2_3 - 0.5*om2_1*om2_1
         c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
-        Jm2rdr_22 = 0.6251874062968517 - 0.3748125937031484*c2phi2
-        pc2f_2 = 0.2503748125937032*cos_phi2*aOg2_2 - sin_phi2*pF2_3
+        Jm2rdr_22 = 0.6251874062968515 - 0.3748125937031484*c2phi2
+        pc2f_2 = 0.25037481259370314*cos_phi2*aOg2_2 - sin_phi2*pF2_3
         IA1_11 = 0.3335 + Jm2rdr_22
         pA1_1 = 4.905*sin_phi1 - pc2f_2
         rD1 = 1.0/IA1_11
@@ -180,8 +180,8 @@ def qdd_derivatives(x, u=None, p=None):
         aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2
         pF2_3 = aOg2_3 - 0.5*om2_1*om2_1
         c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
-        Jm2rdr_22 = 0.6251874062968517 - 0.3748125937031484*c2phi2
-        pc2f_2 = 0.2503748125937032*cos_phi2*aOg2_2 - sin_phi2*pF2_3
+        Jm2rdr_22 = 0.6251874062968515 - 0.3748125937031484*c2phi2
+        pc2f_2 = 0.25037481259370314*cos_phi2*aOg2_2 - sin_phi2*pF2_3
         IA1_11 = 0.3335 + Jm2rdr_22
         pA1_1 = 4.905*sin_phi1 - pc2f_2
         rD1 = 1.0/IA1_11
@@ -195,7 +195,7 @@ def qdd_derivatives(x, u=None, p=None):
 
         aOg2_2_dq1 = -9.81*cos_phi1*cos_phi2 + 9.81*sin_phi1*sin_phi2
         aOg2_3_dq1 = 9.81*sin_phi1*cos_phi2 + 9.81*cos_phi1*sin_phi2
-        pc2f_2_dq1 = 0.2503748125937032*cos_phi2*aOg2_2_dq1 - sin_phi2*aOg2_3_dq1
+        pc2f_2_dq1 = 0.25037481259370314*cos_phi2*aOg2_2_dq1 - sin_phi2*aOg2_3_dq1
         pA1_1_dq1 = 4.905*cos_phi1 - pc2f_2_dq1
         qdd1_dq1 = -rD1*pA1_1_dq1
         dv2_2_dq1 = -cos_phi2*qdd1_dq1
@@ -206,7 +206,7 @@ def qdd_derivatives(x, u=None, p=None):
         aOg2_2_dq2 = 9.81*sin_phi1*sin_phi2 + cos_phi2*j2r5
         aOg2_3_dq2 = -sin_phi2*j2r5 + 9.81*sin_phi1*cos_phi2
         c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
-        pc2f_2_dq2 = -0.2503748125937032*sin_phi2*aOg2_2 + 0.2503748125937032*cos_phi2*aOg2_2_dq2 - cos_phi2*pF2_3 - sin_phi2*aOg2_3_dq2
+        pc2f_2_dq2 = -0.25037481259370314*sin_phi2*aOg2_2 + 0.25037481259370314*cos_phi2*aOg2_2_dq2 - cos_phi2*pF2_3 - sin_phi2*aOg2_3_dq2
         rD1_dq2 = 0.3748125937031484*rD1*rD1*c2phi2_dq2
         qdd1_dq2 = rD1*pc2f_2_dq2 - pA1_1*rD1_dq2
         dv2_2_dq2 = sin_phi2*qdd1 - cos_phi2*qdd1_dq2
@@ -217,7 +217,7 @@ def qdd_derivatives(x, u=None, p=None):
         aOg2_2_dv1 = -2.0*x[2]*sin_phi2
         aOg2_3_dv1 = -2.0*x[2]*cos_phi2
         pF2_3_dv1 = aOg2_3_dv1 - om2_1
-        pc2f_2_dv1 = 0.2503748125937032*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1
+        pc2f_2_dv1 = 0.25037481259370314*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1
         qdd1_dv1 = rD1*pc2f_2_dv1
         dv2_2_dv1 = -cos_phi2*qdd1_dv1
         qdd2_dv1 = 1.4992503748125936*aOg2_2_dv1 - qdd1_dv1 + 1.4992503748125936*dv2_2_dv1

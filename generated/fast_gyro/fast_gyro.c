@@ -132,8 +132,8 @@ int fast_gyro_forces(const double *x, const double *u, const fast_gyro_params *p
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double pN2_1 = 0.0025199999999999997*om2_2*om2_3 + 5.0*om2_2 - 0.23544*sin_phi2;
-        const double pN2_2 = 0.00648*eps2_2 - 0.0025199999999999997*w0 - 5.0*x[3];
+        const double pN2_1 = 0.00252*om2_2*om2_3 + 5.0*om2_2 - 0.23544*sin_phi2;
+        const double pN2_2 = 0.00648*eps2_2 - 0.00252*w0 - 5.0*x[3];
         const double j2r12 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
 
         f[0] = -j2r12;
@@ -165,10 +165,10 @@ int fast_gyro_qdd(const double *x, const double *u, const fast_gyro_params *p, d
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double pN2_1 = 0.0025199999999999997*om2_2*om2_3 + 5.0*om2_2 - 0.23544*sin_phi2;
-        const double pN2_2 = 0.00648*eps2_2 - 0.0025199999999999997*w0 - 5.0*x[3];
+        const double pN2_1 = 0.00252*om2_2*om2_3 + 5.0*om2_2 - 0.23544*sin_phi2;
+        const double pN2_2 = 0.00648*eps2_2 - 0.00252*w0 - 5.0*x[3];
         const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
-        const double Ja2rdr_33 = 0.0077399999999999995 + 0.0012599999999999998*c2phi2;
+        const double Ja2rdr_33 = 0.00774 + 0.00126*c2phi2;
         const double j2r15 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
         const double IA1_11 = 0.005 + Ja2rdr_33;
         const double rD1 = 1.0/IA1_11;
@@ -217,11 +217,11 @@ static void fast_gyro_dq2_(const double *x, const double *u, const fast_gyro_par
     const double wq2_0 = x[3]*om2_3_dq2;
     const double eps2_2_dq2 = wq2_0;
     const double eps2_3_dq2 = -x[3]*om2_2_dq2;
-    const double pN2_1_dq2 = 0.0025199999999999997*b[3]*om2_2_dq2 + 0.0025199999999999997*b[2]*om2_3_dq2 + 5.0*om2_2_dq2 - 0.23544*b[0];
-    const double pN2_2_dq2 = 0.00648*eps2_2_dq2 - 0.0025199999999999997*wq2_0;
+    const double pN2_1_dq2 = 0.00252*b[3]*om2_2_dq2 + 0.00252*b[2]*om2_3_dq2 + 5.0*om2_2_dq2 - 0.23544*b[0];
+    const double pN2_2_dq2 = 0.00648*eps2_2_dq2 - 0.00252*wq2_0;
     const double c2phi2_dq2 = -4.0*b[0]*b[1];
     const double j2r15_dq2 = b[0]*b[5] + b[1]*pN2_2_dq2 - 0.009*b[1]*b[4] + 0.009*b[0]*eps2_3_dq2;
-    const double rD1_dq2 = -0.0012599999999999998*b[7]*b[7]*c2phi2_dq2;
+    const double rD1_dq2 = -0.00126*b[7]*b[7]*c2phi2_dq2;
     const double qdd1_dq2 = -b[7]*j2r15_dq2 - b[6]*rD1_dq2;
 
     col[0] = qdd1_dq2;
@@ -240,8 +240,8 @@ static void fast_gyro_dv1_(const double *x, const double *u, const fast_gyro_par
     const double wv1_0 = x[3]*b[0];
     const double eps2_2_dv1 = wv1_0;
     const double eps2_3_dv1 = -x[3]*b[1];
-    const double pN2_1_dv1 = 0.0025199999999999997*b[1]*b[3] + 0.0025199999999999997*b[0]*b[2] + 5.0*b[1];
-    const double pN2_2_dv1 = 0.00648*eps2_2_dv1 - 0.0025199999999999997*wv1_0;
+    const double pN2_1_dv1 = 0.00252*b[1]*b[3] + 0.00252*b[0]*b[2] + 5.0*b[1];
+    const double pN2_2_dv1 = 0.00648*eps2_2_dv1 - 0.00252*wv1_0;
     const double j2r15_dv1 = b[1]*pN2_2_dv1 + 0.009*b[0]*eps2_3_dv1;
     const double qdd1_dv1 = -b[7]*j2r15_dv1;
 
@@ -293,10 +293,10 @@ int fast_gyro_qdd_derivatives(const double *x, const double *u, const fast_gyro_
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double pN2_1 = 0.0025199999999999997*om2_2*om2_3 + 5.0*om2_2 - 0.23544*sin_phi2;
-        const double pN2_2 = 0.00648*eps2_2 - 0.0025199999999999997*w0 - 5.0*x[3];
+        const double pN2_1 = 0.00252*om2_2*om2_3 + 5.0*om2_2 - 0.23544*sin_phi2;
+        const double pN2_2 = 0.00648*eps2_2 - 0.00252*w0 - 5.0*x[3];
         const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
-        const double Ja2rdr_33 = 0.0077399999999999995 + 0.0012599999999999998*c2phi2;
+        const double Ja2rdr_33 = 0.00774 + 0.00126*c2phi2;
         const double j2r15 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
         const double IA1_11 = 0.005 + Ja2rdr_33;
         const double rD1 = 1.0/IA1_11;
@@ -536,8 +536,8 @@ int fast_gyro_pdot(const double *x, const double *u, const fast_gyro_params *p, 
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double pN2_1 = 0.0025199999999999997*om2_2*om2_3 + 5.0*om2_2 - 0.23544*sin_phi2;
-        const double pN2_2 = 0.00648*eps2_2 - 0.0025199999999999997*w0 - 5.0*x[3];
+        const double pN2_1 = 0.00252*om2_2*om2_3 + 5.0*om2_2 - 0.23544*sin_phi2;
+        const double pN2_2 = 0.00648*eps2_2 - 0.00252*w0 - 5.0*x[3];
         const double j2r12 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
         const double cos_phi2_dp = -x[3]*sin_phi2;
         const double sin_phi2_dp = x[3]*cos_phi2;

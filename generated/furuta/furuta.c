@@ -134,8 +134,8 @@ int furuta_forces(const double *x, const double *u, const furuta_params *p, doub
         const double eps2_3 = -x[3]*om2_2;
         const double aOrel2in1_3 = 0.2*x[2]*x[2];
         const double w1 = om2_2*om2_3;
-        const double pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
-        const double pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
+        const double pF2_2 = -0.981*sin_phi2 + 0.015*w1;
+        const double pF2_3 = -0.981*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
         const double pN2_1 = -0.00299*w1 + 0.14715*sin_phi2;
         const double pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
         const double Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3;
@@ -175,8 +175,8 @@ int furuta_qdd(const double *x, const double *u, const furuta_params *p, double 
         const double eps2_3 = -x[3]*om2_2;
         const double aOrel2in1_3 = 0.2*x[2]*x[2];
         const double w1 = om2_2*om2_3;
-        const double pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
-        const double pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
+        const double pF2_2 = -0.981*sin_phi2 + 0.015*w1;
+        const double pF2_3 = -0.981*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
         const double pN2_1 = -0.00299*w1 + 0.14715*sin_phi2;
         const double pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
         const double I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2;
@@ -265,19 +265,19 @@ static void furuta_dq2_(const double *x, const double *u, const furuta_params *p
     const double eps2_3_dq2 = -x[3]*om2_2_dq2;
     const double wq2_1 = b[3]*om2_2_dq2;
     const double wq2_2 = b[2]*om2_3_dq2;
-    const double pF2_2_dq2 = -0.9810000000000001*b[0] + 0.015*wq2_1 + 0.015*wq2_2;
-    const double pF2_3_dq2 = 0.9810000000000001*b[1] - 0.03*b[2]*om2_2_dq2;
+    const double pF2_2_dq2 = -0.981*b[0] + 0.015*wq2_1 + 0.015*wq2_2;
+    const double pF2_3_dq2 = 0.981*b[1] - 0.03*b[2]*om2_2_dq2;
     const double pN2_1_dq2 = -0.00299*wq2_1 - 0.00299*wq2_2 + 0.14715*b[0];
     const double pN2_2_dq2 = 0.003*eps2_2_dq2 + 0.00299*wq2_0;
     const double c2phi2_dq2 = -4.0*b[0]*b[1];
-    const double pa2_5_dq2 = pF2_2_dq2 + 4.999999999999999*pN2_1_dq2;
+    const double pa2_5_dq2 = pF2_2_dq2 + 5.0*pN2_1_dq2;
     const double j2r15_dq2 = b[0]*b[6] + b[1]*pN2_2_dq2 - 1e-05*b[1]*b[4] + 1e-05*b[0]*eps2_3_dq2;
     const double pc2f_2_dq2 = -b[1]*b[7] + b[0]*pa2_5_dq2 - b[0]*b[5] - b[1]*pF2_3_dq2;
     const double pA1_1_dq2 = j2r15_dq2 + 0.2*pc2f_2_dq2;
-    const double rD1_dq2 = 0.0029950000000000003*b[8]*b[8]*c2phi2_dq2;
+    const double rD1_dq2 = 0.002995*b[8]*b[8]*c2phi2_dq2;
     const double qdd1_dq2 = b[9]*rD1_dq2 - b[8]*pA1_1_dq2;
     const double dv2_2_dq2 = -0.2*b[1]*b[10] + 0.2*b[0]*qdd1_dq2;
-    const double qdd2_dq2 = -333.3333333333333*pN2_1_dq2 + 4.999999999999999*dv2_2_dq2;
+    const double qdd2_dq2 = -333.3333333333333*pN2_1_dq2 + 5.0*dv2_2_dq2;
 
     col[0] = qdd1_dq2;
     col[1] = qdd2_dq2;
@@ -303,13 +303,13 @@ static void furuta_dv1_(const double *x, const double *u, const furuta_params *p
     const double pF2_3_dv1 = -0.03*b[1]*b[2];
     const double pN2_1_dv1 = -0.00299*wv1_1 - 0.00299*wv1_2;
     const double pN2_2_dv1 = 0.003*eps2_2_dv1 + 0.00299*wv1_0 - 0.006*x[2];
-    const double pa2_5_dv1 = pF2_2_dv1 + 4.999999999999999*pN2_1_dv1;
+    const double pa2_5_dv1 = pF2_2_dv1 + 5.0*pN2_1_dv1;
     const double j2r15_dv1 = b[1]*pN2_2_dv1 + 1e-05*b[0]*eps2_3_dv1;
     const double pc2f_2_dv1 = b[0]*pa2_5_dv1 - b[1]*pF2_3_dv1;
     const double pA1_1_dv1 = j2r15_dv1 + 0.2*pc2f_2_dv1;
     const double qdd1_dv1 = -b[8]*pA1_1_dv1;
     const double dv2_2_dv1 = 0.2*b[0]*qdd1_dv1;
-    const double qdd2_dv1 = -333.3333333333333*pN2_1_dv1 + 4.999999999999999*dv2_2_dv1;
+    const double qdd2_dv1 = -333.3333333333333*pN2_1_dv1 + 5.0*dv2_2_dv1;
 
     col[0] = qdd1_dv1;
     col[1] = qdd2_dv1;
@@ -326,14 +326,14 @@ static void furuta_dv2_(const double *x, const double *u, const furuta_params *p
     (void)b;
     const double tau_1 = u ? u[0] : 0.0;
     (void)tau_1;
-    const double j2r15_dv2 = 0.0059900000000000005*b[1]*b[3] - 1e-05*b[0]*b[2];
+    const double j2r15_dv2 = 0.00599*b[1]*b[3] - 1e-05*b[0]*b[2];
     const double pc2f_2_dv2 = 0.03*x[3]*b[1];
     const double pA1_1_dv2 = j2r15_dv2 + 0.2*pc2f_2_dv2;
     const double qdd1_dv2 = -b[8]*pA1_1_dv2;
     const double dv2_2_dv2 = 0.2*b[0]*qdd1_dv2;
 
     col[0] = qdd1_dv2;
-    col[1] = 4.999999999999999*dv2_2_dv2;
+    col[1] = 5.0*dv2_2_dv2;
 
 }
 
@@ -350,7 +350,7 @@ static void furuta_du1_(const double *x, const double *u, const furuta_params *p
     const double dv2_2_du1 = 0.2*b[0]*b[8];
 
     col[0] = b[8];
-    col[1] = 4.999999999999999*dv2_2_du1;
+    col[1] = 5.0*dv2_2_du1;
 
 }
 
@@ -382,23 +382,23 @@ int furuta_qdd_derivatives(const double *x, const double *u, const furuta_params
         const double eps2_3 = -x[3]*om2_2;
         const double aOrel2in1_3 = 0.2*x[2]*x[2];
         const double w1 = om2_2*om2_3;
-        const double pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
-        const double pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
+        const double pF2_2 = -0.981*sin_phi2 + 0.015*w1;
+        const double pF2_3 = -0.981*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
         const double pN2_1 = -0.00299*w1 + 0.14715*sin_phi2;
         const double pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
         const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
-        const double pa2_5 = pF2_2 + 4.999999999999999*pN2_1;
+        const double pa2_5 = pF2_2 + 5.0*pN2_1;
         const double Ja2rdr_33 = 0.001505 - 0.001495*c2phi2;
-        const double Jm2rdr_22 = 0.06250000000000001 - 0.03749999999999999*c2phi2;
+        const double Jm2rdr_22 = 0.0625 - 0.0375*c2phi2;
         const double j2r15 = sin_phi2*pN2_2 + 1e-05*cos_phi2*eps2_3;
         const double pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3;
-        const double IA1_11 = 0.0042 + Ja2rdr_33 + 0.04000000000000001*Jm2rdr_22;
+        const double IA1_11 = 0.0042 + Ja2rdr_33 + 0.04*Jm2rdr_22;
         const double pA1_1 = j2r15 + 0.2*pc2f_2;
         const double rD1 = 1.0/IA1_11;
         const double u1 = tau_1 - pA1_1;
         const double qdd1 = rD1*u1;
         const double dv2_2 = 0.2*cos_phi2*qdd1;
-        const double qdd2 = -333.3333333333333*pN2_1 + 4.999999999999999*dv2_2;
+        const double qdd2 = -333.3333333333333*pN2_1 + 5.0*dv2_2;
 
         acc[0] = qdd1;
         acc[1] = qdd2;
@@ -658,8 +658,8 @@ int furuta_pdot(const double *x, const double *u, const furuta_params *p, double
         const double eps2_3 = -x[3]*om2_2;
         const double aOrel2in1_3 = 0.2*x[2]*x[2];
         const double w1 = om2_2*om2_3;
-        const double pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1;
-        const double pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
+        const double pF2_2 = -0.981*sin_phi2 + 0.015*w1;
+        const double pF2_3 = -0.981*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2;
         const double pN2_1 = -0.00299*w1 + 0.14715*sin_phi2;
         const double pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3;
         const double Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3;

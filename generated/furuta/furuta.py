@@ -107,8 +107,8 @@ def forces(x, u=None, p=None):
     eps2_3 = -x[3]*om2_2
     aOrel2in1_3 = 0.2*x[2]*x[2]
     w1 = om2_2*om2_3
-    pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
-    pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
+    pF2_2 = -0.981*sin_phi2 + 0.015*w1
+    pF2_3 = -0.981*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
     pN2_1 = -0.00299*w1 + 0.14715*sin_phi2
     pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
     Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3
@@ -138,8 +138,8 @@ def qdd(x, u=None, p=None):
     eps2_3 = -x[3]*om2_2
     aOrel2in1_3 = 0.2*x[2]*x[2]
     w1 = om2_2*om2_3
-    pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
-    pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
+    pF2_2 = -0.981*sin_phi2 + 0.015*w1
+    pF2_3 = -0.981*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
     pN2_1 = -0.00299*w1 + 0.14715*sin_phi2
     pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
     I2in1r_33 = 0.003*sin_phi2*sin_phi2 + 1e-05*cos_phi2*cos_phi2
@@ -185,23 +185,23 @@ def qdd_derivatives(x, u=None, p=None):
         eps2_3 = -x[3]*om2_2
         aOrel2in1_3 = 0.2*x[2]*x[2]
         w1 = om2_2*om2_3
-        pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
-        pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
+        pF2_2 = -0.981*sin_phi2 + 0.015*w1
+        pF2_3 = -0.981*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
         pN2_1 = -0.00299*w1 + 0.14715*sin_phi2
         pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
         c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
-        pa2_5 = pF2_2 + 4.999999999999999*pN2_1
+        pa2_5 = pF2_2 + 5.0*pN2_1
         Ja2rdr_33 = 0.001505 - 0.001495*c2phi2
-        Jm2rdr_22 = 0.06250000000000001 - 0.03749999999999999*c2phi2
+        Jm2rdr_22 = 0.0625 - 0.0375*c2phi2
         j2r15 = sin_phi2*pN2_2 + 1e-05*cos_phi2*eps2_3
         pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3
-        IA1_11 = 0.0042 + Ja2rdr_33 + 0.04000000000000001*Jm2rdr_22
+        IA1_11 = 0.0042 + Ja2rdr_33 + 0.04*Jm2rdr_22
         pA1_1 = j2r15 + 0.2*pc2f_2
         rD1 = 1.0/IA1_11
         u1 = tau_1 - pA1_1
         qdd1 = rD1*u1
         dv2_2 = 0.2*cos_phi2*qdd1
-        qdd2 = -333.3333333333333*pN2_1 + 4.999999999999999*dv2_2
+        qdd2 = -333.3333333333333*pN2_1 + 5.0*dv2_2
         acc[0] = qdd1
         acc[1] = qdd2
         piv[0] = IA1_11
@@ -217,19 +217,19 @@ def qdd_derivatives(x, u=None, p=None):
         eps2_3_dq2 = -x[3]*om2_2_dq2
         wq2_1 = om2_3*om2_2_dq2
         wq2_2 = om2_2*om2_3_dq2
-        pF2_2_dq2 = -0.9810000000000001*cos_phi2 + 0.015*wq2_1 + 0.015*wq2_2
-        pF2_3_dq2 = 0.9810000000000001*sin_phi2 - 0.03*om2_2*om2_2_dq2
+        pF2_2_dq2 = -0.981*cos_phi2 + 0.015*wq2_1 + 0.015*wq2_2
+        pF2_3_dq2 = 0.981*sin_phi2 - 0.03*om2_2*om2_2_dq2
         pN2_1_dq2 = -0.00299*wq2_1 - 0.00299*wq2_2 + 0.14715*cos_phi2
         pN2_2_dq2 = 0.003*eps2_2_dq2 + 0.00299*wq2_0
         c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
-        pa2_5_dq2 = pF2_2_dq2 + 4.999999999999999*pN2_1_dq2
+        pa2_5_dq2 = pF2_2_dq2 + 5.0*pN2_1_dq2
         j2r15_dq2 = cos_phi2*pN2_2 + sin_phi2*pN2_2_dq2 - 1e-05*sin_phi2*eps2_3 + 1e-05*cos_phi2*eps2_3_dq2
         pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - sin_phi2*pF2_3_dq2
         pA1_1_dq2 = j2r15_dq2 + 0.2*pc2f_2_dq2
-        rD1_dq2 = 0.0029950000000000003*rD1*rD1*c2phi2_dq2
+        rD1_dq2 = 0.002995*rD1*rD1*c2phi2_dq2
         qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2
         dv2_2_dq2 = -0.2*sin_phi2*qdd1 + 0.2*cos_phi2*qdd1_dq2
-        qdd2_dq2 = -333.3333333333333*pN2_1_dq2 + 4.999999999999999*dv2_2_dq2
+        qdd2_dq2 = -333.3333333333333*pN2_1_dq2 + 5.0*dv2_2_dq2
         dqdd_dphi[0, 1] = qdd1_dq2
         dqdd_dphi[1, 1] = qdd2_dq2
 
@@ -242,27 +242,27 @@ def qdd_derivatives(x, u=None, p=None):
         pF2_3_dv1 = -0.03*sin_phi2*om2_2
         pN2_1_dv1 = -0.00299*wv1_1 - 0.00299*wv1_2
         pN2_2_dv1 = 0.003*eps2_2_dv1 + 0.00299*wv1_0 - 0.006*x[2]
-        pa2_5_dv1 = pF2_2_dv1 + 4.999999999999999*pN2_1_dv1
+        pa2_5_dv1 = pF2_2_dv1 + 5.0*pN2_1_dv1
         j2r15_dv1 = sin_phi2*pN2_2_dv1 + 1e-05*cos_phi2*eps2_3_dv1
         pc2f_2_dv1 = cos_phi2*pa2_5_dv1 - sin_phi2*pF2_3_dv1
         pA1_1_dv1 = j2r15_dv1 + 0.2*pc2f_2_dv1
         qdd1_dv1 = -rD1*pA1_1_dv1
         dv2_2_dv1 = 0.2*cos_phi2*qdd1_dv1
-        qdd2_dv1 = -333.3333333333333*pN2_1_dv1 + 4.999999999999999*dv2_2_dv1
+        qdd2_dv1 = -333.3333333333333*pN2_1_dv1 + 5.0*dv2_2_dv1
         dqdd_dphidot[0, 0] = qdd1_dv1
         dqdd_dphidot[1, 0] = qdd2_dv1
 
-        j2r15_dv2 = 0.0059900000000000005*sin_phi2*om2_3 - 1e-05*cos_phi2*om2_2
+        j2r15_dv2 = 0.00599*sin_phi2*om2_3 - 1e-05*cos_phi2*om2_2
         pc2f_2_dv2 = 0.03*x[3]*sin_phi2
         pA1_1_dv2 = j2r15_dv2 + 0.2*pc2f_2_dv2
         qdd1_dv2 = -rD1*pA1_1_dv2
         dv2_2_dv2 = 0.2*cos_phi2*qdd1_dv2
         dqdd_dphidot[0, 1] = qdd1_dv2
-        dqdd_dphidot[1, 1] = 4.999999999999999*dv2_2_dv2
+        dqdd_dphidot[1, 1] = 5.0*dv2_2_dv2
 
         dv2_2_du1 = 0.2*cos_phi2*rD1
         dqdd_du[0, 0] = rD1
-        dqdd_du[1, 0] = 4.999999999999999*dv2_2_du1
+        dqdd_du[1, 0] = 5.0*dv2_2_du1
 
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
@@ -369,8 +369,8 @@ def pdot(x, u=None, p=None):
     eps2_3 = -x[3]*om2_2
     aOrel2in1_3 = 0.2*x[2]*x[2]
     w1 = om2_2*om2_3
-    pF2_2 = -0.9810000000000001*sin_phi2 + 0.015*w1
-    pF2_3 = -0.9810000000000001*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
+    pF2_2 = -0.981*sin_phi2 + 0.015*w1
+    pF2_3 = -0.981*cos_phi2 - 0.015*x[3]*x[3] - 0.015*om2_2*om2_2
     pN2_1 = -0.00299*w1 + 0.14715*sin_phi2
     pN2_2 = 0.003*eps2_2 + 0.00299*w0 - 0.015*aOrel2in1_3
     Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3

@@ -132,8 +132,8 @@ int gimbal_forces(const double *x, const double *u, const gimbal_params *p, doub
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
-        const double pN2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
+        const double pN2_1 = 0.003*om2_2*om2_3 + 0.5*om2_2;
+        const double pN2_2 = 0.006*eps2_2 - 0.003*w0 - 0.5*x[3];
         const double j2r12 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
 
         f[0] = -j2r12;
@@ -165,10 +165,10 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
-        const double pN2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
+        const double pN2_1 = 0.003*om2_2*om2_3 + 0.5*om2_2;
+        const double pN2_2 = 0.006*eps2_2 - 0.003*w0 - 0.5*x[3];
         const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
-        const double Ja2rdr_33 = 0.0075 + 0.0014999999999999996*c2phi2;
+        const double Ja2rdr_33 = 0.0075 + 0.0015*c2phi2;
         const double j2r15 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
         const double IA1_11 = 0.005 + Ja2rdr_33;
         const double rD1 = 1.0/IA1_11;
@@ -217,11 +217,11 @@ static void gimbal_dq2_(const double *x, const double *u, const gimbal_params *p
     const double wq2_0 = x[3]*om2_3_dq2;
     const double eps2_2_dq2 = wq2_0;
     const double eps2_3_dq2 = -x[3]*om2_2_dq2;
-    const double pN2_1_dq2 = 0.002999999999999999*b[3]*om2_2_dq2 + 0.002999999999999999*b[2]*om2_3_dq2 + 0.5*om2_2_dq2;
-    const double pN2_2_dq2 = 0.006*eps2_2_dq2 - 0.002999999999999999*wq2_0;
+    const double pN2_1_dq2 = 0.003*b[3]*om2_2_dq2 + 0.003*b[2]*om2_3_dq2 + 0.5*om2_2_dq2;
+    const double pN2_2_dq2 = 0.006*eps2_2_dq2 - 0.003*wq2_0;
     const double c2phi2_dq2 = -4.0*b[0]*b[1];
     const double j2r15_dq2 = b[0]*b[5] + b[1]*pN2_2_dq2 - 0.009*b[1]*b[4] + 0.009*b[0]*eps2_3_dq2;
-    const double rD1_dq2 = -0.0014999999999999996*b[7]*b[7]*c2phi2_dq2;
+    const double rD1_dq2 = -0.0015*b[7]*b[7]*c2phi2_dq2;
     const double qdd1_dq2 = -b[7]*j2r15_dq2 - b[6]*rD1_dq2;
 
     col[0] = qdd1_dq2;
@@ -240,8 +240,8 @@ static void gimbal_dv1_(const double *x, const double *u, const gimbal_params *p
     const double wv1_0 = x[3]*b[0];
     const double eps2_2_dv1 = wv1_0;
     const double eps2_3_dv1 = -x[3]*b[1];
-    const double pN2_1_dv1 = 0.002999999999999999*b[1]*b[3] + 0.002999999999999999*b[0]*b[2] + 0.5*b[1];
-    const double pN2_2_dv1 = 0.006*eps2_2_dv1 - 0.002999999999999999*wv1_0;
+    const double pN2_1_dv1 = 0.003*b[1]*b[3] + 0.003*b[0]*b[2] + 0.5*b[1];
+    const double pN2_2_dv1 = 0.006*eps2_2_dv1 - 0.003*wv1_0;
     const double j2r15_dv1 = b[1]*pN2_2_dv1 + 0.009*b[0]*eps2_3_dv1;
     const double qdd1_dv1 = -b[7]*j2r15_dv1;
 
@@ -258,7 +258,7 @@ static void gimbal_dv2_(const double *x, const double *u, const gimbal_params *p
     (void)u;
     (void)p;
     (void)b;
-    const double pN2_2_dv2 = 0.003000000000000001*b[3] - 0.5;
+    const double pN2_2_dv2 = 0.003*b[3] - 0.5;
     const double j2r15_dv2 = b[1]*pN2_2_dv2 - 0.009*b[0]*b[2];
     const double qdd1_dv2 = -b[7]*j2r15_dv2;
 
@@ -293,10 +293,10 @@ int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
-        const double pN2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
+        const double pN2_1 = 0.003*om2_2*om2_3 + 0.5*om2_2;
+        const double pN2_2 = 0.006*eps2_2 - 0.003*w0 - 0.5*x[3];
         const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
-        const double Ja2rdr_33 = 0.0075 + 0.0014999999999999996*c2phi2;
+        const double Ja2rdr_33 = 0.0075 + 0.0015*c2phi2;
         const double j2r15 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
         const double IA1_11 = 0.005 + Ja2rdr_33;
         const double rD1 = 1.0/IA1_11;
@@ -536,8 +536,8 @@ int gimbal_pdot(const double *x, const double *u, const gimbal_params *p, double
         const double w0 = x[3]*om2_3;
         const double eps2_2 = w0;
         const double eps2_3 = -x[3]*om2_2;
-        const double pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;
-        const double pN2_2 = 0.006*eps2_2 - 0.002999999999999999*w0 - 0.5*x[3];
+        const double pN2_1 = 0.003*om2_2*om2_3 + 0.5*om2_2;
+        const double pN2_2 = 0.006*eps2_2 - 0.003*w0 - 0.5*x[3];
         const double j2r12 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
         const double cos_phi2_dp = -x[3]*sin_phi2;
         const double sin_phi2_dp = x[3]*cos_phi2;

@@ -165,8 +165,8 @@ int ship_gimbal_forces(double t, const double *x, const double *u, const ship_gi
         const double eps2_2 = cos_phi2*eps1_2 + eps0_1*sin_phi2 + x[3]*om2_3;
         const double eps2_3 = eps0_1*cos_phi2 - sin_phi2*eps1_2 - x[3]*om2_2;
         const double aOg2_2 = cos_phi2*aOg1_2 + sin_phi2*aOg1_1;
-        const double pN2_1 = -0.00612*eps1_3 + 0.0028799999999999997*om2_2*om2_3 + 0.5*om2_2 - 0.012*aOg2_2;
-        const double pN2_2 = 0.00612*eps2_2 - 0.0028799999999999997*om2_1*om2_3 - 0.5*om2_1 - 0.012*aOg1_3;
+        const double pN2_1 = -0.00612*eps1_3 + 0.00288*om2_2*om2_3 + 0.5*om2_2 - 0.012*aOg2_2;
+        const double pN2_2 = 0.00612*eps2_2 - 0.00288*om2_1*om2_3 - 0.5*om2_1 - 0.012*aOg1_3;
         const double j2r12 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
         const double Nb1_1 = 0.005*eps0_1 + j2r12;
 
@@ -232,10 +232,10 @@ int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimba
         const double eps2_2 = cos_phi2*eps1_2 + eps0_1*sin_phi2 + x[3]*om2_3;
         const double eps2_3 = eps0_1*cos_phi2 - sin_phi2*eps1_2 - x[3]*om2_2;
         const double aOg2_2 = cos_phi2*aOg1_2 + sin_phi2*aOg1_1;
-        const double pN2_1 = -0.00612*eps1_3 + 0.0028799999999999997*om2_2*om2_3 + 0.5*om2_2 - 0.012*aOg2_2;
-        const double pN2_2 = 0.00612*eps2_2 - 0.0028799999999999997*om2_1*om2_3 - 0.5*om2_1 - 0.012*aOg1_3;
+        const double pN2_1 = -0.00612*eps1_3 + 0.00288*om2_2*om2_3 + 0.5*om2_2 - 0.012*aOg2_2;
+        const double pN2_2 = 0.00612*eps2_2 - 0.00288*om2_1*om2_3 - 0.5*om2_1 - 0.012*aOg1_3;
         const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
-        const double Ja2rdr_33 = 0.007559999999999999 + 0.0014399999999999999*c2phi2;
+        const double Ja2rdr_33 = 0.00756 + 0.00144*c2phi2;
         const double j2r18 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
         const double IA1_11 = 0.005 + Ja2rdr_33;
         const double pA1_1 = 0.005*eps0_1 + j2r18;
@@ -243,7 +243,7 @@ int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimba
         const double qdd1 = -pA1_1*rD1;
 
         acc[0] = qdd1;
-        acc[1] = -163.39869281045753*pN2_1;
+        acc[1] = -163.3986928104575*pN2_1;
         piv[0] = IA1_11;
         piv[1] = 0.00612;
 
@@ -282,13 +282,13 @@ static void ship_gimbal_dq1_(double t, const double *x, const double *u, const s
     const double eps2_2_dq1 = b[14]*eps1_2_dq1 + x[3]*om2_3_dq1;
     const double eps2_3_dq1 = -b[15]*eps1_2_dq1 - x[3]*om2_2_dq1;
     const double aOg2_2_dq1 = b[14]*aOg1_2_dq1;
-    const double pN2_1_dq1 = -0.00612*eps1_3_dq1 + 0.0028799999999999997*b[18]*om2_2_dq1 + 0.0028799999999999997*b[17]*om2_3_dq1 + 0.5*om2_2_dq1 - 0.012*aOg2_2_dq1;
-    const double pN2_2_dq1 = 0.00612*eps2_2_dq1 + 0.0028799999999999997*b[18]*om1_3_dq1 - 0.0028799999999999997*b[16]*om2_3_dq1 + 0.5*om1_3_dq1 - 0.012*aOg1_3_dq1;
+    const double pN2_1_dq1 = -0.00612*eps1_3_dq1 + 0.00288*b[18]*om2_2_dq1 + 0.00288*b[17]*om2_3_dq1 + 0.5*om2_2_dq1 - 0.012*aOg2_2_dq1;
+    const double pN2_2_dq1 = 0.00612*eps2_2_dq1 + 0.00288*b[18]*om1_3_dq1 - 0.00288*b[16]*om2_3_dq1 + 0.5*om1_3_dq1 - 0.012*aOg1_3_dq1;
     const double j2r18_dq1 = b[15]*pN2_2_dq1 + 0.009*b[14]*eps2_3_dq1;
     const double qdd1_dq1 = -b[25]*j2r18_dq1;
 
     col[0] = qdd1_dq1;
-    col[1] = -163.39869281045753*pN2_1_dq1;
+    col[1] = -163.3986928104575*pN2_1_dq1;
 
 }
 
@@ -306,15 +306,15 @@ static void ship_gimbal_dq2_(double t, const double *x, const double *u, const s
     const double eps2_2_dq2 = -b[15]*b[21] + b[5]*b[14] + x[3]*om2_3_dq2;
     const double eps2_3_dq2 = -b[5]*b[15] - b[14]*b[21] - x[3]*om2_2_dq2;
     const double aOg2_2_dq2 = -b[15]*b[20] + b[14]*b[19];
-    const double pN2_1_dq2 = 0.0028799999999999997*b[18]*om2_2_dq2 + 0.0028799999999999997*b[17]*om2_3_dq2 + 0.5*om2_2_dq2 - 0.012*aOg2_2_dq2;
-    const double pN2_2_dq2 = 0.00612*eps2_2_dq2 - 0.0028799999999999997*b[16]*om2_3_dq2;
+    const double pN2_1_dq2 = 0.00288*b[18]*om2_2_dq2 + 0.00288*b[17]*om2_3_dq2 + 0.5*om2_2_dq2 - 0.012*aOg2_2_dq2;
+    const double pN2_2_dq2 = 0.00612*eps2_2_dq2 - 0.00288*b[16]*om2_3_dq2;
     const double c2phi2_dq2 = -4.0*b[14]*b[15];
     const double j2r18_dq2 = b[14]*b[23] + b[15]*pN2_2_dq2 - 0.009*b[15]*b[22] + 0.009*b[14]*eps2_3_dq2;
-    const double rD1_dq2 = -0.0014399999999999999*b[25]*b[25]*c2phi2_dq2;
+    const double rD1_dq2 = -0.00144*b[25]*b[25]*c2phi2_dq2;
     const double qdd1_dq2 = -b[25]*j2r18_dq2 - b[24]*rD1_dq2;
 
     col[0] = qdd1_dq2;
-    col[1] = -163.39869281045753*pN2_1_dq2;
+    col[1] = -163.3986928104575*pN2_1_dq2;
 
 }
 
@@ -329,13 +329,13 @@ static void ship_gimbal_dv1_(double t, const double *x, const double *u, const s
     (void)b;
     const double eps2_2_dv1 = b[13]*b[14] + x[3]*b[14];
     const double eps2_3_dv1 = -b[13]*b[15] - x[3]*b[15];
-    const double pN2_1_dv1 = 0.00612*b[12] + 0.0028799999999999997*b[15]*b[18] + 0.0028799999999999997*b[14]*b[17] + 0.5*b[15];
-    const double pN2_2_dv1 = 0.00612*eps2_2_dv1 - 0.0028799999999999997*b[14]*b[16];
+    const double pN2_1_dv1 = 0.00612*b[12] + 0.00288*b[15]*b[18] + 0.00288*b[14]*b[17] + 0.5*b[15];
+    const double pN2_2_dv1 = 0.00612*eps2_2_dv1 - 0.00288*b[14]*b[16];
     const double j2r18_dv1 = b[15]*pN2_2_dv1 + 0.009*b[14]*eps2_3_dv1;
     const double qdd1_dv1 = -b[25]*j2r18_dv1;
 
     col[0] = qdd1_dv1;
-    col[1] = -163.39869281045753*pN2_1_dv1;
+    col[1] = -163.3986928104575*pN2_1_dv1;
 
 }
 
@@ -416,10 +416,10 @@ int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, cons
         const double eps2_2 = cos_phi2*eps1_2 + eps0_1*sin_phi2 + x[3]*om2_3;
         const double eps2_3 = eps0_1*cos_phi2 - sin_phi2*eps1_2 - x[3]*om2_2;
         const double aOg2_2 = cos_phi2*aOg1_2 + sin_phi2*aOg1_1;
-        const double pN2_1 = -0.00612*eps1_3 + 0.0028799999999999997*om2_2*om2_3 + 0.5*om2_2 - 0.012*aOg2_2;
-        const double pN2_2 = 0.00612*eps2_2 - 0.0028799999999999997*om2_1*om2_3 - 0.5*om2_1 - 0.012*aOg1_3;
+        const double pN2_1 = -0.00612*eps1_3 + 0.00288*om2_2*om2_3 + 0.5*om2_2 - 0.012*aOg2_2;
+        const double pN2_2 = 0.00612*eps2_2 - 0.00288*om2_1*om2_3 - 0.5*om2_1 - 0.012*aOg1_3;
         const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
-        const double Ja2rdr_33 = 0.007559999999999999 + 0.0014399999999999999*c2phi2;
+        const double Ja2rdr_33 = 0.00756 + 0.00144*c2phi2;
         const double j2r18 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
         const double IA1_11 = 0.005 + Ja2rdr_33;
         const double pA1_1 = 0.005*eps0_1 + j2r18;
@@ -427,7 +427,7 @@ int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, cons
         const double qdd1 = -pA1_1*rD1;
 
         acc[0] = qdd1;
-        acc[1] = -163.39869281045753*pN2_1;
+        acc[1] = -163.3986928104575*pN2_1;
         piv[0] = IA1_11;
         piv[1] = 0.00612;
 

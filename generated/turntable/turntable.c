@@ -119,7 +119,7 @@ int turntable_forces(const double *x, const double *u, const turntable_params *p
         const double sin_phi1 = sin(x[0]);
         const double om1_2 = p->Omega*sin_phi1;
         const double om1_3 = p->Omega*cos_phi1;
-        const double pN1_1 = -0.04156666666666666*om1_2*om1_3 + 1.22625*sin_phi1;
+        const double pN1_1 = -0.04156666666666667*om1_2*om1_3 + 1.22625*sin_phi1;
 
         f[0] = -pN1_1;
 
@@ -148,7 +148,7 @@ int turntable_qdd(const double *x, const double *u, const turntable_params *p, d
         const double sin_phi1 = sin(x[0]);
         const double om1_2 = p->Omega*sin_phi1;
         const double om1_3 = p->Omega*cos_phi1;
-        const double pN1_1 = -0.04156666666666666*om1_2*om1_3 + 1.22625*sin_phi1;
+        const double pN1_1 = -0.04156666666666667*om1_2*om1_3 + 1.22625*sin_phi1;
 
         acc[0] = -24.0*pN1_1;
         piv[0] = 0.041666666666666664;
@@ -174,7 +174,7 @@ static void turntable_dq1_(const double *x, const double *u, const turntable_par
     (void)b;
     const double om1_2_dq1 = p->Omega*b[0];
     const double om1_3_dq1 = -p->Omega*b[1];
-    const double pN1_1_dq1 = -0.04156666666666666*b[3]*om1_2_dq1 - 0.04156666666666666*b[2]*om1_3_dq1 + 1.22625*b[0];
+    const double pN1_1_dq1 = -0.04156666666666667*b[3]*om1_2_dq1 - 0.04156666666666667*b[2]*om1_3_dq1 + 1.22625*b[0];
 
     col[0] = -24.0*pN1_1_dq1;
 
@@ -218,7 +218,7 @@ int turntable_qdd_derivatives(const double *x, const double *u, const turntable_
         const double sin_phi1 = sin(x[0]);
         const double om1_2 = p->Omega*sin_phi1;
         const double om1_3 = p->Omega*cos_phi1;
-        const double pN1_1 = -0.04156666666666666*om1_2*om1_3 + 1.22625*sin_phi1;
+        const double pN1_1 = -0.04156666666666667*om1_2*om1_3 + 1.22625*sin_phi1;
 
         acc[0] = -24.0*pN1_1;
         piv[0] = 0.041666666666666664;

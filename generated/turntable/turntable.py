@@ -99,7 +99,7 @@ def forces(x, u=None, p=None):
     sin_phi1 = math.sin(x[0])
     om1_2 = p_Omega*sin_phi1
     om1_3 = p_Omega*cos_phi1
-    pN1_1 = -0.04156666666666666*om1_2*om1_3 + 1.22625*sin_phi1
+    pN1_1 = -0.04156666666666667*om1_2*om1_3 + 1.22625*sin_phi1
     f[0] = -pN1_1
 
     return f
@@ -119,7 +119,7 @@ def qdd(x, u=None, p=None):
         sin_phi1 = math.sin(x[0])
         om1_2 = p_Omega*sin_phi1
         om1_3 = p_Omega*cos_phi1
-        pN1_1 = -0.04156666666666666*om1_2*om1_3 + 1.22625*sin_phi1
+        pN1_1 = -0.04156666666666667*om1_2*om1_3 + 1.22625*sin_phi1
         acc[0] = -24.0*pN1_1
         piv[0] = 0.041666666666666664
 
@@ -150,13 +150,13 @@ def qdd_derivatives(x, u=None, p=None):
         sin_phi1 = math.sin(x[0])
         om1_2 = p_Omega*sin_phi1
         om1_3 = p_Omega*cos_phi1
-        pN1_1 = -0.04156666666666666*om1_2*om1_3 + 1.22625*sin_phi1
+        pN1_1 = -0.04156666666666667*om1_2*om1_3 + 1.22625*sin_phi1
         acc[0] = -24.0*pN1_1
         piv[0] = 0.041666666666666664
 
         om1_2_dq1 = p_Omega*cos_phi1
         om1_3_dq1 = -p_Omega*sin_phi1
-        pN1_1_dq1 = -0.04156666666666666*om1_3*om1_2_dq1 - 0.04156666666666666*om1_2*om1_3_dq1 + 1.22625*cos_phi1
+        pN1_1_dq1 = -0.04156666666666667*om1_3*om1_2_dq1 - 0.04156666666666667*om1_2*om1_3_dq1 + 1.22625*cos_phi1
         dqdd_dphi[0, 0] = -24.0*pN1_1_dq1
 
         dqdd_dphidot[0, 0] = 0.0

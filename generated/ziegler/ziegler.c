@@ -232,7 +232,7 @@ static void ziegler_dq1_(const double *x, const double *u, const ziegler_params 
     (void)p;
     (void)b;
     const double dv2_2_dq1 = b[0]*b[6];
-    const double qdd2_dq1 = 2.0*b[6] + 1.9999920000320002*dv2_2_dq1;
+    const double qdd2_dq1 = 2.0*b[6] + 1.999992000032*dv2_2_dq1;
 
     col[0] = -2.0*b[6];
     col[1] = qdd2_dq1;
@@ -251,13 +251,13 @@ static void ziegler_dq2_(const double *x, const double *u, const ziegler_params 
     const double aOg2_3_dq2 = -b[1]*b[3];
     const double c2phi2_dq2 = -4.0*b[0]*b[1];
     const double u2_dq2 = -2.0 + 0.25*aOg2_2_dq2;
-    const double pa2_5_dq2 = 0.5*aOg2_2_dq2 - 1.9999920000320002*u2_dq2;
+    const double pa2_5_dq2 = 0.5*aOg2_2_dq2 - 1.999992000032*u2_dq2;
     const double pc2f_2_dq2 = -b[1]*b[5] + b[0]*pa2_5_dq2 - b[0]*b[4] - 0.5*b[1]*aOg2_3_dq2;
     const double pA1_1_dq2 = -2.0 - 0.5*pc2f_2_dq2;
-    const double rD1_dq2 = 0.062499750001000005*b[6]*b[6]*c2phi2_dq2;
+    const double rD1_dq2 = 0.062499750001*b[6]*b[6]*c2phi2_dq2;
     const double qdd1_dq2 = b[7]*rD1_dq2 - b[6]*pA1_1_dq2;
     const double dv2_2_dq2 = 0.5*b[1]*b[8] - 0.5*b[0]*qdd1_dq2;
-    const double qdd2_dq2 = 7.999968000128001*u2_dq2 - qdd1_dq2 + 1.9999920000320002*dv2_2_dq2;
+    const double qdd2_dq2 = 7.999968000128*u2_dq2 - qdd1_dq2 + 1.999992000032*dv2_2_dq2;
 
     col[0] = qdd1_dq2;
     col[1] = qdd2_dq2;
@@ -275,10 +275,10 @@ static void ziegler_dv1_(const double *x, const double *u, const ziegler_params 
     const double aOg2_2_dv1 = -x[2]*b[1];
     const double aOg2_3_dv1 = -x[2]*b[0];
     const double pF2_3_dv1 = 0.5*aOg2_3_dv1 - 0.5*b[2];
-    const double pc2f_2_dv1 = 1.9999919999569293e-06*b[0]*aOg2_2_dv1 - b[1]*pF2_3_dv1;
+    const double pc2f_2_dv1 = 1.9999920000319997e-06*b[0]*aOg2_2_dv1 - b[1]*pF2_3_dv1;
     const double qdd1_dv1 = 0.5*b[6]*pc2f_2_dv1;
     const double dv2_2_dv1 = -0.5*b[0]*qdd1_dv1;
-    const double qdd2_dv1 = 1.9999920000320002*aOg2_2_dv1 - qdd1_dv1 + 1.9999920000320002*dv2_2_dv1;
+    const double qdd2_dv1 = 1.999992000032*aOg2_2_dv1 - qdd1_dv1 + 1.999992000032*dv2_2_dv1;
 
     col[0] = qdd1_dv1;
     col[1] = qdd2_dv1;
@@ -296,7 +296,7 @@ static void ziegler_dv2_(const double *x, const double *u, const ziegler_params 
     const double pc2f_2_dv2 = 0.5*b[1]*b[2];
     const double qdd1_dv2 = 0.5*b[6]*pc2f_2_dv2;
     const double dv2_2_dv2 = -0.5*b[0]*qdd1_dv2;
-    const double qdd2_dv2 = -qdd1_dv2 + 1.9999920000320002*dv2_2_dv2;
+    const double qdd2_dv2 = -qdd1_dv2 + 1.999992000032*dv2_2_dv2;
 
     col[0] = qdd1_dv2;
     col[1] = qdd2_dv2;
@@ -333,8 +333,8 @@ int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_para
         const double pF2_3 = 0.5*aOg2_3 - 0.25*om2_1*om2_1 + p->P;
         const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
         const double u2 = -2.0*x[1] + 0.25*aOg2_2;
-        const double pa2_5 = 0.5*aOg2_2 - 1.9999920000320002*u2;
-        const double Jm2rdr_22 = 0.250000999996 - 0.24999900000400002*c2phi2;
+        const double pa2_5 = 0.5*aOg2_2 - 1.999992000032*u2;
+        const double Jm2rdr_22 = 0.250000999996 - 0.249999000004*c2phi2;
         const double pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3;
         const double IA1_11 = 0.250001 + 0.25*Jm2rdr_22;
         const double pA1_1 = -2.0*x[1] - 0.5*pc2f_2;
@@ -342,7 +342,7 @@ int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_para
         const double u1 = -2.0*x[0] - pA1_1;
         const double qdd1 = rD1*u1;
         const double dv2_2 = -0.5*cos_phi2*qdd1;
-        const double qdd2 = 7.999968000128001*u2 - qdd1 + 1.9999920000320002*dv2_2;
+        const double qdd2 = 7.999968000128*u2 - qdd1 + 1.999992000032*dv2_2;
 
         acc[0] = qdd1;
         acc[1] = qdd2;

@@ -173,8 +173,8 @@ def qdd_derivatives(x, u=None, p=None):
         pF2_3 = 0.5*aOg2_3 - 0.25*om2_1*om2_1 + p_P
         c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
         u2 = -2.0*x[1] + 0.25*aOg2_2
-        pa2_5 = 0.5*aOg2_2 - 1.9999920000320002*u2
-        Jm2rdr_22 = 0.250000999996 - 0.24999900000400002*c2phi2
+        pa2_5 = 0.5*aOg2_2 - 1.999992000032*u2
+        Jm2rdr_22 = 0.250000999996 - 0.249999000004*c2phi2
         pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3
         IA1_11 = 0.250001 + 0.25*Jm2rdr_22
         pA1_1 = -2.0*x[1] - 0.5*pc2f_2
@@ -182,14 +182,14 @@ def qdd_derivatives(x, u=None, p=None):
         u1 = -2.0*x[0] - pA1_1
         qdd1 = rD1*u1
         dv2_2 = -0.5*cos_phi2*qdd1
-        qdd2 = 7.999968000128001*u2 - qdd1 + 1.9999920000320002*dv2_2
+        qdd2 = 7.999968000128*u2 - qdd1 + 1.999992000032*dv2_2
         acc[0] = qdd1
         acc[1] = qdd2
         piv[0] = IA1_11
         piv[1] = 0.1250005
 
         dv2_2_dq1 = cos_phi2*rD1
-        qdd2_dq1 = 2.0*rD1 + 1.9999920000320002*dv2_2_dq1
+        qdd2_dq1 = 2.0*rD1 + 1.999992000032*dv2_2_dq1
         dqdd_dphi[0, 0] = -2.0*rD1
         dqdd_dphi[1, 0] = qdd2_dq1
 
@@ -197,30 +197,30 @@ def qdd_derivatives(x, u=None, p=None):
         aOg2_3_dq2 = -sin_phi2*aOrel2in1_3
         c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
         u2_dq2 = -2.0 + 0.25*aOg2_2_dq2
-        pa2_5_dq2 = 0.5*aOg2_2_dq2 - 1.9999920000320002*u2_dq2
+        pa2_5_dq2 = 0.5*aOg2_2_dq2 - 1.999992000032*u2_dq2
         pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - 0.5*sin_phi2*aOg2_3_dq2
         pA1_1_dq2 = -2.0 - 0.5*pc2f_2_dq2
-        rD1_dq2 = 0.062499750001000005*rD1*rD1*c2phi2_dq2
+        rD1_dq2 = 0.062499750001*rD1*rD1*c2phi2_dq2
         qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2
         dv2_2_dq2 = 0.5*sin_phi2*qdd1 - 0.5*cos_phi2*qdd1_dq2
-        qdd2_dq2 = 7.999968000128001*u2_dq2 - qdd1_dq2 + 1.9999920000320002*dv2_2_dq2
+        qdd2_dq2 = 7.999968000128*u2_dq2 - qdd1_dq2 + 1.999992000032*dv2_2_dq2
         dqdd_dphi[0, 1] = qdd1_dq2
         dqdd_dphi[1, 1] = qdd2_dq2
 
         aOg2_2_dv1 = -x[2]*sin_phi2
         aOg2_3_dv1 = -x[2]*cos_phi2
         pF2_3_dv1 = 0.5*aOg2_3_dv1 - 0.5*om2_1
-        pc2f_2_dv1 = 1.9999919999569293e-06*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1
+        pc2f_2_dv1 = 1.9999920000319997e-06*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1
         qdd1_dv1 = 0.5*rD1*pc2f_2_dv1
         dv2_2_dv1 = -0.5*cos_phi2*qdd1_dv1
-        qdd2_dv1 = 1.9999920000320002*aOg2_2_dv1 - qdd1_dv1 + 1.9999920000320002*dv2_2_dv1
+        qdd2_dv1 = 1.999992000032*aOg2_2_dv1 - qdd1_dv1 + 1.999992000032*dv2_2_dv1
         dqdd_dphidot[0, 0] = qdd1_dv1
         dqdd_dphidot[1, 0] = qdd2_dv1
 
         pc2f_2_dv2 = 0.5*sin_phi2*om2_1
         qdd1_dv2 = 0.5*rD1*pc2f_2_dv2
         dv2_2_dv2 = -0.5*cos_phi2*qdd1_dv2
-        qdd2_dv2 = -qdd1_dv2 + 1.9999920000320002*dv2_2_dv2
+        qdd2_dv2 = -qdd1_dv2 + 1.999992000032*dv2_2_dv2
         dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 1] = qdd2_dv2
 

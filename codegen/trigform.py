@@ -1,0 +1,179 @@
+"""Canonical trigonometric forms of the closed forms the LaTeX shows.
+
+An expanded quantity is a sum of terms q·κ…·cₖᵃ sₖᵇ·r: q rational, κ the irrational constants
+of exact.py (cos θ of a structural angle, √2, …), cₖ = cos φᵏ, sₖ = sin φᵏ, and r the rest (φ̇,
+the torques, the spec's symbols).  The same function has many such sums (sₖ² + cₖ² = 1), so the
+LaTeX shows each quantity in one of three canonical forms, each unique for the function it shows:
+
+  ``c``  a polynomial in cₖ and sₖ without sₖ² (sₖ² = 1 − cₖ² used): powers cₖᵃ and cₖᵃ sₖ;
+  ``s``  the same without cₖ² (cₖ² = 1 − sₖ²);
+  ``f``  multiple angles: cos and sin of integer combinations m·φ = m₁φ¹ + m₂φ² + … (the Fourier
+         form, cₖ = (zₖ + 1/zₖ)/2, sₖ = (zₖ − 1/zₖ)/2i),
+
+whichever has the fewest terms (ties go to c, then s, then f).  The reduction is exact: the
+coefficients are exact numbers until the end, where each is folded to its correctly rounded
+double, and a coefficient that is zero in exact arithmetic is not shown.
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from fractions import Fraction
+from math import comb
+
+import sympy as sp
+
+from .exact import Surd, const_of, exact, to_float, to_sympy
+
+FORMS = ("c", "s", "f")
+FORM_TEXT = {
+    "c": r"in $\mathrm{c}_k$, $\mathrm{s}_k$ with no $\mathrm{s}_k^2$",
+    "s": r"in $\mathrm{c}_k$, $\mathrm{s}_k$ with no $\mathrm{c}_k^2$",
+    "f": r"in multiple angles",
+}
+
+
+@dataclass(frozen=True)
+class Canonical:
+    expr: sp.Expr  # the quantity in the chosen form, numbers exact rationals or rounded doubles
+    form: str | None  # "c", "s", "f"; None when no cₖ, sₖ appears
+    terms: int  # terms of expr
+    terms_by_form: dict  # the term count of every form (the LaTeX's choice is the least)
+
+
+def _split(expr: sp.Expr, phis: list) -> dict:
+    """{(exponents (a₁, b₁, a₂, b₂, …), rest): exact number} of the expanded expression."""
+    index = {}
+    for k, phi in enumerate(phis):
+        index[sp.cos(phi)] = 2 * k
+        index[sp.sin(phi)] = 2 * k + 1
+    table: dict = {}
+    for term in sp.Add.make_args(sp.expand(expr)):
+        if term == 0:
+            continue
+        coeff, factors = term.as_coeff_mul()
+        number, exps, rest = exact(coeff), [0] * (2 * len(phis)), []
+        for f in factors:
+            base, e = f.as_base_exp()
+            slot = index.get(base)
+            const = const_of(base) if isinstance(base, sp.Symbol) else None
+            if slot is not None and e.is_Integer and e > 0:
+                exps[slot] += int(e)
+            elif const is not None and e.is_Integer and e > 0:
+                number = number * exact_power(const, int(e))
+            else:
+                rest.append(f)
+        key = (tuple(exps), sp.Mul(*rest))
+        table[key] = table.get(key, 0) + number
+    return {k: v for k, v in table.items() if v}
+
+
+def exact_power(const, e: int):
+    out = 1
+    one = Surd({(const,): Fraction(1)})
+    for _ in range(e):
+        out = out * one
+    return out
+
+
+def _add(table: dict, key, value) -> None:
+    v = table.get(key, 0) + value
+    if v:
+        table[key] = v
+    else:
+        table.pop(key, None)
+
+
+def _eliminate(table: dict, drop: int) -> dict:
+    """Form c (``drop`` = 1: sₖ² → 1 − cₖ²) or s (``drop`` = 0: cₖ² → 1 − sₖ²)."""
+    out: dict = {}
+    for (exps, rest), number in table.items():
+        per_k = []
+        for k in range(len(exps) // 2):
+            a, b = exps[2 * k], exps[2 * k + 1]
+            x, keep = (b, 0) if drop == 1 else (a, 1)  # x: exponent of the eliminated one
+            half, odd = divmod(x, 2)
+            choices = []
+            for j in range(half + 1):  # (1 − y²)^half = Σ C(half, j)(−1)^j y^(2j), y the kept one
+                kept = (a if keep == 0 else b) + 2 * j
+                pair = (kept, odd) if keep == 0 else (odd, kept)
+                choices.append((pair, (-1) ** j * comb(half, j)))
+            per_k.append(choices)
+        for combo in itertools.product(*per_k):
+            q, new = 1, []
+            for pair, c in combo:
+                q *= c
+                new.extend(pair)
+            _add(out, (tuple(new), rest), number * q)
+    return out
+
+
+def _laurent(a: int, b: int) -> dict:
+    """cᵃ sᵇ as {m: (re, im)} with c = (z + 1/z)/2, s = (z − 1/z)/2i."""
+    out: dict = {}
+    unit = [(1, 0), (0, -1), (-1, 0), (0, 1)][b % 4]  # (1/i)^b
+    scale = Fraction(1, 2 ** (a + b))
+    for i in range(a + 1):
+        for j in range(b + 1):
+            m = (a - 2 * i) + (b - 2 * j)
+            q = scale * comb(a, i) * comb(b, j) * (-1) ** j
+            re, im = out.get(m, (0, 0))
+            out[m] = (re + q * unit[0], im + q * unit[1])
+    return out
+
+
+def _fourier(table: dict, n: int) -> dict:
+    """Form f: {((kind, m), rest): number}, kind "cos" or "sin", m with its first nonzero entry > 0."""
+    acc: dict = {}
+    for (exps, rest), number in table.items():
+        series = {(): (Fraction(1), Fraction(0))}
+        for k in range(n):
+            nxt = {}
+            for mm, (r1, i1) in series.items():
+                for m, (r2, i2) in _laurent(exps[2 * k], exps[2 * k + 1]).items():
+                    nxt[mm + (m,)] = (r1 * r2 - i1 * i2, r1 * i2 + i1 * r2)
+            series = nxt
+        for m, (re, im) in series.items():
+            first = next((x for x in m if x), 0)
+            plus = tuple(-x for x in m) if first < 0 else m
+            sign = -1 if first < 0 else 1  # sin(−θ) = −sin θ
+            if re:
+                _add(acc, (("cos", plus), rest), number * re)
+            if im and first != 0:
+                _add(acc, (("sin", plus), rest), number * (-im * sign))
+    return acc
+
+
+def _folded(table: dict) -> dict:
+    """Coefficients as doubles; those zero by a relation exact.py does not know are dropped."""
+    return {k: v for k, v in table.items() if not isinstance(v, Surd) or to_float(v) != 0.0}
+
+
+def _number(v) -> sp.Expr:
+    return to_sympy(v)  # a rational exactly, a Surd as its correctly rounded double
+
+
+def canonical(expr: sp.Expr, phis: list) -> Canonical:
+    """``expr`` (cos φᵏ, sin φᵏ as sympy functions; irrational constants as exact.ConstSymbols)
+    in the canonical form with the fewest terms."""
+    table = _split(expr, phis)
+    has_trig = any(any(exps) for exps, _ in table)
+    if not has_trig:
+        folded = _folded(table)
+        out = sp.Add(*(_number(v) * rest for (_, rest), v in folded.items()))
+        return Canonical(out, None, len(folded), {})
+    n = len(phis)
+    forms = {"c": _folded(_eliminate(table, 1)), "s": _folded(_eliminate(table, 0)), "f": _folded(_fourier(table, n))}
+    counts = {k: len(v) for k, v in forms.items()}
+    form = min(FORMS, key=lambda k: (counts[k], FORMS.index(k)))
+    terms = []
+    for key, v in forms[form].items():
+        trig, rest = key
+        if form == "f":
+            kind, m = trig
+            angle = sp.Add(*(mk * phi for mk, phi in zip(m, phis)))
+            factor = (sp.cos if kind == "cos" else sp.sin)(angle) if any(m) else sp.Integer(1)
+        else:
+            factor = sp.Mul(*(f(phi) ** e for k, phi in enumerate(phis) for f, e in ((sp.cos, trig[2 * k]), (sp.sin, trig[2 * k + 1]))))
+        terms.append(_number(v) * factor * rest)
+    return Canonical(sp.Add(*terms), form, counts[form], counts)

@@ -1,0 +1,268 @@
+"""Numbers folded exactly (issue 14): no round-off residue in the C, the Python or the LaTeX.
+
+The checks read the emitted text only, so they catch a residue however it got there:
+- a coefficient below the round-off level of its own expression (1e-12 of the largest number in
+  the same statement or equation) is the remains of an exact cancellation done in floating point;
+- a C or Python literal of 16–17 digits that lies within a few ulps of a short decimal it is not
+  (0.002999999999999999 for 0.003) is an exact value rounded more than once.
+They run on every example and on random specs; the unit tests below pin exact.py and trigform.py.
+"""
+from __future__ import annotations
+
+import math
+import re
+from fractions import Fraction
+from pathlib import Path
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+
+from codegen import emit, exact, trigform
+from codegen.algebra import Poly
+from codegen.cli import derive_and_render
+from codegen.program import Program
+from codegen.randspec import random_spec_text
+from codegen.spec import load_spec, parse_spec
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = sorted(p.stem for p in (ROOT / "specs").glob("*.toml"))
+RESIDUE = 1e-12  # a coefficient this much smaller than the largest of its expression is round-off
+
+NUMBER = re.compile(r"(?<![\w.])(\d+\.\d*(?:e[-+]?\d+)?|\d+e[-+]?\d+)(?![\w.])")
+C_STATEMENT = re.compile(r"^\s+(?:const double [A-Za-z_]\w*|[A-Za-z_]\w*\[\d+\]) [-+]?= (.*);$")
+PY_STATEMENT = re.compile(r"^\s+[A-Za-z_][\w\[\], ]* = (.*)$")
+
+
+def _small_ones(numbers: list[float]) -> list[float]:
+    big = max((abs(v) for v in numbers), default=0.0)
+    return [v for v in numbers if v != 0.0 and abs(v) < RESIDUE * big]
+
+
+def _near_short(text: str) -> str | None:
+    """The short decimal a long literal is a few ulps away from, if any."""
+    v = float(text)
+    digits = len(re.sub(r"[^0-9]", "", text.split("e")[0]).lstrip("0"))
+    if digits < 16 or v == 0.0:
+        return None
+    for d in range(1, 11):
+        short = f"{v:.{d}g}"
+        w = float(short)
+        if w != v and abs(w - v) <= 4 * math.ulp(v):
+            return short
+    return None
+
+
+def residue_report(files: dict[str, str]) -> list[str]:
+    """Every suspicious number of the emitted files, as 'file: line' messages (empty: clean)."""
+    out = []
+    for fname, text in files.items():
+        if fname.endswith(".c") or fname.endswith(".py"):
+            pattern = C_STATEMENT if fname.endswith(".c") else PY_STATEMENT
+            for line in text.splitlines():
+                m = pattern.match(line)
+                if not m:
+                    continue
+                lits = NUMBER.findall(m.group(1))
+                for v in _small_ones([float(x) for x in lits]):
+                    out.append(f"{fname}: {v!r} below round-off of its statement: {line.strip()[:160]}")
+                for x in lits:
+                    short = _near_short(x)
+                    if short:
+                        out.append(f"{fname}: {x} printed for what is likely {short}: {line.strip()[:160]}")
+        elif fname.endswith(".tex"):
+            for eq in _tex_equations(text):
+                for v in _small_ones(_tex_numbers(eq)):
+                    out.append(f"{fname}: {v:g} below round-off of its equation: {eq.strip()[:160]}")
+    return out
+
+
+def _tex_equations(text: str) -> list[str]:
+    """The right sides of the LaTeX's equations, continuation lines joined."""
+    eqs: list[str] = []
+    for chunk in re.split(r"\\\\|\\end\{align\*\}", re.sub(r"\\tag\*\{[^}]*\}", "", text)):
+        if "&=" in chunk:
+            eqs.append(chunk.rsplit("&=", 1)[1])
+        elif chunk.strip().startswith(r"&\quad") and eqs:
+            eqs[-1] += chunk
+    return eqs
+
+
+def _tex_numbers(rhs: str) -> list[float]:
+    """The coefficients of a LaTeX right side (10-digit decimals, maybe · 10^{e}); exponents,
+    indices and superscripts are not numbers of the formula."""
+    rhs = re.sub(r"\^\{[^}]*\}|_\{[^}]*\}|\^\d|_\d", " ", rhs.replace(r" \cdot 10^{", " E{"))
+    out = []
+    for mant, exp in re.findall(r"(?<![\w.])(\d+(?:\.\d+)?)(?: E\{(-?\d+)\})?", rhs):
+        out.append(float(mant) * 10.0 ** int(exp or 0))
+    return out
+
+
+# --------------------------------------------------------------------------- the emitted files
+def _with_angles(text: str, angles: list[str]) -> str:
+    """A random spec with its structural angles replaced (by expressions such as "pi/4")."""
+    it = iter(angles)
+    return re.sub(r"^theta = .*$", lambda m: f'theta = "{next(it)}"', text, flags=re.M)
+
+
+def _random_cases() -> dict[str, str]:
+    cases = {}
+    for i, (n, planar, controls) in enumerate([(2, False, ()), (3, False, (1,)), (2, True, ()), (5, False, (2,))]):
+        rng = np.random.default_rng(1400 + i)
+        cases[f"random_{'planar' if planar else 'spatial'}{n}"] = random_spec_text(rng, n, planar=planar, controls=controls)
+    rng = np.random.default_rng(1410)
+    # exact special angles (sqrt(2)/2, sqrt(3)/2) and angles whose cosines are related in a way
+    # exact.py is not told (cos 0.6 = 2 cos^2 0.3 - 1)
+    cases["special_angles3"] = _with_angles(random_spec_text(rng, 3), ["pi/4", "pi/3", "pi/6"])
+    cases["related_angles3"] = _with_angles(random_spec_text(rng, 3), ["0.3", "0.6", "0.3"])
+    return cases
+
+
+RANDOM = _random_cases()
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_examples_have_no_residue(name):
+    files, _ = derive_and_render(load_spec(ROOT / "specs" / f"{name}.toml"), name)
+    assert residue_report(files) == []
+
+
+@pytest.mark.parametrize("name", sorted(RANDOM))
+def test_random_specs_have_no_residue(name):
+    files, _ = derive_and_render(parse_spec(RANDOM[name]), name)
+    assert residue_report(files) == []
+
+
+def test_the_check_catches_what_was_printed_before():
+    """Lines as the generator printed them before numbers were folded exactly (gimbal.c,
+    spatial3.tex): the report must flag each."""
+    files = {
+        "gimbal.c": "        const double pN2_1 = 0.002999999999999999*om2_2*om2_3 + 0.5*om2_2;\n",
+        "gimbal.py": "        Ja2rdr_33 = 0.0075 + 0.0014999999999999996*c2phi2\n",
+        "spatial3.tex": r"Q_{1} &= 0.0001234638751 \mathrm{c}_{3} \mathrm{s}_{3}^{2} - 2.458949501 \cdot 10^{-20} \mathrm{c}_{3} \mathrm{s}_{3} \\" + "\n",
+        "gyrostat2.c": "    const double a = 0.0466019543*x + 3.469446952e-18*y;\n",
+    }
+    report = residue_report(files)
+    assert len(report) == 4, report
+    assert residue_report({"ok.c": "    const double a = 0.003*x + 0.0015*y;\n"}) == []
+
+
+def test_exact_values_are_printed(make_model):
+    """Products and sums of the spec's decimals print as their exact values (0.1*0.03 = 0.003)."""
+    text = (ROOT / "specs" / "gimbal.toml").read_text()
+    files, model = derive_and_render(parse_spec(text), "gimbal")
+    c = files["gimbal.c"]
+    assert "0.003*" in c and "0.0015*" in c
+    assert "0.002999999999999999" not in c and "0.0014999999999999996" not in c
+
+
+# --------------------------------------------------------------------------- exact.py
+def _reference_double(expr: sp.Expr) -> float:
+    """The correctly rounded double of an exact sympy number, by 80 digits and one rounding."""
+    with mpmath.workprec(53):
+        return float(mpmath.mpf(str(sp.N(expr, 80))))
+
+
+def test_fold_is_correctly_rounded():
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        p, q = (int(x) for x in rng.integers(1, 10**12, 2))
+        f = Fraction(p, q) * Fraction(7, 10**int(rng.integers(0, 8)))
+        assert exact.to_float(f) == _reference_double(sp.Rational(f.numerator, f.denominator))
+    for arg in ("3/10", "1/7", "2"):
+        a = sp.Rational(arg)
+        c, s = exact.exact(sp.cos(a)), exact.exact(sp.sin(a))
+        for value, expr in ((c, sp.cos(a)), (s * c * Fraction(7, 3), sp.sin(a) * sp.cos(a) * sp.Rational(7, 3)),
+                            (c * c * c - Fraction(1, 10) * s, sp.cos(a) ** 3 - sp.sin(a) / 10)):
+            assert exact.to_float(value) == _reference_double(expr)
+
+
+def test_known_relations_reduce_exactly():
+    c, s = exact.exact(sp.cos(sp.Rational(3, 10))), exact.exact(sp.sin(sp.Rational(3, 10)))
+    assert c * c + s * s == 1
+    assert s * s * s == s - c * c * s
+    r = exact.exact(sp.sqrt(2) / 2)
+    assert r * r == Fraction(1, 2)
+    assert exact.exact(sp.cos(sp.pi / 3)) == Fraction(1, 2)
+    # sin(pi/5) = sqrt(5/8 - sqrt(5)/8): its square reduces through the nested root
+    c5, s5 = exact.exact(sp.cos(sp.pi / 5)), exact.exact(sp.sin(sp.pi / 5))
+    assert c5 * c5 + s5 * s5 == 1
+
+
+def test_unknown_relation_folds_to_zero_and_is_not_printed():
+    c3, c6 = exact.exact(sp.cos(sp.Rational(3, 10))), exact.exact(sp.cos(sp.Rational(3, 5)))
+    zero = c6 - (2 * c3 * c3 - 1)
+    assert isinstance(zero, exact.Surd)  # not zero structurally
+    assert exact.to_float(zero) == 0.0
+    P = Program()
+    x = P.input(sp.Symbol("x"))
+    p = x * Poly.const(zero) + Poly.const(Fraction(3, 1000)) * x
+    assert emit.poly_code(p, lambda a: a.name) == "0.003*x"
+
+
+def test_spec_decimals_fold_exactly():
+    P = Program()
+    m, l = P.from_sympy(sp.Rational(1, 10)), P.from_sympy(sp.Rational(3, 100))
+    assert (m * l).constant() == Fraction(3, 1000)
+    assert emit.poly_code(m * l, str) == "0.003"
+    assert (Poly.const(0.1) * 3).constant() != Fraction(3, 10)  # a float literal is its binary value
+
+
+# --------------------------------------------------------------------------- trigform.py
+PHI = [sp.Symbol(f"phi_{k}", real=True) for k in (1, 2, 3)]
+
+
+def _random_trig_poly(rng, phis, terms: int = 8) -> sp.Expr:
+    out = sp.Integer(0)
+    for _ in range(terms):
+        t = sp.Rational(int(rng.integers(-9, 10)), int(rng.integers(1, 9)))
+        for phi in phis:
+            t *= sp.cos(phi) ** int(rng.integers(0, 4)) * sp.sin(phi) ** int(rng.integers(0, 4))
+        out += t * sp.Symbol("w") ** int(rng.integers(0, 2))
+    return out
+
+
+def _numeric(expr, phis, at) -> float:
+    return complex(expr.subs({**dict(zip(phis, at)), sp.Symbol("w"): 0.7}).evalf(30)).real
+
+
+def test_every_form_is_the_same_function_and_the_shortest_is_chosen():
+    rng = np.random.default_rng(7)
+    for trial in range(6):
+        phis = PHI[: 1 + trial % 3]
+        e = _random_trig_poly(rng, phis)
+        can = trigform.canonical(e, phis)
+        assert can.terms == min(can.terms_by_form.values())
+        for form in trigform.FORMS:
+            table = {"c": trigform._eliminate(trigform._split(e, phis), 1), "s": trigform._eliminate(trigform._split(e, phis), 0),
+                     "f": trigform._fourier(trigform._split(e, phis), len(phis))}[form]
+            assert len(table) == can.terms_by_form[form]
+        for _ in range(3):
+            at = rng.uniform(-3, 3, len(phis))
+            assert _numeric(can.expr, phis, at) == pytest.approx(_numeric(e, phis, at), rel=1e-12, abs=1e-12)
+
+
+def test_forms_are_canonical():
+    """Two writings of the same function give the same printed form."""
+    c, s = sp.cos(PHI[1]), sp.sin(PHI[1])
+    a, b = sp.Rational(3, 7), sp.Rational(-2, 5)
+    one = a * c**2 + b * s**2 + c**3 * s
+    two = b + (a - b) * c**2 + c * s - c * s**3
+    assert trigform.canonical(one, PHI[1:2]).expr == trigform.canonical(two, PHI[1:2]).expr
+    # the double pendulum's gravity moment: 3 terms in c/s, 2 in multiple angles
+    g = -2 * s * sp.cos(PHI[0]) - 2 * c * sp.sin(PHI[0]) - 3 * sp.sin(PHI[0])
+    can = trigform.canonical(g, PHI[:2])
+    assert can.form == "f" and can.terms == 2
+    assert can.expr == -2 * sp.sin(PHI[0] + PHI[1]) - 3 * sp.sin(PHI[0])
+
+
+def test_latex_marks_the_form_of_every_expanded_quantity():
+    files, _ = derive_and_render(load_spec(ROOT / "specs" / "double_pendulum.toml"), "dp")
+    tex = files["double_pendulum.tex"]
+    assert r"[c] a polynomial in" in tex and "[f] in cosines and sines of multiple angles" in tex
+    body = tex.split(r"\subsection*{Mass matrix")[1].split(r"\section*{Integrals}")[0]
+    eqs = [e for e in re.split(r"\\\\\n?(?=[A-Z\\])", body) if "&=" in e]
+    trig = [e for e in eqs if r"\mathrm{c}_" in e or r"\mathrm{s}_" in e or r"\sin" in e or r"\cos" in e]
+    assert trig and all(re.search(r"\\tag\*\{\[[csf]\]\}", e) for e in trig), trig
+    assert r"\sin{\left(\varphi^{1} + \varphi^{2} \right)}" in tex
