@@ -263,6 +263,47 @@ class CModel:
             raise IntegrationError(f"{self.name}_integrate_grid({method})", code, X, stats)
         return (X, stats) if full_output else X
 
+    def integrate_batch(self, t, X0, method="dop853", h=0.0, rtol=1e-8, atol=1e-10, u=None, params=None, max_steps=0):
+        """Many trajectories at the same output times t in one C call (NAME_integrate_batch, which
+        runs without the GIL): X0 of shape (nb, 2N); u None, one (NU,) for all or (nb, NU); params
+        None, one dict for all or a list of nb dicts.  Returns X of shape (nb, len(t), 2N) (rows
+        past a failure NaN) and the return code of each trajectory (0: OK)."""
+        ts = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
+        X0 = np.ascontiguousarray(X0, dtype=float)
+        if X0.ndim != 2 or X0.shape[1] != 2 * self.n:
+            raise ValueError(f"X0 must have shape (nb, {2 * self.n}), not {X0.shape}")
+        nb = X0.shape[0]
+        U, u_stride = None, 0
+        if u is not None:
+            U = np.ascontiguousarray(u, dtype=float)
+            if U.shape == (self.nu,):
+                u_stride = 0
+            elif U.shape == (nb, self.nu):
+                u_stride = self.nu
+            else:
+                raise ValueError(f"u must have shape ({self.nu},) or ({nb}, {self.nu}), not {U.shape}")
+        if params is None:
+            pp, p_stride = self.ffi.NULL, 0
+        elif isinstance(params, dict):
+            pp, p_stride = self._p(params), 0
+        else:
+            if len(params) != nb:
+                raise ValueError(f"params: {len(params)} parameter sets for {nb} trajectories")
+            pp, p_stride = self.ffi.new(f"{self.name}_params[]", nb), 1
+            for i, d in enumerate(params):
+                for k, v in d.items():
+                    setattr(pp[i], k, float(v))
+        X = np.empty((nb, len(ts), 2 * self.n))
+        codes = np.zeros(nb, dtype=np.intc)
+        dp = lambda a: self.ffi.cast("double *", self.ffi.from_buffer(a))  # noqa: E731
+        failed = self._fn("integrate_batch")(
+            METHODS[method], nb, len(ts), dp(ts), float(h), float(rtol), float(atol), int(max_steps), dp(X0),
+            dp(U) if U is not None else self.ffi.NULL, u_stride, pp, p_stride, dp(X),
+            self.ffi.cast("int *", self.ffi.from_buffer(codes)))
+        if failed < 0:
+            raise ModelError(f"{self.name}_integrate_batch", -failed)
+        return X, codes
+
     # ---- the two-body quadratures (models with NAME_HAS_QUADRATURES)
     def quad_motion(self, x0, params=None) -> dict:
         xp, _k = self._arr(x0, 4)

@@ -98,6 +98,18 @@ int main(void)
                 rc |= {name}_integrate_grid(m, 3, tt, 0.0125, 1e-6, 1e-6, 1000, x, NULL, p, X, &st);
                 if (rc < 0 || rc > 15) bad |= 128;
             }}
+            {{
+                /* the batch: two trajectories (the second from a NaN state), one u for both */
+                double X0[2 * 2 * {NAME}_N], XB[2 * 3 * 2 * {NAME}_N];
+                int codes[2], i;
+                for (i = 0; i < 2 * {NAME}_N; ++i) {{
+                    X0[i] = x[i];
+                    X0[2 * {NAME}_N + i] = i == 0 ? NAN : x[i];
+                }}
+                rc = {name}_integrate_batch({NAME}_DOP853, 2, 3, tt, 0.0, 1e-6, 1e-6, 1000, X0, u, 0, p, 0, XB, codes);
+                if (rc != (codes[0] != 0) + (codes[1] != 0) || codes[1] != {NAME}_NONFINITE) bad |= 256;
+                if ({name}_integrate_batch({NAME}_RK4, -1, 3, tt, 0.01, 0.0, 0.0, 0, X0, u, 0, p, 0, XB, codes) != -{NAME}_BAD_ARGUMENT) bad |= 256;
+            }}
         }}
     }}
     x[0] = NAN;

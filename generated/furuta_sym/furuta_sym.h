@@ -26,6 +26,13 @@
  * and the outputs stay (phi, phidot)).  On
  * failure x1 is the last accepted state.  furuta_sym_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means FURUTA_SYM_INTEGRATE_MAX_STEPS.
+ * furuta_sym_integrate_batch integrates nb independent trajectories at the same nt output times:
+ * trajectory b starts at x0 + b*2N, holds u + b*u_stride (u NULL: no torque; u_stride 0: one u
+ * for all) and p + b*p_stride (p_stride 0: one parameter set for all), writes X + b*nt*2N and its
+ * own return code codes[b] (as furuta_sym_integrate_grid's).  It returns the number of
+ * trajectories whose code is not FURUTA_SYM_OK, or -FURUTA_SYM_BAD_ARGUMENT (nothing written)
+ * when nb < 0 or x0, X or codes is NULL.  No allocation, no state: callers may split a batch
+ * across threads.
  * furuta_sym_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
@@ -100,6 +107,9 @@ int furuta_sym_integrate(int method, double t0, double t1, double h, double rtol
 int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const furuta_sym_params *p,
                         double *X, furuta_sym_integrate_stats *stats);
+int furuta_sym_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+                         long max_steps, const double *x0, const double *u, long u_stride,
+                         const furuta_sym_params *p, long p_stride, double *X, int *codes);
 
 #ifdef __cplusplus
 }

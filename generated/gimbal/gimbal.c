@@ -1307,6 +1307,23 @@ int gimbal_integrate_grid(int method, int nt, const double *t, double h, double 
     return code;
 }
 
+int gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+                               long max_steps, const double *x0, const double *u, long u_stride,
+                               const gimbal_params *p, long p_stride, double *X, int *codes)
+{
+    int b, failed = 0;
+    if (nb < 0 || !x0 || !X || !codes) {
+        return -GIMBAL_BAD_ARGUMENT;
+    }
+    for (b = 0; b < nb; ++b) {
+        codes[b] = gimbal_integrate_grid(method, nt, t, h, rtol, atol, max_steps, x0 + (long)b * 4,
+                                             u ? u + (long)b * u_stride : 0, p ? p + (long)b * p_stride : 0,
+                                             X + (long)b * (nt > 0 ? nt : 0) * 4, 0);
+        failed += codes[b] != GIMBAL_OK;
+    }
+    return failed;
+}
+
 int gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const gimbal_params *p, double *x1, long *n_rhs)
 {

@@ -23,6 +23,13 @@
  * Newton with the exact Jacobian: stats n_newton; KAPITZA_GAUSS2_FIXED = the sweeps only).  On
  * failure x1 is the last accepted state.  kapitza_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means KAPITZA_INTEGRATE_MAX_STEPS.
+ * kapitza_integrate_batch integrates nb independent trajectories at the same nt output times:
+ * trajectory b starts at x0 + b*2N, holds u + b*u_stride (u NULL: no torque; u_stride 0: one u
+ * for all) and p + b*p_stride (p_stride 0: one parameter set for all), writes X + b*nt*2N and its
+ * own return code codes[b] (as kapitza_integrate_grid's).  It returns the number of
+ * trajectories whose code is not KAPITZA_OK, or -KAPITZA_BAD_ARGUMENT (nothing written)
+ * when nb < 0 or x0, X or codes is NULL.  No allocation, no state: callers may split a batch
+ * across threads.
  * General case (the paper's (8)-(10)): a moving platform, external loads, joint springs and dampers
  * or gyrostatic moments lambda(t), as the spec gives them.  KAPITZA_TIME_DEPENDENT is 1 when a
  * function reads the time t: then kapitza_forces, _qdd, _energy and _momentum take double t first;
@@ -90,6 +97,9 @@ int kapitza_integrate(int method, double t0, double t1, double h, double rtol, d
 int kapitza_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const kapitza_params *p,
                         double *X, kapitza_integrate_stats *stats);
+int kapitza_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+                         long max_steps, const double *x0, const double *u, long u_stride,
+                         const kapitza_params *p, long p_stride, double *X, int *codes);
 
 #ifdef __cplusplus
 }

@@ -26,6 +26,13 @@
  * and the outputs stay (phi, phidot)).  On
  * failure x1 is the last accepted state.  ziegler_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means ZIEGLER_INTEGRATE_MAX_STEPS.
+ * ziegler_integrate_batch integrates nb independent trajectories at the same nt output times:
+ * trajectory b starts at x0 + b*2N, holds u + b*u_stride (u NULL: no torque; u_stride 0: one u
+ * for all) and p + b*p_stride (p_stride 0: one parameter set for all), writes X + b*nt*2N and its
+ * own return code codes[b] (as ziegler_integrate_grid's).  It returns the number of
+ * trajectories whose code is not ZIEGLER_OK, or -ZIEGLER_BAD_ARGUMENT (nothing written)
+ * when nb < 0 or x0, X or codes is NULL.  No allocation, no state: callers may split a batch
+ * across threads.
  * General case (the paper's (8)-(10)): a moving platform, external loads, joint springs and dampers
  * or gyrostatic moments lambda(t), as the spec gives them.  ZIEGLER_TIME_DEPENDENT is 1 when a
  * function reads the time t: then ziegler_forces, _qdd, _energy and _momentum take double t first;
@@ -99,6 +106,9 @@ int ziegler_integrate(int method, double t0, double t1, double h, double rtol, d
 int ziegler_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const ziegler_params *p,
                         double *X, ziegler_integrate_stats *stats);
+int ziegler_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+                         long max_steps, const double *x0, const double *u, long u_stride,
+                         const ziegler_params *p, long p_stride, double *X, int *codes);
 
 #ifdef __cplusplus
 }
