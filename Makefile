@@ -1,7 +1,8 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
 # make test                           set up .venv and run the test suite
-# make plot                           the gimbal's quadrature over an ODE solution, the Furuta LQR loop (docs/)
-# make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost (bench/results/)
+# make plot                           the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map (docs/)
+# make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost; ensembles against
+#                                     scipy and MuJoCo's rollout on 1 and 2 cores and a local Dask cluster (bench/results/)
 # make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo; derivatives against Pinocchio, CasADi, differences (bench/results/)
 SHELL := /bin/bash
 PY ?= python3
@@ -18,7 +19,7 @@ all: generate
 $(VENV)/.installed: pyproject.toml
 	$(PY) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q -e '.[test]'
+	$(VPY) -m pip install -q -e '.[test,sweep]'
 	touch $@
 
 setup: $(VENV)/.installed
@@ -35,7 +36,7 @@ test: setup
 	$(VPY) -m pytest -q -n $(JOBS) --dist loadfile
 
 $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
-	$(VPY) -m pip install -q -e '.[test,plot]'
+	$(VPY) -m pip install -q -e '.[test,plot,sweep,rollout]'
 	touch $@
 
 plot: $(VENV)/.plot-installed
@@ -43,6 +44,10 @@ plot: $(VENV)/.plot-installed
 	$(VPY) examples/plot_gimbal.py docs/gimbal_quadrature.png
 	$(VPY) -m codegen generate -q specs/furuta.toml >/dev/null
 	$(VPY) examples/furuta_lqr.py docs/furuta_lqr.png
+	rm -rf build/flip_map.zarr
+	$(VPY) -m codegen sweep specs/double_pendulum.toml --vary phi1=-3.14:3.14:300 --vary phi2=-3.14:3.14:300 \
+		--t1 10 --measure flip_time -q -o build/flip_map.zarr
+	$(VPY) -m codegen plot build/flip_map.zarr --log --cmap magma -o docs/double_pendulum_flip.png
 
 $(VENV)/.bench-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,bench]'
@@ -56,6 +61,8 @@ bench-setup: $(VENV)/.bench-installed
 
 bench: $(VENV)/.plot-installed
 	$(VPY) bench/integrators.py
+	$(VPY) bench/ensemble.py
+	$(VPY) bench/lanes.py
 
 bench-speed: bench-setup
 	$(VPY) bench/speed.py

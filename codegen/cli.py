@@ -1,4 +1,4 @@
-"""Command line: ``python -m codegen {generate,check,simulate} SPEC``.
+"""Command line: ``python -m codegen {generate,check,simulate,steady,sweep} SPEC`` and ``plot STORE``.
 
 Only this module touches the disk.  A bad spec gets one line on stderr naming the field, exit
 status 2, and nothing written: outputs go to a temporary folder beside the target and replace it
@@ -14,6 +14,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
 
 from .spec import SpecError, load_spec
 
@@ -277,6 +279,122 @@ def cmd_steady(args) -> int:
     return 0
 
 
+def _params_of(items, what: str = "--param") -> dict:
+    params = {}
+    for item in items or []:
+        key, _, val = item.partition("=")
+        try:
+            params[key.strip()] = float(val)
+        except ValueError:
+            raise SpecError(f"{what} {key}", "expected name=number") from None
+    return params
+
+
+def cmd_sweep(args) -> int:
+    """A grid (or random samples) of initial states and parameters, integrated in chunks into a Zarr store."""
+    from . import sweep as sw
+
+    text = Path(args.spec).read_text(encoding="utf-8") if Path(args.spec).is_file() else None
+    if text is None:
+        raise SpecError("spec", f"{args.spec}: no such file")
+    load_spec(args.spec)  # the spec's own errors first, naming its fields
+    random_mode = args.random > 0
+    vary = [sw.parse_vary(v, random_mode) for v in args.vary or []]
+    n_spec = load_spec(args.spec).n
+    sweep = sw.Sweep(
+        spec_text=text, vary=vary, t1=args.t1, measures=args.measure or ["final"], random=args.random, seed=args.seed,
+        method=args.method, h=args.h, rtol=args.rtol, atol=args.atol, samples=args.samples, flip=args.flip,
+        lyap_interval=args.lyap_interval, phi=_floats(args.phi, "--phi", n_spec) if args.phi else [],
+        phidot=_floats(args.phidot, "--phidot", n_spec) if args.phidot else [],
+        u=[float(v) for v in args.u.split(",")] if args.u else [], params=_params_of(args.param), chunk=args.chunk,
+    )
+    plan = sw.Plan(sweep)
+    if args.threads is not None and args.threads < 1:
+        raise SpecError("--threads", "must be at least 1")
+    if args.workers and args.scheduler:
+        raise SpecError("--workers", "give --workers (a local Dask cluster) or --scheduler (an existing one), not both")
+    sw.check_store(Path(args.output), plan)
+    t0 = time.perf_counter()
+    where = (f"the Dask scheduler {args.scheduler}" if args.scheduler else f"a local Dask cluster of {args.workers} worker processes"
+             if args.workers else f"{args.threads or os.cpu_count()} thread(s)")
+    print(f"sweep of {plan.spec.name}: {int(np.prod(plan.shape))} points in {plan.n_chunks} chunks on {where} -> {args.output}",
+          file=sys.stderr)
+    counts = sw.run(sweep, args.output, threads=args.threads, workers=args.workers, scheduler=args.scheduler,
+                    progress=not args.quiet, plan=plan)
+    print(f"{counts['written']} chunks computed, {counts['skipped']} already done, in {time.perf_counter() - t0:.1f} s",
+          file=sys.stderr)
+    return 0
+
+
+def cmd_plot(args) -> int:
+    """A heat map (two varied quantities) or a curve (one) of a sweep store."""
+    from . import sweep as sw
+
+    if not Path(args.store).exists():
+        raise SpecError("store", f"{args.store}: no such store")
+    data = sw.read(args.store)
+    a = data["attrs"]["args"]
+    measure = args.measure or a["measures"][0]
+    if measure not in data:
+        raise SpecError("--measure", f"{measure!r} is not in the store (it has {', '.join(a['measures'])})")
+    values = data[measure]
+    if measure == "final":
+        values = values[..., args.component]
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise SpecError("plot", "needs matplotlib: pip install 'gyrochain[plot]'") from None
+    names = [v[0] for v in a["vary"]]
+    label = _measure_label(measure, args.component, data["attrs"])
+    fig, ax = plt.subplots(figsize=(6.4, 5.2) if len(names) == 2 else (6.4, 4.0), dpi=args.dpi)
+    if len(names) == 2 and not a["random"]:
+        x, y = data["coords"][names[0]], data["coords"][names[1]]
+        norm = None
+        if args.log:
+            from matplotlib.colors import LogNorm
+            norm = LogNorm()
+        im = ax.pcolormesh(x, y, values.T, shading="nearest", cmap=args.cmap, norm=norm)
+        fig.colorbar(im, ax=ax, label=label)
+        ax.set_xlabel(_axis_label(names[0]))
+        ax.set_ylabel(_axis_label(names[1]))
+    elif len(names) == 2:
+        sc = ax.scatter(data["coords"][names[0]], data["coords"][names[1]], c=values, s=4, cmap=args.cmap)
+        fig.colorbar(sc, ax=ax, label=label)
+        ax.set_xlabel(_axis_label(names[0]))
+        ax.set_ylabel(_axis_label(names[1]))
+    elif len(names) == 1:
+        x = data["coords"][names[0]]
+        order = np.argsort(x)
+        ax.plot(x[order], values[order], ".-" if len(x) < 200 else "-")
+        ax.set_xlabel(_axis_label(names[0]))
+        ax.set_ylabel(label)
+    else:
+        raise SpecError("store", f"plot shows one or two varied quantities; this sweep varies {len(names)}")
+    ax.set_title(f"{data['attrs']['spec_name']}: {label}")
+    fig.tight_layout()
+    fig.savefig(args.output)
+    print(f"wrote {args.output}", file=sys.stderr)
+    return 0
+
+
+def _axis_label(name: str) -> str:
+    import re
+
+    m = re.fullmatch(r"(phi|phidot)(\d+)", name)
+    if not m:
+        return name
+    return f"$\\varphi^{{{m.group(2)}}}$ (rad)" if m.group(1) == "phi" else f"$\\dot\\varphi^{{{m.group(2)}}}$ (rad/s)"
+
+
+def _measure_label(measure: str, component: int, attrs: dict) -> str:
+    t1 = attrs["args"]["t1"]
+    return {"flip_time": f"flip time (s; blank: none within {t1:g} s)", "energy_error": "largest |E(t) - E(0)|",
+            "lyapunov": "largest Lyapunov exponent (1/s)", "code": "integrator return code"}.get(
+        measure, f"final state component {component}")
+
+
 def _prog() -> str:
     """The command as the user typed it: the console script, or python -m codegen."""
     from . import DISTRIBUTION
@@ -322,9 +440,42 @@ def main(argv=None) -> int:
     st.add_argument("--omega", default="", help="a:b:N grid of the rotation rate phidot1 (default: from the equilibria)")
     st.add_argument("--start", action="append", help="an extra Newton start phi1,...,phin")
     st.add_argument("--no-rotations", action="store_true", help="equilibria only")
+    sw = sub.add_parser("sweep", help="integrate a grid or random samples of initial states/parameters into a Zarr store")
+    sw.add_argument("spec")
+    sw.add_argument("--vary", action="append", help="name=lo:hi:count (grid; name phiK, phidotK or a parameter) or name=lo:hi with --random")
+    sw.add_argument("--random", type=int, default=0, help="that many uniform random samples in the box of the --vary ranges")
+    sw.add_argument("--seed", type=int, default=0, help="seed of --random")
+    sw.add_argument("--t1", type=float, default=10.0, help="end time of every trajectory (s)")
+    sw.add_argument("--measure", action="append", help="final | flip_time | energy_error | lyapunov (repeatable; default final)")
+    sw.add_argument("--method", default="dop853", help="rk4 | dop853 | gauss2")
+    sw.add_argument("--h", type=float, default=0.0, help="step of rk4/gauss2 (first step of dop853, 0: automatic)")
+    sw.add_argument("--rtol", type=float, default=1e-8)
+    sw.add_argument("--atol", type=float, default=1e-10)
+    sw.add_argument("--samples", type=int, default=1000, help="output intervals over [0, t1] for flip_time and energy_error")
+    sw.add_argument("--flip", default="", help="the coordinate of flip_time (phiK; default: the first of any)")
+    sw.add_argument("--lyap-interval", type=float, default=0.1, help="renormalisation interval of the Lyapunov exponent (s)")
+    sw.add_argument("--phi", default="", help="the coordinates that are not varied (default: the spec's initial or 0)")
+    sw.add_argument("--phidot", default="", help="the rates that are not varied")
+    sw.add_argument("--u", default="", help="constant torques of the controlled joints")
+    sw.add_argument("--param", action="append", help="name=value for a symbolic parameter that is not varied")
+    sw.add_argument("--chunk", type=int, default=1024, help="points per chunk (whole rows of the grid)")
+    sw.add_argument("--threads", type=int, default=None, help="threads on this machine (default: one per core)")
+    sw.add_argument("--workers", type=int, default=0, help="start a local Dask cluster of N worker processes")
+    sw.add_argument("--scheduler", default="", help="address of an existing Dask scheduler (tcp://host:8786)")
+    sw.add_argument("-o", "--output", required=True, help="the Zarr store (created, or resumed if it is this sweep's)")
+    sw.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    pl = sub.add_parser("plot", help="a heat map or a curve of a sweep store")
+    pl.add_argument("store")
+    pl.add_argument("-o", "--output", required=True, help="the image (png, pdf, svg)")
+    pl.add_argument("--measure", default="", help="which array (default: the sweep's first measure)")
+    pl.add_argument("--component", type=int, default=0, help="the state component of 'final'")
+    pl.add_argument("--cmap", default="viridis")
+    pl.add_argument("--log", action="store_true", help="a logarithmic colour scale (maps)")
+    pl.add_argument("--dpi", type=int, default=150)
     args = ap.parse_args(argv)
     try:
-        return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady}[args.cmd](args)
+        return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
+                "sweep": cmd_sweep, "plot": cmd_plot}[args.cmd](args)
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -1,0 +1,568 @@
+"""Ensembles: a grid (or random samples) of initial states and parameters, integrated by the
+batched C (NAME_integrate_batch) chunk by chunk, on threads of this machine, a local Dask cluster
+or an existing one, each finished chunk written to a Zarr store at once.
+
+    python -m codegen sweep SPEC --vary phi1=-3.1:3.1:400 --vary phi2=-3.1:3.1:400 --t1 10 \\
+        --measure flip_time -o out.zarr
+
+The store holds one array per measure over the grid (dimension names for xarray), the grid's
+coordinates, the integrator's return code of every point and a ``done`` flag per chunk; its
+attributes are the spec, the sweep's arguments and the codegen version.  A chunk's results depend
+only on the spec, the arguments and the chunk's points (never on where or when it ran), and the
+client is the only writer: a rerun of the same command skips the chunks marked done, so an
+interrupted run or one that lost a worker ends with the same store as an undisturbed one.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import sys
+import tempfile
+import threading
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from .spec import SpecError
+
+MEASURES = ("final", "flip_time", "energy_error", "lyapunov")
+METHOD_NAMES = ("rk4", "dop853", "gauss2")
+STORE_KIND = "gyrochain-sweep"
+
+
+# --------------------------------------------------------------------------- the sweep's arguments
+@dataclass
+class Sweep:
+    """Everything a chunk's results depend on (stored as the store's ``args``)."""
+
+    spec_text: str
+    vary: list  # [(name, lo, hi, count)]; count 0 in random mode
+    t1: float
+    measures: list
+    random: int = 0  # > 0: that many uniform samples in the box of the --vary ranges
+    seed: int = 0
+    method: str = "dop853"
+    h: float = 0.0
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    samples: int = 1000  # output intervals over [0, t1] for flip_time and energy_error
+    flip: str = ""  # the coordinate of flip_time (phiK), "" = the first of any
+    lyap_interval: float = 0.1  # renormalisation interval of the Lyapunov exponent
+    lyap_d0: float = 1e-8  # the initial separation (Euclidean, in state space)
+    phi: list = field(default_factory=list)  # the state of what is not varied
+    phidot: list = field(default_factory=list)
+    u: list = field(default_factory=list)
+    params: dict = field(default_factory=dict)  # the symbolic parameters that are not varied
+    chunk: int = 1024  # points per chunk (rounded to whole rows of the grid)
+
+    def args(self) -> dict:
+        d = asdict(self)
+        d.pop("spec_text")
+        return d
+
+
+def parse_vary(text: str, random_mode: bool) -> tuple:
+    """``name=lo:hi:count`` (grid) or ``name=lo:hi`` (random samples)."""
+    name, eq, rng = text.partition("=")
+    name = name.strip()
+    if not eq or not name:
+        raise SpecError("--vary", f"{text!r}: expected name=lo:hi:count")
+    parts = rng.split(":")
+    if len(parts) not in (2, 3) or (not random_mode and len(parts) != 3):
+        raise SpecError(f"--vary {name}", f"{rng!r}: expected lo:hi:count" + (" (or lo:hi with --random)" if not random_mode else ""))
+    try:
+        lo, hi = float(parts[0]), float(parts[1])
+        count = int(parts[2]) if len(parts) == 3 else 0
+    except ValueError:
+        raise SpecError(f"--vary {name}", f"{rng!r}: lo and hi must be numbers, count an integer") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise SpecError(f"--vary {name}", "the range must be finite")
+    if random_mode:
+        if len(parts) == 3:
+            raise SpecError(f"--vary {name}", "give lo:hi without a count with --random (the count is --random's)")
+        if not lo < hi:
+            raise SpecError(f"--vary {name}", f"empty range {lo:g}:{hi:g} (need lo < hi)")
+    elif count < 1 or (count > 1 and lo == hi):
+        raise SpecError(f"--vary {name}", f"empty range {rng!r} (need count >= 1 and lo != hi when count > 1)")
+    return (name, lo, hi, count)
+
+
+# --------------------------------------------------------------------------- the plan
+class Plan:
+    """The grid, its chunks and how a point becomes a state and parameters."""
+
+    def __init__(self, sweep: Sweep):
+        from .spec import parse_spec
+
+        self.sweep = sweep
+        self.spec = spec = parse_spec(sweep.spec_text)
+        n = self.n = spec.n
+        self.state_names = [f"phi{k}" for k in range(1, n + 1)] + [f"phidot{k}" for k in range(1, n + 1)]
+        self.param_names = [str(p) for p in spec.params]
+        names = [v[0] for v in sweep.vary]
+        if not names:
+            raise SpecError("--vary", "nothing to vary")
+        for name in names:
+            if name not in self.state_names and name not in self.param_names:
+                allowed = f"phi1..phi{n}, phidot1..phidot{n}" + (f" or a parameter ({', '.join(self.param_names)})" if self.param_names else "")
+                raise SpecError("--vary", f"unknown name {name!r} (expected {allowed})")
+        if len(set(names)) != len(names):
+            raise SpecError("--vary", "a name is varied twice")
+        clash = [nm for nm in names if nm in MEASURES + ("code", "done")]
+        if clash:
+            raise SpecError("--vary", f"{clash[0]!r} is the name of a stored array; rename the parameter")
+        for m in sweep.measures:
+            if m not in MEASURES:
+                raise SpecError("--measure", f"unknown measure {m!r} (one of {', '.join(MEASURES)})")
+        if not sweep.measures:
+            raise SpecError("--measure", "no measure asked for")
+        if len(set(sweep.measures)) != len(sweep.measures):
+            raise SpecError("--measure", "a measure is asked for twice")
+        if sweep.method not in METHOD_NAMES:
+            raise SpecError("--method", f"one of {', '.join(METHOD_NAMES)}")
+        if sweep.method != "dop853" and not sweep.h > 0:
+            raise SpecError("--h", f"{sweep.method} needs a step --h > 0")
+        if not (sweep.t1 > 0 and math.isfinite(sweep.t1)):
+            raise SpecError("--t1", "must be a positive number")
+        if sweep.samples < 1:
+            raise SpecError("--samples", "must be at least 1")
+        if sweep.flip and sweep.flip not in self.state_names[:n]:
+            raise SpecError("--flip", f"expected one of phi1..phi{n}")
+        if "lyapunov" in sweep.measures and not (0 < sweep.lyap_interval <= sweep.t1):
+            raise SpecError("--lyap-interval", "must be in (0, t1]")
+        missing = [p for p in self.param_names if p not in sweep.params and p not in names]
+        if missing:
+            raise SpecError("--param", f"no value for the symbolic parameter(s) {', '.join(missing)} (give --param or --vary)")
+        unknown = [p for p in sweep.params if p not in self.param_names]
+        if unknown:
+            raise SpecError("--param", f"{unknown[0]!r} is not a symbolic parameter of the spec")
+        if len(sweep.u) != len(spec.controls):
+            raise SpecError("--u", f"the spec has {len(spec.controls)} control torques; give that many values")
+        init = spec.initial or {}
+        self.base = np.array((sweep.phi or list(init.get("phi", [0.0] * n))) + (sweep.phidot or list(init.get("phidot", [0.0] * n))), float)
+        if self.base.shape != (2 * n,):
+            raise SpecError("--phi", f"expected {n} values for --phi and for --phidot")
+        # the points
+        if sweep.random > 0:
+            rng = np.random.default_rng(sweep.seed)
+            lo = np.array([v[1] for v in sweep.vary])
+            hi = np.array([v[2] for v in sweep.vary])
+            self.points = lo + (hi - lo) * rng.random((sweep.random, len(names)))
+            self.shape = (sweep.random,)
+            self.dims = ["sample"]
+            self.coords = {name: (["sample"], self.points[:, i]) for i, name in enumerate(names)}
+        else:
+            axes = [np.linspace(lo, hi, count) for _, lo, hi, count in sweep.vary]
+            self.shape = tuple(len(a) for a in axes)
+            self.dims = list(names)
+            self.coords = {name: ([name], axes[i]) for i, name in enumerate(names)}
+            self.axes = axes
+            self.points = None
+        self.names = names
+        row = int(np.prod(self.shape[1:])) if len(self.shape) > 1 else 1
+        self.rows = max(1, sweep.chunk // row)
+        self.n_chunks = -(-self.shape[0] // self.rows)
+        if "energy_error" in sweep.measures and not self._has_energy():
+            raise SpecError("--measure", "energy_error: the energy (23) is not an integral of this spec")
+
+    def _has_energy(self) -> bool:
+        from . import dynamics, integrals, kinematics
+
+        kin = kinematics.derive(self.spec)
+        ints = integrals.derive(self.spec, kin, dynamics.derive(self.spec, kin))
+        return bool(ints.has_energy_integral) and not any(self.sweep.u)
+
+    def chunk_rows(self, i: int) -> tuple[int, int]:
+        return i * self.rows, min(self.shape[0], (i + 1) * self.rows)
+
+    def chunk_points(self, i: int) -> np.ndarray:
+        """The varied values of chunk i's points, shape (count, number of varied names)."""
+        r0, r1 = self.chunk_rows(i)
+        if self.points is not None:
+            return self.points[r0:r1]
+        grids = np.meshgrid(self.axes[0][r0:r1], *self.axes[1:], indexing="ij")
+        return np.stack([g.ravel() for g in grids], axis=1)
+
+    def chunk_shape(self, i: int) -> tuple:
+        r0, r1 = self.chunk_rows(i)
+        return (r1 - r0,) + tuple(self.shape[1:])
+
+
+# --------------------------------------------------------------------------- one chunk
+def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
+    """The measures of chunk i (arrays over the chunk's part of the grid) and the return codes."""
+    sw = plan.sweep
+    pts = plan.chunk_points(i)
+    nb, n = len(pts), plan.n
+    X0 = np.tile(plan.base, (nb, 1))
+    params = dict(sw.params)
+    per_point = None
+    for j, name in enumerate(plan.names):
+        if name in plan.state_names:
+            X0[:, plan.state_names.index(name)] = pts[:, j]
+    varied_params = [(j, name) for j, name in enumerate(plan.names) if name in plan.param_names]
+    if varied_params:
+        per_point = [dict(params, **{name: float(pts[k, j]) for j, name in varied_params}) for k in range(nb)]
+    prm = per_point if per_point is not None else (params or None)
+    u = np.array(sw.u, float) if sw.u else None
+    kw = dict(method=sw.method, h=sw.h, rtol=sw.rtol, atol=sw.atol, u=u, params=prm)
+    out: dict = {}
+    codes = np.zeros(nb, dtype=np.int32)
+    series = [m for m in sw.measures if m in ("flip_time", "energy_error")]
+    if series or "final" in sw.measures:
+        t = np.linspace(0.0, sw.t1, (sw.samples if series else 1) + 1)
+        X, c = model.integrate_batch(t, X0, **kw)
+        codes = np.maximum(codes, c)
+        if "final" in sw.measures:
+            out["final"] = X[:, -1, :].copy()
+        if "flip_time" in sw.measures:
+            out["flip_time"] = flip_times(t, X[:, :, :n], plan.state_names.index(sw.flip) if sw.flip else None)
+        if "energy_error" in sw.measures:
+            E = energies(model, X, per_point if per_point is not None else params or None)
+            out["energy_error"] = np.max(np.abs(E - E[:, :1]), axis=1)
+            out["energy_error"][c != 0] = np.nan
+    if "lyapunov" in sw.measures:
+        lam, c = lyapunov(model, X0, sw, kw, prm)
+        out["lyapunov"] = lam
+        codes = np.maximum(codes, c)
+    shape = plan.chunk_shape(i)
+    res = {k: v.reshape(shape + v.shape[1:]) for k, v in out.items()}
+    res["code"] = codes.reshape(shape)
+    return res
+
+
+def energies(model, X: np.ndarray, params) -> np.ndarray:
+    """T − U at every state of X (nb, nt, 2N) by the C NAME_energy, through cffi pointers (NaN
+    rows, past a failure, give NaN)."""
+    nb, nt, dim = X.shape
+    X = np.ascontiguousarray(X)
+    ffi, f = model.ffi, model._fn("energy")
+    base = ffi.cast("double *", ffi.from_buffer(X))
+    per_point = isinstance(params, list)
+    p = None if per_point else model._p(params)
+    out = np.empty(nb * nt)
+    for b in range(nb):
+        if per_point:
+            p = model._p(params[b])
+        for j in range(nt):
+            out[b * nt + j] = f(base + (b * nt + j) * dim, p)
+    return out.reshape(nb, nt)
+
+
+def flip_times(t: np.ndarray, Q: np.ndarray, k: int | None) -> np.ndarray:
+    """The first time |φ_k| reaches π (k None: any coordinate), linear between the output times;
+    NaN when it does not within the run.  Q has shape (nb, nt, n)."""
+    A = np.abs(Q if k is None else Q[:, :, k:k + 1])
+    over = np.nan_to_num(A, nan=0.0) >= np.pi
+    out = np.full(Q.shape[0], np.nan)
+    for b in range(Q.shape[0]):
+        hits = np.nonzero(over[b].any(axis=1))[0]
+        if not len(hits):
+            continue
+        j = hits[0]
+        if j == 0:
+            out[b] = t[0]
+            continue
+        best = t[j]
+        for c in np.nonzero(over[b, j])[0]:
+            a0, a1 = A[b, j - 1, c], A[b, j, c]
+            tc = t[j - 1] + (t[j] - t[j - 1]) * (np.pi - a0) / (a1 - a0) if a1 != a0 else t[j]
+            best = min(best, tc)
+        out[b] = best
+    return out
+
+
+def lyapunov(model, X0, sw: Sweep, kw: dict, prm) -> tuple[np.ndarray, np.ndarray]:
+    """The largest Lyapunov exponent by two trajectories d0 apart (Benettin's method): every
+    lyap_interval the distance is measured, its log summed and the pair brought back to d0."""
+    nb, dim = X0.shape
+    direction = np.ones(dim) / math.sqrt(dim)
+    x, y = X0.copy(), X0 + sw.lyap_d0 * direction
+    total = np.zeros(nb)
+    codes = np.zeros(nb, dtype=np.int32)
+    steps = max(1, int(round(sw.t1 / sw.lyap_interval)))
+    dt = sw.t1 / steps
+    both_p = (list(prm) * 2) if isinstance(prm, list) else prm
+    for s in range(steps):
+        t = np.array([s * dt, (s + 1) * dt])
+        XY, c = model.integrate_batch(t, np.vstack([x, y]), **dict(kw, params=both_p))
+        codes = np.maximum(codes, np.maximum(c[:nb], c[nb:]))
+        x, y = XY[:nb, -1], XY[nb:, -1]
+        d = np.linalg.norm(y - x, axis=1)
+        ok = np.isfinite(d) & (d > 0)
+        total[ok] += np.log(d[ok] / sw.lyap_d0)
+        scale = np.where(ok, sw.lyap_d0 / np.where(ok, d, 1.0), 0.0)
+        y = np.where(ok[:, None], x + (y - x) * scale[:, None], x + sw.lyap_d0 * direction)
+        x = np.where(np.isfinite(x), x, X0)
+        y = np.where(np.isfinite(y), y, X0)
+    lam = total / sw.t1
+    lam[codes != 0] = np.nan
+    return lam, codes
+
+
+# --------------------------------------------------------------------------- the model
+_MODELS: dict = {}
+_MODELS_LOCK = threading.Lock()
+
+
+def model_files(spec_text: str) -> dict[str, str]:
+    from .cli import derive_and_render
+    from .spec import parse_spec
+
+    spec = parse_spec(spec_text)
+    files, _ = derive_and_render(spec, f"{spec.name}.toml")
+    return {k: v for k, v in files.items() if k.endswith((".c", ".h", ".cdef"))}
+
+
+def cache_root() -> Path:
+    return Path(os.environ.get("GYROCHAIN_CACHE") or Path(tempfile.gettempdir()) / "gyrochain-cache")
+
+
+def load_model(name: str, files: dict[str, str]):
+    """The compiled model of these sources, built once per machine (in the cache, by the build
+    key) and loaded once per process."""
+    from .build import CModel, build_key, compile_model, module_name
+
+    import hashlib
+
+    memo = hashlib.sha256("\0".join(files[k] for k in sorted(files)).encode("utf-8")).hexdigest()
+    with _MODELS_LOCK:
+        if memo in _MODELS:
+            return _MODELS[memo]
+        staging = Path(tempfile.mkdtemp(prefix="stage-", dir=_ensure(cache_root())))
+        try:
+            for k, v in files.items():
+                (staging / k).write_text(v, encoding="utf-8")
+            key = build_key(staging, name)
+            home = cache_root() / f"{name}-{key[:20]}"
+            found = sorted(home.glob(f"{module_name(name)}*.so")) if home.is_dir() else []
+            if not found:
+                compile_model(staging, name)
+                try:
+                    staging.rename(home)  # atomic: another process may have won, then use its build
+                    staging = None
+                except OSError:
+                    pass
+                found = sorted(home.glob(f"{module_name(name)}*.so"))
+            model = _MODELS[memo] = CModel(found[0], name)
+            return model
+        finally:
+            if staging is not None:
+                shutil.rmtree(staging, ignore_errors=True)
+
+
+def _ensure(p: Path) -> Path:
+    p.mkdir(parents=True, exist_ok=True)
+    return p
+
+
+def run_chunk_task(payload: dict, i: int) -> dict:
+    """What a Dask worker runs: load (build once) the model from the shipped sources, compute."""
+    key = json.dumps(payload["sweep"], sort_keys=True)
+    with _MODELS_LOCK:
+        plan = _PLANS.get(key)
+        if plan is None:
+            plan = _PLANS[key] = Plan(Sweep(**payload["sweep"]))
+    model = load_model(payload["name"], payload["files"])
+    return compute_chunk(model, plan, i)
+
+
+_PLANS: dict = {}
+
+
+# --------------------------------------------------------------------------- the store
+def _zarr():
+    try:
+        import zarr
+    except ImportError:
+        raise SpecError("sweep", "needs the sweep extra: pip install 'gyrochain[sweep]' (dask, distributed, zarr, tqdm)") from None
+    return zarr
+
+
+def _attrs(plan: Plan) -> dict:
+    return {"kind": STORE_KIND, "codegen": __version__, "spec_name": plan.spec.name, "spec": plan.sweep.spec_text,
+            "args": json.loads(json.dumps(plan.sweep.args())), "shape": list(plan.shape), "dims": plan.dims}
+
+
+def check_store(path: Path, plan: Plan) -> None:
+    """A one-line error unless ``path`` is free or a store of this spec and sweep (reads only)."""
+    zarr = _zarr()
+    want = _attrs(plan)
+    if path.exists():
+        try:
+            g = zarr.open_group(str(path), mode="r")
+            have = dict(g.attrs).get("gyrochain_sweep")
+        except Exception:
+            have = None
+        if have is None:
+            raise SpecError("-o", f"{path} exists and is not a sweep store; choose another path")
+        for key in ("spec", "args", "codegen"):
+            if have.get(key) != want[key]:
+                what = {"spec": "a different spec", "args": "a different sweep (other arguments)", "codegen": f"codegen {have.get('codegen')}"}[key]
+                raise SpecError("-o", f"{path} belongs to {what}; choose another path or delete it")
+
+
+def open_store(path: Path, plan: Plan):
+    """Create the store, or open an existing one of the same spec and sweep (else a one-line
+    error, the store untouched)."""
+    zarr = _zarr()
+    check_store(path, plan)
+    want = _attrs(plan)
+    if path.exists():
+        for junk in path.rglob("*.partial"):  # a write an interruption cut short
+            junk.unlink(missing_ok=True)
+        return zarr.open_group(str(path), mode="r+")
+    # built beside its place and renamed into it: a run killed now leaves no half-made store
+    tmp = path.parent / f".{path.name}.tmp-{os.getpid()}"
+    shutil.rmtree(tmp, ignore_errors=True)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    g = zarr.open_group(str(tmp), mode="w")
+    rows = plan.rows
+    chunks = (rows,) + tuple(plan.shape[1:])
+    for name, (dims, values) in plan.coords.items():
+        a = g.create_array(name, shape=values.shape, dtype="f8", dimension_names=dims, chunks=values.shape)
+        a[...] = values
+    for m in plan.sweep.measures:
+        extra = (2 * plan.n,) if m == "final" else ()
+        g.create_array(m, shape=plan.shape + extra, chunks=chunks + extra, dtype="f8", fill_value=np.nan,
+                       dimension_names=plan.dims + (["state"] if extra else []))
+    g.create_array("code", shape=plan.shape, chunks=chunks, dtype="i4", fill_value=-1, dimension_names=plan.dims)
+    g.create_array("done", shape=(plan.n_chunks,), chunks=(1,), dtype="bool", fill_value=False, dimension_names=["chunk"])
+    g.attrs["gyrochain_sweep"] = want
+    tmp.rename(path)
+    return zarr.open_group(str(path), mode="r+")
+
+
+def _write(g, plan: Plan, i: int, res: dict, on_written=None) -> None:
+    r0, r1 = plan.chunk_rows(i)
+    for k, v in res.items():
+        g[k][r0:r1] = v
+    g["done"][i] = True  # after the data: a chunk cut short is computed again
+    if on_written is not None:
+        on_written(i)
+
+
+# --------------------------------------------------------------------------- running
+def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: int = 0, scheduler: str = "",
+        progress: bool = True, plan: Plan | None = None, stop_after: int | None = None, on_written=None) -> dict:
+    """Run (or resume) a sweep into ``store``; returns counts.  ``stop_after``: stop once that many
+    chunks were written; ``on_written(i)`` is called after chunk i is in the store."""
+    plan = plan or Plan(sweep)
+    store = Path(store)
+    g = open_store(store, plan)
+    done = np.asarray(g["done"][:])
+    todo = [i for i in range(plan.n_chunks) if not done[i]]
+    files = model_files(sweep.spec_text)
+    name = plan.spec.name
+    bar = _bar(plan.n_chunks, int(done.sum()), progress)
+    written = 0
+    try:
+        if workers or scheduler:
+            written = _run_dask(plan, sweep, files, name, todo, g, bar, workers, scheduler, stop_after, on_written)
+        else:
+            model = load_model(name, files)
+            nthreads = threads or os.cpu_count() or 1
+            if nthreads == 1:
+                for i in todo:
+                    _write(g, plan, i, compute_chunk(model, plan, i), on_written)
+                    written += 1
+                    bar.update(1)
+                    if stop_after and written >= stop_after:
+                        break
+            else:
+                with ThreadPoolExecutor(max_workers=nthreads) as pool:
+                    futures = {pool.submit(compute_chunk, model, plan, i): i for i in todo}
+                    try:
+                        for fut in as_completed(futures):
+                            _write(g, plan, futures[fut], fut.result(), on_written)
+                            written += 1
+                            bar.update(1)
+                            if stop_after and written >= stop_after:
+                                break
+                    finally:
+                        for f in futures:
+                            f.cancel()
+    finally:
+        bar.close()
+    return dict(chunks=plan.n_chunks, skipped=int(done.sum()), written=written)
+
+
+def _run_dask(plan, sweep, files, name, todo, g, bar, workers, scheduler, stop_after, on_written) -> int:
+    try:
+        from distributed import Client, LocalCluster, as_completed as dask_completed
+    except ImportError:
+        raise SpecError("--workers", "needs the sweep extra: pip install 'gyrochain[sweep]'") from None
+    cluster = None
+    if scheduler:
+        client = Client(scheduler, timeout="30s")
+    else:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address=None, silence_logs=40)
+        client = Client(cluster)
+    written = 0
+    try:
+        payload = client.scatter({"sweep": asdict(sweep), "files": files, "name": name}, broadcast=True)
+        futures = [client.submit(run_chunk_task, payload, i, key=f"gyrochain-chunk-{i}-{_token(plan)}", retries=2)
+                   for i in todo]
+        index = {f.key: i for f, i in zip(futures, todo)}
+        for fut in dask_completed(futures):
+            _write(g, plan, index[fut.key], fut.result(), on_written)
+            written += 1
+            bar.update(1)
+            if stop_after and written >= stop_after:
+                break
+        for f in futures:
+            f.cancel()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    return written
+
+
+def _token(plan: Plan) -> str:
+    import hashlib
+
+    return hashlib.sha256(json.dumps(_attrs(plan), sort_keys=True).encode()).hexdigest()[:16]
+
+
+class _NoBar:
+    def update(self, k):
+        pass
+
+    def close(self):
+        pass
+
+
+def _bar(total: int, initial: int, show: bool):
+    if not show:
+        return _NoBar()
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return _NoBar()
+    return tqdm(total=total, initial=initial, unit="chunk", desc="sweep", file=sys.stderr, smoothing=0.1)
+
+
+# --------------------------------------------------------------------------- reading
+def read(store: str | Path) -> dict:
+    """The store as numpy arrays: {"attrs", "coords": {name: values}, measure: array, "code", "done"}."""
+    zarr = _zarr()
+    g = zarr.open_group(str(store), mode="r")
+    attrs = dict(g.attrs).get("gyrochain_sweep")
+    if attrs is None:
+        raise SpecError("store", f"{store} is not a sweep store")
+    out = {"attrs": attrs, "coords": {}}
+    varied = [v[0] for v in attrs["args"]["vary"]]
+    for key in sorted(g.array_keys()):
+        arr = np.asarray(g[key][...])
+        if key in varied:
+            out["coords"][key] = arr
+        else:
+            out[key] = arr
+    return out

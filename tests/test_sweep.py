@@ -1,0 +1,290 @@
+"""Ensembles (issue 15): the batched C, sweeps into Zarr on threads and Dask, resuming, measures, plots."""
+from __future__ import annotations
+
+import hashlib
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("zarr", reason="the sweep extra (zarr, dask, distributed, tqdm) is not installed")
+
+from codegen import reference, sweep  # noqa: E402
+from codegen.cli import main  # noqa: E402
+from codegen.spec import load_spec  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+DP = ROOT / "specs" / "double_pendulum.toml"
+FURUTA_SYM = ROOT / "specs" / "furuta_sym.toml"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _cache(tmp_path_factory):
+    """A model cache of this module's own (the sweep builds each model once per machine)."""
+    old = os.environ.get("GYROCHAIN_CACHE")
+    os.environ["GYROCHAIN_CACHE"] = str(tmp_path_factory.mktemp("cache"))
+    yield
+    if old is None:
+        os.environ.pop("GYROCHAIN_CACHE", None)
+    else:
+        os.environ["GYROCHAIN_CACHE"] = old
+
+
+def small(measures=("flip_time", "final", "lyapunov"), **kw) -> sweep.Sweep:
+    args = dict(spec_text=DP.read_text(), vary=[("phi1", -3.0, 3.0, 12), ("phi2", -3.0, 3.0, 10)], t1=3.0,
+                measures=list(measures), samples=300, chunk=30)
+    args.update(kw)
+    return sweep.Sweep(**args)
+
+
+def same(a: Path, b: Path) -> None:
+    da, db = sweep.read(a), sweep.read(b)
+    assert da["attrs"] == db["attrs"]
+    assert sorted(da) == sorted(db)
+    for k in da:
+        if k in ("attrs", "coords"):
+            continue
+        assert da[k].dtype == db[k].dtype and np.array_equal(da[k], db[k], equal_nan=True), k
+    for k in da["coords"]:
+        assert np.array_equal(da["coords"][k], db["coords"][k])
+
+
+def tree_digest(path: Path) -> str:
+    h = hashlib.sha256()
+    for p in sorted(path.rglob("*")):
+        h.update(str(p.relative_to(path)).encode())
+        if p.is_file():
+            h.update(p.read_bytes())
+    return h.hexdigest()
+
+
+# --------------------------------------------------------------------------- the batched C
+def test_batch_is_the_single_calls_bit_for_bit(make_model):
+    m = make_model(load_spec(DP))
+    rng = np.random.default_rng(1)
+    X0 = np.hstack([rng.uniform(-3, 3, (5, 2)), rng.normal(size=(5, 2))])
+    X0[3, 1] = np.nan  # one trajectory fails alone
+    t = np.linspace(0, 1.5, 7)
+    for method, h in (("dop853", 0.0), ("rk4", 0.01), ("gauss2", 0.02)):
+        X, codes = m.c.integrate_batch(t, X0, method=method, h=h, rtol=1e-9, atol=1e-11)
+        assert codes.tolist() == [0, 0, 0, 2, 0]
+        for b in (0, 1, 2, 4):
+            assert np.array_equal(X[b], m.c.integrate(t, X0[b], method=method, h=h, rtol=1e-9, atol=1e-11))
+
+
+def test_batch_with_own_controls_and_parameters(make_model):
+    from tests.conftest import example_params
+
+    base = example_params("furuta_sym")
+    m = make_model(load_spec(FURUTA_SYM), base)
+    P = [dict(base, m2=base["m2"] * (1 + 0.1 * b)) for b in range(3)]
+    U = np.array([[0.0], [0.05], [-0.1]])
+    X0 = np.tile([0.1, 2.9, 0.0, 0.3], (3, 1))
+    t = np.linspace(0, 0.5, 4)
+    X, codes = m.c.integrate_batch(t, X0, u=U, params=P)
+    assert not codes.any()
+    for b in range(3):
+        assert np.array_equal(X[b], m.c.integrate(t, X0[b], u=U[b], params=P[b]))
+    # one u and one parameter set for all
+    X2, _ = m.c.integrate_batch(t, X0, u=U[1], params=P[1])
+    assert np.array_equal(X2[2], m.c.integrate(t, X0[2], u=U[1], params=P[1]))
+
+
+# --------------------------------------------------------------------------- where it runs
+def test_serial_threads_and_dask_give_identical_stores(tmp_path):
+    pytest.importorskip("distributed")
+    sw = small()
+    sweep.run(sw, tmp_path / "serial.zarr", threads=1, progress=False)
+    sweep.run(sw, tmp_path / "threads.zarr", threads=2, progress=False)
+    sweep.run(sw, tmp_path / "dask.zarr", workers=2, progress=False)
+    same(tmp_path / "serial.zarr", tmp_path / "threads.zarr")
+    same(tmp_path / "serial.zarr", tmp_path / "dask.zarr")
+    d = sweep.read(tmp_path / "serial.zarr")
+    assert d["done"].all() and d["flip_time"].shape == (12, 10) and d["final"].shape == (12, 10, 4)
+    assert (d["code"] == 0).all()
+
+
+def test_interrupted_run_resumes_to_the_same_store(tmp_path):
+    sw = small()
+    sweep.run(sw, tmp_path / "whole.zarr", threads=1, progress=False)
+    first: list = []
+    out = sweep.run(sw, tmp_path / "cut.zarr", threads=2, progress=False, stop_after=2, on_written=first.append)
+    assert out["written"] == 2 and not sweep.read(tmp_path / "cut.zarr")["done"].all()
+    second: list = []
+    out = sweep.run(sw, tmp_path / "cut.zarr", threads=2, progress=False, on_written=second.append)
+    assert out["skipped"] == len(set(first)) == 2
+    assert sorted(first + second) == list(range(sweep.Plan(sw).n_chunks))  # none lost, none twice
+    same(tmp_path / "whole.zarr", tmp_path / "cut.zarr")
+
+
+def test_killed_process_resumes_to_the_same_store(tmp_path):
+    """The command killed (SIGKILL) after its first chunks are in the store, then run again."""
+    args = [sys.executable, "-m", "codegen", "sweep", str(DP), "--vary", "phi1=-3:3:40", "--vary", "phi2=-3:3:4",
+            "--t1", "4", "--measure", "flip_time", "--chunk", "4", "--threads", "1", "-q"]
+    whole, cut = tmp_path / "whole.zarr", tmp_path / "cut.zarr"
+    assert main(args[3:] + ["-o", str(whole)]) == 0
+    proc = subprocess.Popen(args + ["-o", str(cut)], cwd=ROOT, env=dict(os.environ, PYTHONPATH=str(ROOT)),
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline:
+            if (cut / "done").exists() and sweep.read(cut)["done"].sum() >= 2:
+                break
+            time.sleep(0.05)
+        proc.send_signal(signal.SIGKILL)
+    finally:
+        proc.wait(timeout=30)
+    done = sweep.read(cut)["done"]
+    assert 2 <= done.sum() < len(done), "the kill came too late to test anything"
+    written: list = []
+    sweep.run(sweep.Sweep(**{**small().__dict__, **_cli_sweep(args)}), cut, threads=1, progress=False, on_written=written.append)
+    assert sorted(written) == sorted(np.nonzero(~done)[0].tolist())
+    same(whole, cut)
+
+
+def _cli_sweep(args) -> dict:
+    """The Sweep fields the command line above sets (the rest are its defaults)."""
+    return dict(vary=[("phi1", -3.0, 3.0, 40), ("phi2", -3.0, 3.0, 4)], t1=4.0, measures=["flip_time"], samples=1000, chunk=4)
+
+
+def test_killed_worker_loses_nothing(tmp_path):
+    """A local cluster of two worker processes; one is killed after the first chunk is written.
+    Dask runs its tasks elsewhere; the store is the undisturbed one."""
+    distributed = pytest.importorskip("distributed")
+    sw = small(measures=("flip_time", "final"), t1=6.0, chunk=10, vary=[("phi1", -3.0, 3.0, 16), ("phi2", -3.0, 3.0, 10)])
+    sweep.run(sw, tmp_path / "whole.zarr", threads=2, progress=False)
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                       dashboard_address=None, silence_logs=50)
+    killed: list = []
+    try:
+        with distributed.Client(cluster, timeout="30s") as client:
+            pids = list(client.run(os.getpid).values())
+
+        def kill_one(i):
+            if not killed:
+                os.kill(pids[0], signal.SIGKILL)
+                killed.append(i)
+
+        written: list = []
+        sweep.run(sw, tmp_path / "dask.zarr", scheduler=cluster.scheduler_address, progress=False,
+                  on_written=lambda i: (written.append(i), kill_one(i)))
+    finally:
+        cluster.close(timeout=30)
+    assert killed
+    assert sorted(written) == list(range(sweep.Plan(sw).n_chunks))  # each chunk written once
+    same(tmp_path / "whole.zarr", tmp_path / "dask.zarr")
+
+
+# --------------------------------------------------------------------------- the measures
+def test_measures(tmp_path):
+    """final against the independent reference model; flip_time against a dense trajectory of the
+    same C (30000 samples); the energy error of DOP853 at 1e-11; the Lyapunov exponent of small
+    oscillations against that of the chaotic big swings."""
+    sw = small(measures=("final", "flip_time", "energy_error"), t1=3.0, samples=1500, rtol=1e-11, atol=1e-12,
+               vary=[("phi1", 0.3, 2.6, 2), ("phi2", 0.2, 2.8, 2)])
+    sweep.run(sw, tmp_path / "m.zarr", threads=1, progress=False)
+    d = sweep.read(tmp_path / "m.zarr")
+    model = sweep.load_model("double_pendulum", sweep.model_files(DP.read_text()))
+    ch = reference.numeric(load_spec(DP))
+    tt = np.linspace(0, 3.0, 30001)
+    flips = 0
+    for i, p1 in enumerate(d["coords"]["phi1"]):
+        for j, p2 in enumerate(d["coords"]["phi2"]):
+            x0 = [p1, p2, 0.0, 0.0]
+            X = model.integrate(tt, x0, rtol=1e-11, atol=1e-12)
+            over = np.nonzero(np.abs(X[:, :2]).max(axis=1) >= np.pi)[0]
+            if len(over):
+                flips += 1
+                assert d["flip_time"][i, j] == pytest.approx(tt[over[0]], abs=3.0 / 1500)
+            else:
+                assert np.isnan(d["flip_time"][i, j])
+            if i == 0:
+                assert np.allclose(d["final"][i, j], reference.simulate(ch, x0, [0.0, 3.0])[-1], rtol=1e-6, atol=1e-6)
+    assert flips >= 1 and np.isnan(d["flip_time"][0, 0])
+    assert np.nanmax(d["energy_error"]) < 1e-7
+    ly = small(measures=("lyapunov",), t1=20.0, vary=[("phi1", 0.05, 2.6, 2), ("phi2", 0.05, 2.8, 2)], lyap_interval=0.1)
+    sweep.run(ly, tmp_path / "l.zarr", threads=2, progress=False)
+    lam = sweep.read(tmp_path / "l.zarr")["lyapunov"]
+    assert abs(lam[0, 0]) < 0.3 and lam[1, 1] > 1.0, lam
+
+
+def test_random_samples_and_a_parameter(tmp_path):
+    from tests.conftest import example_params
+
+    params = example_params("furuta_sym")
+    varied = {k: v for k, v in params.items() if k != "l"}
+    sw = sweep.Sweep(spec_text=FURUTA_SYM.read_text(), vary=[("l", 0.1, 0.3, 0), ("phi2", 2.5, 3.1, 0)], t1=1.0,
+                     measures=["final"], random=50, seed=3, params=varied, u=[0.0], chunk=16)
+    sweep.run(sw, tmp_path / "r.zarr", threads=2, progress=False)
+    d = sweep.read(tmp_path / "r.zarr")
+    assert d["final"].shape == (50, 4) and d["coords"]["l"].shape == (50,)
+    assert 0.1 <= d["coords"]["l"].min() and d["coords"]["l"].max() <= 0.3
+    # the same sample integrated alone with its own parameter value
+    from codegen.build import CModel  # noqa: F401
+    model = sweep.load_model("furuta_sym", sweep.model_files(FURUTA_SYM.read_text()))
+    k = 7
+    x = model.integrate([0, 1.0], [0.0, d["coords"]["phi2"][k], 0.0, 0.0], u=[0.0], params=dict(varied, l=d["coords"]["l"][k]))
+    assert np.array_equal(d["final"][k], x[-1])
+
+
+# --------------------------------------------------------------------------- bad input
+@pytest.mark.parametrize("extra, field", [
+    (["--vary", "theta9=0:1:3"], "--vary"),
+    (["--vary", "phi1=1:1:5"], "--vary phi1"),
+    (["--vary", "phi1=0:1:0"], "--vary phi1"),
+    (["--vary", "phi1=0:1"], "--vary phi1"),
+    (["--vary", "phi1=0:1:4", "--measure", "speed"], "--measure"),
+    (["--vary", "phi1=0:1:4", "--method", "rk4"], "--h"),
+])
+def test_bad_arguments(extra, field, tmp_path, capsys):
+    out = tmp_path / "s.zarr"
+    assert main(["sweep", str(DP), "--t1", "1", *extra, "-o", str(out), "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and field in err[0], err
+    assert not out.exists()
+
+
+def test_a_store_of_another_sweep_is_left_untouched(tmp_path, capsys):
+    out = tmp_path / "s.zarr"
+    base = ["sweep", str(DP), "--t1", "1", "--vary", "phi1=0:1:4", "--measure", "final", "-o", str(out), "-q"]
+    assert main(base) == 0
+    before = tree_digest(out)
+    capsys.readouterr()
+    for change in (["--t1", "2"], ["--vary", "phi2=0:1:4"]):
+        args = list(base)
+        if change[0] == "--t1":
+            args[args.index("--t1") + 1] = change[1]
+        else:
+            args[args.index("--vary") + 1] = change[1]
+        assert main(args) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "different sweep" in err[0], err
+    other = ROOT / "specs" / "gimbal.toml"
+    args = list(base)
+    args[1] = str(other)
+    assert main(args) == 2
+    assert "different spec" in capsys.readouterr().err
+    (tmp_path / "plain").mkdir()
+    assert main(base[:-3] + ["-o", str(tmp_path / "plain"), "-q"]) == 2
+    assert "not a sweep store" in capsys.readouterr().err
+    assert tree_digest(out) == before
+    # the same command again: everything done, nothing rewritten
+    assert main(base) == 0
+    assert tree_digest(out) == before
+
+
+# --------------------------------------------------------------------------- pictures
+def test_plot_map_and_curve(tmp_path):
+    pytest.importorskip("matplotlib")
+    sweep.run(small(measures=("flip_time",)), tmp_path / "map.zarr", threads=2, progress=False)
+    assert main(["plot", str(tmp_path / "map.zarr"), "-o", str(tmp_path / "map.png")]) == 0
+    curve = small(measures=("final",), vary=[("phi1", 0.1, 1.0, 9)])
+    sweep.run(curve, tmp_path / "curve.zarr", threads=1, progress=False)
+    assert main(["plot", str(tmp_path / "curve.zarr"), "-o", str(tmp_path / "curve.png"), "--component", "2"]) == 0
+    for f in ("map.png", "curve.png"):
+        assert (tmp_path / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
