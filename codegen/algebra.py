@@ -19,7 +19,7 @@ from operator import attrgetter
 
 import sympy as sp
 
-from .exact import exact, is_unit, to_sympy as number_to_sympy
+from .exact import add_terms, exact, is_unit, to_sympy as number_to_sympy
 
 _order = itertools.count()
 _by_order = attrgetter("order")
@@ -105,14 +105,7 @@ class Poly:
             return self
         if not self.terms:
             return other
-        out = dict(self.terms)
-        for m, c in other.terms.items():
-            v = out.get(m, 0) + c
-            if v:
-                out[m] = v
-            else:
-                out.pop(m, None)
-        return Poly(out)
+        return Poly(add_terms(self.terms, other.terms))
 
     __radd__ = __add__
 

@@ -83,6 +83,19 @@ def _trig_pair(arg: sp.Expr) -> tuple:
 
 
 # --------------------------------------------------------------------------- Surd
+def add_terms(a: dict, b: dict) -> dict:
+    """The sum of two {monomial: coefficient} maps, terms that cancel exactly dropped (Surd and
+    algebra.Poly alike)."""
+    out = dict(a)
+    for m, c in b.items():
+        v = out.get(m, 0) + c
+        if v:
+            out[m] = v
+        else:
+            out.pop(m, None)
+    return out
+
+
 def _mono_product(a: tuple, b: tuple):
     """The product of two monomials of Consts, reduced: an int 1 and a monomial, or a number."""
     key = (a, b)
@@ -136,14 +149,7 @@ class Surd:
         o = Surd._lift(other)
         if o is None:
             return NotImplemented
-        out = dict(self.terms)
-        for m, q in o.items():
-            v = out.get(m, 0) + q
-            if v:
-                out[m] = v
-            else:
-                out.pop(m, None)
-        return _normal(out)
+        return _normal(add_terms(self.terms, o))
 
     __radd__ = __add__
 
