@@ -219,6 +219,18 @@ def _floats(text: str, what: str, count: int) -> list[float]:
     return vals
 
 
+def _params_of(items, what: str = "--param") -> dict:
+    """name=number options (--param) as a dict."""
+    params = {}
+    for item in items or []:
+        key, _, val = item.partition("=")
+        try:
+            params[key.strip()] = float(val)
+        except ValueError:
+            raise SpecError(f"{what} {key}", "expected name=number") from None
+    return params
+
+
 def cmd_simulate(args) -> int:
     """Integrate a spec with the independent reference model; CSV on stdout."""
     import numpy as np
@@ -226,13 +238,7 @@ def cmd_simulate(args) -> int:
     from . import reference
 
     spec = load_spec(args.spec)
-    params = {}
-    for item in args.param or []:
-        key, _, val = item.partition("=")
-        try:
-            params[key] = float(val)
-        except ValueError:
-            raise SpecError(f"--param {key}", "expected name=number") from None
+    params = _params_of(args.param)
     try:
         ch = reference.numeric(spec, params)
     except ValueError as exc:
@@ -256,13 +262,7 @@ def cmd_steady(args) -> int:
     from . import steady
 
     spec = load_spec(args.spec)
-    params = {}
-    for item in args.param or []:
-        key, _, val = item.partition("=")
-        try:
-            params[key] = float(val)
-        except ValueError:
-            raise SpecError(f"--param {key}", "expected name=number") from None
+    params = _params_of(args.param)
     unknown = sorted(set(params) - {str(p) for p in spec.params})
     if unknown:
         raise SpecError("--param", f"unknown parameter {unknown[0]} (the spec's are: {', '.join(map(str, spec.params)) or 'none'})")
@@ -279,34 +279,18 @@ def cmd_steady(args) -> int:
     return 0
 
 
-def _params_of(items, what: str = "--param") -> dict:
-    params = {}
-    for item in items or []:
-        key, _, val = item.partition("=")
-        try:
-            params[key.strip()] = float(val)
-        except ValueError:
-            raise SpecError(f"{what} {key}", "expected name=number") from None
-    return params
-
-
 def cmd_sweep(args) -> int:
     """A grid (or random samples) of initial states and parameters, integrated in chunks into a Zarr store."""
     from . import sweep as sw
 
-    text = Path(args.spec).read_text(encoding="utf-8") if Path(args.spec).is_file() else None
-    if text is None:
-        raise SpecError("spec", f"{args.spec}: no such file")
-    load_spec(args.spec)  # the spec's own errors first, naming its fields
-    random_mode = args.random > 0
-    vary = [sw.parse_vary(v, random_mode) for v in args.vary or []]
-    n_spec = load_spec(args.spec).n
+    spec = load_spec(args.spec)  # the spec's own errors first, naming its fields
+    vary = [sw.parse_vary(v, args.random > 0) for v in args.vary or []]
     sweep = sw.Sweep(
-        spec_text=text, vary=vary, t1=args.t1, measures=args.measure or ["final"], random=args.random, seed=args.seed,
+        spec_text=spec.source, vary=vary, t1=args.t1, measures=args.measure or ["final"], random=args.random, seed=args.seed,
         method=args.method, h=args.h, rtol=args.rtol, atol=args.atol, samples=args.samples, flip=args.flip,
-        lyap_interval=args.lyap_interval, phi=_floats(args.phi, "--phi", n_spec) if args.phi else [],
-        phidot=_floats(args.phidot, "--phidot", n_spec) if args.phidot else [],
-        u=[float(v) for v in args.u.split(",")] if args.u else [], params=_params_of(args.param), chunk=args.chunk,
+        lyap_interval=args.lyap_interval, phi=_floats(args.phi, "--phi", spec.n) if args.phi else [],
+        phidot=_floats(args.phidot, "--phidot", spec.n) if args.phidot else [],
+        u=_floats(args.u, "--u", len(spec.controls)) if args.u else [], params=_params_of(args.param), chunk=args.chunk,
     )
     plan = sw.Plan(sweep)
     if args.threads is not None and args.threads < 1:

@@ -458,41 +458,43 @@ def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: in
     done = np.asarray(g["done"][:])
     todo = [i for i in range(plan.n_chunks) if not done[i]]
     files = model_files(sweep.spec_text)
-    name = plan.spec.name
     bar = _bar(plan.n_chunks, int(done.sum()), progress)
+    if workers or scheduler:
+        results = _dask_results(plan, sweep, files, todo, workers, scheduler)
+    else:
+        results = _thread_results(load_model(plan.spec.name, files), plan, todo, threads or os.cpu_count() or 1)
     written = 0
     try:
-        if workers or scheduler:
-            written = _run_dask(plan, sweep, files, name, todo, g, bar, workers, scheduler, stop_after, on_written)
-        else:
-            model = load_model(name, files)
-            nthreads = threads or os.cpu_count() or 1
-            if nthreads == 1:
-                for i in todo:
-                    _write(g, plan, i, compute_chunk(model, plan, i), on_written)
-                    written += 1
-                    bar.update(1)
-                    if stop_after and written >= stop_after:
-                        break
-            else:
-                with ThreadPoolExecutor(max_workers=nthreads) as pool:
-                    futures = {pool.submit(compute_chunk, model, plan, i): i for i in todo}
-                    try:
-                        for fut in as_completed(futures):
-                            _write(g, plan, futures[fut], fut.result(), on_written)
-                            written += 1
-                            bar.update(1)
-                            if stop_after and written >= stop_after:
-                                break
-                    finally:
-                        for f in futures:
-                            f.cancel()
+        for i, res in results:  # as chunks finish, wherever they ran; the client alone writes
+            _write(g, plan, i, res, on_written)
+            written += 1
+            bar.update(1)
+            if stop_after and written >= stop_after:
+                break
     finally:
+        results.close()  # cancels what is pending, shuts a started cluster down
         bar.close()
     return dict(chunks=plan.n_chunks, skipped=int(done.sum()), written=written)
 
 
-def _run_dask(plan, sweep, files, name, todo, g, bar, workers, scheduler, stop_after, on_written) -> int:
+def _thread_results(model, plan: Plan, todo: list, nthreads: int):
+    """(chunk, results) from threads of this process (the batched C runs without the GIL)."""
+    if nthreads == 1:
+        for i in todo:
+            yield i, compute_chunk(model, plan, i)
+        return
+    with ThreadPoolExecutor(max_workers=nthreads) as pool:
+        futures = {pool.submit(compute_chunk, model, plan, i): i for i in todo}
+        try:
+            for fut in as_completed(futures):
+                yield futures[fut], fut.result()
+        finally:
+            for f in futures:
+                f.cancel()
+
+
+def _dask_results(plan: Plan, sweep: Sweep, files: dict, todo: list, workers: int, scheduler: str):
+    """(chunk, results) from a local Dask cluster of ``workers`` processes or the one at ``scheduler``."""
     try:
         from distributed import Client, LocalCluster, as_completed as dask_completed
     except ImportError:
@@ -504,25 +506,20 @@ def _run_dask(plan, sweep, files, name, todo, g, bar, workers, scheduler, stop_a
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address=None, silence_logs=40)
         client = Client(cluster)
-    written = 0
+    futures = []
     try:
-        payload = client.scatter({"sweep": asdict(sweep), "files": files, "name": name}, broadcast=True)
+        payload = client.scatter({"sweep": asdict(sweep), "files": files, "name": plan.spec.name}, broadcast=True)
         futures = [client.submit(run_chunk_task, payload, i, key=f"gyrochain-chunk-{i}-{_token(plan)}", retries=2)
                    for i in todo]
         index = {f.key: i for f, i in zip(futures, todo)}
         for fut in dask_completed(futures):
-            _write(g, plan, index[fut.key], fut.result(), on_written)
-            written += 1
-            bar.update(1)
-            if stop_after and written >= stop_after:
-                break
+            yield index[fut.key], fut.result()
+    finally:
         for f in futures:
             f.cancel()
-    finally:
         client.close()
         if cluster is not None:
             cluster.close()
-    return written
 
 
 def _token(plan: Plan) -> str:

@@ -149,10 +149,6 @@ def _folded(table: dict) -> dict:
     return {k: v for k, v in table.items() if not isinstance(v, Surd) or to_float(v) != 0.0}
 
 
-def _number(v) -> sp.Expr:
-    return to_sympy(v)  # a rational exactly, a Surd as its correctly rounded double
-
-
 def canonical(expr: sp.Expr, phis: list) -> Canonical:
     """``expr`` (cos φᵏ, sin φᵏ as sympy functions; irrational constants as exact.ConstSymbols)
     in the canonical form with the fewest terms."""
@@ -160,7 +156,7 @@ def canonical(expr: sp.Expr, phis: list) -> Canonical:
     has_trig = any(any(exps) for exps, _ in table)
     if not has_trig:
         folded = _folded(table)
-        out = sp.Add(*(_number(v) * rest for (_, rest), v in folded.items()))
+        out = sp.Add(*(to_sympy(v) * rest for (_, rest), v in folded.items()))
         return Canonical(out, None, len(folded), {})
     n = len(phis)
     forms = {"c": _folded(_eliminate(table, 1)), "s": _folded(_eliminate(table, 0)), "f": _folded(_fourier(table, n))}
@@ -175,5 +171,5 @@ def canonical(expr: sp.Expr, phis: list) -> Canonical:
             factor = (sp.cos if kind == "cos" else sp.sin)(angle) if any(m) else sp.Integer(1)
         else:
             factor = sp.Mul(*(f(phi) ** e for k, phi in enumerate(phis) for f, e in ((sp.cos, trig[2 * k]), (sp.sin, trig[2 * k + 1]))))
-        terms.append(_number(v) * factor * rest)
+        terms.append(to_sympy(v) * factor * rest)
     return Canonical(sp.Add(*terms), form, counts[form], counts)
