@@ -1,4 +1,4 @@
-"""Command line: ``python -m codegen {generate,check,simulate,steady,sweep} SPEC`` and ``plot STORE``.
+"""Command line: ``python -m codegen {generate,check,simulate,steady,sweep,animate} SPEC`` and ``plot STORE``.
 
 Only this module touches the disk.  A bad spec gets one line on stderr naming the field, exit
 status 2, and nothing written: outputs go to a temporary folder beside the target and replace it
@@ -33,7 +33,7 @@ class _Progress:
 
 
 def derive_and_render(spec, spec_label: str, progress=None, qdd_form: str = "auto",
-                      der_form: str = "auto") -> tuple[dict[str, str], object]:
+                      der_form: str = "auto", tex: bool = True) -> tuple[dict[str, str], object]:
     from . import dynamics, emit, integrals, kinematics
 
     say = progress or (lambda msg: None)
@@ -44,8 +44,8 @@ def derive_and_render(spec, spec_label: str, progress=None, qdd_form: str = "aut
     say("integrals: energy (23) and, where l1 may be vertical, momentum (27)")
     ints = integrals.derive(spec, kin, dyn)
     model = emit.build_model(spec, kin, dyn, ints, progress=say, qdd_form=qdd_form, der_form=der_form)
-    say("printing C, Python and LaTeX")
-    return emit.render(model, spec_label), model
+    say("printing C, Python and LaTeX" if tex else "printing C and Python")
+    return emit.render(model, spec_label, tex=tex), model
 
 
 def _is_ours(directory: Path) -> bool:
@@ -379,6 +379,84 @@ def _measure_label(measure: str, component: int, attrs: dict) -> str:
         measure, f"final state component {component}")
 
 
+def cmd_animate(args) -> int:
+    """The motion of a spec (or of a sweep's point) as a GIF, MP4, PNG still or an offline HTML viewer."""
+    import math
+
+    from . import animate, reference, scene
+    from . import sweep as sw
+    from .spec import parse_spec
+
+    t_start = time.perf_counter()
+    out = animate.Output(args.output, force=args.force)  # the extension and an existing file first
+    if out.ext == ".png" and args.frame is None:
+        raise SpecError("--frame", "a .png is one still: give --frame T (seconds)")
+    size = _size(args.size)
+    view = _floats(args.view, "--view", 2) if args.view else None
+    source = Path(args.spec)
+    if source.is_dir():  # a sweep store: its spec, and the state and parameters of one point
+        if args.phi or args.phidot or args.param or args.u:
+            raise SpecError("--at", "the state, parameters and torques come from the sweep's point; drop --phi/--phidot/--param/--u")
+        pt = sw.point(source, args.at)
+        spec = parse_spec(pt["spec_text"])
+        x0, params, u = list(pt["x0"]), pt["params"], pt["u"] or None
+        t1 = args.t1 if args.t1 is not None else pt["t1"]
+        description = f"{spec.description} (sweep {source.name}: {pt['label']})"
+    else:
+        if args.at:
+            raise SpecError("--at", "a point of a sweep: give the sweep's store as SPEC")
+        spec = load_spec(args.spec)
+        params = _params_of(args.param)
+        n = spec.n
+        init = spec.initial or {}
+        phi = _floats(args.phi, "--phi", n) if args.phi else list(init.get("phi", [0.0] * n))
+        phidot = _floats(args.phidot, "--phidot", n) if args.phidot else list(init.get("phidot", [0.0] * n))
+        x0 = phi + phidot
+        u = _floats(args.u, "--u", len(spec.controls)) if spec.controls else None
+        t1 = args.t1 if args.t1 is not None else 10.0
+        description = spec.description
+    try:
+        ch = reference.numeric(spec, params)
+    except ValueError as exc:
+        raise SpecError("--param", str(exc)) from None
+    if args.trajectory:
+        times, X, has_rate = animate.read_csv(args.trajectory, spec.n, args.fps, args.frame)
+    else:
+        times, has_rate = animate.frame_times(t1, args.fps, args.frame), True
+    if not (args.trace >= 0 and math.isfinite(args.trace)):
+        raise SpecError("--trace", "must be a number of seconds >= 0")
+    files, derived = derive_and_render(spec, Path(args.spec).name, tex=False)
+    model = sw.load_model(spec.name, {k: v for k, v in files.items() if k.endswith((".c", ".h", ".cdef"))})
+    if not args.trajectory:
+        X = animate.motion(model, times, x0, u=u, params=params or None, rtol=args.rtol, atol=args.rtol * 1e-2)
+    integral = animate.integral_curve(model, derived, X, times, u, params or None) if has_rate else None
+    sc = scene.build(spec, ch, times, X, trace=args.trace, integral=integral)
+    camera = scene.Camera(math.radians(view[0]), math.radians(view[1])) if view else scene.default_camera(sc.points)
+    with out:
+        if out.ext == ".html":
+            animate.write_html(sc, camera, out.tmp, args.fps, description)
+        else:
+            raster = animate.Raster(sc, size[0], size[1], camera)
+            {".gif": lambda: animate.write_gif(raster, out.tmp, args.fps), ".png": lambda: animate.write_png(raster, out.tmp),
+             ".mp4": lambda: animate.write_mp4(raster, out.tmp, args.fps)}[out.ext]()
+    if not args.quiet:
+        span = f"t = {times[0]:g} s" if len(times) == 1 else f"{len(times)} frames over [{times[0]:g}, {times[-1]:g}] s"
+        print(f"wrote {out.path}: {span}, {out.path.stat().st_size // 1024} KiB, in {time.perf_counter() - t_start:.1f} s",
+              file=sys.stderr)
+    return 0
+
+
+def _size(text: str) -> tuple[int, int]:
+    w, x, h = text.lower().partition("x")
+    try:
+        size = (int(w), int(h)) if x else (0, 0)
+    except ValueError:
+        size = (0, 0)
+    if not (64 <= size[0] <= 4096 and 64 <= size[1] <= 4096) or size[0] % 2 or size[1] % 2:
+        raise SpecError("--size", f"{text!r}: expected WIDTHxHEIGHT, even numbers of pixels from 64 to 4096")
+    return size
+
+
 def _prog() -> str:
     """The command as the user typed it: the console script, or python -m codegen."""
     from . import DISTRIBUTION
@@ -456,10 +534,28 @@ def main(argv=None) -> int:
     pl.add_argument("--cmap", default="viridis")
     pl.add_argument("--log", action="store_true", help="a logarithmic colour scale (maps)")
     pl.add_argument("--dpi", type=int, default=150)
+    an = sub.add_parser("animate", help="the motion as a GIF, MP4, PNG still (--frame) or an offline HTML viewer")
+    an.add_argument("spec", help="a spec file, or a sweep's store (with --at)")
+    an.add_argument("-o", "--output", required=True, help="FILE.gif, FILE.mp4 (needs ffmpeg), FILE.html or FILE.png (with --frame)")
+    an.add_argument("--phi", default="", help="initial angles (default: the spec's [initial] or 0)")
+    an.add_argument("--phidot", default="", help="initial rates")
+    an.add_argument("--u", default="", help="constant torques of the controlled joints (default 0)")
+    an.add_argument("--param", action="append", help="name=value for a symbolic parameter")
+    an.add_argument("--t1", type=float, default=None, help="end time (s; default 10, or the sweep's)")
+    an.add_argument("--fps", type=float, default=25.0, help="frames per second of the animation and of its time")
+    an.add_argument("--frame", type=float, default=None, help="one still at this time (s)")
+    an.add_argument("--at", default="", help="the point of a sweep store: name=value,... (grid) or an index (--random)")
+    an.add_argument("--trajectory", default="", help="a saved trajectory (CSV: t, phi1.., [phidot1..]) instead of integrating")
+    an.add_argument("--size", default="480x480", help="WIDTHxHEIGHT of a GIF, MP4 or PNG")
+    an.add_argument("--view", default="", help="azimuth,elevation of the camera in degrees (default: fitted to the motion)")
+    an.add_argument("--trace", type=float, default=2.0, help="seconds of the tip's trace")
+    an.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of DOP853")
+    an.add_argument("--force", action="store_true", help="replace an existing file animate did not write")
+    an.add_argument("-q", "--quiet", action="store_true")
     args = ap.parse_args(argv)
     try:
         return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
-                "sweep": cmd_sweep, "plot": cmd_plot}[args.cmd](args)
+                "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate}[args.cmd](args)
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT

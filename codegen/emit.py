@@ -906,8 +906,9 @@ def _py_docstring(text: str) -> str:
     return _one_line(text).replace("\\", "\\\\").replace('"', '\\"')
 
 
-def render(model: Model, spec_label: str) -> dict[str, str]:
-    """All emitted files of one model, by file name."""
+def render(model: Model, spec_label: str, tex: bool = True) -> dict[str, str]:
+    """All emitted files of one model, by file name (tex=False: the C, header, cdef and Python
+    only, without the LaTeX and the manifest; the LaTeX's canonical forms are most of the time)."""
     spec = model.spec
     name, n = spec.name, spec.n
     upper = name.upper()
@@ -962,6 +963,8 @@ def render(model: Model, spec_label: str) -> dict[str, str]:
         f"{name}.cdef": env.get_template("model.cdef.jinja").render(ctx),
         f"{name}.py": env.get_template("model.py.jinja").render(ctx),
     }
+    if not tex:
+        return files
     tex = _tex(model)
     tex.update(
         name_tex=_tex_escape(name),

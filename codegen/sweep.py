@@ -315,7 +315,7 @@ def model_files(spec_text: str) -> dict[str, str]:
     from .spec import parse_spec
 
     spec = parse_spec(spec_text)
-    files, _ = derive_and_render(spec, f"{spec.name}.toml")
+    files, _ = derive_and_render(spec, f"{spec.name}.toml", tex=False)
     return {k: v for k, v in files.items() if k.endswith((".c", ".h", ".cdef"))}
 
 
@@ -563,3 +563,56 @@ def read(store: str | Path) -> dict:
         else:
             out[key] = arr
     return out
+
+
+def point(store: str | Path, at: str) -> dict:
+    """One point of a sweep store, to be seen again: the spec text, the initial state, the
+    parameters and torques, and the sweep's t1.  ``at`` is ``name=value,…`` for every varied name
+    of a grid (the nearest grid value is taken) or the sample's index of a --random sweep."""
+    zarr = _zarr()
+    try:
+        g = zarr.open_group(str(store), mode="r")
+        attrs = dict(g.attrs).get("gyrochain_sweep")
+    except Exception:
+        attrs = None
+    if attrs is None:
+        raise SpecError("SPEC", f"{store} is neither a spec file nor a sweep store")
+    args = dict(attrs["args"])
+    args["vary"] = [tuple(v) for v in args["vary"]]
+    plan = Plan(Sweep(spec_text=attrs["spec"], **args))
+    names = plan.names
+    if not at:
+        raise SpecError("--at", f"which point of the sweep? give {'an index 0..' + str(plan.shape[0] - 1) if plan.points is not None else ','.join(f'{nm}=VALUE' for nm in names)}")
+    if plan.points is not None:
+        try:
+            i = int(at)
+        except ValueError:
+            raise SpecError("--at", f"{at!r}: a --random sweep's points are numbered 0..{plan.shape[0] - 1}") from None
+        if not 0 <= i < plan.shape[0]:
+            raise SpecError("--at", f"{i}: a --random sweep's points are numbered 0..{plan.shape[0] - 1}")
+        values = plan.points[i]
+        label = f"sample {i}"
+    else:
+        want = {}
+        for item in at.split(","):
+            nm, eq, val = item.partition("=")
+            nm = nm.strip()
+            if not eq or nm not in names:
+                raise SpecError("--at", f"{item!r}: expected name=value with name one of {', '.join(names)}")
+            try:
+                want[nm] = float(val)
+            except ValueError:
+                raise SpecError("--at", f"{item!r}: the value is not a number") from None
+        missing = [nm for nm in names if nm not in want]
+        if missing:
+            raise SpecError("--at", f"no value for the varied {missing[0]}")
+        values = np.array([plan.axes[j][int(np.argmin(np.abs(plan.axes[j] - want[nm])))] for j, nm in enumerate(names)])
+        label = ", ".join(f"{nm} = {v:.6g}" for nm, v in zip(names, values))
+    x0 = plan.base.copy()
+    params = dict(plan.sweep.params)
+    for j, nm in enumerate(names):
+        if nm in plan.state_names:
+            x0[plan.state_names.index(nm)] = values[j]
+        else:
+            params[nm] = float(values[j])
+    return dict(spec_text=attrs["spec"], x0=x0, params=params, u=list(plan.sweep.u), t1=plan.sweep.t1, label=label)

@@ -288,3 +288,13 @@ def test_plot_map_and_curve(tmp_path):
     assert main(["plot", str(tmp_path / "curve.zarr"), "-o", str(tmp_path / "curve.png"), "--component", "2"]) == 0
     for f in ("map.png", "curve.png"):
         assert (tmp_path / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_model_files_are_the_generated_c():
+    """The sweep and animate build from a render without the LaTeX: the same C, header and cdef
+    as `generate` writes (generated/ is what the code emits)."""
+    for name in ("double_pendulum", "ship_gimbal"):
+        files = sweep.model_files((ROOT / "specs" / f"{name}.toml").read_text())
+        assert sorted(files) == sorted(f"{name}.{e}" for e in ("c", "h", "cdef"))
+        for k, v in files.items():
+            assert v == (ROOT / "generated" / name / k).read_text(), k
