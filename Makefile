@@ -1,6 +1,7 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
 # make test                           set up .venv and run the test suite
 # make plot                           the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map (docs/)
+# make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost; ensembles against
 #                                     scipy and MuJoCo's rollout on 1 and 2 cores and a local Dask cluster (bench/results/)
 # make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo; derivatives against Pinocchio, CasADi, differences (bench/results/)
@@ -12,14 +13,14 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test pdf plot clean bench bench-setup bench-speed
+.PHONY: all setup generate generate-all test pdf plot animations clean bench bench-setup bench-speed
 
 all: generate
 
 $(VENV)/.installed: pyproject.toml
 	$(PY) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q -e '.[test,sweep]'
+	$(VPY) -m pip install -q -e '.[test,sweep,view,browser]'
 	touch $@
 
 setup: $(VENV)/.installed
@@ -36,7 +37,7 @@ test: setup
 	$(VPY) -m pytest -q -n $(JOBS) --dist loadfile
 
 $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
-	$(VPY) -m pip install -q -e '.[test,plot,sweep,rollout]'
+	$(VPY) -m pip install -q -e '.[test,plot,sweep,view,rollout]'
 	touch $@
 
 plot: $(VENV)/.plot-installed
@@ -48,6 +49,11 @@ plot: $(VENV)/.plot-installed
 	$(VPY) -m codegen sweep specs/double_pendulum.toml --vary phi1=-3.14:3.14:300 --vary phi2=-3.14:3.14:300 \
 		--t1 10 --measure flip_time -q -o build/flip_map.zarr
 	$(VPY) -m codegen plot build/flip_map.zarr --log --cmap magma -o docs/double_pendulum_flip.png
+
+animations: setup
+	$(VPY) -m codegen animate specs/gimbal.toml --t1 8 --fps 20 --size 360x360 -o docs/gimbal.gif
+	$(VPY) -m codegen animate specs/spatial3.toml --phi=-2,-0.75,-1.1 --phidot 0,0,0 --t1 8 --fps 20 --size 360x360 \
+		-o docs/spatial3_chaos.gif
 
 $(VENV)/.bench-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,bench]'

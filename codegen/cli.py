@@ -419,18 +419,24 @@ def cmd_animate(args) -> int:
         ch = reference.numeric(spec, params)
     except ValueError as exc:
         raise SpecError("--param", str(exc)) from None
-    if args.trajectory:
-        times, X, has_rate = animate.read_csv(args.trajectory, spec.n, args.fps, args.frame)
-    else:
-        times, has_rate = animate.frame_times(t1, args.fps, args.frame), True
     if not (args.trace >= 0 and math.isfinite(args.trace)):
         raise SpecError("--trace", "must be a number of seconds >= 0")
+    sub = 4  # the trace is sampled 4 times per frame: smooth where the tip moves fast
+    if args.trajectory:
+        times, X, has_rate, fine, fine_X = animate.read_csv(args.trajectory, spec.n, args.fps, args.frame)
+    elif args.frame is not None:
+        times, has_rate = animate.frame_times(t1, args.fps, args.frame), True
+        fine = np.unique(np.concatenate([np.linspace(max(0.0, args.frame - args.trace), args.frame, 100), times]))
+    else:
+        fine, has_rate = animate.frame_times(t1, args.fps, None, sub), True
+        times = fine[::sub]
     files, derived = derive_and_render(spec, Path(args.spec).name, tex=False)
     model = sw.load_model(spec.name, {k: v for k, v in files.items() if k.endswith((".c", ".h", ".cdef"))})
     if not args.trajectory:
-        X = animate.motion(model, times, x0, u=u, params=params or None, rtol=args.rtol, atol=args.rtol * 1e-2)
+        fine_X = animate.motion(model, fine, x0, u=u, params=params or None, rtol=args.rtol, atol=args.rtol * 1e-2)
+        X = fine_X[np.searchsorted(fine, times)]
     integral = animate.integral_curve(model, derived, X, times, u, params or None) if has_rate else None
-    sc = scene.build(spec, ch, times, X, trace=args.trace, integral=integral)
+    sc = scene.build(spec, ch, times, X, trace=args.trace, integral=integral, tip_times=fine, tip_X=fine_X)
     camera = scene.Camera(math.radians(view[0]), math.radians(view[1])) if view else scene.default_camera(sc.points)
     with out:
         if out.ext == ".html":

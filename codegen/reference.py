@@ -182,7 +182,7 @@ def frames(ch: NumericChain, phi) -> np.ndarray:
     return R
 
 
-def _world(ch: NumericChain, phi, t: float = 0.0):
+def world(ch: NumericChain, phi, t: float = 0.0):
     """Fixed-frame e, c, s, λ, A of every body and the joint points Oᵏ, at (φ, t)."""
     R0, omega0, eps0, r0, v0, a0 = platform(ch, t)
     R = frames(ch, phi) @ R0.T  # rows êᵏᵢ in the fixed frame: αᵏ'⁰ of (14) after the platform's Rᵀ
@@ -211,7 +211,7 @@ def _motion(ch: NumericChain, phi, phidot, phiddot, t: float) -> dict:
     """Every fixed-frame vector of the chain's motion at (φ, φ̇, φ̈, t): eqs. (1), (5), (6)."""
     R0, omega0, eps0, r0, v0, a0 = platform(ch, t)
     R = frames(ch, phi) @ R0.T
-    e, c, s, lam, A, O = _world(ch, phi, t)
+    e, c, s, lam, A, O = world(ch, phi, t)
     omega = omega0 + np.cumsum(e * phidot[:, None], axis=0)  # eq. (1)
     # eq. (5): ε^k = ε⁰ + Σ_{p≤k} (e^p φ̈^p + ω^{p-1} × e^p φ̇^p)
     omega_prev = np.vstack([omega0, omega[:-1]])

@@ -1,0 +1,392 @@
+"""``python -m codegen animate``: the motion of a spec as a GIF, MP4, PNG still or one offline HTML viewer.
+
+    trajectory  the emitted C's DOP853 with dense output at the frame times (``motion``), or a
+                saved trajectory: a CSV as ``simulate`` prints it (``read_csv``) or a point of a
+                sweep store (``sweep.point``)
+    scene       the spec's geometry at every frame (``scene.build``)
+    picture     ``Raster`` paints the primitives with Pillow (2× supersampled), ``write_gif`` /
+                ``write_mp4`` / ``write_png`` encode; ``write_html`` puts the primitives, the
+                viewer's script (templates/viewer.js) and the integral's curve in one file
+
+Every output is written beside its place and renamed into it: a failed run leaves no partial file.
+An existing file is replaced only if this command wrote it (its bytes carry MARKER) or with --force.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from .scene import BODY_COLOURS, FRAME_COLOUR, PLATFORM_COLOUR, TRACE_COLOUR, Camera, Scene, default_camera
+from .spec import SpecError
+
+MARKER = "gyrochain animate"
+EXTENSIONS = (".gif", ".mp4", ".html", ".png")
+TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
+
+
+# --------------------------------------------------------------------------- trajectories
+def frame_times(t1: float, fps: float, frame: float | None, sub: int = 1) -> np.ndarray:
+    """The output times: 0, 1/fps, … ≤ t1, or the single time ``frame`` (a still); with sub > 1,
+    ``sub`` times per frame interval (the frames are every sub-th)."""
+    if frame is not None:
+        if not (math.isfinite(frame) and frame >= 0):
+            raise SpecError("--frame", f"{frame!r}: must be a time >= 0")
+        return np.array([frame])
+    if not (math.isfinite(fps) and fps > 0):
+        raise SpecError("--fps", f"{fps!r}: must be a positive number")
+    if not (math.isfinite(t1) and t1 > 0):
+        raise SpecError("--t1", f"{t1!r}: the time range [0, t1] needs t1 > 0")
+    count = int(math.floor(t1 * fps + 1e-9)) + 1
+    if count < 2:
+        raise SpecError("--t1", f"[0, {t1:g}] s at {fps:g} frames/s holds a single frame; make t1 >= {1 / fps:g} s or raise --fps")
+    return np.arange((count - 1) * sub + 1) / (fps * sub)
+
+
+def motion(model, times: np.ndarray, x0, u=None, params=None, rtol: float = 1e-10, atol: float = 1e-12) -> np.ndarray:
+    """The states at ``times`` by the emitted C's DOP853 (dense output between its steps); a
+    failure is a one-line error naming where it stopped."""
+    from .build import IntegrationError
+
+    t = np.concatenate([[0.0], times]) if times[0] > 0 else times
+    try:
+        X = model.integrate(t, x0, "dop853", rtol=rtol, atol=atol, u=u, params=params)
+    except IntegrationError as exc:
+        why = str(exc.args[0]).split(": ", 1)[-1].split(" at t =")[0]
+        raise SpecError("motion", f"the integrator stopped at t = {exc.t:.6g} s: {why}") from None
+    return X[len(t) - len(times):]
+
+
+def read_csv(path: str, n: int, fps: float, frame: float | None) -> tuple:
+    """A saved trajectory (columns t, phi1…phin and optionally phidot1…phidotn, as ``simulate``
+    prints it), at the frame times over the file's span (or at ``frame``): φ linear between the
+    rows, φ̇ the file's or 0.  Returns the times, the states, whether φ̇ was given, and the file's
+    own times and states (for the trace)."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            names = [h.strip() for h in f.readline().strip().split(",")]
+            data = np.loadtxt(f, delimiter=",", ndmin=2)
+    except (OSError, ValueError, UnicodeDecodeError) as exc:
+        raise SpecError("--trajectory", f"{path}: {exc}") from None
+    missing = [c for c in ["t"] + [f"phi{k}" for k in range(1, n + 1)] if c not in names]
+    if missing:
+        raise SpecError("--trajectory", f"{path}: no column {missing[0]!r} (expected t, phi1..phi{n}[, phidot1..phidot{n}])")
+    if data.shape[0] < 1 or data.shape[1] != len(names):
+        raise SpecError("--trajectory", f"{path}: expected rows of {len(names)} numbers under the header")
+    ft = data[:, names.index("t")]
+    if not np.all(np.isfinite(data)) or np.any(np.diff(ft) <= 0):
+        raise SpecError("--trajectory", f"{path}: the times must increase and every value be finite")
+    if frame is not None:
+        frame_times(0.0, fps, frame)
+        if not ft[0] <= frame <= ft[-1]:
+            raise SpecError("--frame", f"{frame:g} s is outside the trajectory's [{ft[0]:g}, {ft[-1]:g}] s")
+        t = np.array([frame])
+    else:
+        t = ft[0] + frame_times(ft[-1] - ft[0], fps, None)
+    has_rate = all(f"phidot{k}" in names for k in range(1, n + 1))
+    cols = [names.index(f"phi{k}") for k in range(1, n + 1)]
+    cols += [names.index(f"phidot{k}") for k in range(1, n + 1)] if has_rate else []
+    X = np.zeros((len(t), 2 * n))
+    rows = np.zeros((len(ft), 2 * n))
+    for j, c in enumerate(cols):
+        X[:, j] = np.interp(t, ft, data[:, c])
+        rows[:, j] = data[:, c]
+    return t, X, has_rate, ft, rows
+
+
+def integral_curve(model, derived, X, times, u, params) -> dict | None:
+    """The curve under the HTML scene: the first integral that exists (energy (23), else the
+    Jacobi integral, else the momentum (27)), or the energy where none does.  A control torque
+    held at zero does no work: with it the integrals it would remove still hold."""
+    ints = derived.integrals
+    kw = dict(params=params)
+    idle = u is None or not np.any(np.asarray(u) != 0)  # the control torques do no work
+    energy = all(r.startswith("control") and idle for r in ints.energy_reasons)
+    momentum = model.has_momentum and (ints.has_momentum_integral or (
+        ints.momentum_condition is None and bool(ints.momentum_reasons)
+        and all(r == "control torque in joint 1" and idle for r in ints.momentum_reasons)))
+    if energy:
+        label, f = "energy T − U (23), an integral", lambda x, t: model.energy(x, t=t, **kw)
+    elif model.has_jacobi:
+        label, f = "Jacobi integral, conserved", lambda x, t: model.jacobi(x, **kw)
+    elif momentum:
+        label, f = "momentum (27), an integral", lambda x, t: model.momentum(x, t=t, **kw)
+    else:
+        label, f = "energy T − U (23), not an integral here", lambda x, t: model.energy(x, t=t, **kw)
+    return {"label": label, "values": [float(f(np.asarray(x, float), float(t))) for x, t in zip(X, times)]}
+
+
+# --------------------------------------------------------------------------- the raster picture
+def _rgb(hexcol: str) -> tuple:
+    return tuple(int(hexcol[i:i + 2], 16) for i in (1, 3, 5))
+
+
+class Raster:
+    """Paints a scene's frames with Pillow, at ``ss``× the size and then reduced (anti-aliasing)."""
+
+    BACKGROUND = (255, 255, 255)
+
+    def __init__(self, scene: Scene, width: int = 480, height: int = 480, camera: Camera | None = None, ss: int = 2):
+        try:
+            from PIL import Image, ImageDraw, ImageFont
+        except ImportError:
+            raise SpecError("-o", "pictures need Pillow: pip install 'gyrochain[view]' (or write .html)") from None
+        self.Image, self.ImageDraw = Image, ImageDraw
+        self.scene, self.W, self.H, self.ss = scene, width, height, ss
+        self.cam = camera or default_camera(scene.points)
+        k = height / 480.0 * ss
+        self.k = k
+        self.font = ImageFont.load_default(size=max(8, round(14 * k)))
+        self.small = ImageFont.load_default(size=max(8, round(12 * k)))
+        # fit every key point of every frame, below the two text lines
+        P = self.cam.project(scene.points)[:, :2]
+        lo, hi = P.min(axis=0), P.max(axis=0)
+        span = np.maximum(hi - lo, 1e-9)
+        top = 44 * height / 480.0
+        margin = 0.06 * min(width, height)
+        self.scale = min((width - 2 * margin) / span[0], (height - top - 2 * margin) / span[1]) * ss
+        self.centre = (lo + hi) / 2
+        self.origin = np.array([width / 2 * ss, (top + (height - top) / 2) * ss])
+
+    def to_pixels(self, p) -> np.ndarray:
+        """Fixed-frame points → pixel coordinates of the final picture (x right, y down) and depth."""
+        q = self.cam.project(p)
+        xy = (q[..., :2] - self.centre) * self.scale
+        px = self.origin[0] + xy[..., 0]
+        py = self.origin[1] - xy[..., 1]
+        return np.stack([px / self.ss, py / self.ss, q[..., 2]], axis=-1)
+
+    def _px(self, p):
+        q = self.to_pixels(p)
+        return q[..., 0] * self.ss, q[..., 1] * self.ss, q[..., 2]
+
+    def frame(self, i: int):
+        """Frame i as an RGB image."""
+        sc, k = self.scene, self.k
+        img = self.Image.new("RGB", (self.W * self.ss, self.H * self.ss), self.BACKGROUND)
+        draw = self.ImageDraw.Draw(img, "RGBA")
+        items = []  # (depth, order, painter)
+        t = sc.times[i]
+        # the trace of the tip over the last sc.trace seconds, fading
+        j0 = int(np.searchsorted(sc.tip_times, t - sc.trace - 1e-12))
+        j1 = int(np.searchsorted(sc.tip_times, t + 1e-12, side="right"))
+        tr = sc.tips[j0:j1]
+        if len(tr) > 1:
+            x, y, z = self._px(tr)
+            col = _rgb(TRACE_COLOUR)
+            for j in range(len(tr) - 1):
+                a = int(255 * 0.85 * (j + 1) / (len(tr) - 1))
+                seg = (x[j], y[j], x[j + 1], y[j + 1])
+                items.append((min(z[j], z[j + 1]), len(items),
+                              lambda seg=seg, a=a: draw.line(seg, fill=col + (a,), width=max(1, round(1.8 * k)))))
+        for prim in sc.static + sc.frames[i]:
+            items.append(self._item(draw, prim, len(items)))
+        for _, _, paint in sorted(items, key=lambda it: (it[0], it[1])):
+            paint()
+        self._overlay(draw, t)
+        return img.reduce(self.ss)  # the mean of each ss × ss block: anti-aliasing
+
+    def _item(self, draw, prim, order):
+        kind, k = prim[0], self.k
+        if kind == "seg":
+            _, p, q, col, w = prim
+            x, y, z = self._px(np.array([p, q]))
+            return (z.mean(), order, lambda: draw.line((x[0], y[0], x[1], y[1]), fill=_rgb(col), width=max(1, round(w * k))))
+        if kind == "dot":
+            _, p, r, col = prim
+            x, y, z = self._px(np.asarray(p))
+            rp = max(r * self.scale, 2.5 * k)
+            return (float(z), order, lambda: draw.ellipse((x - rp, y - rp, x + rp, y + rp), fill=_rgb(col),
+                                                          outline=(40, 40, 40), width=max(1, round(k))))
+        if kind == "disc":
+            _, c, u, v, r, col = prim
+            a = np.linspace(0.0, 2 * math.pi, 48, endpoint=False)
+            pts = np.asarray(c) + r * (np.cos(a)[:, None] * np.asarray(u) + np.sin(a)[:, None] * np.asarray(v))
+            x, y, z = self._px(pts)
+            poly = list(zip(x.tolist(), y.tolist()))
+            return (z.mean(), order, lambda: draw.polygon(poly, fill=_rgb(col) + (90,), outline=_rgb(col), width=max(1, round(1.5 * k))))
+        if kind == "label":
+            _, p, text, col = prim
+            x, y, z = self._px(np.asarray(p))
+            return (float(z), order, lambda: draw.text((x, y), text, fill=_rgb(col), font=self.small, anchor="mm"))
+        raise ValueError(kind)
+
+    def _overlay(self, draw, t: float):
+        k = self.k
+        draw.text((10 * k, 8 * k), self.scene.name, fill=(30, 30, 30), font=self.font)
+        draw.text((10 * k, 26 * k), f"t = {t:.2f} s", fill=(30, 30, 30), font=self.font)
+        if self.scene.gravity:  # an arrow along ê⁰₁ in the lower left corner
+            d = self.cam.matrix[:2, 0]  # screen right/up of ê⁰₁
+            W, H = self.W * self.ss, self.H * self.ss
+            cx, cy = 34 * k, H - 34 * k
+            if np.hypot(*d) < 0.2:
+                draw.ellipse((cx - 4 * k, cy - 4 * k, cx + 4 * k, cy + 4 * k), outline=_rgb(FRAME_COLOUR), width=max(1, round(1.5 * k)))
+            else:
+                d = d / np.hypot(*d) * 20 * k
+                tip = (cx + d[0], cy - d[1])
+                draw.line((cx - d[0], cy + d[1], *tip), fill=_rgb(FRAME_COLOUR), width=max(1, round(2 * k)))
+                back = np.array([-d[0], d[1]]) * 0.35
+                for s in (1, -1):
+                    side = np.array([-back[1], back[0]]) * 0.6 * s
+                    draw.line((*tip, tip[0] + back[0] + side[0], tip[1] + back[1] + side[1]), fill=_rgb(FRAME_COLOUR), width=max(1, round(2 * k)))
+            draw.text((cx + 14 * k, cy - 22 * k), "g", fill=_rgb(FRAME_COLOUR), font=self.font)
+
+
+# --------------------------------------------------------------------------- writing
+class Output:
+    """A file written beside its place (``tmp``) and renamed into it by ``commit``; removed on error."""
+
+    def __init__(self, path: str | Path, force: bool = False):
+        self.path = Path(path)
+        ext = self.path.suffix.lower()
+        if ext not in EXTENSIONS:
+            raise SpecError("-o", f"unknown extension {self.path.suffix or '(none)'!r} of {self.path.name} (one of {', '.join(EXTENSIONS)})")
+        self.ext = ext
+        if self.path.exists() and not force and not is_ours(self.path):
+            raise SpecError("-o", f"{self.path} exists and was not written by animate; choose another path or give --force")
+        if self.path.is_dir():
+            raise SpecError("-o", f"{self.path} is a folder")
+        self.tmp = self.path.parent / f".{self.path.stem}.tmp-{os.getpid()}{ext}"
+
+    def __enter__(self):
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        return self
+
+    def __exit__(self, exc_type, exc, tb):
+        if exc_type is None:
+            os.replace(self.tmp, self.path)
+        else:
+            self.tmp.unlink(missing_ok=True)
+        return False
+
+
+def is_ours(path: Path) -> bool:
+    try:
+        with open(path, "rb") as f:
+            return MARKER.encode() in f.read()
+    except OSError:
+        return False
+
+
+def write_png(raster: Raster, path: Path) -> None:
+    from PIL.PngImagePlugin import PngInfo
+
+    info = PngInfo()
+    info.add_text("Software", f"{MARKER} {__version__}")
+    raster.frame(0).save(path, format="PNG", pnginfo=info, optimize=True)
+
+
+def write_gif(raster: Raster, path: Path, fps: float) -> None:
+    Image = raster.Image
+    frames = [raster.frame(i) for i in range(len(raster.scene.times))]
+    # one palette for all frames (from a sample of them): no flicker between frames' palettes
+    sample = frames[:: max(1, len(frames) // 8)][:8]
+    strip = Image.new("RGB", (raster.W, raster.H * len(sample)))
+    for j, f in enumerate(sample):
+        strip.paste(f, (0, raster.H * j))
+    # a median cut averages colours: the scene's own colours are added exactly (white stays white)
+    own = [Raster.BACKGROUND, (30, 30, 30), (40, 40, 40)] + [_rgb(c) for c in BODY_COLOURS + [FRAME_COLOUR, TRACE_COLOUR, PLATFORM_COLOUR]]
+    cut = strip.quantize(colors=256 - len(own), method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+    entries = [tuple(c) for c in own] + [tuple(cut.getpalette()[3 * i:3 * i + 3]) for i in range(256 - len(own))]
+    palette = np.array(entries, dtype=np.int64)
+    flat = [v for c in entries for v in c]
+    lut = np.zeros(1 << 24, dtype=np.uint8)  # RGB → palette index, filled for the colours met
+    seen = np.zeros(1 << 24, dtype=bool)
+    q = []
+    for f in frames:  # each pixel to its nearest palette colour (exact where the colour is in it)
+        a = np.asarray(f, dtype=np.int32)
+        key = (a[..., 0] << 16) | (a[..., 1] << 8) | a[..., 2]
+        new = np.unique(key[~seen[key]])
+        if len(new):
+            cols = np.stack([new >> 16, (new >> 8) & 255, new & 255], axis=1).astype(np.int64)
+            lut[new] = np.argmin(((cols[:, None, :] - palette[None, :, :]) ** 2).sum(axis=2), axis=1)
+            seen[new] = True
+        img = Image.fromarray(lut[key], mode="P")
+        img.putpalette(flat)
+        q.append(img)
+    q[0].save(path, format="GIF", save_all=True, append_images=q[1:], duration=round(1000 / fps), loop=0,
+              comment=f"{MARKER} {__version__}".encode(), optimize=False, disposal=1)
+
+
+def write_mp4(raster: Raster, path: Path, fps: float) -> None:
+    exe = shutil.which("ffmpeg")
+    if exe is None:
+        raise SpecError("-o", ".mp4 needs ffmpeg on PATH (apt-get install ffmpeg); write .gif or .html instead")
+    W, H = raster.W, raster.H
+    cmd = [exe, "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", f"{W}x{H}", "-r", f"{fps:g}",
+           "-i", "-", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-movflags", "+faststart", "-metadata",
+           f"comment={MARKER} {__version__}", "-f", "mp4", str(path)]
+    proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        for i in range(len(raster.scene.times)):
+            proc.stdin.write(raster.frame(i).tobytes())
+        proc.stdin.close()
+        err = proc.stderr.read().decode(errors="replace").strip()
+        if proc.wait(timeout=120) != 0:
+            raise SpecError("-o", f"ffmpeg failed: {err.splitlines()[-1] if err else proc.returncode}")
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
+# --------------------------------------------------------------------------- the HTML viewer
+def _num(x) -> float:
+    """A coordinate for the page: 6 significant digits (the page is a picture, not data)."""
+    return float(f"{float(x):.6g}")
+
+
+def _prim_json(prim) -> list:
+    out = [prim[0]]
+    for a in prim[1:]:
+        if isinstance(a, str):
+            out.append(a)
+        elif np.ndim(a) == 0:
+            out.append(_num(a))
+        else:
+            out.append([_num(v) for v in a])
+    return out
+
+
+def scene_json(scene: Scene, camera: Camera, fps: float) -> str:
+    P = scene.points
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    centre = (lo + hi) / 2
+    data = {
+        "name": scene.name,
+        "fps": fps,
+        "times": [_num(t) for t in scene.times],
+        "static": [_prim_json(p) for p in scene.static],
+        "frames": [[_prim_json(p) for p in fr] for fr in scene.frames],
+        "tipTimes": [_num(t) for t in scene.tip_times],
+        "tips": [[_num(v) for v in p] for p in scene.tips],
+        "trace": scene.trace,
+        "traceColour": TRACE_COLOUR,
+        "frameColour": FRAME_COLOUR,
+        "gravity": scene.gravity,
+        "centre": [_num(v) for v in centre],
+        "radius": _num(float(np.max(np.linalg.norm(P - centre, axis=1))) or 1.0),
+        "camera": {"az": camera.az, "el": camera.el},
+        "integral": scene.integral,
+    }
+    # JSON inside <script>: no "</" may close the element early
+    return json.dumps(data, separators=(",", ":"), ensure_ascii=False, allow_nan=False).replace("</", "<\\/")
+
+
+def write_html(scene: Scene, camera: Camera, path: Path, fps: float, description: str) -> None:
+    import jinja2
+    from markupsafe import Markup
+
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(TEMPLATES)), autoescape=True, undefined=jinja2.StrictUndefined,
+                             keep_trailing_newline=True)
+    script = (TEMPLATES / "viewer.js").read_text(encoding="utf-8")
+    html = env.get_template("viewer.html.jinja").render(
+        name=scene.name, description=description, marker=f"{MARKER} {__version__}",
+        data=Markup(scene_json(scene, camera, fps)), script=Markup(script))
+    path.write_text(html, encoding="utf-8")

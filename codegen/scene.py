@@ -1,0 +1,240 @@
+"""What the viewer draws, from a spec's geometry and a trajectory alone (no mesh files).
+
+Everything is placed in the fixed frame ê⁰ of the digest, where ê⁰₁ points down along gravity,
+by the independent numeric kinematics of ``reference`` (direction cosines (14)/(15) and the
+platform's attitude R(t), position r₀(t)).  For every frame time:
+
+    joint axis lᵏ       a bar along eᵏ through Oᵏ, in body k's colour
+    link k             the segment Oᵏ → Oᵏ⁺¹ (the last body: Oⁿ → its tip, below)
+    centre of mass Gᵏ  Gᵏ = Oᵏ + cᵏ, a dot of volume ∝ mᵏ; a thin line Oᵏ → Gᵏ where Gᵏ is off the link
+    rotor              where λᵏ ≠ 0: a disc normal to λᵏ centred at Gᵏ, its axle, and a spoke turning
+                       about λᵏ in the sense of λᵏ (at a nominal rate: the spec gives the rotor's
+                       momentum, not its inertia, so the true spin rate is not known)
+    platform           where the spec has a base: a round deck through O¹ across the platform's ê⁰₁,
+                       with the platform's triad
+    fixed frame        the triad ê⁰₁ ê⁰₂ ê⁰₃ at the origin (labelled 1 2 3); gravity is drawn by the
+                       renderers as an arrow "g" along ê⁰₁ in a corner
+    trace              the last body's tip over the last ``trace`` seconds, fading
+
+The tip of the last body is Gⁿ when cⁿ ≠ 0, else the end of its rotor's axle, else the end of
+its ê ⁿ₃ bar.  A primitive is a tuple in fixed-frame coordinates:
+
+    ("seg", p, q, colour, width)        width in pixels of a 480-pixel-high picture
+    ("dot", p, radius, colour)          radius in metres
+    ("disc", c, u, v, radius, colour)   the circle c + radius (u cos a + v sin a), u ⟂ v unit vectors
+    ("label", p, text, colour)
+
+Both renderers (the raster one in ``animate`` and the browser's in templates/viewer.js) draw the
+same primitives: they only project them with ``Camera`` (orthographic, orbiting about the vertical
+−ê⁰₁), sort them far to near and paint.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import reference
+
+# body colours (colour-blind-safe order of Okabe & Ito), then greys
+BODY_COLOURS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442", "#000000"]
+FRAME_COLOUR = "#888888"
+PLATFORM_COLOUR = "#8C7B6B"
+TRACE_COLOUR = "#C0392B"
+SPOKE_RATE = 2 * math.pi * 0.75  # rad/s of the rotor's spoke (nominal, see above)
+
+
+def body_colour(k: int) -> str:
+    """Body k's colour (k from 1)."""
+    return BODY_COLOURS[(k - 1) % len(BODY_COLOURS)]
+
+
+# --------------------------------------------------------------------------- the camera
+class Camera:
+    """Orthographic view of the fixed frame ê⁰ with −ê⁰₁ up.  The world is first written in the
+    right-handed frame (X, Y, Z) = (x₃, x₂, −x₁) (Z up); the camera sits at azimuth ``az`` about Z
+    (from X towards Y) and elevation ``el`` above the horizontal plane (radians).  ``project``
+    gives the screen's right and up coordinates (metres) and the depth (larger: nearer)."""
+
+    def __init__(self, az: float, el: float):
+        self.az, self.el = az, el
+        ca, sa, ce, se = math.cos(az), math.sin(az), math.cos(el), math.sin(el)
+        d = np.array([ce * ca, ce * sa, se])  # towards the camera
+        r = np.array([-sa, ca, 0.0])
+        u = np.cross(d, r)
+        W = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # rows: X, Y, Z in ê⁰
+        self.matrix = np.vstack([r, u, d]) @ W  # rows: right, up, towards the camera, in ê⁰
+
+    def project(self, p) -> np.ndarray:
+        """(..., 3) fixed-frame points → (..., 3) right, up, depth."""
+        return np.asarray(p, dtype=float) @ self.matrix.T
+
+
+def default_camera(points: np.ndarray) -> Camera:
+    """A view across the plane the motion spreads in most: the azimuth of least horizontal spread
+    of the points, turned 30° so that the third dimension shows, from 25° above."""
+    P = np.asarray(points, dtype=float).reshape(-1, 3)
+    H = np.stack([P[:, 2], P[:, 1]], axis=1)  # X = x₃, Y = x₂
+    H = H - H.mean(axis=0)
+    C = H.T @ H
+    if np.allclose(C, 0.0):
+        az = math.radians(30.0)
+    else:
+        w, V = np.linalg.eigh(C)
+        least = V[:, 0]
+        az = math.atan2(least[1], least[0])
+        az = (az + math.pi / 2) % math.pi - math.pi / 2 + math.radians(30.0)  # one of ± least: the one near 0
+    return Camera(az, math.radians(25.0))
+
+
+# --------------------------------------------------------------------------- the scene
+@dataclass
+class Scene:
+    name: str
+    times: np.ndarray  # (F,)
+    frames: list  # per frame: the list of primitives that move
+    static: list  # primitives drawn in every frame
+    tip_times: np.ndarray  # (T,) the times of the tip's trace (finer than the frames where known)
+    tips: np.ndarray  # (T, 3) the last body's tip there
+    trace: float  # seconds of trace shown
+    size: float  # the chain's characteristic length (m)
+    gravity: bool
+    integral: dict | None = None  # {"label", "values"}: the plot under the HTML scene
+    points: np.ndarray = field(default=None)  # every key point of every frame (for fitting the view)
+
+
+def _unit(v):
+    nv = np.linalg.norm(v)
+    return v / nv if nv > 0 else v
+
+
+def _perp(n):
+    """A unit vector perpendicular to the unit vector n (deterministic)."""
+    a = np.eye(3)[int(np.argmin(np.abs(n)))]
+    return _unit(a - n * (a @ n))
+
+
+class Geometry:
+    """The spec's fixed sizes: radii of gyration, bar half-lengths, dot and disc radii."""
+
+    def __init__(self, ch: reference.NumericChain):
+        n = ch.n
+        self.ch = ch
+        rg = []
+        for k in range(n):
+            c, m = ch.c[k], ch.m[k]
+            AG = ch.A[k] - m * ((c @ c) * np.eye(3) - np.outer(c, c))  # about Gᵏ
+            rg.append(math.sqrt(max(np.trace(AG), 0.0) / (2 * m)) if m > 0 else 0.0)
+        self.rg = np.array(rg)
+        reach = float(sum(np.linalg.norm(ch.s[k]) for k in range(n - 1)) + np.linalg.norm(ch.c[-1]))
+        self.size = max(reach, float(self.rg.max()), 1e-3)
+        self.bar = np.maximum(0.8 * self.rg, 0.15 * self.size)
+        mmax = float(ch.m.max()) if ch.m.max() > 0 else 1.0
+        self.dot = np.maximum(0.05 * self.size * np.cbrt(np.maximum(ch.m, 0) / mmax), 0.02 * self.size)
+        self.disc = np.maximum(0.7 * self.rg, 0.12 * self.size)
+
+
+def pose(ch: reference.NumericChain, phi, t: float) -> dict:
+    """Fixed-frame kinematics at (φ, t): body frames R (rows êᵏᵢ), O, e, G, λ (body→fixed), the
+    platform's attitude R0 and position r0."""
+    R0, _w, _e, r0, _v, _a = reference.platform(ch, t)
+    R = reference.frames(ch, phi) @ R0.T
+    e, c, s, lam, A, O = reference.world(ch, phi, t)
+    return dict(R=R, O=O, e=e, G=O + c, lam=lam, s=s, R0=R0, r0=r0)
+
+
+def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list, np.ndarray, list]:
+    """The moving primitives of one frame, the last body's tip, and the key points."""
+    ch, n = geo.ch, geo.ch.n
+    prims, keys = [], []
+    if base:
+        R0, r0 = P["R0"], P["r0"]
+        ex, ey, ez = R0[:, 0], R0[:, 1], R0[:, 2]  # the platform's axes in ê⁰
+        a = 0.8 * geo.size
+        prims.append(("disc", r0, ey, ez, a, PLATFORM_COLOUR))  # the deck, across the platform's ê⁰₁
+        for j, lab in enumerate("123"):
+            q = r0 + 0.3 * geo.size * R0[:, j]
+            prims.append(("seg", r0, q, PLATFORM_COLOUR, 1.2))
+            prims.append(("label", q, lab, PLATFORM_COLOUR))
+        keys += [r0 + a * ey, r0 - a * ey, r0 + a * ez, r0 - a * ez]
+    tip = None
+    for k in range(n):
+        col = body_colour(k + 1)
+        O, e, G = P["O"][k], P["e"][k], P["G"][k]
+        b = geo.bar[k]
+        prims.append(("seg", O - b * e, O + b * e, col, 5.0))
+        keys += [O - b * e, O + b * e]
+        lam = P["lam"][k]
+        rotor = np.linalg.norm(lam) > 0
+        link = k < n - 1 or np.linalg.norm(ch.c[k]) > 0  # Oᵏ → Oᵏ⁺¹, or the last body's Oⁿ → Gⁿ
+        if k < n - 1:
+            end = P["O"][k + 1]
+        elif link:
+            end = G
+        elif rotor:  # no link to draw: the tip is the end of the rotor's axle
+            end = G + geo.disc[k] * 1.3 * _unit(lam)
+        else:  # nor a rotor: the end of a bar along êⁿ₃
+            end = O + b * P["R"][k][2]
+            prims.append(("seg", O, end, col, 1.5))
+        if k == n - 1:
+            tip = end
+        if link and np.linalg.norm(end - O) > 0:
+            prims.append(("seg", O, end, col, 3.5))
+        # G off the link: a thin line to it
+        d = end - O
+        L2 = d @ d
+        off = G - O - (((G - O) @ d) / L2 * d if L2 > 0 else 0.0)
+        if np.linalg.norm(off) > 0.02 * geo.size:
+            prims.append(("seg", O, G, col, 1.0))
+        prims.append(("dot", G, geo.dot[k], col))
+        keys += [O, G, end]
+        if rotor:
+            nrm = _unit(lam)
+            # a body-fixed direction across λ, turned about λ by the spoke's angle
+            u0 = _perp(ch.lam[k] / np.linalg.norm(ch.lam[k])) if np.linalg.norm(ch.lam[k]) > 0 else _perp(nrm)
+            u0 = P["R"][k].T @ u0  # body → fixed
+            u0 = _unit(u0 - nrm * (u0 @ nrm))
+            w0 = np.cross(nrm, u0)
+            ang = SPOKE_RATE * t
+            u = math.cos(ang) * u0 + math.sin(ang) * w0
+            v = np.cross(nrm, u)
+            r = geo.disc[k]
+            prims.append(("disc", G, u, v, r, col))
+            prims.append(("seg", G, G + r * u, "#FFFFFF", 2.0))
+            prims.append(("seg", G - 1.3 * r * nrm, G + 1.3 * r * nrm, col, 1.5))
+            keys += [G + r * u, G - r * u, G + r * v, G - r * v, G + 1.3 * r * nrm, G - 1.3 * r * nrm]
+    return prims, tip, keys
+
+
+def static_primitives(geo: Geometry) -> list:
+    a = 0.3 * geo.size
+    out = []
+    for j, lab in enumerate("123"):
+        q = np.eye(3)[j] * a
+        out.append(("seg", np.zeros(3), q, FRAME_COLOUR, 1.2))
+        out.append(("label", q * 1.12, lab, FRAME_COLOUR))
+    return out
+
+
+def build(spec, ch: reference.NumericChain, times, X, trace: float = 2.0, integral: dict | None = None,
+          tip_times=None, tip_X=None) -> Scene:
+    """The scene of the trajectory X (states at the frame ``times``; only the φ columns are used);
+    the trace follows (tip_times, tip_X), a finer sampling of the same motion, where given."""
+    geo = Geometry(ch)
+    moving = spec.base is not None
+    n = ch.n
+    frames, keys = [], [np.zeros(3)]
+    for t, x in zip(times, X):
+        prims, _tip, k = frame_primitives(geo, pose(ch, np.asarray(x[:n], float), float(t)), float(t), moving)
+        frames.append(prims)
+        keys += k
+    if tip_times is None:
+        tip_times, tip_X = times, X
+    tips = np.array([frame_primitives(geo, pose(ch, np.asarray(x[:n], float), float(t)), float(t), moving)[1]
+                     for t, x in zip(tip_times, tip_X)])
+    static = static_primitives(geo)
+    keys += [p[2] for p in static if p[0] == "seg"]
+    return Scene(name=spec.name, times=np.asarray(times, float), frames=frames, static=static,
+                 tip_times=np.asarray(tip_times, float), tips=tips, trace=trace, size=geo.size, gravity=ch.g != 0,
+                 integral=integral, points=np.array(keys))

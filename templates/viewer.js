@@ -1,0 +1,216 @@
+// The offline viewer of `python -m codegen animate … -o FILE.html`.
+// The page carries the primitives of every frame in the fixed frame ê⁰ (ê⁰₁ down, along gravity),
+// made by codegen/scene.py; this script only projects, sorts and paints them, as the raster
+// renderer of codegen/animate.py does: an orthographic camera at azimuth az about the vertical
+// and elevation el, over the right-handed frame (X, Y, Z) = (x₃, x₂, −x₁).
+"use strict";
+(function () {
+  const D = JSON.parse(document.getElementById("scene-data").textContent);
+  const N = D.times.length;
+  const scene = document.getElementById("scene");
+  const plot = document.getElementById("plot");
+  const slider = document.getElementById("time");
+  const clock = document.getElementById("clock");
+  const button = document.getElementById("play");
+  const dpr = window.devicePixelRatio || 1;
+  for (const c of [scene, plot]) {
+    const w = c.width, h = c.height;
+    c.style.width = w + "px"; c.style.height = h + "px";
+    c.width = Math.round(w * dpr); c.height = Math.round(h * dpr);
+    c.getContext("2d").setTransform(dpr, 0, 0, dpr, 0, 0);
+  }
+  const W = scene.width / dpr, H = scene.height / dpr;
+  const ctx = scene.getContext("2d");
+  const pctx = plot.getContext("2d");
+
+  const state = { frame: 0, az: D.camera.az, el: D.camera.el, zoom: 1, playing: N > 1, t0: 0 };
+  slider.max = String(N - 1);
+
+  // ---- the camera
+  let M = null;
+  function camera() {
+    const ca = Math.cos(state.az), sa = Math.sin(state.az), ce = Math.cos(state.el), se = Math.sin(state.el);
+    const d = [ce * ca, ce * sa, se], r = [-sa, ca, 0];
+    const u = [d[1] * r[2] - d[2] * r[1], d[2] * r[0] - d[0] * r[2], d[0] * r[1] - d[1] * r[0]];
+    // rows right, up, towards the camera, written in ê⁰: (X, Y, Z) = (x₃, x₂, −x₁)
+    M = [r, u, d].map(b => [-b[2], b[1], b[0]]);
+  }
+  const TOP = 44;
+  function project(p) {
+    const q = [0, 1, 2].map(i => M[i][0] * p[0] + M[i][1] * p[1] + M[i][2] * p[2]);
+    const c = D.centre;
+    const qc = [0, 1].map(i => M[i][0] * c[0] + M[i][1] * c[1] + M[i][2] * c[2]);
+    const s = Math.min(W, H - TOP) / (2.1 * D.radius) * state.zoom;
+    return [W / 2 + (q[0] - qc[0]) * s, TOP + (H - TOP) / 2 - (q[1] - qc[1]) * s, q[2], s];
+  }
+
+  // ---- painting one frame
+  function rgba(hex, a) {
+    const v = [1, 3, 5].map(i => parseInt(hex.slice(i, i + 2), 16));
+    return `rgba(${v[0]},${v[1]},${v[2]},${a})`;
+  }
+  function item(prim, order) {
+    const kind = prim[0];
+    if (kind === "seg") {
+      const a = project(prim[1]), b = project(prim[2]);
+      return [(a[2] + b[2]) / 2, order, () => {
+        ctx.strokeStyle = prim[3]; ctx.lineWidth = prim[4]; ctx.lineCap = "round";
+        ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
+      }];
+    }
+    if (kind === "dot") {
+      const a = project(prim[1]);
+      return [a[2], order, () => {
+        ctx.fillStyle = prim[3]; ctx.strokeStyle = "#282828"; ctx.lineWidth = 1;
+        ctx.beginPath(); ctx.arc(a[0], a[1], Math.max(prim[2] * a[3], 2.5), 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+      }];
+    }
+    if (kind === "disc") {
+      const c = prim[1], u = prim[2], v = prim[3], r = prim[4];
+      const pts = [];
+      let z = 0;
+      for (let j = 0; j < 48; j++) {
+        const t = 2 * Math.PI * j / 48, ct = Math.cos(t), st = Math.sin(t);
+        const p = project([0, 1, 2].map(i => c[i] + r * (ct * u[i] + st * v[i])));
+        pts.push(p); z += p[2] / 48;
+      }
+      return [z, order, () => {
+        ctx.fillStyle = rgba(prim[5], 0.35); ctx.strokeStyle = prim[5]; ctx.lineWidth = 1.5;
+        ctx.beginPath(); pts.forEach((p, j) => j ? ctx.lineTo(p[0], p[1]) : ctx.moveTo(p[0], p[1]));
+        ctx.closePath(); ctx.fill(); ctx.stroke();
+      }];
+    }
+    if (kind === "label") {
+      const a = project(prim[1]);
+      return [a[2], order, () => {
+        ctx.fillStyle = prim[3]; ctx.font = "12px sans-serif"; ctx.textAlign = "center"; ctx.textBaseline = "middle";
+        ctx.fillText(prim[2], a[0], a[1]);
+      }];
+    }
+    throw new Error("unknown primitive " + kind);
+  }
+
+  function draw() {
+    camera();
+    const i = state.frame, t = D.times[i];
+    ctx.fillStyle = "#ffffff"; ctx.fillRect(0, 0, W, H);
+    const items = [];
+    // the tip's trace over the last D.trace seconds, fading
+    const T = D.tipTimes, eps = 1e-9;
+    let j0 = 0, j1 = 0;
+    while (j1 < T.length && T[j1] <= t + eps) j1++;
+    j0 = j1;
+    while (j0 > 0 && T[j0 - 1] >= t - D.trace - eps) j0--;
+    const tr = D.tips.slice(j0, j1).map(project);
+    for (let j = 0; j + 1 < tr.length; j++) {
+      const a = tr[j], b = tr[j + 1], alpha = 0.85 * (j + 1) / (tr.length - 1);
+      items.push([Math.min(a[2], b[2]), items.length, () => {
+        ctx.strokeStyle = rgba(D.traceColour, alpha); ctx.lineWidth = 1.8;
+        ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
+      }]);
+    }
+    for (const p of D.static.concat(D.frames[i])) items.push(item(p, items.length));
+    items.sort((a, b) => a[0] - b[0] || a[1] - b[1]);
+    for (const it of items) it[2]();
+    // the name, the clock and the direction of gravity (ê⁰₁)
+    ctx.fillStyle = "#1e1e1e"; ctx.font = "14px sans-serif"; ctx.textAlign = "left"; ctx.textBaseline = "top";
+    ctx.fillText(D.name, 10, 8);
+    ctx.fillText(`t = ${t.toFixed(2)} s`, 10, 26);
+    if (D.gravity) {
+      const cx = 34, cy = H - 34, dx = M[0][0], dy = M[1][0], L = Math.hypot(dx, dy);
+      ctx.strokeStyle = D.frameColour; ctx.fillStyle = D.frameColour; ctx.lineWidth = 2;
+      if (L < 0.2) {
+        ctx.beginPath(); ctx.arc(cx, cy, 4, 0, 2 * Math.PI); ctx.stroke();
+      } else {
+        const ux = dx / L * 20, uy = -dy / L * 20;
+        ctx.beginPath(); ctx.moveTo(cx - ux, cy - uy); ctx.lineTo(cx + ux, cy + uy);
+        ctx.moveTo(cx + ux, cy + uy); ctx.lineTo(cx + ux - 0.35 * ux - 0.21 * uy, cy + uy - 0.35 * uy + 0.21 * ux);
+        ctx.moveTo(cx + ux, cy + uy); ctx.lineTo(cx + ux - 0.35 * ux + 0.21 * uy, cy + uy - 0.35 * uy - 0.21 * ux);
+        ctx.stroke();
+      }
+      ctx.fillText("g", cx + 14, cy - 22);
+    }
+    slider.value = String(i);
+    clock.textContent = `t = ${t.toFixed(2)} s`;
+    drawPlot();
+  }
+
+  // ---- the integral's curve with a cursor at the frame's time
+  function drawPlot() {
+    const w = plot.width / dpr, h = plot.height / dpr, L = 64, R = 12, T = 22, B = 22;
+    pctx.fillStyle = "#ffffff"; pctx.fillRect(0, 0, w, h);
+    pctx.fillStyle = "#333"; pctx.font = "12px sans-serif"; pctx.textBaseline = "top"; pctx.textAlign = "left";
+    if (!D.integral) { pctx.fillText("no integral plotted (the trajectory has no rates)", L, T); return; }
+    const v = D.integral.values, t0 = D.times[0], t1 = D.times[N - 1] > t0 ? D.times[N - 1] : t0 + 1;
+    let lo = Math.min(...v), hi = Math.max(...v);
+    const mid = (lo + hi) / 2, half = Math.max((hi - lo) / 2, 1e-6 * Math.max(Math.abs(mid), 1e-12));
+    lo = mid - 1.1 * half; hi = mid + 1.1 * half;
+    const rel = (Math.max(...v) - Math.min(...v)) / Math.max(Math.abs(v[0]), 1e-300);
+    pctx.fillText(`${D.integral.label}: ${v[0].toPrecision(8)} at t = 0, relative change ${rel.toExponential(1)}`, L, 4);
+    const X = t => L + (t - t0) / (t1 - t0) * (w - L - R), Y = y => T + (hi - y) / (hi - lo) * (h - T - B);
+    pctx.strokeStyle = "#bbb"; pctx.lineWidth = 1; pctx.strokeRect(L, T, w - L - R, h - T - B);
+    pctx.textAlign = "right"; pctx.textBaseline = "middle";
+    pctx.fillText(hi.toPrecision(6), L - 4, T); pctx.fillText(lo.toPrecision(6), L - 4, h - B);
+    pctx.textBaseline = "top";
+    pctx.textAlign = "left"; pctx.fillText(`${t0.toFixed(2)} s`, L, h - B + 4);
+    pctx.textAlign = "right"; pctx.fillText(`${t1.toFixed(2)} s`, w - R, h - B + 4);
+    pctx.strokeStyle = "#0072B2"; pctx.lineWidth = 1.5; pctx.beginPath();
+    v.forEach((y, j) => j ? pctx.lineTo(X(D.times[j]), Y(y)) : pctx.moveTo(X(D.times[j]), Y(y)));
+    pctx.stroke();
+    const x = X(D.times[state.frame]);
+    pctx.strokeStyle = "#C0392B"; pctx.beginPath(); pctx.moveTo(x, T); pctx.lineTo(x, h - B); pctx.stroke();
+  }
+
+  // ---- playing, the slider, turning and zooming
+  function setFrame(i) { state.frame = Math.max(0, Math.min(N - 1, i | 0)); draw(); }
+  function play() {
+    if (N < 2) return;
+    state.playing = true; button.textContent = "Pause";
+    state.t0 = performance.now() / 1000 - (D.times[state.frame] - D.times[0]);
+  }
+  function pause() { state.playing = false; button.textContent = "Play"; }
+  function tick() {
+    if (state.playing) {
+      const span = D.times[N - 1] - D.times[0];
+      let t = performance.now() / 1000 - state.t0;
+      if (t > span) { state.t0 += span; t -= span; }
+      let i = state.frame;
+      if (D.times[i] - D.times[0] > t) i = 0;
+      while (i + 1 < N && D.times[i + 1] - D.times[0] <= t) i++;
+      if (i !== state.frame) setFrame(i);
+    }
+    requestAnimationFrame(tick);
+  }
+  button.addEventListener("click", () => state.playing ? pause() : play());
+  slider.addEventListener("input", () => { pause(); setFrame(Number(slider.value)); });
+  document.addEventListener("keydown", e => {
+    if (e.code === "Space" && e.target === document.body) { e.preventDefault(); state.playing ? pause() : play(); }
+  });
+  let drag = null;
+  scene.addEventListener("pointerdown", e => { drag = [e.clientX, e.clientY]; scene.setPointerCapture(e.pointerId); scene.style.cursor = "grabbing"; });
+  scene.addEventListener("pointermove", e => {
+    if (!drag) return;
+    state.az -= (e.clientX - drag[0]) * 0.01;
+    state.el = Math.max(-1.55, Math.min(1.55, state.el + (e.clientY - drag[1]) * 0.01));
+    drag = [e.clientX, e.clientY];
+    draw();
+  });
+  const release = () => { drag = null; scene.style.cursor = "grab"; };
+  scene.addEventListener("pointerup", release);
+  scene.addEventListener("pointercancel", release);
+  scene.addEventListener("wheel", e => {
+    e.preventDefault();
+    state.zoom = Math.max(0.1, Math.min(20, state.zoom * Math.exp(-e.deltaY * 0.001)));
+    draw();
+  }, { passive: false });
+
+  // for scripts and tests: the viewer's state and controls
+  window.gyroViewer = {
+    get frame() { return state.frame; }, get time() { return D.times[state.frame]; },
+    get az() { return state.az; }, get el() { return state.el; }, get zoom() { return state.zoom; },
+    get playing() { return state.playing; }, frames: N, setFrame, play, pause,
+  };
+  if (state.playing) play(); else button.textContent = "Play";
+  draw();
+  requestAnimationFrame(tick);
+})();

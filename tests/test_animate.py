@@ -1,0 +1,344 @@
+"""The viewer (issue 16): `animate` to GIF, MP4, PNG and HTML, the drawing against the geometry, bad
+input, a sweep's point and a saved trajectory as sources, and the HTML page in a real browser."""
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+PIL = pytest.importorskip("PIL", reason="the view extra (Pillow) is not installed")
+from PIL import Image, ImageChops  # noqa: E402
+
+from codegen import animate, reference, scene  # noqa: E402
+from codegen.cli import main  # noqa: E402
+from codegen.spec import load_spec  # noqa: E402
+
+from conftest import EXAMPLES, example_params  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+SPECS = ROOT / "specs"
+GIMBAL = SPECS / "gimbal.toml"
+DP = SPECS / "double_pendulum.toml"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _cache(tmp_path_factory):
+    """A model cache of this module's own."""
+    old = os.environ.get("GYROCHAIN_CACHE")
+    os.environ["GYROCHAIN_CACHE"] = str(tmp_path_factory.mktemp("cache"))
+    yield
+    if old is None:
+        os.environ.pop("GYROCHAIN_CACHE", None)
+    else:
+        os.environ["GYROCHAIN_CACHE"] = old
+
+
+def param_args(name: str) -> list[str]:
+    return [a for k, v in (example_params(name) or {}).items() for a in ("--param", f"{k}={v}")]
+
+
+def frames_of(path: Path) -> list:
+    im = Image.open(path)
+    out = []
+    for i in range(im.n_frames):
+        im.seek(i)
+        out.append(im.convert("RGB"))
+    return out
+
+
+def changed(a, b, tol: int = 0) -> int:
+    """How many pixels differ between two pictures (by more than ``tol`` in the sum over R, G, B)."""
+    d = np.asarray(ImageChops.difference(a.convert("RGB"), b.convert("RGB"))).astype(int).sum(axis=2)
+    return int((d > tol).sum())
+
+
+def fails(capsys, argv, field: str) -> str:
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and err.startswith(f"error: {field}:"), err
+    return err
+
+
+# --------------------------------------------------------------------------- every example, GIF and HTML
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_every_example_animates(name, tmp_path, capsys):
+    """One command per example: a GIF whose frames move (every example is set moving with φ̇ = 1
+    where its spec has no initial state) and a self-contained page."""
+    spec = load_spec(SPECS / f"{name}.toml")
+    rates = [] if spec.initial else ["--phidot", ",".join(["1"] * spec.n)]
+    gif = tmp_path / f"{name}.gif"
+    assert main(["animate", str(SPECS / f"{name}.toml"), "-o", str(gif), "--t1", "2", "--fps", "10", "--size", "160x120",
+                 "-q", *rates, *param_args(name)]) == 0
+    fr = frames_of(gif)
+    assert len(fr) == 21 and fr[0].size == (160, 120)
+    assert changed(fr[0], fr[10]) > 50 and changed(fr[10], fr[20]) > 50
+    html = tmp_path / f"{name}.html"
+    assert main(["animate", str(SPECS / f"{name}.toml"), "-o", str(html), "--t1", "2", "--fps", "10", "-q", *rates,
+                 *param_args(name)]) == 0
+    text = html.read_text(encoding="utf-8")
+    assert "<script src" not in text and "http://" not in text and "https://" not in text  # offline: nothing fetched
+    assert text.count('"frames":') == 1 and animate.MARKER in text
+
+
+# --------------------------------------------------------------------------- the drawing against the geometry
+def _colour_near(img, p, colour, radius=1) -> bool:
+    """Whether some pixel within ``radius`` of p is close to ``colour``."""
+    a = np.asarray(img.convert("RGB")).astype(int)
+    x, y = int(round(p[0])), int(round(p[1]))
+    want = np.array(animate._rgb(colour))
+    win = a[max(0, y - radius):y + radius + 1, max(0, x - radius):x + radius + 1]
+    return bool((np.abs(win - want).sum(axis=2) < 60).any())
+
+
+def _still(spec_path, tmp_path, phi, view=(35.0, 20.0), extra=()):
+    png = tmp_path / "still.png"
+    assert main(["animate", str(spec_path), "--frame", "0", "--phi", ",".join(map(str, phi)), "--phidot",
+                 ",".join(["0"] * len(phi)), "--view", f"{view[0]},{view[1]}", "-o", str(png), "-q", *extra]) == 0
+    img = Image.open(png).convert("RGB")
+    assert img.size == (480, 480)
+    spec = load_spec(spec_path)
+    ch = reference.numeric(spec)
+    X = np.array([list(phi) + [0.0] * len(phi)])
+    sc = scene.build(spec, ch, np.array([0.0]), X)
+    raster = animate.Raster(sc, 480, 480, scene.Camera(math.radians(view[0]), math.radians(view[1])))
+    return img, raster, ch
+
+
+def _on_line(img, raster, p, q, colour, fractions=np.linspace(0.25, 0.9, 8)) -> float:
+    """The share of points p + f (q − p) whose pixel is drawn in ``colour``."""
+    px = raster.to_pixels(np.array([p + f * (q - p) for f in fractions]))
+    return float(np.mean([_colour_near(img, (x, y), colour) for x, y, _ in px]))
+
+
+def test_gimbal_still_matches_the_geometry(tmp_path):
+    """The gimbal at t = 0 (φ = 0, 0.3): the vectors below are worked out by hand from (11)/(15)
+    (θ¹ = 0, θ² = π/2), not by the code under test.  Each drawn bar must lie along them, and not
+    along their mirror images, so a wrong transform or a mirrored projection fails."""
+    img, raster, ch = _still(GIMBAL, tmp_path, (0.0, 0.3))
+    O = np.zeros(3)  # O¹ = O² (s¹ = 0)
+    e1 = np.array([1.0, 0.0, 0.0])  # the outer ring's axis: vertical (ê⁰₁, down)
+    e2 = np.array([0.0, 0.0, -1.0])  # the inner ring's axis: e² = ê¹₁ cos θ² − ê¹₃ sin θ² = −ê⁰₃
+    lam = np.array([math.cos(0.3), -math.sin(0.3), 0.0])  # the rotor axis ê²₃ = ê⁰₁ cos φ² − ê⁰₂ sin φ²
+    geo = scene.Geometry(ch)
+    blue, orange = scene.body_colour(1), scene.body_colour(2)
+    # O's pixel lies on the drawn bars (both axes pass through it)
+    x, y, _ = raster.to_pixels(O)
+    assert _colour_near(img, (x, y), blue, 2) or _colour_near(img, (x, y), orange, 2)
+    assert _on_line(img, raster, O, O + geo.bar[0] * e1, blue) >= 0.75
+    assert _on_line(img, raster, O, O - geo.bar[0] * e1, blue) >= 0.75
+    assert _on_line(img, raster, O, O + geo.bar[1] * e2, orange) >= 0.75
+    wrong_e2 = np.array([0.0, 1.0, 0.0])  # the axis turned to ê⁰₂: nothing drawn there
+    assert _on_line(img, raster, O, O + geo.bar[1] * wrong_e2, orange) <= 0.25
+    # the rotor's axle: along λ, not along its mirror image (φ² of the other sign)
+    r = 1.3 * geo.disc[1]
+    assert _on_line(img, raster, O + 0.5 * r * lam, O + r * lam, orange, np.linspace(0.3, 0.95, 8)) >= 0.75
+    mirror = np.array([math.cos(0.3), math.sin(0.3), 0.0])
+    assert _on_line(img, raster, O + 0.5 * r * mirror, O + r * mirror, orange, np.linspace(0.3, 0.95, 8)) <= 0.25
+
+
+def test_double_pendulum_still_links_end_at_the_joints(tmp_path):
+    """φ = (0.7, −0.4): O² = ê¹₃ = (cos φ¹, −sin φ¹, 0) by (15) with θ¹ = π/2, |s¹| = 1; link 1 runs
+    O¹ → O² and O²'s pixel lies on it; the mirrored placement is empty."""
+    img, raster, ch = _still(DP, tmp_path, (0.7, -0.4))
+    O1 = np.zeros(3)
+    O2 = np.array([math.cos(0.7), -math.sin(0.7), 0.0])
+    blue = scene.body_colour(1)
+    x, y, _ = raster.to_pixels(O2)
+    assert any(_colour_near(img, (x, y), scene.body_colour(k), 2) for k in (1, 2))
+    assert _on_line(img, raster, O1, O2, blue, np.linspace(0.1, 0.4, 6)) >= 0.8
+    mirror = np.array([math.cos(0.7), math.sin(0.7), 0.0])
+    assert _on_line(img, raster, O1, mirror, blue, np.linspace(0.1, 0.4, 6)) <= 0.2
+
+
+def test_camera_is_a_rotation():
+    """The projection keeps handedness (right × up = towards the camera) and shows −ê⁰₁ up."""
+    for az, el in ((0.3, 0.2), (-2.0, 1.0), (4.0, -0.5)):
+        M = scene.Camera(az, el).matrix
+        assert np.allclose(M @ M.T, np.eye(3), atol=1e-14)
+        assert np.allclose(np.cross(M[0], M[1]), M[2], atol=1e-14)
+        assert M[1] @ np.array([-1.0, 0, 0]) == pytest.approx(math.cos(el))
+
+
+# --------------------------------------------------------------------------- files
+def test_gif_png_mp4_sizes_frames_and_determinism(tmp_path, capsys):
+    a, b = tmp_path / "a.gif", tmp_path / "b.gif"
+    for p in (a, b):
+        assert main(["animate", str(GIMBAL), "-o", str(p), "--t1", "1", "--fps", "20", "--size", "200x160", "-q"]) == 0
+    assert a.read_bytes() == b.read_bytes()  # the same command, the same bytes
+    fr = frames_of(a)
+    assert len(fr) == 21 and fr[0].size == (200, 160)
+    assert Image.open(a).info.get("duration") == 50
+    assert all(changed(fr[i], fr[i + 1]) > 20 for i in range(0, 20, 5))
+    png = tmp_path / "s.png"
+    assert main(["animate", str(GIMBAL), "--frame", "0.5", "-o", str(png), "-q"]) == 0
+    still = Image.open(png)
+    assert still.size == (480, 480) and animate.MARKER in still.info.get("Software", "")
+    # stills at two times differ; the GIF's background is the page's white, not a palette's near-white
+    s0 = tmp_path / "s0.png"
+    assert main(["animate", str(GIMBAL), "--frame", "0", "-o", str(s0), "-q"]) == 0
+    assert changed(Image.open(s0), still) > 300
+    assert fr[5].getpixel((2, 2)) == (255, 255, 255) and still.convert("RGB").getpixel((2, 2)) == (255, 255, 255)
+    if shutil.which("ffmpeg") is None:
+        pytest.skip("no ffmpeg on PATH: the .mp4 output is not checked")
+    mp4 = tmp_path / "m.mp4"
+    assert main(["animate", str(GIMBAL), "-o", str(mp4), "--t1", "1", "--fps", "20", "--size", "200x160", "-q"]) == 0
+    data = mp4.read_bytes()
+    assert data[4:8] == b"ftyp" and animate.MARKER.encode() in data
+    probe = shutil.which("ffprobe")
+    if probe:
+        out = subprocess.run([probe, "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+                              "stream=nb_read_frames,width,height", "-of", "csv=p=0", str(mp4)],
+                             capture_output=True, text=True, timeout=60).stdout.strip()
+        assert out == "200,160,21"
+
+
+# --------------------------------------------------------------------------- bad input
+def test_bad_input_one_line_and_no_file(tmp_path, capsys):
+    out = tmp_path / "x.gif"
+    fails(capsys, ["animate", str(GIMBAL), "-o", str(out), "--t1", "0"], "--t1")
+    fails(capsys, ["animate", str(GIMBAL), "-o", str(out), "--t1", "0.01"], "--t1")  # one frame is no animation
+    fails(capsys, ["animate", str(GIMBAL), "-o", str(out), "--fps", "0"], "--fps")
+    fails(capsys, ["animate", str(GIMBAL), "-o", str(tmp_path / "x.avi")], "-o")
+    fails(capsys, ["animate", str(GIMBAL), "-o", str(tmp_path / "x")], "-o")
+    fails(capsys, ["animate", str(GIMBAL), "-o", str(tmp_path / "x.png")], "--frame")
+    fails(capsys, ["animate", str(GIMBAL), "-o", str(out), "--phi", "1,2,3"], "--phi")
+    fails(capsys, ["animate", str(GIMBAL), "-o", str(out), "--size", "7x9"], "--size")
+    fails(capsys, ["animate", str(GIMBAL), "-o", str(out), "--at", "phi1=0"], "--at")
+    # a motion that cannot be integrated: a link without mass or inertia makes M singular
+    sym = dict(example_params("furuta_sym"), m2=0.0, J2=0.0, J2z=0.0)
+    args = [a for k, v in sym.items() for a in ("--param", f"{k}={v}")]
+    for name in ("m.gif", "m.html"):
+        err = fails(capsys, ["animate", str(SPECS / "furuta_sym.toml"), "-o", str(tmp_path / name), *args], "motion")
+        assert "SINGULAR" in err
+    assert sorted(os.listdir(tmp_path)) == []  # nothing written, no partial or temporary file left
+
+
+def test_foreign_file_is_not_overwritten(tmp_path, capsys):
+    mine = tmp_path / "notes.html"
+    mine.write_text("my notes")
+    fails(capsys, ["animate", str(GIMBAL), "-o", str(mine), "--t1", "1"], "-o")
+    assert mine.read_text() == "my notes"
+    ours = tmp_path / "a.html"
+    assert main(["animate", str(GIMBAL), "-o", str(ours), "--t1", "1", "-q"]) == 0
+    assert main(["animate", str(GIMBAL), "-o", str(ours), "--t1", "2", "-q"]) == 0  # ours: replaced
+    assert main(["animate", str(GIMBAL), "-o", str(mine), "--t1", "1", "-q", "--force"]) == 0
+    assert animate.MARKER in mine.read_text()
+
+
+# --------------------------------------------------------------------------- other sources of the motion
+def test_sweep_point_and_saved_trajectory(tmp_path, capsys):
+    """A point of a sweep's store and a CSV from `simulate` animate as the same motion integrated
+    from that state: the store gives the identical file, the CSV (the reference model's states at
+    the frame times) a picture that differs by antialiasing at most."""
+    pytest.importorskip("zarr", reason="the sweep extra is not installed")
+    store = tmp_path / "s.zarr"
+    assert main(["sweep", str(DP), "--vary", "phi1=-2:2:5", "--vary", "phi2=-1:1:3", "--t1", "1.5", "-q", "-o", str(store)]) == 0
+    capsys.readouterr()
+    a, b = tmp_path / "a.gif", tmp_path / "b.gif"
+    assert main(["animate", str(store), "--at", "phi1=1.1,phi2=-0.9", "-o", str(a), "--size", "160x160", "-q"]) == 0
+    # the nearest grid point is (1, -1); the sweep's t1 = 1.5 s is the default
+    assert main(["animate", str(DP), "--phi", "1,-1", "--phidot", "0,0", "--t1", "1.5", "-o", str(b), "--size", "160x160", "-q"]) == 0
+    assert a.read_bytes() == b.read_bytes()
+    fails(capsys, ["animate", str(store), "--at", "phi3=1", "-o", str(tmp_path / "c.gif")], "--at")
+    fails(capsys, ["animate", str(store), "-o", str(tmp_path / "c.gif")], "--at")
+    # a saved trajectory: simulate's CSV at 20 frames/s
+    csv = tmp_path / "traj.csv"
+    import contextlib
+    import io
+
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(["simulate", str(DP), "--phi", "1,-1", "--phidot", "0,0", "--t1", "1.5", "--steps", "30"]) == 0
+    csv.write_text(buf.getvalue())
+    c = tmp_path / "c.gif"
+    assert main(["animate", str(DP), "--trajectory", str(csv), "--fps", "20", "-o", str(c), "--size", "160x160", "-q"]) == 0
+    d = tmp_path / "d.gif"
+    assert main(["animate", str(DP), "--phi", "1,-1", "--phidot", "0,0", "--t1", "1.5", "--fps", "20", "-o", str(d),
+                 "--size", "160x160", "-q"]) == 0
+    fc, fd = frames_of(c), frames_of(d)
+    assert len(fc) == len(fd) == 31
+    assert all(changed(x, y, 60) < 40 for x, y in zip(fc, fd))
+    assert changed(fc[0], fc[30]) > 200
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t,phi1\n0,0\n")
+    fails(capsys, ["animate", str(DP), "--trajectory", str(bad), "-o", str(tmp_path / "e.gif")], "--trajectory")
+
+
+# --------------------------------------------------------------------------- the page in a browser
+def _chromium() -> str | None:
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+def test_html_viewer_in_headless_chromium(tmp_path):
+    """The page in Debian's Chromium (driven by Playwright): no console error and no request leaves
+    the file; the canvas is drawn; two times give two pictures; the slider moves the clock; a drag
+    turns the view and the wheel zooms; the integral's plot is drawn with its cursor."""
+    sync_api = pytest.importorskip("playwright.sync_api", reason="Playwright for Python is not installed (make test installs it)")
+    exe = _chromium()
+    if exe is None:
+        pytest.skip("no Chromium on PATH (apt-get install chromium; .ci/run installs it)")
+    page_file = tmp_path / "gimbal.html"
+    assert main(["animate", str(GIMBAL), "-o", str(page_file), "--t1", "4", "-q"]) == 0
+    errors, requests = [], []
+    with sync_api.sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=exe, args=["--no-sandbox"], timeout=60_000)
+        try:
+            page = browser.new_page(viewport={"width": 800, "height": 900})
+            page.set_default_timeout(20_000)
+            page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+            page.on("pageerror", lambda e: errors.append(str(e)))
+            page.on("request", lambda r: requests.append(r.url) if not r.url.startswith("file:") else None)
+            page.goto(page_file.as_uri())
+            page.wait_for_function("window.gyroViewer !== undefined")
+            assert page.evaluate("gyroViewer.frames") == 101
+            page.click("#play")  # pause the autoplay
+            assert page.evaluate("gyroViewer.playing") is False
+            canvas = page.locator("#scene")
+
+            def shot():
+                import io
+                return Image.open(io.BytesIO(canvas.screenshot())).convert("RGB")
+
+            slider = page.locator("#time")
+            slider.fill("0")
+            first = shot()
+            assert page.inner_text("#clock") == "t = 0.00 s"
+            blank = Image.new("RGB", first.size, (255, 255, 255))
+            assert changed(first, blank) > 2000  # drawn
+            slider.fill("50")
+            assert page.inner_text("#clock") == "t = 2.00 s" and page.evaluate("gyroViewer.time") == 2.0
+            later = shot()
+            assert changed(first, later) > 500
+            az = page.evaluate("gyroViewer.az")
+            box = canvas.bounding_box()
+            cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+            page.mouse.move(cx, cy)
+            page.mouse.down()
+            page.mouse.move(cx + 120, cy + 30, steps=6)
+            page.mouse.up()
+            assert page.evaluate("gyroViewer.az") == pytest.approx(az - 1.2)
+            turned = shot()
+            assert changed(later, turned) > 500 and page.inner_text("#clock") == "t = 2.00 s"
+            page.mouse.move(cx, cy)
+            page.mouse.wheel(0, -300)
+            page.wait_for_function("gyroViewer.zoom > 1.2")
+            zoomed = shot()
+            assert changed(turned, zoomed) > 500
+            plot = Image.open(__import__("io").BytesIO(page.locator("#plot").screenshot())).convert("RGB")
+            assert changed(plot, Image.new("RGB", plot.size, (255, 255, 255))) > 300
+            assert "energy" in page.evaluate("JSON.parse(document.getElementById('scene-data').textContent).integral.label")
+            page.click("#play")
+            page.wait_for_function("gyroViewer.frame > 52 || gyroViewer.frame < 50", timeout=10_000)
+        finally:
+            browser.close()
+    assert errors == [], errors
+    assert requests == [], requests
