@@ -278,67 +278,154 @@ def _chromium() -> str | None:
     return None
 
 
-def test_html_viewer_in_headless_chromium(tmp_path):
-    """The page in Debian's Chromium (driven by Playwright): no console error and no request leaves
-    the file; the canvas is drawn; two times give two pictures; the slider moves the clock; a drag
-    turns the view and the wheel zooms; the integral's plot is drawn with its cursor."""
+@pytest.fixture(scope="module")
+def browser():
+    """Debian's Chromium driven by Playwright (headless, no sandbox: tests may run as root), closed
+    at the end of the module."""
     sync_api = pytest.importorskip("playwright.sync_api", reason="Playwright for Python is not installed (make test installs it)")
     exe = _chromium()
     if exe is None:
         pytest.skip("no Chromium on PATH (apt-get install chromium; .ci/run installs it)")
+    with sync_api.sync_playwright() as pw:
+        b = pw.chromium.launch(executable_path=exe, args=["--no-sandbox"], timeout=60_000)
+        try:
+            yield b
+        finally:
+            b.close()
+
+
+def _open(browser, page_file: Path):
+    errors, requests = [], []
+    page = browser.new_page(viewport={"width": 800, "height": 900})
+    page.set_default_timeout(20_000)
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.on("request", lambda r: requests.append(r.url) if not r.url.startswith("file:") else None)
+    page.goto(page_file.as_uri())
+    page.wait_for_function("window.gyroViewer !== undefined")
+    return page, errors, requests
+
+
+def _shot(locator):
+    import io
+    return Image.open(io.BytesIO(locator.screenshot())).convert("RGB")
+
+
+def _centroid(img, colour) -> np.ndarray:
+    a = np.asarray(img).astype(int)
+    mask = np.abs(a - np.array(animate._rgb(colour))).sum(axis=2) < 40
+    ys, xs = np.nonzero(mask)
+    assert len(xs) > 30, f"too few pixels of {colour}"
+    return np.array([xs.mean(), ys.mean()])
+
+
+def test_html_and_raster_draw_the_same_picture(browser, tmp_path):
+    """The page's renderer (viewer.js) and the raster one (Pillow) place the bodies alike: from the
+    centre of body 1's pixels to body 2's points the same way in both (a mirrored or turned camera
+    in either fails)."""
+    args = ["--phi", "0.7,-0.4", "--phidot", "0,0", "--view", "35,20"]
+    page_file = tmp_path / "dp.html"
+    assert main(["animate", str(DP), "-o", str(page_file), "--t1", "1", "-q", *args]) == 0
+    png = tmp_path / "dp.png"
+    assert main(["animate", str(DP), "--frame", "0", "-o", str(png), "--size", "640x480", "-q", *args]) == 0
+    page, errors, requests = _open(browser, page_file)
+    page.click("#play")
+    page.locator("#time").fill("0")
+    html = _shot(page.locator("#scene"))
+    page.close()
+    raster = Image.open(png).convert("RGB")
+    d_html = _centroid(html, scene.body_colour(2)) - _centroid(html, scene.body_colour(1))
+    d_png = _centroid(raster, scene.body_colour(2)) - _centroid(raster, scene.body_colour(1))
+    cos = d_html @ d_png / np.linalg.norm(d_html) / np.linalg.norm(d_png)
+    assert cos > 0.99, (d_html, d_png)
+    assert errors == [] and requests == []
+
+
+def test_html_viewer_in_headless_chromium(browser, tmp_path):
+    """The page in Debian's Chromium (driven by Playwright): no console error and no request leaves
+    the file; the canvas is drawn; two times give two pictures; the slider moves the clock; a drag
+    turns the view and the wheel zooms; the integral's plot is drawn with its cursor."""
     page_file = tmp_path / "gimbal.html"
     assert main(["animate", str(GIMBAL), "-o", str(page_file), "--t1", "4", "-q"]) == 0
-    errors, requests = [], []
-    with sync_api.sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=exe, args=["--no-sandbox"], timeout=60_000)
-        try:
-            page = browser.new_page(viewport={"width": 800, "height": 900})
-            page.set_default_timeout(20_000)
-            page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-            page.on("pageerror", lambda e: errors.append(str(e)))
-            page.on("request", lambda r: requests.append(r.url) if not r.url.startswith("file:") else None)
-            page.goto(page_file.as_uri())
-            page.wait_for_function("window.gyroViewer !== undefined")
-            assert page.evaluate("gyroViewer.frames") == 101
-            page.click("#play")  # pause the autoplay
-            assert page.evaluate("gyroViewer.playing") is False
-            canvas = page.locator("#scene")
+    page, errors, requests = _open(browser, page_file)
+    try:
+        assert page.evaluate("gyroViewer.frames") == 101
+        page.click("#play")  # pause the autoplay
+        assert page.evaluate("gyroViewer.playing") is False
+        canvas = page.locator("#scene")
 
-            def shot():
-                import io
-                return Image.open(io.BytesIO(canvas.screenshot())).convert("RGB")
+        def shot():
+            return _shot(canvas)
 
-            slider = page.locator("#time")
-            slider.fill("0")
-            first = shot()
-            assert page.inner_text("#clock") == "t = 0.00 s"
-            blank = Image.new("RGB", first.size, (255, 255, 255))
-            assert changed(first, blank) > 2000  # drawn
-            slider.fill("50")
-            assert page.inner_text("#clock") == "t = 2.00 s" and page.evaluate("gyroViewer.time") == 2.0
-            later = shot()
-            assert changed(first, later) > 500
-            az = page.evaluate("gyroViewer.az")
-            box = canvas.bounding_box()
-            cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-            page.mouse.move(cx, cy)
-            page.mouse.down()
-            page.mouse.move(cx + 120, cy + 30, steps=6)
-            page.mouse.up()
-            assert page.evaluate("gyroViewer.az") == pytest.approx(az - 1.2)
-            turned = shot()
-            assert changed(later, turned) > 500 and page.inner_text("#clock") == "t = 2.00 s"
-            page.mouse.move(cx, cy)
-            page.mouse.wheel(0, -300)
-            page.wait_for_function("gyroViewer.zoom > 1.2")
-            zoomed = shot()
-            assert changed(turned, zoomed) > 500
-            plot = Image.open(__import__("io").BytesIO(page.locator("#plot").screenshot())).convert("RGB")
-            assert changed(plot, Image.new("RGB", plot.size, (255, 255, 255))) > 300
-            assert "energy" in page.evaluate("JSON.parse(document.getElementById('scene-data').textContent).integral.label")
-            page.click("#play")
-            page.wait_for_function("gyroViewer.frame > 52 || gyroViewer.frame < 50", timeout=10_000)
-        finally:
-            browser.close()
+        slider = page.locator("#time")
+        slider.fill("0")
+        first = shot()
+        assert page.inner_text("#clock") == "t = 0.00 s"
+        blank = Image.new("RGB", first.size, (255, 255, 255))
+        assert changed(first, blank) > 2000  # drawn
+        slider.fill("50")
+        assert page.inner_text("#clock") == "t = 2.00 s" and page.evaluate("gyroViewer.time") == 2.0
+        later = shot()
+        assert changed(first, later) > 500
+        az = page.evaluate("gyroViewer.az")
+        box = canvas.bounding_box()
+        cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        page.mouse.move(cx, cy)
+        page.mouse.down()
+        page.mouse.move(cx + 120, cy + 30, steps=6)
+        page.mouse.up()
+        assert page.evaluate("gyroViewer.az") == pytest.approx(az - 1.2)
+        turned = shot()
+        assert changed(later, turned) > 500 and page.inner_text("#clock") == "t = 2.00 s"
+        page.mouse.move(cx, cy)
+        page.mouse.wheel(0, -300)
+        page.wait_for_function("gyroViewer.zoom > 1.2")
+        zoomed = shot()
+        assert changed(turned, zoomed) > 500
+        plot = _shot(page.locator("#plot"))
+        assert changed(plot, Image.new("RGB", plot.size, (255, 255, 255))) > 300
+        assert "energy" in page.evaluate("JSON.parse(document.getElementById('scene-data').textContent).integral.label")
+        page.click("#play")
+        page.wait_for_function("gyroViewer.frame > 52 || gyroViewer.frame < 50", timeout=10_000)
+    finally:
+        page.close()
     assert errors == [], errors
     assert requests == [], requests
+
+
+# --------------------------------------------------------------------------- the curve under the page
+def _page_data(path: Path) -> dict:
+    import json
+
+    text = path.read_text(encoding="utf-8")
+    start = text.index('<script id="scene-data" type="application/json">') + len('<script id="scene-data" type="application/json">')
+    return json.loads(text[start:text.index("</script>", start)])
+
+
+@pytest.mark.parametrize("case", ["controls_idle", "controls_working", "jacobi", "momentum", "moving_base"])
+def test_integral_curve_is_the_integral_that_exists(case, tmp_path):
+    """The page plots the first integral that exists, and it is conserved along the motion; where
+    none exists the energy is plotted, labelled so, and it changes."""
+    page = tmp_path / "p.html"
+    spec, extra = {
+        "controls_idle": (SPECS / "spatial3.toml", ["--phi=-2,-0.75,-1.1"]),  # a control torque held at 0
+        "controls_working": (SPECS / "spatial3.toml", ["--phi=-2,-0.75,-1.1", "--u", "0.2"]),
+        "jacobi": (SPECS / "turntable.toml", param_args("turntable")),
+        "momentum": (None, []),
+        "moving_base": (SPECS / "ship_gimbal.toml", []),
+    }[case]
+    if spec is None:  # the gimbal with a damper in the inner ring: energy decays, (27) holds
+        spec = tmp_path / "damped_gimbal.toml"
+        spec.write_text(GIMBAL.read_text().replace('lambda = [0.0, 0.0, 0.5]', 'lambda = [0.0, 0.0, 0.5]\ndamping = 0.002'))
+    assert main(["animate", str(spec), "-o", str(page), "--t1", "3", "-q", *extra]) == 0
+    curve = _page_data(page)["integral"]
+    v = np.array(curve["values"])
+    rel = np.ptp(v) / abs(v[0])
+    want = {"controls_idle": "energy T − U (23), an integral", "controls_working": "energy T − U (23), not an integral here",
+            "jacobi": "Jacobi integral, conserved", "momentum": "momentum (27), an integral",
+            "moving_base": "energy T − U (23), not an integral here"}[case]
+    assert curve["label"] == want
+    if "not an integral" in want:
+        assert rel > 1e-4
+    else:
+        assert rel < 1e-8
