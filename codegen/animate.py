@@ -293,7 +293,9 @@ def write_gif(raster: Raster, path: Path, fps: float) -> None:
     # a median cut averages colours: the scene's own colours are added exactly (white stays white)
     own = [Raster.BACKGROUND, (30, 30, 30), (40, 40, 40)] + [_rgb(c) for c in BODY_COLOURS + [FRAME_COLOUR, TRACE_COLOUR, PLATFORM_COLOUR]]
     cut = strip.quantize(colors=256 - len(own), method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
-    entries = [tuple(c) for c in own] + [tuple(cut.getpalette()[3 * i:3 * i + 3]) for i in range(256 - len(own))]
+    got = cut.getpalette() or []  # fewer entries than asked where the frames have few colours
+    entries = [tuple(c) for c in own] + [tuple(got[3 * i:3 * i + 3]) for i in range(min(len(got) // 3, 256 - len(own)))]
+    entries += [entries[0]] * (256 - len(entries))
     palette = np.array(entries, dtype=np.int64)
     flat = [v for c in entries for v in c]
     lut = np.zeros(1 << 24, dtype=np.uint8)  # RGB → palette index, filled for the colours met
