@@ -223,7 +223,7 @@ class Raster:
         draw.text((10 * k, 26 * k), f"t = {t:.2f} s", fill=(30, 30, 30), font=self.font)
         if self.scene.gravity:  # an arrow along ê⁰₁ in the lower left corner
             d = self.cam.matrix[:2, 0]  # screen right/up of ê⁰₁
-            W, H = self.W * self.ss, self.H * self.ss
+            H = self.H * self.ss
             cx, cy = 34 * k, H - 34 * k
             if np.hypot(*d) < 0.2:
                 draw.ellipse((cx - 4 * k, cy - 4 * k, cx + 4 * k, cy + 4 * k), outline=_rgb(FRAME_COLOUR), width=max(1, round(1.5 * k)))

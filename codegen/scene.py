@@ -150,7 +150,7 @@ def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list
     prims, keys = [], []
     if base:
         R0, r0 = P["R0"], P["r0"]
-        ex, ey, ez = R0[:, 0], R0[:, 1], R0[:, 2]  # the platform's axes in ê⁰
+        ey, ez = R0[:, 1], R0[:, 2]  # the platform's axes 2, 3 in ê⁰
         a = 0.8 * geo.size
         prims.append(("disc", r0, ey, ez, a, PLATFORM_COLOUR))  # the deck, across the platform's ê⁰₁
         for j, lab in enumerate("123"):

@@ -389,16 +389,19 @@ def _attrs(plan: Plan) -> dict:
             "args": json.loads(json.dumps(plan.sweep.args())), "shape": list(plan.shape), "dims": plan.dims}
 
 
+def stored_attrs(path: str | Path) -> dict | None:
+    """The sweep attributes of the store at ``path``, or None if it is not a sweep store."""
+    try:
+        return dict(_zarr().open_group(str(path), mode="r").attrs).get("gyrochain_sweep")
+    except Exception:
+        return None
+
+
 def check_store(path: Path, plan: Plan) -> None:
     """A one-line error unless ``path`` is free or a store of this spec and sweep (reads only)."""
-    zarr = _zarr()
     want = _attrs(plan)
     if path.exists():
-        try:
-            g = zarr.open_group(str(path), mode="r")
-            have = dict(g.attrs).get("gyrochain_sweep")
-        except Exception:
-            have = None
+        have = stored_attrs(path)
         if have is None:
             raise SpecError("-o", f"{path} exists and is not a sweep store; choose another path")
         for key in ("spec", "args", "codegen"):
@@ -569,12 +572,7 @@ def point(store: str | Path, at: str) -> dict:
     """One point of a sweep store, to be seen again: the spec text, the initial state, the
     parameters and torques, and the sweep's t1.  ``at`` is ``name=value,…`` for every varied name
     of a grid (the nearest grid value is taken) or the sample's index of a --random sweep."""
-    zarr = _zarr()
-    try:
-        g = zarr.open_group(str(store), mode="r")
-        attrs = dict(g.attrs).get("gyrochain_sweep")
-    except Exception:
-        attrs = None
+    attrs = stored_attrs(store)
     if attrs is None:
         raise SpecError("SPEC", f"{store} is neither a spec file nor a sweep store")
     args = dict(attrs["args"])

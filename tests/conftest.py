@@ -2,6 +2,7 @@
 cffi, and hand back the spec, the generated Python module and the compiled C model."""
 from __future__ import annotations
 
+import os
 import re
 import sys
 from dataclasses import dataclass
@@ -77,6 +78,19 @@ def example(make_model):
         return make_model(load_spec(ROOT / "specs" / f"{name}.toml"), example_params(name))
 
     return get
+
+
+@pytest.fixture(scope="module")
+def own_model_cache(tmp_path_factory):
+    """$GYROCHAIN_CACHE set to a folder of the requesting module's own for its duration (where
+    sweep.load_model builds the models), restored afterwards."""
+    old = os.environ.get("GYROCHAIN_CACHE")
+    os.environ["GYROCHAIN_CACHE"] = str(tmp_path_factory.mktemp("cache"))
+    yield
+    if old is None:
+        os.environ.pop("GYROCHAIN_CACHE", None)
+    else:
+        os.environ["GYROCHAIN_CACHE"] = old
 
 
 @pytest.fixture

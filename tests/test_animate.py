@@ -27,15 +27,8 @@ DP = SPECS / "double_pendulum.toml"
 
 
 @pytest.fixture(scope="module", autouse=True)
-def _cache(tmp_path_factory):
+def _cache(own_model_cache):
     """A model cache of this module's own."""
-    old = os.environ.get("GYROCHAIN_CACHE")
-    os.environ["GYROCHAIN_CACHE"] = str(tmp_path_factory.mktemp("cache"))
-    yield
-    if old is None:
-        os.environ.pop("GYROCHAIN_CACHE", None)
-    else:
-        os.environ["GYROCHAIN_CACHE"] = old
 
 
 def param_args(name: str) -> list[str]:

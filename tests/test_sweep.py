@@ -24,15 +24,8 @@ FURUTA_SYM = ROOT / "specs" / "furuta_sym.toml"
 
 
 @pytest.fixture(scope="module", autouse=True)
-def _cache(tmp_path_factory):
+def _cache(own_model_cache):
     """A model cache of this module's own (the sweep builds each model once per machine)."""
-    old = os.environ.get("GYROCHAIN_CACHE")
-    os.environ["GYROCHAIN_CACHE"] = str(tmp_path_factory.mktemp("cache"))
-    yield
-    if old is None:
-        os.environ.pop("GYROCHAIN_CACHE", None)
-    else:
-        os.environ["GYROCHAIN_CACHE"] = old
 
 
 def small(measures=("flip_time", "final", "lyapunov"), **kw) -> sweep.Sweep:
