@@ -376,6 +376,7 @@ def scene_json(scene: Scene, camera: Camera, fps: float) -> str:
         "radius": _num(float(np.max(np.linalg.norm(P - centre, axis=1))) or 1.0),
         "camera": {"az": camera.az, "el": camera.el},
         "integral": scene.integral,
+        "states": None if scene.states is None else [[_num(v) for v in x] for x in scene.states],
     }
     # JSON inside <script>: no "</" may close the element early
     return json.dumps(data, separators=(",", ":"), ensure_ascii=False, allow_nan=False).replace("</", "<\\/")

@@ -436,7 +436,10 @@ def cmd_animate(args) -> int:
         fine_X = animate.motion(model, fine, x0, u=u, params=params or None, rtol=args.rtol, atol=args.rtol * 1e-2)
         X = fine_X[np.searchsorted(fine, times)]
     integral = animate.integral_curve(model, derived, X, times, u, params or None) if has_rate else None
-    sc = scene.build(spec, ch, times, X, trace=args.trace, integral=integral, tip_times=fine, tip_X=fine_X)
+    if args.follow and spec.base is None:
+        raise SpecError("--follow", "the spec has no [base]: there is no platform to follow")
+    sc = scene.build(spec, ch, times, X, trace=args.trace, integral=integral, tip_times=fine, tip_X=fine_X,
+                     rates=has_rate, follow=args.follow)
     camera = scene.Camera(math.radians(view[0]), math.radians(view[1])) if view else scene.default_camera(sc.points)
     with out:
         if out.ext == ".html":
@@ -555,6 +558,7 @@ def main(argv=None) -> int:
     an.add_argument("--size", default="480x480", help="WIDTHxHEIGHT of a GIF, MP4 or PNG")
     an.add_argument("--view", default="", help="azimuth,elevation of the camera in degrees (default: fitted to the motion)")
     an.add_argument("--trace", type=float, default=2.0, help="seconds of the tip's trace")
+    an.add_argument("--follow", action="store_true", help="keep the platform's O1 in the middle of the view (a heaving base)")
     an.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of DOP853")
     an.add_argument("--force", action="store_true", help="replace an existing file animate did not write")
     an.add_argument("-q", "--quiet", action="store_true")

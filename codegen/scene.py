@@ -102,6 +102,7 @@ class Scene:
     gravity: bool
     integral: dict | None = None  # {"label", "values"}: the plot under the HTML scene
     points: np.ndarray = field(default=None)  # every key point of every frame (for fitting the view)
+    states: np.ndarray | None = None  # (F, 2n) φ, φ̇ at the frames (the page's readout), None if φ̇ is unknown
 
 
 def _unit(v):
@@ -217,24 +218,40 @@ def static_primitives(geo: Geometry) -> list:
     return out
 
 
+_POINTS = {"seg": (1, 2), "dot": (1,), "disc": (1,), "label": (1,)}  # the arguments that are points
+
+
+def shifted(prim: tuple, d: np.ndarray) -> tuple:
+    """The primitive moved by d (its points; a disc's directions stay)."""
+    return tuple(a + d if i in _POINTS[prim[0]] else a for i, a in enumerate(prim))
+
+
 def build(spec, ch: reference.NumericChain, times, X, trace: float = 2.0, integral: dict | None = None,
-          tip_times=None, tip_X=None) -> Scene:
-    """The scene of the trajectory X (states at the frame ``times``; only the φ columns are used);
-    the trace follows (tip_times, tip_X), a finer sampling of the same motion, where given."""
+          tip_times=None, tip_X=None, rates: bool = True, follow: bool = False) -> Scene:
+    """The scene of the trajectory X (states at the frame ``times``); the trace follows
+    (tip_times, tip_X), a finer sampling of the same motion, where given.  ``rates``: X holds
+    true φ̇ (the page shows them).  ``follow``: everything is drawn relative to the platform's
+    O¹ = r₀(t), so that a heaving platform stays in the middle of the view."""
     geo = Geometry(ch)
-    moving = spec.base is not None
+    base = spec.base is not None
     n = ch.n
+    static = static_primitives(geo)
+
+    def offset(t):
+        return -np.asarray(reference.platform(ch, float(t))[3], float) if follow else np.zeros(3)
+
     frames, keys = [], [np.zeros(3)]
     for t, x in zip(times, X):
-        prims, _tip, k = frame_primitives(geo, pose(ch, np.asarray(x[:n], float), float(t)), float(t), moving)
+        prims, _tip, k = frame_primitives(geo, pose(ch, np.asarray(x[:n], float), float(t)), float(t), base)
+        d = offset(t)
+        if follow:
+            prims = [shifted(p, d) for p in static + prims]
         frames.append(prims)
-        keys += k
+        keys += [p + d for p in k] + ([] if follow else [p[2] for p in static if p[0] == "seg"])
     if tip_times is None:
         tip_times, tip_X = times, X
-    tips = np.array([frame_primitives(geo, pose(ch, np.asarray(x[:n], float), float(t)), float(t), moving)[1]
+    tips = np.array([frame_primitives(geo, pose(ch, np.asarray(x[:n], float), float(t)), float(t), base)[1] + offset(t)
                      for t, x in zip(tip_times, tip_X)])
-    static = static_primitives(geo)
-    keys += [p[2] for p in static if p[0] == "seg"]
-    return Scene(name=spec.name, times=np.asarray(times, float), frames=frames, static=static,
+    return Scene(name=spec.name, times=np.asarray(times, float), frames=frames, static=[] if follow else static,
                  tip_times=np.asarray(tip_times, float), tips=tips, trace=trace, size=geo.size, gravity=ch.g != 0,
-                 integral=integral, points=np.array(keys))
+                 integral=integral, points=np.array(keys), states=np.asarray(X, float)[:, :2 * n] if rates else None)

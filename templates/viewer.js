@@ -12,6 +12,8 @@
   const slider = document.getElementById("time");
   const clock = document.getElementById("clock");
   const button = document.getElementById("play");
+  const speed = document.getElementById("speed");
+  const readout = document.getElementById("state");
   const dpr = window.devicePixelRatio || 1;
   for (const c of [scene, plot]) {
     const w = c.width, h = c.height;
@@ -23,7 +25,7 @@
   const ctx = scene.getContext("2d");
   const pctx = plot.getContext("2d");
 
-  const state = { frame: 0, az: D.camera.az, el: D.camera.el, zoom: 1, playing: N > 1, t0: 0 };
+  const state = { frame: 0, az: D.camera.az, el: D.camera.el, zoom: 1, playing: N > 1, t0: 0, rate: 1 };
   slider.max = String(N - 1);
 
   // ---- the camera
@@ -132,6 +134,10 @@
     }
     slider.value = String(i);
     clock.textContent = `t = ${t.toFixed(2)} s`;
+    if (D.states) {
+      const x = D.states[i], n = x.length / 2, f = v => (v >= 0 ? " " : "") + v.toFixed(4);
+      readout.textContent = `φ  = (${x.slice(0, n).map(f).join(", ")}) rad\nφ̇  = (${x.slice(n).map(f).join(", ")}) rad/s`;
+    }
     drawPlot();
   }
 
@@ -145,8 +151,8 @@
     let lo = Math.min(...v), hi = Math.max(...v);
     const mid = (lo + hi) / 2, half = Math.max((hi - lo) / 2, 1e-6 * Math.max(Math.abs(mid), 1e-12));
     lo = mid - 1.1 * half; hi = mid + 1.1 * half;
-    const rel = (Math.max(...v) - Math.min(...v)) / Math.max(Math.abs(v[0]), 1e-300);
-    pctx.fillText(`${D.integral.label}: ${v[0].toPrecision(8)} at t = 0, relative change ${rel.toExponential(1)}`, L, 4);
+    const rel = (Math.max(...v) - Math.min(...v)) / Math.max(...v.map(Math.abs), 1e-300);
+    pctx.fillText(`${D.integral.label}: ${v[0].toPrecision(8)} at t = ${t0.toFixed(2)} s, relative change ${rel.toExponential(1)}`, L, 4);
     const X = t => L + (t - t0) / (t1 - t0) * (w - L - R), Y = y => T + (hi - y) / (hi - lo) * (h - T - B);
     pctx.strokeStyle = "#bbb"; pctx.lineWidth = 1; pctx.strokeRect(L, T, w - L - R, h - T - B);
     pctx.textAlign = "right"; pctx.textBaseline = "middle";
@@ -166,14 +172,14 @@
   function play() {
     if (N < 2) return;
     state.playing = true; button.textContent = "Pause";
-    state.t0 = performance.now() / 1000 - (D.times[state.frame] - D.times[0]);
+    state.t0 = performance.now() / 1000 - (D.times[state.frame] - D.times[0]) / state.rate;
   }
   function pause() { state.playing = false; button.textContent = "Play"; }
   function tick() {
     if (state.playing) {
       const span = D.times[N - 1] - D.times[0];
-      let t = performance.now() / 1000 - state.t0;
-      if (t > span) { state.t0 += span; t -= span; }
+      let t = (performance.now() / 1000 - state.t0) * state.rate;
+      if (t > span) { state.t0 += span / state.rate; t -= span; }
       let i = state.frame;
       if (D.times[i] - D.times[0] > t) i = 0;
       while (i + 1 < N && D.times[i + 1] - D.times[0] <= t) i++;
@@ -183,9 +189,19 @@
   }
   button.addEventListener("click", () => state.playing ? pause() : play());
   slider.addEventListener("input", () => { pause(); setFrame(Number(slider.value)); });
-  document.addEventListener("keydown", e => {
-    if (e.code === "Space" && e.target === document.body) { e.preventDefault(); state.playing ? pause() : play(); }
+  speed.addEventListener("change", () => {
+    const playing = state.playing;
+    state.rate = Number(speed.value);
+    if (playing) play();  // restart the clock at the frame shown, at the new rate
   });
+  document.addEventListener("keydown", e => {
+    if (e.target !== document.body) return;
+    if (e.code === "Space") { e.preventDefault(); state.playing ? pause() : play(); }
+    if (e.code === "ArrowRight" || e.code === "ArrowLeft") {
+      e.preventDefault(); pause(); setFrame(state.frame + (e.code === "ArrowRight" ? 1 : -1));
+    }
+  });
+  scene.addEventListener("dblclick", () => { state.az = D.camera.az; state.el = D.camera.el; state.zoom = 1; draw(); });
   let drag = null;
   scene.addEventListener("pointerdown", e => { drag = [e.clientX, e.clientY]; scene.setPointerCapture(e.pointerId); scene.style.cursor = "grabbing"; });
   scene.addEventListener("pointermove", e => {
@@ -208,7 +224,7 @@
   window.gyroViewer = {
     get frame() { return state.frame; }, get time() { return D.times[state.frame]; },
     get az() { return state.az; }, get el() { return state.el; }, get zoom() { return state.zoom; },
-    get playing() { return state.playing; }, frames: N, setFrame, play, pause,
+    get playing() { return state.playing; }, get rate() { return state.rate; }, frames: N, setFrame, play, pause,
   };
   if (state.playing) play(); else button.textContent = "Play";
   draw();

@@ -388,12 +388,60 @@ def test_html_viewer_in_headless_chromium(browser, tmp_path):
         plot = _shot(page.locator("#plot"))
         assert changed(plot, Image.new("RGB", plot.size, (255, 255, 255))) > 300
         assert "energy" in page.evaluate("JSON.parse(document.getElementById('scene-data').textContent).integral.label")
+        # the readout is the state of the frame: the C trajectory at t = 2 s
+        from codegen import sweep as sw
+        model = sw.load_model("gimbal", sw.model_files(GIMBAL.read_text()))
+        spec = load_spec(GIMBAL)
+        x = model.integrate([0.0, 2.0], list(spec.initial["phi"]) + list(spec.initial["phidot"]), rtol=1e-10, atol=1e-12)[-1]
+        lines = page.inner_text("#state").splitlines()
+        shown = [float(v) for line in lines for v in line.split("(")[1].split(")")[0].split(",")]
+        assert np.allclose(shown, x, atol=6e-5), (shown, x)
+        # arrow keys step a frame; a double click brings the first view back
+        page.keyboard.press("ArrowRight")
+        assert page.evaluate("gyroViewer.frame") == 51 and page.inner_text("#clock") == "t = 2.04 s"
+        page.keyboard.press("ArrowLeft")
+        page.keyboard.press("ArrowLeft")
+        assert page.evaluate("gyroViewer.frame") == 49
+        page.mouse.dblclick(cx, cy)
+        assert page.evaluate("gyroViewer.az") == pytest.approx(az) and page.evaluate("gyroViewer.zoom") == 1
+        # playing advances the frame, at the chosen rate
+        page.select_option("#speed", "0.25")
+        assert page.evaluate("gyroViewer.rate") == 0.25
         page.click("#play")
-        page.wait_for_function("gyroViewer.frame > 52 || gyroViewer.frame < 50", timeout=10_000)
+        page.wait_for_function("gyroViewer.frame > 50 || gyroViewer.frame < 48", timeout=10_000)
     finally:
         page.close()
     assert errors == [], errors
     assert requests == [], requests
+
+
+def test_follow_keeps_the_platform_in_place(tmp_path, capsys):
+    """--follow draws the ship's gimbal relative to O¹ = r₀(t): the outer ring's bar stays centred
+    on the origin of the drawing, while without it the bar heaves with r₀(t) = (0.5 sin 0.6t, 0, 0)."""
+    spec = load_spec(SPECS / "ship_gimbal.toml")
+    ch = reference.numeric(spec)
+    times = np.linspace(0.0, 3.0, 7)
+    X = np.tile([0.0, 0.3, 0.0, 0.0], (len(times), 1))
+    for follow in (False, True):
+        sc = scene.build(spec, ch, times, X, follow=follow)
+        for t, prims in zip(times, sc.frames):
+            bar = [p for p in prims if p[0] == "seg" and p[3] == scene.body_colour(1) and p[4] == 5.0][0]
+            centre = (bar[1] + bar[2]) / 2
+            want = np.zeros(3) if follow else np.array([0.5 * math.sin(0.6 * t), 0.0, 0.0])
+            assert np.allclose(centre, want, atol=1e-12)
+    out = tmp_path / "f.gif"
+    assert main(["animate", str(SPECS / "ship_gimbal.toml"), "--follow", "--t1", "1", "--fps", "10", "-o", str(out), "-q"]) == 0
+    fails(capsys, ["animate", str(GIMBAL), "--follow", "-o", str(tmp_path / "g.gif")], "--follow")
+
+
+def test_spec_text_is_escaped_in_the_page(tmp_path):
+    """The spec's description is text in the page, never markup or script."""
+    spec = tmp_path / "evil.toml"
+    spec.write_text(GIMBAL.read_text().replace('description = "', 'description = "</script><script>alert(1)</script><b>x</b> '))
+    page = tmp_path / "e.html"
+    assert main(["animate", str(spec), "-o", str(page), "--t1", "1", "-q"]) == 0
+    text = page.read_text()
+    assert text.count("<script") == 2 and "<b>x</b>" not in text and "&lt;/script&gt;&lt;script&gt;alert(1)" in text
 
 
 # --------------------------------------------------------------------------- the curve under the page
