@@ -154,17 +154,16 @@ class Raster:
         self.centre = (lo + hi) / 2
         self.origin = np.array([width / 2 * ss, (top + (height - top) / 2) * ss])
 
-    def to_pixels(self, p) -> np.ndarray:
-        """Fixed-frame points → pixel coordinates of the final picture (x right, y down) and depth."""
+    def _px(self, p):
+        """Fixed-frame points → x (right), y (down) on the supersampled canvas, and depth."""
         q = self.cam.project(p)
         xy = (q[..., :2] - self.centre) * self.scale
-        px = self.origin[0] + xy[..., 0]
-        py = self.origin[1] - xy[..., 1]
-        return np.stack([px / self.ss, py / self.ss, q[..., 2]], axis=-1)
+        return self.origin[0] + xy[..., 0], self.origin[1] - xy[..., 1], q[..., 2]
 
-    def _px(self, p):
-        q = self.to_pixels(p)
-        return q[..., 0] * self.ss, q[..., 1] * self.ss, q[..., 2]
+    def to_pixels(self, p) -> np.ndarray:
+        """Fixed-frame points → pixel coordinates of the final picture (x right, y down) and depth."""
+        x, y, z = self._px(p)
+        return np.stack([x / self.ss, y / self.ss, z], axis=-1)
 
     def frame(self, i: int):
         """Frame i as an RGB image."""
@@ -240,7 +239,8 @@ class Raster:
 
 # --------------------------------------------------------------------------- writing
 class Output:
-    """A file written beside its place (``tmp``) and renamed into it by ``commit``; removed on error."""
+    """A file written beside its place (``tmp``) and renamed into it when the ``with`` block ends
+    without an error; removed when it ends with one."""
 
     def __init__(self, path: str | Path, force: bool = False):
         self.path = Path(path)
@@ -248,10 +248,10 @@ class Output:
         if ext not in EXTENSIONS:
             raise SpecError("-o", f"unknown extension {self.path.suffix or '(none)'!r} of {self.path.name} (one of {', '.join(EXTENSIONS)})")
         self.ext = ext
-        if self.path.exists() and not force and not is_ours(self.path):
-            raise SpecError("-o", f"{self.path} exists and was not written by animate; choose another path or give --force")
         if self.path.is_dir():
             raise SpecError("-o", f"{self.path} is a folder")
+        if self.path.exists() and not force and not is_ours(self.path):
+            raise SpecError("-o", f"{self.path} exists and was not written by animate; choose another path or give --force")
         self.tmp = self.path.parent / f".{self.path.stem}.tmp-{os.getpid()}{ext}"
 
     def __enter__(self):
@@ -356,13 +356,12 @@ def _prim_json(prim) -> list:
     return out
 
 
-def scene_json(scene: Scene, camera: Camera, fps: float) -> str:
+def scene_json(scene: Scene, camera: Camera) -> str:
     P = scene.points
     lo, hi = P.min(axis=0), P.max(axis=0)
     centre = (lo + hi) / 2
     data = {
         "name": scene.name,
-        "fps": fps,
         "times": [_num(t) for t in scene.times],
         "static": [_prim_json(p) for p in scene.static],
         "frames": [[_prim_json(p) for p in fr] for fr in scene.frames],
@@ -382,7 +381,7 @@ def scene_json(scene: Scene, camera: Camera, fps: float) -> str:
     return json.dumps(data, separators=(",", ":"), ensure_ascii=False, allow_nan=False).replace("</", "<\\/")
 
 
-def write_html(scene: Scene, camera: Camera, path: Path, fps: float, description: str) -> None:
+def write_html(scene: Scene, camera: Camera, path: Path, description: str) -> None:
     import jinja2
     from markupsafe import Markup
 
@@ -391,5 +390,5 @@ def write_html(scene: Scene, camera: Camera, path: Path, fps: float, description
     script = (TEMPLATES / "viewer.js").read_text(encoding="utf-8")
     html = env.get_template("viewer.html.jinja").render(
         name=scene.name, description=description, marker=f"{MARKER} {__version__}",
-        data=Markup(scene_json(scene, camera, fps)), script=Markup(script))
+        data=Markup(scene_json(scene, camera)), script=Markup(script))
     path.write_text(html, encoding="utf-8")

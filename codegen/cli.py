@@ -231,6 +231,14 @@ def _params_of(items, what: str = "--param") -> dict:
     return params
 
 
+def _initial_state(spec, args) -> tuple[list, list]:
+    """φ and φ̇ at t = 0: --phi/--phidot, else the spec's [initial], else zero."""
+    n, init = spec.n, spec.initial or {}
+    phi = _floats(args.phi, "--phi", n) if args.phi else list(init.get("phi", [0.0] * n))
+    phidot = _floats(args.phidot, "--phidot", n) if args.phidot else list(init.get("phidot", [0.0] * n))
+    return phi, phidot
+
+
 def cmd_simulate(args) -> int:
     """Integrate a spec with the independent reference model; CSV on stdout."""
     import numpy as np
@@ -244,9 +252,7 @@ def cmd_simulate(args) -> int:
     except ValueError as exc:
         raise SpecError("--param", str(exc)) from None
     n = spec.n
-    init = spec.initial or {}
-    phi = _floats(args.phi, "--phi", n) if args.phi else list(init.get("phi", [0.0] * n))
-    phidot = _floats(args.phidot, "--phidot", n) if args.phidot else list(init.get("phidot", [0.0] * n))
+    phi, phidot = _initial_state(spec, args)
     u = _floats(args.u, "--u", len(spec.controls)) if spec.controls else None
     t = np.linspace(0.0, args.t1, args.steps + 1)
     X = reference.simulate(ch, phi + phidot, t, u=u)
@@ -407,10 +413,7 @@ def cmd_animate(args) -> int:
             raise SpecError("--at", "a point of a sweep: give the sweep's store as SPEC")
         spec = load_spec(args.spec)
         params = _params_of(args.param)
-        n = spec.n
-        init = spec.initial or {}
-        phi = _floats(args.phi, "--phi", n) if args.phi else list(init.get("phi", [0.0] * n))
-        phidot = _floats(args.phidot, "--phidot", n) if args.phidot else list(init.get("phidot", [0.0] * n))
+        phi, phidot = _initial_state(spec, args)
         x0 = phi + phidot
         u = _floats(args.u, "--u", len(spec.controls)) if spec.controls else None
         t1 = args.t1 if args.t1 is not None else 10.0
@@ -430,8 +433,7 @@ def cmd_animate(args) -> int:
     else:
         fine, has_rate = animate.frame_times(t1, args.fps, None, sub), True
         times = fine[::sub]
-    files, derived = derive_and_render(spec, Path(args.spec).name, tex=False)
-    model = sw.load_model(spec.name, {k: v for k, v in files.items() if k.endswith((".c", ".h", ".cdef"))})
+    model, derived = sw.compiled(spec)
     if not args.trajectory:
         fine_X = animate.motion(model, fine, x0, u=u, params=params or None, rtol=args.rtol, atol=args.rtol * 1e-2)
         X = fine_X[np.searchsorted(fine, times)]
@@ -443,7 +445,7 @@ def cmd_animate(args) -> int:
     camera = scene.Camera(math.radians(view[0]), math.radians(view[1])) if view else scene.default_camera(sc.points)
     with out:
         if out.ext == ".html":
-            animate.write_html(sc, camera, out.tmp, args.fps, description)
+            animate.write_html(sc, camera, out.tmp, description)
         else:
             raster = animate.Raster(sc, size[0], size[1], camera)
             {".gif": lambda: animate.write_gif(raster, out.tmp, args.fps), ".png": lambda: animate.write_png(raster, out.tmp),

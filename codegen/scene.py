@@ -145,8 +145,8 @@ def pose(ch: reference.NumericChain, phi, t: float) -> dict:
     return dict(R=R, O=O, e=e, G=O + c, lam=lam, s=s, R0=R0, r0=r0)
 
 
-def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list, np.ndarray, list]:
-    """The moving primitives of one frame, the last body's tip, and the key points."""
+def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list, list]:
+    """The moving primitives of one frame and its key points."""
     ch, n = geo.ch, geo.ch.n
     prims, keys = [], []
     if base:
@@ -159,7 +159,6 @@ def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list
             prims.append(("seg", r0, q, PLATFORM_COLOUR, 1.2))
             prims.append(("label", q, lab, PLATFORM_COLOUR))
         keys += [r0 + a * ey, r0 - a * ey, r0 + a * ez, r0 - a * ez]
-    tip = None
     for k in range(n):
         col = body_colour(k + 1)
         O, e, G = P["O"][k], P["e"][k], P["G"][k]
@@ -168,20 +167,11 @@ def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list
         keys += [O - b * e, O + b * e]
         lam = P["lam"][k]
         rotor = np.linalg.norm(lam) > 0
-        link = k < n - 1 or np.linalg.norm(ch.c[k]) > 0  # Oᵏ → Oᵏ⁺¹, or the last body's Oⁿ → Gⁿ
-        if k < n - 1:
-            end = P["O"][k + 1]
-        elif link:
-            end = G
-        elif rotor:  # no link to draw: the tip is the end of the rotor's axle
-            end = G + geo.disc[k] * 1.3 * _unit(lam)
-        else:  # nor a rotor: the end of a bar along êⁿ₃
-            end = O + b * P["R"][k][2]
-            prims.append(("seg", O, end, col, 1.5))
-        if k == n - 1:
-            tip = end
+        end, link = link_end(geo, P, k)
         if link and np.linalg.norm(end - O) > 0:
             prims.append(("seg", O, end, col, 3.5))
+        elif not link and not rotor:  # the last body's bar along êⁿ₃
+            prims.append(("seg", O, end, col, 1.5))
         # G off the link: a thin line to it
         d = end - O
         L2 = d @ d
@@ -205,7 +195,21 @@ def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list
             prims.append(("seg", G, G + r * u, "#FFFFFF", 2.0))
             prims.append(("seg", G - 1.3 * r * nrm, G + 1.3 * r * nrm, col, 1.5))
             keys += [G + r * u, G - r * u, G + r * v, G - r * v, G + 1.3 * r * nrm, G - 1.3 * r * nrm]
-    return prims, tip, keys
+    return prims, keys
+
+
+def link_end(geo: Geometry, P: dict, k: int) -> tuple[np.ndarray, bool]:
+    """Where body k's drawing ends (the last body's: its tip) and whether that is a link:
+    Oᵏ⁺¹; for the last body Gⁿ (a link to it) where cⁿ ≠ 0, else the end of its rotor's axle,
+    else the end of a bar along êⁿ₃."""
+    n = geo.ch.n
+    if k < n - 1:
+        return P["O"][k + 1], True
+    if np.linalg.norm(geo.ch.c[k]) > 0:
+        return P["G"][k], True
+    if np.linalg.norm(P["lam"][k]) > 0:
+        return P["G"][k] + geo.disc[k] * 1.3 * _unit(P["lam"][k]), False
+    return P["O"][k] + geo.bar[k] * P["R"][k][2], False
 
 
 def static_primitives(geo: Geometry) -> list:
@@ -242,7 +246,7 @@ def build(spec, ch: reference.NumericChain, times, X, trace: float = 2.0, integr
 
     frames, keys = [], [np.zeros(3)]
     for t, x in zip(times, X):
-        prims, _tip, k = frame_primitives(geo, pose(ch, np.asarray(x[:n], float), float(t)), float(t), base)
+        prims, k = frame_primitives(geo, pose(ch, np.asarray(x[:n], float), float(t)), float(t), base)
         d = offset(t)
         if follow:
             prims = [shifted(p, d) for p in static + prims]
@@ -250,7 +254,7 @@ def build(spec, ch: reference.NumericChain, times, X, trace: float = 2.0, integr
         keys += [p + d for p in k] + ([] if follow else [p[2] for p in static if p[0] == "seg"])
     if tip_times is None:
         tip_times, tip_X = times, X
-    tips = np.array([frame_primitives(geo, pose(ch, np.asarray(x[:n], float), float(t)), float(t), base)[1] + offset(t)
+    tips = np.array([link_end(geo, pose(ch, np.asarray(x[:n], float), float(t)), n - 1)[0] + offset(t)
                      for t, x in zip(tip_times, tip_X)])
     return Scene(name=spec.name, times=np.asarray(times, float), frames=frames, static=[] if follow else static,
                  tip_times=np.asarray(tip_times, float), tips=tips, trace=trace, size=geo.size, gravity=ch.g != 0,

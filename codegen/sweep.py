@@ -310,13 +310,25 @@ _MODELS: dict = {}
 _MODELS_LOCK = threading.Lock()
 
 
-def model_files(spec_text: str) -> dict[str, str]:
+def _c_files(spec) -> tuple[dict[str, str], object]:
+    """The C, header and cdef texts of a spec, and its derivation (emit's Model)."""
     from .cli import derive_and_render
+
+    files, derived = derive_and_render(spec, f"{spec.name}.toml", tex=False)
+    return {k: v for k, v in files.items() if k.endswith((".c", ".h", ".cdef"))}, derived
+
+
+def model_files(spec_text: str) -> dict[str, str]:
     from .spec import parse_spec
 
-    spec = parse_spec(spec_text)
-    files, _ = derive_and_render(spec, f"{spec.name}.toml", tex=False)
-    return {k: v for k, v in files.items() if k.endswith((".c", ".h", ".cdef"))}
+    return _c_files(parse_spec(spec_text))[0]
+
+
+def compiled(spec) -> tuple[object, object]:
+    """The compiled model of a parsed spec (built once per machine, see load_model) and its
+    derivation (which integrals exist)."""
+    files, derived = _c_files(spec)
+    return load_model(spec.name, files), derived
 
 
 def cache_root() -> Path:
