@@ -25,7 +25,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from codegen import build, sweep  # noqa: E402
+from codegen import build, pipeline  # noqa: E402
+from codegen.spec import parse_spec  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"
 SPEC = ROOT / "specs" / "double_pendulum.toml"
@@ -79,7 +80,7 @@ def ours_threads(model, X0, nthreads: int, **kw):
 
 
 def _dask_part(files, part, kw):
-    model = sweep.load_model("double_pendulum", files)
+    model = pipeline.compile(files, "double_pendulum")
     X, codes = model.integrate_batch(np.array([0.0, T1]), part, **kw)
     return X[:, -1], codes
 
@@ -92,8 +93,8 @@ def main() -> int:
     ap.add_argument("--no-dask", action="store_true")
     args = ap.parse_args()
     text = SPEC.read_text()
-    files = sweep.model_files(text)
-    model = sweep.load_model("double_pendulum", files)
+    files, _ = pipeline.derive_and_render(parse_spec(text), targets=("c",))
+    model = pipeline.compile(files, "double_pendulum")
     X0 = initial_states(args.count)
     rows = []
 
@@ -167,7 +168,7 @@ def main() -> int:
 
             with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None,
                               silence_logs=40) as cluster, Client(cluster) as client:
-                client.run(lambda: sweep.load_model("double_pendulum", files) and None)  # build and load first
+                client.run(lambda: pipeline.compile(files, "double_pendulum") and None)  # build and load first
                 fut_files = client.scatter(files, broadcast=True)
                 parts = np.array_split(X0, 8)
 

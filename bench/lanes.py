@@ -119,12 +119,13 @@ def main() -> int:
     sys.path.insert(0, str(ROOT))
     import numpy as np
 
-    from codegen import sweep
+    from codegen import pipeline
+    from codegen.spec import parse_spec
 
     text = (ROOT / "specs" / f"{NAME}.toml").read_text()
-    files = sweep.model_files(text)
+    files, _ = pipeline.derive_and_render(parse_spec(text), targets=("c",))
     temps, acc = qdd_body(files[f"{NAME}.c"])
-    model = sweep.load_model(NAME, files)
+    model = pipeline.compile(files, NAME)
     X0 = np.array([[-3.0 + 6.0 * b / 256, 3.0 - 5.0 * b / 256, 0.0, 0.0] for b in range(256)])
     import time
 

@@ -68,7 +68,7 @@ def states(n: int) -> np.ndarray:
 # --------------------------------------------------------------------------- generation
 def generate_one(spec_path: str, out: str) -> None:
     """Child process: derive + emit + compile one spec; print seconds and peak RSS as JSON."""
-    from codegen.cli import derive_and_render
+    from codegen.pipeline import derive_and_render
 
     t0 = time.perf_counter()
     spec = parse_spec(Path(spec_path).read_text())
@@ -81,7 +81,7 @@ def generate_one(spec_path: str, out: str) -> None:
     t1 = time.perf_counter()
     subprocess.run(["gcc", *CFLAGS, "-std=c99", "-c", str(out / f"{spec.name}.c"), "-o", str(out / f"{spec.name}.o")], check=True)
     t_cc = time.perf_counter() - t1
-    from codegen.emit import op_counts
+    from codegen.assemble import op_counts
 
     print(json.dumps(dict(emit=t_emit, cc=t_cc, rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, ops=op_counts(model))))
 
@@ -295,7 +295,7 @@ def symbolic(ns: list[int]) -> list[dict]:
 
 def scenes(n: int) -> list[dict]:
     """The same chain (same random draws) general and reduced: the model shrinks with the scene."""
-    from codegen import dynamics, emit, integrals, kinematics
+    from codegen import assemble, dynamics, integrals, kinematics
 
     rows = []
     variants = [
@@ -314,7 +314,7 @@ def scenes(n: int) -> list[dict]:
         kin = kinematics.derive(spec)
         dyn = dynamics.derive(spec, kin)
         ints = integrals.derive(spec, kin, dyn)
-        counts = emit.op_counts(emit.build_model(spec, kin, dyn, ints))
+        counts = assemble.op_counts(assemble.build_model(spec, kin, dyn, ints))
         base = base or counts
         rows.append(dict(n=n, scene=label, **{k: counts[k] for k in ("mass_matrix", "forces", "qdd")},
                          qdd_vs_general=counts["qdd"] / base["qdd"]))

@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 from .algebra import ONE, ZERO
 from .dynamics import Dynamics
-from .kinematics import Kinematics, add, cross
+from .kinematics import Kinematics
+from .vec3 import add, cross, skew
 from .spec import ChainSpec
 
 
@@ -32,10 +33,6 @@ from .spec import ChainSpec
 class Articulated:
     qdd: tuple  # φ̈ᵏ, k = 1..n
     pivots: tuple  # Dᵏ
-
-
-def _skew(v) -> list:
-    return [[ZERO, -v[2], v[1]], [v[2], ZERO, -v[0]], [-v[1], v[0], ZERO]]
 
 
 def _blocks(X) -> tuple:
@@ -78,7 +75,7 @@ def derive(spec: ChainSpec, kin: Kinematics, dyn: Dynamics) -> Articulated:
         h = [m * num(x) for x in b.c]
         A = [[num(x) for x in row] for row in b.A]
         # moment Aω + h × v, force m v − h × ω: the coupling block H is [h]×
-        X = _from_blocks(A, _skew(h), [[m if i == j else ZERO for j in range(3)] for i in range(3)])
+        X = _from_blocks(A, skew(h), [[m if i == j else ZERO for j in range(3)] for i in range(3)])
         pF, pN = dyn.body_bias[k - 1]
         p = list(pN) + list(pF)
         if carried is not None:

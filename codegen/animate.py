@@ -392,3 +392,88 @@ def write_html(scene: Scene, camera: Camera, path: Path, description: str) -> No
         name=scene.name, description=description, marker=f"{MARKER} {__version__}",
         data=Markup(scene_json(scene, camera)), script=Markup(script))
     path.write_text(html, encoding="utf-8")
+
+
+# --------------------------------------------------------------------------- the command
+def initial_state(spec, phi=None, phidot=None) -> list:
+    """x₀ = (φ, φ̇): the given values, else the spec's [initial], else zero; the counts checked."""
+    n, init = spec.n, spec.initial or {}
+    out = []
+    for what, given, key in (("--phi", phi, "phi"), ("--phidot", phidot, "phidot")):
+        vals = list(given) if given is not None else list(init.get(key, [0.0] * n))
+        if len(vals) != n:
+            raise SpecError(what, f"expected {n} comma-separated numbers, got {len(vals)}")
+        out += vals
+    return out
+
+
+def _motion_of(source, phi, phidot, u, params, t1, at) -> tuple:
+    """(spec, x₀, u, parameters, t1, description) of a spec (path or parsed) or a store's point."""
+    from . import sweep
+    from .spec import load_spec, parse_spec
+
+    if isinstance(source, (str, Path)) and Path(source).is_dir():  # a sweep store: its spec, state, parameters
+        if phi is not None or phidot is not None or params or u is not None:
+            raise SpecError("--at", "the state, parameters and torques come from the sweep's point; drop --phi/--phidot/--param/--u")
+        pt = sweep.point(source, at)
+        spec = parse_spec(pt["spec_text"])
+        description = f"{spec.description} (sweep {Path(source).name}: {pt['label']})"
+        return spec, list(pt["x0"]), pt["u"] or None, pt["params"], t1 if t1 is not None else pt["t1"], description
+    spec = load_spec(source) if isinstance(source, (str, Path)) else source
+    if at:
+        raise SpecError("--at", "a point of a sweep: give the sweep's store as SPEC")
+    x0 = initial_state(spec, phi, phidot)
+    if spec.controls:
+        u = list(u) if u is not None else [0.0] * len(spec.controls)
+        if len(u) != len(spec.controls):
+            raise SpecError("--u", f"expected {len(spec.controls)} comma-separated numbers, got {len(u)}")
+    else:
+        u = None
+    return spec, x0, u, params or {}, t1 if t1 is not None else 10.0, spec.description
+
+
+def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=None, fps: float = 25.0,
+           frame: float | None = None, at: str = "", trajectory: str = "", size=(480, 480), view=None,
+           trace: float = 2.0, follow: bool = False, rtol: float = 1e-10, force: bool = False) -> dict:
+    """The motion of a spec (a path or a parsed spec) or of a sweep store's point (``at``) as
+    ``output`` (.gif, .mp4, .html, or a .png still at ``frame``).  ``view``: (azimuth, elevation)
+    in degrees, default fitted to the motion.  Returns the path, the frame times and the size."""
+    from . import pipeline, reference, scene
+
+    out = Output(output, force=force)  # the extension and an existing file first
+    if out.ext == ".png" and frame is None:
+        raise SpecError("--frame", "a .png is one still: give --frame T (seconds)")
+    spec, x0, u, params, t1, description = _motion_of(source, phi, phidot, u, params, t1, at)
+    try:
+        ch = reference.numeric(spec, params)
+    except ValueError as exc:
+        raise SpecError("--param", str(exc)) from None
+    if not (trace >= 0 and math.isfinite(trace)):
+        raise SpecError("--trace", "must be a number of seconds >= 0")
+    sub = 4  # the trace is sampled 4 times per frame: smooth where the tip moves fast
+    if trajectory:
+        times, X, has_rate, fine, fine_X = read_csv(trajectory, spec.n, fps, frame)
+    elif frame is not None:
+        times, has_rate = frame_times(t1, fps, frame), True
+        fine = np.unique(np.concatenate([np.linspace(max(0.0, frame - trace), frame, 100), times]))
+    else:
+        fine, has_rate = frame_times(t1, fps, None, sub), True
+        times = fine[::sub]
+    model, derived = pipeline.compiled(spec)
+    if not trajectory:
+        fine_X = motion(model, fine, x0, u=u, params=params or None, rtol=rtol, atol=rtol * 1e-2)
+        X = fine_X[np.searchsorted(fine, times)]
+    integral = integral_curve(model, derived, X, times, u, params or None) if has_rate else None
+    if follow and spec.base is None:
+        raise SpecError("--follow", "the spec has no [base]: there is no platform to follow")
+    sc = scene.build(spec, ch, times, X, trace=trace, integral=integral, tip_times=fine, tip_X=fine_X,
+                     rates=has_rate, follow=follow)
+    camera = scene.Camera(math.radians(view[0]), math.radians(view[1])) if view else scene.default_camera(sc.points)
+    with out:
+        if out.ext == ".html":
+            write_html(sc, camera, out.tmp, description)
+        else:
+            raster = Raster(sc, size[0], size[1], camera)
+            {".gif": lambda: write_gif(raster, out.tmp, fps), ".png": lambda: write_png(raster, out.tmp),
+             ".mp4": lambda: write_mp4(raster, out.tmp, fps)}[out.ext]()
+    return dict(path=out.path, times=times, bytes=out.path.stat().st_size)

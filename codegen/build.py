@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .codes import METHODS, MOTIONS, status_text
+
 CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra"]
 
 
@@ -41,12 +43,18 @@ def key_path(directory: str | Path, name: str) -> Path:
     return Path(directory) / f"{module_name(name)}.key"
 
 
+def extensions(directory: str | Path, name: str) -> list[Path]:
+    """The compiled extensions of a model in a folder (one, normally)."""
+    directory = Path(directory)
+    return sorted(directory.glob(f"{module_name(name)}.*.so")) + sorted(directory.glob(f"{module_name(name)}.so"))
+
+
 def reuse_extension(old_dir: str | Path, new_dir: str | Path, name: str) -> bool:
     """Copy the extension of ``old_dir`` into ``new_dir`` when it was built from exactly the
     sources now in ``new_dir`` with the same flags; False (nothing copied) otherwise."""
     old_dir, new_dir = Path(old_dir), Path(new_dir)
     key_file = key_path(old_dir, name)
-    found = sorted(old_dir.glob(f"{module_name(name)}.*.so")) + sorted(old_dir.glob(f"{module_name(name)}.so"))
+    found = extensions(old_dir, name)
     if not key_file.is_file() or len(found) != 1:
         return False
     key = build_key(new_dir, name)
@@ -96,12 +104,7 @@ def load_module(so_path: str | Path):
 
 class ModelError(ArithmeticError):
     def __init__(self, func: str, code: int):
-        names = {
-            1: "SINGULAR (M is not positive definite)", 2: "NONFINITE", 3: "NO_PARAMS",
-            4: "SEPARATRIX", 5: "NO_PERIOD (steady motion)", 6: "QUAD_FAILED",
-            7: "STEP_UNDERFLOW", 8: "NO_CONVERGENCE", 9: "TOO_MANY_STEPS", 10: "BAD_ARGUMENT",
-        }
-        super().__init__(f"{func} returned {code}: {names.get(code, 'unknown code')}")
+        super().__init__(f"{func} returned {code}: {status_text(code)}")
         self.code = code
 
 
@@ -115,7 +118,6 @@ class IntegrationError(ModelError):
         self.args = (f"{self.args[0]} at t = {self.t!r}",)
 
 
-METHODS = {"rk4": 1, "dop853": 2, "gauss2": 3, "gauss2_fixed": 4, "gauss2_symplectic": 5}
 
 
 class CModel:
@@ -311,7 +313,7 @@ class CModel:
         code = self._fn("quad_motion")(xp, self._p(params), info)
         if code != 0:
             raise ModelError(f"{self.name}_quad_motion", code)
-        kinds = {1: "libration", 2: "rotation", 3: "steady"}
+        kinds = {v: k for k, v in MOTIONS.items()}
         fields = ("E", "k", "phi_min", "phi_max", "period", "psi_advance", "separatrix_distance")
         return dict(kind=kinds[info.kind], **{f: getattr(info, f) for f in fields})
 
@@ -343,7 +345,7 @@ def load(directory: str | Path, name: str | None = None) -> CModel:
     """The compiled model in a generated folder (built there if missing)."""
     directory = Path(directory)
     name = name or directory.name
-    found = sorted(directory.glob(f"{module_name(name)}.*.so")) + sorted(directory.glob(f"{module_name(name)}.so"))
+    found = extensions(directory, name)
     so = found[0] if found else compile_model(directory, name)
     return CModel(so, name)
 

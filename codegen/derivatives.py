@@ -59,7 +59,7 @@ def _to_poly(P: Program, expr: sp.Expr, atom: Atom, rhs: sp.Expr, name: str) -> 
     if expr.is_number:
         return Poly.const(exact(expr))
     if isinstance(expr, Var):
-        return Poly.atom(P._by_name[expr.name])
+        return Poly.atom(P.atom(expr.name))
     if expr.is_Symbol:
         return P.input(expr)
     if expr == rhs:
@@ -84,17 +84,18 @@ def _to_poly(P: Program, expr: sp.Expr, atom: Atom, rhs: sp.Expr, name: str) -> 
             for _ in range(e):
                 out = out * base
             return out
-    if expr in P._opaque:
-        return P._opaque[expr]
+    known = P.known(expr)
+    if known is not None:
+        return known
     k = 1
-    while f"{name}_{k}" in P._by_name:
+    while P.defines(f"{name}_{k}"):
         k += 1
     value = P.let_sympy(f"{name}_{k}", expr)
-    P._opaque[expr] = value
+    P.alias(expr, value)
     return value
 
 
-def _tangent_poly(rhs: Poly, tan: dict) -> dict:
+def tangent_poly(rhs: Poly, tan: dict) -> dict:
     out: dict = {}
     for m, c in rhs.terms.items():
         for i, a in enumerate(m):
@@ -110,7 +111,7 @@ def _tangent_poly(rhs: Poly, tan: dict) -> dict:
 def _tangent_sympy(P: Program, a: Atom, rhs: sp.Expr, tan: dict) -> dict:
     out: dict = {}
     for s in sorted(rhs.free_symbols, key=str):
-        src = P._by_name[s.name] if isinstance(s, Var) else P._inputs.get(s)
+        src = P.source(s)
         ts = tan.get(src)
         if not ts:
             continue
@@ -126,7 +127,7 @@ def tangents(P: Program, outputs, seeds: dict, labels) -> dict:
     named quantity ``<name>_d<label>``."""
     tan = dict(seeds)
     for a, rhs in P.needed(outputs):
-        d = _tangent_poly(rhs, tan) if isinstance(rhs, Poly) else _tangent_sympy(P, a, rhs, tan)
+        d = tangent_poly(rhs, tan) if isinstance(rhs, Poly) else _tangent_sympy(P, a, rhs, tan)
         named = {}
         for j in sorted(d):
             if not d[j].is_zero():
@@ -136,7 +137,7 @@ def tangents(P: Program, outputs, seeds: dict, labels) -> dict:
     return tan
 
 
-def _directions(spec, kin):
+def directions(spec, kin):
     n = spec.n
     syms = [kin.phi[k] for k in range(1, n + 1)] + [kin.phidot[k] for k in range(1, n + 1)]
     syms += [kin.torque[k] for k in spec.controls]
@@ -148,11 +149,11 @@ def _directions(spec, kin):
 def derive_tangent(spec, kin, art) -> Tangent:
     """The tangent of φ̈ along a run-time direction d (the generic form)."""
     P = kin.prog
-    syms, labels = _directions(spec, kin)
+    syms, labels = directions(spec, kin)
     dirs = tuple(sp.Symbol(f"dir_{lab}") for lab in labels)
     seeds = {next(iter(P.input(s).terms))[0]: {0: P.input(d)} for s, d in zip(syms, dirs)}
     tan = tangents(P, list(art.qdd), seeds, ("t",))
-    jvp = tuple(_tangent_poly(q, tan).get(0, ZERO) for q in art.qdd)
+    jvp = tuple(tangent_poly(q, tan).get(0, ZERO) for q in art.qdd)
     return Tangent(labels, dirs, jvp)
 
 
@@ -160,7 +161,7 @@ def derive(spec, kin, art) -> Derivatives:
     """∂φ̈/∂(φ, φ̇, u) of the articulated recursion ``art`` (aba.derive), one tangent per direction."""
     P = kin.prog
     n = spec.n
-    syms, labels = _directions(spec, kin)
+    syms, labels = directions(spec, kin)
     seeds = {}
     for j, s in enumerate(syms):
         seeds[next(iter(P.input(s).terms))[0]] = {j: Poly.const(1)}
@@ -169,7 +170,7 @@ def derive(spec, kin, art) -> Derivatives:
 
     dqdd = []
     for k in range(n):
-        row = _tangent_poly(art.qdd[k], tan)
+        row = tangent_poly(art.qdd[k], tan)
         dqdd.append(tuple(row.get(j, ZERO) for j in range(len(labels))))
     return Derivatives(labels, tuple(dqdd))
 
@@ -197,5 +198,5 @@ def canonical(spec, kin, dyn) -> Canonical:
     # the tangent along (φ, φ̇) ↦ (φ̇, 0): each φʲ's tangent is φ̇ʲ (label "p": names <quantity>_dp)
     seeds = {next(iter(P.input(kin.phi[j]).terms))[0]: {0: qd[j - 1]} for j in range(1, n + 1)}
     tan = tangents(P, list(p), seeds, ("p",))
-    pdot = tuple(f + _tangent_poly(pi, tan).get(0, ZERO) for f, pi in zip(dyn.f, p))
+    pdot = tuple(f + tangent_poly(pi, tan).get(0, ZERO) for f, pi in zip(dyn.f, p))
     return Canonical(p, k, pdot)

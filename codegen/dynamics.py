@@ -23,7 +23,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .algebra import ZERO, Poly
-from .kinematics import NULL, Kinematics, add, cross, dot, matvec, scale
+from .kinematics import NULL, Kinematics
+from .vec3 import add, cross, dot, matvec, scale
 from .spec import T, ChainSpec
 
 

@@ -36,7 +36,8 @@ import sympy as sp
 from . import platform as platform_motion
 from .algebra import ZERO, Poly
 from .dynamics import Dynamics
-from .kinematics import NULL, Kinematics, add, cross, dot, matvec, scale
+from .kinematics import NULL, Kinematics
+from .vec3 import add, cross, dot, matvec, scale
 from .spec import T as TIME, ChainSpec
 
 

@@ -16,6 +16,7 @@ from . import platform as platform_motion
 from .algebra import ONE, ZERO, Poly
 from .program import Program
 from .spec import ChainSpec
+from .vec3 import add, scale
 
 E1 = [ONE, ZERO, ZERO]
 NULL = [ZERO, ZERO, ZERO]
@@ -48,26 +49,6 @@ def direction_cosines(theta: sp.Expr, phi: sp.Expr, cp=None, sph=None) -> sp.Mat
             [st * cp, -sph, ct * cp],
         ]
     )
-
-
-def cross(a, b) -> list:
-    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-
-
-def dot(a, b) -> Poly:
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def add(*vs) -> list:
-    return [sum((v[i] for v in vs), ZERO) for i in range(3)]
-
-
-def scale(c, v) -> list:
-    return [c * x for x in v]
-
-
-def matvec(A, v) -> list:
-    return [A[i][0] * v[0] + A[i][1] * v[1] + A[i][2] * v[2] for i in range(3)]
 
 
 class Joint:

@@ -71,6 +71,10 @@ class Program:
             self._opaque[expr] = self.let_sympy(f"pe{len(self._opaque) + 1}", expr)
         return self._opaque[expr]
 
+    def known(self, expr: sp.Expr) -> Poly | None:
+        """The quantity ``from_sympy`` or ``alias`` gave for this non-polynomial expression, if any."""
+        return self._opaque.get(expr)
+
     def alias(self, expr: sp.Expr, value: Poly) -> None:
         """Let ``from_sympy`` answer ``expr`` (cos φᵏ in a user's torque) with a quantity that
         already exists, instead of computing it again."""
@@ -129,6 +133,21 @@ class Program:
         return out
 
     # ---- reading the program
+    def atom(self, name: str) -> Atom:
+        """The quantity of this name (a ``Var`` of a right side back to its atom)."""
+        return self._by_name[name]
+
+    def defines(self, name: str) -> bool:
+        return name in self._by_name
+
+    def quantity(self, sym: sp.Symbol) -> Atom | None:
+        """The program quantity a symbol of a sympy right side names, or None (an input)."""
+        return self._by_name.get(sym.name) if isinstance(sym, Var) else None
+
+    def source(self, sym: sp.Symbol) -> Atom | None:
+        """The atom a symbol of a sympy right side stands for: a quantity or an input."""
+        return self._by_name[sym.name] if isinstance(sym, Var) else self._inputs.get(sym)
+
     def needed(self, exprs, have=frozenset()) -> list[tuple[Atom, object]]:
         """The definitions the polynomials depend on, in program order (dead code dropped);
         those in ``have`` (computed already, by an earlier section of the same function) and what

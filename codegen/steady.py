@@ -85,7 +85,7 @@ class Analysis:
     """A built model (codegen.build.CModel) with the facts the verdicts need."""
 
     def __init__(self, cmodel, model, params=None, u=None):
-        from .emit import time_dependent
+        from .assemble import time_dependent
 
         spec = model.spec
         self.c, self.n = cmodel, spec.n
@@ -368,22 +368,13 @@ def parse_range(text: str) -> np.ndarray:
 
 
 def compile_spec(spec):
-    """Generate and build the spec's model in a temporary folder: (CModel, emit.Model)."""
-    import tempfile
-    from pathlib import Path
+    """The spec's compiled model and its derivation (pipeline.compiled): (CModel, assemble.Model)."""
+    from . import pipeline
+    from .assemble import time_dependent
 
-    from .build import load
-    from .cli import derive_and_render, write_tree
-
-    from .emit import time_dependent
-
-    files, model = derive_and_render(spec, f"{spec.name}.toml")
+    cm, model = pipeline.compiled(spec)
     if time_dependent(model):
         raise SteadyError(TIME_DEPENDENT)
-    with tempfile.TemporaryDirectory(prefix="codegen-steady-") as tmp:
-        target = Path(tmp) / spec.name
-        write_tree(files, target, build=True, name=spec.name)
-        cm = load(target)  # the extension stays loaded when its folder goes
     return cm, model
 
 

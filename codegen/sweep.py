@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
+from . import __version__, pipeline
 from .spec import SpecError
 
 MEASURES = ("final", "flip_time", "energy_error", "lyapunov")
@@ -171,10 +171,7 @@ class Plan:
             raise SpecError("--measure", "energy_error: the energy (23) is not an integral of this spec")
 
     def _has_energy(self) -> bool:
-        from . import dynamics, integrals, kinematics
-
-        kin = kinematics.derive(self.spec)
-        ints = integrals.derive(self.spec, kin, dynamics.derive(self.spec, kin))
+        ints = pipeline.derive(self.spec, latex=False).integrals  # derived once: run() compiles this model
         return bool(ints.has_energy_integral) and not any(self.sweep.u)
 
     def chunk_rows(self, i: int) -> tuple[int, int]:
@@ -306,85 +303,19 @@ def lyapunov(model, X0, sw: Sweep, kw: dict, prm) -> tuple[np.ndarray, np.ndarra
 
 
 # --------------------------------------------------------------------------- the model
-_MODELS: dict = {}
-_MODELS_LOCK = threading.Lock()
-
-
-def _c_files(spec) -> tuple[dict[str, str], object]:
-    """The C, header and cdef texts of a spec, and its derivation (emit's Model)."""
-    from .cli import derive_and_render
-
-    files, derived = derive_and_render(spec, f"{spec.name}.toml", tex=False)
-    return {k: v for k, v in files.items() if k.endswith((".c", ".h", ".cdef"))}, derived
-
-
-def model_files(spec_text: str) -> dict[str, str]:
-    from .spec import parse_spec
-
-    return _c_files(parse_spec(spec_text))[0]
-
-
-def compiled(spec) -> tuple[object, object]:
-    """The compiled model of a parsed spec (built once per machine, see load_model) and its
-    derivation (which integrals exist)."""
-    files, derived = _c_files(spec)
-    return load_model(spec.name, files), derived
-
-
-def cache_root() -> Path:
-    return Path(os.environ.get("GYROCHAIN_CACHE") or Path(tempfile.gettempdir()) / "gyrochain-cache")
-
-
-def load_model(name: str, files: dict[str, str]):
-    """The compiled model of these sources, built once per machine (in the cache, by the build
-    key) and loaded once per process."""
-    from .build import CModel, build_key, compile_model, module_name
-
-    import hashlib
-
-    memo = hashlib.sha256("\0".join(files[k] for k in sorted(files)).encode("utf-8")).hexdigest()
-    with _MODELS_LOCK:
-        if memo in _MODELS:
-            return _MODELS[memo]
-        staging = Path(tempfile.mkdtemp(prefix="stage-", dir=_ensure(cache_root())))
-        try:
-            for k, v in files.items():
-                (staging / k).write_text(v, encoding="utf-8")
-            key = build_key(staging, name)
-            home = cache_root() / f"{name}-{key[:20]}"
-            found = sorted(home.glob(f"{module_name(name)}*.so")) if home.is_dir() else []
-            if not found:
-                compile_model(staging, name)
-                try:
-                    staging.rename(home)  # atomic: another process may have won, then use its build
-                    staging = None
-                except OSError:
-                    pass
-                found = sorted(home.glob(f"{module_name(name)}*.so"))
-            model = _MODELS[memo] = CModel(found[0], name)
-            return model
-        finally:
-            if staging is not None:
-                shutil.rmtree(staging, ignore_errors=True)
-
-
-def _ensure(p: Path) -> Path:
-    p.mkdir(parents=True, exist_ok=True)
-    return p
-
-
 def run_chunk_task(payload: dict, i: int) -> dict:
     """What a Dask worker runs: load (build once) the model from the shipped sources, compute."""
     key = json.dumps(payload["sweep"], sort_keys=True)
-    with _MODELS_LOCK:
+    with _PLANS_LOCK:
         plan = _PLANS.get(key)
         if plan is None:
             plan = _PLANS[key] = Plan(Sweep(**payload["sweep"]))
-    model = load_model(payload["name"], payload["files"])
+    model = pipeline.compile(payload["files"], payload["name"])
     return compute_chunk(model, plan, i)
 
 
 _PLANS: dict = {}
+_PLANS_LOCK = threading.Lock()
 
 
 # --------------------------------------------------------------------------- the store
@@ -472,12 +403,12 @@ def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: in
     g = open_store(store, plan)
     done = np.asarray(g["done"][:])
     todo = [i for i in range(plan.n_chunks) if not done[i]]
-    files = model_files(sweep.spec_text)
+    files, _ = pipeline.derive_and_render(plan.spec, targets=("c",))
     bar = _bar(plan.n_chunks, int(done.sum()), progress)
     if workers or scheduler:
         results = _dask_results(plan, sweep, files, todo, workers, scheduler)
     else:
-        results = _thread_results(load_model(plan.spec.name, files), plan, todo, threads or os.cpu_count() or 1)
+        results = _thread_results(pipeline.compile(files, plan.spec.name), plan, todo, threads or os.cpu_count() or 1)
     written = 0
     try:
         for i, res in results:  # as chunks finish, wherever they ran; the client alone writes

@@ -47,7 +47,7 @@ from dataclasses import dataclass
 
 from . import derivatives
 from .algebra import ONE, ZERO, Poly
-from .kinematics import add, cross, dot, scale
+from .vec3 import add, cross, dot, scale, skew
 
 VECTORS = ("S", "z1", "z2", "beta", "w", "G", "K")  # per joint, 6 components each (the C arrays)
 
@@ -100,16 +100,12 @@ def _body_D(I, v) -> tuple:
     D12 = [(h × ω)×] − m[u×] (v = (ω, u))."""
     A, h, m = I
     om, u = v[:3], v[3:]
-    Aw = [[sum((A[i][l] * _skew(om)[l][j] for l in range(3)), ZERO) for j in range(3)] for i in range(3)]
+    Aw = [[sum((A[i][l] * skew(om)[l][j] for l in range(3)), ZERO) for j in range(3)] for i in range(3)]
     hu = dot(h, u)
     D11 = [[Aw[i][j] + Aw[j][i] + h[i] * u[j] + u[i] * h[j] - (2 * hu if i == j else ZERO) for j in range(3)] for i in range(3)]
     hw = cross(h, om)
-    D12 = [[_skew(hw)[i][j] - m * _skew(u)[i][j] for j in range(3)] for i in range(3)]
+    D12 = [[skew(hw)[i][j] - m * skew(u)[i][j] for j in range(3)] for i in range(3)]
     return D11, D12
-
-
-def _skew(a) -> list:
-    return [[ZERO, -a[2], a[1]], [a[2], ZERO, -a[0]], [-a[1], a[0], ZERO]]
 
 
 def derive(spec, kin, dyn, art) -> World:
@@ -192,13 +188,13 @@ def derive(spec, kin, dyn, art) -> World:
             vec[name][k - 1] = [Poly.lift(x) for x in val]
 
     # ∂τ/∂x: the forward mode of derivatives.py on the joint torques alone
-    syms, labels = derivatives._directions(spec, kin)
+    syms, labels = derivatives.directions(spec, kin)
     seeds = {next(iter(P.input(s_).terms))[0]: {j: Poly.const(1)} for j, s_ in enumerate(syms)}
     torques = list(dyn.torques)
     tan = derivatives.tangents(P, torques, seeds, tuple(f"W{lab}" for lab in labels))
     ext = []
     for k, tk in enumerate(torques):
-        for c, d in sorted(derivatives._tangent_poly(Poly.lift(tk), tan).items()):
+        for c, d in sorted(derivatives.tangent_poly(Poly.lift(tk), tan).items()):
             if not d.is_zero():
                 ext.append((k, c, d))
     return World({name: tuple(tuple(x) for x in vec[name]) for name in VECTORS}, tuple(ext), labels)

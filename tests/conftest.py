@@ -1,7 +1,9 @@
-"""Shared fixtures: generate a spec into a temporary folder once per session, build it with
-cffi, and hand back the spec, the generated Python module and the compiled C model."""
+"""Shared fixtures: derive and render a spec once per process, compile its C once per test
+session (pipeline.compile, whose cache folder every xdist worker shares: one builds, the others
+wait for its build), and hand back the spec, the generated Python module and the compiled C model."""
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import sys
@@ -14,8 +16,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from codegen import build, reference  # noqa: E402
-from codegen.cli import derive_and_render, write_tree  # noqa: E402
+from codegen import build, pipeline, reference  # noqa: E402
 from codegen.spec import ChainSpec, load_spec, parse_spec  # noqa: E402
 
 EXAMPLES = sorted(p.stem for p in (ROOT / "specs").glob("*.toml"))
@@ -46,16 +47,44 @@ class Generated:
 _cache: dict = {}
 
 
-def generate(spec: ChainSpec, folder: Path, params=None, qdd_form: str = "auto", der_form: str = "auto") -> Generated:
+def generate(spec: ChainSpec, folder: Path, params=None, qdd_form: str = "auto", der_form: str = "auto",
+             latex: bool = False) -> Generated:
+    """The spec's files written under ``folder`` (in a subfolder of its own per spec text and
+    forms), its Python module, its compiled C and the reference model.  ``latex``: write the
+    LaTeX too (the slowest printer; only the tests that read it ask)."""
     key = (spec.source, str(params), qdd_form, der_form)
-    if key not in _cache:
-        files, _model = derive_and_render(spec, f"{spec.name}.toml", qdd_form=qdd_form, der_form=der_form)
-        target = folder / spec.name
-        write_tree(files, target, build=True, name=spec.name)
-        _cache[key] = Generated(
-            spec, build.load_python(target), build.load(target), reference.numeric(spec, params), params, target
-        )
+    if key not in _cache or (latex and not (_cache[key].folder / f"{spec.name}.tex").exists()):
+        targets = ("c", "python", "latex") if latex else ("c", "python")
+        files, _model = pipeline.derive_and_render(spec, f"{spec.name}.toml", qdd_form=qdd_form, der_form=der_form,
+                                                   targets=targets)
+        digest = hashlib.sha256("\0".join(map(str, key)).encode("utf-8")).hexdigest()[:12]
+        target = folder / f"{spec.name}-{digest}" / spec.name
+        pipeline.write_tree(files, target, build_it=False, name=spec.name)
+        _cache[key] = Generated(spec, build.load_python(target), pipeline.compile(files, spec.name),
+                                reference.numeric(spec, params), params, target)
     return _cache[key]
+
+
+def _session_dir(tmp_path_factory) -> Path:
+    """A folder of this test session that every xdist worker sees (the workers' base folders are
+    siblings under it)."""
+    base = tmp_path_factory.getbasetemp()
+    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+
+
+@pytest.fixture(scope="session", autouse=True)
+def model_cache(tmp_path_factory):
+    """$GYROCHAIN_CACHE for the session: a folder shared by the workers, so that each model is
+    compiled once per session (and Dask workers the tests start find the builds there)."""
+    old = os.environ.get("GYROCHAIN_CACHE")
+    path = _session_dir(tmp_path_factory) / "model-cache"
+    path.mkdir(exist_ok=True)
+    os.environ["GYROCHAIN_CACHE"] = str(path)
+    yield path
+    if old is None:
+        os.environ.pop("GYROCHAIN_CACHE", None)
+    else:
+        os.environ["GYROCHAIN_CACHE"] = old
 
 
 @pytest.fixture(scope="session")
@@ -65,9 +94,9 @@ def gen_dir(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def make_model(gen_dir):
-    def make(spec_or_text, params=None, qdd_form: str = "auto", der_form: str = "auto") -> Generated:
+    def make(spec_or_text, params=None, qdd_form: str = "auto", der_form: str = "auto", latex: bool = False) -> Generated:
         spec = parse_spec(spec_or_text) if isinstance(spec_or_text, str) else spec_or_text
-        return generate(spec, gen_dir, params, qdd_form, der_form)
+        return generate(spec, gen_dir, params, qdd_form, der_form, latex)
 
     return make
 
@@ -78,19 +107,6 @@ def example(make_model):
         return make_model(load_spec(ROOT / "specs" / f"{name}.toml"), example_params(name))
 
     return get
-
-
-@pytest.fixture(scope="module")
-def own_model_cache(tmp_path_factory):
-    """$GYROCHAIN_CACHE set to a folder of the requesting module's own for its duration (where
-    sweep.load_model builds the models), restored afterwards."""
-    old = os.environ.get("GYROCHAIN_CACHE")
-    os.environ["GYROCHAIN_CACHE"] = str(tmp_path_factory.mktemp("cache"))
-    yield
-    if old is None:
-        os.environ.pop("GYROCHAIN_CACHE", None)
-    else:
-        os.environ["GYROCHAIN_CACHE"] = old
 
 
 @pytest.fixture

@@ -14,9 +14,9 @@ import pytest
 PIL = pytest.importorskip("PIL", reason="the view extra (Pillow) is not installed")
 from PIL import Image, ImageChops  # noqa: E402
 
-from codegen import animate, reference, scene  # noqa: E402
+from codegen import animate, pipeline, reference, scene  # noqa: E402
 from codegen.cli import main  # noqa: E402
-from codegen.spec import load_spec  # noqa: E402
+from codegen.spec import load_spec, parse_spec  # noqa: E402
 
 from conftest import example_params  # noqa: E402
 
@@ -24,11 +24,6 @@ ROOT = Path(__file__).resolve().parent.parent
 SPECS = ROOT / "specs"
 GIMBAL = SPECS / "gimbal.toml"
 DP = SPECS / "double_pendulum.toml"
-
-
-@pytest.fixture(scope="module", autouse=True)
-def _cache(own_model_cache):
-    """A model cache of this module's own."""
 
 
 def param_args(name: str) -> list[str]:
@@ -360,8 +355,7 @@ def test_html_viewer_in_headless_chromium(browser, tmp_path):
         assert changed(plot, Image.new("RGB", plot.size, (255, 255, 255))) > 300
         assert "energy" in page.evaluate("JSON.parse(document.getElementById('scene-data').textContent).integral.label")
         # the readout is the state of the frame: the C trajectory at t = 2 s
-        from codegen import sweep as sw
-        model = sw.load_model("gimbal", sw.model_files(GIMBAL.read_text()))
+        model = pipeline.compiled(parse_spec(GIMBAL.read_text()))[0]
         spec = load_spec(GIMBAL)
         x = model.integrate([0.0, 2.0], list(spec.initial["phi"]) + list(spec.initial["phidot"]), rtol=1e-10, atol=1e-12)[-1]
         lines = page.inner_text("#state").splitlines()

@@ -19,11 +19,6 @@ from test_animate import changed, frames_of, param_args  # noqa: E402
 SPECS = Path(__file__).resolve().parent.parent / "specs"
 
 
-@pytest.fixture(scope="module", autouse=True)
-def _cache(own_model_cache):
-    """A model cache of this module's own."""
-
-
 # --------------------------------------------------------------------------- every example, GIF and HTML
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_every_example_animates(name, tmp_path, capsys):

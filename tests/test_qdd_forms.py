@@ -1,4 +1,4 @@
-"""NAME_qdd comes in two forms (emit.build_model): composite bodies + LDLᵀ and articulated bodies.
+"""NAME_qdd comes in two forms (assemble.build_model): composite bodies + LDLᵀ and articulated bodies.
 The generator picks the cheaper; here both are forced on the same specs and must agree with the
 reference model, report a singular configuration the same way, and state their op counts."""
 from __future__ import annotations
@@ -88,7 +88,7 @@ def test_singular_configuration_reported(make_model, form):
 
 def test_articulated_op_count_in_header_is_the_codes(make_model):
     """The stated qdd op count of an articulated model is the count of its emitted code."""
-    model = make_model(random_spec_text(np.random.default_rng(4), 3, name="opca"), qdd_form="articulated")
+    model = make_model(random_spec_text(np.random.default_rng(4), 3, name="opca"), qdd_form="articulated", latex=True)
     stated = stated_op_counts((model.folder / "opca.h").read_text())
     body = (model.folder / "opca.c").read_text().split("int opca_qdd(")[1].split("for (i = 0")[0]
     assert code_op_count(body, r"(acc|piv)\[\d+\]") == stated["qdd"]

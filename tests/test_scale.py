@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from codegen import dynamics, emit, integrals, kinematics, reference
+from codegen import assemble, dynamics, integrals, kinematics, reference
 from codegen.randspec import random_spec_text
 from codegen.spec import parse_spec
 
@@ -32,7 +32,7 @@ def _counts(text: str) -> dict:
     spec = parse_spec(text)
     kin = kinematics.derive(spec)
     dyn = dynamics.derive(spec, kin)
-    return emit.op_counts(emit.build_model(spec, kin, dyn, integrals.derive(spec, kin, dyn)))
+    return assemble.op_counts(assemble.build_model(spec, kin, dyn, integrals.derive(spec, kin, dyn)))
 
 
 @pytest.mark.parametrize("n", [2, 5])

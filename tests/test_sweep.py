@@ -14,18 +14,13 @@ import pytest
 
 pytest.importorskip("zarr", reason="the sweep extra (zarr, dask, distributed, tqdm) is not installed")
 
-from codegen import reference, sweep  # noqa: E402
+from codegen import pipeline, reference, sweep  # noqa: E402
 from codegen.cli import main  # noqa: E402
-from codegen.spec import load_spec  # noqa: E402
+from codegen.spec import load_spec, parse_spec  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 DP = ROOT / "specs" / "double_pendulum.toml"
 FURUTA_SYM = ROOT / "specs" / "furuta_sym.toml"
-
-
-@pytest.fixture(scope="module", autouse=True)
-def _cache(own_model_cache):
-    """A model cache of this module's own (the sweep builds each model once per machine)."""
 
 
 def small(measures=("flip_time", "final", "lyapunov"), **kw) -> sweep.Sweep:
@@ -182,7 +177,7 @@ def test_measures(tmp_path):
                vary=[("phi1", 0.3, 2.6, 2), ("phi2", 0.2, 2.8, 2)])
     sweep.run(sw, tmp_path / "m.zarr", threads=1, progress=False)
     d = sweep.read(tmp_path / "m.zarr")
-    model = sweep.load_model("double_pendulum", sweep.model_files(DP.read_text()))
+    model = pipeline.compiled(parse_spec(DP.read_text()))[0]
     ch = reference.numeric(load_spec(DP))
     tt = np.linspace(0, 3.0, 30001)
     flips = 0
@@ -219,7 +214,7 @@ def test_random_samples_and_a_parameter(tmp_path):
     assert 0.1 <= d["coords"]["l"].min() and d["coords"]["l"].max() <= 0.3
     # the same sample integrated alone with its own parameter value
     from codegen.build import CModel  # noqa: F401
-    model = sweep.load_model("furuta_sym", sweep.model_files(FURUTA_SYM.read_text()))
+    model = pipeline.compiled(parse_spec(FURUTA_SYM.read_text()))[0]
     k = 7
     x = model.integrate([0, 1.0], [0.0, d["coords"]["phi2"][k], 0.0, 0.0], u=[0.0], params=dict(varied, l=d["coords"]["l"][k]))
     assert np.array_equal(d["final"][k], x[-1])
@@ -287,7 +282,8 @@ def test_model_files_are_the_generated_c():
     """The sweep and animate build from a render without the LaTeX: the same C, header and cdef
     as `generate` writes (generated/ is what the code emits)."""
     for name in ("double_pendulum", "ship_gimbal"):
-        files = sweep.model_files((ROOT / "specs" / f"{name}.toml").read_text())
+        files, _ = pipeline.derive_and_render(parse_spec((ROOT / "specs" / f"{name}.toml").read_text()), f"{name}.toml",
+                                              targets=("c",))
         assert sorted(files) == sorted(f"{name}.{e}" for e in ("c", "h", "cdef"))
         for k, v in files.items():
             assert v == (ROOT / "generated" / name / k).read_text(), k

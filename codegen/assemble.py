@@ -1,0 +1,283 @@
+"""Model assembly: the derivation stages' outputs → the straight-line code of every emitted
+function, with the forms of φ̈ and of its derivatives chosen by the cost model (op counts).
+
+It reads the stages (kinematics, dynamics, integrals, aba, derivatives, world, quadratures) and
+prints nothing: the printers (``printers/``) take the ``Model`` it returns.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from . import aba, derivatives, quadratures, world
+from .algebra import Poly
+from .dynamics import Dynamics
+from .integrals import Integrals
+from .kinematics import Kinematics
+from .spec import T as TIME, ChainSpec
+from .straightline import StraightLine, straight_line
+
+
+def ldlt_op_count(n: int) -> int:
+    """Floating-point operations of the emitted LDLᵀ factorization and solve (unrolled: one
+    reciprocal per pivot, products and differences as written)."""
+    factor = sum(2 * j + 1 + (n - 1 - j) * (2 * j + 1) for j in range(n))
+    solve = 2 * sum(2 * j for j in range(n)) + n
+    return factor + solve
+
+
+@dataclass(frozen=True)
+class Stages:
+    """The three derivation stages of one spec: kinematics, dynamics, integrals."""
+
+    kin: Kinematics
+    dyn: Dynamics
+    ints: Integrals
+    kin_defs: int | None = None  # how many of the program's definitions the kinematics made
+
+
+@dataclass(frozen=True)
+class Model:
+    """Everything the generator derived for one spec: inputs of all printers."""
+
+    spec: ChainSpec
+    kin: Kinematics
+    dyn: Dynamics
+    integrals: Integrals
+    lines: dict  # name → StraightLine (mass_matrix, forces, qdd, energy, momentum)
+    qdd_form: str  # "composite" (M and f, then LDLᵀ) or "articulated" (aba.py: φ̈ and pivots)
+    quad: quadratures.TwoBody | None = None  # the integrable two-body case (28)–(30), when it applies
+    der: derivatives.Derivatives | derivatives.Tangent | world.World | None = None  # ∂φ̈/∂(φ, φ̇, u)
+    der_store: tuple = ()  # the recursion's quantities the columns of ∂φ̈ read (C: the array b)
+    der_form: str = "specialised"  # "specialised", "generic" (forward mode) or "world" (world.py)
+    # the general case's stages again with ω⁰, ε⁰, v̇₀, γ⁰ as symbols (the LaTeX states (8)–(10)
+    # with the platform's terms apart); None for a fixed base without loads or when not asked for
+    symbolic: Stages | None = None
+
+
+class FormNotApplicable(ValueError):
+    """A forced form that this spec cannot have."""
+
+
+QDD_FORMS = ("auto", "composite", "articulated")
+DER_FORMS = ("auto", "forward", "world")  # NAME_qdd_derivatives: forward mode, or world.py's inverse dynamics
+
+
+def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None, qdd_form: str = "auto",
+                der_form: str = "auto") -> Model:
+    """The straight-line code of every function.  φ̈ is emitted in whichever form costs fewer
+    operations for this spec (``qdd_form="auto"``): composite bodies + LDLᵀ (short chains) or
+    articulated bodies (long ones); ties go to the composite form.  Its derivatives likewise
+    (``der_form="auto"``): the forward mode of the articulated recursion, or the inverse dynamics
+    in frame 0 (world.py) where that applies and costs less."""
+    if qdd_form not in QDD_FORMS:
+        raise ValueError(f"qdd_form must be one of {', '.join(QDD_FORMS)}, not {qdd_form!r}")
+    if der_form not in DER_FORMS:
+        raise ValueError(f"der_form must be one of {', '.join(DER_FORMS)}, not {der_form!r}")
+    if der_form == "world" and not world.applies(spec, kin, dyn):
+        raise FormNotApplicable("the world form needs a fixed base, constant rotors and no body loads; this spec has "
+                                + ("a moving platform" if kin.platform is not None else "rotors that change" if dyn.Lamdot else "body loads"))
+    n = spec.n
+    say = progress or (lambda msg: None)
+    lower = [dyn.M[i][j] for i in range(n) for j in range(i + 1)]
+    lines = {}
+    say("straight-line code: mass matrix, forces, qdd, integrals")
+    P = kin.prog
+    lines["mass_matrix"] = straight_line(P, lower)
+    lines["forces"] = straight_line(P, dyn.f)
+    composite = straight_line(P, lower + list(dyn.f))
+    art = aba.derive(spec, kin, dyn)
+    articulated = straight_line(P, list(art.qdd) + list(art.pivots))
+    cheaper = articulated.op_count() < composite.op_count() + ldlt_op_count(n)
+    if qdd_form == "articulated" or (qdd_form == "auto" and cheaper):
+        lines["qdd"], form = articulated, "articulated"
+    else:
+        lines["qdd"], form = composite, "composite"
+    say(f"qdd: {form} form ({articulated.op_count()} ops articulated, {composite.op_count() + ldlt_op_count(n)} composite + LDL^T)")
+    lines["energy"] = straight_line(P, [ints.energy])
+    if ints.momentum is not None:
+        lines["momentum"] = straight_line(P, [ints.momentum])
+    if ints.jacobi is not None:
+        lines["jacobi"] = straight_line(P, [ints.jacobi])
+    quad = quadratures.derive(spec, kin, dyn, ints)
+    if quad is not None:
+        lines["quad_terms"] = straight_line(P, quad.terms)
+    # last, so that the names of everything above do not depend on it; the world form after all
+    # the rest (where it applies and is not chosen, the other names stay what they were)
+    say("straight-line code: derivatives of qdd")
+    use_world = der_form != "forward" and world.applies(spec, kin, dyn)
+    forward = None if der_form == "world" else _forward(spec, kin, art, articulated, skip_generic=use_world)
+    if forward is not None:
+        der_lines = forward[2]
+        lines.update(der_lines)
+    if canonical_applies(spec, kin, dyn, lines):
+        say("straight-line code: momenta p = dL/dphidot and their rate (the symplectic GAUSS2)")
+        can = derivatives.canonical(spec, kin, dyn)
+        lines["momenta"] = straight_line(P, list(can.p))
+        lines["velocity_terms"] = straight_line(P, lower + list(can.k))
+        lines["pdot"] = straight_line(P, list(can.pdot))
+    chosen = forward
+    if use_world:
+        w = _world(spec, kin, dyn, art)
+        ndir = 2 * n + len(spec.controls)
+        line_ops = w[2]["qdd_derivatives"].op_count()
+        w_count = world_op_count(n, ndir, line_ops)
+        f_count = sum(line.op_count() for line in forward[2].values()) if forward is not None else None
+        if f_count is None or line_ops + WORLD_LOOP_WEIGHT * (w_count - line_ops) < f_count:
+            for key in forward[2] if forward is not None else ():
+                del lines[key]
+            lines.update(w[2])
+            chosen = w
+        say(f"derivatives: world form {w_count} ops" + (f", forward mode {f_count}" if f_count is not None else ""))
+    der, store, _, form_d = chosen
+    say(f"derivatives: {form_d} form")
+    return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d)
+
+
+def _forward(spec, kin, art, articulated: StraightLine, skip_generic: bool) -> tuple:
+    """(der, store, lines, form) of the forward mode: one specialised function per column, or past
+    SPECIALISED_MAX_OPS one generic tangent called per column (not derived when
+    ``skip_generic``: the world form will be used).  None when nothing was derived."""
+    n = spec.n
+    P = kin.prog
+    lines: dict = {"qdd_derivatives": articulated}
+    ndir = 2 * n + len(spec.controls)
+    base = [a for a, _ in P.needed(list(art.qdd) + list(art.pivots))]
+    have = frozenset(base)
+    # the specialised columns cost about 0.1–0.6 of the recursion per direction: past 4× the budget
+    # by that estimate they are not derived at all (n = 32 would take minutes of Python)
+    if articulated.op_count() * ndir <= 4 * SPECIALISED_MAX_OPS:
+        used: set = set()
+        der = derivatives.derive(spec, kin, art)
+        for j, label in enumerate(der.labels):
+            line = straight_line(P, [der.dqdd[k][j] for k in range(n)], prefix=f"w{label}_", have=have)
+            lines[f"d_{label}"] = line
+            used |= _reads(P, line) & have
+        if sum(lines[f"d_{lab}"].op_count() for lab in der.labels) <= SPECIALISED_MAX_OPS:
+            return der, tuple(a for a in base if a in used), lines, "specialised"
+    if skip_generic:
+        return None
+    der = derivatives.derive_tangent(spec, kin, art)
+    lines = {"qdd_derivatives": articulated, "d_jvp": straight_line(P, list(der.jvp), prefix="wt", have=have)}
+    used = _reads(P, lines["d_jvp"]) & have
+    return der, tuple(a for a in base if a in used), lines, "generic"
+
+
+def _world(spec, kin, dyn, art) -> tuple:
+    """(der, store, lines, form) of the world form: φ̈ and world.py's per-joint vectors in one
+    straight line; the pairs and the solve are loops of the template."""
+    P = kin.prog
+    der = world.derive(spec, kin, dyn, art)
+    outs = [c for name in world.VECTORS for v in der.vec[name] for c in v] + [d for _, _, d in der.ext]
+    return der, (), {"qdd_derivatives": straight_line(P, list(art.qdd) + list(art.pivots) + outs)}, "world"
+
+
+# An operation of the world form's loops (6-dots of arrays, the LDLᵀ solve) costs about twice one of
+# straight-line code (measured with gcc -O2: arm7 4.3 µs world vs 4.0 µs forward mode at op counts
+# 10.6k vs 13.6k; random spatial chain n = 8 5.5 µs vs 9.1 µs); the choice weighs them so.
+WORLD_LOOP_WEIGHT = 2
+
+
+def world_op_count(n: int, ndir: int, line_ops: int) -> int:
+    """Operations of the world form: its straight line, then in loops the 6-dots of M's lower
+    triangle and of ∂ID (two per pair below the diagonal, one on and above it, for φ and φ̇),
+    the LDLᵀ factorization and the solve with every column."""
+    below, upper = n * (n - 1) // 2, n * (n + 1) // 2
+    pairs = 11 * upper + 2 * (24 * below + 11 * upper)
+    factor = sum(2 * j * (n - j) + 2 * j for j in range(n))
+    solve = ndir * (2 * n * (n - 1) + n)
+    return line_ops + pairs + factor + solve
+
+
+def canonical_applies(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, lines: dict) -> bool:
+    """Whether the model gets Hamilton's variables (NAME_momenta, NAME_velocities, NAME_pdot and
+    NAME_GAUSS2_SYMPLECTIC): a fixed base, every λ constant and nothing that reads t, so that
+    p = M φ̇ + k(φ) and the flow in (φ, p) is autonomous."""
+    return kin.platform is None and not dyn.Lamdot and not any(reads_time(lines[k]) for k in ("forces", "qdd"))
+
+
+# Above this many operations in all the specialised columns of ∂φ̈ together (about n = 10 for a
+# spatial gyrostat chain), NAME_qdd_derivatives uses one generic tangent function called per column
+# instead: exact all the same, ~2n times less code to compile, at most a few times the run time.
+SPECIALISED_MAX_OPS = 60000
+
+
+def _reads(P, line: StraightLine) -> set:
+    """The program quantities a straight-line section reads."""
+    out: set = set()
+    for _, rhs in line.temporaries:
+        if isinstance(rhs, Poly):
+            out.update(rhs.atoms())
+        else:
+            out.update(a for a in (P.quantity(s) for s in rhs.free_symbols) if a is not None)
+    for o in line.outputs:
+        out.update(o.atoms())
+    return out
+
+
+GAUSS2_NEWTON_MAX_N = 16  # GAUSS2's Newton matrix is 2n × 2n on the stack: 8 KB at n = 16
+
+
+def newton_sweeps(n: int, counts: dict) -> int:
+    """A simplified Newton solve of GAUSS2's stages in fixed-point sweeps (2 rhs each): the
+    Jacobian, the LU of the 2n × 2n matrix (⅔(2n)³ flops) and ~3 iterations of 2 rhs."""
+    rhs = max(1, counts["qdd"])
+    setup = (counts.get("qdd_derivatives", 0) + 2 * (2 * n) ** 3 // 3) / rhs
+    return int(round(setup / 2 + 3))
+
+
+def newton_sweeps_canonical(n: int, counts: dict) -> int:
+    """The same for GAUSS2_SYMPLECTIC: 2n + 1 canonical evaluations for the Jacobian by differences,
+    the LU of the 4n × 4n matrix and ~4 iterations, in sweeps of 2 canonical evaluations."""
+    g = max(1, counts.get("velocities", 0) + counts.get("pdot", 0))
+    setup = ((2 * n + 1) * g + 2 * (4 * n) ** 3 // 3) / g
+    return int(round(setup / 2 + 4))
+
+
+# NAME_qdd_derivatives: φ̈ by the articulated recursion (line "qdd_derivatives"), then one column of
+# ∂φ̈ per direction (lines "d_q1" …), each its own static C function reading the recursion's values
+# it needs from an array: a Jacobian of a long chain is too big for one function (gcc's time grows
+# faster than its length); a block whose output is NULL is not computed.
+
+def reads_time(line: StraightLine) -> bool:
+    """Whether a straight-line program reads t (a prescribed motion, λ(t), a load of t)."""
+    for _, rhs in line.temporaries:
+        if isinstance(rhs, Poly):
+            if any(a.sym == TIME for a in rhs.atoms()):
+                return True
+        elif rhs.has(TIME):
+            return True
+    return any(a.sym == TIME for o in line.outputs for a in o.atoms())
+
+
+def time_dependent(model: Model) -> bool:
+    """Whether any emitted function of the state needs t (then all of them but NAME_mass_matrix
+    and NAME_jacobi take it, first; the header says so with NAME_TIME_DEPENDENT 1)."""
+    return any(reads_time(model.lines[k]) for k in ("forces", "qdd", "energy", "momentum") if k in model.lines)
+
+
+
+def op_counts(model: Model) -> dict[str, int]:
+    """Op count of each emitted function (multiplications, additions and function calls of the
+    straight-line code; the qdd and rhs counts include the unrolled LDLᵀ solve)."""
+    n = model.spec.n
+    blocks = ["qdd_derivatives", "d_jvp"] + ([f"d_{lab}" for lab in model.der.labels] if model.der else [])
+    counts = {name: line.op_count() for name, line in model.lines.items() if name not in blocks}
+    if model.qdd_form == "composite":
+        counts["qdd"] += ldlt_op_count(n)
+    counts["rhs"] = counts["qdd"]
+    if "velocity_terms" in counts:  # M and k, then φ̇ = M⁻¹(p − k) by LDLᵀ
+        counts["velocities"] = counts.pop("velocity_terms") + ldlt_op_count(n) + n
+    if model.der is not None:
+        # φ̈ by the articulated recursion, then every block of derivatives
+        if model.der_form == "world":  # the straight line, then the loops
+            ndir = 2 * n + len(model.spec.controls)
+            counts["qdd_derivatives"] = world_op_count(n, ndir, model.lines["qdd_derivatives"].op_count())
+        elif "d_jvp" in model.lines:  # run-time count: the tangent once per column
+            cols = len(model.der.labels) * model.lines["d_jvp"].op_count()
+            counts["qdd_derivatives"] = model.lines["qdd_derivatives"].op_count() + cols
+        else:
+            counts["qdd_derivatives"] = sum(model.lines[b].op_count() for b in blocks if b in model.lines)
+        counts["linearize"] = counts["qdd_derivatives"]
+    return counts
+
+

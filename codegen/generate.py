@@ -1,0 +1,131 @@
+"""``generate``: a spec → a folder of C, Python and LaTeX (and the compiled extension), and the
+report of what was derived: sizes, op counts, forms, which integrals exist and why.
+
+    result = generate.run(spec, Path("generated/gimbal"), "gimbal.toml")
+    print("\\n".join(generate.report(result)))
+
+Outputs go to a temporary folder beside the target and replace it in one rename at the end
+(pipeline.write_tree): a failure leaves the old folder as it was.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from . import pipeline
+from .assemble import Model, op_counts, time_dependent
+from .spec import SpecError
+
+DERIVATIVE_FORMS = {
+    "specialised": "forward mode over the articulated recursion, one function per column",
+    "generic": "forward mode over the articulated recursion, one tangent called per column",
+    "world": "inverse dynamics differentiated in frame 0, M^-1 by LDL^T, O(n^2) pairs",
+}
+
+
+@dataclass(frozen=True)
+class Result:
+    spec: object
+    model: Model
+    target: Path
+    files: tuple  # the file names written
+    build: str | None  # "compiled", "reused" or None (--no-build)
+
+
+def run(spec, target: Path, label: str, build: bool = True, force: bool = False, qdd_form: str = "auto",
+        der_form: str = "auto", progress=None) -> Result:
+    """Derive, print and write ``spec`` into ``target`` (built unless ``build`` is False).  A
+    folder this generator did not write is replaced only with ``force``."""
+    target = Path(target)
+    if not pipeline.is_ours(target) and not force:
+        raise SpecError("-o", f"{target} exists and was not written by codegen; choose another folder or pass --force")
+    say = progress or (lambda msg: None)
+    try:
+        files, model = pipeline.derive_and_render(spec, label, say, qdd_form=qdd_form, der_form=der_form)
+    except pipeline.FormNotApplicable as exc:
+        raise SpecError("--derivative-form", str(exc)) from None
+    if build:
+        say("compiling the cffi extension (unless the one there was built from the same C and flags)")
+    how = pipeline.write_tree(files, target, build, spec.name)
+    return Result(spec, model, target, tuple(sorted(files)), how)
+
+
+def report(result: Result) -> list[str]:
+    """What ``generate`` prints: the model's size and forms, the integrals, the quadratures, the
+    motion of the spec's [initial] state, and what was written."""
+    spec, model = result.spec, result.model
+    counts = op_counts(model)
+    out = [f"{spec.name}: n = {spec.n}, {len(spec.params)} symbolic parameters, {len(spec.controls)} control torques"
+           + (", moving platform" if spec.base is not None and spec.base.moves else ""),
+           "op counts: " + ", ".join(f"{spec.name}_{k} {v}" for k, v in counts.items()),
+           f"qdd form: {model.qdd_form}" + (" (composite bodies + LDL^T)" if model.qdd_form == "composite" else " (articulated bodies, O(n))"),
+           f"derivative form: {model.der_form} (" + DERIVATIVE_FORMS[model.der_form] + ")"]
+    out += integral_lines(spec, model)
+    if model.quad is not None and spec.initial is not None:
+        out.append(motion_line(spec, result.target))
+    built = {None: "", "compiled": " + cffi extension",
+             "reused": " + cffi extension (not recompiled: the C, the header and the compiler flags are those it was built from)"}[result.build]
+    out.append(f"wrote {result.target}/: " + ", ".join(result.files) + built)
+    return out
+
+
+def _energy_line(spec, ints) -> str:
+    if not spec.general:
+        return "energy T - U (23): " + ("conserved (fixed base, no control torque)" if ints.has_energy_integral
+                                        else "not conserved (control torques act)")
+    if ints.has_energy_integral:
+        why = "U includes " + ", ".join(w for w, _ in ints.U_extra) if ints.U_extra else "no load but gravity does work"
+        return f"energy T - U (23): conserved ({why})"
+    return "energy T - U (23): not conserved: " + "; ".join(ints.energy_reasons) + " removed it"
+
+
+def _momentum_line(ints) -> str:
+    if ints.momentum_condition:
+        return f"momentum (27): conserved only if {ints.momentum_condition}"
+    if ints.momentum is None:
+        return "momentum (27): not an integral (theta1 is not 0 or pi: the axis l1 is not vertical)"
+    if ints.has_momentum_integral:
+        return "momentum (27): conserved (axis l1 vertical, no torque in joint 1)"
+    if ints.momentum_reasons:
+        return "momentum (27): not conserved: " + "; ".join(ints.momentum_reasons)
+    return "momentum (27): not conserved (a control torque acts in joint 1)"
+
+
+def integral_lines(spec, model: Model) -> list[str]:
+    """What ``generate`` says about the integrals and the quadratures of a spec."""
+    from .quadratures import why_not
+
+    ints = model.integrals
+    reason = why_not(spec)
+    quad = ("quadratures (30): emitted (" + ("Nikolai's balanced gyroscope, " if model.quad.nikolai else "")
+            + "NAME_quad_period, NAME_quad_state)" if reason is None else f"quadratures (30): not emitted: {reason}")
+    out = ["integrals: " + _energy_line(spec, ints), "           " + _momentum_line(ints)]
+    if spec.general and spec.base is not None and spec.base.moves:
+        out.append("           Jacobi integral T2 - T0 - U - sum lambda.omega0: " + (
+            "conserved (the platform turns uniformly, gravity fixed in it; NAME_jacobi)" if ints.jacobi is not None
+            else "none (the platform's motion or a load makes the Lagrangian depend on t)"))
+    if spec.general:
+        out.append("time: " + ("the equations depend on t (NAME_TIME_DEPENDENT 1: forces, qdd, energy, momentum take t)"
+                               if time_dependent(model) else "autonomous (NAME_TIME_DEPENDENT 0)"))
+    return [line.replace("NAME_T", f"{spec.name.upper()}_T").replace("NAME", spec.name) for line in out] + [quad.replace("NAME", spec.name)]
+
+
+def motion_line(spec, target: Path) -> str:
+    """The kind of motion of the spec's [initial] state, by the generated Python module itself."""
+    from .build import load_python
+
+    if spec.params:
+        return "motion of [initial]: needs values of the parameters (" + ", ".join(map(str, spec.params)) + ")"
+    mod = load_python(target, spec.name)
+    x0 = [*spec.initial["phi"], *spec.initial["phidot"]]
+    try:
+        m = mod.quad_motion(x0)
+    except ArithmeticError as exc:
+        return f"motion of [initial]: {exc}"
+    if m["kind"] == "libration":
+        return (f"motion of [initial]: libration of phi2 between {m['phi_min']:.9g} and {m['phi_max']:.9g} rad, "
+                f"period {m['period']:.12g} s, psi gains {m['psi_advance']:.9g} rad per period")
+    if m["kind"] == "rotation":
+        return (f"motion of [initial]: rotation (phi2 runs round), period {m['period']:.12g} s per turn, "
+                f"psi gains {m['psi_advance']:.9g} rad per turn")
+    return "motion of [initial]: steady (phi2 stays constant, psi turns uniformly)"

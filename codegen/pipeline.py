@@ -1,0 +1,188 @@
+"""The one route from a spec to a compiled model: ``derive`` → ``render`` → ``compile``.
+
+Every command (generate, simulate, steady, sweep and its Dask workers, animate) and the tests
+take this route, so a spec is derived once per process and a model's C is compiled once per
+machine: ``compile`` keeps the extension in a cache folder named by the build key (the C, header
+and cdef texts, the flags, the compiler and the Python ABI; build.build_key), and a file lock lets
+one process build while the others wait for it and load its build.
+
+    model = pipeline.derive(spec)                      # assemble.Model: everything derived once
+    files = pipeline.render(model, targets=("c",))    # {file name: text}, only what was asked
+    cm = pipeline.compile(files, spec.name)            # build.CModel, built once per machine
+"""
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import os
+import shutil
+import tempfile
+import threading
+from collections import OrderedDict
+from pathlib import Path
+
+from . import assemble, build, dynamics, integrals, kinematics, printers
+from .assemble import FormNotApplicable, Model, Stages  # noqa: F401  (the pipeline's vocabulary)
+
+C_FILES = (".c", ".h", ".cdef")  # what an extension is built from
+
+_DERIVED: OrderedDict = OrderedDict()  # (spec text, forms) → Model, the last few derived
+_DERIVED_MAX = 24
+_LOCK = threading.Lock()
+_LOADED: dict = {}  # content hash of the sources → CModel (an extension loads once per process)
+
+
+def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = True, progress=None) -> Model:
+    """Everything the printers need, derived once: kinematics (15)/(1)–(3), dynamics (17)–(19) or
+    (8)–(10), the integrals (23), (27) and Jacobi's, the forms of φ̈ and of its derivatives chosen
+    by op count, the quadratures (30) and Hamilton's variables where they exist, and (``latex``,
+    general case only) the stages again with the platform's motion as symbols for the LaTeX.
+    The same spec text and options give the same Model object within a process."""
+    key = (spec.source, qdd_form, der_form)
+    with _LOCK:
+        found = _DERIVED.get(key)
+    if found is not None:
+        if latex and spec.general and found.symbolic is None:
+            found = _remember(key, _with_symbolic(found))
+        return found
+    say = progress or (lambda msg: None)
+    say(f"kinematics: direction cosines and angular velocities of {spec.n} bodies")
+    kin = kinematics.derive(spec)
+    say("dynamics: mass matrix and forces (recursions over the sub-chains p >= k)")
+    dyn = dynamics.derive(spec, kin)
+    say("integrals: energy (23) and, where l1 may be vertical, momentum (27)")
+    ints = integrals.derive(spec, kin, dyn)
+    model = assemble.build_model(spec, kin, dyn, ints, progress=say, qdd_form=qdd_form, der_form=der_form)
+    if latex and spec.general:
+        say("the general case again with the platform's motion as symbols (for the LaTeX)")
+        model = _with_symbolic(model)
+    return _remember(key, model)
+
+
+def _remember(key, model: Model) -> Model:
+    with _LOCK:
+        _DERIVED[key] = model
+        _DERIVED.move_to_end(key)
+        while len(_DERIVED) > _DERIVED_MAX:
+            _DERIVED.popitem(last=False)
+    return model
+
+
+def _with_symbolic(model: Model) -> Model:
+    from dataclasses import replace
+
+    kin = kinematics.derive(model.spec, symbolic_platform=True)
+    kin_defs = len(kin.prog.defs)
+    dyn = dynamics.derive(model.spec, kin)
+    return replace(model, symbolic=Stages(kin, dyn, integrals.derive(model.spec, kin, dyn), kin_defs))
+
+
+def render(model: Model, spec_label: str | None = None, targets=printers.ALL) -> dict[str, str]:
+    """The emitted files of the asked targets ("c", "python", "latex"), by file name; with all
+    three also MANIFEST.json.  ``spec_label``: how the header names the spec (default NAME.toml)."""
+    if "latex" in targets and model.spec.general and model.symbolic is None:
+        model = _with_symbolic(model)
+    return printers.render(model, spec_label or f"{model.spec.name}.toml", targets)
+
+
+def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_form: str = "auto",
+                      der_form: str = "auto", targets=printers.ALL) -> tuple[dict[str, str], Model]:
+    """``derive`` then ``render``: the files and the model."""
+    model = derive(spec, qdd_form, der_form, latex="latex" in targets, progress=progress)
+    say = progress or (lambda msg: None)
+    say("printing " + ", ".join({"c": "C", "python": "Python", "latex": "LaTeX"}[t] for t in printers.ALL if t in targets))
+    return render(model, spec_label, targets), model
+
+
+# --------------------------------------------------------------------------- compile
+def cache_root() -> Path:
+    """Where compiled models are kept: $GYROCHAIN_CACHE, else gyrochain-cache in the temp folder."""
+    return Path(os.environ.get("GYROCHAIN_CACHE") or Path(tempfile.gettempdir()) / "gyrochain-cache")
+
+
+def compile(files: dict[str, str], name: str) -> build.CModel:  # noqa: A001  (the pipeline's verb)
+    """The compiled model of these sources (the C, header and cdef of ``files``; others are
+    ignored), built once per machine in the cache and loaded once per process."""
+    sources = {k: v for k, v in files.items() if k.endswith(C_FILES)}
+    memo = hashlib.sha256("\0".join(f"{k}\0{sources[k]}" for k in sorted(sources)).encode("utf-8")).hexdigest()
+    with _LOCK:
+        if memo in _LOADED:
+            return _LOADED[memo]
+    root = cache_root()
+    root.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix="stage-", dir=root))
+    try:
+        for k, v in sources.items():
+            (staging / k).write_text(v, encoding="utf-8")
+        key = build.build_key(staging, name)
+        home = root / f"{name}-{key[:20]}"
+        with open(root / f"{name}-{key[:20]}.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)  # one builder; the others wait here and load its build
+            found = build.extensions(home, name) if home.is_dir() else []
+            if not found:
+                build.compile_model(staging, name)
+                shutil.rmtree(home, ignore_errors=True)
+                staging.rename(home)
+                staging = None
+                found = build.extensions(home, name)
+        model = build.CModel(found[0], name)
+    finally:
+        if staging is not None:
+            shutil.rmtree(staging, ignore_errors=True)
+    with _LOCK:
+        return _LOADED.setdefault(memo, model)
+
+
+def compiled(spec, qdd_form: str = "auto", der_form: str = "auto") -> tuple[build.CModel, Model]:
+    """A parsed spec's compiled model and its derivation (without the LaTeX)."""
+    files, model = derive_and_render(spec, targets=("c",), qdd_form=qdd_form, der_form=der_form)
+    return compile(files, spec.name), model
+
+
+# --------------------------------------------------------------------------- write
+def is_ours(directory: Path) -> bool:
+    """A folder we may replace: missing, empty, or written by this generator (it has our MANIFEST.json)."""
+    import json
+
+    if not directory.exists():
+        return True
+    if not directory.is_dir():
+        return False
+    if not any(directory.iterdir()):
+        return True
+    try:
+        return "spec_sha256" in json.loads((directory / "MANIFEST.json").read_text())
+    except (OSError, ValueError):
+        return False
+
+
+def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str) -> str | None:
+    """Write every file into a fresh temporary folder, build there, then swap it in: nothing
+    half-written is ever at ``target``.  The build is skipped when the folder's extension was
+    built from the same C, header and cdef with the same flags (build.build_key): returns
+    "compiled", "reused" or None (no build)."""
+    target = Path(target)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+    how = None
+    try:
+        for rel, text in sorted(files.items()):
+            with open(tmp / rel, "w", encoding="utf-8", newline="\n") as fh:
+                fh.write(text)
+        if build_it:
+            if target.is_dir() and build.reuse_extension(target, tmp, name):
+                how = "reused"
+            else:
+                build.compile_model(tmp, name)
+                how = "compiled"
+        old = None
+        if target.exists():
+            old = target.parent / f".{target.name}.old-{os.getpid()}"
+            target.rename(old)
+        tmp.rename(target)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return how

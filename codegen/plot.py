@@ -1,0 +1,77 @@
+"""``plot``: the pictures of a sweep store (matplotlib, the ``sweep`` extra)."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+from . import sweep as sw
+from .spec import SpecError
+
+
+def store(path: str | Path, output: str | Path, measure: str = "", component: int = 0, cmap: str = "viridis",
+          log: bool = False, dpi: int = 150) -> Path:
+    """A heat map (two varied quantities), a scatter (random samples) or a curve (one) of a sweep
+    store's measure, written to ``output`` (png, pdf, svg); returns its path."""
+    if not Path(path).exists():
+        raise SpecError("store", f"{path}: no such store")
+    data = sw.read(path)
+    a = data["attrs"]["args"]
+    measure = measure or a["measures"][0]
+    if measure not in data:
+        raise SpecError("--measure", f"{measure!r} is not in the store (it has {', '.join(a['measures'])})")
+    values = data[measure]
+    if measure == "final":
+        values = values[..., component]
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise SpecError("plot", "needs matplotlib: pip install 'gyrochain[plot]'") from None
+    names = [v[0] for v in a["vary"]]
+    label = _measure_label(measure, component, data["attrs"])
+    fig, ax = plt.subplots(figsize=(6.4, 5.2) if len(names) == 2 else (6.4, 4.0), dpi=dpi)
+    if len(names) == 2 and not a["random"]:
+        x, y = data["coords"][names[0]], data["coords"][names[1]]
+        norm = None
+        if log:
+            from matplotlib.colors import LogNorm
+            norm = LogNorm()
+        im = ax.pcolormesh(x, y, values.T, shading="nearest", cmap=cmap, norm=norm)
+        fig.colorbar(im, ax=ax, label=label)
+        ax.set_xlabel(_axis_label(names[0]))
+        ax.set_ylabel(_axis_label(names[1]))
+    elif len(names) == 2:
+        sc = ax.scatter(data["coords"][names[0]], data["coords"][names[1]], c=values, s=4, cmap=cmap)
+        fig.colorbar(sc, ax=ax, label=label)
+        ax.set_xlabel(_axis_label(names[0]))
+        ax.set_ylabel(_axis_label(names[1]))
+    elif len(names) == 1:
+        x = data["coords"][names[0]]
+        order = np.argsort(x)
+        ax.plot(x[order], values[order], ".-" if len(x) < 200 else "-")
+        ax.set_xlabel(_axis_label(names[0]))
+        ax.set_ylabel(label)
+    else:
+        raise SpecError("store", f"plot shows one or two varied quantities; this sweep varies {len(names)}")
+    ax.set_title(f"{data['attrs']['spec_name']}: {label}")
+    fig.tight_layout()
+    fig.savefig(output)
+    plt.close(fig)
+    return Path(output)
+
+
+def _axis_label(name: str) -> str:
+    m = re.fullmatch(r"(phi|phidot)(\d+)", name)
+    if not m:
+        return name
+    return f"$\\varphi^{{{m.group(2)}}}$ (rad)" if m.group(1) == "phi" else f"$\\dot\\varphi^{{{m.group(2)}}}$ (rad/s)"
+
+
+def _measure_label(measure: str, component: int, attrs: dict) -> str:
+    t1 = attrs["args"]["t1"]
+    return {"flip_time": f"flip time (s; blank: none within {t1:g} s)", "energy_error": "largest |E(t) - E(0)|",
+            "lyapunov": "largest Lyapunov exponent (1/s)", "code": "integrator return code"}.get(
+        measure, f"final state component {component}")

@@ -1,0 +1,36 @@
+"""The Python target: ``NAME.py``, the same functions as the C in pure Python (the quadratures'
+functions of φ on numpy arrays)."""
+from __future__ import annotations
+
+from sympy.printing.pycode import PythonCodePrinter
+
+from .common import NumbersAsDoubles, functions
+
+
+class PyPrinter(NumbersAsDoubles, PythonCodePrinter):
+    def __init__(self, names: dict):
+        super().__init__({"fully_qualified_modules": True})
+        self.names = names
+
+    def _print_Pow(self, expr, rational=False):
+        return self._pow(expr, "math.sqrt", "1.0") or super()._print_Pow(expr, rational)
+
+
+class NumpyPrinter(PyPrinter):
+    """Python on numpy arrays: the functions of φ that the quadratures evaluate at many nodes."""
+
+    def _np(self, expr):
+        return f"np.{type(expr).__name__}({self._print(expr.args[0])})"
+
+    _print_sin = _print_cos = _print_tan = _np
+
+    def _print_Pow(self, expr, rational=False):
+        return self._pow(expr, "np.sqrt", "1.0") or super()._print_Pow(expr, rational)
+
+
+class PythonTarget:
+    suffixes = (".py",)
+
+    def files(self, model, context: dict, env) -> dict[str, str]:
+        ctx = dict(context, py=functions(model, PyPrinter, "py", array_printer_cls=NumpyPrinter))
+        return {f"{model.spec.name}.py": env.get_template("model.py.jinja").render(ctx)}
