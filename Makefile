@@ -1,5 +1,6 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
-# make test                           set up .venv and run the test suite
+# make test                           set up .venv and run the whole test suite (tests/unit, models, physics, tools)
+# make test-fast                      the unit layer only: the stages, printers, pipeline and architecture, no compiler (< 1 min)
 # make plot                           the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map (docs/)
 # make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost; ensembles against
@@ -13,7 +14,7 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test pdf plot animations clean bench bench-setup bench-speed
+.PHONY: all setup generate generate-all test test-fast pdf plot animations clean bench bench-setup bench-speed
 
 all: generate
 
@@ -35,6 +36,9 @@ generate-all: setup
 JOBS ?= 2
 test: setup
 	$(VPY) -m pytest -q -n $(JOBS) --dist loadfile
+
+test-fast: setup
+	$(VPY) -m pytest -q -n $(JOBS) tests/unit
 
 $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,plot,sweep,view,rollout]'

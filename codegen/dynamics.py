@@ -20,7 +20,7 @@ the force of the sub-chain k…n under a unit φ̈ᵏ is carried from Oᵏ back 
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from .algebra import ZERO, Poly
 from .kinematics import NULL, Kinematics
@@ -98,116 +98,151 @@ def joint_torque(spec: ChainSpec, kin: Kinematics, k: int) -> Poly:
     return out
 
 
-def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
-    n = spec.n
-    P = kin.prog
-    J, w, qd = kin.joint, kin.omega, kin.qd
-    num = P.from_sympy
-    A = [None] + [[[num(x) for x in row] for row in b.A] for b in spec.bodies]
-    c = [None] + [[num(x) for x in b.c] for b in spec.bodies]
-    s = [None] + [[num(x) for x in b.s] for b in spec.bodies]
-    lam = [None] + [[num(x) for x in b.lam] for b in spec.bodies]
-    m = [None] + [num(b.m) for b in spec.bodies]
-    g = num(spec.g)
-    timed_lam = any(x.has(T) for b in spec.bodies for x in b.lam)
-    lamdot = [None] + [[num(x) for x in b.lam_dot] for b in spec.bodies]
-    has_loads = any(b.forces or b.moments for b in spec.bodies)
-    ext = [None] + [_external(spec, kin, k) for k in range(1, n + 1)]
+@dataclass
+class _Inertial:
+    """The bodies' data as program polynomials (index 0 unused: bodies 1..n, as in the paper).
+    Fields in the order the program defines them (a name's number follows that order)."""
 
-    # Forward recursions with φ̈ = 0: angular acceleration εᵏ (eq. (5), from ε⁰ of the platform)
-    # and the acceleration of Oᵏ (eq. (6) summed over l < k, from v̇₀), in frame k; aOg also
-    # carries gravity (base accelerating up with g), for the combined recursion.
+    A: list
+    c: list
+    s: list
+    lam: list
+    lamdot: list
+    m: list
+    g: Poly
+    timed_lam: bool  # some λᵏ depends on t: λ̊ terms
+    has_loads: bool  # some body carries [[body.force]] or [[body.moment]]
+    ext: list  # per body: (force, moment about Oᵏ, the force vectors) of its external loads
+
+
+@dataclass
+class _SubChain:
+    """The running totals of the backward pass: the sub-chain k+1…n as seen from Oᵏ⁺¹ in frame
+    k+1 (the paper's sums over p > k).  Names follow the paper: F, N force and moment of the
+    velocity-quadratic part, Gm the gyroscopic Σ ωᵖ × λᵖ, Lam Σ λᵖ, m, h, I the composite mass,
+    first moment and inertia; Fb, Nb the code's combined bias; Ld Σ λ̊ᵖ; Fl, Nl the loads."""
+
+    F: list = field(default_factory=lambda: NULL)
+    N: list = field(default_factory=lambda: NULL)
+    Gm: list = field(default_factory=lambda: NULL)
+    Lam: list = field(default_factory=lambda: NULL)
+    h: list = field(default_factory=lambda: NULL)
+    Fb: list = field(default_factory=lambda: NULL)
+    Nb: list = field(default_factory=lambda: NULL)
+    Ld: list = field(default_factory=lambda: NULL)
+    Fl: list = field(default_factory=lambda: NULL)
+    Nl: list = field(default_factory=lambda: NULL)
+    m: Poly = ZERO
+    I: list | None = None
+
+
+def _inertial(spec: ChainSpec, kin: Kinematics) -> _Inertial:
+    num = kin.prog.from_sympy
+    B = spec.bodies
+    return _Inertial(
+        A=[None] + [[[num(x) for x in row] for row in b.A] for b in B], c=[None] + [[num(x) for x in b.c] for b in B],
+        s=[None] + [[num(x) for x in b.s] for b in B], lam=[None] + [[num(x) for x in b.lam] for b in B],
+        m=[None] + [num(b.m) for b in B], g=num(spec.g), timed_lam=any(x.has(T) for b in B for x in b.lam),
+        lamdot=[None] + [[num(x) for x in b.lam_dot] for b in B], has_loads=any(b.forces or b.moments for b in B),
+        ext=[None] + [_external(spec, kin, k) for k in range(1, spec.n + 1)])
+
+
+def _forward_pass(kin: Kinematics, bd: _Inertial) -> tuple[list, list, list]:
+    """Forward pass with φ̈ = 0: the angular accelerations εᵏ (eq. (5), from the platform's ε⁰) and
+    the accelerations of Oᵏ (eq. (6) summed over l < k, from v̇₀), in frame k; aOg also carries
+    gravity (the base accelerating up with g), for the combined recursion."""
+    P, J, w, qd = kin.prog, kin.joint, kin.omega, kin.qd
     if kin.platform is None:
         eps = [NULL]
-        acc_O, acc_Og = [None, NULL], [None, P.vec("aOg1", scale(-g, kin.gamma[1]))]
+        acc_O, acc_Og = [None, NULL], [None, P.vec("aOg1", scale(-bd.g, kin.gamma[1]))]
     else:
         eps = [kin.eps0]
         a1 = P.vec("aO1", J[1].down(kin.acc0), r"a^{1}")
-        acc_O, acc_Og = [None, a1], [None, P.vec("aOg1", add(a1, scale(-g, kin.gamma[1])))]
-    for k in range(1, n + 1):
+        acc_O, acc_Og = [None, a1], [None, P.vec("aOg1", add(a1, scale(-bd.g, kin.gamma[1])))]
+    for k in range(1, kin.n + 1):
         eps.append(P.vec(f"eps{k}", add(J[k].down(eps[k - 1]), cross(w[k], [qd[k], ZERO, ZERO])), rf"\varepsilon^{{{k}}}"))
         if k > 1:
-            j = k - 1
-            rel = P.vec(f"aOrel{k}in{j}", add(cross(eps[j], s[j]), cross(w[j], P.vec(f"ws{j}", cross(w[j], s[j])))))
+            j, sj = k - 1, bd.s[k - 1]
+            rel = P.vec(f"aOrel{k}in{j}", add(cross(eps[j], sj), cross(w[j], P.vec(f"ws{j}", cross(w[j], sj)))))
             acc_O.append(P.vec(f"aO{k}", J[k].down(add(acc_O[j], rel)), rf"a^{{{k}}}"))
             acc_Og.append(P.vec(f"aOg{k}", J[k].down(add(acc_Og[j], rel))))
+    return eps, acc_O, acc_Og
 
-    # Backward recursions over the sub-chains p ≥ k.
-    F_next = N_next = Gam_next = Lam_next = h_next = Fb_next = Nb_next = Ld_next = Fl_next = Nl_next = NULL
-    m_next, I_next = ZERO, None
-    Q, Gam, Gv, bias, m_c, h_c, I_c, Lam, body_bias = ([None] * (n + 1) for _ in range(9))
-    Lamdot, Phi = [None] * (n + 1), [None] * (n + 1)
-    for k in range(n, 0, -1):
-        sk = s[k]
-        if k < n:
-            up = J[k + 1].up  # frame k+1 → frame k
-            F_in = P.vec(f"F{k + 1}in{k}", up(F_next))
-            N_in = P.vec(f"N{k + 1}in{k}", up(N_next))
-            Gam_in = P.vec(f"Gm{k + 1}in{k}", up(Gam_next))
-            Lam_in = P.vec(f"Lam{k + 1}in{k}", up(Lam_next))
-            h_in = P.vec(f"h{k + 1}in{k}", up(h_next))  # about O^{k+1}, frame k
-            I_in = J[k + 1].up_sym(I_next, f"I{k + 1}in{k}")
-            Fb_in = P.vec(f"Fb{k + 1}in{k}", up(Fb_next))
-            Nb_in = P.vec(f"Nb{k + 1}in{k}", up(Nb_next))
-        else:
-            F_in = N_in = Gam_in = Lam_in = h_in = Fb_in = Nb_in = NULL
-            I_in = [[ZERO] * 3 for _ in range(3)]
-        wcc = P.vec(f"wc{k}", cross(w[k], c[k]))
-        rel_G = add(cross(eps[k], c[k]), cross(w[k], wcc))  # a_G − a_O
-        Aw = P.vec(f"Aw{k}", matvec(A[k], w[k]))
-        Aeps_wAw = add(matvec(A[k], eps[k]), cross(w[k], Aw))
-        # the paper's split: velocity-quadratic part Σ_{p≥k} [(Aω)˙ + m c×a_O] + Σ_{q>k} d_kq × m a_G
-        F = P.vec(f"F{k}", add(scale(m[k], add(acc_O[k], rel_G)), F_in), rf"F^{{{k}}}")
-        N = P.vec(f"N{k}", add(Aeps_wAw, scale(m[k], cross(c[k], acc_O[k])), N_in, cross(sk, F_in)), rf"N^{{{k}}}")
-        # gyroscopic part: Σ_{p≥k} ω^p × λ^p
-        Gm = P.vec(f"Gm{k}", add(cross(w[k], lam[k]), Gam_in), rf"\Gamma^{{{k}}}")
-        # the code's form: one recursion for Q + Γ − G; body k's own share first (force and
-        # moment about Oᵏ of body k alone at the accelerations of φ̈ = 0, with gravity)
-        # (the external loads on the right side of (2)–(4), λ̊ of (7) on the left)
-        Fx, Nx, _ = ext[k]
-        pF = P.vec(f"pF{k}", add(scale(m[k], add(acc_Og[k], rel_G)), scale(-1.0, Fx)))
-        pN = P.vec(f"pN{k}", add(matvec(A[k], eps[k]), cross(w[k], add(Aw, lam[k])), scale(m[k], cross(c[k], acc_Og[k])),
-                                 lamdot[k], scale(-1.0, Nx)))
-        if timed_lam:  # the paper's split: e^k · Σ_{p≥k} λ̊^p
-            Ld = P.vec(f"Ld{k}", add(lamdot[k], P.vec(f"Ld{k + 1}in{k}", up(Ld_next)) if k < n else NULL))
-            Lamdot[k], Ld_next = Ld[0], Ld
-        if has_loads:  # and the generalized force of the loads: Σ e^k·M^p + e^k·(s^p × Σ F^q)
-            Fl_in = P.vec(f"Fl{k + 1}in{k}", up(Fl_next)) if k < n else NULL
-            Nl_in = P.vec(f"Nl{k + 1}in{k}", up(Nl_next)) if k < n else NULL
-            Fl = P.vec(f"Fl{k}", add(Fx, Fl_in))
-            Nl = P.vec(f"Nl{k}", add(Nx, Nl_in, cross(sk, Fl_in)))
-            Phi[k], Fl_next, Nl_next = Nl[0], Fl, Nl
-        body_bias[k] = (pF, pN)
-        Fb = P.vec(f"Fb{k}", add(pF, Fb_in))
-        Nb = P.vec(f"Nb{k}", add(pN, Nb_in, cross(sk, Fb_in)))
-        # composite mass, first moment and inertia about O^k (parallel-axis shift by s^k)
-        mc = P.let(f"mc{k}", m[k] + m_next, rf"m_c^{{{k}}}")
-        h = P.vec(f"h{k}", add(scale(m[k], c[k]), h_in, scale(m_next, sk)), rf"h^{{{k}}}")
-        ss, sh = dot(sk, sk), dot(sk, h_in)
-        I = P.sym_mat(
-            f"I{k}",
-            [
-                [
-                    A[k][i][j] + I_in[i][j]
-                    + (m_next * ss + 2 * sh if i == j else ZERO)
-                    - m_next * sk[i] * sk[j] - sk[i] * h_in[j] - h_in[i] * sk[j]
-                    for j in range(3)
-                ]
-                for i in range(3)
-            ],
-            rf"I^{{{k}}}",
-        )
-        # gravity: e^k · (h × g ê⁰₁)  (right side of (17)–(19))
-        Gv[k] = P.let(f"G{k}", g * (h[1] * kin.gamma[k][2] - h[2] * kin.gamma[k][1]), rf"G_{{{k}}}")
-        Q[k], Gam[k], bias[k] = N[0], Gm[0], Nb[0]
-        m_c[k], h_c[k], I_c[k] = mc, h, I
-        Lam[k] = P.vec(f"Lam{k}", add(lam[k], Lam_in), rf"\Lambda^{{{k}}}")
-        F_next, N_next, Gam_next, Lam_next, Fb_next, Nb_next = F, N, Gm, Lam[k], Fb, Nb
-        m_next, h_next, I_next = mc, h, I
 
-    # Mass matrix (composite bodies): a unit φ̈ᵏ, all else at rest, needs the force e¹ × hᵏ and
-    # the moment Iᵏ e¹ about Oᵏ; carried back joint by joint, their moment about Oʲ projected
-    # on eʲ is M_jk.
+def _carried_in(kin: Kinematics, k: int, nxt: _SubChain) -> _SubChain:
+    """The sub-chain k+1…n's totals turned from frame k+1 into frame k (still about Oᵏ⁺¹)."""
+    if k == kin.n:
+        return _SubChain(I=[[ZERO] * 3 for _ in range(3)])
+    P, up = kin.prog, kin.joint[k + 1].up  # frame k+1 → frame k
+    F, N, Gm, Lam, h = (P.vec(f"{nm}{k + 1}in{k}", up(v)) for nm, v in
+                        (("F", nxt.F), ("N", nxt.N), ("Gm", nxt.Gm), ("Lam", nxt.Lam), ("h", nxt.h)))
+    I = kin.joint[k + 1].up_sym(nxt.I, f"I{k + 1}in{k}")
+    Fb, Nb = P.vec(f"Fb{k + 1}in{k}", up(nxt.Fb)), P.vec(f"Nb{k + 1}in{k}", up(nxt.Nb))
+    return _SubChain(F=F, N=N, Gm=Gm, Lam=Lam, h=h, I=I, Fb=Fb, Nb=Nb, m=nxt.m, Ld=nxt.Ld, Fl=nxt.Fl, Nl=nxt.Nl)
+
+
+def _composite(P, k: int, bd: _Inertial, inn: _SubChain) -> tuple:
+    """Composite mass, first moment and inertia of the sub-chain k…n about Oᵏ (the parallel-axis
+    shift of the sub-chain k+1…n by sᵏ)."""
+    A, c, sk, m, m_next, h_in, I_in = bd.A[k], bd.c[k], bd.s[k], bd.m[k], inn.m, inn.h, inn.I
+    mc = P.let(f"mc{k}", m + m_next, rf"m_c^{{{k}}}")
+    h = P.vec(f"h{k}", add(scale(m, c), h_in, scale(m_next, sk)), rf"h^{{{k}}}")
+    ss, sh = dot(sk, sk), dot(sk, h_in)
+    I = P.sym_mat(f"I{k}", [[A[i][j] + I_in[i][j] + (m_next * ss + 2 * sh if i == j else ZERO)
+                             - m_next * sk[i] * sk[j] - sk[i] * h_in[j] - h_in[i] * sk[j] for j in range(3)]
+                            for i in range(3)], rf"I^{{{k}}}")
+    return mc, h, I
+
+
+def _backward_step(kin: Kinematics, k: int, bd: _Inertial, acc: tuple, nxt: _SubChain, out: dict) -> _SubChain:
+    """Body k joins the sub-chain k+1…n: the totals about Oᵏ in frame k; the k-th equation's
+    terms into ``out``."""
+    P, w = kin.prog, kin.omega[k]
+    eps, acc_O, acc_Og = acc
+    A, c, sk, m = bd.A[k], bd.c[k], bd.s[k], bd.m[k]
+    inn = _carried_in(kin, k, nxt)
+    wcc = P.vec(f"wc{k}", cross(w, c))
+    rel_G = add(cross(eps[k], c), cross(w, wcc))  # a_G − a_O
+    Aw = P.vec(f"Aw{k}", matvec(A, w))
+    # the paper's split: velocity-quadratic part Σ_{p≥k} [(Aω)˙ + m c×a_O] + Σ_{q>k} d_kq × m a_G
+    F = P.vec(f"F{k}", add(scale(m, add(acc_O[k], rel_G)), inn.F), rf"F^{{{k}}}")
+    N = P.vec(f"N{k}", add(add(matvec(A, eps[k]), cross(w, Aw)), scale(m, cross(c, acc_O[k])), inn.N, cross(sk, inn.F)),
+              rf"N^{{{k}}}")
+    Gm = P.vec(f"Gm{k}", add(cross(w, bd.lam[k]), inn.Gm), rf"\Gamma^{{{k}}}")  # gyroscopic: Σ_{p≥k} ωᵖ × λᵖ
+    # the code's form: one recursion for Q + Γ − G; body k's own share first (force and moment
+    # about Oᵏ of body k alone at the accelerations of φ̈ = 0, with gravity, the external loads
+    # of the right side of (2)–(4) and λ̊ of (7))
+    Fx, Nx, _ = bd.ext[k]
+    pF = P.vec(f"pF{k}", add(scale(m, add(acc_Og[k], rel_G)), scale(-1.0, Fx)))
+    pN = P.vec(f"pN{k}", add(matvec(A, eps[k]), cross(w, add(Aw, bd.lam[k])), scale(m, cross(c, acc_Og[k])),
+                             bd.lamdot[k], scale(-1.0, Nx)))
+    Ld = Fl = Nl = NULL
+    if bd.timed_lam:  # the paper's split: eᵏ · Σ_{p≥k} λ̊ᵖ
+        Ld = P.vec(f"Ld{k}", add(bd.lamdot[k], P.vec(f"Ld{k + 1}in{k}", kin.joint[k + 1].up(nxt.Ld)) if k < kin.n else NULL))
+        out["Lamdot"][k] = Ld[0]
+    if bd.has_loads:  # and the loads' generalized force: Σ eᵏ·Mᵖ + eᵏ·(sᵖ × Σ F^q)
+        Fl_in = P.vec(f"Fl{k + 1}in{k}", kin.joint[k + 1].up(nxt.Fl)) if k < kin.n else NULL
+        Nl_in = P.vec(f"Nl{k + 1}in{k}", kin.joint[k + 1].up(nxt.Nl)) if k < kin.n else NULL
+        Fl = P.vec(f"Fl{k}", add(Fx, Fl_in))
+        Nl = P.vec(f"Nl{k}", add(Nx, Nl_in, cross(sk, Fl_in)))
+        out["Phi"][k] = Nl[0]
+    out["body_bias"][k] = (pF, pN)
+    Fb = P.vec(f"Fb{k}", add(pF, inn.Fb))
+    Nb = P.vec(f"Nb{k}", add(pN, inn.Nb, cross(sk, inn.Fb)))
+    mc, h, I = _composite(P, k, bd, inn)
+    # gravity: eᵏ · (h × g ê⁰₁)  (right side of (17)–(19))
+    out["G"][k] = P.let(f"G{k}", bd.g * (h[1] * kin.gamma[k][2] - h[2] * kin.gamma[k][1]), rf"G_{{{k}}}")
+    Lam = P.vec(f"Lam{k}", add(bd.lam[k], inn.Lam), rf"\Lambda^{{{k}}}")
+    out["Q"][k], out["Gamma"][k], out["bias"][k] = N[0], Gm[0], Nb[0]
+    out["m_c"][k], out["h"][k], out["I"][k], out["Lam"][k] = mc, h, I, Lam
+    return _SubChain(F=F, N=N, Gm=Gm, Lam=Lam, h=h, Fb=Fb, Nb=Nb, Ld=Ld, Fl=Fl, Nl=Nl, m=mc, I=I)
+
+
+def _mass_matrix(kin: Kinematics, s: list, I_c: list, h_c: list) -> list:
+    """Composite-rigid-body pass: a unit φ̈ᵏ, all else at rest, needs the force e¹ × hᵏ and the
+    moment Iᵏ e¹ about Oᵏ; carried back joint by joint, their moment about Oʲ projected on eʲ is
+    M_jk."""
+    P, J, n = kin.prog, kin.joint, kin.n
     M = [[ZERO] * n for _ in range(n)]
     for k in range(n, 0, -1):
         nm = [I_c[k][0][0], I_c[k][1][0], I_c[k][2][0]]
@@ -217,26 +252,30 @@ def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
             fc = P.vec(f"f{k}in{j}", J[j + 1].up(fc), rf"f^{{{k}|{j}}}")
             nm = P.vec(f"n{k}in{j}", add(J[j + 1].up(nm), cross(s[j], fc)), rf"n^{{{k}|{j}}}")
             M[j - 1][k - 1] = M[k - 1][j - 1] = nm[0]
+    return M
 
-    L = tuple(kin.tau[k] if spec.bodies[k - 1].control else ZERO for k in range(1, n + 1))
+
+def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
+    """(17)–(19), or (8)–(10) in the general case, in three passes over the chain (named as
+    Pinocchio names its passes): the forward pass of the accelerations at φ̈ = 0, the backward
+    pass over the sub-chains p ≥ k (the paper's sums; Q, Γ, G, the code's bias, the composite
+    bodies), and the composite-rigid-body pass of the mass matrix."""
+    n = spec.n
+    bd = _inertial(spec, kin)
+    acc = _forward_pass(kin, bd)
+    out = {key: [None] * (n + 1) for key in ("Q", "Gamma", "G", "bias", "m_c", "h", "I", "Lam", "body_bias", "Lamdot", "Phi")}
+    nxt = _SubChain()
+    for k in range(n, 0, -1):
+        nxt = _backward_step(kin, k, bd, acc, nxt, out)
+    M = _mass_matrix(kin, bd.s, out["I"], out["h"])
     joint = tuple(joint_torque(spec, kin, k) for k in range(1, n + 1))
-    if all(j.is_zero() for j in joint):
-        joint = ()
     return Dynamics(
         M=tuple(tuple(row) for row in M),
-        Q=tuple(Q[1:]),
-        Gamma=tuple(Gam[1:]),
-        G=tuple(Gv[1:]),
-        L=L,
-        bias=tuple(bias[1:]),
-        m_c=tuple(m_c[1:]),
-        h=tuple(h_c[1:]),
-        I=tuple(I_c[1:]),
-        Lam=tuple(Lam[1:]),
-        body_bias=tuple(body_bias[1:]),
-        joint=joint,
-        Lamdot=tuple(Lamdot[1:]) if timed_lam else (),
-        Phi=tuple(Phi[1:]) if has_loads else (),
-        loads=tuple(e[:2] for e in ext[1:]),
-        force_vectors=tuple(e[2] for e in ext[1:]),
+        L=tuple(kin.tau[k] if spec.bodies[k - 1].control else ZERO for k in range(1, n + 1)),
+        joint=() if all(j.is_zero() for j in joint) else joint,
+        Lamdot=tuple(out["Lamdot"][1:]) if bd.timed_lam else (),
+        Phi=tuple(out["Phi"][1:]) if bd.has_loads else (),
+        loads=tuple(e[:2] for e in bd.ext[1:]),
+        force_vectors=tuple(e[2] for e in bd.ext[1:]),
+        **{key: tuple(out[key][1:]) for key in ("Q", "Gamma", "G", "bias", "m_c", "h", "I", "Lam", "body_bias")},
     )

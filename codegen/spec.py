@@ -323,6 +323,18 @@ SYMMETRY_TOL = 1e-12  # a 3×3 tensor whose A_ij, A_ji differ by at most this ×
 ZERO3 = (sp.Integer(0),) * 3
 
 
+def _fields(raw: dict, at: str, allowed, required, expected: str) -> None:
+    """Every key of a table known and every required one present; the field named otherwise
+    (``at`` "" for the top level)."""
+    name = (lambda key: f"{at}.{key}") if at else (lambda key: key)
+    for key in raw:
+        if key not in allowed:
+            raise SpecError(name(key), f"unknown field (expected {expected})")
+    for key in required:
+        if key not in raw:
+            raise SpecError(name(key), "missing field")
+
+
 def load_spec(path: str | Path) -> ChainSpec:
     path = Path(path)
     try:
@@ -339,12 +351,7 @@ def parse_spec(text: str) -> ChainSpec:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SpecError("spec", f"not valid TOML: {exc}") from None
-    for key in data:
-        if key not in TOP_FIELDS:
-            raise SpecError(key, f"unknown field (expected one of {', '.join(sorted(TOP_FIELDS))})")
-    for key in ("name", "g", "body"):
-        if key not in data:
-            raise SpecError(key, "missing field")
+    _fields(data, "", TOP_FIELDS, ("name", "g", "body"), "one of " + ", ".join(sorted(TOP_FIELDS)))
 
     name = data["name"]
     if not isinstance(name, str) or not re.match(r"^[A-Za-z][A-Za-z0-9_]*$", name):
@@ -393,9 +400,7 @@ def parse_spec(text: str) -> ChainSpec:
 def _base(raw, names: dict, n: int) -> BaseSpec:
     if not isinstance(raw, dict):
         raise SpecError("base", "expected a table with position and/or rotation")
-    for key in raw:
-        if key not in ("position", "rotation"):
-            raise SpecError(f"base.{key}", "unknown field (expected position, rotation)")
+    _fields(raw, "base", ("position", "rotation"), (), "position, rotation")
     state = _state_names(n, "time")
     const = _state_names(n, "const")
     position = _vector(raw["position"], "base.position", names, state) if "position" in raw else ZERO3
@@ -405,12 +410,7 @@ def _base(raw, names: dict, n: int) -> BaseSpec:
     axes, angles = [], []
     for i, r in enumerate(rotation, start=1):
         at = f"base.rotation[{i}]"
-        for key in r:
-            if key not in ("axis", "angle"):
-                raise SpecError(f"{at}.{key}", "unknown field (expected axis, angle)")
-        for key in ("axis", "angle"):
-            if key not in r:
-                raise SpecError(f"{at}.{key}", "missing field")
+        _fields(r, at, ("axis", "angle"), ("axis", "angle"), "axis, angle")
         axis = _vector(r["axis"], f"{at}.axis", names, const)
         norm2 = sp.expand(sum(a * a for a in axis))
         if norm2 == 0 or (norm2.is_number and float(norm2) < 1e-24):
@@ -425,12 +425,7 @@ def _load(raw, at: str, names: dict, n: int, force: bool) -> LoadSpec:
         raise SpecError(at, "expected a table")
     key_vec = "F" if force else "M"
     allowed = ("point", "F", "frame") if force else ("M", "frame")
-    for key in raw:
-        if key not in allowed:
-            raise SpecError(f"{at}.{key}", f"unknown field (expected {', '.join(allowed)})")
-    for key in allowed:
-        if key not in raw:
-            raise SpecError(f"{at}.{key}", "missing field")
+    _fields(raw, at, allowed, allowed, ", ".join(allowed))
     frame = raw["frame"]
     if frame not in ("body", "fixed"):
         raise SpecError(f"{at}.frame", f"expected \"body\" or \"fixed\", got {frame!r}")
@@ -441,12 +436,7 @@ def _load(raw, at: str, names: dict, n: int, force: bool) -> LoadSpec:
 
 def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
     at = f"body[{k}]"
-    for key in raw:
-        if key not in BODY_FIELDS:
-            raise SpecError(f"{at}.{key}", f"unknown field (expected one of {', '.join(sorted(BODY_FIELDS))})")
-    for key in BODY_REQUIRED:
-        if key not in raw:
-            raise SpecError(f"{at}.{key}", "missing field")
+    _fields(raw, at, BODY_FIELDS, BODY_REQUIRED, "one of " + ", ".join(sorted(BODY_FIELDS)))
     if ("A" in raw) == ("I_c" in raw):
         raise SpecError(f"{at}.A", "give the inertia once: A (about O^k) or I_c (about the centre of mass)"
                         if "A" in raw else "missing field (the inertia: A about O^k, or I_c about the centre of mass)")
@@ -545,12 +535,7 @@ def _rotor(value, where: str, names: dict, const: dict, time: dict) -> tuple:
     as a rigid part, as in the paper."""
     if not isinstance(value, dict):
         raise SpecError(where, "expected a table {axis = [x, y, z], inertia = J, speed = w}")
-    for key in value:
-        if key not in ROTOR_FIELDS:
-            raise SpecError(f"{where}.{key}", f"unknown field (expected one of {', '.join(ROTOR_FIELDS)})")
-    for key in ROTOR_FIELDS:
-        if key not in value:
-            raise SpecError(f"{where}.{key}", "missing field")
+    _fields(value, where, ROTOR_FIELDS, ROTOR_FIELDS, "one of " + ", ".join(ROTOR_FIELDS))
     axis = _vector(value["axis"], f"{where}.axis", names, const)
     inertia = _scalar(value["inertia"], f"{where}.inertia", names, const)
     speed = _scalar(value["speed"], f"{where}.speed", names, time)
@@ -595,13 +580,9 @@ def _check_physical(at: str, m, c, A, field: str = "A") -> None:
 def _initial(raw, n: int) -> dict:
     if not isinstance(raw, dict):
         raise SpecError("initial", "expected a table with phi and phidot")
-    for key in raw:
-        if key not in ("phi", "phidot"):
-            raise SpecError(f"initial.{key}", "unknown field (expected phi, phidot)")
+    _fields(raw, "initial", ("phi", "phidot"), ("phi", "phidot"), "phi, phidot")
     out = {}
     for key in ("phi", "phidot"):
-        if key not in raw:
-            raise SpecError(f"initial.{key}", "missing field")
         v = raw[key]
         if not isinstance(v, list) or len(v) != n:
             raise SpecError(f"initial.{key}", f"expected a list of {n} numbers")

@@ -108,8 +108,9 @@ def _body_D(I, v) -> tuple:
     return D11, D12
 
 
-def derive(spec, kin, dyn, art) -> World:
-    """The per-joint vectors of the pairs' formulas and ∂τ/∂x; ``art`` gives φ̈ (aba.derive)."""
+def _outward(spec, kin, art) -> tuple:
+    """The outward pass in frame 0, joint by joint: the axis Sᵏ, wᵏ, βᵏ, body k's inertia about
+    O¹ (A, h, m), its momentum Iᵏvᵏ, its bias force, λᵏ and Dᵏ."""
     n = spec.n
     P = kin.prog
     J = kin.joint
@@ -155,7 +156,13 @@ def derive(spec, kin, dyn, art) -> World:
         Ia, vh = _inertia(Iw[k], a), _fcross(v, mom[k])
         fb[k] = add(Ia[:3], vh[:3], cross(v[:3], lam[k])) + add(Ia[3:], vh[3:])
         D[k] = _body_D(Iw[k], v)
+    return S, w, beta, Iw, mom, fb, lam, D
 
+
+def _inward(P, n: int, outward: tuple) -> dict:
+    """The inward pass: the composite sums over the bodies p ≥ k and the per-joint vectors of
+    VECTORS (S, z1, z2, β, w, G, K) they give."""
+    S, w, beta, Iw, mom, fb, lam, D = outward
     vec = {name: [None] * n for name in VECTORS}
     IC = HC = FC = LC = DC = None
     for k in range(n, 0, -1):
@@ -186,8 +193,13 @@ def derive(spec, kin, dyn, art) -> World:
         Kv = [-2 * x - d + yy + r for x, d, yy, r in zip(_inertia(IC, wk), DS, y, cross(e, LC) + [ZERO] * 3)]
         for name, val in zip(VECTORS, (Sk, z1, z2, beta[k], wk, Gv, Kv)):
             vec[name][k - 1] = [Poly.lift(x) for x in val]
+    return vec
 
-    # ∂τ/∂x: the forward mode of derivatives.py on the joint torques alone
+
+def _torque_tangents(spec, kin, dyn) -> tuple:
+    """∂τ/∂x: the forward mode of derivatives.py on the joint torques alone; ((joint, direction,
+    derivative) of every nonzero entry, the directions' labels)."""
+    P = kin.prog
     syms, labels = derivatives.directions(spec, kin)
     seeds = {next(iter(P.input(s_).terms))[0]: {j: Poly.const(1)} for j, s_ in enumerate(syms)}
     torques = list(dyn.torques)
@@ -197,4 +209,11 @@ def derive(spec, kin, dyn, art) -> World:
         for c, d in sorted(derivatives.tangent_poly(Poly.lift(tk), tan).items()):
             if not d.is_zero():
                 ext.append((k, c, d))
-    return World({name: tuple(tuple(x) for x in vec[name]) for name in VECTORS}, tuple(ext), labels)
+    return tuple(ext), labels
+
+
+def derive(spec, kin, dyn, art) -> World:
+    """The per-joint vectors of the pairs' formulas and ∂τ/∂x; ``art`` gives φ̈ (aba.derive)."""
+    vec = _inward(kin.prog, spec.n, _outward(spec, kin, art))
+    ext, labels = _torque_tangents(spec, kin, dyn)
+    return World({name: tuple(tuple(x) for x in vec[name]) for name in VECTORS}, ext, labels)

@@ -87,6 +87,28 @@ def model_cache(tmp_path_factory):
         os.environ["GYROCHAIN_CACHE"] = old
 
 
+LAYERS = ("unit", "models", "physics", "tools")  # the folders of tests/, each a marker too
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        layer = item.path.parent.name
+        if layer in LAYERS:
+            item.add_marker(getattr(pytest.mark, layer))
+
+
+@pytest.fixture(autouse=True)
+def unit_layer_has_no_compiler(request, monkeypatch):
+    """The unit layer's contract: nothing there compiles C (`make test-fast` runs it alone)."""
+    if request.node.path.parent.name != "unit":
+        return
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a unit test compiled C: it belongs in tests/models, physics or tools")
+
+    monkeypatch.setattr(build, "compile_model", refuse)
+
+
 @pytest.fixture(scope="session")
 def gen_dir(tmp_path_factory):
     return tmp_path_factory.mktemp("generated")

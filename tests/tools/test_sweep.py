@@ -18,7 +18,7 @@ from codegen import pipeline, reference, sweep  # noqa: E402
 from codegen.cli import main  # noqa: E402
 from codegen.spec import load_spec, parse_spec  # noqa: E402
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 DP = ROOT / "specs" / "double_pendulum.toml"
 FURUTA_SYM = ROOT / "specs" / "furuta_sym.toml"
 
@@ -66,7 +66,7 @@ def test_batch_is_the_single_calls_bit_for_bit(make_model):
 
 
 def test_batch_with_own_controls_and_parameters(make_model):
-    from tests.conftest import example_params
+    from conftest import example_params
 
     base = example_params("furuta_sym")
     m = make_model(load_spec(FURUTA_SYM), base)
@@ -202,7 +202,7 @@ def test_measures(tmp_path):
 
 
 def test_random_samples_and_a_parameter(tmp_path):
-    from tests.conftest import example_params
+    from conftest import example_params
 
     params = example_params("furuta_sym")
     varied = {k: v for k, v in params.items() if k != "l"}
@@ -213,7 +213,6 @@ def test_random_samples_and_a_parameter(tmp_path):
     assert d["final"].shape == (50, 4) and d["coords"]["l"].shape == (50,)
     assert 0.1 <= d["coords"]["l"].min() and d["coords"]["l"].max() <= 0.3
     # the same sample integrated alone with its own parameter value
-    from codegen.build import CModel  # noqa: F401
     model = pipeline.compiled(parse_spec(FURUTA_SYM.read_text()))[0]
     k = 7
     x = model.integrate([0, 1.0], [0.0, d["coords"]["phi2"][k], 0.0, 0.0], u=[0.0], params=dict(varied, l=d["coords"]["l"][k]))

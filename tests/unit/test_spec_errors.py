@@ -1,11 +1,14 @@
-"""Bad input: one line on stderr naming the field, exit status 2, nothing written."""
+"""Bad specs: one line on stderr naming the field, exit status 2, nothing written (check and\ngenerate --no-build, in this process: no compiler)."""
 from __future__ import annotations
 
+import contextlib
+import io
 import subprocess
 import sys
 
 import pytest
 
+from codegen.cli import main
 from conftest import ROOT
 
 GOOD = (ROOT / "specs" / "furuta.toml").read_text()
@@ -121,8 +124,13 @@ CASES = [
 ]
 
 
-def run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "codegen", *args], capture_output=True, text=True, cwd=cwd or ROOT)
+def run(*args):
+    """The command in this process (cli.main, as `python -m codegen` runs it): its exit status
+    and what it printed (test_missing_file runs the real entry point once)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(args))
+    return subprocess.CompletedProcess(args, code, out.getvalue(), err.getvalue())
 
 
 @pytest.mark.parametrize("case_id,text,field,words", CASES, ids=[c[0] for c in CASES])
@@ -152,6 +160,9 @@ def test_good_spec_passes_check(tmp_path):
 def test_missing_file(tmp_path):
     res = run("check", str(tmp_path / "nope.toml"))
     assert res.returncode == 2 and "no such file" in res.stderr
+    res = subprocess.run([sys.executable, "-m", "codegen", "check", str(tmp_path / "nope.toml")], capture_output=True,
+                         text=True, cwd=ROOT)
+    assert res.returncode == 2 and res.stderr.count("\n") == 1 and "no such file" in res.stderr
 
 
 def test_refuses_to_replace_a_folder_codegen_did_not_write(tmp_path):

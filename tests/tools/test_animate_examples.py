@@ -16,7 +16,7 @@ from codegen.spec import load_spec  # noqa: E402
 from conftest import EXAMPLES  # noqa: E402
 from test_animate import changed, frames_of, param_args  # noqa: E402
 
-SPECS = Path(__file__).resolve().parent.parent / "specs"
+SPECS = Path(__file__).resolve().parents[2] / "specs"
 
 
 # --------------------------------------------------------------------------- every example, GIF and HTML

@@ -20,7 +20,7 @@ from codegen.spec import load_spec, parse_spec  # noqa: E402
 
 from conftest import example_params  # noqa: E402
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 SPECS = ROOT / "specs"
 GIMBAL = SPECS / "gimbal.toml"
 DP = SPECS / "double_pendulum.toml"

@@ -1,0 +1,73 @@
+"""The one route from a spec to its files: derive once, render only what is asked, and the
+same bytes whichever way the files are asked for."""
+from __future__ import annotations
+
+import pytest
+
+from codegen import pipeline, printers
+from codegen.spec import load_spec, parse_spec
+from conftest import ROOT
+
+GIMBAL = ROOT / "specs" / "gimbal.toml"
+
+
+def committed(name: str) -> dict[str, str]:
+    folder = ROOT / "generated" / name
+    return {p.name: p.read_text() for p in folder.iterdir() if not p.name.endswith((".so", ".key"))}
+
+
+def test_a_spec_is_derived_once_per_process():
+    spec = load_spec(GIMBAL)
+    a = pipeline.derive(spec)
+    assert pipeline.derive(parse_spec(GIMBAL.read_text())) is a  # the same text: the same Model
+    assert pipeline.derive(spec, qdd_form="articulated") is not a  # another form: derived anew
+    assert pipeline.derive(spec, qdd_form="articulated").qdd_form == "articulated"
+
+
+@pytest.mark.parametrize("targets, suffixes", [
+    (("c",), {".c", ".h", ".cdef"}),
+    (("python",), {".py"}),
+    (("latex",), {".tex"}),
+    (("c", "python"), {".c", ".h", ".cdef", ".py"}),
+])
+def test_render_prints_only_the_asked_targets_and_the_same_bytes(targets, suffixes):
+    spec = load_spec(GIMBAL)
+    files = pipeline.render(pipeline.derive(spec), "gimbal.toml", targets)
+    assert {"." + k.split(".", 1)[1] for k in files} == suffixes
+    whole = committed("gimbal")
+    for k, v in files.items():
+        assert v == whole[k], k
+
+
+def test_all_targets_are_the_committed_files_with_their_manifest():
+    files, _ = pipeline.derive_and_render(load_spec(GIMBAL), "gimbal.toml")
+    assert files == committed("gimbal")
+
+
+def test_an_unknown_target_is_refused():
+    with pytest.raises(ValueError, match="unknown target 'fortran'"):
+        pipeline.render(pipeline.derive(load_spec(GIMBAL)), "gimbal.toml", ("c", "fortran"))
+
+
+def test_the_latex_of_the_general_case_reads_the_derived_model():
+    """A moving platform: derive(latex=False) skips the symbolic-platform stages; rendering the
+    LaTeX adds them once, and the document is the committed one."""
+    spec = parse_spec((ROOT / "specs" / "kapitza.toml").read_text().replace("Kapitza", "Kapitza "))
+    model = pipeline.derive(spec, latex=False)
+    assert model.symbolic is None
+    again = pipeline.derive(spec)  # the LaTeX asked: the same derivation, with the symbolic stages
+    assert again.symbolic is not None and again.lines is model.lines
+    assert pipeline.derive(spec) is again
+    tex = committed("kapitza")["kapitza.tex"]
+    got = pipeline.render(again, "kapitza.toml", ("latex",))["kapitza.tex"]
+    assert got.replace("Kapitza ", "Kapitza") == tex
+
+
+def test_header_defines_come_from_the_one_table():
+    from codegen.codes import METHODS, MOTIONS, STATUS
+
+    header = committed("gimbal")["gimbal.h"]  # the gimbal has the quadratures: every code appears
+    for key, value in STATUS.items():
+        assert f"#define GIMBAL_{key} {value}\n" in header, key
+    for key, value in {**METHODS, **MOTIONS}.items():
+        assert f"#define GIMBAL_{key.upper()} {value}\n" in header, key
