@@ -34,6 +34,30 @@ def defines(ctx: dict) -> list[tuple[str, int]]:
     return out
 
 
+def ldlt_factor_lines(A: str, n: int, NAME: str) -> list[str]:
+    """The in-place LDLᵀ of the n × n row-major array A unrolled (after the pivot tolerance tol
+    is set): L below the diagonal, D on it; a pivot not above tol returns NAME_SINGULAR."""
+    out = []
+    for j in range(n):
+        out += [f"    v[{k}] = {A}[{j * n + k}] * {A}[{k * n + k}];" for k in range(j)]
+        out.append(f"    d = {A}[{j * n + j}]" + "".join(f" - {A}[{j * n + k}] * v[{k}]" for k in range(j)) + ";")
+        out += ["    if (!(d > tol)) {", f"        return {NAME}_SINGULAR;", "    }", f"    {A}[{j * n + j}] = d;"]
+        if j < n - 1:
+            out.append("    r = 1.0 / d;")
+        out += [f"    {A}[{i * n + j}] = ({A}[{i * n + j}]" + "".join(f" - {A}[{i * n + k}] * v[{k}]" for k in range(j)) + ") * r;"
+                for i in range(j + 1, n)]
+    return out
+
+
+def ldlt_solve_lines(A: str, b: str, n: int) -> list[str]:
+    """L D Lᵀ y = b solved in place with the factors in A: forward, diagonal, backward, unrolled."""
+    out = [f"    {b}[{i}] -= " + " + ".join(f"{A}[{i * n + k}] * {b}[{k}]" for k in range(i)) + ";" for i in range(1, n)]
+    out += [f"    {b}[{i}] /= {A}[{i * n + i}];" for i in range(n)]
+    out += [f"    {b}[{i}] -= " + " + ".join(f"{A}[{k * n + i}] * {b}[{k}]" for k in range(i + 1, n)) + ";"
+            for i in range(n - 2, -1, -1)]
+    return out
+
+
 class CTarget:
     """Prints every function of the model in C and lays them out by the templates."""
 
@@ -43,6 +67,9 @@ class CTarget:
         name = model.spec.name
         ctx = dict(context, fn=functions(model, CPrinter, "c"))
         ctx["defines"] = defines(ctx)
+        n, NAME = ctx["n"], ctx["NAME"]
+        ctx["ldlt_factor"] = {A: ldlt_factor_lines(A, n, NAME) for A in ("LD", "M")}
+        ctx["ldlt_solve_code"] = {f"M,{b}": ldlt_solve_lines("M", b, n) for b in ("f", "qd")}
         ctx["decls"] = env.get_template("_decls.jinja").render(ctx)
         return {
             f"{name}.h": env.get_template("model.h.jinja").render(ctx),
