@@ -4,6 +4,7 @@ from __future__ import annotations
 from sympy.printing.c import C99CodePrinter
 
 from ..codes import METHODS, MOTIONS, QUAD_STATUS, STATUS
+from . import kernels
 from .common import NumbersAsDoubles, functions
 
 
@@ -70,6 +71,10 @@ class CTarget:
         n, NAME = ctx["n"], ctx["NAME"]
         ctx["ldlt_factor"] = {A: ldlt_factor_lines(A, n, NAME) for A in ("LD", "M")}
         ctx["ldlt_solve_code"] = {f"M,{b}": ldlt_solve_lines("M", b, n) for b in ("f", "qd")}
+        if ctx["quad"]:
+            body = env.from_string('{% import "_c.jinja" as c %}{{ c.body(f) }}\n{{ c.outputs(f) }}\n')
+            ctx["quad_c"] = kernels.specialise("quad.c", name, {"HAS_PARAMS": ctx["has_params"]},
+                                               {"quad_terms": body.render(f=ctx["fn"]["quad_terms"])})
         ctx["decls"] = env.get_template("_decls.jinja").render(ctx)
         return {
             f"{name}.h": env.get_template("model.h.jinja").render(ctx),

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from sympy.printing.pycode import PythonCodePrinter
 
+from . import kernels
 from .common import NumbersAsDoubles, functions
 
 
@@ -33,4 +34,9 @@ class PythonTarget:
 
     def files(self, model, context: dict, env) -> dict[str, str]:
         ctx = dict(context, py=functions(model, PyPrinter, "py", array_printer_cls=NumpyPrinter))
+        if ctx["quad"]:
+            part = env.from_string('{% from "_py.jinja" import prologue, straight with context %}{{ prologue(False) }}\n'
+                                   '|{{ straight(f) }}\n')
+            prologue, straight = part.render(ctx, f=ctx["py"]["quad_terms"]).split("|", 1)
+            ctx["quad_py"] = kernels.specialise("quad.py", model.spec.name, {}, {"prologue": prologue, "quad_terms": straight})
         return {f"{model.spec.name}.py": env.get_template("model.py.jinja").render(ctx)}

@@ -1,7 +1,18 @@
+"""The two-body quadratures of every model that has them, in Python, as the generator emits
+them: `{model}` becomes the model's name and each `# @generated` line the model's printed code
+(printers/kernels.py).  Everything above the `@kernel` line is for linters only: it names what
+the kernel takes from the generated module around it."""
+import math  # noqa: F401
+
+import numpy as np
+
+from model_stub import N, energy, momentum  # noqa: F401  (the generated module's own functions)
+
+# @kernel
 
 
 # ---------------------------------------------------------------------------------------------
-# The two-body quadratures (28)-(30): the same method as {{ name }}.c (read the comment there).
+# The two-body quadratures (28)-(30): the same method as {model}.c (read the comment there).
 # psi = phi_1 is cyclic; P(phi) = E(phi) J - K^2, D(phi) = A J - C^2, D phidot^2 = P.
 # ---------------------------------------------------------------------------------------------
 LIBRATION, ROTATION, STEADY = "libration", "rotation", "steady"
@@ -43,9 +54,9 @@ def quad_terms(phi, p=None):
     """J(phi), C(phi), A, U(phi), beta(phi) (numpy arrays shaped like phi): the mass matrix
     [[J, C], [C, A]], the force function of gravity (22) and e1 . (lambda1 + lambda2)."""
     phi = np.asarray(phi, dtype=float)
-{{ prologue(False) }}
+    # @generated prologue
     out = [0.0] * 5
-{{ straight(py.quad_terms) }}
+    # @generated quad_terms
     return [np.broadcast_to(np.asarray(v, dtype=float), phi.shape) for v in out]
 
 

@@ -1,4 +1,10 @@
-{% import "_c.jinja" as c with context %}
+/* The two-body quadratures of every model that has them, as the generator emits them: each
+ * `model_`/`MODEL_` becomes the model's name, `#if MODEL_<FLAG>` sections are kept or dropped by
+ * the model's facts, and the `@generated` line is replaced by the model's printed code
+ * (printers/kernels.py).  Everything above the `@kernel` line is for compilers and linters only:
+ * tests/unit/test_kernels.py compiles this file as it stands. */
+#include "model_stub.h"
+/* @kernel */
 
 /* ---------------------------------------------------------------------------------------
  * The two-body quadratures (28)-(30).  psi = phi^1 is cyclic; with P(phi) = E(phi) J - K^2 and
@@ -16,20 +22,20 @@
  * Rotation: phi = phi0 + dir u, 0 <= u <= 2 pi.  Each quarter (or the turn) is integrated by
  * adaptive Gauss-Kronrod 7/15 panels, which also tabulate t and psi for the inversion.
  * --------------------------------------------------------------------------------------- */
-#define {{ NAME }}_QUAD_MAXP 64        /* panels per quarter period */
-#define {{ NAME }}_QUAD_TOL 1e-13      /* Kronrod - Gauss estimate, relative, per quarter */
-#define {{ NAME }}_WALK_MAX 100000
-#define {{ NAME }}_PI 3.14159265358979323846
+#define MODEL_QUAD_MAXP 64        /* panels per quarter period */
+#define MODEL_QUAD_TOL 1e-13      /* Kronrod - Gauss estimate, relative, per quarter */
+#define MODEL_WALK_MAX 100000
+#define MODEL_PI 3.14159265358979323846
 
 typedef struct {
     double a, b;      /* parameter interval */
     double v[3];      /* integrals over it of dt, dpsi_K = K dt / J, dpsi_C = C dphi / J */
     double w;         /* weighted error estimate */
     double cum[3];    /* integrals from the quarter's start to a */
-} {{ name }}_panel_;
+} model_panel_;
 
 typedef struct {
-    const {{ name }}_params *p;
+    const model_params *p;
     int kind;
     double E, k;          /* constants of the energy (23) and momentum (27) integrals */
     double c[7];          /* P = c0 + sum_j c[2j-1] cos(j phi) + c[2j] sin(j phi), j = 1..3 */
@@ -40,20 +46,19 @@ typedef struct {
     double phis, Ps, w, U; /* rotation: phi = phis + w sinh(b - U), 0 <= b <= 2U; P(phis) = Ps */
     double eps;           /* relative distance from the separatrix */
     int np[2];
-    {{ name }}_panel_ pan[2][{{ NAME }}_QUAD_MAXP];
+    model_panel_ pan[2][MODEL_QUAD_MAXP];
     double tot[2][3];     /* integrals over each quarter (the turn: index 0) */
-} {{ name }}_orbit_;
+} model_orbit_;
 
 /* J(phi), C(phi), A, U(phi), beta(phi) of the spec (generated). */
-static void {{ name }}_quad_terms_(double phi, const {{ name }}_params *p, double *out)
+static void model_quad_terms_(double phi, const model_params *p, double *out)
 {
     (void)p;
-{{ c.body(fn.quad_terms) }}
-{{ c.outputs(fn.quad_terms) }}
+    out[0] = phi; /* @generated quad_terms: this line becomes the model's printed J, C, A, U, beta */
 }
 
 /* P, P', P'' at phi from the Fourier coefficients. */
-static void {{ name }}_pfour_(const double *c, double phi, double *d)
+static void model_pfour_(const double *c, double phi, double *d)
 {
     const double c1 = cos(phi), s1 = sin(phi);
     double ck = c1, sk = s1, t;
@@ -72,7 +77,7 @@ static void {{ name }}_pfour_(const double *c, double phi, double *d)
 }
 
 /* P(r + x) - P(r) = sum_j 2 sin(j x/2) (c_sj cos j(r + x/2) - c_cj sin j(r + x/2)), accurate for small x. */
-static double {{ name }}_pdelta_(const double *c, double r, double x)
+static double model_pdelta_(const double *c, double r, double x)
 {
     const double m = r + 0.5 * x, cm = cos(m), sm = sin(m);
     double ck = cm, sk = sm, t, sum = 0.0;
@@ -90,7 +95,7 @@ static double {{ name }}_pdelta_(const double *c, double r, double x)
  * with p_j = c_sj cos js - c_cj sin js, q_j = c_cj cos js + c_sj sin js it is
  * sum_j (sin jx - j sin x) p_j - 2 sin^2(jx/2) q_j, and sin 2x - 2 sin x = -4 sin x sin^2(x/2),
  * sin 3x - 3 sin x = -4 sin^3 x: no term is linear in x, so nothing cancels near s. */
-static double {{ name }}_pbump_(const double *c, double s, double x)
+static double model_pbump_(const double *c, double s, double x)
 {
     const double cs = cos(s), ss = sin(s), sx = sin(x), h1 = sin(0.5 * x);
     const double c2 = cs * cs - ss * ss, s2 = 2.0 * ss * cs, c3 = c2 * cs - s2 * ss, s3 = s2 * cs + c2 * ss;
@@ -103,12 +108,12 @@ static double {{ name }}_pbump_(const double *c, double s, double x)
 /* The first root of P from a (P(a) > 0) in the sense sig within dmax: returns 1 and *root, 0 when
  * P > 0 all the way, -1 when the walk does not converge.  *pmin, *argmin: the least local minimum
  * of P passed (located by bisection on P'). */
-static int {{ name }}_walk_(const {{ name }}_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin, double *argmin)
+static int model_walk_(const model_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin, double *argmin)
 {
     double d[3], dn[3], gone = 0.0, step, lo, hi, mid, dm[3];
     int it, i, last;
-    {{ name }}_pfour_(o->c, a, d);
-    for (it = 0; it < {{ NAME }}_WALK_MAX; ++it) {
+    model_pfour_(o->c, a, d);
+    for (it = 0; it < MODEL_WALK_MAX; ++it) {
         if (!(d[0] > 0.0)) {
             *root = a;
             return 1;
@@ -121,21 +126,21 @@ static int {{ name }}_walk_(const {{ name }}_orbit_ *o, double a, double sig, do
             *root = a + sig * step;
             return 1;
         }
-        {{ name }}_pfour_(o->c, a + sig * step, dn);
+        model_pfour_(o->c, a + sig * step, dn);
         if (sig * d[1] < 0.0 && sig * dn[1] > 0.0) {
             /* a local minimum of P between a and a + step (P > 0 there): bisect on P' */
             lo = a;
             hi = a + sig * step;
             for (i = 0; i < 60; ++i) {
                 mid = 0.5 * (lo + hi);
-                {{ name }}_pfour_(o->c, mid, dm);
+                model_pfour_(o->c, mid, dm);
                 if (sig * dm[1] < 0.0) {
                     lo = mid;
                 } else {
                     hi = mid;
                 }
             }
-            {{ name }}_pfour_(o->c, 0.5 * (lo + hi), dm);
+            model_pfour_(o->c, 0.5 * (lo + hi), dm);
             if (dm[0] < *pmin) {
                 *pmin = dm[0];
                 *argmin = 0.5 * (lo + hi);
@@ -154,35 +159,35 @@ static int {{ name }}_walk_(const {{ name }}_orbit_ *o, double a, double sig, do
 }
 
 /* dt, dpsi_K, dpsi_C per unit parameter b of quarter q (the turn when rotating). */
-static int {{ name }}_integrand_(const {{ name }}_orbit_ *o, int q, double b, double *f, double *phi_out, double *g_out)
+static int model_integrand_(const model_orbit_ *o, int q, double b, double *f, double *phi_out, double *g_out)
 {
     double t[5], phi, dphi, P = 0.0, D, g, K, s2 = 0.0, x;
-    if (o->kind == {{ NAME }}_ROTATION) {
+    if (o->kind == MODEL_ROTATION) {
         /* sinh map: a near-double root of P at phis (near the separatrix) becomes a smooth bump */
         x = o->w * sinh(b - o->U);
         phi = o->phis + x;
         dphi = o->w * cosh(b - o->U);
-        P = o->Ps + {{ name }}_pbump_(o->c, o->phis, x);
+        P = o->Ps + model_pbump_(o->c, o->phis, x);
     } else {
         s2 = sin(0.5 * b);
         x = (q ? -2.0 : 2.0) * o->h * s2 * s2;   /* phi - r, kept apart: phi alone rounds it away */
         phi = o->r[q] + x;
         dphi = o->h * sin(b);
         if (s2 != 0.0) {
-            P = {{ name }}_pdelta_(o->c, o->r[q], x);
+            P = model_pdelta_(o->c, o->r[q], x);
         }
     }
-    {{ name }}_quad_terms_(phi, o->p, t);
+    model_quad_terms_(phi, o->p, t);
     D = t[2] * t[0] - t[1] * t[1];
     if (!(D > 0.0) || !(t[0] > 0.0)) {
-        return {{ NAME }}_SINGULAR;
+        return MODEL_SINGULAR;
     }
-    if (o->kind == {{ NAME }}_LIBRATION && s2 == 0.0) {
+    if (o->kind == MODEL_LIBRATION && s2 == 0.0) {
         g = sqrt(2.0 * D * o->h / o->slope[q]);
     } else if (P > 0.0) {
         g = sqrt(D / P) * dphi;
     } else {
-        return {{ NAME }}_QUAD_FAILED;
+        return MODEL_QUAD_FAILED;
     }
     K = o->k - t[4];
     f[0] = g;
@@ -194,11 +199,11 @@ static int {{ name }}_integrand_(const {{ name }}_orbit_ *o, int q, double b, do
     if (g_out) {
         *g_out = g;
     }
-    return isfinite(g) ? {{ NAME }}_OK : {{ NAME }}_QUAD_FAILED;
+    return isfinite(g) ? MODEL_OK : MODEL_QUAD_FAILED;
 }
 
 /* Gauss-Kronrod 7/15 on [a, b]: v = the three integrals, e = |K15 - G7| of each. */
-static int {{ name }}_kronrod_(const {{ name }}_orbit_ *o, int q, double a, double b, double *v, double *e)
+static int model_kronrod_(const model_orbit_ *o, int q, double a, double b, double *v, double *e)
 {
     static const double xk[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
         0.864864423359769072789712788640926, 0.741531185599394439863864773280788, 0.586087235467691130294144845693013,
@@ -216,7 +221,7 @@ static int {{ name }}_kronrod_(const {{ name }}_orbit_ *o, int q, double a, doub
     }
     for (i = 0; i < 8; ++i) {
         for (side = (i == 7); side < 2; ++side, ++m) {
-            rc = {{ name }}_integrand_(o, q, cx + (side ? hw : -hw) * xk[i], f[m], 0, 0);
+            rc = model_integrand_(o, q, cx + (side ? hw : -hw) * xk[i], f[m], 0, 0);
             if (rc) {
                 return rc;
             }
@@ -246,19 +251,19 @@ static int {{ name }}_kronrod_(const {{ name }}_orbit_ *o, int q, double a, doub
         }
         v[j] *= hw;
     }
-    return {{ NAME }}_OK;
+    return MODEL_OK;
 }
 
 /* Adaptive panels over [0, end] of quarter q; sorted, with cumulative integrals. */
-static int {{ name }}_panels_({{ name }}_orbit_ *o, int q, double end, int start)
+static int model_panels_(model_orbit_ *o, int q, double end, int start)
 {
-    {{ name }}_panel_ *pan = o->pan[q], tmp;
+    model_panel_ *pan = o->pan[q], tmp;
     double e[3], err[3], size[3], ab[3], worst;
     int i, j, n = start, rc, pick;
     for (i = 0; i < n; ++i) {
         pan[i].a = end * i / n;
         pan[i].b = end * (i + 1) / n;
-        rc = {{ name }}_kronrod_(o, q, pan[i].a, pan[i].b, pan[i].v, e);
+        rc = model_kronrod_(o, q, pan[i].a, pan[i].b, pan[i].v, e);
         if (rc) {
             return rc;
         }
@@ -278,12 +283,12 @@ static int {{ name }}_panels_({{ name }}_orbit_ *o, int q, double end, int start
                 size[j] += fabs(pan[i].v[j]);
             }
         }
-        if (err[0] <= {{ NAME }}_QUAD_TOL * size[0] && err[1] <= {{ NAME }}_QUAD_TOL * size[1] + 1e-300 &&
-            err[2] <= {{ NAME }}_QUAD_TOL * size[2] + 1e-300) {
+        if (err[0] <= MODEL_QUAD_TOL * size[0] && err[1] <= MODEL_QUAD_TOL * size[1] + 1e-300 &&
+            err[2] <= MODEL_QUAD_TOL * size[2] + 1e-300) {
             break;
         }
-        if (n == {{ NAME }}_QUAD_MAXP) {
-            return {{ NAME }}_QUAD_FAILED;
+        if (n == MODEL_QUAD_MAXP) {
+            return MODEL_QUAD_FAILED;
         }
         pick = 0;
         worst = -1.0;
@@ -301,8 +306,8 @@ static int {{ name }}_panels_({{ name }}_orbit_ *o, int q, double end, int start
         pan[n].b = pan[pick].b;
         pan[pick].b = pan[n].a;
         for (i = 0; i < 2; ++i) {
-            {{ name }}_panel_ *pp = i ? &pan[n] : &pan[pick];
-            rc = {{ name }}_kronrod_(o, q, pp->a, pp->b, pp->v, e);
+            model_panel_ *pp = i ? &pan[n] : &pan[pick];
+            rc = model_kronrod_(o, q, pp->a, pp->b, pp->v, e);
             if (rc) {
                 return rc;
             }
@@ -332,13 +337,13 @@ static int {{ name }}_panels_({{ name }}_orbit_ *o, int q, double end, int start
         o->tot[q][j] = ab[j];
     }
     o->np[q] = n;
-    return {{ NAME }}_OK;
+    return MODEL_OK;
 }
 
 /* The integrals from the start of quarter q to parameter b. */
-static int {{ name }}_partial_(const {{ name }}_orbit_ *o, int q, double b, double *v)
+static int model_partial_(const model_orbit_ *o, int q, double b, double *v)
 {
-    const {{ name }}_panel_ *pan = o->pan[q];
+    const model_panel_ *pan = o->pan[q];
     double part[3], e[3];
     int lo = 0, hi = o->np[q] - 1, mid, j, rc;
     while (lo < hi) {
@@ -349,7 +354,7 @@ static int {{ name }}_partial_(const {{ name }}_orbit_ *o, int q, double b, doub
             hi = mid - 1;
         }
     }
-    rc = {{ name }}_kronrod_(o, q, pan[lo].a, b, part, e);
+    rc = model_kronrod_(o, q, pan[lo].a, b, part, e);
     for (j = 0; j < 3; ++j) {
         v[j] = pan[lo].cum[j] + part[j];
     }
@@ -357,9 +362,9 @@ static int {{ name }}_partial_(const {{ name }}_orbit_ *o, int q, double b, doub
 }
 
 /* The parameter b of quarter q at which the time from its start is tau (Newton, bracketed). */
-static int {{ name }}_invert_(const {{ name }}_orbit_ *o, int q, double tau, double *b, double *v)
+static int model_invert_(const model_orbit_ *o, int q, double tau, double *b, double *v)
 {
-    const {{ name }}_panel_ *pan = o->pan[q];
+    const model_panel_ *pan = o->pan[q];
     double x, xn, lo_x, hi_x, F, g, f[3], e[3], part[3];
     int lo = 0, hi = o->np[q] - 1, mid, it, j, rc;
     while (lo < hi) {
@@ -375,9 +380,9 @@ static int {{ name }}_invert_(const {{ name }}_orbit_ *o, int q, double tau, dou
     x = lo_x + (hi_x - lo_x) * (tau - pan[lo].cum[0]) / pan[lo].v[0];
     x = x < lo_x ? lo_x : (x > hi_x ? hi_x : x);
     for (it = 0; it < 100; ++it) {
-        rc = {{ name }}_kronrod_(o, q, pan[lo].a, x, part, e);
+        rc = model_kronrod_(o, q, pan[lo].a, x, part, e);
         if (!rc) {
-            rc = {{ name }}_integrand_(o, q, x, f, 0, &g);
+            rc = model_integrand_(o, q, x, f, 0, &g);
         }
         if (rc) {
             return rc;
@@ -399,7 +404,7 @@ static int {{ name }}_invert_(const {{ name }}_orbit_ *o, int q, double tau, dou
         x = xn;
     }
     *b = x;
-    rc = {{ name }}_kronrod_(o, q, pan[lo].a, x, part, e);
+    rc = model_kronrod_(o, q, pan[lo].a, x, part, e);
     for (j = 0; j < 3; ++j) {
         v[j] = pan[lo].cum[j] + part[j];
     }
@@ -407,30 +412,30 @@ static int {{ name }}_invert_(const {{ name }}_orbit_ *o, int q, double tau, dou
 }
 
 /* The motion from x0: constants, Fourier coefficients of P, turning points, panels. */
-static int {{ name }}_orbit_init_(const double *x0, const {{ name }}_params *p, {{ name }}_orbit_ *o)
+static int model_orbit_init_(const double *x0, const model_params *p, model_orbit_ *o)
 {
     double t[5], ej[8], kk[8], d[3], root, pmin, argmin, phi, D0, ang, e_end;
     const double phi0 = x0[1], phid0 = x0[3];
     int i, j, found, rc;
-{% if has_params %}
+#if MODEL_HAS_PARAMS
     if (!p) {
-        return {{ NAME }}_NO_PARAMS;
+        return MODEL_NO_PARAMS;
     }
-{% endif %}
-    if (!{{ name }}_all_finite_(x0, 4)) {
-        return {{ NAME }}_NONFINITE;
+#endif
+    if (!model_all_finite_(x0, 4)) {
+        return MODEL_NONFINITE;
     }
     o->p = p;
-    o->kind = {{ NAME }}_LIBRATION;   /* until the walk finds no turning point */
-    o->E = {{ name }}_energy(x0, p);
-    o->k = {{ name }}_momentum(x0, p);
+    o->kind = MODEL_LIBRATION;   /* until the walk finds no turning point */
+    o->E = model_energy(x0, p);
+    o->k = model_momentum(x0, p);
     o->S = 0.0;
     for (i = 0; i < 7; ++i) {
         o->c[i] = 0.0;
     }
     for (i = 0; i < 8; ++i) {
-        phi = 2.0 * {{ NAME }}_PI * i / 8.0;
-        {{ name }}_quad_terms_(phi, p, t);
+        phi = 2.0 * MODEL_PI * i / 8.0;
+        model_quad_terms_(phi, p, t);
         ej[i] = 2.0 * (o->E + t[3]) * t[0];
         kk[i] = (o->k - t[4]) * (o->k - t[4]);
         if (fabs(ej[i]) + kk[i] > o->S) {
@@ -444,15 +449,15 @@ static int {{ name }}_orbit_init_(const double *x0, const {{ name }}_params *p, 
         }
     }
     if (!isfinite(o->S)) {
-        return {{ NAME }}_NONFINITE;
+        return MODEL_NONFINITE;
     }
     /* make P(phi0) = D(phi0) phidot0^2 exactly (the samples carry rounding) */
-    {{ name }}_quad_terms_(phi0, p, t);
+    model_quad_terms_(phi0, p, t);
     D0 = t[2] * t[0] - t[1] * t[1];
     if (!(D0 > 0.0) || !(t[0] > 0.0)) {
-        return {{ NAME }}_SINGULAR;
+        return MODEL_SINGULAR;
     }
-    {{ name }}_pfour_(o->c, phi0, d);
+    model_pfour_(o->c, phi0, d);
     o->c[0] += D0 * phid0 * phid0 - d[0];
     o->L2 = 0.0;
     for (j = 1; j <= 3; ++j) {
@@ -464,32 +469,32 @@ static int {{ name }}_orbit_init_(const double *x0, const {{ name }}_params *p, 
     o->np[0] = o->np[1] = 0;
     pmin = HUGE_VAL;
     argmin = phi0;
-    {{ name }}_pfour_(o->c, phi0, d);
+    model_pfour_(o->c, phi0, d);
     if (phid0 == 0.0) {
         /* phi0 is a turning point; the motion leaves it where P grows */
-        if (!(fabs(d[1]) > {{ NAME }}_SEPARATRIX_TOL * o->S)) {
-            o->kind = {{ NAME }}_STEADY;
-            return {{ NAME }}_OK;
+        if (!(fabs(d[1]) > MODEL_SEPARATRIX_TOL * o->S)) {
+            o->kind = MODEL_STEADY;
+            return MODEL_OK;
         }
         o->dir = d[1] > 0.0 ? 1.0 : -1.0;
-        found = {{ name }}_walk_(o, phi0 + o->dir * fabs(d[1]) / o->L2, o->dir, 2.0 * {{ NAME }}_PI, &root, &pmin, &argmin);
+        found = model_walk_(o, phi0 + o->dir * fabs(d[1]) / o->L2, o->dir, 2.0 * MODEL_PI, &root, &pmin, &argmin);
         if (found != 1) {
-            return found == 0 ? {{ NAME }}_SEPARATRIX : {{ NAME }}_QUAD_FAILED;
+            return found == 0 ? MODEL_SEPARATRIX : MODEL_QUAD_FAILED;
         }
         o->r[o->dir > 0.0 ? 0 : 1] = phi0;
         o->r[o->dir > 0.0 ? 1 : 0] = root;
     } else {
-        found = {{ name }}_walk_(o, phi0, o->dir, 2.0 * {{ NAME }}_PI, &root, &pmin, &argmin);
+        found = model_walk_(o, phi0, o->dir, 2.0 * MODEL_PI, &root, &pmin, &argmin);
         if (found < 0) {
-            return {{ NAME }}_QUAD_FAILED;
+            return MODEL_QUAD_FAILED;
         }
         if (found == 0) {
-            o->kind = {{ NAME }}_ROTATION;
+            o->kind = MODEL_ROTATION;
         } else {
             o->r[o->dir > 0.0 ? 1 : 0] = root;
-            found = {{ name }}_walk_(o, phi0, -o->dir, 2.0 * {{ NAME }}_PI, &root, &pmin, &argmin);
+            found = model_walk_(o, phi0, -o->dir, 2.0 * MODEL_PI, &root, &pmin, &argmin);
             if (found != 1) {
-                return {{ NAME }}_QUAD_FAILED;
+                return MODEL_QUAD_FAILED;
             }
             o->r[o->dir > 0.0 ? 0 : 1] = root;
         }
@@ -497,10 +502,10 @@ static int {{ name }}_orbit_init_(const double *x0, const {{ name }}_params *p, 
     if (o->S > 0.0) {
         o->eps = pmin / o->S;
     }
-    if (o->kind == {{ NAME }}_LIBRATION) {
+    if (o->kind == MODEL_LIBRATION) {
         o->h = 0.5 * (o->r[1] - o->r[0]);
         for (i = 0; i < 2; ++i) {
-            {{ name }}_pfour_(o->c, o->r[i], d);
+            model_pfour_(o->c, o->r[i], d);
             o->slope[i] = fabs(d[1]);
             /* a dip of P beyond the turning point, P' x + P'' x^2/2: its depth */
             e_end = d[2] > 0.0 ? d[1] * d[1] / (2.0 * d[2] * o->S) : HUGE_VAL;
@@ -509,30 +514,30 @@ static int {{ name }}_orbit_init_(const double *x0, const {{ name }}_params *p, 
             }
         }
     }
-    if (o->eps < {{ NAME }}_SEPARATRIX_TOL) {
-        return {{ NAME }}_SEPARATRIX;
+    if (o->eps < MODEL_SEPARATRIX_TOL) {
+        return MODEL_SEPARATRIX;
     }
-    if (o->kind == {{ NAME }}_ROTATION) {
+    if (o->kind == MODEL_ROTATION) {
         o->phis = argmin;
-        {{ name }}_pfour_(o->c, argmin, d);
+        model_pfour_(o->c, argmin, d);
         o->Ps = d[0];
         /* P ~ Ps + P'' x^2/2 near phis: the width of the bump */
         o->w = d[2] > 0.0 ? sqrt(2.0 * d[0] / d[2]) : 1.0;
         o->w = o->w < 1.0 ? o->w : 1.0;
-        o->U = asinh({{ NAME }}_PI / o->w);
-        return {{ name }}_panels_(o, 0, 2.0 * o->U, 8);
+        o->U = asinh(MODEL_PI / o->w);
+        return model_panels_(o, 0, 2.0 * o->U, 8);
     }
-    rc = {{ name }}_panels_(o, 0, 0.5 * {{ NAME }}_PI, 4);
+    rc = model_panels_(o, 0, 0.5 * MODEL_PI, 4);
     if (!rc) {
-        rc = {{ name }}_panels_(o, 1, 0.5 * {{ NAME }}_PI, 4);
+        rc = model_panels_(o, 1, 0.5 * MODEL_PI, 4);
     }
     return rc;
 }
 
-int {{ name }}_quad_motion(const double *x0, const {{ name }}_params *p, {{ name }}_quad_info *info)
+int model_quad_motion(const double *x0, const model_params *p, model_quad_info *info)
 {
-    {{ name }}_orbit_ o;
-    int rc = {{ name }}_orbit_init_(x0, p, &o);
+    model_orbit_ o;
+    int rc = model_orbit_init_(x0, p, &o);
     if (rc) {
         return rc;
     }
@@ -540,14 +545,14 @@ int {{ name }}_quad_motion(const double *x0, const {{ name }}_params *p, {{ name
     info->E = o.E;
     info->k = o.k;
     info->separatrix_distance = o.eps;
-    if (o.kind == {{ NAME }}_LIBRATION) {
+    if (o.kind == MODEL_LIBRATION) {
         info->phi_min = o.r[0];
         info->phi_max = o.r[1];
         info->period = 2.0 * (o.tot[0][0] + o.tot[1][0]);
         info->psi_advance = 2.0 * (o.tot[0][1] + o.tot[1][1]);
-    } else if (o.kind == {{ NAME }}_ROTATION) {
+    } else if (o.kind == MODEL_ROTATION) {
         info->phi_min = o.phi0;
-        info->phi_max = o.phi0 + o.dir * 2.0 * {{ NAME }}_PI;
+        info->phi_max = o.phi0 + o.dir * 2.0 * MODEL_PI;
         info->period = o.tot[0][0];
         info->psi_advance = o.tot[0][1] - o.dir * o.tot[0][2];
     } else {
@@ -555,27 +560,27 @@ int {{ name }}_quad_motion(const double *x0, const {{ name }}_params *p, {{ name
         info->period = 0.0;
         info->psi_advance = 0.0;
     }
-    return {{ NAME }}_OK;
+    return MODEL_OK;
 }
 
-int {{ name }}_quad_period(const double *x0, const {{ name }}_params *p, double *period)
+int model_quad_period(const double *x0, const model_params *p, double *period)
 {
-    {{ name }}_quad_info info;
-    int rc = {{ name }}_quad_motion(x0, p, &info);
+    model_quad_info info;
+    int rc = model_quad_motion(x0, p, &info);
     if (rc) {
         return rc;
     }
-    if (info.kind == {{ NAME }}_STEADY) {
-        return {{ NAME }}_NO_PERIOD;
+    if (info.kind == MODEL_STEADY) {
+        return MODEL_NO_PERIOD;
     }
     *period = info.period;
-    return {{ NAME }}_OK;
+    return MODEL_OK;
 }
 
 /* Phase time (from phi_- with phidot > 0) and psi gained, at the point with integrals v on
  * segment seg of a libration: 1 phi_- -> mid and 2 mid -> phi_+ (phidot > 0), 3 phi_+ -> mid and
  * 4 mid -> phi_- (phidot < 0).  psi gains K dt/J - C dphi/J: the C part flips with phidot. */
-static void {{ name }}_lib_phase_(const {{ name }}_orbit_ *o, int seg, const double *v, double *phase, double *psir)
+static void model_lib_phase_(const model_orbit_ *o, int seg, const double *v, double *phase, double *psir)
 {
     const double *Im = o->tot[0], *Ip = o->tot[1];
     const double up = Im[1] - Im[2] + Ip[1] - Ip[2];   /* psi gained over segments 1 and 2 */
@@ -599,34 +604,34 @@ static void {{ name }}_lib_phase_(const {{ name }}_orbit_ *o, int seg, const dou
     }
 }
 
-int {{ name }}_quad_state(double t, const double *x0, const {{ name }}_params *p, double *x)
+int model_quad_state(double t, const double *x0, const model_params *p, double *x)
 {
-    {{ name }}_orbit_ o;
+    model_orbit_ o;
     double T, n, rem, tau, b, v[3], phase0, psir0, phase, psir, phi, g, f[3], tt[5], phid, b0;
-    int rc = {{ name }}_orbit_init_(x0, p, &o), seg, q;
+    int rc = model_orbit_init_(x0, p, &o), seg, q;
     if (rc) {
         return rc;
     }
     if (!isfinite(t)) {
-        return {{ NAME }}_NONFINITE;
+        return MODEL_NONFINITE;
     }
-    if (o.kind == {{ NAME }}_STEADY) {
+    if (o.kind == MODEL_STEADY) {
         x[0] = x0[0] + x0[2] * t;
         x[1] = x0[1];
         x[2] = x0[2];
         x[3] = 0.0;
-        return {{ NAME }}_OK;
+        return MODEL_OK;
     }
-    if (o.kind == {{ NAME }}_ROTATION) {
+    if (o.kind == MODEL_ROTATION) {
         /* one turn: b from 0 (phi = phis - pi) to 2U (phis + pi); the motion runs along b when
          * dir > 0 and against it when dir < 0, where the C part of psi flips */
         const double *I = o.tot[0], dpsi = I[1] - o.dir * I[2];
         double x0s = x0[1] - o.phis, turns;
         T = I[0];
-        turns = floor((x0s + {{ NAME }}_PI) / (2.0 * {{ NAME }}_PI));
-        x0s -= 2.0 * {{ NAME }}_PI * turns;
+        turns = floor((x0s + MODEL_PI) / (2.0 * MODEL_PI));
+        x0s -= 2.0 * MODEL_PI * turns;
         b0 = o.U + asinh(x0s / o.w);
-        rc = {{ name }}_partial_(&o, 0, b0, v);
+        rc = model_partial_(&o, 0, b0, v);
         if (rc) {
             return rc;
         }
@@ -634,16 +639,16 @@ int {{ name }}_quad_state(double t, const double *x0, const {{ name }}_params *p
         psir0 = o.dir > 0.0 ? v[1] - v[2] : I[1] - v[1] + I[2] - v[2];
         n = floor((phase0 + t) / T);
         rem = phase0 + t - n * T;
-        rc = {{ name }}_invert_(&o, 0, o.dir > 0.0 ? rem : T - rem, &b, v);
+        rc = model_invert_(&o, 0, o.dir > 0.0 ? rem : T - rem, &b, v);
         if (!rc) {
-            rc = {{ name }}_integrand_(&o, 0, b, f, &phi, &g);
+            rc = model_integrand_(&o, 0, b, f, &phi, &g);
         }
         if (rc) {
             return rc;
         }
         psir = o.dir > 0.0 ? v[1] - v[2] : I[1] - v[1] + I[2] - v[2];
         x[0] = x0[0] + n * dpsi + psir - psir0;
-        x[1] = phi + 2.0 * {{ NAME }}_PI * (turns + o.dir * n);
+        x[1] = phi + 2.0 * MODEL_PI * (turns + o.dir * n);
         phid = o.dir * o.w * cosh(b - o.U) / g;
     } else {
         const double *Im = o.tot[0], *Ip = o.tot[1];
@@ -652,12 +657,12 @@ int {{ name }}_quad_state(double t, const double *x0, const {{ name }}_params *p
         q = x0[1] > 0.5 * (o.r[0] + o.r[1]);
         b0 = (q ? o.r[1] - x0[1] : x0[1] - o.r[0]) / (2.0 * o.h);
         b0 = 2.0 * asin(sqrt(b0 < 0.0 ? 0.0 : (b0 > 0.5 ? 0.5 : b0)));
-        rc = {{ name }}_partial_(&o, q, b0, v);
+        rc = model_partial_(&o, q, b0, v);
         if (rc) {
             return rc;
         }
         seg = q ? (x0[3] > 0.0 ? 2 : 3) : (x0[3] < 0.0 ? 4 : 1);
-        {{ name }}_lib_phase_(&o, seg, v, &phase0, &psir0);
+        model_lib_phase_(&o, seg, v, &phase0, &psir0);
         /* where x(t) is */
         n = floor((phase0 + t) / T);
         rem = phase0 + t - n * T;
@@ -675,38 +680,38 @@ int {{ name }}_quad_state(double t, const double *x0, const {{ name }}_params *p
             tau = T - rem;
         }
         q = seg == 2 || seg == 3;
-        rc = {{ name }}_invert_(&o, q, tau, &b, v);
+        rc = model_invert_(&o, q, tau, &b, v);
         if (!rc) {
-            rc = {{ name }}_integrand_(&o, q, b, f, &phi, &g);
+            rc = model_integrand_(&o, q, b, f, &phi, &g);
         }
         if (rc) {
             return rc;
         }
-        {{ name }}_lib_phase_(&o, seg, v, &phase, &psir);
+        model_lib_phase_(&o, seg, v, &phase, &psir);
         x[0] = x0[0] + n * 2.0 * (Im[1] + Ip[1]) + psir - psir0;
         x[1] = phi;
         phid = (seg <= 2 ? 1.0 : -1.0) * o.h * sin(b) / g;
     }
-    {{ name }}_quad_terms_(x[1], p, tt);
+    model_quad_terms_(x[1], p, tt);
     x[2] = (o.k - tt[4] - tt[1] * phid) / tt[0];
     x[3] = phid;
-    return {{ NAME }}_OK;
+    return MODEL_OK;
 }
 
-int {{ name }}_quad_functions(double phi, const double *x0, const {{ name }}_params *p, double *out)
+int model_quad_functions(double phi, const double *x0, const model_params *p, double *out)
 {
     double t[5], E, k, P, D;
-{% if has_params %}
+#if MODEL_HAS_PARAMS
     if (!p) {
-        return {{ NAME }}_NO_PARAMS;
+        return MODEL_NO_PARAMS;
     }
-{% endif %}
-    if (!{{ name }}_all_finite_(x0, 4) || !isfinite(phi)) {
-        return {{ NAME }}_NONFINITE;
+#endif
+    if (!model_all_finite_(x0, 4) || !isfinite(phi)) {
+        return MODEL_NONFINITE;
     }
-    E = {{ name }}_energy(x0, p);
-    k = {{ name }}_momentum(x0, p);
-    {{ name }}_quad_terms_(phi, p, t);
+    E = model_energy(x0, p);
+    k = model_momentum(x0, p);
+    model_quad_terms_(phi, p, t);
     out[0] = t[0];
     out[1] = t[1];
     out[2] = t[2];
@@ -715,5 +720,5 @@ int {{ name }}_quad_functions(double phi, const double *x0, const {{ name }}_par
     D = t[2] * t[0] - t[1] * t[1];
     P = out[3] * t[0] - out[4] * out[4];
     out[5] = P > 0.0 ? sqrt(D / P) : HUGE_VAL;
-    return D > 0.0 ? {{ NAME }}_OK : {{ NAME }}_SINGULAR;
+    return D > 0.0 ? MODEL_OK : MODEL_SINGULAR;
 }
