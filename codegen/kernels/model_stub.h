@@ -1,13 +1,51 @@
 /* What a kernel takes from the model around it, declared so that a compiler reads a kernel file
- * as it stands (tests/models/test_kernels.py): the generated header's codes and types, and the
+ * as it stands (tests/models/test_kernels_compile.py, for each value of the flags): the generated header's codes and types, and the
  * model's own functions.  Never emitted: the generator prints the kernel's body after @kernel. */
 #ifndef MODEL_STUB_H
 #define MODEL_STUB_H
 #include <math.h>
 
+/* the model's facts (printers/c.py sets them per model) */
 #ifndef MODEL_HAS_PARAMS
 #define MODEL_HAS_PARAMS 1
 #endif
+#ifndef MODEL_NEWTON
+#define MODEL_NEWTON 1
+#endif
+#ifndef MODEL_CANONICAL
+#define MODEL_CANONICAL 1
+#endif
+#define MODEL_CANONICAL_NEWTON (MODEL_CANONICAL && MODEL_NEWTON)
+#ifndef MODEL_TIME_DEPENDENT
+#define MODEL_TIME_DEPENDENT 0
+#endif
+#if MODEL_TIME_DEPENDENT && MODEL_CANONICAL
+#error "Hamilton's variables exist only for an autonomous model (assemble.canonical_applies)"
+#endif
+#if MODEL_TIME_DEPENDENT
+#define MODEL_T(...) __VA_ARGS__
+#define MODEL_T_OR(a, b) a
+#else
+#define MODEL_T(...)
+#define MODEL_T_OR(a, b) b
+#endif
+
+/* the model's numbers (a chain of two here): sizes and op counts */
+#define MODEL_V_N 2
+#define MODEL_V_DIM 4
+#define MODEL_V_NN 4
+#define MODEL_V_DIM2 16
+#define MODEL_V_2DIM 8
+#define MODEL_V_4DIM2 64
+#define MODEL_V_OPS_QDD 30
+#define MODEL_V_OPS_QDD_DERIVATIVES 300
+#define MODEL_V_OPS_VELOCITIES 40
+#define MODEL_V_OPS_PDOT 20
+#define MODEL_V_OPS_CANONICAL 60
+#define MODEL_V_NEWTON_SWEEPS 20
+#define MODEL_V_NEWTON_SWEEPS_CANONICAL 30
+
+/* the header's codes (codes.py) */
 #define MODEL_OK 0
 #define MODEL_SINGULAR 1
 #define MODEL_NONFINITE 2
@@ -18,6 +56,15 @@
 #define MODEL_LIBRATION 1
 #define MODEL_ROTATION 2
 #define MODEL_STEADY 3
+#define MODEL_STEP_UNDERFLOW 7
+#define MODEL_NO_CONVERGENCE 8
+#define MODEL_TOO_MANY_STEPS 9
+#define MODEL_BAD_ARGUMENT 10
+#define MODEL_RK4 1
+#define MODEL_DOP853 2
+#define MODEL_GAUSS2 3
+#define MODEL_GAUSS2_FIXED 4
+#define MODEL_GAUSS2_SYMPLECTIC 5
 #define MODEL_SEPARATRIX_TOL 1e-14
 
 typedef struct model_params {
@@ -39,6 +86,30 @@ int model_quad_motion(const double *x0, const model_params *p, model_quad_info *
 int model_quad_period(const double *x0, const model_params *p, double *period);
 int model_quad_state(double t, const double *x0, const model_params *p, double *x);
 int model_quad_functions(double phi, const double *x0, const model_params *p, double *out);
+typedef struct model_integrate_stats {
+    double t;
+    double x[MODEL_V_DIM];
+    long n_rhs;
+    long n_steps;
+    long n_rejected;
+    long n_iter;
+    long n_newton;
+} model_integrate_stats;
+
+int model_rhs(double t, const double *x, const double *u, const model_params *p, double *xdot);
+int model_qdd_derivatives(MODEL_T(double t, )const double *x, const double *u, const model_params *p,
+                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
+int model_momenta(const double *x, const model_params *p, double *pm);
+int model_velocities(const double *q, const double *pm, const model_params *p, double *qd);
+int model_pdot(const double *x, const double *u, const model_params *p, double *pdot);
+int model_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+                    const double *x0, const double *u, const model_params *p, double *x1, long *n_rhs);
+int model_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                         long max_steps, const double *x0, const double *u, const model_params *p,
+                         double *X, model_integrate_stats *stats);
+int model_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+                          long max_steps, const double *x0, const double *u, long u_stride,
+                          const model_params *p, long p_stride, double *X, int *codes);
 double model_energy(const double *x, const model_params *p);
 double model_momentum(const double *x, const model_params *p);
 static int model_all_finite_(const double *v, int count)

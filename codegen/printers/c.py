@@ -59,6 +59,22 @@ def ldlt_solve_lines(A: str, b: str, n: int) -> list[str]:
     return out
 
 
+def integrators(ctx: dict) -> str:
+    """The integrators kernel (kernels/integrate.c) for this model, without its last newline
+    (the template's line ends it)."""
+    n, counts = ctx["n"], ctx["counts"]
+    dim = 2 * n
+    values = dict(N=n, DIM=dim, NN=n * n, DIM2=dim * dim, **{"2DIM": 2 * dim, "4DIM2": 4 * dim * dim},
+                  OPS_QDD=counts["qdd"], OPS_QDD_DERIVATIVES=counts.get("qdd_derivatives", 0),
+                  OPS_VELOCITIES=counts.get("velocities", 0), OPS_PDOT=counts.get("pdot", 0),
+                  OPS_CANONICAL=counts.get("velocities", 0) + counts.get("pdot", 0),
+                  NEWTON_SWEEPS=ctx["newton_sweeps"], NEWTON_SWEEPS_CANONICAL=ctx["newton_sweeps_canonical"])
+    flags = dict(NEWTON=ctx["newton"], CANONICAL=ctx["canonical"], CANONICAL_NEWTON=ctx["canonical"] and ctx["newton"],
+                 TIME_DEPENDENT=ctx["time_dependent"], HAS_PARAMS=ctx["has_params"])
+    text = kernels.specialise("integrate.c", ctx["name"], flags, {}, values, ctx["time_dependent"])
+    return text[:-1] if text.endswith("\n") else text
+
+
 class CTarget:
     """Prints every function of the model in C and lays them out by the templates."""
 
@@ -71,6 +87,7 @@ class CTarget:
         n, NAME = ctx["n"], ctx["NAME"]
         ctx["ldlt_factor"] = {A: ldlt_factor_lines(A, n, NAME) for A in ("LD", "M")}
         ctx["ldlt_solve_code"] = {f"M,{b}": ldlt_solve_lines("M", b, n) for b in ("f", "qd")}
+        ctx["integrate_c"] = integrators(ctx)
         if ctx["quad"]:
             body = env.from_string('{% import "_c.jinja" as c %}{{ c.body(f) }}\n{{ c.outputs(f) }}\n')
             ctx["quad_c"] = kernels.specialise("quad.c", name, {"HAS_PARAMS": ctx["has_params"]},

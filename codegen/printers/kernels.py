@@ -3,9 +3,13 @@ model shares, specialised to one model when printed.
 
 A kernel file is a preamble for compilers and linters, the line ``/* @kernel */`` (C) or
 ``# @kernel`` (Python), and the body.
-Printing the body: ``model_``/``MODEL_`` (C) or ``{model}`` (Python) become the model's name,
-``#if MODEL_<FLAG>`` … ``#endif`` sections are kept or dropped by the model's facts, and each line
-holding ``@generated <part>`` is replaced by that part of the model's printed code.
+Printing the body: ``#if MODEL_<FLAG>`` … [``#else`` …] ``#endif`` sections are kept or dropped
+by the model's facts, each line holding ``@generated <part>`` is replaced by that part of the
+model's printed code, ``MODEL_V_<KEY>`` by the model's number (a size, an op count),
+``MODEL_T(args)`` by the time arguments of a time-dependent model (nothing otherwise) and
+``MODEL_T_OR(a, b)`` by a or b likewise, and ``model_``/``MODEL_`` (C) or ``{model}`` (Python) by
+the model's name.  The kernel's C compiles as it stands with ``model_stub.h``, which defines
+these macros the same way.
 """
 from __future__ import annotations
 
@@ -16,6 +20,9 @@ from pathlib import Path
 KERNELS = Path(__file__).resolve().parent.parent / "kernels"
 _IF = re.compile(r"#if MODEL_(\w+)\n")
 _GENERATED = re.compile(r"[^\n]*@generated (\w+)[^\n]*\n")
+_VALUE = re.compile(r"\bMODEL_V_(\w+)\b")
+_TIME = re.compile(r"MODEL_T\(((?:[^()]|\([^()]*\))*)\)")
+_TIME_OR = re.compile(r"MODEL_T_OR\(([^,()]*), ([^,()]*)\)")
 
 
 @lru_cache(maxsize=None)
@@ -27,20 +34,25 @@ def _body(filename: str) -> str:
     return "".join(lines[starts[0] + 1:])
 
 
-def specialise(filename: str, name: str, flags: dict[str, bool], parts: dict[str, str]) -> str:
+def specialise(filename: str, name: str, flags: dict[str, bool], parts: dict[str, str],
+               values: dict[str, int] | None = None, time_dependent: bool = False) -> str:
     """The body of a kernel file for the model ``name``: its flags' sections kept or dropped,
-    its ``@generated`` parts filled in."""
+    its ``@generated`` parts, values and time arguments filled in."""
     lines, keep, out = _body(filename).splitlines(keepends=True), [], []
     for line in lines:
         m = _IF.fullmatch(line)
         if m:
             keep.append(bool(flags[m.group(1)]))
+        elif line == "#else\n" and keep:
+            keep[-1] = not keep[-1]
         elif line == "#endif\n" and keep:
             keep.pop()
         elif all(keep):
             out.append(line)
-    text = "".join(out)
-    text = _GENERATED.sub(lambda m: parts[m.group(1)], text)
-    if filename.endswith(".c"):
-        return text.replace("MODEL_", f"{name.upper()}_").replace("model_", f"{name}_")
-    return text.replace("{model}", name)
+    text = _GENERATED.sub(lambda m: parts[m.group(1)], "".join(out))
+    if not filename.endswith(".c"):
+        return text.replace("{model}", name)
+    text = _VALUE.sub(lambda m: str(values[m.group(1)]), text)
+    text = _TIME.sub(lambda m: m.group(1) if time_dependent else "", text)
+    text = _TIME_OR.sub(lambda m: m.group(1) if time_dependent else m.group(2), text)
+    return text.replace("MODEL_", f"{name.upper()}_").replace("model_", f"{name}_")

@@ -32,3 +32,21 @@ def test_an_unknown_flag_or_part_is_an_error():
         kernels.specialise("quad.c", "arm", {}, {"quad_terms": ""})
     with pytest.raises(KeyError):
         kernels.specialise("quad.c", "arm", {"HAS_PARAMS": True}, {})
+
+
+def _integrators(time_dependent: bool, canonical: bool) -> str:
+    values = dict(N=3, DIM=6, NN=9, DIM2=36, OPS_QDD=11, OPS_QDD_DERIVATIVES=12, OPS_VELOCITIES=13, OPS_PDOT=14,
+                  OPS_CANONICAL=27, NEWTON_SWEEPS=5, NEWTON_SWEEPS_CANONICAL=6, **{"2DIM": 12, "4DIM2": 144})
+    flags = dict(NEWTON=True, CANONICAL=canonical, CANONICAL_NEWTON=canonical, TIME_DEPENDENT=time_dependent, HAS_PARAMS=False)
+    return kernels.specialise("integrate.c", "arm", flags, {}, values, time_dependent)
+
+
+def test_the_integrators_take_the_models_numbers_and_time():
+    auto, timed = _integrators(False, True), _integrators(True, False)
+    for body in (auto, timed):
+        assert "MODEL_" not in body and "model_" not in body and "#if " not in body and "#else" not in body
+        assert "double x[6], cmp[6], dx[6], F[2][6]" in body
+    assert "static int arm_rk4_step_(const double *x, double h," in auto
+    assert "static int arm_rk4_step_(double t0, const double *x, double h," in timed
+    assert "arm_eval_canonical_" in auto and "arm_eval_canonical_" not in timed
+    assert "27 ops against GAUSS2's 11." in auto
