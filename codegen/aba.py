@@ -3,7 +3,7 @@
 The composite-body form (dynamics.py) builds M (O(n²) entries) and solves it by LDLᵀ (O(n³));
 past a few bodies it costs more than eliminating the joints one by one from the tip, which is
 Featherstone's articulated-body algorithm.  Both solve the same equations (17)–(19); the
-generator emits whichever has fewer operations for the spec (emit.build_model), and the tests
+generator emits whichever has fewer operations for the spec (assemble.build_model), and the tests
 check either against the reference model.
 
 Spatial vectors at Oᵏ in frame k (the paper's body frame, joint axis eᵏ₁ = (1, 0, 0)): a motion

@@ -17,7 +17,7 @@ d(1/D) = −(1/D)² dD reuses the reciprocal).
 
 ``derive`` gives one tangent per direction (emitted as one C function per column of the Jacobian,
 sparse); ``derive_tangent`` one tangent along a direction given at run time (one compact function
-called per column), which emit.py uses when the specialised columns together grow too long to
+called per column), which assemble.py uses when the specialised columns together grow too long to
 compile quickly (long chains).
 """
 from __future__ import annotations

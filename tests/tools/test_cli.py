@@ -1,6 +1,7 @@
 """What a user types and what they get."""
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 
@@ -179,3 +180,17 @@ def test_generate_does_not_recompile_what_has_not_changed(tmp_path):
     key.write_text("0" * 64 + "\n")
     fourth = run("generate", str(spec), "-o", str(out), "-q")
     assert "not recompiled" not in fourth.stdout and key.read_text().strip() != "0" * 64
+
+
+def test_the_readme_script_runs(tmp_path):
+    """The README's "Scripting the same steps" block, as a user pastes it (from the repository
+    folder): it runs and its φ̈ is the reference model's."""
+    text = (ROOT / "README.md").read_text()
+    block = text.split("Scripting the same steps as the commands:")[1].split("```python\n")[1].split("```")[0]
+    res = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, cwd=ROOT,
+                         env={**os.environ, "GYROCHAIN_CACHE": str(tmp_path)})
+    assert res.returncode == 0, res.stderr
+    got = np.array([float(v) for v in res.stdout.strip().strip("[]").split()])
+    spec = load_spec(ROOT / "specs" / "gimbal.toml")
+    want = reference.qdd(reference.numeric(spec), [0.3, 0.0, 1.0, 0.0], None, 0.0)
+    assert np.allclose(got, want, rtol=1e-10, atol=1e-12), (got, want)
