@@ -85,6 +85,8 @@ class CTarget:
         ctx = dict(context, fn=functions(model, CPrinter, "c"))
         ctx["defines"] = defines(ctx)
         n, NAME = ctx["n"], ctx["NAME"]
+        ctx["inputs_not_finite"] = f"!{name}_all_finite_(x, {2 * n})" + (
+            f" || (u && !{name}_all_finite_(u, {len(ctx['controls'])}))" if ctx["has_controls"] else "")
         ctx["ldlt_factor"] = {A: ldlt_factor_lines(A, n, NAME) for A in ("LD", "M")}
         ctx["ldlt_solve_code"] = {f"M,{b}": ldlt_solve_lines("M", b, n) for b in ("f", "qd")}
         ctx["integrate_c"] = integrators(ctx)
