@@ -1,7 +1,7 @@
 """Command line: ``python -m codegen {generate,check,simulate,steady,sweep,animate} SPEC`` and ``plot STORE``.
 
 This module parses arguments and prints; every command is a library function it calls
-(generate.run, simulate.run, steady.analyze_spec, sweep.run, plot.store, animate.render).  A bad
+(generate.run, simulate.run, steady.analyze, sweep.run, plot.store, animate.render).  A bad
 input gets one line on stderr naming the field, exit status 2, and nothing written.
 """
 from __future__ import annotations
@@ -119,7 +119,7 @@ def cmd_steady(args) -> int:
     starts = [_floats(s, "--start", spec.n) for s in args.start or []]
     try:
         omegas = steady.parse_range(args.omega) if args.omega else None
-        an, eqs, branches, omegas = steady.analyze_spec(spec, params or None, u, omegas, starts, rotations=not args.no_rotations)
+        an, eqs, branches, omegas = steady.analyze(spec, params or None, u, omegas, starts, rotations=not args.no_rotations)
     except steady.SteadyError as exc:
         what, _, why = str(exc).partition(": ")
         raise SpecError(what, why) from None

@@ -378,7 +378,7 @@ def compile_spec(spec):
     return cm, model
 
 
-def analyze_spec(spec, params=None, u=None, omegas=None, starts=(), rotations: bool = True):
+def analyze(spec, params=None, u=None, omegas=None, starts=(), rotations: bool = True):
     """Find and classify the spec's steady motions: (Analysis, equilibria, branches or None,
     ω grid or None)."""
     for s in starts:
