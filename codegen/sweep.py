@@ -27,10 +27,11 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__, pipeline
+from .codes import METHODS
 from .spec import SpecError
 
 MEASURES = ("final", "flip_time", "energy_error", "lyapunov")
-METHOD_NAMES = ("rk4", "dop853", "gauss2")
+METHOD_NAMES = tuple(m for m in METHODS if m in ("rk4", "dop853", "gauss2"))  # those a sweep offers
 STORE_KIND = "gyrochain-sweep"
 
 

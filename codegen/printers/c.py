@@ -84,6 +84,7 @@ class CTarget:
         name = model.spec.name
         ctx = dict(context, fn=functions(model, CPrinter, "c"))
         ctx["defines"] = defines(ctx)
+        ctx["status"] = STATUS
         n, NAME = ctx["n"], ctx["NAME"]
         ctx["inputs_not_finite"] = f"!{name}_all_finite_(x, {2 * n})" + (
             f" || (u && !{name}_all_finite_(u, {len(ctx['controls'])}))" if ctx["has_controls"] else "")

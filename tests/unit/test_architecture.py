@@ -77,3 +77,14 @@ def test_no_library_module_touches_the_command_line():
             continue
         text = p.read_text()
         assert "argparse" not in text and "from .cli" not in text and "import cli" not in text, p
+
+
+def test_every_module_has_a_layer():
+    """A module left out of the layers would escape the contract."""
+    import tomllib
+
+    layers = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]["contracts"][0]["layers"]
+    named = {m.strip() for layer in layers for m in layer.split("|")}
+    modules = {f"codegen.{p.stem}" for p in (ROOT / "codegen").glob("*.py") if p.stem != "__init__"}
+    modules |= {f"codegen.{p.parent.name}" for p in (ROOT / "codegen").glob("*/__init__.py")}
+    assert modules - named == set(), sorted(modules - named)
