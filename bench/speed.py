@@ -312,9 +312,9 @@ def scenes(n: int) -> list[dict]:
             text = "\n".join("c = [0.0, 0.0, 0.0]" if ln.startswith("c = ") else ln for ln in text.splitlines())
         spec = parse_spec(text)
         kin = kinematics.derive(spec)
-        dyn = dynamics.derive(spec, kin)
-        ints = integrals.derive(spec, kin, dyn)
-        counts = assemble.op_counts(assemble.build_model(spec, kin, dyn, ints))
+        dyn = dynamics.derive(spec, kin.prog, kin)
+        ints = integrals.derive(spec, kin.prog, kin, dyn)
+        counts = assemble.op_counts(assemble.build_model(spec, kin.prog, kin, dyn, ints))
         base = base or counts
         rows.append(dict(n=n, scene=label, **{k: counts[k] for k in ("mass_matrix", "forces", "qdd")},
                          qdd_vs_general=counts["qdd"] / base["qdd"]))

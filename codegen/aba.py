@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 from .algebra import ONE, ZERO
 from .dynamics import Dynamics
-from .kinematics import Kinematics
+from .kinematics import Kinematics, appends_to
+from .program import Program
 from .vec3 import add, cross, skew
 from .spec import ChainSpec
 
@@ -60,9 +61,11 @@ def _name6(P, name: str, X) -> list:
     return out
 
 
-def derive(spec: ChainSpec, kin: Kinematics, dyn: Dynamics) -> Articulated:
+def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> Articulated:
+    """φ̈ and the pivots Dᵏ by the articulated-body recursion, appended to ``prog``."""
+    appends_to(prog, kin)
     n = spec.n
-    P = kin.prog
+    P = prog
     J = kin.joint
     num = P.from_sympy
     s = [None] + [[num(x) for x in b.s] for b in spec.bodies]

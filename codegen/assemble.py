@@ -12,7 +12,8 @@ from . import aba, derivatives, quadratures, world
 from .algebra import Poly
 from .dynamics import Dynamics
 from .integrals import Integrals
-from .kinematics import Kinematics
+from .kinematics import Kinematics, appends_to
+from .program import Program
 from .spec import T as TIME, ChainSpec
 from .straightline import StraightLine, straight_line
 
@@ -62,9 +63,10 @@ QDD_FORMS = ("auto", "composite", "articulated")
 DER_FORMS = ("auto", "forward", "world")  # NAME_qdd_derivatives: forward mode, or world.py's inverse dynamics
 
 
-def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None, qdd_form: str = "auto",
-                der_form: str = "auto") -> Model:
-    """The straight-line code of every function.  φ̈ is emitted in whichever form costs fewer
+def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None,
+                qdd_form: str = "auto", der_form: str = "auto") -> Model:
+    """The straight-line code of every function, from the program ``prog`` the stages appended
+    to (the articulated recursion, the derivatives and Hamilton's variables are appended here).  φ̈ is emitted in whichever form costs fewer
     operations for this spec (``qdd_form="auto"``): composite bodies + LDLᵀ (short chains) or
     articulated bodies (long ones); ties go to the composite form.  Its derivatives likewise
     (``der_form="auto"``): the forward mode of the articulated recursion, or the inverse dynamics
@@ -81,11 +83,12 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
     lower = [dyn.M[i][j] for i in range(n) for j in range(i + 1)]
     lines = {}
     say("straight-line code: mass matrix, forces, qdd, integrals")
-    P = kin.prog
+    appends_to(prog, kin)
+    P = prog
     lines["mass_matrix"] = straight_line(P, lower)
     lines["forces"] = straight_line(P, dyn.f)
     composite = straight_line(P, lower + list(dyn.f))
-    art = aba.derive(spec, kin, dyn)
+    art = aba.derive(spec, P, kin, dyn)
     articulated = straight_line(P, list(art.qdd) + list(art.pivots))
     cheaper = articulated.op_count() < composite.op_count() + ldlt_op_count(n)
     if qdd_form == "articulated" or (qdd_form == "auto" and cheaper):
@@ -105,19 +108,19 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
     # the rest (where it applies and is not chosen, the other names stay what they were)
     say("straight-line code: derivatives of qdd")
     use_world = der_form != "forward" and world.applies(spec, kin, dyn)
-    forward = None if der_form == "world" else _forward(spec, kin, art, articulated, skip_generic=use_world)
+    forward = None if der_form == "world" else _forward(spec, P, kin, art, articulated, skip_generic=use_world)
     if forward is not None:
         der_lines = forward[2]
         lines.update(der_lines)
     if canonical_applies(spec, kin, dyn, lines):
         say("straight-line code: momenta p = dL/dphidot and their rate (the symplectic GAUSS2)")
-        can = derivatives.canonical(spec, kin, dyn)
+        can = derivatives.canonical(spec, P, kin, dyn)
         lines["momenta"] = straight_line(P, list(can.p))
         lines["velocity_terms"] = straight_line(P, lower + list(can.k))
         lines["pdot"] = straight_line(P, list(can.pdot))
     chosen = forward
     if use_world:
-        w = _world(spec, kin, dyn, art)
+        w = _world(spec, P, kin, dyn, art)
         ndir = 2 * n + len(spec.controls)
         line_ops = w[2]["qdd_derivatives"].op_count()
         w_count = world_op_count(n, ndir, line_ops)
@@ -133,12 +136,11 @@ def build_model(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, ints: Integrals
     return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d)
 
 
-def _forward(spec, kin, art, articulated: StraightLine, skip_generic: bool) -> tuple:
+def _forward(spec, P: Program, kin, art, articulated: StraightLine, skip_generic: bool) -> tuple:
     """(der, store, lines, form) of the forward mode: one specialised function per column, or past
     SPECIALISED_MAX_OPS one generic tangent called per column (not derived when
     ``skip_generic``: the world form will be used).  None when nothing was derived."""
     n = spec.n
-    P = kin.prog
     lines: dict = {"qdd_derivatives": articulated}
     ndir = 2 * n + len(spec.controls)
     base = [a for a, _ in P.needed(list(art.qdd) + list(art.pivots))]
@@ -147,7 +149,7 @@ def _forward(spec, kin, art, articulated: StraightLine, skip_generic: bool) -> t
     # by that estimate they are not derived at all (n = 32 would take minutes of Python)
     if articulated.op_count() * ndir <= 4 * SPECIALISED_MAX_OPS:
         used: set = set()
-        der = derivatives.derive(spec, kin, art)
+        der = derivatives.derive(spec, P, kin, art)
         for j, label in enumerate(der.labels):
             line = straight_line(P, [der.dqdd[k][j] for k in range(n)], prefix=f"w{label}_", have=have)
             lines[f"d_{label}"] = line
@@ -156,17 +158,16 @@ def _forward(spec, kin, art, articulated: StraightLine, skip_generic: bool) -> t
             return der, tuple(a for a in base if a in used), lines, "specialised"
     if skip_generic:
         return None
-    der = derivatives.derive_tangent(spec, kin, art)
+    der = derivatives.derive_tangent(spec, P, kin, art)
     lines = {"qdd_derivatives": articulated, "d_jvp": straight_line(P, list(der.jvp), prefix="wt", have=have)}
     used = _reads(P, lines["d_jvp"]) & have
     return der, tuple(a for a in base if a in used), lines, "generic"
 
 
-def _world(spec, kin, dyn, art) -> tuple:
+def _world(spec, P: Program, kin, dyn, art) -> tuple:
     """(der, store, lines, form) of the world form: φ̈ and world.py's per-joint vectors in one
     straight line; the pairs and the solve are loops of the template."""
-    P = kin.prog
-    der = world.derive(spec, kin, dyn, art)
+    der = world.derive(spec, P, kin, dyn, art)
     outs = [c for name in world.VECTORS for v in der.vec[name] for c in v] + [d for _, _, d in der.ext]
     return der, (), {"qdd_derivatives": straight_line(P, list(art.qdd) + list(art.pivots) + outs)}, "world"
 

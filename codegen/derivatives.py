@@ -28,6 +28,7 @@ import sympy as sp
 
 from .algebra import Atom, Poly, ZERO
 from .exact import exact
+from .kinematics import appends_to
 from .program import Program, Var
 
 
@@ -146,9 +147,10 @@ def directions(spec, kin):
     return syms, labels
 
 
-def derive_tangent(spec, kin, art) -> Tangent:
-    """The tangent of φ̈ along a run-time direction d (the generic form)."""
-    P = kin.prog
+def derive_tangent(spec, prog: Program, kin, art) -> Tangent:
+    """The tangent of φ̈ along a run-time direction d (the generic form), appended to ``prog``."""
+    appends_to(prog, kin)
+    P = prog
     syms, labels = directions(spec, kin)
     dirs = tuple(sp.Symbol(f"dir_{lab}") for lab in labels)
     seeds = {next(iter(P.input(s).terms))[0]: {0: P.input(d)} for s, d in zip(syms, dirs)}
@@ -157,9 +159,11 @@ def derive_tangent(spec, kin, art) -> Tangent:
     return Tangent(labels, dirs, jvp)
 
 
-def derive(spec, kin, art) -> Derivatives:
-    """∂φ̈/∂(φ, φ̇, u) of the articulated recursion ``art`` (aba.derive), one tangent per direction."""
-    P = kin.prog
+def derive(spec, prog: Program, kin, art) -> Derivatives:
+    """∂φ̈/∂(φ, φ̇, u) of the articulated recursion ``art`` (aba.derive), one tangent per
+    direction, appended to ``prog``."""
+    appends_to(prog, kin)
+    P = prog
     n = spec.n
     syms, labels = directions(spec, kin)
     seeds = {}
@@ -189,9 +193,11 @@ class Canonical:
     pdot: tuple
 
 
-def canonical(spec, kin, dyn) -> Canonical:
+def canonical(spec, prog: Program, kin, dyn) -> Canonical:
+    """p, k and ṗ (see Canonical), appended to ``prog``."""
+    appends_to(prog, kin)
     n = spec.n
-    P = kin.prog
+    P = prog
     qd = [P.input(kin.phidot[j]) for j in range(1, n + 1)]
     k = tuple(dyn.Lam[i][0] for i in range(n))
     p = tuple(sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO) + k[i] for i in range(n))

@@ -23,7 +23,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .algebra import ZERO, Poly
-from .kinematics import NULL, Kinematics
+from .kinematics import NULL, Kinematics, appends_to
+from .program import Program
 from .vec3 import add, cross, dot, matvec, scale
 from .spec import T, ChainSpec
 
@@ -255,11 +256,13 @@ def _mass_matrix(kin: Kinematics, s: list, I_c: list, h_c: list) -> list:
     return M
 
 
-def derive(spec: ChainSpec, kin: Kinematics) -> Dynamics:
+def derive(spec: ChainSpec, prog: Program, kin: Kinematics) -> Dynamics:
     """(17)–(19), or (8)–(10) in the general case, in three passes over the chain (named as
     Pinocchio names its passes): the forward pass of the accelerations at φ̈ = 0, the backward
     pass over the sub-chains p ≥ k (the paper's sums; Q, Γ, G, the code's bias, the composite
-    bodies), and the composite-rigid-body pass of the mass matrix."""
+    bodies), and the composite-rigid-body pass of the mass matrix; the quantities appended to
+    ``prog``."""
+    appends_to(prog, kin)
     n = spec.n
     bd = _inertial(spec, kin)
     acc = _forward_pass(kin, bd)

@@ -36,7 +36,8 @@ import sympy as sp
 from . import platform as platform_motion
 from .algebra import ZERO, Poly
 from .dynamics import Dynamics
-from .kinematics import NULL, Kinematics
+from .kinematics import NULL, Kinematics, appends_to
+from .program import Program
 from .vec3 import add, cross, dot, matvec, scale
 from .spec import T as TIME, ChainSpec
 
@@ -215,10 +216,13 @@ def _potential(spec: ChainSpec, kin: Kinematics, dyn: Dynamics) -> list:
     return out
 
 
-def derive(spec: ChainSpec, kin: Kinematics, dyn: Dynamics) -> Integrals:
+def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> Integrals:
+    """T, U, the energy (23), the momentum (27) and Jacobi's integral, appended to ``prog``, and
+    whether each is an integral of this spec (with the reasons when not)."""
+    appends_to(prog, kin)
     n = spec.n
     qd = kin.qd[1:]
-    P = kin.prog
+    P = prog
     pm = kin.platform
     # ½ φ̇ᵀ M φ̇ row by row: (M φ̇)_i named, so the sum is O(n²) and not a product of sums
     Mq = [P.let(f"Mqd{i + 1}", sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO)) for i in range(n)]

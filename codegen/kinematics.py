@@ -183,11 +183,20 @@ def platform_symbols() -> dict:
     return {key: [sp.Symbol(f"{key}0_{i}", real=True) for i in range(1, 4)] for key in ("omega", "epsilon", "vdot", "gamma")}
 
 
-def derive(spec: ChainSpec, symbolic_platform: bool = False) -> Kinematics:
-    """The kinematics; with ``symbolic_platform``, the platform's ω⁰, ε⁰, v̇₀ and γ⁰ stay symbols
-    (for the LaTeX, which shows the platform terms apart and their values as functions of t)."""
+def appends_to(prog: Program, kin: Kinematics) -> None:
+    """The check every later stage makes: it appends its quantities to the program passed to it,
+    which must be the one the kinematics' quantities live in."""
+    if prog is not kin.prog:
+        raise ValueError("a stage must append to the program of the kinematics it reads (kin.prog)")
+
+
+def derive(spec: ChainSpec, prog: Program | None = None, symbolic_platform: bool = False) -> Kinematics:
+    """The kinematics, its quantities appended to ``prog`` (a new program if None), which the
+    later stages are passed and append to in turn (the order of the calls is the order of the
+    names); with ``symbolic_platform``, the platform's ω⁰, ε⁰, v̇₀ and γ⁰ stay symbols (for the
+    LaTeX, which shows the platform terms apart and their values as functions of t)."""
     n = spec.n
-    P = Program()
+    P = Program() if prog is None else prog
     phi, phidot, torque = state_symbols(n)
     qd = [None] + [P.input(phidot[k]) for k in range(1, n + 1)]
     tau = [None] + [P.input(torque[k]) for k in range(1, n + 1)]

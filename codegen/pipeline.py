@@ -23,6 +23,7 @@ from pathlib import Path
 
 from . import assemble, build, dynamics, integrals, kinematics, printers
 from .assemble import FormNotApplicable, Model, Stages  # noqa: F401  (the pipeline's vocabulary)
+from .program import Program
 
 C_FILES = (".c", ".h", ".cdef")  # what an extension is built from
 
@@ -47,12 +48,13 @@ def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = T
         return found
     say = progress or (lambda msg: None)
     say(f"kinematics: direction cosines and angular velocities of {spec.n} bodies")
-    kin = kinematics.derive(spec)
+    prog = Program()  # the straight-line program every stage appends its named quantities to, in turn
+    kin = kinematics.derive(spec, prog)
     say("dynamics: mass matrix and forces (recursions over the sub-chains p >= k)")
-    dyn = dynamics.derive(spec, kin)
+    dyn = dynamics.derive(spec, prog, kin)
     say("integrals: energy (23) and, where l1 may be vertical, momentum (27)")
-    ints = integrals.derive(spec, kin, dyn)
-    model = assemble.build_model(spec, kin, dyn, ints, progress=say, qdd_form=qdd_form, der_form=der_form)
+    ints = integrals.derive(spec, prog, kin, dyn)
+    model = assemble.build_model(spec, prog, kin, dyn, ints, progress=say, qdd_form=qdd_form, der_form=der_form)
     if latex and spec.general:
         say("the general case again with the platform's motion as symbols (for the LaTeX)")
         model = _with_symbolic(model)
@@ -71,10 +73,11 @@ def _remember(key, model: Model) -> Model:
 def _with_symbolic(model: Model) -> Model:
     from dataclasses import replace
 
-    kin = kinematics.derive(model.spec, symbolic_platform=True)
-    kin_defs = len(kin.prog.defs)
-    dyn = dynamics.derive(model.spec, kin)
-    return replace(model, symbolic=Stages(kin, dyn, integrals.derive(model.spec, kin, dyn), kin_defs))
+    prog = Program()
+    kin = kinematics.derive(model.spec, prog, symbolic_platform=True)
+    kin_defs = len(prog.defs)
+    dyn = dynamics.derive(model.spec, prog, kin)
+    return replace(model, symbolic=Stages(kin, dyn, integrals.derive(model.spec, prog, kin, dyn), kin_defs))
 
 
 def render(model: Model, spec_label: str | None = None, targets=printers.ALL) -> dict[str, str]:

@@ -47,6 +47,7 @@ from dataclasses import dataclass
 
 from . import derivatives
 from .algebra import ONE, ZERO, Poly
+from .kinematics import appends_to
 from .vec3 import add, cross, dot, scale, skew
 
 VECTORS = ("S", "z1", "z2", "beta", "w", "G", "K")  # per joint, 6 components each (the C arrays)
@@ -212,8 +213,10 @@ def _torque_tangents(spec, kin, dyn) -> tuple:
     return tuple(ext), labels
 
 
-def derive(spec, kin, dyn, art) -> World:
-    """The per-joint vectors of the pairs' formulas and ∂τ/∂x; ``art`` gives φ̈ (aba.derive)."""
-    vec = _inward(kin.prog, spec.n, _outward(spec, kin, art))
+def derive(spec, prog, kin, dyn, art) -> World:
+    """The per-joint vectors of the pairs' formulas and ∂τ/∂x, appended to ``prog``; ``art``
+    gives φ̈ (aba.derive)."""
+    appends_to(prog, kin)
+    vec = _inward(prog, spec.n, _outward(spec, kin, art))
     ext, labels = _torque_tangents(spec, kin, dyn)
     return World({name: tuple(tuple(x) for x in vec[name]) for name in VECTORS}, ext, labels)

@@ -31,8 +31,8 @@ def test_n12_chain_matches_reference(make_model):
 def _counts(text: str) -> dict:
     spec = parse_spec(text)
     kin = kinematics.derive(spec)
-    dyn = dynamics.derive(spec, kin)
-    return assemble.op_counts(assemble.build_model(spec, kin, dyn, integrals.derive(spec, kin, dyn)))
+    dyn = dynamics.derive(spec, kin.prog, kin)
+    return assemble.op_counts(assemble.build_model(spec, kin.prog, kin, dyn, integrals.derive(spec, kin.prog, kin, dyn)))
 
 
 @pytest.mark.parametrize("n", [2, 5])

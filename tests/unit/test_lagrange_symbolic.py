@@ -49,7 +49,7 @@ def test_symbolic_two_body_equals_lagrange():
     spec = symbolic_two_body_spec()
     assert len(spec.params) == 1 + 2 * (1 + 1 + 3 + 6 + 3) + 3  # g, θ, m, c, A, λ per body, s¹
     kin = kinematics.derive(spec)
-    dyn = dynamics.derive(spec, kin)
+    dyn = dynamics.derive(spec, kin.prog, kin)
     n = spec.n
     phi, phidot = kin.phi[1:], kin.phidot[1:]
     H, b = lagrange_terms(spec, phi, phidot)
@@ -76,8 +76,8 @@ def test_symbolic_two_body_energy_and_momentum():
     text = spec.source.replace('theta = "th1"', "theta = 0", 1)
     spec = parse_spec(text)
     kin = kinematics.derive(spec)
-    dyn = dynamics.derive(spec, kin)
-    ints = integrals.derive(spec, kin, dyn)
+    dyn = dynamics.derive(spec, kin.prog, kin)
+    ints = integrals.derive(spec, kin.prog, kin, dyn)
     phi, phidot = kin.phi[1:], kin.phidot[1:]
     from lagrange import lagrangian
 

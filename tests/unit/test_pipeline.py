@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from codegen import pipeline, printers
+from codegen import pipeline
 from codegen.spec import load_spec, parse_spec
 from conftest import ROOT
 
