@@ -28,7 +28,7 @@ from .program import Program
 C_FILES = (".c", ".h", ".cdef")  # what an extension is built from
 
 _DERIVED: OrderedDict = OrderedDict()  # (spec text, forms) → Model, the last few derived
-_DERIVED_MAX = 24
+_DERIVED_MAX = 8
 _LOCK = threading.Lock()
 _LOADED: dict = {}  # content hash of the sources → CModel (an extension loads once per process)
 
