@@ -45,7 +45,7 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     except pipeline.FormNotApplicable as exc:
         raise SpecError("--derivative-form", str(exc)) from None
     if build:
-        say("compiling the cffi extension (unless the one there was built from the same C and flags)")
+        say("the cffi extension: the folder's if built from the same C and flags, else the model cache's (compiled if new)")
     how = pipeline.write_tree(files, target, build, spec.name)
     return Result(spec, model, target, tuple(sorted(files)), how)
 

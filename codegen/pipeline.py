@@ -103,19 +103,20 @@ def cache_root() -> Path:
     return Path(os.environ.get("GYROCHAIN_CACHE") or Path(tempfile.gettempdir()) / "gyrochain-cache")
 
 
-def compile(files: dict[str, str], name: str) -> build.CModel:  # noqa: A001  (the pipeline's verb)
-    """The compiled model of these sources (the C, header and cdef of ``files``; others are
-    ignored), built once per machine in the cache and loaded once per process."""
-    sources = {k: v for k, v in files.items() if k.endswith(C_FILES)}
-    memo = hashlib.sha256("\0".join(f"{k}\0{sources[k]}" for k in sorted(sources)).encode("utf-8")).hexdigest()
-    with _LOCK:
-        if memo in _LOADED:
-            return _LOADED[memo]
+def _sources(files: dict[str, str]) -> dict[str, str]:
+    return {k: v for k, v in files.items() if k.endswith(C_FILES)}
+
+
+def extension(files: dict[str, str], name: str) -> tuple[Path, bool]:
+    """The cached extension of these sources: (its path, whether it was built by this call).
+    Built once per machine: the first caller builds under the file lock, the others wait and
+    find its build."""
     root = cache_root()
     root.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix="stage-", dir=root))
+    built = False
     try:
-        for k, v in sources.items():
+        for k, v in _sources(files).items():
             (staging / k).write_text(v, encoding="utf-8")
         key = build.build_key(staging, name)
         home = root / f"{name}-{key[:20]}"
@@ -126,12 +127,23 @@ def compile(files: dict[str, str], name: str) -> build.CModel:  # noqa: A001  (t
                 build.compile_model(staging, name)
                 shutil.rmtree(home, ignore_errors=True)
                 staging.rename(home)
-                staging = None
+                staging, built = None, True
                 found = build.extensions(home, name)
-        model = build.CModel(found[0], name)
+        return found[0], built
     finally:
         if staging is not None:
             shutil.rmtree(staging, ignore_errors=True)
+
+
+def compile(files: dict[str, str], name: str) -> build.CModel:  # noqa: A001  (the pipeline's verb)
+    """The compiled model of these sources (the C, header and cdef of ``files``; others are
+    ignored), built once per machine in the cache and loaded once per process."""
+    sources = _sources(files)
+    memo = hashlib.sha256("\0".join(f"{k}\0{sources[k]}" for k in sorted(sources)).encode("utf-8")).hexdigest()
+    with _LOCK:
+        if memo in _LOADED:
+            return _LOADED[memo]
+    model = build.CModel(extension(sources, name)[0], name)
     with _LOCK:
         return _LOADED.setdefault(memo, model)
 
@@ -160,9 +172,10 @@ def is_ours(directory: Path) -> bool:
 
 
 def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str) -> str | None:
-    """Write every file into a fresh temporary folder, build there, then swap it in: nothing
-    half-written is ever at ``target``.  The build is skipped when the folder's extension was
-    built from the same C, header and cdef with the same flags (build.build_key): returns
+    """Write every file into a fresh temporary folder with its extension, then swap it in: nothing
+    half-written is ever at ``target``.  The extension is the folder's own when it was built from
+    the same C, header and cdef with the same flags and compiler (build.build_key), else the
+    model cache's (``extension``: compiled now only if no process built it before): returns
     "compiled", "reused" or None (no build)."""
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -172,12 +185,14 @@ def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str) -
         for rel, text in sorted(files.items()):
             with open(tmp / rel, "w", encoding="utf-8", newline="\n") as fh:
                 fh.write(text)
-        if build_it:
+        if build_it:  # the folder's own extension if it is current, else the cache's (built now if need be)
             if target.is_dir() and build.reuse_extension(target, tmp, name):
                 how = "reused"
             else:
-                build.compile_model(tmp, name)
-                how = "compiled"
+                so, built = extension(files, name)
+                shutil.copy2(so, tmp / so.name)
+                build.key_path(tmp, name).write_text(build.build_key(tmp, name) + "\n")
+                how = "compiled" if built else "reused"
         old = None
         if target.exists():
             old = target.parent / f".{target.name}.old-{os.getpid()}"

@@ -12,8 +12,10 @@ from codegen.spec import load_spec
 from conftest import ROOT
 
 
-def run(*args):
-    return subprocess.run([sys.executable, "-m", "codegen", *args], capture_output=True, text=True, cwd=ROOT)
+def run(*args, cache=None):
+    """The command as a user runs it; ``cache``: its own model cache folder ($GYROCHAIN_CACHE)."""
+    env = dict(os.environ, GYROCHAIN_CACHE=str(cache)) if cache else None
+    return subprocess.run([sys.executable, "-m", "codegen", *args], capture_output=True, text=True, cwd=ROOT, env=env)
 
 
 def test_generate_prints_op_counts_integrals_and_where(tmp_path):
@@ -156,30 +158,35 @@ def test_distribution_console_command_and_version(tmp_path):
 
 
 def test_generate_does_not_recompile_what_has_not_changed(tmp_path):
-    out = tmp_path / "g"
-    first = run("generate", "specs/gimbal.toml", "-o", str(out), "-q")
-    assert first.returncode == 0 and "not recompiled" not in first.stdout
+    out, cache = tmp_path / "g", tmp_path / "cache"
+    first = run("generate", "specs/gimbal.toml", "-o", str(out), "-q", cache=cache)
+    assert first.returncode == 0 and "+ cffi extension" in first.stdout and "not recompiled" not in first.stdout
     so = next(out.glob("_gimbal_cffi*.so"))
     stamp = so.stat().st_mtime_ns
-    second = run("generate", "specs/gimbal.toml", "-o", str(out), "-q")
+    second = run("generate", "specs/gimbal.toml", "-o", str(out), "-q", cache=cache)
     assert second.returncode == 0 and "not recompiled" in second.stdout, second.stdout
     so2 = next(out.glob("_gimbal_cffi*.so"))
     assert so2.stat().st_mtime_ns == stamp  # the same file, copied with its time
     from codegen.build import load
     assert np.all(np.isfinite(load(out, "gimbal").qdd(np.array([0.1, 0.2, 0.3, 0.4]))))
+    # another folder, the same sources: the model cache's build, not compiled again
+    other = run("generate", "specs/gimbal.toml", "-o", str(tmp_path / "h"), "-q", cache=cache)
+    assert "not recompiled" in other.stdout and next((tmp_path / "h").glob("_gimbal_cffi*.so")).stat().st_mtime_ns == stamp
     # another mass of the balanced inner ring changes no equation (c = s = 0): the same C, reused
     spec = tmp_path / "gimbal.toml"
     spec.write_text((ROOT / "specs" / "gimbal.toml").read_text().replace("m = 1.2", "m = 1.25"))
-    assert "not recompiled" in run("generate", str(spec), "-o", str(out), "-q").stdout
+    assert "not recompiled" in run("generate", str(spec), "-o", str(out), "-q", cache=cache).stdout
     # another inertia of the rotor ring does: compiled again
     spec.write_text(spec.read_text().replace("0.009]]", "0.0095]]"))
-    third = run("generate", str(spec), "-o", str(out), "-q")
+    third = run("generate", str(spec), "-o", str(out), "-q", cache=cache)
     assert third.returncode == 0 and "+ cffi extension" in third.stdout and "not recompiled" not in third.stdout
-    # a key that does not match what is there (another compiler or flags): compiled again
+    # a key that does not match what is there (another compiler or flags): the folder's extension
+    # is not trusted; the one built from these sources with these flags is put in with its key
     key = next(out.glob("_gimbal_cffi.key"))
     key.write_text("0" * 64 + "\n")
-    fourth = run("generate", str(spec), "-o", str(out), "-q")
-    assert "not recompiled" not in fourth.stdout and key.read_text().strip() != "0" * 64
+    fourth = run("generate", str(spec), "-o", str(out), "-q", cache=cache)
+    assert fourth.returncode == 0 and key.read_text().strip() != "0" * 64
+    assert np.all(np.isfinite(load(out, "gimbal").qdd(np.array([0.1, 0.2, 0.3, 0.4]))))
 
 
 def test_the_readme_script_runs(tmp_path):
