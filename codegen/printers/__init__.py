@@ -60,6 +60,10 @@ def code_context(model: Model, spec_label: str, counts: dict) -> dict:
         newton_sweeps=newton_sweeps(n, counts),
         newton_sweeps_canonical=newton_sweeps_canonical(n, counts),
         counts=counts,
+        counts_text=", ".join(f"{k} {v}" for k, v in sorted(counts.items())),
+        # the time argument of the functions that read t (NAME_TIME_DEPENDENT), as each place spells it
+        t_param="double t, " if time_dependent(model) else "",
+        t_arg="t, " if time_dependent(model) else "",
         label=spec_label,
         codegen_version=__version__,
         sympy_version=sp.__version__,

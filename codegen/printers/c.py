@@ -75,6 +75,30 @@ def integrators(ctx: dict) -> str:
     return text[:-1] if text.endswith("\n") else text
 
 
+def layout_data(ctx: dict, env) -> dict:
+    """What the C templates lay out besides the printed functions, decided here: the #defines,
+    the unrolled LDLᵀ, the spellings that depend on the model's facts, and the kernels."""
+    name, n, NAME = ctx["name"], ctx["n"], ctx["NAME"]
+    nu = len(ctx["controls"])
+    out = dict(
+        defines=defines(ctx),
+        status=STATUS,
+        column_suffix={nu: "_u", n: ""},  # NAME_ldlt_columns_ (n columns) or _u (nu columns)
+        no_block_asked="!dqdd_dphi && !dqdd_dphidot" + (" && !dqdd_du" if nu else ""),
+        forward_mode_how=", by one generic tangent function" if ctx["der_generic"] else "",
+        du_arg="B ? du : 0" if nu else "0",
+        inputs_not_finite=f"!{name}_all_finite_(x, {2 * n})" + (f" || (u && !{name}_all_finite_(u, {nu}))" if nu else ""),
+        ldlt_factor={A: ldlt_factor_lines(A, n, NAME) for A in ("LD", "M")},
+        ldlt_solve_code={f"M,{b}": ldlt_solve_lines("M", b, n) for b in ("f", "qd")},
+        integrate_c=integrators(ctx),
+    )
+    if ctx["quad"]:
+        body = env.from_string('{% import "_c.jinja" as c %}{{ c.body(f) }}\n{{ c.outputs(f) }}\n')
+        out["quad_c"] = kernels.specialise("quad.c", name, {"HAS_PARAMS": ctx["has_params"]},
+                                           {"quad_terms": body.render(f=ctx["fn"]["quad_terms"])})
+    return out
+
+
 class CTarget:
     """Prints every function of the model in C and lays them out by the templates."""
 
@@ -83,18 +107,7 @@ class CTarget:
     def files(self, model, context: dict, env) -> dict[str, str]:
         name = model.spec.name
         ctx = dict(context, fn=functions(model, CPrinter, "c"))
-        ctx["defines"] = defines(ctx)
-        ctx["status"] = STATUS
-        n, NAME = ctx["n"], ctx["NAME"]
-        ctx["inputs_not_finite"] = f"!{name}_all_finite_(x, {2 * n})" + (
-            f" || (u && !{name}_all_finite_(u, {len(ctx['controls'])}))" if ctx["has_controls"] else "")
-        ctx["ldlt_factor"] = {A: ldlt_factor_lines(A, n, NAME) for A in ("LD", "M")}
-        ctx["ldlt_solve_code"] = {f"M,{b}": ldlt_solve_lines("M", b, n) for b in ("f", "qd")}
-        ctx["integrate_c"] = integrators(ctx)
-        if ctx["quad"]:
-            body = env.from_string('{% import "_c.jinja" as c %}{{ c.body(f) }}\n{{ c.outputs(f) }}\n')
-            ctx["quad_c"] = kernels.specialise("quad.c", name, {"HAS_PARAMS": ctx["has_params"]},
-                                               {"quad_terms": body.render(f=ctx["fn"]["quad_terms"])})
+        ctx.update(layout_data(ctx, env))
         ctx["decls"] = env.get_template("_decls.jinja").render(ctx)
         return {
             f"{name}.h": env.get_template("model.h.jinja").render(ctx),
