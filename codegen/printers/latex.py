@@ -340,6 +340,45 @@ def _quadratures(model: Model, pr) -> dict | None:
                 U_const=not (U2.free_symbols & {kin.phi[2]}))
 
 
+def _joined(reasons) -> str:
+    return tex_escape("; ".join(reasons))
+
+
+def integral_statements(model: Model) -> dict:
+    """What the document says of the energy (23) and the momentum (27): from the same facts
+    (integrals.Integrals) that set the header's HAS_ENERGY_INTEGRAL, HAS_MOMENTUM_INTEGRAL and
+    generate's report; each verdict is one sentence "... is an integral of this model" or "... is
+    not an integral of this model: <why>"."""
+    spec, facts = model.spec, model.integrals
+    extra = ""
+    if facts.U_extra:
+        extra = (r"$U$ includes the force function of " + ", ".join(tex_escape(w) for w, _ in facts.U_extra)
+                 + r" (springs: $-\tfrac12 k(\varphi-\varphi_0)^2$; constant fixed forces: $\mathbf F\cdot\mathbf r_P$).  ")
+    if facts.has_energy_integral:
+        why = ("no load but gravity, springs and constant fixed forces does work" if spec.general
+               else r"the base is fixed, every $\boldsymbol\lambda^k$ is constant and no control torque acts")
+        energy = extra + f"The energy (23) is an integral of this model: {why}."
+    else:
+        energy = extra + f"The energy (23) is not an integral of this model: work is done by {_joined(facts.energy_reasons)}."
+    K = r"$\hat{\mathbf e}^1_1\cdot\mathbf K_{O^1}$"
+    if facts.momentum is None:
+        intro, momentum = None, r"The momentum (27) is not an integral of this model: $\theta^1 \ne 0$, the axis $l^1$ is not vertical."
+    elif facts.momentum_condition:
+        intro = (rf"Momentum (27), $\partial\mathcal L/\partial\dot\varphi^1 = $ {K}; it is conserved, $= k$, only when "
+                 rf"the axis $l^1$ is vertical, (25): {tex_escape(facts.momentum_condition)}. The function is")
+        momentum = "The momentum (27) is not an integral of this model for every value of its parameters."
+    elif facts.has_momentum_integral:
+        intro = (rf"Momentum (27): the axis $l^1$ is vertical ($\sin\theta^1 = 0$, (25)) and nothing turns the chain "
+                 rf"about it (no torque, spring or damper in joint 1, no load with a moment about $l^1$"
+                 + (", the platform turning about $l^1$ only" if spec.base is not None and spec.base.moves else "")
+                 + rf"), so {K} $= k$ with")
+        momentum = "The momentum (27) is an integral of this model."
+    else:
+        intro = rf"Momentum (27), {K} (the axis $l^1$ is vertical in the platform, $\sin\theta^1 = 0$):"
+        momentum = f"The momentum (27) is not an integral of this model: {_joined(facts.momentum_reasons)}."
+    return dict(energy_statement=energy, momentum_intro=intro, momentum_statement=momentum)
+
+
 def _tex(model: Model) -> dict:
     spec, n = model.spec, model.spec.n
     general = None
@@ -359,13 +398,11 @@ def _tex(model: Model) -> dict:
     return dict(
         general=spec.general,
         moving=kin.platform is not None,
-        energy_reasons=tex_escape("; ".join(facts.energy_reasons)),
         jacobi=facts.jacobi is not None,
-        U_extra=[tex_escape(w) for w, _ in facts.U_extra],
+        **integral_statements(model),
         **gen,
         **_equations(spec, kin, dyn, ints, pr, closed, general),
         quad=_quadratures(model, pr),
-        momentum_condition=tex_escape(ints.momentum_condition) if ints.momentum_condition else None,
         bodies=_bodies(spec, kin, pr),
         g=pr.doprint(_display(spec.g)),
         params=", ".join(f"${pr.doprint(p)}$" for p in spec.params),
