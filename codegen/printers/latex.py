@@ -362,14 +362,15 @@ def integral_statements(model: Model) -> dict:
         energy = extra + f"The energy (23) is not an integral of this model: work is done by {_joined(facts.energy_reasons)}."
     K = r"$\hat{\mathbf e}^1_1\cdot\mathbf K_{O^1}$"
     if facts.momentum is None:
-        intro, momentum = None, r"The momentum (27) is not an integral of this model: $\theta^1 \ne 0$, the axis $l^1$ is not vertical."
+        intro = None
+        momentum = r"The momentum (27) is not an integral of this model: $\theta^1 \ne 0$, the axis $l^1$ is not vertical."
     elif facts.momentum_condition:
         intro = (rf"Momentum (27), $\partial\mathcal L/\partial\dot\varphi^1 = $ {K}; it is conserved, $= k$, only when "
                  rf"the axis $l^1$ is vertical, (25): {tex_escape(facts.momentum_condition)}. The function is")
         momentum = "The momentum (27) is not an integral of this model for every value of its parameters."
     elif facts.has_momentum_integral:
-        intro = (rf"Momentum (27): the axis $l^1$ is vertical ($\sin\theta^1 = 0$, (25)) and nothing turns the chain "
-                 rf"about it (no torque, spring or damper in joint 1, no load with a moment about $l^1$"
+        intro = (r"Momentum (27): the axis $l^1$ is vertical ($\sin\theta^1 = 0$, (25)) and nothing turns the chain "
+                 r"about it (no torque, spring or damper in joint 1, no load with a moment about $l^1$"
                  + (", the platform turning about $l^1$ only" if spec.base is not None and spec.base.moves else "")
                  + rf"), so {K} $= k$ with")
         momentum = "The momentum (27) is an integral of this model."
