@@ -210,10 +210,18 @@ def environment() -> jinja2.Environment:
 
 
 
+# ASCII that the default (OT1) text font has no glyph for: pdflatex would print "¿" for ">"
+_TEX_TEXT = {"<": r"\textless{}", ">": r"\textgreater{}", "|": r"\textbar{}"}
+
+
 def tex_escape(text: str) -> str:
+    """Spec text as LaTeX text: the special characters escaped, the ASCII that OT1 lacks spelled
+    by name, anything else as "?" (pdflatex without inputenc extras: the document compiles)."""
     out = []
     for ch in text:
-        if ch in "\\":
+        if ch in _TEX_TEXT:
+            out.append(_TEX_TEXT[ch])
+        elif ch in "\\":
             out.append(r"\textbackslash{}")
         elif ch in "&%$#_{}":
             out.append("\\" + ch)

@@ -21,6 +21,9 @@ def test_latex_compiles_to_pdf(name, tmp_path):
     assert pdf.exists() and pdf.stat().st_size > 10_000
     log = (tmp_path / f"{name}.log").read_text(errors="replace")
     assert "Undefined control sequence" not in log
+    # no box that runs into the margin, no character the font lacks (issue 25: the build log is checked)
+    assert "Overfull \\hbox" not in log and "Missing character" not in log, [
+        ln for ln in log.splitlines() if ln.startswith(("Overfull", "Missing character"))][:5]
 
 
 def test_latex_has_the_paper_structure():
@@ -33,3 +36,13 @@ def test_latex_has_the_paper_structure():
     # the 3-link chain names its recursion quantities when the closed forms are too long
     big = (ROOT / "generated" / "spatial3" / "spatial3.tex").read_text()
     assert "M_{33}" in big and r"\dot\varphi^{3}" in big
+
+
+def test_spec_text_prints_in_the_text_font():
+    """The OT1 text font has no '<', '>' or '|': pdflatex would print '¿' for Kapitza's 'a^2 w^2 > …'."""
+    from codegen.printers.common import tex_escape
+
+    assert tex_escape("a > b < c | d") == r"a \textgreater{} b \textless{} c \textbar{} d"
+    tex = (ROOT / "generated" / "kapitza" / "kapitza.tex").read_text()
+    description = next(ln for ln in tex.splitlines() if "stable when" in ln)
+    assert r"\textgreater{} 2 g" in description and ">" not in description.replace(r"\textgreater{}", "")
