@@ -61,6 +61,12 @@ def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = T
     return _remember(key, model)
 
 
+def forget() -> None:
+    """Drop the derived models this process keeps (the next derive derives anew)."""
+    with _LOCK:
+        _DERIVED.clear()
+
+
 def _remember(key, model: Model) -> Model:
     with _LOCK:
         _DERIVED[key] = model

@@ -292,7 +292,8 @@ def _bodies(spec, kin, pr) -> list[dict]:
     def vec(v):
         return r"\begin{pmatrix}" + r" \\ ".join(pr.doprint(_display(x)) for x in v) + r"\end{pmatrix}"
 
-    return [dict(k=k, theta=pr.doprint(b.theta), m=pr.doprint(_display(b.m)), c=vec(b.c), s=vec(b.s) if k < spec.n else "--",
+    return [dict(k=k, theta=pr.doprint(b.theta), m=pr.doprint(_display(b.m)), c=vec(b.c),
+                 s=vec(b.s) if k < spec.n else r"\text{---}",
                  lam=vec(b.lam), A=mat(b.A), control="yes" if b.control else "no", alpha=mat(kin.alpha[k]))
             for k, b in enumerate(spec.bodies, start=1)]
 
@@ -415,6 +416,31 @@ def _tex(model: Model) -> dict:
     )
 
 
+def source_text(model: Model, context: dict) -> str:
+    """Where the document comes from: the paper and the works it builds on, the spec and its
+    sha256, the generator's and sympy's versions (the same facts as MANIFEST.json)."""
+    import hashlib
+
+    spec = model.spec
+    nikolai = model.quad is not None and model.quad.nikolai
+    return (rf"Derived from the spec \texttt{{{tex_escape(one_line(context['label']))}}} "
+            rf"(sha256 \texttt{{{hashlib.sha256(spec.source.encode('utf-8')).hexdigest()[:16]}}}\dots) by gyrochain "
+            rf"{tex_escape(context['codegen_version'])} with sympy {tex_escape(context['sympy_version'])}, following the paper "
+            r"\emph{The compound spatial pendulum} (a Donetsk collection on rigid-body dynamics), whose equations of motion "
+            r"build on P.~V.~Kharlamov, \emph{On the equations of motion of a system of rigid bodies}"
+            + (r"; the quadratures of the balanced gyroscope follow E.~L.~Nikolai, \emph{On the motion of a balanced "
+               r"gyroscope in a Cardan suspension}, PMM 3(4), 1939" if nikolai else "") + ".")
+
+
+def initial_text(spec) -> str:
+    """The spec's [initial] state as the document states it (E and k of the quadratures are its values)."""
+    if spec.initial is None:
+        return r"The spec gives no initial state (\texttt{[initial]})."
+    fmt = lambda v: ", ".join(f"{float(x):.10g}" for x in v)  # noqa: E731
+    return (rf"Initial state (\texttt{{[initial]}}): $\varphi = ({fmt(spec.initial['phi'])})$, "
+            rf"$\dot\varphi = ({fmt(spec.initial['phidot'])})$.")
+
+
 class LatexTarget:
     """The document a reviewer reads: the spec, the equations (17)–(19) or (8)–(10), the
     integrals, the quadratures and the derivatives, in the paper's notation."""
@@ -430,6 +456,8 @@ class LatexTarget:
             spec_label_tex=tex_escape(one_line(context["label"])),
             counts_tex=[(tex_escape(k), v) for k, v in sorted(context["counts"].items())],
             has_momentum=tex["K"] is not None,
+            source_tex=source_text(model, context),
+            initial_tex=initial_text(spec),
             articulated=model.qdd_form == "articulated",
             n=spec.n,
         )
