@@ -188,7 +188,12 @@ def _grouped(expr: sp.Expr, gens: list, pr: TexPrinter) -> Shown:
             continue
         factor = "" if mono == 1 else pr.doprint(mono)
         plus = "+ " if out else ""
-        if len(body) == 1:
+        single = len(sp.Add.make_args(groups[mono])) == 1
+        if single and factor:  # one term: its sign is the line's, no brackets ("- s_2 φ̇¹φ̇²", not "+ (-s_2) φ̇¹φ̇²")
+            sign, text = ("-", body[0][1:].lstrip()) if body[0].startswith("-") else ("+", body[0])
+            lead = ("- " if sign == "-" else "+ ") if out else ("-" if sign == "-" else "")
+            out.append(lead + (factor if text == "1" else rf"{text} \, {factor}"))
+        elif len(body) == 1:
             out.append(plus + (rf"\left({body[0]}\right){factor}" if factor else body[0]))
         else:
             out.append(plus + r"\Big(" + body[0])
