@@ -395,21 +395,10 @@ def write_html(scene: Scene, camera: Camera, path: Path, description: str) -> No
 
 
 # --------------------------------------------------------------------------- the command
-def initial_state(spec, phi=None, phidot=None) -> list:
-    """x₀ = (φ, φ̇): the given values, else the spec's [initial], else zero; the counts checked."""
-    n, init = spec.n, spec.initial or {}
-    out = []
-    for what, given, key in (("--phi", phi, "phi"), ("--phidot", phidot, "phidot")):
-        vals = list(given) if given is not None else list(init.get(key, [0.0] * n))
-        if len(vals) != n:
-            raise SpecError(what, f"expected {n} comma-separated numbers, got {len(vals)}")
-        out += vals
-    return out
-
-
 def _motion_of(source, phi, phidot, u, params, t1, at) -> tuple:
     """(spec, x₀, u, parameters, t1, description) of a spec (path or parsed) or a store's point."""
     from . import sweep
+    from .simulate import initial_state
     from .spec import load_spec, parse_spec
 
     if isinstance(source, (str, Path)) and Path(source).is_dir():  # a sweep store: its spec, state, parameters

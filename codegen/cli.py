@@ -84,20 +84,12 @@ def _params_of(items, what: str = "--param") -> dict:
     return params
 
 
-def _initial_state(spec, args) -> tuple[list, list]:
-    """φ and φ̇ at t = 0: --phi/--phidot, else the spec's [initial], else zero."""
-    n, init = spec.n, spec.initial or {}
-    phi = _floats(args.phi, "--phi", n) if args.phi else list(init.get("phi", [0.0] * n))
-    phidot = _floats(args.phidot, "--phidot", n) if args.phidot else list(init.get("phidot", [0.0] * n))
-    return phi, phidot
-
-
 def cmd_simulate(args) -> int:
     """Integrate a spec with the independent reference model; CSV on stdout."""
     from . import simulate
 
     spec = load_spec(args.spec)
-    x0 = sum(_initial_state(spec, args), [])
+    x0 = simulate.initial_state(spec, _float_list(args.phi, "--phi"), _float_list(args.phidot, "--phidot"))
     u = _floats(args.u, "--u", len(spec.controls)) if spec.controls else None
     rows = simulate.run(spec, x0, args.t1, args.steps, u, _params_of(args.param))
     print(",".join(simulate.columns(spec.n)))
@@ -304,3 +296,6 @@ def main(argv=None) -> int:
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except BrokenPipeError:  # `simulate ... | head`: the reader has all it wanted; no traceback
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's flush at exit must not fail again
+        return 0

@@ -1,11 +1,24 @@
 """``simulate``: a trajectory of a spec by the independent reference model (reference.py), as
-the rows of a CSV: t, φ¹…φⁿ, φ̇¹…φ̇ⁿ and the energy."""
+the rows of a CSV: t, φ¹…φⁿ, φ̇¹…φ̇ⁿ and the energy; and the initial state every command starts
+from (``initial_state``)."""
 from __future__ import annotations
 
 import numpy as np
 
 from . import reference
 from .spec import SpecError
+
+
+def initial_state(spec, phi=None, phidot=None) -> list:
+    """x₀ = (φ, φ̇): the given values, else the spec's [initial], else zero; the counts checked."""
+    n, init = spec.n, spec.initial or {}
+    out = []
+    for what, given, key in (("--phi", phi, "phi"), ("--phidot", phidot, "phidot")):
+        vals = list(given) if given is not None else list(init.get(key, [0.0] * n))
+        if len(vals) != n:
+            raise SpecError(what, f"expected {n} comma-separated numbers, got {len(vals)}")
+        out += vals
+    return out
 
 
 def columns(n: int) -> list[str]:

@@ -201,3 +201,13 @@ def test_the_readme_script_runs(tmp_path):
     spec = load_spec(ROOT / "specs" / "gimbal.toml")
     want = reference.qdd(reference.numeric(spec), [0.3, 0.0, 1.0, 0.0], None, 0.0)
     assert np.allclose(got, want, rtol=1e-10, atol=1e-12), (got, want)
+
+
+def test_a_closed_pipe_ends_the_output_without_a_traceback():
+    """`simulate ... | head -1`: the reader stops early; the command stops quietly."""
+    proc = subprocess.Popen([sys.executable, "-m", "codegen", "simulate", "specs/gimbal.toml", "--t1", "0.1", "--steps", "20000"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
+    assert proc.stdout.readline().startswith(b"t,phi1")
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 0 and "Traceback" not in err, err
