@@ -221,8 +221,8 @@ def derive(spec: ChainSpec, prog: Program | None = None, symbolic_platform: bool
             acc0 = P.vec("a0", [num(x) for x in pm.acc], r"\dot{v}_{0}")
         vel0 = P.vec("v0", [num(x) for x in pm.vel], r"v_{0}")
     for k, body in enumerate(spec.bodies, start=1):
-        cp = P.let_sympy(f"cos_phi{k}", sp.cos(phi[k]), rf"\mathrm{{c}}_{{{k}}}")
-        sph = P.let_sympy(f"sin_phi{k}", sp.sin(phi[k]), rf"\mathrm{{s}}_{{{k}}}")
+        cp = P.let_sympy(f"cos_phi{k}", sp.cos(phi[k]), rf"\cos\varphi^{{{k}}}")
+        sph = P.let_sympy(f"sin_phi{k}", sp.sin(phi[k]), rf"\sin\varphi^{{{k}}}")
         P.alias(sp.cos(phi[k]), cp)
         P.alias(sp.sin(phi[k]), sph)
         ct, st = (P.from_sympy(v) for v in folded_trig(body.theta))

@@ -149,9 +149,10 @@ def _folded(table: dict) -> dict:
     return {k: v for k, v in table.items() if not isinstance(v, Surd) or to_float(v) != 0.0}
 
 
-def canonical(expr: sp.Expr, phis: list) -> Canonical:
+def canonical(expr: sp.Expr, phis: list, form: str | None = None) -> Canonical:
     """``expr`` (cos φᵏ, sin φᵏ as sympy functions; irrational constants as exact.ConstSymbols)
-    in the canonical form with the fewest terms."""
+    in the canonical form with the fewest terms, or in ``form`` (the LaTeX keeps one form per
+    document)."""
     table = _split(expr, phis)
     has_trig = any(any(exps) for exps, _ in table)
     if not has_trig:
@@ -161,7 +162,8 @@ def canonical(expr: sp.Expr, phis: list) -> Canonical:
     n = len(phis)
     forms = {"c": _folded(_eliminate(table, 1)), "s": _folded(_eliminate(table, 0)), "f": _folded(_fourier(table, n))}
     counts = {k: len(v) for k, v in forms.items()}
-    form = min(FORMS, key=lambda k: (counts[k], FORMS.index(k)))
+    if form is None:
+        form = min(FORMS, key=lambda k: (counts[k], FORMS.index(k)))
     terms = []
     for key, v in forms[form].items():
         trig, rest = key

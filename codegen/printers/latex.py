@@ -6,58 +6,78 @@ Numbers print to 10 significant digits (the C and Python carry full precision).
 """
 from __future__ import annotations
 
+import hashlib
+import re
 from dataclasses import dataclass
 
 import sympy as sp
-from sympy.printing.latex import LatexPrinter
-
 from .. import trigform
 from ..algebra import Poly
 from ..assemble import Model
-from ..exact import is_negative, is_unit, to_float
+from ..exact import Fraction, is_negative, is_unit, to_float
 from ..kinematics import Kinematics, platform_symbols
+from ..spec import T as TIME
+from . import texscene
 from .common import one_line, tex_escape
+from .texterms import TexWriter, breaks, join, number_text
 
 
 def fold_numbers(expr: sp.Expr) -> sp.Expr:
-    """Evaluate every subexpression made of numbers only (sqrt(3)/2, cos(3/10), …) to a Float."""
+    """Evaluate every subexpression made of numbers only (sqrt(3)/2, cos(3/10), …) to a Float;
+    rationals stay exact (they print as the spec wrote them)."""
     if expr.is_Atom:
         return expr
     if expr.is_number:
-        return sp.Float(expr.evalf(30), 30)
+        return expr if expr.is_Rational else sp.Float(expr.evalf(30), 30)
     args = [fold_numbers(a) for a in expr.args]
     return expr.func(*args) if any(a is not b for a, b in zip(args, expr.args)) else expr
 
 
-def _latex_names(kin: Kinematics, upto: int | None = None) -> dict:
-    """How each symbol prints: the platform's ω⁰, ε⁰, v̇₀, γ⁰, the program's quantities (the
-    first ``upto`` definitions), c_k, s_k, φᵏ, φ̇ᵏ and the torques Lᵏ."""
-    names = {}
+GREEK = {"alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa", "lambda", "mu",
+         "nu", "xi", "pi", "rho", "sigma", "tau", "upsilon", "phi", "chi", "psi", "omega",
+         "Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Upsilon", "Phi", "Psi", "Omega"}
+# letters the document uses by themselves (the momentum constant k, E, U, T, t, the quadratures'
+# J, C, K, the residual R, Jacobi's h): a parameter of that name prints in sans serif
+RESERVED = {"k", "E", "U", "T", "t", "J", "C", "K", "R", "h", "W"}
+
+
+def param_tex(name: str) -> str:
+    r"""A spec parameter's name in the document: a letter head and a subscript tail (m2 → m_{2},
+    J1z → J_{1z}, A11 → A_{11}, k_spring → k_{\mathrm{spring}}), Greek names as Greek letters,
+    other words upright; a name that is one of the document's own letters in sans serif."""
+    m = re.fullmatch(r"([A-Za-z]+?)_?([0-9].*|(?<=_).+)?", name)
+    head, tail = (m.group(1), m.group(2)) if m else (name, None)
+    if head in GREEK:
+        head = "\\" + head
+    elif head in RESERVED and not tail:
+        head = rf"\mathsf{{{head}}}"
+    elif len(head) > 1:
+        head = rf"\mathrm{{{tex_escape(head)}}}"
+    if not tail:
+        return head
+    tail = tail if re.fullmatch(r"[0-9]+[A-Za-z]?", tail) else rf"\mathrm{{{tex_escape(tail)}}}"
+    return f"{head}_{{{tail}}}"
+
+
+def writer_for(spec, kin: Kinematics, upto: int | None = None) -> TexWriter:
+    """How each symbol prints and in which order: the platform's ω⁰, ε⁰, v̇₀, γ⁰, the program's
+    quantities (the first ``upto`` definitions), φᵏ, φ̇ᵏ, the torques Lᵏ and the parameters."""
+    names, rank, angles = {TIME: "t"}, {TIME: (TexWriter.TIME, 0)}, {}
     tex = {"omega": r"\omega^{0}", "epsilon": r"\varepsilon^{0}", "vdot": r"\dot v_{0", "gamma": r"\gamma^{0}"}
-    for key, syms in platform_symbols().items():
+    for g, (key, syms) in enumerate(platform_symbols().items()):
         for i, sym in enumerate(syms, start=1):
             names[sym] = f"{tex[key]},{i}}}" if key == "vdot" else f"{tex[key]}_{{{i}}}"
-    for a, _ in kin.prog.defs[:upto]:
+            rank[sym] = (TexWriter.PLATFORM, 3 * g + i)
+    for j, (a, _) in enumerate(kin.prog.defs[:upto]):
         names[a.sym] = kin.prog.tex.get(a.sym) or r"\mathrm{" + tex_escape(a.name) + "}"
+        rank[a.sym] = (TexWriter.QUANTITY, j)
     for k in range(1, kin.n + 1):
-        names[_abbrev(sp.cos, kin.phi[k])] = rf"\mathrm{{c}}_{{{k}}}"
-        names[_abbrev(sp.sin, kin.phi[k])] = rf"\mathrm{{s}}_{{{k}}}"
-        names[kin.phi[k]] = rf"\varphi^{{{k}}}"
-        names[kin.phidot[k]] = rf"\dot\varphi^{{{k}}}"
-        names[kin.torque[k]] = rf"L^{{{k}}}"
-    return names
-
-
-class TexPrinter(LatexPrinter):
-    def __init__(self, names):
-        super().__init__({"symbol_names": names, "full_prec": False, "mul_symbol": None})
-
-
-def _display(expr: sp.Expr) -> sp.Expr:
-    """Numbers to 10 significant digits for reading (the C and Python carry full precision)."""
-    expr = fold_numbers(expr)
-    reps = {a: sp.Float(a, 10) for a in expr.atoms(sp.Rational, sp.Float) if not a.is_Integer}
-    return expr.xreplace(reps)
+        names[kin.phi[k]], rank[kin.phi[k]], angles[kin.phi[k]] = rf"\varphi^{{{k}}}", (TexWriter.ANGLE, k), k
+        names[kin.phidot[k]], rank[kin.phidot[k]] = rf"\dot\varphi^{{{k}}}", (TexWriter.VELOCITY, k)
+        names[kin.torque[k]], rank[kin.torque[k]] = rf"L^{{{k}}}", (TexWriter.TORQUE, k)
+    for p in spec.params:
+        names[p] = param_tex(p.name)
+    return TexWriter(names, rank, angles)
 
 
 MAX_LATEX_TERMS = 400
@@ -65,17 +85,19 @@ CLOSED_FORM_MAX_N = 3  # above this the LaTeX shows the recursion instead of exp
 
 
 class Shown(tuple):
-    """Printed lines of one quantity, with the canonical trigonometric form they are in
-    (trigform.py: "c", "s", "f", or None) and the number of terms."""
+    """Printed lines of one quantity, with the number of terms."""
 
-    form: str | None = None
     terms: int | None = None
 
     @staticmethod
-    def of(lines, form=None, terms=None) -> "Shown":
+    def of(lines, terms=None) -> "Shown":
         out = Shown(lines)
-        out.form, out.terms = form, terms
+        out.terms = terms
         return out
+
+    @property
+    def zero(self) -> bool:
+        return tuple(self) == ("0",)
 
 
 def _angles(expr: sp.Expr) -> list:
@@ -84,122 +106,92 @@ def _angles(expr: sp.Expr) -> list:
     return sorted(found, key=lambda s: int(s.name[4:]))
 
 
-def _canonical(expr: sp.Expr) -> trigform.Canonical:
-    return trigform.canonical(expr, _angles(expr))
+class Doc:
+    """One document's printing: its writer and the one trigonometric form it keeps (trigform.py),
+    chosen as the form with the fewest terms over the equations of motion."""
+
+    def __init__(self, writer: TexWriter):
+        self.w, self.form, self.counts = writer, None, {}
+
+    def choose(self, exprs) -> None:
+        totals = dict.fromkeys(trigform.FORMS, 0)
+        for e in exprs:
+            can = trigform.canonical(e, _angles(e))
+            for f in totals:
+                totals[f] += can.terms_by_form.get(f, can.terms)
+        self.form = min(trigform.FORMS, key=lambda f: (totals[f], trigform.FORMS.index(f)))
+        self.counts = totals
+
+    def canonical(self, expr: sp.Expr) -> trigform.Canonical:
+        return trigform.canonical(expr, _angles(expr), self.form)
+
+    def lines(self, expr: sp.Expr, width: int = 230, expand: bool = True) -> Shown:
+        """A sum printed term by term and broken into lines: expanded into the document's
+        trigonometric form, or as it is (``expand=False``)."""
+        count = None
+        if expand:
+            can = self.canonical(expr)
+            expr, count = can.expr, can.terms
+        expr = fold_numbers(expr)
+        if len(sp.Add.make_args(expr)) > MAX_LATEX_TERMS:
+            return Shown.of([rf"\text{{({len(sp.Add.make_args(expr))} terms when expanded; not shown)}}"], count)
+        return Shown.of(self.w.lines(expr, width), count)
+
+    def grouped(self, expr: sp.Expr, gens: list) -> Shown:
+        """Collected by monomials of φ̇ (the paper's coefficient · φ̇ʰφ̇ʳ layout)."""
+        can = self.canonical(expr)
+        groups: dict = {}
+        for term in sp.Add.make_args(can.expr):
+            coeff, mono = term.as_independent(*gens, as_Add=False)
+            groups[mono] = groups.get(mono, 0) + coeff
+        pieces = []
+        for mono in sorted(groups, key=lambda m: (sp.Poly(m, *gens).monoms()[0][::-1] if m != 1 else ())):
+            inner = self.w.pieces(fold_numbers(groups[mono]))
+            if inner == ["0"]:
+                continue
+            factor = "" if mono == 1 else self.w.term(mono)[1]
+            if not factor:
+                pieces.extend(inner)
+            elif len(inner) == 1:  # one term: its sign is the line's ("- 0.5 sin φ² φ̇²", not "+ (-0.5 sin φ²) φ̇²")
+                neg = inner[0].startswith("- ")
+                body = inner[0][2:] if neg else inner[0]
+                pieces.append(("- " if neg else "") + (factor if body == "1" else body + r" \, " + factor))
+            else:
+                pieces.append(_bracketed(inner) + r" \, " + factor)
+        return Shown.of(_break_grouped(pieces) if pieces else ["0"], can.terms)
+
+    def poly_lines(self, p: Poly, width: int = 230) -> Shown:
+        """A polynomial of the program as it stands (no expansion), printed without sympy: the
+        recursion listing of a long chain has thousands of these."""
+        if not p.terms:
+            return Shown.of(["0"])
+        pieces = []
+        for m, c in p.terms.items():
+            factors, i = [], 0
+            while i < len(m):
+                j = i
+                while j < len(m) and m[j] is m[i]:
+                    j += 1
+                factors.append(self.w.factor(m[i].sym, j - i))
+                i = j
+            body = " ".join(factors)
+            if not m or not is_unit(c):
+                body = number_text(abs(to_float(c)) if not isinstance(c, (int, Fraction)) else abs(c)) + (" " + body if body else "")
+            pieces.append(("- " if is_negative(c) else "") + body)
+        return Shown.of(breaks(pieces, width))
 
 
-def _abbrev(f, phi: sp.Symbol) -> sp.Symbol:
-    """The LaTeX abbreviation c_k = cos φᵏ, s_k = sin φᵏ."""
-    return sp.Symbol(f"{f.__name__}_{phi.name}", real=True)
+def _bracketed(inner: list[str]) -> str:
+    """A multi-term coefficient in brackets; long ones split over lines by _break_grouped."""
+    return r"\left(" + join(inner) + r"\right)" if len(join(inner)) < 200 else "\x00".join([r"\Big(" + inner[0], *inner[1:-1], inner[-1] + r"\Big)"])
 
 
-def _abbreviate(expr: sp.Expr) -> sp.Expr:
-    reps = {a: _abbrev(type(a), a.args[0]) for a in expr.atoms(sp.sin, sp.cos) if a.args[0].is_Symbol}
-    return expr.xreplace(reps)
-
-
-def _tex_number(c) -> str:
-    text = f"{abs(to_float(c)):.10g}"
-    if "e" in text:
-        mant, exp = text.split("e")
-        text = rf"{mant} \cdot 10^{{{int(exp)}}}"
-    return text
-
-
-def _break(pieces: list[str], width: int) -> list[str]:
-    """Signed terms joined into lines of about ``width`` characters."""
-    lines, cur = [], ""
-    for t in pieces:
-        piece = t if not cur else (f" {t}" if t.startswith("-") else f" + {t}")
-        if cur and len(cur) + len(piece) > width:
-            lines.append(cur)
-            cur = t if t.startswith("-") else f"+ {t}"
-        else:
-            cur += piece
-    lines.append(cur)
-    return lines
-
-
-def _poly_tex_lines(p: Poly, pr: TexPrinter, width: int = 260) -> list[str]:
-    """A polynomial of the program as it stands (no expansion), printed without sympy: the
-    recursion listing of a long chain has thousands of these."""
-    if not p.terms:
-        return ["0"]
-    names = pr._settings["symbol_names"]
-    pieces = []
-    for m, c in p.terms.items():
-        factors, i = [], 0
-        while i < len(m):
-            j = i
-            while j < len(m) and m[j] is m[i]:
-                j += 1
-            name = names.get(m[i].sym) or pr.doprint(m[i].sym)
-            factors.append(name if j - i == 1 else f"{{{name}}}^{{{j - i}}}")
-            i = j
-        body = " ".join(factors)
-        if not m or not is_unit(c):
-            body = _tex_number(c) + (r" \, " + body if body else "")
-        pieces.append(("-" if is_negative(c) else "") + body)
-    return _break(pieces, width)
-
-
-def _tex_lines(expr: sp.Expr, pr: TexPrinter, width: int = 260, expand: bool = True) -> Shown:
-    """A sum printed term by term and broken into lines: expanded into its canonical
-    trigonometric form with the fewest terms (trigform.py), or as it is (``expand=False``)."""
-    form = count = None
-    if expand:
-        can = _canonical(expr)
-        expr, form, count = can.expr, can.form, can.terms
-    return Shown.of(_sum_lines(_display(_abbreviate(expr)), pr, width), form, count)
-
-
-def _sum_lines(expr: sp.Expr, pr: TexPrinter, width: int) -> list[str]:
-    if expr == 0:
-        return ["0"]
-    terms = sp.Add.make_args(expr)
-    if len(terms) > MAX_LATEX_TERMS:
-        return [rf"\text{{({len(terms)} terms when expanded; not shown)}}"]
-    lines, cur = [], ""
-    for term in sorted(terms, key=sp.default_sort_key):
-        t = pr.doprint(term)
-        piece = t if not cur else (f" {t}" if t.startswith("-") else f" + {t}")
-        if cur and len(cur) + len(piece) > width:
-            lines.append(cur)
-            piece = t if t.startswith("-") else f"+ {t}"
-            cur = piece
-        else:
-            cur += piece
-    lines.append(cur)
-    return lines
-
-
-def _grouped(expr: sp.Expr, gens: list, pr: TexPrinter) -> Shown:
-    """Collect an expression by monomials of φ̇ (the paper's coefficient · φ̇ʰφ̇ʳ layout), in its
-    canonical trigonometric form with the fewest terms."""
-    can = _canonical(expr)
-    groups: dict = {}
-    for term in sp.Add.make_args(can.expr):
-        coeff, mono = term.as_independent(*gens, as_Add=False)
-        groups[mono] = groups.get(mono, 0) + coeff
-    out = []
-    for mono in sorted(groups, key=lambda m: (sp.Poly(m, *gens).monoms()[0][::-1] if m != 1 else ())):
-        body = _sum_lines(_display(_abbreviate(groups[mono])), pr, 220)
-        if body == ["0"]:
-            continue
-        factor = "" if mono == 1 else pr.doprint(mono)
-        plus = "+ " if out else ""
-        single = len(sp.Add.make_args(groups[mono])) == 1
-        if single and factor:  # one term: its sign is the line's, no brackets ("- s_2 φ̇¹φ̇²", not "+ (-s_2) φ̇¹φ̇²")
-            sign, text = ("-", body[0][1:].lstrip()) if body[0].startswith("-") else ("+", body[0])
-            lead = ("- " if sign == "-" else "+ ") if out else ("-" if sign == "-" else "")
-            out.append(lead + (factor if text == "1" else rf"{text} \, {factor}"))
-        elif len(body) == 1:
-            out.append(plus + (rf"\left({body[0]}\right){factor}" if factor else body[0]))
-        else:
-            out.append(plus + r"\Big(" + body[0])
-            out.extend(body[1:-1])
-            out.append(body[-1] + rf"\Big){factor}")
-    return Shown.of(out or ["0"], can.form, can.terms)
+def _break_grouped(pieces: list[str]) -> list[str]:
+    """Grouped pieces into lines; a long bracket (pieces joined by NUL) is split at its terms."""
+    flat = []
+    for p in pieces:
+        flat.extend(p.split("\x00"))
+    return breaks(flat, 230)
 
 
 @dataclass(frozen=True)
@@ -207,9 +199,12 @@ class TexEquation:
     lhs: str
     lines: tuple[str, ...]  # a Shown when the quantity was expanded
 
-    @property
-    def form(self) -> str | None:
-        return getattr(self.lines, "form", None)
+
+def block(eqs: list[TexEquation]) -> dict:
+    """Equations to print and the names of those that are zero (one line states them)."""
+    rows = [e for e in eqs if tuple(e.lines) != ("0",)]
+    zero = [e.lhs for e in eqs if tuple(e.lines) == ("0",)]
+    return dict(rows=rows, zero=", ".join(f"${z}$" for z in zero), all_zero=not rows)
 
 
 CLOSED_FORM_MAX_N_GENERAL = 2  # the same for a spec with platform motion or loads (more symbols)
@@ -223,127 +218,145 @@ def _split_platform(prog, p: Poly, platform: set) -> tuple[sp.Expr, sp.Expr]:
     return rest.to_sympy(prog.sympy_of, symbolic=True), plat.to_sympy(prog.sympy_of, symbolic=True)
 
 
-def _general_tex(model: Model, pr, closed: bool, lines, grouped) -> dict:
-    """The LaTeX of the general case: the platform's motion, the platform terms Π_k apart, λ̊, the
-    loads' generalized forces and the joint torques, from the model's stages derived with ω⁰,
-    ε⁰, v̇₀, γ⁰ as symbols (``model.symbolic``)."""
-    kin, dyn = model.symbolic.kin, model.symbolic.dyn
-    rest = None
-    pm = kin.platform
-    sy = platform_symbols()
-    platform = set(sy["omega"] + sy["epsilon"] + sy["vdot"])
-    out = dict(platform=None, Pi=None, Lamdot=None, Phi=None, joint=None)
-    if pm is not None:
-        rows = []
-        for key, vals in (("omega", pm.omega), ("epsilon", pm.eps), ("vdot", pm.acc), ("gamma", pm.down)):
-            for sym, v in zip(sy[key], vals):
-                rows.append(TexEquation(pr.doprint(sym), _tex_lines(sp.sympify(v), pr, 200, expand=False)))
-        out["platform"] = rows
-        if closed:
-            Pi, rest = [], ([], [])
-            for k in range(model.spec.n):
-                rq, pq = _split_platform(kin.prog, dyn.Q[k], platform)
-                rg, pg = _split_platform(kin.prog, dyn.Gamma[k], platform)
-                rest[0].append(rq)
-                rest[1].append(rg)
-                Pi.append(TexEquation(rf"\Pi_{{{k + 1}}}", grouped(pq + pg)))
-            out["Pi"] = Pi
-    if dyn.Lamdot:
-        out["Lamdot"] = [TexEquation(rf"\mathring\Lambda_{{{k + 1}}}", lines(e)) for k, e in enumerate(_vals(kin, dyn.Lamdot, closed))]
-    if dyn.Phi:
-        out["Phi"] = [TexEquation(rf"\Phi_{{{k + 1}}}", lines(e)) for k, e in enumerate(_vals(kin, dyn.Phi, closed))]
-    if dyn.joint:
-        out["joint"] = [TexEquation(rf"\tau_{{{k + 1}}}", lines(e)) for k, e in enumerate(_vals(kin, dyn.joint, closed))
-                        if not dyn.joint[k].is_zero()]
-    out["rest"] = rest  # Q_k, Γ_k without the platform terms
+def _values(spec, kin, dyn, ints, closed: bool) -> dict:
+    """The document's quantities: closed forms (sympy, small n) or the program's polynomials.
+    In the general case with a moving platform and closed forms, the platform terms of Q and Γ
+    are split off as Π (lines 4–7 of (8)–(10))."""
+    n = spec.n
+    get = (lambda ps: kin.prog.inline(list(ps), symbolic=True)) if closed else list
+    out = dict(M=get(dyn.M[k][r] for k in range(n) for r in range(k, n)), Q=get(dyn.Q), Gamma=get(dyn.Gamma),
+               G=get(dyn.G), U=get([ints.U])[0], K=get([ints.momentum])[0] if ints.momentum is not None else None,
+               Pi=None, Lamdot=get(dyn.Lamdot), Phi=get(dyn.Phi),
+               joint=[(k, v) for k, v in enumerate(get(dyn.joint)) if not dyn.joint[k].is_zero()])
+    if spec.general and kin.platform is not None and closed:
+        sy = platform_symbols()
+        platform = set(sy["omega"] + sy["epsilon"] + sy["vdot"])
+        Q, Gam, Pi = [], [], []
+        for k in range(n):
+            rq, pq = _split_platform(kin.prog, dyn.Q[k], platform)
+            rg, pg = _split_platform(kin.prog, dyn.Gamma[k], platform)
+            Q.append(rq), Gam.append(rg), Pi.append(pq + pg)
+        out.update(Q=Q, Gamma=Gam, Pi=Pi)
     return out
 
 
-DERIVATIVE_TEX_MAX_N = 2  # closed forms of the derivatives in the LaTeX up to this n
+def _platform_rows(kin, doc: Doc) -> dict | None:
+    """ω⁰, ε⁰, v̇₀ and γ⁰ in the platform's frame, from the spec's motion (zero ones named once)."""
+    pm = kin.platform
+    if pm is None:
+        return None
+    sy = platform_symbols()
+    rows = []
+    for key, vals in (("omega", pm.omega), ("epsilon", pm.eps), ("vdot", pm.acc), ("gamma", pm.down)):
+        for sym, v in zip(sy[key], vals):
+            rows.append(TexEquation(doc.w.name(sym), doc.lines(sp.sympify(v), 200, expand=False)))
+    return block(rows)
 
 
-def _derivative_tex(model: Model, pr) -> list:
+DERIVATIVE_TEX_MAX_N = 2  # closed forms of the derivatives are computed up to this n
+DERIVATIVE_TEX_MAX_TERMS = 60  # and printed when they have at most this many terms in all
+
+
+def _derivative_tex(model: Model, stages, doc: Doc) -> dict:
     """∂R/∂φʲ and ∂R/∂φ̇ʲ of R = M φ̈ − f (closed forms, φ̈ as symbols): with them
-    ∂φ̈/∂x = −M⁻¹ ∂R/∂x, the implicit derivative of (17)–(19) that the emitted code computes."""
-    kin, dyn, n = model.kin, model.dyn, model.spec.n
-    names = pr._settings["symbol_names"]
+    ∂φ̈/∂x = −M⁻¹ ∂R/∂x, the implicit derivative of (17)–(19) that the emitted code computes.
+    Printed for small models; otherwise the reason, and where the values are."""
+    kin, dyn, n = stages.kin, stages.dyn, model.spec.n
+    if n > DERIVATIVE_TEX_MAX_N or (model.spec.general and n > CLOSED_FORM_MAX_N_GENERAL):
+        return dict(rows=None, reason=f"for $n = {n}$ their closed forms are not expanded (each entry would run to "
+                    "hundreds of terms)")
     acc = [sp.Symbol(f"qddot_{k}") for k in range(1, n + 1)]
     for k, a in enumerate(acc, start=1):
-        names[a] = rf"\ddot\varphi^{{{k}}}"
+        doc.w.names[a], doc.w.rank[a] = rf"\ddot\varphi^{{{k}}}", (TexWriter.ACCELERATION, k)
     vals = kin.prog.inline([dyn.M[i][j] for i in range(n) for j in range(n)] + list(dyn.f), symbolic=True)
     M = [vals[i * n:(i + 1) * n] for i in range(n)]
     R = [sum((M[i][j] * acc[j] for j in range(n)), sp.Integer(0)) - vals[n * n + i] for i in range(n)]
-    out = []
-    for kind, syms, tex in (("q", kin.phi, r"\varphi"), ("v", kin.phidot, r"\dot\varphi")):
+    eqs = []
+    for syms, tex in ((kin.phi, r"\varphi"), (kin.phidot, r"\dot\varphi")):
         for j in range(1, n + 1):
             for i in range(n):
-                d = sp.diff(R[i], syms[j])
-                out.append(TexEquation(rf"\frac{{\partial R_{{{i + 1}}}}}{{\partial {tex}^{{{j}}}}}", _tex_lines(d, pr)))
-    return out
+                lhs = rf"\frac{{\partial R_{{{i + 1}}}}}{{\partial {tex}^{{{j}}}}}"
+                eqs.append(TexEquation(lhs, doc.lines(sp.diff(R[i], syms[j]))))
+    terms = sum(e.lines.terms or 0 for e in eqs)
+    if terms > DERIVATIVE_TEX_MAX_TERMS:
+        return dict(rows=None, reason=f"their {len(eqs)} closed-form entries have {terms} terms in all, "
+                    f"more than the {DERIVATIVE_TEX_MAX_TERMS} this document prints")
+    return dict(block(eqs), reason=None)
 
 
-def _vals(kin, polys, closed: bool) -> list:
-    return kin.prog.inline(polys, symbolic=True) if closed else list(polys)
-
-
-def _bodies(spec, kin, pr) -> list[dict]:
+def _bodies(spec, kin, doc: Doc) -> list[dict]:
     """The spec's table: θᵏ, mᵏ, cᵏ, sᵏ, λᵏ, Aᵏ, the control flag and the direction cosines αᵏ."""
+    show = lambda x: doc.w.sum_text(fold_numbers(sp.sympify(x)))  # noqa: E731
 
     def mat(m):
         m = m.tolist() if isinstance(m, sp.MatrixBase) else m
-        rows = [" & ".join(pr.doprint(_display(sp.sympify(x))) for x in row) for row in m]
+        rows = [" & ".join(show(x) for x in row) for row in m]
         return r"\begin{pmatrix}" + r" \\ ".join(rows) + r"\end{pmatrix}"
 
     def vec(v):
-        return r"\begin{pmatrix}" + r" \\ ".join(pr.doprint(_display(x)) for x in v) + r"\end{pmatrix}"
+        return r"\begin{pmatrix}" + r" \\ ".join(show(x) for x in v) + r"\end{pmatrix}"
 
-    return [dict(k=k, theta=pr.doprint(b.theta), m=pr.doprint(_display(b.m)), c=vec(b.c),
-                 s=vec(b.s) if k < spec.n else r"\text{---}",
+    return [dict(k=k, theta=texscene.angle_text(b.theta, doc.w, fold_numbers), m=show(b.m), c=vec(b.c),
+                 s=vec(b.s) if k < spec.n else r"\text{(none: last body)}",
                  lam=vec(b.lam), A=mat(b.A), control="yes" if b.control else "no", alpha=mat(kin.alpha[k]))
             for k, b in enumerate(spec.bodies, start=1)]
 
 
-def _equations(spec, kin, dyn, ints, pr, closed: bool, general: dict | None) -> dict:
-    """M, Q, Γ, G, U and k: closed forms (small n) or the recursion's quantities listed in order."""
+def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list) -> dict:
+    """M, Q, Γ, G, Π, Λ̊, W, τ, U and k as printed: closed forms (small n) or the recursion's
+    quantities (their definitions listed in the recursion section)."""
     n = spec.n
-    targets = [dyn.M[k][r] for k in range(n) for r in range(k, n)]
-    targets += list(dyn.Q) + list(dyn.Gamma) + list(dyn.G) + [ints.U]
-    if ints.momentum is not None:
-        targets.append(ints.momentum)
-    recursion = []
-    extra = list(dyn.Lamdot) + list(dyn.Phi) + [j for j in dyn.joint if not j.is_zero()] if general else []
     if closed:
-        values = iter(kin.prog.inline(targets, symbolic=True))
-        lines, grouped = (lambda e: _tex_lines(e, pr)), (lambda e: _grouped(e, kin.phidot[1:], pr))
+        lines, grouped = doc.lines, (lambda e: doc.grouped(e, gens))
     else:
-        values = iter(targets)
-        lines = grouped = (lambda e: Shown.of(_poly_tex_lines(e, pr)))
-        for a, rhs in kin.prog.needed(targets + extra):
-            body = _poly_tex_lines(rhs, pr) if isinstance(rhs, Poly) else _tex_lines(rhs, pr, expand=False)
-            recursion.append(TexEquation(pr.doprint(a.sym), tuple(body)))
-    M = [TexEquation(f"M_{{{k + 1}{r + 1}}}", lines(next(values))) for k in range(n) for r in range(k, n)]
-    Qv, Gv = [next(values) for _ in range(n)], [next(values) for _ in range(n)]
-    if general and general["rest"] is not None:  # the platform terms are shown apart, as Π_k
-        Qv, Gv = general["rest"]
-    Q = [TexEquation(f"Q_{{{k + 1}}}", grouped(v)) for k, v in enumerate(Qv)]
-    Gam = [TexEquation(rf"\Gamma_{{{k + 1}}}", grouped(v)) for k, v in enumerate(Gv)]
-    G = [TexEquation(f"G_{{{k + 1}}}", lines(next(values))) for k in range(n)]
-    U = TexEquation("U", lines(next(values)))
-    K = TexEquation("k", grouped(next(values))) if ints.momentum is not None else None
-    term_counts = ", ".join(f"${sym}$ {sum(eq.lines.terms or 0 for eq in eqs)}" for sym, eqs in
-                            (("M", M), ("Q", Q), (r"\Gamma", Gam), ("G", G)))
-    return dict(M=M, Q=Q, Gamma=Gam, G=G, U=U, K=K, term_counts=term_counts, recursion=recursion)
+        lines = grouped = doc.poly_lines
+    pairs = [(k, r) for k in range(n) for r in range(k, n)]
+    out = dict(
+        M=[TexEquation(f"M_{{{k + 1}{r + 1}}}", lines(v)) for (k, r), v in zip(pairs, vals["M"])],
+        Q=[TexEquation(f"Q_{{{k + 1}}}", grouped(v)) for k, v in enumerate(vals["Q"])],
+        Gamma=[TexEquation(rf"\Gamma_{{{k + 1}}}", grouped(v)) for k, v in enumerate(vals["Gamma"])],
+        G=[TexEquation(f"G_{{{k + 1}}}", lines(v)) for k, v in enumerate(vals["G"])],
+        Pi=[TexEquation(rf"\Pi_{{{k + 1}}}", grouped(v)) for k, v in enumerate(vals["Pi"] or [])],
+        Lamdot=[TexEquation(rf"\mathring\Lambda_{{{k + 1}}}", lines(v)) for k, v in enumerate(vals["Lamdot"])],
+        Phi=[TexEquation(f"W_{{{k + 1}}}", lines(v)) for k, v in enumerate(vals["Phi"])],
+        joint=[TexEquation(rf"\tau_{{{k + 1}}}", lines(v)) for k, v in vals["joint"]],
+    )
+    counts = ", ".join(f"${sym}$ {sum(eq.lines.terms or 0 for eq in out[key])}" for sym, key in
+                       (("M", "M"), ("Q", "Q"), (r"\Gamma", "Gamma"), ("G", "G")))
+    blocks = {key: block(eqs) if eqs else None for key, eqs in out.items()}
+    U = TexEquation("U", lines(vals["U"]))
+    K = TexEquation("k", grouped(vals["K"])) if vals["K"] is not None else None
+    return dict(blocks, U=U, K=K, term_counts=counts)
 
 
-def _quadratures(model: Model, pr) -> dict | None:
+def _recursion(kin, doc: Doc, targets: list) -> list:
+    """The program's definitions the printed quantities need, in order (long chains)."""
+    out = []
+    for a, rhs in kin.prog.needed(targets):
+        body = doc.poly_lines(rhs) if isinstance(rhs, Poly) else doc.lines(rhs, expand=False)
+        out.append(TexEquation(doc.w.name(a.sym), tuple(body)))
+    return out
+
+
+def _quadratures(model: Model, doc: Doc) -> dict | None:
     """J, C, A, U and β of the quadratures (30), when the model has them."""
     if model.quad is None:
         return None
     kin = model.kin
     J, C, A, U2, beta = kin.prog.inline(model.quad.terms, symbolic=True)
-    return dict(J=tuple(_tex_lines(J, pr)), C=tuple(_tex_lines(C, pr)), A=tuple(_tex_lines(A, pr)),
-                U=tuple(_tex_lines(U2, pr)), beta=tuple(_tex_lines(beta, pr)), nikolai=model.quad.nikolai,
-                U_const=not (U2.free_symbols & {kin.phi[2]}))
+    return dict(J=tuple(doc.lines(J)), C=tuple(doc.lines(C)), A=tuple(doc.lines(A)), U=tuple(doc.lines(U2)),
+                beta=tuple(doc.lines(beta)), nikolai=model.quad.nikolai, U_const=not (U2.free_symbols & {kin.phi[2]}))
+
+
+def _jacobi(model: Model, doc: Doc, closed: bool):
+    """Jacobi's integral h written out (closed forms), None where it is not an integral."""
+    h = model.integrals.jacobi
+    if h is None:
+        return None
+    if not closed:
+        return dict(K=None)
+    (value,) = model.kin.prog.inline([h], symbolic=True)
+    return dict(K=TexEquation("h", doc.grouped(value, model.kin.phidot[1:])))
 
 
 def _joined(reasons) -> str:
@@ -361,8 +374,9 @@ def integral_statements(model: Model) -> dict:
         extra = (r"$U$ includes the force function of " + ", ".join(tex_escape(w) for w, _ in facts.U_extra)
                  + r" (springs: $-\tfrac12 k(\varphi-\varphi_0)^2$; constant fixed forces: $\mathbf F\cdot\mathbf r_P$).  ")
     if facts.has_energy_integral:
-        why = ("no load but gravity, springs and constant fixed forces does work" if spec.general
-               else r"the base is fixed, every $\boldsymbol\lambda^k$ is constant and no control torque acts")
+        why = (r"the base is fixed, every $\boldsymbol\lambda^k$ is constant, no control torque acts"
+               + (", no joint has a damper or a torque expression, and no load but gravity, springs and constant "
+                  "forces fixed in space does work" if spec.general else ", and gravity is the only load"))
         energy = extra + f"The energy (23) is an integral of this model: {why}."
     else:
         energy = extra + f"The energy (23) is not an integral of this model: work is done by {_joined(facts.energy_reasons)}."
@@ -388,34 +402,41 @@ def integral_statements(model: Model) -> dict:
 
 def _tex(model: Model) -> dict:
     spec, n = model.spec, model.spec.n
-    general = None
-    if spec.general:  # the equations as (8)–(10) state them: from the stages with a symbolic platform
-        kin, dyn, ints = model.symbolic.kin, model.symbolic.dyn, model.symbolic.ints
-        closed = n <= CLOSED_FORM_MAX_N_GENERAL
-        pr = TexPrinter(_latex_names(kin, model.symbolic.kin_defs))
-        grouped_ = (lambda e: _grouped(e, kin.phidot[1:], pr)) if closed else (lambda e: Shown.of(_poly_tex_lines(e, pr)))
-        lines_ = (lambda e: _tex_lines(e, pr)) if closed else (lambda e: Shown.of(_poly_tex_lines(e, pr)))
-        general = _general_tex(model, pr, closed, lines_, grouped_)
-    else:
-        kin, dyn, ints = model.kin, model.dyn, model.integrals
-        closed = n <= CLOSED_FORM_MAX_N
-        pr = TexPrinter(_latex_names(kin))
-    gen = {k: general[k] if general else None for k in ("platform", "Pi", "Lamdot", "Phi", "joint")}
+    # the general case reads the stages derived with the platform's motion as symbols, as (8)–(10) state it
+    stages = model.symbolic if spec.general else model
+    kin, dyn = stages.kin, stages.dyn
+    ints = model.symbolic.ints if spec.general else model.integrals
+    closed = n <= (CLOSED_FORM_MAX_N_GENERAL if spec.general else CLOSED_FORM_MAX_N)
+    doc = Doc(writer_for(spec, kin))
+    vals = _values(spec, kin, dyn, ints, closed)
+    if closed:  # one trigonometric form for the whole document: the shortest over the equations of motion
+        doc.choose(vals["M"] + vals["Q"] + vals["Gamma"] + vals["G"] + (vals["Pi"] or []))
+    eqs = _equations(spec, vals, doc, closed, kin.phidot[1:])
+    recursion = []
+    if not closed:
+        targets = [dyn.M[k][r] for k in range(n) for r in range(k, n)] + list(dyn.Q) + list(dyn.Gamma) + list(dyn.G)
+        targets += [ints.U] + ([ints.momentum] if ints.momentum is not None else [])
+        targets += list(dyn.Lamdot) + list(dyn.Phi) + [j for j in dyn.joint if not j.is_zero()]
+        recursion = _recursion(kin, doc, targets)
     facts = model.integrals
     return dict(
         general=spec.general,
         moving=kin.platform is not None,
-        jacobi=facts.jacobi is not None,
+        jacobi=_jacobi(model, doc, closed),
         **integral_statements(model),
-        **gen,
-        **_equations(spec, kin, dyn, ints, pr, closed, general),
-        quad=_quadratures(model, pr),
-        bodies=_bodies(spec, kin, pr),
-        g=pr.doprint(_display(spec.g)),
-        params=", ".join(f"${pr.doprint(p)}$" for p in spec.params),
+        **eqs,
+        platform=_platform_rows(kin, doc) if spec.general else None,
+        recursion=recursion,
+        quad=_quadratures(model, doc),
+        bodies=_bodies(spec, kin, doc),
+        scene=texscene.scene(spec, doc.w, fold_numbers),
+        notation=texscene.notation(model, closed, [doc.w.name(p) for p in spec.params]),
+        form_text=texscene.FORM_TEXT.get(doc.form),
+        form_counts=texscene.form_counts(doc.form, doc.counts),
+        g=doc.w.sum_text(fold_numbers(spec.g)),
         closed=closed,
         controls=", ".join(f"$L^{{{k}}}$" for k in spec.controls),
-        deriv=_derivative_tex(model, pr) if n <= DERIVATIVE_TEX_MAX_N else None,
+        deriv=_derivative_tex(model, stages, doc),
         deriv_generic="d_jvp" in model.lines,
         deriv_world=model.der_form == "world",
     )
@@ -424,8 +445,6 @@ def _tex(model: Model) -> dict:
 def source_text(model: Model, context: dict) -> str:
     """Where the document comes from: the paper and the works it builds on, the spec and its
     sha256, the generator's and sympy's versions (the same facts as MANIFEST.json)."""
-    import hashlib
-
     spec = model.spec
     nikolai = model.quad is not None and model.quad.nikolai
     return (rf"Derived from the spec \texttt{{{tex_escape(one_line(context['label']))}}} "
@@ -457,7 +476,8 @@ class LatexTarget:
         tex = _tex(model)
         tex.update(
             name_tex=tex_escape(spec.name),
-            description_tex=tex_escape(one_line(spec.description)),
+            description_tex=texscene.description_tex(one_line(spec.description)),
+            sha_tex=hashlib.sha256(spec.source.encode("utf-8")).hexdigest(),
             spec_label_tex=tex_escape(one_line(context["label"])),
             counts_tex=[(tex_escape(k), v) for k, v in sorted(context["counts"].items())],
             has_momentum=tex["K"] is not None,

@@ -45,4 +45,6 @@ def test_spec_text_prints_in_the_text_font():
     assert tex_escape("a > b < c | d") == r"a \textgreater{} b \textless{} c \textbar{} d"
     tex = (ROOT / "generated" / "kapitza" / "kapitza.tex").read_text()
     description = next(ln for ln in tex.splitlines() if "stable when" in ln)
-    assert r"\textgreater{} 2 g" in description and ">" not in description.replace(r"\textgreater{}", "")
+    # the ASCII formula stays code, as typed: typewriter type, escaped
+    assert r"\texttt{a\textasciicircum{}2 w\textasciicircum{}2 \textgreater{} 2 g A11 / (m l)}" in description
+    assert r"\texttt{phi = pi}" in description and ">" not in description.replace(r"\textgreater{}", "")

@@ -1,0 +1,176 @@
+"""The scene as the LaTeX states it: every input of the spec as given (joints, loads, the
+platform's motion, the parameters, the spec text itself), the notation table, and the spec's
+description as text with its ASCII formulas kept as code."""
+from __future__ import annotations
+
+import re
+import unicodedata
+
+import sympy as sp
+
+from ..assemble import Model
+from .common import tex_escape
+
+FORM_TEXT = {
+    "c": r"products of $\cos\varphi^k$ and $\sin\varphi^k$ with no $\sin^2\varphi^k$ ($\sin^2\varphi^k = 1 - \cos^2\varphi^k$ used)",
+    "s": r"products of $\cos\varphi^k$ and $\sin\varphi^k$ with no $\cos^2\varphi^k$ ($\cos^2\varphi^k = 1 - \sin^2\varphi^k$ used)",
+    "f": r"cosines and sines of multiple angles $m_1\varphi^1 + m_2\varphi^2 + \dots$ (no products of them)",
+}
+
+FORM_NAMES = {"c": r"with no $\sin^2$", "s": r"with no $\cos^2$", "f": "in multiple angles"}
+
+
+def form_counts(form: str | None, counts: dict) -> str:
+    """Why this form: the term counts of M, Q, Γ, G in it and in the other two."""
+    if form is None:
+        return ""
+    others = " and ".join(f"{counts[f]} {FORM_NAMES[f]}" for f in counts if f != form)
+    return rf"$M$, $Q$, $\Gamma$, $G$ have {counts[form]} terms in this form, {others}"
+
+
+_OPERATORS = set("^*/=<>_")
+_WORDS = {"a", "an", "as", "at", "be", "by", "in", "is", "it", "of", "on", "or", "the", "to", "and", "its"}
+
+
+def _formula_token(tok: str) -> bool:
+    """A word that can be part of an ASCII formula: operators, brackets, numbers, short names."""
+    bare = tok.rstrip(",;.")
+    if any(ch in _OPERATORS or ch in "()" for ch in bare) or bare in ("-", "+"):
+        return True
+    return bool(re.fullmatch(r"\d+(\.\d+)?|[A-Za-z]\w{0,2}", bare)) and bare.lower() not in _WORDS
+
+
+def description_tex(text: str) -> str:
+    """The description as text; runs of words that form an ASCII formula ("a^2 w^2 > 2 g A11 /
+    (m l)", "phi = pi") in typewriter type, escaped, as the user typed them."""
+    words = text.split()
+    out, i = [], 0
+    while i < len(words):
+        j = i
+        while j < len(words) and _formula_token(words[j]):
+            j += 1
+        run = words[i:j]
+        if run and any(any(ch in _OPERATORS for ch in w) or re.search(r"[a-z]\(", w) for w in run):
+            tail = ""
+            if run[-1][-1] in ",;." and run[-1][-1:] not in ")":
+                run[-1], tail = run[-1][:-1], run[-1][-1]
+            out.append(r"\texttt{" + tex_escape(" ".join(run)) + "}" + tex_escape(tail))
+            i = j
+        else:
+            out.append(tex_escape(words[i]))
+            i += 1
+    return " ".join(out)
+
+
+def verbatim_text(text: str) -> str:
+    """The spec text for a verbatim block: Latin-1 kept (T1, UTF-8 input); super- and subscript
+    digits and Greek letters spelled in ASCII (^0, _3, lambda); anything else as '?'."""
+    out = []
+    for ch in text:
+        if ord(ch) < 256 and (ch.isprintable() or ch in "\n\t"):
+            out.append(ch)
+            continue
+        name = unicodedata.name(ch, "")
+        digit = unicodedata.numeric(ch, None)
+        if name.startswith(("SUPERSCRIPT ", "SUBSCRIPT ")):
+            out.append(("^" if name.startswith("SUPER") else "_") + (str(int(digit)) if digit is not None else "?"))
+        elif name.startswith("GREEK "):
+            out.append(name.split()[-1].lower().replace("lamda", "lambda"))
+        elif name.startswith("COMBINING "):
+            continue
+        else:
+            out.append("?")
+    lines = []
+    for line in "".join(out).replace(r"\end{verbatim}", r"\end {verbatim}").split("\n"):
+        while len(line) > VERBATIM_WIDTH:  # a long line goes on, indented, on the next (the page has no more room)
+            cut = line.rfind(" ", 40, VERBATIM_WIDTH)
+            cut = cut if cut > 0 else VERBATIM_WIDTH
+            lines.append(line[:cut])
+            line = "        " + line[cut:].lstrip()
+        lines.append(line)
+    return "\n".join(lines)
+
+
+VERBATIM_WIDTH = 180  # characters of \scriptsize typewriter type across the landscape page
+
+
+def angle_text(theta: sp.Expr, w, fold) -> str:
+    """A structural angle as given: a rational multiple of π as a fraction of π, else its value."""
+    q = sp.nsimplify(theta / sp.pi) if theta.has(sp.pi) else None
+    if q is not None and q.is_Rational:
+        top = r"\pi" if abs(q.p) == 1 else rf"{abs(q.p)}\pi"
+        return ("- " if q < 0 else "") + (top if q.q == 1 else rf"\frac{{{top}}}{{{q.q}}}")
+    return w.sum_text(fold(theta))
+
+
+def _vec(w, fold, v) -> str:
+    return r"\begin{pmatrix}" + r" \\ ".join(w.sum_text(fold(sp.sympify(x))) for x in v) + r"\end{pmatrix}"
+
+
+def scene(spec, w, fold) -> dict:
+    """Every input beyond the bodies' table, printed from the parsed spec: the joints' springs,
+    rest angles, dampers and torque expressions; the forces and moments with their points and
+    frames; the platform's motion r₀(t) and its rotations; the symbolic parameters; the spec text."""
+    show = lambda x: w.sum_text(fold(sp.sympify(x)))  # noqa: E731
+    joints = []
+    for k, b in enumerate(spec.bodies, start=1):
+        if b.spring is not None or b.damping is not None or b.torque is not None:
+            joints.append(dict(k=k, spring=show(b.spring) if b.spring is not None else "",
+                               rest=show(b.rest) if b.spring is not None else "",
+                               damping=show(b.damping) if b.damping is not None else "",
+                               torque=show(b.torque) if b.torque is not None else ""))
+    loads = []
+    for k, b in enumerate(spec.bodies, start=1):
+        for ld in b.forces:
+            loads.append(dict(k=k, kind="force", vec=_vec(w, fold, ld.vec), point=_vec(w, fold, ld.point), frame=ld.frame))
+        for ld in b.moments:
+            loads.append(dict(k=k, kind="moment", vec=_vec(w, fold, ld.vec), point="", frame=ld.frame))
+    base = None
+    if spec.base is not None:
+        base = dict(position=_vec(w, fold, spec.base.position),
+                    rotations=[dict(axis=_vec(w, fold, a), angle=show(t)) for a, t in zip(spec.base.axes, spec.base.angles)])
+    params = [dict(tex=w.name(p), name=tex_escape(p.name)) for p in spec.params]
+    return dict(joints=joints, loads=loads, base=base, params=params, spec_text=verbatim_text(spec.source.rstrip("\n")))
+
+
+def notation(model: Model, closed: bool, param_names: list[str]) -> list[tuple[str, str]]:
+    """Every symbol the document uses, with its meaning: the paper's, then this document's own."""
+    spec, facts = model.spec, model.integrals
+    rows = [
+        (r"$S^k$, $O^k$, $l^k$", r"body $k$, its joint's point on the axis, the joint axis ($k = 1,\dots,n$; $S^0$ the base)"),
+        (r"$\hat{\mathbf e}^k_i$, $\mathbf e^k$", r"the frame of body $k$; $\mathbf e^k = \hat{\mathbf e}^k_1$ along $l^k$"),
+        (r"$\varphi^k$, $\dot\varphi^k$, $\ddot\varphi^k$", r"the angle of joint $k$ (body $k$ relative to body $k-1$), its rates"),
+        (r"$\theta^k$", r"the angle between $l^{k-1}$ and $l^k$ (the structure)"),
+        (r"$m^k$, $\mathbf c^k$, $\mathbf s^k$", r"mass, centre of mass from $O^k$, the vector $O^kO^{k+1}$"),
+        (r"$\mathbf A^k$, $\boldsymbol\lambda^k$", r"inertia tensor about $O^k$, gyrostatic moment of the rotors"),
+        (r"$\alpha^{k,k-1}$", r"direction cosines of frame $k$ in frame $k-1$"),
+        (r"$M_{kr}$, $Q_k$, $\Gamma_k$, $G_k$", r"mass matrix, velocity-quadratic, gyroscopic and gravity terms of (17)--(19)"),
+        (r"$L^k$", r"the control torque of joint $k$"),
+        (r"$T$, $U$, $E$", r"kinetic energy, force function, the energy constant (23)"),
+        (r"$g$", r"gravity, along $\hat{\mathbf e}^0_1$ (down)"),
+    ]
+    if spec.general:
+        rows.append((r"$\Pi_k$, $\mathring\Lambda_k$, $W_k$, $\tau_k$",
+                     r"platform terms, rotors spinning up, generalized forces of the loads, joint torques of springs, "
+                     r"dampers and torque expressions (this document's names for the groups of (8)--(10))"))
+    if model.kin.platform is not None:
+        rows.append((r"$\boldsymbol\omega^0$, $\boldsymbol\varepsilon^0$, $\dot{\mathbf v}_0$",
+                     r"the platform's angular velocity and acceleration, the acceleration of $O^1$ (platform frame)"))
+        rows.append((r"$\boldsymbol\gamma^0$", r"the downward vertical in the platform's frame (the Poisson vector; "
+                     r"not in the paper, whose base does not turn)"))
+    if facts.momentum is not None:
+        rows.append((r"$k$", r"the momentum $\hat{\mathbf e}^1_1\cdot\mathbf K_{O^1}$ of (27), its constant value"))
+    if facts.jacobi is not None:
+        rows.append((r"$h$, $T_2$, $T_0$", r"Jacobi's integral, the kinetic energy quadratic in $\dot\varphi$, "
+                     r"that of the chain carried by the platform"))
+    if model.quad is not None:
+        rows.append((r"$\psi$, $\varphi$", r"$\varphi^1$ and $\varphi^2$ in the quadratures (28)--(30)"))
+        rows.append((r"$J$, $C$, $K(\varphi)$, $E(\varphi)$, $\Phi$", r"the coefficients of (28), (29) and the integrand of (30)"))
+        rows.append((r"$\varphi_0$, $\psi_0$, $\varphi_-$, $\varphi_+$", r"initial angles; turning points (simple roots of $E(\varphi)J - K^2$)"))
+    if not closed:
+        rows.append((r"$\mathrm{name}$", r"a quantity of the recursion, defined in its section"))
+    rows.append((r"$R_k$", r"the residual $\sum_r M_{kr}\ddot\varphi^r - f_k$ of the derivatives' section"))
+    if spec.params:
+        rows.append((", ".join(f"${w}$" for w in param_names), r"symbolic parameters (table below; a name that is one of this "
+                     r"document's own letters is set in sans serif)"))
+    return rows

@@ -1,0 +1,209 @@
+"""Formulas as the LaTeX prints them, one term at a time, in one small grammar.
+
+A sum is printed term by term: the sign as subtraction, the number first (a decimal as the spec
+wrote it, an exact fraction as a fraction, anything else to 10 significant digits), then the
+factors in a natural order: parameters, time functions and the platform's quantities, the
+functions of the joint angles in increasing index (cos before sin), the velocities, the
+accelerations and the torques.  cos φᵏ prints as \\cos\\varphi^{k} (the paper's c and s are the
+centre-of-mass and offset vectors, so no abbreviation is used).
+
+The grammar is small on purpose: tests/models/test_latex_roundtrip.py reads every printed formula
+back and evaluates it against the emitted C.  It is
+
+    sum     := ["-"] term (("+" | "-") term)*
+    term    := [number] factor*  |  "\\frac{" sum "}{" sum "}"
+    number  := digits ["." digits] [" \\cdot 10^{" int "}"]  |  "\\frac{" int "}{" int "}"
+    factor  := name ["^{" int "}"]  |  "\\left(" name "\\right)^{" int "}"  |  "\\left(" sum "\\right)" ["^{" int "}"]
+             | func ["^{" int "}"] (\\varphi^{k} | "(" sum ")")  |  "\\sqrt{" sum "}"
+
+with the names of the document's notation table.
+"""
+from __future__ import annotations
+
+from fractions import Fraction
+
+import sympy as sp
+
+from ..exact import Surd, to_float
+
+FUNCTIONS = {sp.cos: r"\cos", sp.sin: r"\sin", sp.tan: r"\tan", sp.exp: r"\exp", sp.log: r"\log",
+             sp.sinh: r"\sinh", sp.cosh: r"\cosh", sp.tanh: r"\tanh", sp.asin: r"\arcsin",
+             sp.acos: r"\arccos", sp.atan: r"\arctan"}
+SIGNIFICANT = 10  # digits of a number that is not a short decimal or a small fraction
+FRACTION_MAX = 10_000  # an exact rational prints as a fraction when numerator and denominator are below this
+
+
+def _terminating(q: Fraction) -> bool:
+    d = q.denominator
+    for p in (2, 5):
+        while d % p == 0:
+            d //= p
+    return d == 1
+
+
+def number_text(value) -> str:
+    """A positive number as the document prints it: an integer or a terminating decimal exactly
+    (0.4 stays 0.4), a small exact fraction as \\frac{p}{q}, anything else to 10 significant digits."""
+    if isinstance(value, sp.Rational):
+        value = Fraction(int(value.p), int(value.q))
+    elif isinstance(value, sp.Float):
+        value = float(value)
+    if isinstance(value, int):
+        value = Fraction(value)
+    if isinstance(value, Fraction):
+        if value.denominator == 1:
+            return str(value.numerator)
+        if _terminating(value):
+            text = _decimal(value)
+            if len(text.replace("0.", "").lstrip("0")) <= 12:
+                return text
+        elif value.numerator < FRACTION_MAX and value.denominator < FRACTION_MAX:
+            return rf"\frac{{{value.numerator}}}{{{value.denominator}}}"
+        value = float(value)
+    if isinstance(value, Surd):
+        value = to_float(value)
+    text = f"{float(value):.{SIGNIFICANT}g}"
+    if "e" in text:
+        mant, exp = text.split("e")
+        return rf"{mant} \cdot 10^{{{int(exp)}}}"
+    return text
+
+
+def _decimal(q: Fraction) -> str:
+    """A terminating fraction as its exact decimal."""
+    digits = 0
+    while (q * 10 ** digits).denominator != 1:
+        digits += 1
+    whole = q * 10 ** digits
+    text = str(int(whole)).rjust(digits + 1, "0")
+    return text[:-digits] + "." + text[-digits:]
+
+
+class TexWriter:
+    """Prints sympy expressions of the LaTeX target in the grammar above.
+
+    ``names``: symbol → its TeX name; ``rank``: symbol → (group, index) for the factor order
+    (symbols not in it are parameters, ordered by name)."""
+
+    PARAMETER, TIME, PLATFORM, ANGLE, VELOCITY, ACCELERATION, TORQUE, QUANTITY = range(1, 9)
+
+    def __init__(self, names: dict, rank: dict, angles: dict):
+        self.names, self.rank, self.angles = names, rank, angles  # angles: φ symbol → k
+
+    # ---- factors
+    def name(self, sym: sp.Symbol) -> str:
+        return self.names.get(sym) or sym.name
+
+    def _key(self, base) -> tuple:
+        """(group, indices, cos 0 / sin 1, text): every key has this shape, so any two compare."""
+        if isinstance(base, sp.Symbol):
+            group, index = self.rank.get(base, (self.PARAMETER, 0))
+            return (group, (index,), 0, base.name)
+        if isinstance(base, (sp.cos, sp.sin)) and base.free_symbols & set(self.angles):
+            ks = sorted(self.angles[s] for s in base.args[0].free_symbols if s in self.angles)
+            return (self.ANGLE, tuple(ks), 0 if isinstance(base, sp.cos) else 1, str(base))
+        return (self.TIME, (0,), 1, str(base))
+
+    def _angle_of(self, arg) -> str | None:
+        """\\varphi^{k} when the argument is a joint angle itself."""
+        if isinstance(arg, sp.Symbol) and arg in self.angles:
+            return self.name(arg)
+        return None
+
+    def factor(self, base, e: int) -> str:
+        pw = "" if e == 1 else f"^{{{e}}}"
+        if isinstance(base, sp.Symbol):
+            text = self.name(base)
+            if not pw:
+                return text
+            return rf"\left({text}\right){pw}" if "^" in text else f"{text}{pw}"
+        if isinstance(base, sp.Function) and type(base) in FUNCTIONS:
+            fn = FUNCTIONS[type(base)]
+            angle = self._angle_of(base.args[0])
+            if angle is not None:
+                return f"{fn}{pw}{angle}"
+            return rf"{fn}{pw}\left({self.sum_text(base.args[0])}\right)"
+        if isinstance(base, sp.Pow) and base.exp == sp.Rational(1, 2):
+            return rf"\sqrt{{{self.sum_text(base.base)}}}" + (rf"^{{{e}}}" if e != 1 else "")
+        if isinstance(base, sp.Add):
+            return rf"\left({self.sum_text(base)}\right){pw}"
+        raise ValueError(f"the LaTeX cannot print the factor {base!r}")
+
+    # ---- terms and sums
+    def term(self, expr) -> tuple[bool, str]:
+        """(negative, text) of one product."""
+        coeff, rest = expr.as_coeff_Mul()
+        neg = bool(coeff < 0)
+        coeff = -coeff if neg else coeff
+        num, den = [], []
+        for f in sp.Mul.make_args(rest):
+            if f == 1:
+                continue
+            base, e = f.as_base_exp()
+            if isinstance(base, sp.Pow) and base.exp == sp.Rational(1, 2) and e.is_Integer:
+                pass
+            elif not e.is_Integer:
+                if e == sp.Rational(1, 2):
+                    base, e = sp.sqrt(base, evaluate=False), sp.Integer(1)
+                elif e == sp.Rational(-1, 2):
+                    base, e = sp.sqrt(base, evaluate=False), sp.Integer(-1)
+                else:
+                    raise ValueError(f"the LaTeX cannot print the power {f!r}")
+            (num if e > 0 else den).append((base, abs(int(e))))
+        num.sort(key=lambda be: self._key(be[0]))
+        den.sort(key=lambda be: self._key(be[0]))
+        body = " ".join(self.factor(b, e) for b, e in num)
+        if den:
+            top = body if body else "1"
+            if coeff != 1:
+                top = f"{number_text(coeff)} {top}" if body else number_text(coeff)
+            return neg, rf"\frac{{{top}}}{{{' '.join(self.factor(b, e) for b, e in den)}}}"
+        if coeff == 1 and body:
+            return neg, body
+        return neg, number_text(coeff) + (f" {body}" if body else "")
+
+    def term_key(self, expr) -> tuple:
+        """Terms in a natural order: fewer angle functions first, then by their factors."""
+        _, rest = expr.as_coeff_Mul()
+        keys = sorted((self._key(b), int(e) if e.is_Integer else 0) for b, e in
+                      (f.as_base_exp() for f in sp.Mul.make_args(rest)))
+        angle = sum(e for k, e in keys if k[0] == self.ANGLE)
+        return (angle, [k for k in keys])
+
+    def pieces(self, expr) -> list[str]:
+        """The signed terms of a sum, each "t" or "- t", in the natural order."""
+        out = []
+        for t in sorted(sp.Add.make_args(expr), key=lambda t: (self.term_key(t), sp.default_sort_key(t))):
+            if t == 0:
+                continue
+            neg, text = self.term(t)
+            out.append(f"- {text}" if neg else text)
+        return out or ["0"]
+
+    def sum_text(self, expr) -> str:
+        return join(self.pieces(expr))
+
+    def lines(self, expr, width: int) -> list[str]:
+        return breaks(self.pieces(expr), width)
+
+
+def join(pieces: list[str]) -> str:
+    out = ""
+    for p in pieces:
+        out += p if not out else (f" {p}" if p.startswith("- ") else f" + {p}")
+    return out
+
+
+def breaks(pieces: list[str], width: int) -> list[str]:
+    """Signed terms joined into lines of about ``width`` characters; a continuation line starts
+    with its sign."""
+    lines, cur = [], ""
+    for p in pieces:
+        piece = p if not cur else (f" {p}" if p.startswith("- ") else f" + {p}")
+        if cur and len(cur) + len(piece) > width:
+            lines.append(cur)
+            cur = p if p.startswith("- ") else f"+ {p}"
+        else:
+            cur += piece
+    lines.append(cur)
+    return lines

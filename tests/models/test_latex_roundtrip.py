@@ -1,0 +1,238 @@
+"""The printed formulas are the code's formulas (issue 25, item 2).
+
+Every equation of the generated LaTeX is read back (tests/texread.py, a parser of the printed
+grammar written apart from the printer), evaluated at random states, times, controls and parameter
+values, and compared with the emitted C: M with mass_matrix; G + L + W + τ − Q − Γ − Π − Λ̊ with
+forces; U with T − energy; k with momentum; h with jacobi; J, C, A, E(φ), K(φ) with
+quad_functions; ∂R/∂x with −M ∂φ̈/∂x from qdd_derivatives.  The tolerance is what the printed
+digits allow: 10 significant digits per number, so 1e-9 of the sum of the terms' magnitudes.
+"""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import texread
+from codegen.randspec import random_general_spec_text, random_spec_text
+from conftest import EXAMPLES, ROOT, example_params
+
+TOL = 1e-9
+
+
+def _with_params(text: str, rng) -> tuple[str, dict]:
+    """A random spec with symbolic parameters: gravity g0, the first body's mass m1, and (to
+    try a name the document uses itself) the last body's mass called k."""
+    masses = re.findall(r"^m = (.*)$", text, flags=re.M)
+    values = dict(g0=9.81, m1=float(masses[0]), k=float(masses[-1]))
+    text = text.replace("g = 9.81", 'g = "g0"', 1)
+    text = re.sub(r"^m = .*$", 'm = "m1"', text, count=1, flags=re.M)
+    head, sep, last = text.rpartition("\nm = ")
+    text = head + sep + '"k"' + last[last.index("\n"):]
+    return text, values
+
+
+def _random_cases() -> dict:
+    cases = {}
+    for i, (n, planar) in enumerate([(2, False), (3, False), (2, True), (3, True)]):
+        rng = np.random.default_rng(2500 + i)
+        cases[f"rt_fixed{n}{'p' if planar else ''}"] = (random_spec_text(rng, n, name=f"rt_fixed{n}{'p' if planar else ''}",
+                                                                          planar=planar, controls=(1,)), None)
+    rng = np.random.default_rng(2510)
+    cases["rt_vertical2"] = (random_spec_text(rng, 2, name="rt_vertical2", theta1=0.0), None)
+    for i, kw in enumerate([dict(), dict(rotate=False), dict(translate=False, loads=False), dict(springs=False, spin_up=False),
+                            dict(loads=True, spin_up=False)]):
+        rng = np.random.default_rng(2520 + i)
+        cases[f"rt_general{i}"] = (random_general_spec_text(rng, 2, name=f"rt_general{i}", **kw), None)
+    rng = np.random.default_rng(2530)
+    text, values = _with_params(random_spec_text(rng, 2, name="rt_params2"), rng)
+    cases["rt_params2"] = (text, values)
+    rng = np.random.default_rng(2531)
+    text, values = _with_params(random_general_spec_text(rng, 2, name="rt_gparams2"), rng)
+    cases["rt_gparams2"] = (text, values)
+    return cases
+
+
+RANDOM = _random_cases()
+
+
+class Doc:
+    """A generated document's equations, parsed, and their values at a point."""
+
+    def __init__(self, tex: str, n: int, params: dict | None):
+        self.n = n
+        self.names = texread.document_names(tex, n)
+        self.eqs = texread.equations(tex)
+        self.params = {sp.Symbol("param_" + k): v for k, v in (params or {}).items()}
+        self._parsed: dict = {}
+
+    def has(self, lhs: str) -> bool:
+        return lhs in self.eqs
+
+    def expr(self, lhs: str) -> sp.Expr:
+        if lhs not in self._parsed:
+            rhs = self.eqs[lhs]
+            try:
+                self._parsed[lhs] = texread.parse(rhs, self.names)
+            except texread.TexSyntaxError as err:
+                raise AssertionError(f"{lhs}: {err}") from None
+        return self._parsed[lhs]
+
+    def at(self, t: float, x: np.ndarray, u: np.ndarray | None) -> dict:
+        env = dict(self.params)
+        env[sp.Symbol("t")] = t
+        for k in range(1, self.n + 1):
+            env[sp.Symbol(f"phi{k}")] = x[k - 1]
+            env[sp.Symbol(f"phidot{k}")] = x[self.n + k - 1]
+            env[sp.Symbol(f"u{k}")] = 0.0
+        for k, v in (u or {}).items():
+            env[sp.Symbol(f"u{k}")] = float(v)
+        for key, tex in (("omega", r"\omega^{0}"), ("epsilon", r"\varepsilon^{0}"), ("vdot", r"\dot v_{0"), ("gamma", r"\gamma^{0}")):
+            for i in range(1, 4):
+                lhs = f"{tex},{i}}}" if key == "vdot" else f"{tex}_{{{i}}}"
+                if self.has(lhs):
+                    env[sp.Symbol(f"{key}0_{i}")] = self.value(lhs, env)[0]
+        return env
+
+    def value(self, lhs: str, env: dict) -> tuple[float, float]:
+        """(value, scale): the sum of the terms' magnitudes is the scale of its rounding."""
+        e = self.expr(lhs)
+        terms = [complex(sp.N(term.xreplace(env), 20)) for term in sp.Add.make_args(e)]
+        for v in terms:
+            assert abs(v.imag) < 1e-12, (lhs, v)
+        return sum(v.real for v in terms), sum(abs(v.real) for v in terms)
+
+
+def mismatches(doc: Doc, model, params, rng, points: int = 3) -> list[str]:
+    """Every place where the document and the C disagree (empty: they agree)."""
+    c, n = model.c, doc.n
+    out = []
+    controls = list(model.spec.controls)
+
+    def check(what, got, scale, want):
+        if not abs(got - want) <= TOL * max(scale, abs(want)) + 1e-13:
+            out.append(f"{what}: document {got!r}, C {want!r}")
+
+    for _ in range(points):
+        x = np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n)])
+        t = float(rng.uniform(0, 3))
+        u = np.zeros(n + 1)
+        for k in controls:
+            u[k] = rng.uniform(-1, 1)
+        uc = np.array([u[k] for k in controls]) if controls else None
+        env = doc.at(t, x, {k: u[k] for k in controls})
+        M = c.mass_matrix(x[:n], params)
+        for k in range(n):
+            for r in range(k, n):
+                lhs = f"M_{{{k + 1}{r + 1}}}"
+                assert doc.has(lhs), f"{lhs} is neither printed nor said to be zero"
+                check(lhs, *doc.value(lhs, env), M[k, r])
+        f = c.forces(x, uc, params, t)
+        for k in range(1, n + 1):
+            total, scale = float(u[k]), abs(float(u[k]))
+            for name, sign, required in (("G", 1, True), ("W", 1, False), (r"\tau", 1, False), ("Q", -1, True),
+                                         (r"\Gamma", -1, True), (r"\Pi", -1, False), (r"\mathring\Lambda", -1, False)):
+                lhs = f"{name}_{{{k}}}"
+                if doc.has(lhs):
+                    v, s = doc.value(lhs, env)
+                    total, scale = total + sign * v, scale + s
+                else:
+                    assert not required, f"{lhs} is neither printed nor said to be zero"
+            check(f"f_{k} (G + L + W + tau - Q - Gamma - Pi - Lamdot)", total, scale, f[k - 1])
+        if model.spec.base is None:
+            T = 0.5 * x[n:] @ M @ x[n:]
+            check("U", *doc.value("U", env), T - c.energy(x, params, t))
+        if doc.has("k"):
+            check("k", *doc.value("k", env), c.momentum(x, params, t))
+        if doc.has("h"):
+            check("h", *doc.value("h", env), c.jacobi(x, params))
+        if doc.has(r"J(\varphi) = M_{11}"):
+            _check_quadratures(doc, c, params, x, env, check)
+        if doc.has(r"\frac{\partial R_{1}}{\partial \varphi^{1}}"):
+            _check_derivatives(doc, c, params, x, uc, t, env, M, check)
+    return out
+
+
+def _check_quadratures(doc, c, params, x, env, check):
+    """J, C, A, E(φ) = 2(E + U), K(φ) = k − β at φ = φ² against NAME_quad_functions (E, k of x)."""
+    x0 = np.array(x)
+    got = c.quad_functions(x[1], x0, params)
+    E, k = c.energy(x0, params), c.momentum(x0, params)
+    eqs = doc.eqs
+    for i, lhs in enumerate([r"J(\varphi) = M_{11}", r"C(\varphi) = M_{12}", r"A^2_{11} = M_{22}"]):
+        check(lhs, *doc.value(lhs, env), got[i])
+    U_text = eqs[r"E(\varphi)"].split(r"U =", 1)[1]
+    doc.eqs["quad U"] = U_text
+    v, s = doc.value("quad U", env)
+    check("E(phi)", 2 * (E + v), 2 * s + 2 * abs(E), got[3])
+    beta = eqs[r"K(\varphi)"]
+    assert beta.startswith(r"k - \left(") and beta.endswith(r"\right)"), beta
+    doc.eqs["quad beta"] = beta[len(r"k - \left("):-len(r"\right)")]
+    v, s = doc.value("quad beta", env)
+    check("K(phi)", k - v, s + abs(k), got[4])
+
+
+def _check_derivatives(doc, c, params, x, uc, t, env, M, check):
+    """∂R/∂x of the document, at the C's φ̈, against −M ∂φ̈/∂x of NAME_qdd_derivatives."""
+    n = doc.n
+    qdd, dq, dv, _du = c.qdd_derivatives(x, uc, params, t)
+    env = dict(env)
+    for k in range(1, n + 1):
+        env[sp.Symbol(f"qdd{k}")] = qdd[k - 1]
+    for tex, D in ((r"\varphi", dq), (r"\dot\varphi", dv)):
+        want = -M @ D
+        for j in range(1, n + 1):
+            for i in range(1, n + 1):
+                lhs = rf"\frac{{\partial R_{{{i}}}}}{{\partial {tex}^{{{j}}}}}"
+                assert doc.has(lhs), f"{lhs} is neither printed nor said to be zero"
+                got, scale = doc.value(lhs, env)
+                # the C's φ̈ and ∂φ̈/∂x carry their own rounding: the scale includes |M| |D|
+                check(lhs, got, scale + float(np.abs(M) @ np.abs(D[:, j - 1]) @ np.ones(n)) / n, want[i - 1, j - 1])
+
+
+def _example(name, make_model):
+    from codegen.spec import load_spec
+
+    return make_model(load_spec(ROOT / "specs" / f"{name}.toml"), example_params(name), latex=True)
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_printed_formulas_of_every_example_are_the_code(name, make_model):
+    model = _example(name, make_model)
+    tex = (model.folder / f"{name}.tex").read_text()
+    doc = Doc(tex, model.spec.n, model.params)
+    rng = np.random.default_rng(25)
+    assert mismatches(doc, model, model.params, rng) == []
+
+
+@pytest.mark.parametrize("case", sorted(RANDOM))
+def test_printed_formulas_of_random_specs_are_the_code(case, make_model):
+    text, params = RANDOM[case]
+    model = make_model(text, params, latex=True)
+    tex = (model.folder / f"{case}.tex").read_text()
+    doc = Doc(tex, model.spec.n, params)
+    assert doc.has("M_{11}") and (doc.has("Q_{1}") or doc.has("Q_{2}"))
+    assert mismatches(doc, model, params, np.random.default_rng(26)) == []
+
+
+def _planted(tex: str, lhs: str) -> str:
+    """The document with one digit changed: the 5th significant digit of the first long number of ``lhs``."""
+    start = tex.index(lhs + " &=")
+    m = re.compile(r"\d\.\d{6,}|0\.0*[1-9]\d{6,}").search(tex, start)
+    assert m, "no long number to change"
+    digits = [i for i, ch in enumerate(m.group()) if ch.isdigit()]
+    first = next(i for i in digits if m.group()[i] != "0")
+    pos = m.start() + [i for i in digits if i >= first][4]
+    return tex[:pos] + str((int(tex[pos]) + 1) % 10) + tex[pos + 1:]
+
+
+@pytest.mark.parametrize("case,lhs", [("rt_fixed3", "Q_{2}"), ("rt_general0", r"\Pi_{1}"), ("rt_fixed2", "M_{11}")])
+def test_a_misprinted_coefficient_fails(case, lhs, make_model):
+    text, params = RANDOM[case]
+    model = make_model(text, params, latex=True)
+    tex = (model.folder / f"{case}.tex").read_text()
+    bad = Doc(_planted(tex, lhs), model.spec.n, params)
+    found = mismatches(bad, model, params, np.random.default_rng(27))
+    assert found, "a wrong 5th digit went unnoticed"

@@ -1,0 +1,200 @@
+"""Read the generated LaTeX back: its equations as sympy expressions, by a parser of the small
+grammar the LaTeX printer uses (codegen/printers/texterms.py) — written apart from the printer, so
+that a formula printed wrong reads back wrong.  Anything outside the grammar is an error."""
+from __future__ import annotations
+
+import re
+
+import sympy as sp
+
+FUNCS = {r"\cos": sp.cos, r"\sin": sp.sin, r"\tan": sp.tan, r"\exp": sp.exp, r"\log": sp.log, r"\sinh": sp.sinh,
+         r"\cosh": sp.cosh, r"\tanh": sp.tanh, r"\arcsin": sp.asin, r"\arccos": sp.acos, r"\arctan": sp.atan}
+
+
+class TexSyntaxError(ValueError):
+    pass
+
+
+def document_names(tex: str, n: int) -> dict[str, sp.Symbol]:
+    """The names a document's formulas use: the joint state, the torques, time, the platform's
+    quantities and the symbolic parameters its scene section lists as "$tex$ (\\texttt{name})"."""
+    names = {"t": sp.Symbol("t"), r"\pi": sp.pi}
+    for k in range(1, n + 1):
+        names[rf"\varphi^{{{k}}}"] = sp.Symbol(f"phi{k}")
+        names[rf"\dot\varphi^{{{k}}}"] = sp.Symbol(f"phidot{k}")
+        names[rf"\ddot\varphi^{{{k}}}"] = sp.Symbol(f"qdd{k}")
+        names[rf"L^{{{k}}}"] = sp.Symbol(f"u{k}")
+    for i in range(1, 4):
+        names[rf"\omega^{{0}}_{{{i}}}"] = sp.Symbol(f"omega0_{i}")
+        names[rf"\varepsilon^{{0}}_{{{i}}}"] = sp.Symbol(f"epsilon0_{i}")
+        names[rf"\dot v_{{0,{i}}}"] = sp.Symbol(f"vdot0_{i}")
+        names[rf"\gamma^{{0}}_{{{i}}}"] = sp.Symbol(f"gamma0_{i}")
+    line = next((ln for ln in tex.splitlines() if ln.startswith("Symbolic parameters")), None)
+    if line is not None:
+        i = tex.splitlines().index(line)
+        listing = " ".join(tex.splitlines()[i + 1:i + 1 + 200]).split(".\n")[0]
+        for t, name in re.findall(r"\$([^$]+)\$ \(\\texttt\{([^}]*)\}\)", listing):
+            names[t] = sp.Symbol("param_" + name.replace(r"\_", "_"))
+    return names
+
+
+class Parser:
+    def __init__(self, text: str, names: dict):
+        self.s = text
+        self.i = 0
+        self.names = sorted(names.items(), key=lambda kv: -len(kv[0]))
+
+    # ---- lexing helpers
+    def ws(self) -> None:
+        while True:
+            while self.i < len(self.s) and self.s[self.i] in " \n\t":
+                self.i += 1
+            if self.s.startswith(r"\,", self.i):
+                self.i += 2
+            elif self.s.startswith(r"&\quad", self.i):
+                self.i += 6
+            else:
+                return
+
+    def peek(self, tok: str) -> bool:
+        self.ws()
+        return self.s.startswith(tok, self.i)
+
+    def take(self, tok: str) -> bool:
+        if self.peek(tok):
+            self.i += len(tok)
+            return True
+        return False
+
+    def expect(self, tok: str) -> None:
+        if not self.take(tok):
+            raise TexSyntaxError(f"expected {tok!r} at {self.s[self.i:self.i + 40]!r}")
+
+    def braced_int(self) -> int:
+        self.expect("{")
+        m = re.match(r"-?\d+", self.s[self.i:])
+        if not m:
+            raise TexSyntaxError(f"expected an integer at {self.s[self.i:self.i + 20]!r}")
+        self.i += m.end()
+        self.expect("}")
+        return int(m.group())
+
+    # ---- grammar
+    def parse(self) -> sp.Expr:
+        e = self.sum()
+        self.ws()
+        if self.i != len(self.s):
+            raise TexSyntaxError(f"unread text {self.s[self.i:self.i + 60]!r}")
+        return e
+
+    def sum(self) -> sp.Expr:
+        terms = []
+        sign = -1 if self.take("-") else 1
+        if sign == 1:
+            self.take("+")
+        terms.append(sign * self.term())
+        while True:
+            if self.take("+"):
+                terms.append(self.term())
+            elif self.take("-"):
+                terms.append(-self.term())
+            else:
+                return sp.Add(*terms)
+
+    def term(self) -> sp.Expr:
+        factors = []
+        while True:
+            f = self.factor()
+            if f is None:
+                break
+            factors.append(f)
+        if not factors:
+            raise TexSyntaxError(f"expected a term at {self.s[self.i:self.i + 40]!r}")
+        return sp.Mul(*factors)
+
+    def power(self, base) -> sp.Expr:
+        if self.take("^"):
+            return base ** self.braced_int()
+        return base
+
+    def factor(self):
+        self.ws()
+        rest = self.s[self.i:]
+        m = re.match(r"\d+(\.\d+)?", rest)
+        if m:
+            self.i += m.end()
+            value = sp.Rational(m.group())
+            if self.peek(r"\cdot 10^"):
+                self.expect(r"\cdot 10^")
+                value *= sp.Rational(10) ** self.braced_int()
+            return value
+        if self.take(r"\frac"):
+            self.expect("{")
+            top = self.sum()
+            self.expect("}")
+            self.expect("{")
+            bottom = self.sum()
+            self.expect("}")
+            return top / bottom
+        if self.take(r"\sqrt"):
+            self.expect("{")
+            inner = self.sum()
+            self.expect("}")
+            return self.power(sp.sqrt(inner))
+        for opener, closer in ((r"\left(", r"\right)"), (r"\Big(", r"\Big)")):
+            if self.take(opener):
+                inner = self.sum()
+                self.expect(closer)
+                return self.power(inner)
+        for tex, fn in sorted(FUNCS.items(), key=lambda kv: -len(kv[0])):
+            if rest.startswith(tex) and not rest[len(tex):len(tex) + 1].isalpha():
+                self.i += len(tex)
+                e = self.braced_int() if self.take("^") else 1
+                if self.peek(r"\left("):
+                    self.expect(r"\left(")
+                    arg = self.sum()
+                    self.expect(r"\right)")
+                else:
+                    arg = self.name()
+                    if arg is None:
+                        raise TexSyntaxError(f"a function without an argument at {self.s[self.i:self.i + 40]!r}")
+                return fn(arg) ** e
+        sym = self.name()
+        return None if sym is None else self.power(sym)
+
+    def name(self):
+        self.ws()
+        for tex, sym in self.names:
+            if self.s.startswith(tex, self.i):
+                after = self.s[self.i + len(tex):self.i + len(tex) + 1]
+                if tex[-1].isalpha() and after.isalpha():
+                    continue
+                self.i += len(tex)
+                return sym
+        return None
+
+
+def parse(text: str, names: dict) -> sp.Expr:
+    return Parser(text, names).parse()
+
+
+def equations(tex: str) -> dict[str, str]:
+    """Every "lhs &= rhs" of the document's align* blocks (continuations joined), and every
+    quantity an "Identically zero:" line names, as "0"."""
+    out: dict[str, str] = {}
+    for block in re.findall(r"\\begin\{align\*\}(.*?)\\end\{align\*\}", tex, flags=re.S):
+        current = None
+        for chunk in re.split(r"\\\\", block):
+            chunk = chunk.strip()
+            if not chunk:
+                continue
+            if "&=" in chunk:
+                lhs, rhs = chunk.split("&=", 1)
+                current = lhs.strip()
+                out[current] = rhs.strip()
+            elif chunk.startswith(r"&\quad") and current is not None:
+                out[current] += " " + chunk[len(r"&\quad"):].strip()
+    for line in re.findall(r"^Identically zero: (.*)\.$", tex, flags=re.M):
+        for name in re.findall(r"\$([^$]+)\$", line):
+            out[name] = "0"
+    return out
