@@ -257,14 +257,15 @@ DERIVATIVE_TEX_MAX_N = 2  # closed forms of the derivatives are computed up to t
 DERIVATIVE_TEX_MAX_TERMS = 60  # and printed when they have at most this many terms in all
 
 
-def _derivative_tex(model: Model, stages, doc: Doc) -> dict:
+def _derivative_tex(model: Model, stages, doc: Doc, printed_terms: int | None) -> dict:
     """∂R/∂φʲ and ∂R/∂φ̇ʲ of R = M φ̈ − f (closed forms, φ̈ as symbols): with them
     ∂φ̈/∂x = −M⁻¹ ∂R/∂x, the implicit derivative of (17)–(19) that the emitted code computes.
     Printed for small models; otherwise the reason, and where the values are."""
     kin, dyn, n = stages.kin, stages.dyn, model.spec.n
     if n > DERIVATIVE_TEX_MAX_N or (model.spec.general and n > CLOSED_FORM_MAX_N_GENERAL):
-        return dict(rows=None, reason=f"for $n = {n}$ their closed forms are not expanded (each entry would run to "
-                    "hundreds of terms)")
+        return dict(rows=None, reason=f"this document expands them only up to $n = {DERIVATIVE_TEX_MAX_N}$"
+                    + (f" (for $n = {n}$ the equations they differentiate already have {printed_terms} terms above)"
+                       if printed_terms else ""))
     acc = [sp.Symbol(f"qddot_{k}") for k in range(1, n + 1)]
     for k, a in enumerate(acc, start=1):
         doc.w.names[a], doc.w.rank[a] = rf"\ddot\varphi^{{{k}}}", (TexWriter.ACCELERATION, k)
@@ -326,7 +327,8 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list) -> dict:
     blocks = {key: block(eqs) if eqs else None for key, eqs in out.items()}
     U = TexEquation("U", lines(vals["U"]))
     K = TexEquation("k", grouped(vals["K"])) if vals["K"] is not None else None
-    return dict(blocks, U=U, K=K, term_counts=counts)
+    printed = sum(eq.lines.terms or 0 for key in ("M", "Q", "Gamma", "G") for eq in out[key]) if closed else None
+    return dict(blocks, U=U, K=K, term_counts=counts, printed_terms=printed)
 
 
 def _recursion(kin, doc: Doc, targets: list) -> list:
@@ -436,7 +438,7 @@ def _tex(model: Model) -> dict:
         g=doc.w.sum_text(fold_numbers(spec.g)),
         closed=closed,
         controls=", ".join(f"$L^{{{k}}}$" for k in spec.controls),
-        deriv=_derivative_tex(model, stages, doc),
+        deriv=_derivative_tex(model, stages, doc, eqs["printed_terms"]),
         deriv_generic="d_jvp" in model.lines,
         deriv_world=model.der_form == "world",
     )

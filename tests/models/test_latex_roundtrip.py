@@ -9,6 +9,7 @@ digits allow: 10 significant digits per number, so 1e-9 of the sum of the terms'
 """
 from __future__ import annotations
 
+import math
 import re
 
 import numpy as np
@@ -98,11 +99,15 @@ class Doc:
 
     def value(self, lhs: str, env: dict) -> tuple[float, float]:
         """(value, scale): the sum of the terms' magnitudes is the scale of its rounding."""
-        e = self.expr(lhs)
-        terms = [complex(sp.N(term.xreplace(env), 20)) for term in sp.Add.make_args(e)]
-        for v in terms:
-            assert abs(v.imag) < 1e-12, (lhs, v)
-        return sum(v.real for v in terms), sum(abs(v.real) for v in terms)
+        if ("fn", lhs) not in self._parsed:
+            e = self.expr(lhs)
+            syms = sorted(e.free_symbols, key=lambda s: s.name)
+            self._parsed[("fn", lhs)] = (syms, sp.lambdify(syms, list(sp.Add.make_args(e)), "math"))
+        syms, fn = self._parsed[("fn", lhs)]
+        missing = [s for s in syms if s not in env]
+        assert not missing, f"{lhs}: the document's formula has symbols it does not define: {missing}"
+        terms = fn(*[env[s] for s in syms])
+        return math.fsum(terms), math.fsum(abs(v) for v in terms)
 
 
 def mismatches(doc: Doc, model, params, rng, points: int = 3) -> list[str]:
