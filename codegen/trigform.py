@@ -26,11 +26,6 @@ import sympy as sp
 from .exact import Surd, const_of, exact, to_float, to_sympy
 
 FORMS = ("c", "s", "f")
-FORM_TEXT = {
-    "c": r"in $\mathrm{c}_k$, $\mathrm{s}_k$ with no $\mathrm{s}_k^2$",
-    "s": r"in $\mathrm{c}_k$, $\mathrm{s}_k$ with no $\mathrm{c}_k^2$",
-    "f": r"in multiple angles",
-}
 
 
 @dataclass(frozen=True)

@@ -59,16 +59,16 @@ def param_tex(name: str) -> str:
     return f"{head}_{{{tail}}}"
 
 
-def writer_for(spec, kin: Kinematics, upto: int | None = None) -> TexWriter:
+def writer_for(spec, kin: Kinematics) -> TexWriter:
     """How each symbol prints and in which order: the platform's ω⁰, ε⁰, v̇₀, γ⁰, the program's
-    quantities (the first ``upto`` definitions), φᵏ, φ̇ᵏ, the torques Lᵏ and the parameters."""
+    quantities, φᵏ, φ̇ᵏ, the torques Lᵏ and the parameters."""
     names, rank, angles = {TIME: "t"}, {TIME: (TexWriter.TIME, 0)}, {}
     tex = {"omega": r"\omega^{0}", "epsilon": r"\varepsilon^{0}", "vdot": r"\dot v_{0", "gamma": r"\gamma^{0}"}
     for g, (key, syms) in enumerate(platform_symbols().items()):
         for i, sym in enumerate(syms, start=1):
             names[sym] = f"{tex[key]},{i}}}" if key == "vdot" else f"{tex[key]}_{{{i}}}"
             rank[sym] = (TexWriter.PLATFORM, 3 * g + i)
-    for j, (a, _) in enumerate(kin.prog.defs[:upto]):
+    for j, (a, _) in enumerate(kin.prog.defs):
         names[a.sym] = kin.prog.tex.get(a.sym) or r"\mathrm{" + tex_escape(a.name) + "}"
         rank[a.sym] = (TexWriter.QUANTITY, j)
     for k in range(1, kin.n + 1):
@@ -95,9 +95,9 @@ class Shown(tuple):
         out.terms = terms
         return out
 
-    @property
-    def zero(self) -> bool:
-        return tuple(self) == ("0",)
+    @staticmethod
+    def is_zero(lines) -> bool:
+        return tuple(lines) == ("0",)
 
 
 def _angles(expr: sp.Expr) -> list:
@@ -112,17 +112,23 @@ class Doc:
 
     def __init__(self, writer: TexWriter):
         self.w, self.form, self.counts = writer, None, {}
+        self._seen: dict = {}  # expr → its Canonical in its own shortest form (from choose)
 
     def choose(self, exprs) -> None:
         totals = dict.fromkeys(trigform.FORMS, 0)
         for e in exprs:
-            can = trigform.canonical(e, _angles(e))
+            can = self._seen[e] = trigform.canonical(e, _angles(e))
             for f in totals:
                 totals[f] += can.terms_by_form.get(f, can.terms)
         self.form = min(trigform.FORMS, key=lambda f: (totals[f], trigform.FORMS.index(f)))
         self.counts = totals
 
     def canonical(self, expr: sp.Expr) -> trigform.Canonical:
+        """``expr`` in the document's form (reduced once: choose's result is reused when its own
+        shortest form is the document's)."""
+        can = self._seen.get(expr)
+        if can is not None and can.form in (None, self.form):
+            return can
         return trigform.canonical(expr, _angles(expr), self.form)
 
     def lines(self, expr: sp.Expr, width: int = 230, expand: bool = True) -> Shown:
@@ -157,8 +163,8 @@ class Doc:
                 body = inner[0][2:] if neg else inner[0]
                 pieces.append(("- " if neg else "") + (factor if body == "1" else body + r" \, " + factor))
             else:
-                pieces.append(_bracketed(inner) + r" \, " + factor)
-        return Shown.of(_break_grouped(pieces) if pieces else ["0"], can.terms)
+                pieces.extend(_bracketed(inner, factor))
+        return Shown.of(breaks(pieces, 230) if pieces else ["0"], can.terms)
 
     def poly_lines(self, p: Poly, width: int = 230) -> Shown:
         """A polynomial of the program as it stands (no expansion), printed without sympy: the
@@ -181,17 +187,12 @@ class Doc:
         return Shown.of(breaks(pieces, width))
 
 
-def _bracketed(inner: list[str]) -> str:
-    """A multi-term coefficient in brackets; long ones split over lines by _break_grouped."""
-    return r"\left(" + join(inner) + r"\right)" if len(join(inner)) < 200 else "\x00".join([r"\Big(" + inner[0], *inner[1:-1], inner[-1] + r"\Big)"])
-
-
-def _break_grouped(pieces: list[str]) -> list[str]:
-    """Grouped pieces into lines; a long bracket (pieces joined by NUL) is split at its terms."""
-    flat = []
-    for p in pieces:
-        flat.extend(p.split("\x00"))
-    return breaks(flat, 230)
+def _bracketed(inner: list[str], factor: str) -> list[str]:
+    r"""A multi-term coefficient of a velocity monomial in brackets: one piece, or for a long one a
+    piece per term (the line breaker may then split it, \Big( and \Big) pairing across lines)."""
+    if len(join(inner)) < 200:
+        return [r"\left(" + join(inner) + r"\right) \, " + factor]
+    return [r"\Big(" + inner[0], *inner[1:-1], inner[-1] + r"\Big) \, " + factor]
 
 
 @dataclass(frozen=True)
@@ -202,9 +203,9 @@ class TexEquation:
 
 def block(eqs: list[TexEquation]) -> dict:
     """Equations to print and the names of those that are zero (one line states them)."""
-    rows = [e for e in eqs if tuple(e.lines) != ("0",)]
-    zero = [e.lhs for e in eqs if tuple(e.lines) == ("0",)]
-    return dict(rows=rows, zero=", ".join(f"${z}$" for z in zero), all_zero=not rows)
+    rows = [e for e in eqs if not Shown.is_zero(e.lines)]
+    zero = [e.lhs for e in eqs if Shown.is_zero(e.lines)]
+    return dict(rows=rows, zero=", ".join(f"${z}$" for z in zero))
 
 
 CLOSED_FORM_MAX_N_GENERAL = 2  # the same for a spec with platform motion or loads (more symbols)

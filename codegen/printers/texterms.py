@@ -140,9 +140,7 @@ class TexWriter:
             if f == 1:
                 continue
             base, e = f.as_base_exp()
-            if isinstance(base, sp.Pow) and base.exp == sp.Rational(1, 2) and e.is_Integer:
-                pass
-            elif not e.is_Integer:
+            if not e.is_Integer:
                 if e == sp.Rational(1, 2):
                     base, e = sp.sqrt(base, evaluate=False), sp.Integer(1)
                 elif e == sp.Rational(-1, 2):
@@ -168,7 +166,7 @@ class TexWriter:
         keys = sorted((self._key(b), int(e) if e.is_Integer else 0) for b, e in
                       (f.as_base_exp() for f in sp.Mul.make_args(rest)))
         angle = sum(e for k, e in keys if k[0] == self.ANGLE)
-        return (angle, [k for k in keys])
+        return (angle, keys)
 
     def pieces(self, expr) -> list[str]:
         """The signed terms of a sum, each "t" or "- t", in the natural order."""

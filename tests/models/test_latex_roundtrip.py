@@ -23,7 +23,7 @@ from conftest import EXAMPLES, ROOT, example_params
 TOL = 1e-9
 
 
-def _with_params(text: str, rng) -> tuple[str, dict]:
+def _with_params(text: str) -> tuple[str, dict]:
     """A random spec with symbolic parameters: gravity g0, the first body's mass m1, and (to
     try a name the document uses itself) the last body's mass called k."""
     masses = re.findall(r"^m = (.*)$", text, flags=re.M)
@@ -48,10 +48,10 @@ def _random_cases() -> dict:
         rng = np.random.default_rng(2520 + i)
         cases[f"rt_general{i}"] = (random_general_spec_text(rng, 2, name=f"rt_general{i}", **kw), None)
     rng = np.random.default_rng(2530)
-    text, values = _with_params(random_spec_text(rng, 2, name="rt_params2"), rng)
+    text, values = _with_params(random_spec_text(rng, 2, name="rt_params2"))
     cases["rt_params2"] = (text, values)
     rng = np.random.default_rng(2531)
-    text, values = _with_params(random_general_spec_text(rng, 2, name="rt_gparams2"), rng)
+    text, values = _with_params(random_general_spec_text(rng, 2, name="rt_gparams2"))
     cases["rt_gparams2"] = (text, values)
     return cases
 
