@@ -49,20 +49,6 @@ def frame_times(t1: float, fps: float, frame: float | None, sub: int = 1) -> np.
     return np.arange((count - 1) * sub + 1) / (fps * sub)
 
 
-def motion(model, times: np.ndarray, x0, u=None, params=None, rtol: float = 1e-10, atol: float = 1e-12) -> np.ndarray:
-    """The states at ``times`` by the emitted C's DOP853 (dense output between its steps); a
-    failure is a one-line error naming where it stopped."""
-    from .build import IntegrationError
-
-    t = np.concatenate([[0.0], times]) if times[0] > 0 else times
-    try:
-        X = model.integrate(t, x0, "dop853", rtol=rtol, atol=atol, u=u, params=params)
-    except IntegrationError as exc:
-        why = str(exc.args[0]).split(": ", 1)[-1].split(" at t =")[0]
-        raise SpecError("motion", f"the integrator stopped at t = {exc.t:.6g} s: {why}") from None
-    return X[len(t) - len(times):]
-
-
 def read_csv(path: str, n: int, fps: float, frame: float | None) -> tuple:
     """A saved trajectory (columns t, phi1…phin and optionally phidot1…phidotn, as ``simulate``
     prints it), at the frame times over the file's span (or at ``frame``): φ linear between the
@@ -396,9 +382,11 @@ def write_html(scene: Scene, camera: Camera, path: Path, description: str) -> No
 
 # --------------------------------------------------------------------------- the command
 def _motion_of(source, phi, phidot, u, params, t1, at) -> tuple:
-    """(spec, x₀, u, parameters, t1, description) of a spec (path or parsed) or a store's point."""
+    """(spec, x₀, u, parameters, t1, description, note) of a spec (path or parsed) or a store's point
+    (the note says when --at was not a grid point)."""
     from . import sweep
-    from .simulate import initial_state
+    from .physical import run_values
+    from .simulate import initial_state, torques
     from .spec import load_spec, parse_spec
 
     if isinstance(source, (str, Path)) and Path(source).is_dir():  # a sweep store: its spec, state, parameters
@@ -407,18 +395,12 @@ def _motion_of(source, phi, phidot, u, params, t1, at) -> tuple:
         pt = sweep.point(source, at)
         spec = parse_spec(pt["spec_text"])
         description = f"{spec.description} (sweep {Path(source).name}: {pt['label']})"
-        return spec, list(pt["x0"]), pt["u"] or None, pt["params"], t1 if t1 is not None else pt["t1"], description
+        return spec, list(pt["x0"]), pt["u"] or None, pt["params"], t1 if t1 is not None else pt["t1"], description, pt["note"]
     spec = load_spec(source) if isinstance(source, (str, Path)) else source
     if at:
         raise SpecError("--at", "a point of a sweep: give the sweep's store as SPEC")
     x0 = initial_state(spec, phi, phidot)
-    if spec.controls:
-        u = list(u) if u is not None else [0.0] * len(spec.controls)
-        if len(u) != len(spec.controls):
-            raise SpecError("--u", f"expected {len(spec.controls)} comma-separated numbers, got {len(u)}")
-    else:
-        u = None
-    return spec, x0, u, params or {}, t1 if t1 is not None else 10.0, spec.description
+    return spec, x0, torques(spec, u), run_values(spec, params), t1 if t1 is not None else 10.0, spec.description, ""
 
 
 def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=None, fps: float = 25.0,
@@ -428,11 +410,12 @@ def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=Non
     ``output`` (.gif, .mp4, .html, or a .png still at ``frame``).  ``view``: (azimuth, elevation)
     in degrees, default fitted to the motion.  Returns the path, the frame times and the size."""
     from . import pipeline, reference, scene
+    from .simulate import motion
 
     out = Output(output, force=force)  # the extension and an existing file first
     if out.ext == ".png" and frame is None:
         raise SpecError("--frame", "a .png is one still: give --frame T (seconds)")
-    spec, x0, u, params, t1, description = _motion_of(source, phi, phidot, u, params, t1, at)
+    spec, x0, u, params, t1, description, note = _motion_of(source, phi, phidot, u, params, t1, at)
     try:
         ch = reference.numeric(spec, params)
     except ValueError as exc:
@@ -465,4 +448,4 @@ def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=Non
             raster = Raster(sc, size[0], size[1], camera)
             {".gif": lambda: write_gif(raster, out.tmp, fps), ".png": lambda: write_png(raster, out.tmp),
              ".mp4": lambda: write_mp4(raster, out.tmp, fps)}[out.ext]()
-    return dict(path=out.path, times=times, bytes=out.path.stat().st_size)
+    return dict(path=out.path, times=times, bytes=out.path.stat().st_size, note=note)

@@ -8,15 +8,19 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
+from .physical import run_values
+from .simulate import torques
 from .spec import SpecError, load_spec
 
 EXIT_BAD_INPUT = 2
+EXIT_INTERNAL = 1
 
 
 class _Progress:
@@ -46,7 +50,8 @@ def cmd_generate(args) -> int:
 
 def cmd_check(args) -> int:
     spec = load_spec(args.spec)
-    params = ", ".join(str(p) for p in spec.params) or "none"
+    params = ", ".join(f"{p} = {spec.values[str(p)]:g}" if str(p) in spec.values else f"{p} (no value)"
+                       for p in spec.params) or "none"
     print(f"{args.spec}: ok ({spec.name}, n = {spec.n}, symbolic parameters: {params})")
     return 0
 
@@ -73,25 +78,32 @@ def _float_list(text: str, what: str) -> list[float] | None:
 
 
 def _params_of(items, what: str = "--param") -> dict:
-    """name=number options (--param) as a dict."""
+    """name=number options (--param) as a dict (the names and values are checked against the
+    spec by physical.run_values)."""
     params = {}
     for item in items or []:
-        key, _, val = item.partition("=")
+        key, eq, val = item.partition("=")
+        key = key.strip()
+        if key in params:
+            raise SpecError(f"{what} {key}", "given twice")
         try:
-            params[key.strip()] = float(val)
+            if not (eq and key):
+                raise ValueError
+            params[key] = float(val)
         except ValueError:
-            raise SpecError(f"{what} {key}", "expected name=number") from None
+            raise SpecError(f"{what} {item}", "expected name=number") from None
     return params
 
 
 def cmd_simulate(args) -> int:
-    """Integrate a spec with the independent reference model; CSV on stdout."""
+    """Integrate a spec with the emitted C (or the independent reference model); CSV on stdout."""
     from . import simulate
 
     spec = load_spec(args.spec)
+    simulate.check_options(args.t1, args.steps, args.method, args.h, args.rtol, args.atol)
     x0 = simulate.initial_state(spec, _float_list(args.phi, "--phi"), _float_list(args.phidot, "--phidot"))
-    u = _floats(args.u, "--u", len(spec.controls)) if spec.controls else None
-    rows = simulate.run(spec, x0, args.t1, args.steps, u, _params_of(args.param))
+    rows = simulate.run(spec, x0, args.t1, args.steps, _float_list(args.u, "--u"), _params_of(args.param),
+                        method=args.method, h=args.h, rtol=args.rtol, atol=args.atol, use_reference=args.reference)
     print(",".join(simulate.columns(spec.n)))
     for row in rows:
         print(",".join(f"{v:.17g}" for v in row))
@@ -103,11 +115,9 @@ def cmd_steady(args) -> int:
     from . import steady
 
     spec = load_spec(args.spec)
-    params = _params_of(args.param)
-    unknown = sorted(set(params) - {str(p) for p in spec.params})
-    if unknown:
-        raise SpecError("--param", f"unknown parameter {unknown[0]} (the spec's are: {', '.join(map(str, spec.params)) or 'none'})")
-    u = _floats(args.u, "--u", len(spec.controls)) if args.u else None
+    given = _params_of(args.param)
+    params = run_values(spec, given)
+    u = torques(spec, _float_list(args.u, "--u"))
     starts = [_floats(s, "--start", spec.n) for s in args.start or []]
     try:
         omegas = steady.parse_range(args.omega) if args.omega else None
@@ -174,6 +184,8 @@ def cmd_animate(args) -> int:
         u=_float_list(args.u, "--u"), params=_params_of(args.param), t1=args.t1, fps=args.fps, frame=args.frame,
         at=args.at, trajectory=args.trajectory, size=size, view=view, trace=args.trace, follow=args.follow,
         rtol=args.rtol, force=args.force)
+    if done.get("note"):
+        print(done["note"], file=sys.stderr)
     if not args.quiet:
         times = done["times"]
         span = f"t = {times[0]:g} s" if len(times) == 1 else f"{len(times)} frames over [{times[0]:g}, {times[-1]:g}] s"
@@ -193,6 +205,33 @@ def _size(text: str) -> tuple[int, int]:
     return size
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one line for a mistake: ``error: <what> (see <prog> --help)``, exit 2."""
+
+    def error(self, message):
+        print(f"error: {message} (see {self.prog} --help)", file=sys.stderr)
+        raise SystemExit(EXIT_BAD_INPUT)
+
+
+# options whose value is a comma-separated list of numbers: "--phi -1,0" must not read as an option
+LIST_OPTIONS = ("--phi", "--phidot", "--u", "--view", "--start")
+_NUMBER_LIST = re.compile(r"^-\.?\d")
+
+
+def _join_negative(argv: list[str]) -> list[str]:
+    """``--phi -1,0`` → ``--phi=-1,0`` (argparse takes "-1,0" for an option)."""
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a in LIST_OPTIONS and i + 1 < len(argv) and _NUMBER_LIST.match(argv[i + 1]):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out
+
+
 def _prog() -> str:
     """The command as the user typed it: the console script, or python -m codegen."""
     from . import DISTRIBUTION
@@ -203,7 +242,7 @@ def _prog() -> str:
 def main(argv=None) -> int:
     from . import DISTRIBUTION, __version__
 
-    ap = argparse.ArgumentParser(prog=_prog(), description=__doc__.splitlines()[0])
+    ap = _Parser(prog=_prog(), description=__doc__.splitlines()[0])
     ap.add_argument("--version", action="version", version=f"{DISTRIBUTION} {__version__}")
     sub = ap.add_subparsers(dest="cmd", required=True)
     g = sub.add_parser("generate", help="derive and emit C, Python and LaTeX for a spec")
@@ -223,17 +262,24 @@ def main(argv=None) -> int:
     )
     c = sub.add_parser("check", help="validate a spec without generating")
     c.add_argument("spec")
-    s = sub.add_parser("simulate", help="integrate a spec with the reference model (CSV to stdout)")
+    s = sub.add_parser("simulate", help="integrate a spec with the emitted C (CSV to stdout: t, phi, phidot, energy)")
     s.add_argument("spec")
-    s.add_argument("--t1", type=float, default=1.0)
-    s.add_argument("--steps", type=int, default=100)
-    s.add_argument("--phi", default="")
-    s.add_argument("--phidot", default="")
-    s.add_argument("--u", default="", help="constant torques of the controlled joints")
-    s.add_argument("--param", action="append", help="name=value for a symbolic parameter")
+    s.add_argument("--t1", type=float, default=1.0, help="end time (s)")
+    s.add_argument("--steps", type=int, default=100, help="output intervals over [0, t1]")
+    s.add_argument("--phi", default="", help="initial angles (default: the spec's [initial] or 0)")
+    s.add_argument("--phidot", default="", help="initial rates")
+    s.add_argument("--u", default="", help="constant torques of the controlled joints (default 0)")
+    s.add_argument("--param", action="append", help="name=value for a symbolic parameter (default: the spec's [values])")
+    s.add_argument("--method", default="dop853", help="dop853 (adaptive, dense output; the default) | rk4 | gauss2 | "
+                   "gauss2_symplectic (fixed step --h)")
+    s.add_argument("--h", type=float, default=0.0, help="step of rk4/gauss2 (default: a tenth of an output interval)")
+    s.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of dop853")
+    s.add_argument("--atol", type=float, default=1e-12, help="absolute tolerance of dop853")
+    s.add_argument("--reference", action="store_true", help="integrate the independent numpy model with scipy's DOP853 "
+                   "instead (slow; a cross-check)")
     st = sub.add_parser("steady", help="equilibria and steady rotations, with their stability")
     st.add_argument("spec")
-    st.add_argument("--u", default="", help="constant torques of the controlled joints (required if the spec has any)")
+    st.add_argument("--u", default="", help="constant torques of the controlled joints (default 0)")
     st.add_argument("--param", action="append", help="name=value for a symbolic parameter")
     st.add_argument("--omega", default="", help="a:b:N grid of the rotation rate phidot1 (default: from the equilibria)")
     st.add_argument("--start", action="append", help="an extra Newton start phi1,...,phin")
@@ -289,7 +335,7 @@ def main(argv=None) -> int:
     an.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of DOP853")
     an.add_argument("--force", action="store_true", help="replace an existing file animate did not write")
     an.add_argument("-q", "--quiet", action="store_true")
-    args = ap.parse_args(argv)
+    args = ap.parse_args(_join_negative(list(sys.argv[1:] if argv is None else argv)))
     try:
         return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
                 "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate}[args.cmd](args)
@@ -299,3 +345,16 @@ def main(argv=None) -> int:
     except BrokenPipeError:  # `simulate ... | head`: the reader has all it wanted; no traceback
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's flush at exit must not fail again
         return 0
+    except OSError as exc:  # the file system: a folder that cannot be made, a disk full, no permission
+        where = exc.filename or "file"
+        print(f"error: {where}: {exc.strerror or exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("error: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # noqa: BLE001  (a bug of ours: one line, and where to report it)
+        print(f"error: internal error ({type(exc).__name__}: {exc}); please report it with the command line "
+              f"(run with {DISTRIBUTION.upper()}_TRACEBACK=1 for the traceback)", file=sys.stderr)
+        if os.environ.get(f"{DISTRIBUTION.upper()}_TRACEBACK"):
+            raise
+        return EXIT_INTERNAL

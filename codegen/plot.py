@@ -10,12 +10,22 @@ from . import sweep as sw
 from .spec import SpecError
 
 
+FORMATS = ("png", "pdf", "svg")  # the images plot writes (matplotlib's Agg, no extra library)
+
+
 def store(path: str | Path, output: str | Path, measure: str = "", component: int = 0, cmap: str = "viridis",
           log: bool = False, dpi: int = 150) -> Path:
     """A heat map (two varied quantities), a scatter (random samples) or a curve (one) of a sweep
     store's measure, written to ``output`` (png, pdf, svg); returns its path."""
+    output = Path(output)
+    if output.suffix.lower().lstrip(".") not in FORMATS:
+        raise SpecError("-o", f"{output.name}: an image type plot does not write (give .{', .'.join(FORMATS)})")
+    if not 10 <= dpi <= 2400:
+        raise SpecError("--dpi", f"must be from 10 to 2400, got {dpi}")
     if not Path(path).exists():
         raise SpecError("store", f"{path}: no such store")
+    if sw.stored_attrs(path) is None:
+        raise SpecError("store", f"{path} is not a sweep store (make one with the sweep command)")
     data = sw.read(path)
     a = data["attrs"]["args"]
     measure = measure or a["measures"][0]
@@ -23,13 +33,20 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
         raise SpecError("--measure", f"{measure!r} is not in the store (it has {', '.join(a['measures'])})")
     values = data[measure]
     if measure == "final":
+        dim = values.shape[-1]
+        if not 0 <= component < dim:
+            raise SpecError("--component", f"the state has components 0..{dim - 1}, got {component}")
         values = values[..., component]
+    elif component:
+        raise SpecError("--component", f"only the measure final has components ({measure} is one number per point)")
     try:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
         raise SpecError("plot", "needs matplotlib: pip install 'gyrochain[plot]'") from None
+    if cmap not in matplotlib.colormaps:
+        raise SpecError("--cmap", f"{cmap!r} is not a matplotlib colour map (for example viridis, magma, cividis)")
     names = [v[0] for v in a["vary"]]
     label = _measure_label(measure, component, data["attrs"])
     fig, ax = plt.subplots(figsize=(6.4, 5.2) if len(names) == 2 else (6.4, 4.0), dpi=dpi)
@@ -58,9 +75,15 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
         raise SpecError("store", f"plot shows one or two varied quantities; this sweep varies {len(names)}")
     ax.set_title(f"{data['attrs']['spec_name']}: {label}")
     fig.tight_layout()
-    fig.savefig(output)
-    plt.close(fig)
-    return Path(output)
+    output.parent.mkdir(parents=True, exist_ok=True)
+    tmp = output.with_name(f".{output.name}.tmp")  # written beside and renamed: never half an image
+    try:
+        fig.savefig(tmp, format=output.suffix.lower().lstrip("."))
+        tmp.replace(output)
+    finally:
+        plt.close(fig)
+        tmp.unlink(missing_ok=True)
+    return output
 
 
 def _axis_label(name: str) -> str:

@@ -18,17 +18,11 @@ from pathlib import Path
 
 import sympy as sp
 
+from .errors import SpecError
+from .physical import check_physical, check_values
+
 __all__ = ["SpecError", "BodySpec", "ChainSpec", "BaseSpec", "LoadSpec", "load_spec", "parse_spec", "parse_expression",
            "T", "phi_symbol", "phidot_symbol"]
-
-
-class SpecError(ValueError):
-    """A malformed spec: ``field`` names the offending entry (e.g. ``body[2].A``)."""
-
-    def __init__(self, field_name: str, message: str):
-        super().__init__(f"{field_name}: {message}")
-        self.field = field_name
-        self.message = message
 
 
 C_KEYWORDS = frozenset(
@@ -48,6 +42,11 @@ GENERATED_NAMES = frozenset(
     {"pi", "t", "q", "x", "u", "p", "M", "f", "qdd", "xdot", "np", "math", "numpy", "N"}
     | set(FUNCTIONS) | {"exp", "log", "pow", "fabs", "isfinite", "abs", "None", "True", "False"}
 )
+# Names sympy, Python or C's <math.h> give a meaning (a constant, infinity, NaN, a macro): a parameter
+# called nan or E would not stay a parameter everywhere it is printed.
+RESERVED_NAMES = frozenset({"E", "I", "S", "O", "Q", "oo", "zoo", "EulerGamma", "GoldenRatio", "Catalan", "TribonacciConstant",
+                            "NULL", "EOF", "errno", "HUGE_VAL", "HUGE_VALF", "HUGE_VALL", "INFINITY", "NAN"})
+RESERVED_PATTERN = re.compile(r"^(?i:nan|inf|infinity)$|^M_[A-Z0-9_]+$|^FP_[A-Z_]+$|^MATH_ERR")
 GENERATED_PATTERN = re.compile(r"^(w\d+|phi_?\d+|phidot_?\d+|phiddot_?\d+|L_?\d+|tau_?\d+)$")
 IDENT = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 MAX_EXPR_LEN = 200
@@ -134,6 +133,7 @@ class ChainSpec:
     bodies: tuple[BodySpec, ...]
     params: tuple[sp.Symbol, ...]  # symbolic parameters, in order of first appearance
     initial: dict | None = field(default=None, compare=False)
+    values: dict = field(default_factory=dict, compare=False)  # [values]: default values of symbolic parameters
     source: str = ""  # the spec text (for provenance and the LaTeX table)
     base: BaseSpec | None = None  # None: a fixed base
 
@@ -241,6 +241,8 @@ def check_param_name(ident: str, where: str) -> None:
         raise SpecError(where, f"parameter name {ident!r} collides with a name of the generated code")
     if ident in FUNCTIONS:
         raise SpecError(where, f"parameter name {ident!r} is a function name")
+    if ident in RESERVED_NAMES or RESERVED_PATTERN.match(ident):
+        raise SpecError(where, f"parameter name {ident!r} is reserved (sympy, Python or C give it a meaning)")
 
 
 def _number(value, builder: _ExprBuilder) -> sp.Expr:
@@ -314,7 +316,7 @@ def _matrix(value, where: str, names: dict, state: dict | None = None) -> tuple:
 
 
 # --------------------------------------------------------------------------- the spec
-TOP_FIELDS = {"name", "description", "g", "body", "initial", "base"}
+TOP_FIELDS = {"name", "description", "g", "body", "initial", "base", "values"}
 BODY_FIELDS = {"theta", "m", "c", "A", "I_c", "s", "lambda", "rotor", "control", "spring", "rest", "damping", "torque",
                "force", "moment"}
 BODY_REQUIRED = ("theta", "m", "c")
@@ -384,17 +386,23 @@ def parse_spec(text: str) -> ChainSpec:
     initial = data.get("initial")
     if initial is not None:
         initial = _initial(initial, n)
+    params = tuple(names.values())
+    values = _values(data["values"], params) if "values" in data else {}
 
-    return ChainSpec(
+    spec = ChainSpec(
         name=name,
         description=description,
         g=g,
         bodies=tuple(bodies),
-        params=tuple(names.values()),
+        params=params,
         initial=initial,
+        values=values,
         source=text,
         base=base,
     )
+    if len(values) == len(params) and params:
+        check_values(spec, values, " with the spec's [values]")
+    return spec
 
 
 def _base(raw, names: dict, n: int) -> BaseSpec:
@@ -485,7 +493,7 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
         A = tuple(tuple(Ic[i][j] + m * ((cc if i == j else 0) - c[i] * c[j]) for j in range(3)) for i in range(3))
     else:
         A = vals["A"]
-    _check_physical(at, m, c, A, "I_c" if "I_c" in vals else "A")
+    check_physical(f"{at}.{'I_c' if 'I_c' in vals else 'A'}", m, c, A)
     return BodySpec(
         theta=vals["theta"],
         m=m,
@@ -548,33 +556,23 @@ def _rotor(value, where: str, names: dict, const: dict, time: dict) -> tuple:
     return tuple(inertia * speed * x / norm if x != 0 else sp.Integer(0) for x in axis)
 
 
-def _check_physical(at: str, m, c, A, field: str = "A") -> None:
-    """A minus the parallel-axis term must be a possible central inertia tensor.
-
-    Only decidable when m, c and A are numbers; with symbolic entries the check is the
-    user's (the generated code reports a mass matrix that is not positive definite).
-    """
-    if not all(x.is_number for x in (m, *c, *(a for row in A for a in row))):
-        return
-    import numpy as np
-
-    Am = np.array([[float(a) for a in row] for row in A])
-    cv = np.array([float(x) for x in c])
-    AG = Am - float(m) * (cv @ cv * np.eye(3) - np.outer(cv, cv))
-    ev = np.linalg.eigvalsh(AG)
-    scale = max(abs(ev).max(), 1e-300)
-    if ev[0] <= 1e-12 * scale:
-        raise SpecError(
-            f"{at}.{field}",
-            "not physically possible: the inertia about the centre of mass (A − m(|c|²1 − c cᵀ)) "
-            f"is not positive definite (principal moments {', '.join(f'{e:.6g}' for e in ev)})",
-        )
-    if ev[2] > ev[0] + ev[1] + 1e-9 * scale:
-        raise SpecError(
-            f"{at}.{field}",
-            "not physically possible: the central principal moments violate the triangle inequality "
-            f"({ev[2]:.6g} > {ev[0]:.6g} + {ev[1]:.6g})",
-        )
+def _values(raw, params: tuple) -> dict:
+    """[values]: a number (or an expression of numbers) for some or all symbolic parameters, in the
+    spec's order of parameters."""
+    if not isinstance(raw, dict):
+        raise SpecError("values", "expected a table of parameter = number")
+    names = [str(p) for p in params]
+    out = {}
+    for key, v in raw.items():
+        if key not in names:
+            raise SpecError(f"values.{key}", "not a parameter of the spec (its parameters are: " + (", ".join(names) or "none") + ")")
+        if isinstance(v, (list, dict)):
+            raise SpecError(f"values.{key}", "expected a number")
+        e = _scalar(v, f"values.{key}", {}, _state_names(0, "const"))
+        if e.free_symbols:
+            raise SpecError(f"values.{key}", "must be a number (not an expression of parameters)")
+        out[key] = float(e)
+    return {k: out[k] for k in names if k in out}
 
 
 def _initial(raw, n: int) -> dict:

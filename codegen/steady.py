@@ -71,9 +71,6 @@ TIME_DEPENDENT = "steady: the model depends on t (a moving platform or a load of
 
 def check_inputs(spec, params, u) -> None:
     """The inputs the analysis needs, checked before anything is built."""
-    if spec.controls and u is None:
-        ks = ", ".join(map(str, spec.controls))
-        raise SteadyError(f"--u: the spec has control torques (joints {ks}): give their constant values")
     missing = [str(p) for p in spec.params if params is None or str(p) not in params]
     if missing:
         raise SteadyError("--param: give a value for every symbolic parameter; missing: " + ", ".join(missing))
@@ -92,6 +89,8 @@ class Analysis:
         if time_dependent(model):
             raise SteadyError(TIME_DEPENDENT)
         check_inputs(spec, params, u)
+        if u is None and spec.controls:  # the control torques default to zero, as in every command
+            u = np.zeros(len(spec.controls))
         self.params, self.u = params, (None if u is None else np.asarray(u, float))
         ints = model.integrals
         others = [r for r in ints.energy_reasons if not r.startswith("control torques")]

@@ -28,6 +28,8 @@ import numpy as np
 
 from . import __version__, pipeline
 from .codes import METHODS
+from .measures import energies, flip_times, lyapunov
+from .physical import check_values, run_values
 from .spec import SpecError
 
 MEASURES = ("final", "flip_time", "energy_error", "lyapunov")
@@ -135,14 +137,11 @@ class Plan:
             raise SpecError("--flip", f"expected one of phi1..phi{n}")
         if "lyapunov" in sweep.measures and not (0 < sweep.lyap_interval <= sweep.t1):
             raise SpecError("--lyap-interval", "must be in (0, t1]")
-        missing = [p for p in self.param_names if p not in sweep.params and p not in names]
-        if missing:
-            raise SpecError("--param", f"no value for the symbolic parameter(s) {', '.join(missing)} (give --param or --vary)")
-        unknown = [p for p in sweep.params if p not in self.param_names]
-        if unknown:
-            raise SpecError("--param", f"{unknown[0]!r} is not a symbolic parameter of the spec")
-        if len(sweep.u) != len(spec.controls):
-            raise SpecError("--u", f"the spec has {len(spec.controls)} control torques; give that many values")
+        fixed = [p for p in self.param_names if p not in names]
+        # the values of the parameters that are not varied: --param over the spec's [values]
+        self.params = {k: v for k, v in run_values(spec, sweep.params, needed=fixed).items() if k not in names}
+        if sweep.u and len(sweep.u) != len(spec.controls):
+            raise SpecError("--u", f"the spec has {len(spec.controls)} control torques; give that many values (default 0)")
         init = spec.initial or {}
         self.base = np.array((sweep.phi or list(init.get("phi", [0.0] * n))) + (sweep.phidot or list(init.get("phidot", [0.0] * n))), float)
         if self.base.shape != (2 * n,):
@@ -167,8 +166,27 @@ class Plan:
         row = int(np.prod(self.shape[1:])) if len(self.shape) > 1 else 1
         self.rows = max(1, sweep.chunk // row)
         self.n_chunks = -(-self.shape[0] // self.rows)
+        self._check_varied_values()
         if "energy_error" in sweep.measures and not self._has_energy():
             raise SpecError("--measure", "energy_error: the energy (23) is not an integral of this spec")
+
+    def _check_varied_values(self, most: int = 4096) -> None:
+        """The varied parameters' values checked like --param: every combination of a grid's
+        parameter axes (or every random sample) up to ``most``, else the corners of their box."""
+        varied = [(j, nm) for j, nm in enumerate(self.names) if nm in self.param_names]
+        if not varied:
+            return
+        if self.points is not None:
+            combos = self.points[:, [j for j, _ in varied]]
+        else:
+            combos = np.array(np.meshgrid(*[self.axes[j] for j, _ in varied], indexing="ij")).reshape(len(varied), -1).T
+        if len(combos) > most:
+            combos = np.array(np.meshgrid(*[[self.sweep.vary[j][1], self.sweep.vary[j][2]] for j, _ in varied],
+                                          indexing="ij")).reshape(len(varied), -1).T
+        for row in combos:
+            values = dict(self.params, **{nm: float(v) for (_, nm), v in zip(varied, row)})
+            check_values(self.spec, values, " with " + ", ".join(f"{k} = {v:g}" for k, v in values.items())
+                         + " (a point of --vary)")
 
     def _has_energy(self) -> bool:
         ints = pipeline.derive(self.spec, latex=False).integrals  # derived once: run() compiles this model
@@ -197,7 +215,7 @@ def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
     pts = plan.chunk_points(i)
     nb, n = len(pts), plan.n
     X0 = np.tile(plan.base, (nb, 1))
-    params = dict(sw.params)
+    params = dict(plan.params)
     per_point = None
     for j, name in enumerate(plan.names):
         if name in plan.state_names:
@@ -231,75 +249,6 @@ def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
     res = {k: v.reshape(shape + v.shape[1:]) for k, v in out.items()}
     res["code"] = codes.reshape(shape)
     return res
-
-
-def energies(model, X: np.ndarray, params) -> np.ndarray:
-    """T − U at every state of X (nb, nt, 2N) by the C NAME_energy, through cffi pointers (NaN
-    rows, past a failure, give NaN)."""
-    nb, nt, dim = X.shape
-    X = np.ascontiguousarray(X)
-    ffi, f = model.ffi, model._fn("energy")
-    base = ffi.cast("double *", ffi.from_buffer(X))
-    per_point = isinstance(params, list)
-    p = None if per_point else model._p(params)
-    out = np.empty(nb * nt)
-    for b in range(nb):
-        if per_point:
-            p = model._p(params[b])
-        for j in range(nt):
-            out[b * nt + j] = f(base + (b * nt + j) * dim, p)
-    return out.reshape(nb, nt)
-
-
-def flip_times(t: np.ndarray, Q: np.ndarray, k: int | None) -> np.ndarray:
-    """The first time |φ_k| reaches π (k None: any coordinate), linear between the output times;
-    NaN when it does not within the run.  Q has shape (nb, nt, n)."""
-    A = np.abs(Q if k is None else Q[:, :, k:k + 1])
-    over = np.nan_to_num(A, nan=0.0) >= np.pi
-    out = np.full(Q.shape[0], np.nan)
-    for b in range(Q.shape[0]):
-        hits = np.nonzero(over[b].any(axis=1))[0]
-        if not len(hits):
-            continue
-        j = hits[0]
-        if j == 0:
-            out[b] = t[0]
-            continue
-        best = t[j]
-        for c in np.nonzero(over[b, j])[0]:
-            a0, a1 = A[b, j - 1, c], A[b, j, c]
-            tc = t[j - 1] + (t[j] - t[j - 1]) * (np.pi - a0) / (a1 - a0) if a1 != a0 else t[j]
-            best = min(best, tc)
-        out[b] = best
-    return out
-
-
-def lyapunov(model, X0, sw: Sweep, kw: dict, prm) -> tuple[np.ndarray, np.ndarray]:
-    """The largest Lyapunov exponent by two trajectories d0 apart (Benettin's method): every
-    lyap_interval the distance is measured, its log summed and the pair brought back to d0."""
-    nb, dim = X0.shape
-    direction = np.ones(dim) / math.sqrt(dim)
-    x, y = X0.copy(), X0 + sw.lyap_d0 * direction
-    total = np.zeros(nb)
-    codes = np.zeros(nb, dtype=np.int32)
-    steps = max(1, int(round(sw.t1 / sw.lyap_interval)))
-    dt = sw.t1 / steps
-    both_p = (list(prm) * 2) if isinstance(prm, list) else prm
-    for s in range(steps):
-        t = np.array([s * dt, (s + 1) * dt])
-        XY, c = model.integrate_batch(t, np.vstack([x, y]), **dict(kw, params=both_p))
-        codes = np.maximum(codes, np.maximum(c[:nb], c[nb:]))
-        x, y = XY[:nb, -1], XY[nb:, -1]
-        d = np.linalg.norm(y - x, axis=1)
-        ok = np.isfinite(d) & (d > 0)
-        total[ok] += np.log(d[ok] / sw.lyap_d0)
-        scale = np.where(ok, sw.lyap_d0 / np.where(ok, d, 1.0), 0.0)
-        y = np.where(ok[:, None], x + (y - x) * scale[:, None], x + sw.lyap_d0 * direction)
-        x = np.where(np.isfinite(x), x, X0)
-        y = np.where(np.isfinite(y), y, X0)
-    lam = total / sw.t1
-    lam[codes != 0] = np.nan
-    return lam, codes
 
 
 # --------------------------------------------------------------------------- the model
@@ -395,18 +344,22 @@ def _write(g, plan: Plan, i: int, res: dict, on_written=None) -> None:
 
 # --------------------------------------------------------------------------- running
 def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: int = 0, scheduler: str = "",
-        progress: bool = True, plan: Plan | None = None, stop_after: int | None = None, on_written=None) -> dict:
+        progress: bool = True, plan: Plan | None = None, stop_after: int | None = None, on_written=None,
+        note=None) -> dict:
     """Run (or resume) a sweep into ``store``; returns counts.  ``stop_after``: stop once that many
-    chunks were written; ``on_written(i)`` is called after chunk i is in the store."""
+    chunks were written; ``on_written(i)`` is called after chunk i is in the store; ``note(line)``
+    is told what happened on the way (a Dask worker lost; default: a line on stderr)."""
     plan = plan or Plan(sweep)
     store = Path(store)
     g = open_store(store, plan)
     done = np.asarray(g["done"][:])
     todo = [i for i in range(plan.n_chunks) if not done[i]]
+    if not todo:  # nothing to do: no derivation, no cluster
+        return dict(chunks=plan.n_chunks, skipped=int(done.sum()), written=0)
     files, _ = pipeline.derive_and_render(plan.spec, targets=("c",))
     bar = _bar(plan.n_chunks, int(done.sum()), progress)
     if workers or scheduler:
-        results = _dask_results(plan, sweep, files, todo, workers, scheduler)
+        results = _dask_results(plan, sweep, files, todo, workers, scheduler, note or _stderr)
     else:
         results = _thread_results(pipeline.compile(files, plan.spec.name), plan, todo, threads or os.cpu_count() or 1)
     written = 0
@@ -458,14 +411,41 @@ def _dask_results(plan: Plan, sweep: Sweep, files: dict, todo: list, workers: in
         futures = [client.submit(run_chunk_task, payload, i, key=f"gyrochain-chunk-{i}-{_token(plan)}", retries=2)
                    for i in todo]
         index = {f.key: i for f, i in zip(futures, todo)}
+        workers_seen = _workers(client)
         for fut in dask_completed(futures):
-            yield index[fut.key], fut.result()
+            workers_seen = _report_lost(client, workers_seen, note)
+            try:
+                res = fut.result()
+            except Exception as exc:  # noqa: BLE001  (a chunk that killed its workers or failed on them)
+                raise SpecError("--workers", f"chunk {index[fut.key]} failed on the Dask workers: "
+                                             f"{type(exc).__name__}: {exc}") from None
+            yield index[fut.key], res
+        _report_lost(client, workers_seen, note)
     finally:
         for f in futures:
             f.cancel()
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _stderr(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
+
+
+def _workers(client) -> set:
+    try:
+        return set(client.scheduler_info()["workers"])
+    except Exception:  # noqa: BLE001  (the scheduler is going away: nothing more to learn)
+        return set()
+
+
+def _report_lost(client, seen: set, note) -> set:
+    """Tell ``note`` of every worker that left since ``seen``; the workers now."""
+    now = _workers(client)
+    for addr in sorted(seen - now):
+        note(f"sweep: worker {addr} lost; its chunk will be recomputed")
+    return now | (seen & now)
 
 
 def _token(plan: Plan) -> str:
@@ -532,7 +512,7 @@ def point(store: str | Path, at: str) -> dict:
         if not 0 <= i < plan.shape[0]:
             raise SpecError("--at", f"{i}: a --random sweep's points are numbered 0..{plan.shape[0] - 1}")
         values = plan.points[i]
-        label = f"sample {i}"
+        label, note = f"sample {i}", ""
     else:
         want = {}
         for item in at.split(","):
@@ -547,13 +527,25 @@ def point(store: str | Path, at: str) -> dict:
         missing = [nm for nm in names if nm not in want]
         if missing:
             raise SpecError("--at", f"no value for the varied {missing[0]}")
-        values = np.array([plan.axes[j][int(np.argmin(np.abs(plan.axes[j] - want[nm])))] for j, nm in enumerate(names)])
+        values, snapped = [], []
+        for j, nm in enumerate(names):
+            axis = plan.axes[j]
+            lo, hi = min(axis[0], axis[-1]), max(axis[0], axis[-1])
+            step = abs(axis[1] - axis[0]) if len(axis) > 1 else 0.0
+            if not (lo - 0.5 * step - 1e-12 * max(1.0, abs(lo)) <= want[nm] <= hi + 0.5 * step + 1e-12 * max(1.0, abs(hi))):
+                raise SpecError("--at", f"{nm}={want[nm]:g} is outside the sweep's grid ({nm} from {axis[0]:g} to {axis[-1]:g})")
+            v = float(axis[int(np.argmin(np.abs(axis - want[nm])))])
+            if abs(v - want[nm]) > 1e-9 * max(1.0, abs(v)):
+                snapped.append(f"{nm}={want[nm]:g} → {v:.6g}")
+            values.append(v)
+        values = np.array(values)
         label = ", ".join(f"{nm} = {v:.6g}" for nm, v in zip(names, values))
+        note = ("--at: not a point of the grid; the nearest one is shown (" + ", ".join(snapped) + ")") if snapped else ""
     x0 = plan.base.copy()
-    params = dict(plan.sweep.params)
+    params = dict(plan.params)
     for j, nm in enumerate(names):
         if nm in plan.state_names:
             x0[plan.state_names.index(nm)] = values[j]
         else:
             params[nm] = float(values[j])
-    return dict(spec_text=attrs["spec"], x0=x0, params=params, u=list(plan.sweep.u), t1=plan.sweep.t1, label=label)
+    return dict(spec_text=attrs["spec"], x0=x0, params=params, u=list(plan.sweep.u), t1=plan.sweep.t1, label=label, note=note)

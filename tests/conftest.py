@@ -21,13 +21,15 @@ from codegen.spec import ChainSpec, load_spec, parse_spec  # noqa: E402
 
 EXAMPLES = sorted(p.stem for p in (ROOT / "specs").glob("*.toml"))
 
-# values for the symbolic parameters of specs/furuta_sym.toml (a physical Furuta pendulum)
-FURUTA_SYM_PARAMS = dict(g0=9.81, m1=0.3, r=0.2, J1=0.004, J1z=0.0002, m2=0.1, l=0.15, J2=0.00075, J2z=1e-5)
+def _spec_values(name: str) -> dict:
+    return dict(load_spec(ROOT / "specs" / f"{name}.toml").values)
 
 
-# the general-case examples' parameters: a table turning above its critical rate, a pivot vibrating
-# fast enough to hold the inverted pendulum up, a follower force below Ziegler's flutter load
-GENERAL_PARAMS = dict(turntable=dict(Omega=8.0), kapitza=dict(a=0.01, w=260.0), ziegler=dict(P=4.0))
+# the examples' parameter values are the specs' own [values] tables: the Furuta pendulum of furuta.toml;
+# a table turning above its critical rate, a pivot vibrating fast enough to hold the inverted pendulum
+# up, a follower force below Ziegler's flutter load
+FURUTA_SYM_PARAMS = _spec_values("furuta_sym")
+GENERAL_PARAMS = {name: _spec_values(name) for name in ("turntable", "kapitza", "ziegler")}
 
 
 def example_params(name: str) -> dict | None:

@@ -10,6 +10,7 @@ import sympy as sp
 
 from ..assemble import Model
 from .common import tex_escape
+from .texterms import number_text
 
 FORM_TEXT = {
     "c": r"products of $\cos\varphi^k$ and $\sin\varphi^k$ with no $\sin^2\varphi^k$ ($\sin^2\varphi^k = 1 - \cos^2\varphi^k$ used)",
@@ -129,7 +130,9 @@ def scene(spec, w, fold) -> dict:
     if spec.base is not None:
         base = dict(position=_vec(w, fold, spec.base.position),
                     rotations=[dict(axis=_vec(w, fold, a), angle=show(t)) for a, t in zip(spec.base.axes, spec.base.angles)])
-    params = [dict(tex=w.name(p), name=tex_escape(p.name)) for p in spec.params]
+    params = [dict(tex=w.name(p), name=tex_escape(p.name),
+                   value=number_text(sp.Rational(repr(spec.values[p.name]))) if p.name in spec.values else "")
+              for p in spec.params]
     return dict(joints=joints, loads=loads, base=base, params=params, spec_text=verbatim_text(spec.source.rstrip("\n")))
 
 

@@ -1,0 +1,13 @@
+"""The one error a user sees: ``SpecError(field, why)`` prints as ``field: why``.  Every command
+turns its users' mistakes (a spec field, an option, a parameter value, a file) into one; the command
+line prints it as one line ``error: field: why`` and exits with status 2."""
+from __future__ import annotations
+
+
+class SpecError(ValueError):
+    """A malformed input: ``field`` names the offending entry (``body[2].A``, ``--param m2``)."""
+
+    def __init__(self, field_name: str, message: str):
+        super().__init__(f"{field_name}: {message}")
+        self.field = field_name
+        self.message = message

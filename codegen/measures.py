@@ -1,0 +1,77 @@
+"""The measures of a sweep's trajectories, from arrays of states and the compiled model: the energy
+(23) along each, the first time a coordinate flips over (|φ| reaches π) and the largest Lyapunov
+exponent by Benettin's two-trajectory method."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def energies(model, X: np.ndarray, params) -> np.ndarray:
+    """T − U at every state of X (nb, nt, 2N) by the C NAME_energy, through cffi pointers (NaN
+    rows, past a failure, give NaN)."""
+    nb, nt, dim = X.shape
+    X = np.ascontiguousarray(X)
+    ffi, f = model.ffi, model._fn("energy")
+    base = ffi.cast("double *", ffi.from_buffer(X))
+    per_point = isinstance(params, list)
+    p = None if per_point else model._p(params)
+    out = np.empty(nb * nt)
+    for b in range(nb):
+        if per_point:
+            p = model._p(params[b])
+        for j in range(nt):
+            out[b * nt + j] = f(base + (b * nt + j) * dim, p)
+    return out.reshape(nb, nt)
+
+
+def flip_times(t: np.ndarray, Q: np.ndarray, k: int | None) -> np.ndarray:
+    """The first time |φ_k| reaches π (k None: any coordinate), linear between the output times;
+    NaN when it does not within the run.  Q has shape (nb, nt, n)."""
+    A = np.abs(Q if k is None else Q[:, :, k:k + 1])
+    over = np.nan_to_num(A, nan=0.0) >= np.pi
+    out = np.full(Q.shape[0], np.nan)
+    for b in range(Q.shape[0]):
+        hits = np.nonzero(over[b].any(axis=1))[0]
+        if not len(hits):
+            continue
+        j = hits[0]
+        if j == 0:
+            out[b] = t[0]
+            continue
+        best = t[j]
+        for c in np.nonzero(over[b, j])[0]:
+            a0, a1 = A[b, j - 1, c], A[b, j, c]
+            tc = t[j - 1] + (t[j] - t[j - 1]) * (np.pi - a0) / (a1 - a0) if a1 != a0 else t[j]
+            best = min(best, tc)
+        out[b] = best
+    return out
+
+
+def lyapunov(model, X0, sw, kw: dict, prm) -> tuple[np.ndarray, np.ndarray]:
+    """The largest Lyapunov exponent by two trajectories d0 apart (Benettin's method): every
+    lyap_interval the distance is measured, its log summed and the pair brought back to d0."""
+    nb, dim = X0.shape
+    direction = np.ones(dim) / math.sqrt(dim)
+    x, y = X0.copy(), X0 + sw.lyap_d0 * direction
+    total = np.zeros(nb)
+    codes = np.zeros(nb, dtype=np.int32)
+    steps = max(1, int(round(sw.t1 / sw.lyap_interval)))
+    dt = sw.t1 / steps
+    both_p = (list(prm) * 2) if isinstance(prm, list) else prm
+    for s in range(steps):
+        t = np.array([s * dt, (s + 1) * dt])
+        XY, c = model.integrate_batch(t, np.vstack([x, y]), **dict(kw, params=both_p))
+        codes = np.maximum(codes, np.maximum(c[:nb], c[nb:]))
+        x, y = XY[:nb, -1], XY[nb:, -1]
+        d = np.linalg.norm(y - x, axis=1)
+        ok = np.isfinite(d) & (d > 0)
+        total[ok] += np.log(d[ok] / sw.lyap_d0)
+        scale = np.where(ok, sw.lyap_d0 / np.where(ok, d, 1.0), 0.0)
+        y = np.where(ok[:, None], x + (y - x) * scale[:, None], x + sw.lyap_d0 * direction)
+        x = np.where(np.isfinite(x), x, X0)
+        y = np.where(np.isfinite(y), y, X0)
+    lam = total / sw.t1
+    lam[codes != 0] = np.nan
+    return lam, codes
