@@ -39,6 +39,7 @@ def cmd_generate(args) -> int:
     t0 = time.perf_counter()
     spec = load_spec(args.spec)
     target = Path(args.output) if args.output else Path("generated") / spec.name
+    generate.check(spec, target, args.force)  # before the first line: a mistake is one line
     print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
     result = generate.run(spec, target, Path(args.spec).name, build=not args.no_build, force=args.force,
                           qdd_form=args.qdd_form, der_form=args.derivative_form, progress=_Progress(args.quiet))

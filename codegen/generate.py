@@ -37,10 +37,8 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     """Derive, print and write ``spec`` into ``target`` (built unless ``build`` is False).  A
     folder this generator did not write is replaced only with ``force``."""
     target = Path(target)
-    if not pipeline.is_ours(target) and not force:
-        raise SpecError("-o", f"{target} exists and was not written by codegen; choose another folder or pass --force")
+    check(spec, target, force)
     say = progress or (lambda msg: None)
-    check_mass_matrix(spec)
     try:
         files, model = pipeline.derive_and_render(spec, label, say, qdd_form=qdd_form, der_form=der_form)
     except pipeline.FormNotApplicable as exc:
@@ -51,26 +49,12 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     return Result(spec, model, target, tuple(sorted(files)), how)
 
 
-def check_mass_matrix(spec, tries: int = 3) -> None:
-    """Refuse a chain whose mass matrix is singular in every configuration (a joint whose turning
-    moves no mass: a point mass on its own joint axis, a rod along it); decided numerically at a
-    few random configurations when the spec's numbers (or its [values]) are all known."""
-    import numpy as np
-
-    from . import reference
-
-    if len(spec.values) < len(spec.params):
-        return
-    ch = reference.numeric(spec, spec.values)
-    rng = np.random.default_rng(0)
-    for _ in range(tries):
-        M = reference.mass_matrix(ch, rng.uniform(-np.pi, np.pi, spec.n))
-        ev, vec = np.linalg.eigh((M + M.T) / 2)
-        if ev[0] > 1e-12 * max(abs(ev[-1]), 1e-300):
-            return
-    k = int(np.argmax(np.abs(vec[:, 0]))) + 1
-    raise SpecError(f"body[{k}]", f"the mass matrix is singular in every configuration: turning joint {k} moves no mass "
-                                  f"(bodies {k}..{spec.n} have no inertia about its axis, e.g. a point mass on the axis)")
+def check(spec, target: Path, force: bool = False) -> None:
+    """What must hold before anything is derived: the target is ours to replace (or ``force``) and
+    the chain's mass matrix is not singular everywhere."""
+    if not pipeline.is_ours(Path(target)) and not force:
+        raise SpecError("-o", f"{target} exists and was not written by codegen; choose another folder or pass --force")
+    pipeline.check_mass_matrix(spec)
 
 
 def report(result: Result) -> list[str]:

@@ -22,6 +22,7 @@ from collections import OrderedDict
 from pathlib import Path
 
 from . import assemble, build, dynamics, integrals, kinematics, printers
+from .errors import SpecError
 from .assemble import FormNotApplicable, Model, Stages  # noqa: F401  (the pipeline's vocabulary)
 from .program import Program
 
@@ -46,6 +47,7 @@ def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = T
         if latex and spec.general and found.symbolic is None:
             found = _remember(key, _with_symbolic(found))
         return found
+    check_mass_matrix(spec)
     say = progress or (lambda msg: None)
     say(f"kinematics: direction cosines and angular velocities of {spec.n} bodies")
     prog = Program()  # the straight-line program every stage appends its named quantities to, in turn
@@ -59,6 +61,28 @@ def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = T
         say("the general case again with the platform's motion as symbols (for the LaTeX)")
         model = _with_symbolic(model)
     return _remember(key, model)
+
+
+def check_mass_matrix(spec, tries: int = 3) -> None:
+    """Refuse a chain whose mass matrix is singular in every configuration (a joint whose turning
+    moves no mass: a point mass on its own joint axis, a rod along it); decided numerically at a
+    few random configurations when the spec's numbers (or its [values]) are all known."""
+    import numpy as np
+
+    from . import reference
+
+    if len(spec.values) < len(spec.params):
+        return
+    ch = reference.numeric(spec, spec.values)
+    rng = np.random.default_rng(0)
+    for _ in range(tries):
+        M = reference.mass_matrix(ch, rng.uniform(-np.pi, np.pi, spec.n))
+        ev, vec = np.linalg.eigh((M + M.T) / 2)
+        if ev[0] > 1e-12 * max(abs(ev[-1]), 1e-300):
+            return
+    k = int(np.argmax(np.abs(vec[:, 0]))) + 1
+    raise SpecError(f"body[{k}]", f"the mass matrix is singular in every configuration: turning joint {k} moves no mass "
+                                  f"(bodies {k}..{spec.n} have no inertia about its axis, e.g. a point mass on the axis)")
 
 
 def forget() -> None:

@@ -392,7 +392,7 @@ def _thread_results(model, plan: Plan, todo: list, nthreads: int):
                 f.cancel()
 
 
-def _dask_results(plan: Plan, sweep: Sweep, files: dict, todo: list, workers: int, scheduler: str):
+def _dask_results(plan: Plan, sweep: Sweep, files: dict, todo: list, workers: int, scheduler: str, note):
     """(chunk, results) from a local Dask cluster of ``workers`` processes or the one at ``scheduler``."""
     try:
         from distributed import Client, LocalCluster, as_completed as dask_completed

@@ -143,10 +143,11 @@ def test_cli_output_and_bad_input():
     res = _cli("specs/double_pendulum.toml")
     assert res.returncode == 0, res.stderr
     assert "equilibria: 4 found" in res.stdout and res.stdout.count("unstable") == 3
-    for args, field in ((("specs/furuta.toml",), "--u"), (("specs/double_pendulum.toml", "--start", "0,nan"), "--start"),
+    for args, field in ((("specs/furuta.toml", "--u", "1,2"), "--u"), (("specs/double_pendulum.toml", "--start", "0,nan"), "--start"),
                         (("specs/kapitza.toml", "--param", "a=0.01", "--param", "w=200"), "steady"),
                         (("specs/gimbal.toml", "--omega", "5:1:3"), "--omega"),
-                        (("specs/furuta_sym.toml", "--u", "0"), "--param")):
+                        (("specs/furuta_sym.toml", "--u", "0", "--param", "m2=-1"), "body[2].m"),
+                        (("specs/furuta_sym.toml", "--param", "m=1"), "--param m")):
         res = _cli(*args)
         assert res.returncode == 2 and res.stdout == "", (args, res.stdout, res.stderr)
         assert len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, (args, res.stderr)

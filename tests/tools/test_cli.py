@@ -39,26 +39,35 @@ def test_generate_prints_op_counts_integrals_and_where(tmp_path):
     assert "#define GIMBAL_HAS_ENERGY_INTEGRAL 1" in header and "#define GIMBAL_HAS_MOMENTUM_INTEGRAL 1" in header
 
 
-def test_check_names_parameters():
+def test_check_names_parameters_and_their_values():
     res = run("check", "specs/furuta_sym.toml")
-    assert res.returncode == 0 and "g0, m1, r, J1, J1z, m2, l, J2, J2z" in res.stdout
+    assert res.returncode == 0 and "g0 = 9.81, m1 = 0.3, r = 0.2, J1 = 0.004, J1z = 0.0002, m2 = 0.1, l = 0.15" in res.stdout
 
 
-def test_simulate_uses_the_reference_model():
-    res = run("simulate", "specs/gimbal.toml", "--t1", "0.5", "--steps", "5", "--phi", "0,0.5", "--phidot", "1,0.5")
-    assert res.returncode == 0, res.stderr
-    rows = [list(map(float, ln.split(","))) for ln in res.stdout.splitlines()[1:]]
-    assert len(rows) == 6 and rows[0][:5] == [0.0, 0.0, 0.5, 1.0, 0.5]
+def test_simulate_runs_the_emitted_c_and_agrees_with_the_reference_model():
+    args = ("simulate", "specs/gimbal.toml", "--t1", "0.5", "--steps", "5", "--phi", "0,0.5", "--phidot", "1,0.5")
     ch = reference.numeric(load_spec(ROOT / "specs" / "gimbal.toml"))
     ref = reference.simulate(ch, [0.0, 0.5, 1.0, 0.5], np.linspace(0, 0.5, 6))
-    assert np.allclose(np.array(rows)[:, 1:5], ref, rtol=0, atol=1e-12)
-    E = np.array(rows)[:, 5]
-    assert np.ptp(E) < 1e-10
+    for extra, tol in (((), 1e-9), (("--reference", "--rtol", "1e-12", "--atol", "1e-12"), 1e-12)):
+        res = run(*args, *extra)
+        assert res.returncode == 0, res.stderr
+        rows = np.array([list(map(float, ln.split(","))) for ln in res.stdout.splitlines()[1:]])
+        assert rows.shape == (6, 6) and list(rows[0, :5]) == [0.0, 0.0, 0.5, 1.0, 0.5]
+        assert np.allclose(rows[:, 1:5], ref, rtol=0, atol=tol), extra
+        assert np.ptp(rows[:, 5]) < 1e-10  # the energy (23), conserved
+    res = run(*args, "--method", "rk4", "--h", "1e-4")
+    rows = np.array([list(map(float, ln.split(","))) for ln in res.stdout.splitlines()[1:]])
+    assert res.returncode == 0 and np.allclose(rows[:, 1:5], ref, rtol=0, atol=1e-9)
 
 
-def test_simulate_needs_values_for_symbolic_parameters():
-    res = run("simulate", "specs/furuta_sym.toml")
-    assert res.returncode == 2 and "values missing for parameters" in res.stderr
+def test_simulate_uses_the_specs_values_and_names_what_is_missing(tmp_path):
+    res = run("simulate", "specs/furuta_sym.toml", "--t1", "0.1", "--steps", "2")
+    assert res.returncode == 0, res.stderr
+    text = (ROOT / "specs" / "furuta_sym.toml").read_text()
+    (tmp_path / "nv.toml").write_text(text[:text.index("[values]")] + "[values]\ng0 = 9.81\n")
+    res = run("simulate", str(tmp_path / "nv.toml"))
+    assert res.returncode == 2 and res.stderr.count("\n") == 1
+    assert "no value for m1, r, J1, J1z, m2, l, J2, J2z" in res.stderr and "--param m1=" in res.stderr
 
 
 def test_spec_text_is_data_in_every_output(tmp_path):

@@ -159,11 +159,14 @@ def test_killed_worker_loses_nothing(tmp_path):
                 killed.append(i)
 
         written: list = []
+        notes: list = []
         sweep.run(sw, tmp_path / "dask.zarr", scheduler=cluster.scheduler_address, progress=False,
-                  on_written=lambda i: (written.append(i), kill_one(i)))
+                  on_written=lambda i: (written.append(i), kill_one(i)), note=notes.append)
     finally:
         cluster.close(timeout=30)
     assert killed
+    assert any(nt.startswith("sweep: worker tcp://127.0.0.1:") and nt.endswith("lost; its chunk will be recomputed")
+               for nt in notes), notes  # said, not silently replaced
     assert sorted(written) == list(range(sweep.Plan(sw).n_chunks))  # each chunk written once
     same(tmp_path / "whole.zarr", tmp_path / "dask.zarr")
 
