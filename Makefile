@@ -3,6 +3,7 @@
 # make test-fast                      the unit layer only: the stages, printers, pipeline and architecture, no compiler (< 1 min)
 # make plot                           the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map (docs/)
 # make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
+# make fuzz                           the commands fuzzed with fresh random inputs for FUZZ_SECONDS (default 600)
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost; ensembles against
 #                                     scipy and MuJoCo's rollout on 1 and 2 cores and a local Dask cluster (bench/results/)
 # make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo; derivatives against Pinocchio, CasADi, differences (bench/results/)
@@ -14,7 +15,7 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test test-fast pdf plot animations clean bench bench-setup bench-speed
+.PHONY: all setup generate generate-all test test-fast fuzz pdf plot animations clean bench bench-setup bench-speed
 
 all: generate
 
@@ -39,6 +40,10 @@ test: setup
 
 test-fast: setup
 	$(VPY) -m pytest -q -n $(JOBS) tests/unit
+
+FUZZ_SECONDS ?= 600
+fuzz: setup
+	FUZZ_SECONDS=$(FUZZ_SECONDS) $(VPY) -m pytest -q -s tests/tools/test_fuzz.py -k fuzz_for_a_while
 
 $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,plot,sweep,view,rollout]'

@@ -35,12 +35,12 @@ TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
 def frame_times(t1: float, fps: float, frame: float | None, sub: int = 1) -> np.ndarray:
     """The output times: 0, 1/fps, … ≤ t1, or the single time ``frame`` (a still); with sub > 1,
     ``sub`` times per frame interval (the frames are every sub-th)."""
+    if not (math.isfinite(fps) and fps > 0):
+        raise SpecError("--fps", f"{fps!r}: must be a positive number")
     if frame is not None:
         if not (math.isfinite(frame) and frame >= 0):
             raise SpecError("--frame", f"{frame!r}: must be a time >= 0")
         return np.array([frame])
-    if not (math.isfinite(fps) and fps > 0):
-        raise SpecError("--fps", f"{fps!r}: must be a positive number")
     if not (math.isfinite(t1) and t1 > 0):
         raise SpecError("--t1", f"{t1!r}: the time range [0, t1] needs t1 > 0")
     count = int(math.floor(t1 * fps + 1e-9)) + 1

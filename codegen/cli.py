@@ -214,22 +214,33 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(EXIT_BAD_INPUT)
 
 
-# options whose value is a comma-separated list of numbers: "--phi -1,0" must not read as an option
-LIST_OPTIONS = ("--phi", "--phidot", "--u", "--view", "--start")
-_NUMBER_LIST = re.compile(r"^-\.?\d")
+_NEGATIVE = re.compile(r"^-(\.?\d|inf|nan)", re.IGNORECASE)
 
 
-def _join_negative(argv: list[str]) -> list[str]:
-    """``--phi -1,0`` → ``--phi=-1,0`` (argparse takes "-1,0" for an option)."""
+def _join_negative(argv: list[str], valued: set) -> list[str]:
+    """``--phi -1,0`` → ``--phi=-1,0`` for every option that takes a value (argparse takes "-1,0",
+    "-1e3" or "-inf" for an option)."""
     out, i = [], 0
     while i < len(argv):
         a = argv[i]
-        if a in LIST_OPTIONS and i + 1 < len(argv) and _NUMBER_LIST.match(argv[i + 1]):
+        if a in valued and i + 1 < len(argv) and _NEGATIVE.match(argv[i + 1]):
             out.append(f"{a}={argv[i + 1]}")
             i += 2
             continue
         out.append(a)
         i += 1
+    return out
+
+
+def _valued_options(parser: argparse.ArgumentParser) -> set:
+    """The option strings of ``parser`` and its subcommands that take a value."""
+    out = set()
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                out |= _valued_options(sub)
+        elif action.option_strings and action.nargs != 0:
+            out |= {o for o in action.option_strings if o.startswith("--")}
     return out
 
 
@@ -336,7 +347,7 @@ def main(argv=None) -> int:
     an.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of DOP853")
     an.add_argument("--force", action="store_true", help="replace an existing file animate did not write")
     an.add_argument("-q", "--quiet", action="store_true")
-    args = ap.parse_args(_join_negative(list(sys.argv[1:] if argv is None else argv)))
+    args = ap.parse_args(_join_negative(list(sys.argv[1:] if argv is None else argv), _valued_options(ap)))
     try:
         return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
                 "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate}[args.cmd](args)

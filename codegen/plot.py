@@ -48,6 +48,8 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
     if cmap not in matplotlib.colormaps:
         raise SpecError("--cmap", f"{cmap!r} is not a matplotlib colour map (for example viridis, magma, cividis)")
     names = [v[0] for v in a["vary"]]
+    if log and not np.any(np.isfinite(values) & (values > 0)):
+        raise SpecError("--log", f"{measure} has no positive value to draw on a logarithmic scale")
     label = _measure_label(measure, component, data["attrs"])
     fig, ax = plt.subplots(figsize=(6.4, 5.2) if len(names) == 2 else (6.4, 4.0), dpi=dpi)
     if len(names) == 2 and not a["random"]:
@@ -69,6 +71,8 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
         x = data["coords"][names[0]]
         order = np.argsort(x)
         ax.plot(x[order], values[order], ".-" if len(x) < 200 else "-")
+        if log:
+            ax.set_yscale("log")
         ax.set_xlabel(_axis_label(names[0]))
         ax.set_ylabel(label)
     else:

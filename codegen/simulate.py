@@ -87,8 +87,11 @@ def check_options(t1: float, steps: int, method: str, h: float, rtol: float, ato
         raise SpecError("--method", f"expected one of {', '.join(METHODS)}, got {method!r}")
     if not (math.isfinite(h) and h >= 0):
         raise SpecError("--h", f"must be a step in seconds >= 0 (0: automatic), got {h:g}")
-    if not (math.isfinite(rtol) and math.isfinite(atol) and rtol >= 0 and atol >= 0 and rtol + atol > 0):
-        raise SpecError("--rtol", "the tolerances must be finite, >= 0 and not both zero")
+    for name, tol in (("--rtol", rtol), ("--atol", atol)):
+        if not (math.isfinite(tol) and tol >= 0):
+            raise SpecError(name, f"must be a finite tolerance >= 0, got {tol:g}")
+    if rtol + atol == 0:
+        raise SpecError("--rtol", "the tolerances --rtol and --atol must not both be zero")
 
 
 def run(spec, x0, t1: float, steps: int, u=None, params: dict | None = None, method: str = "dop853", h: float = 0.0,

@@ -1,0 +1,310 @@
+"""Fuzzing the commands as users meet them (issue 26): every example spec mutated (fields dropped,
+renamed, duplicated; wrong types; NaN, ±inf, huge and tiny numbers; empty, unicode and very long
+strings; expression bombs; wrong vector shapes; n = 0 and n = 40), and command lines for every
+command built from valid and invalid options.  The property: exit 0, or exit 2 with one line
+``error: …`` on stderr — never a traceback, never exit 1 (an internal error) — nothing written
+unless the command succeeded, and within a time bound.
+
+`make test` runs a fixed-seed, bounded search (derandomized: the same inputs every run); `make fuzz`
+searches with fresh seeds for FUZZ_SECONDS (default 600) and prints how many inputs it tried.
+What a search found is kept below as regular tests (test_found_*)."""
+from __future__ import annotations
+
+import contextlib
+import copy
+import io
+import math
+import os
+import signal
+import time
+import tomllib
+from pathlib import Path
+
+import pytest
+
+hypothesis = pytest.importorskip("hypothesis", reason="the test extra (hypothesis) is not installed")
+tomli_w = pytest.importorskip("tomli_w", reason="the test extra (tomli-w) is not installed")
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from codegen.cli import main  # noqa: E402
+from conftest import ROOT  # noqa: E402
+
+SPECS = ROOT / "specs"
+EXAMPLES = sorted(SPECS.glob("*.toml"))
+LONG = float(os.environ.get("FUZZ_SECONDS", "0"))  # > 0: `make fuzz`
+TRIED = {"spec": 0, "command": 0}
+
+
+class TimeBound(Exception):
+    pass
+
+
+@contextlib.contextmanager
+def time_bound(seconds: float):
+    def alarm(signum, frame):
+        raise TimeBound(f"no answer within {seconds} s")
+    old = signal.signal(signal.SIGALRM, alarm)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def run(args, seconds: float):
+    out, err = io.StringIO(), io.StringIO()
+    t0 = time.perf_counter()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), time_bound(seconds):
+        try:
+            code = main([str(a) for a in args])
+        except SystemExit as exc:
+            code = exc.code
+    return code, out.getvalue(), err.getvalue(), time.perf_counter() - t0
+
+
+def holds(args, folder: Path, seconds: float, written=()):
+    """The property, for one command line run in ``folder`` (its outputs go there)."""
+    before = set(folder.iterdir())
+    code, out, err, dt = run(args, seconds)
+    assert "Traceback" not in err, (args, err)
+    if code == 0:
+        return code, out, err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert code == 2, (args, code, err)
+    assert len(lines) == 1 and lines[0].startswith("error: "), (args, err)
+    assert set(folder.iterdir()) == before, (args, "wrote something on a failure")
+    return code, out, err
+
+
+# --------------------------------------------------------------------------- specs
+def _leaves(obj, path=()):
+    """Every (path, value) of a parsed spec, tables and lists included."""
+    yield path, obj
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            yield from _leaves(v, path + (k,))
+    elif isinstance(obj, list):
+        for i, v in enumerate(obj):
+            yield from _leaves(v, path + (i,))
+
+
+def _get(obj, path):
+    for p in path:
+        obj = obj[p]
+    return obj
+
+
+BOMBS = ["9**9**9", "(" * 60 + "1" + ")" * 60, "1e308*1e308", "sqrt(-1)", "1/0", "0**-1", "x" * 300, "a" * 10_000,
+         "-" * 150 + "1", "2**16**2", "sin(" * 30 + "1" + ")" * 30, "__import__('os')", "pi**pi**pi", "1e-400",
+         "open('x')", "lambda: 1", "[1, 2]", "m1.real", "phi1", "phidot9", "t", "nan", "inf", "E", "I", "φ", "m₁", ""]
+NUMBERS = [math.nan, math.inf, -math.inf, 1e308, -1e308, 1e-308, 5e-324, 0.0, -0.0, -1.0, 1e20, 0, -1, 2**70, 1e-12]
+STRINGS = ["", " ", "ünïcödé", "日本", "\x00", "a" * 100_000, "1,2", "true", "pi/2", "-pi"]
+VALUES = st.one_of(st.sampled_from(NUMBERS), st.sampled_from(BOMBS), st.sampled_from(STRINGS),
+                   st.booleans(), st.integers(-10**20, 10**20), st.floats(allow_nan=True, allow_infinity=True),
+                   st.lists(st.floats(-10, 10), max_size=5), st.just({}), st.just({"x": 1}), st.text(max_size=40))
+
+
+@st.composite
+def mutated_spec(draw):
+    """One example spec, mutated one to four times."""
+    data = tomllib.loads(draw(st.sampled_from(EXAMPLES)).read_text())
+    for _ in range(draw(st.integers(1, 4))):
+        kind = draw(st.sampled_from(["drop", "rename", "duplicate", "value", "shape", "n0", "n40", "values", "unknown"]))
+        paths = [p for p, _ in _leaves(data) if p]
+        if kind == "n0":
+            data["body"] = []
+            continue
+        if kind == "n40" and isinstance(data.get("body"), list) and data["body"] and isinstance(data["body"][0], dict):
+            one = copy.deepcopy(data["body"][0])
+            one.setdefault("s", [0.0, 0.0, 0.1])
+            last = copy.deepcopy(data["body"][-1])
+            data["body"] = [copy.deepcopy(one) for _ in range(39)] + [last]
+            continue
+        if kind == "values":
+            data["values"] = draw(st.dictionaries(st.sampled_from(["a", "w", "m2", "Omega", "nan", "x", ""]), VALUES, max_size=3))
+            continue
+        if kind == "unknown":
+            data[draw(st.sampled_from(["colour", "Body", "bodies", "n"]))] = 1
+            continue
+        if not paths:
+            continue
+        path = draw(st.sampled_from(paths))
+        parent, key = _get(data, path[:-1]), path[-1]
+        if kind == "drop":
+            del parent[key]
+        elif kind == "rename" and isinstance(parent, dict):
+            parent[draw(st.sampled_from(["mass", "A ", "Theta", "lambda_", "I", "c2", ""]))] = parent.pop(key)
+        elif kind == "duplicate" and isinstance(parent, list):
+            parent.insert(key, copy.deepcopy(parent[key]))
+        elif kind == "shape":
+            v = parent[key]
+            parent[key] = (v + v[:1] if draw(st.booleans()) else v[:-1]) if isinstance(v, list) and v else [v, v]
+        else:
+            parent[key] = draw(VALUES)
+    return data
+
+
+def _toml(data) -> str | None:
+    try:
+        return tomli_w.dumps(data)
+    except (TypeError, ValueError):  # a value TOML cannot hold (\x00 in a key, ...): not a file a user can write
+        return None
+
+
+def spec_property(data, folder: Path):
+    text = _toml(data)
+    if text is None:
+        return
+    TRIED["spec"] += 1
+    path = folder / "spec.toml"
+    path.write_text(text, encoding="utf-8")
+    code, out, err = holds(["check", path], folder, 20)
+    if code == 0:
+        assert out.startswith(f"{path}: ok ("), out
+        n = len(data["body"])
+        if n <= 3:  # a spec that passes check derives (generate without the compiler), within seconds
+            holds(["generate", path, "--no-build", "-q", "-o", folder / "out"], folder, 120)
+
+
+# --------------------------------------------------------------------------- command lines
+NUM = st.sampled_from(["0", "1", "-1", "0.05", "nan", "inf", "-inf", "1e300", "x", "", "1,2", "-0.5"])
+LIST = st.sampled_from(["0,0", "-1,0", "0.1,-0.2", "1", "1,2,3", "nan,0", "a,b", "", ",", "1e400,0", "-.5,.5"])
+PARAM = st.sampled_from(["m=2", "a=0.01", "w=260", "a=-1", "w=nan", "m2=-0.1", "m2=0.2", "Omega=3", "=1", "a", "a==1", "P=4"])
+VARY = st.sampled_from(["phi1=0:1:3", "phi1=-1:1:2", "phi2=0:1:0", "phi1=1:0:3", "phi9=0:1:2", "a=0:0.02:2", "m2=-1:1:3",
+                        "phi1=0:1", "phi1=nan:1:2", "phidot1=0:1:2", "x", "phi1=0:1:100000000"])
+SPEC_ARG = st.sampled_from([SPECS / "gimbal.toml", SPECS / "furuta_sym.toml", SPECS / "kapitza.toml", SPECS / "furuta.toml",
+                            SPECS / "nope.toml", SPECS, ROOT / "README.md"])
+OPTIONS = {
+    "check": {},
+    "simulate": {"--t1": st.sampled_from(["0.05", "0", "-1", "nan", "x", "0.2"]), "--steps": st.sampled_from(["1", "5", "0", "-5", "x"]),
+                 "--phi": LIST, "--phidot": LIST, "--u": LIST, "--param": PARAM, "--method": st.sampled_from(["rk4", "dop853", "euler", "gauss2"]),
+                 "--h": st.sampled_from(["0.01", "0", "-1", "nan"]), "--rtol": NUM, "--atol": NUM, "--reference": None},
+    "steady": {"--u": LIST, "--param": PARAM, "--omega": st.sampled_from(["-5:5:3", "5:1:3", "x", "0:1:1"]),
+               "--start": LIST, "--no-rotations": None},
+    "sweep": {"--vary": VARY, "--random": st.sampled_from(["0", "3", "-1"]), "--t1": st.sampled_from(["0.05", "0", "nan"]),
+              "--measure": st.sampled_from(["final", "flip_time", "energy_error", "lyapunov", "bogus"]),
+              "--method": st.sampled_from(["rk4", "dop853", "x"]), "--h": st.sampled_from(["0.01", "0", "-1"]),
+              "--phi": LIST, "--u": LIST, "--param": PARAM, "--chunk": st.sampled_from(["1", "0", "-3", "100"]),
+              "--threads": st.sampled_from(["1", "0", "-1"]), "--samples": st.sampled_from(["10", "0"]),
+              "--lyap-interval": st.sampled_from(["0.01", "0", "10"]), "-q": None},
+    "animate": {"--t1": st.sampled_from(["0.2", "0", "-1", "nan"]), "--fps": st.sampled_from(["10", "0", "-5", "nan"]),
+                "--frame": st.sampled_from(["0", "0.1", "-1", "2", "nan"]), "--phi": LIST, "--phidot": LIST, "--u": LIST,
+                "--param": PARAM, "--size": st.sampled_from(["64x64", "65x64", "0x0", "x", "64"]),
+                "--view": LIST, "--trace": st.sampled_from(["0", "-1", "nan", "0.1"]), "--follow": None,
+                "--at": st.sampled_from(["", "phi1=0", "0"]), "-q": None},
+    "plot": {"--measure": st.sampled_from(["final", "bogus", "flip_time"]), "--component": st.sampled_from(["0", "-1", "99"]),
+             "--cmap": st.sampled_from(["viridis", "magam"]), "--log": None, "--dpi": st.sampled_from(["50", "0", "100000"])},
+}
+OUTPUTS = {"sweep": ["s.zarr", "sub/s.zarr", ""], "animate": ["a.gif", "a.png", "a.html", "a.avi", "sub/a.gif", ""],
+           "plot": ["p.png", "p.jpgg", "sub/p.svg", ""]}
+
+
+@st.composite
+def command_line(draw):
+    cmd = draw(st.sampled_from(sorted(OPTIONS)))
+    args = [cmd, draw(SPEC_ARG)]
+    opts = OPTIONS[cmd]
+    for name in draw(st.lists(st.sampled_from(sorted(opts)), max_size=4)) if opts else []:
+        args.append(name)
+        if opts[name] is not None:
+            args.append(draw(opts[name]))
+    if cmd in OUTPUTS:
+        out = draw(st.sampled_from(OUTPUTS[cmd]))
+        if out:
+            args += ["-o", f"@OUT@/{out}"]
+    if cmd == "sweep" and "--vary" not in args and draw(st.booleans()):
+        args += ["--vary", "phi1=0:0.5:2"]
+    if cmd == "animate" and draw(st.booleans()):
+        args += ["--frame", "0.05", "--size", "64x64"]
+    return args
+
+
+def command_property(args, folder: Path, store: Path):
+    TRIED["command"] += 1
+    args = [str(a).replace("@OUT@", str(folder)) for a in args]
+    if args[0] == "plot":
+        args[1] = str(store)
+    holds(args, folder, 120)
+
+
+# --------------------------------------------------------------------------- the searches
+def fixed(examples: int):
+    """A fixed-seed (derandomized) search of ``examples`` inputs: the same inputs on every run."""
+    return settings(max_examples=examples, derandomize=True, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+
+
+@pytest.fixture(scope="module")
+def store(tmp_path_factory):
+    pytest.importorskip("zarr")
+    path = tmp_path_factory.mktemp("fuzzstore") / "s.zarr"
+    code, _, err, _ = run(["sweep", SPECS / "double_pendulum.toml", "--vary", "phi1=-1:1:3", "--vary", "phi2=0:1:2",
+                           "--t1", "0.2", "--measure", "final", "--measure", "flip_time", "-q", "-o", path], 120)
+    assert code == 0, err
+    return path
+
+
+def _fresh(tmp_path: Path, i: int) -> Path:
+    d = tmp_path / f"case{i}"
+    d.mkdir()
+    return d
+
+
+def test_mutated_specs(tmp_path):
+    count = iter(range(10**9))
+
+    @fixed(200)
+    @given(mutated_spec())
+    def prop(data):
+        spec_property(data, _fresh(tmp_path, next(count)))
+    prop()
+    assert TRIED["spec"] > 100  # the search ran (most mutations are valid TOML)
+
+
+def test_command_lines(tmp_path, store):
+    count = iter(range(10**9))
+
+    @fixed(120)
+    @given(command_line())
+    def prop(args):
+        command_property(args, _fresh(tmp_path, next(count)), store)
+    prop()
+    assert TRIED["command"] >= 100
+
+
+@pytest.mark.skipif(LONG <= 0, reason="make fuzz (FUZZ_SECONDS) searches longer with fresh seeds")
+def test_fuzz_for_a_while(tmp_path, store):
+    """Rounds of fresh random searches until FUZZ_SECONDS have passed; prints the inputs tried."""
+    t_end = time.monotonic() + LONG
+    count = iter(range(10**9))
+    rounds = settings(max_examples=50, derandomize=False, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+    start = dict(TRIED)
+    while time.monotonic() < t_end:
+        given(mutated_spec())(rounds(lambda data: spec_property(data, _fresh(tmp_path, next(count)))))()
+        given(command_line())(rounds(lambda args: command_property(args, _fresh(tmp_path, next(count)), store)))()
+    print(f"\nfuzz: {TRIED['spec'] - start['spec']} specs and {TRIED['command'] - start['command']} command lines "
+          f"in {LONG:.0f} s, no failure")
+
+
+# --------------------------------------------------------------------------- what the searches found
+def test_found_fps_zero_with_a_still(tmp_path):
+    """--fps 0 with --frame: was a ZeroDivisionError (exit 1); --fps is checked first now."""
+    code, _, err = holds(["animate", SPECS / "gimbal.toml", "--fps", "0", "--frame", "0.05", "--size", "64x64",
+                          "-o", tmp_path / "a.png"], tmp_path, 60)
+    assert code == 2 and err.startswith("error: --fps:"), err
+
+
+def test_found_log_scale_of_nothing_positive(tmp_path, store):
+    """plot --log of a measure with no positive value (no flip within t1: all NaN): was matplotlib's
+    "Invalid vmin or vmax" (exit 1)."""
+    pytest.importorskip("matplotlib")
+    code, _, err = holds(["plot", store, "--measure", "flip_time", "--log", "-o", tmp_path / "p.png"], tmp_path, 60)
+    assert code == 2 and err.startswith("error: --log:"), err
+
+
+def test_found_negative_values_that_argparse_took_for_options():
+    """--atol -inf, --t1 -1e3: argparse's "expected one argument"; now the value reaches the check."""
+    for args, field in ((["--atol", "-inf"], "--atol"), (["--t1", "-1e3"], "--t1"), (["--rtol", "-nan"], "--rtol")):
+        code, _, err, _ = run(["simulate", SPECS / "gimbal.toml", *args], 30)
+        assert code == 2 and err.startswith(f"error: {field}:"), err
