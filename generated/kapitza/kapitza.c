@@ -74,7 +74,7 @@ int kapitza_mass_matrix(const double *q, const kapitza_params *p, double *M)
     }
     {
     
-        M[0] = 0.004001;
+        M[0] = 0.004;
 
     }
     kapitza_symmetrize_(M);
@@ -150,8 +150,8 @@ int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params
         const double aO1_2 = a0_1*sin_phi1;
         const double aOg1_2 = aO1_2 - 9.81*sin_phi1;
 
-        acc[0] = 4.998750312421895*aOg1_2;
-        piv[0] = 0.004001;
+        acc[0] = 5.0*aOg1_2;
+        piv[0] = 0.004;
 
     }
     code = kapitza_pivots_(piv);
@@ -177,7 +177,7 @@ static void kapitza_dq1_(double t, const double *x, const double *u, const kapit
     const double aO1_2_dq1 = b[0]*cos_phi1;
     const double aOg1_2_dq1 = aO1_2_dq1 - 9.81*cos_phi1;
 
-    col[0] = 4.998750312421895*aOg1_2_dq1;
+    col[0] = 5.0*aOg1_2_dq1;
 
 }
 
@@ -222,8 +222,8 @@ int kapitza_qdd_derivatives(double t, const double *x, const double *u, const ka
         const double aO1_2 = a0_1*sin_phi1;
         const double aOg1_2 = aO1_2 - 9.81*sin_phi1;
 
-        acc[0] = 4.998750312421895*aOg1_2;
-        piv[0] = 0.004001;
+        acc[0] = 5.0*aOg1_2;
+        piv[0] = 0.004;
 
         b[0] = a0_1;
     }
@@ -312,7 +312,7 @@ double kapitza_energy(double t, const double *x, const kapitza_params *p)
         const double absv1_2 = v0_1*sin_phi1;
         const double absv1_3 = v0_1*cos_phi1;
 
-        result = 0.05*absv1_2*absv1_2 + 0.05*absv1_3*absv1_3 - 0.02*x[1]*absv1_2 + 0.0020005*x[1]*x[1] - 0.1962*cos_phi1 - 0.981*p->a*pe1;
+        result = 0.05*absv1_2*absv1_2 + 0.05*absv1_3*absv1_3 - 0.02*x[1]*absv1_2 + 0.002*x[1]*x[1] - 0.1962*cos_phi1 - 0.981*p->a*pe1;
 
     }
     return result;

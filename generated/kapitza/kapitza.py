@@ -84,7 +84,7 @@ def mass_matrix(q, p=None):
     p_w = _param(p, "w")
 
     M = np.empty((N, N))
-    M[0, 0] = 0.004001
+    M[0, 0] = 0.004
 
     M = np.tril(M) + np.tril(M, -1).T
     return M
@@ -123,8 +123,8 @@ def qdd(t, x, u=None, p=None):
         sin_phi1 = math.sin(x[0])
         aO1_2 = a0_1*sin_phi1
         aOg1_2 = aO1_2 - 9.81*sin_phi1
-        acc[0] = 4.998750312421895*aOg1_2
-        piv[0] = 0.004001
+        acc[0] = 5.0*aOg1_2
+        piv[0] = 0.004
 
     except ZeroDivisionError:
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
@@ -155,13 +155,13 @@ def qdd_derivatives(t, x, u=None, p=None):
         sin_phi1 = math.sin(x[0])
         aO1_2 = a0_1*sin_phi1
         aOg1_2 = aO1_2 - 9.81*sin_phi1
-        acc[0] = 4.998750312421895*aOg1_2
-        piv[0] = 0.004001
+        acc[0] = 5.0*aOg1_2
+        piv[0] = 0.004
 
         cos_phi1 = math.cos(x[0])
         aO1_2_dq1 = a0_1*cos_phi1
         aOg1_2_dq1 = aO1_2_dq1 - 9.81*cos_phi1
-        dqdd_dphi[0, 0] = 4.998750312421895*aOg1_2_dq1
+        dqdd_dphi[0, 0] = 5.0*aOg1_2_dq1
 
         dqdd_dphidot[0, 0] = 0.0
 
@@ -205,6 +205,6 @@ def energy(t, x, p=None):
     sin_phi1 = math.sin(x[0])
     absv1_2 = v0_1*sin_phi1
     absv1_3 = v0_1*cos_phi1
-    result = 0.05*absv1_2*absv1_2 + 0.05*absv1_3*absv1_3 - 0.02*x[1]*absv1_2 + 0.0020005*x[1]*x[1] - 0.1962*cos_phi1 - 0.981*p_a*pe1
+    result = 0.05*absv1_2*absv1_2 + 0.05*absv1_3*absv1_3 - 0.02*x[1]*absv1_2 + 0.002*x[1]*x[1] - 0.1962*cos_phi1 - 0.981*p_a*pe1
 
     return result

@@ -45,7 +45,7 @@
  * Hamilton's variables (ZIEGLER_HAS_CANONICAL): ziegler_momenta(x, p, pm) gives p = dL/dphidot =
  * M phidot + k(phi) (k_j = e^j . sum of lambda^k, k >= j), ziegler_velocities(q, pm, p, qd) the inverse,
  * ziegler_pdot(x, u, p, pdot) the rate dp/dt = dL/dphi + the torques without a force function.
- * Op counts: energy 20, forces 24, linearize 105, mass_matrix 5, momenta 11, momentum 8, pdot 33, qdd 39, qdd_derivatives 105, rhs 39, velocities 18.
+ * Op counts: energy 20, forces 24, linearize 98, mass_matrix 5, momenta 11, momentum 8, pdot 33, qdd 38, qdd_derivatives 98, rhs 38, velocities 18.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

@@ -23,7 +23,7 @@ HAS_QUADRATURES = False
 HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
 HAS_JACOBI_INTEGRAL = False
 TIME_DEPENDENT = False  # forces, qdd, energy, momentum take t first
-OP_COUNTS = { "energy": 20, "forces": 24, "linearize": 105, "mass_matrix": 5, "momenta": 11, "momentum": 8, "pdot": 33, "qdd": 39, "qdd_derivatives": 105, "rhs": 39, "velocities": 18, }
+OP_COUNTS = { "energy": 20, "forces": 24, "linearize": 98, "mass_matrix": 5, "momenta": 11, "momentum": 8, "pdot": 33, "qdd": 38, "qdd_derivatives": 98, "rhs": 38, "velocities": 18, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -84,11 +84,11 @@ def mass_matrix(q, p=None):
 
     M = np.empty((N, N))
     cos_phi2 = math.cos(q[1])
-    I1_11 = 0.5000015 + 0.25*cos_phi2
-    n2in1_1 = 0.1250005 + 0.125*cos_phi2
+    I1_11 = 0.5 + 0.25*cos_phi2
+    n2in1_1 = 0.125 + 0.125*cos_phi2
     M[0, 0] = I1_11
     M[1, 0] = n2in1_1
-    M[1, 1] = 0.1250005
+    M[1, 1] = 0.125
 
     M = np.tril(M) + np.tril(M, -1).T
     return M
@@ -116,35 +116,42 @@ def forces(x, u=None, p=None):
 
 
 def qdd(x, u=None, p=None):
-    """phi'' solving M phi'' = f by LDL^T."""
+    """phi'' by articulated bodies (the pivots D^k of M tested as in the C)."""
     x = [float(v) for v in x]
     if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
         raise NonFiniteResult("x or u is not finite")
     p_P = _param(p, "P")
 
-    M = np.empty((N, N))
-    f = np.empty(N)
-    cos_phi2 = math.cos(x[1])
-    sin_phi2 = math.sin(x[1])
-    om2_1 = x[2] + x[3]
-    aOrel2in1_3 = -0.5*x[2]*x[2]
-    aOg2_2 = sin_phi2*aOrel2in1_3
-    aOg2_3 = cos_phi2*aOrel2in1_3
-    pF2_3 = 0.5*aOg2_3 - 0.25*om2_1*om2_1 + p_P
-    Fb2in1_2 = 0.5*cos_phi2*aOg2_2 - sin_phi2*pF2_3
-    Nb1_1 = -0.25*aOg2_2 - 0.5*Fb2in1_2
-    I1_11 = 0.5000015 + 0.25*cos_phi2
-    n2in1_1 = 0.1250005 + 0.125*cos_phi2
-    M[0, 0] = I1_11
-    M[1, 0] = n2in1_1
-    M[1, 1] = 0.1250005
-    f[0] = -2.0*x[0] - Nb1_1
-    f[1] = -2.0*x[1] + 0.25*aOg2_2
+    acc = np.empty(N)
+    piv = np.empty(N)
+    try:
+        cos_phi2 = math.cos(x[1])
+        sin_phi2 = math.sin(x[1])
+        om2_1 = x[2] + x[3]
+        aOrel2in1_3 = -0.5*x[2]*x[2]
+        aOg2_2 = sin_phi2*aOrel2in1_3
+        aOg2_3 = cos_phi2*aOrel2in1_3
+        pF2_3 = 0.5*aOg2_3 - 0.25*om2_1*om2_1 + p_P
+        u2 = -2.0*x[1] + 0.25*aOg2_2
+        pa2_5 = 0.5*aOg2_2 - 2.0*u2
+        Jm2rr_22 = 0.5*sin_phi2*sin_phi2
+        pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3
+        IA1_11 = 0.25 + 0.25*Jm2rr_22
+        pA1_1 = -2.0*x[1] - 0.5*pc2f_2
+        rD1 = 1.0/IA1_11
+        u1 = -2.0*x[0] - pA1_1
+        qdd1 = rD1*u1
+        dv2_2 = -0.5*cos_phi2*qdd1
+        qdd2 = 8.0*u2 - qdd1 + 2.0*dv2_2
+        acc[0] = qdd1
+        acc[1] = qdd2
+        piv[0] = IA1_11
+        piv[1] = 0.125
 
-    M = np.tril(M) + np.tril(M, -1).T
-    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(f))):
-        raise NonFiniteResult("M or f is not finite")
-    out = _ldlt_solve(M, f)
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = acc
     if not np.all(np.isfinite(out)):
         raise NonFiniteResult("phi'' is not finite")
     return out
@@ -171,56 +178,55 @@ def qdd_derivatives(x, u=None, p=None):
         aOg2_2 = sin_phi2*aOrel2in1_3
         aOg2_3 = cos_phi2*aOrel2in1_3
         pF2_3 = 0.5*aOg2_3 - 0.25*om2_1*om2_1 + p_P
-        c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2
         u2 = -2.0*x[1] + 0.25*aOg2_2
-        pa2_5 = 0.5*aOg2_2 - 1.999992000032*u2
-        Jm2rdr_22 = 0.250000999996 - 0.249999000004*c2phi2
+        pa2_5 = 0.5*aOg2_2 - 2.0*u2
+        Jm2rr_22 = 0.5*sin_phi2*sin_phi2
         pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3
-        IA1_11 = 0.250001 + 0.25*Jm2rdr_22
+        IA1_11 = 0.25 + 0.25*Jm2rr_22
         pA1_1 = -2.0*x[1] - 0.5*pc2f_2
         rD1 = 1.0/IA1_11
         u1 = -2.0*x[0] - pA1_1
         qdd1 = rD1*u1
         dv2_2 = -0.5*cos_phi2*qdd1
-        qdd2 = 7.999968000128*u2 - qdd1 + 1.999992000032*dv2_2
+        qdd2 = 8.0*u2 - qdd1 + 2.0*dv2_2
         acc[0] = qdd1
         acc[1] = qdd2
         piv[0] = IA1_11
-        piv[1] = 0.1250005
+        piv[1] = 0.125
 
         dv2_2_dq1 = cos_phi2*rD1
-        qdd2_dq1 = 2.0*rD1 + 1.999992000032*dv2_2_dq1
+        qdd2_dq1 = 2.0*rD1 + 2.0*dv2_2_dq1
         dqdd_dphi[0, 0] = -2.0*rD1
         dqdd_dphi[1, 0] = qdd2_dq1
 
         aOg2_2_dq2 = cos_phi2*aOrel2in1_3
         aOg2_3_dq2 = -sin_phi2*aOrel2in1_3
-        c2phi2_dq2 = -4.0*cos_phi2*sin_phi2
         u2_dq2 = -2.0 + 0.25*aOg2_2_dq2
-        pa2_5_dq2 = 0.5*aOg2_2_dq2 - 1.999992000032*u2_dq2
+        pa2_5_dq2 = 0.5*aOg2_2_dq2 - 2.0*u2_dq2
+        Jm2rr_22_dq2 = cos_phi2*sin_phi2
         pc2f_2_dq2 = -sin_phi2*pa2_5 + cos_phi2*pa2_5_dq2 - cos_phi2*pF2_3 - 0.5*sin_phi2*aOg2_3_dq2
         pA1_1_dq2 = -2.0 - 0.5*pc2f_2_dq2
-        rD1_dq2 = 0.062499750001*rD1*rD1*c2phi2_dq2
+        rD1_dq2 = -0.25*rD1*rD1*Jm2rr_22_dq2
         qdd1_dq2 = u1*rD1_dq2 - rD1*pA1_1_dq2
         dv2_2_dq2 = 0.5*sin_phi2*qdd1 - 0.5*cos_phi2*qdd1_dq2
-        qdd2_dq2 = 7.999968000128*u2_dq2 - qdd1_dq2 + 1.999992000032*dv2_2_dq2
+        qdd2_dq2 = 8.0*u2_dq2 - qdd1_dq2 + 2.0*dv2_2_dq2
         dqdd_dphi[0, 1] = qdd1_dq2
         dqdd_dphi[1, 1] = qdd2_dq2
 
         aOg2_2_dv1 = -x[2]*sin_phi2
         aOg2_3_dv1 = -x[2]*cos_phi2
         pF2_3_dv1 = 0.5*aOg2_3_dv1 - 0.5*om2_1
-        pc2f_2_dv1 = 1.9999920000319997e-06*cos_phi2*aOg2_2_dv1 - sin_phi2*pF2_3_dv1
+        pc2f_2_dv1 = -sin_phi2*pF2_3_dv1
         qdd1_dv1 = 0.5*rD1*pc2f_2_dv1
         dv2_2_dv1 = -0.5*cos_phi2*qdd1_dv1
-        qdd2_dv1 = 1.999992000032*aOg2_2_dv1 - qdd1_dv1 + 1.999992000032*dv2_2_dv1
+        qdd2_dv1 = 2.0*aOg2_2_dv1 - qdd1_dv1 + 2.0*dv2_2_dv1
         dqdd_dphidot[0, 0] = qdd1_dv1
         dqdd_dphidot[1, 0] = qdd2_dv1
 
         pc2f_2_dv2 = 0.5*sin_phi2*om2_1
         qdd1_dv2 = 0.5*rD1*pc2f_2_dv2
         dv2_2_dv2 = -0.5*cos_phi2*qdd1_dv2
-        qdd2_dv2 = -qdd1_dv2 + 1.999992000032*dv2_2_dv2
+        qdd2_dv2 = -qdd1_dv2 + 2.0*dv2_2_dv2
         dqdd_dphidot[0, 1] = qdd1_dv2
         dqdd_dphidot[1, 1] = qdd2_dv2
 
@@ -257,10 +263,10 @@ def energy(x, p=None):
     p_P = _param(p, "P")
 
     cos_phi2 = math.cos(x[1])
-    I1_11 = 0.5000015 + 0.25*cos_phi2
-    n2in1_1 = 0.1250005 + 0.125*cos_phi2
+    I1_11 = 0.5 + 0.25*cos_phi2
+    n2in1_1 = 0.125 + 0.125*cos_phi2
     Mqd1 = x[2]*I1_11 + x[3]*n2in1_1
-    Mqd2 = x[2]*n2in1_1 + 0.1250005*x[3]
+    Mqd2 = x[2]*n2in1_1 + 0.125*x[3]
     result = 0.5*x[2]*Mqd1 + 0.5*x[3]*Mqd2 + x[0]*x[0] + x[1]*x[1]
 
     return result
@@ -272,8 +278,8 @@ def momentum(x, p=None):
     p_P = _param(p, "P")
 
     cos_phi2 = math.cos(x[1])
-    I1_11 = 0.5000015 + 0.25*cos_phi2
-    n2in1_1 = 0.1250005 + 0.125*cos_phi2
+    I1_11 = 0.5 + 0.25*cos_phi2
+    n2in1_1 = 0.125 + 0.125*cos_phi2
     Mqd1 = x[2]*I1_11 + x[3]*n2in1_1
     result = Mqd1
 
@@ -287,10 +293,10 @@ def momenta(x, p=None):
 
     pm = np.empty(N)
     cos_phi2 = math.cos(x[1])
-    I1_11 = 0.5000015 + 0.25*cos_phi2
-    n2in1_1 = 0.1250005 + 0.125*cos_phi2
+    I1_11 = 0.5 + 0.25*cos_phi2
+    n2in1_1 = 0.125 + 0.125*cos_phi2
     pm[0] = x[2]*I1_11 + x[3]*n2in1_1
-    pm[1] = x[2]*n2in1_1 + 0.1250005*x[3]
+    pm[1] = x[2]*n2in1_1 + 0.125*x[3]
 
     return pm
 
@@ -303,11 +309,11 @@ def velocities(q, pm, p=None):
     M = np.empty((N, N))
     k = np.empty(N)
     cos_phi2 = math.cos(q[1])
-    I1_11 = 0.5000015 + 0.25*cos_phi2
-    n2in1_1 = 0.1250005 + 0.125*cos_phi2
+    I1_11 = 0.5 + 0.25*cos_phi2
+    n2in1_1 = 0.125 + 0.125*cos_phi2
     M[0, 0] = I1_11
     M[1, 0] = n2in1_1
-    M[1, 1] = 0.1250005
+    M[1, 1] = 0.125
     k[0] = 0.0
     k[1] = 0.0
 
