@@ -7,6 +7,7 @@ input gets one line on stderr naming the field, exit status 2, and nothing writt
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import re
 import sys
@@ -64,7 +65,7 @@ def _floats(text: str, what: str, count: int) -> list[float]:
         raise SpecError(what, f"expected {count} comma-separated numbers") from None
     if len(vals) != count:
         raise SpecError(what, f"expected {count} comma-separated numbers, got {len(vals)}")
-    return vals
+    return _finite(vals, what)
 
 
 def _float_list(text: str, what: str) -> list[float] | None:
@@ -73,9 +74,16 @@ def _float_list(text: str, what: str) -> list[float] | None:
     if not text:
         return None
     try:
-        return [float(v) for v in text.split(",")]
+        vals = [float(v) for v in text.split(",")]
     except ValueError:
         raise SpecError(what, "expected comma-separated numbers") from None
+    return _finite(vals, what)
+
+
+def _finite(vals: list[float], what: str) -> list[float]:
+    if not all(math.isfinite(v) for v in vals):
+        raise SpecError(what, "expected finite numbers, got " + ",".join(f"{v:g}" for v in vals))
+    return vals
 
 
 def _params_of(items, what: str = "--param") -> dict:

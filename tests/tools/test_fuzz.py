@@ -308,3 +308,13 @@ def test_found_negative_values_that_argparse_took_for_options():
     for args, field in ((["--atol", "-inf"], "--atol"), (["--t1", "-1e3"], "--t1"), (["--rtol", "-nan"], "--rtol")):
         code, _, err, _ = run(["simulate", SPECS / "gimbal.toml", *args], 30)
         assert code == 2 and err.startswith(f"error: {field}:"), err
+
+
+def test_found_nan_in_a_list_option(tmp_path):
+    """animate --view nan,0: was "cannot convert float NaN to integer" (exit 1); every list option
+    refuses non-finite numbers now."""
+    for args, field in ((["animate", "--view", "nan,0", "-o", tmp_path / "a.gif"], "--view"),
+                        (["simulate", "--phi", "-inf,0"], "--phi"), (["simulate", "--u", "inf"], "--u")):
+        code, _, err, _ = run([args[0], SPECS / "gimbal.toml", *args[1:]], 30)
+        assert code == 2 and err.startswith(f"error: {field}:"), err
+    assert not (tmp_path / "a.gif").exists()
