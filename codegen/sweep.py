@@ -68,6 +68,10 @@ class Sweep:
         return d
 
 
+MAX_POINTS = 10**9  # points in one sweep
+MAX_CHUNKS = 10**6  # chunks in one store
+
+
 def parse_vary(text: str, random_mode: bool) -> tuple:
     """``name=lo:hi:count`` (grid) or ``name=lo:hi`` (random samples)."""
     name, eq, rng = text.partition("=")
@@ -146,6 +150,7 @@ class Plan:
         self.base = np.array((sweep.phi or list(init.get("phi", [0.0] * n))) + (sweep.phidot or list(init.get("phidot", [0.0] * n))), float)
         if self.base.shape != (2 * n,):
             raise SpecError("--phi", f"expected {n} values for --phi and for --phidot")
+        self._check_size()
         # the points
         if sweep.random > 0:
             rng = np.random.default_rng(sweep.seed)
@@ -169,6 +174,22 @@ class Plan:
         self._check_varied_values()
         if "energy_error" in sweep.measures and not self._has_energy():
             raise SpecError("--measure", "energy_error: the energy (23) is not an integral of this spec")
+
+    def _check_size(self) -> None:
+        """Refuse, before anything is allocated, a sweep too large for one store: more than
+        MAX_POINTS points (a random sweep's points are held in memory, a grid's store has that many
+        entries per measure) or more than MAX_CHUNKS chunks (each a task and a stored file)."""
+        sweep = self.sweep
+        points = sweep.random if sweep.random > 0 else math.prod(v[3] for v in sweep.vary)
+        if points > MAX_POINTS:
+            raise SpecError("--random" if sweep.random > 0 else "--vary",
+                            f"{points:.3g} points; one sweep holds at most {MAX_POINTS:.0e} (split the range)")
+        shape = (sweep.random,) if sweep.random > 0 else tuple(v[3] for v in sweep.vary)
+        row = math.prod(shape[1:])
+        chunks = -(-shape[0] // max(1, sweep.chunk // row))
+        if chunks > MAX_CHUNKS:
+            raise SpecError("--chunk", f"{chunks} chunks of {max(1, sweep.chunk // row) * row} points; at most "
+                                       f"{MAX_CHUNKS} (give a bigger --chunk)")
 
     def _check_varied_values(self, most: int = 4096) -> None:
         """The varied parameters' values checked like --param: every combination of a grid's
