@@ -3,6 +3,7 @@
 # make test-fast                      the unit layer only: the stages, printers, pipeline and architecture, no compiler (< 1 min)
 # make plot                           the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map (docs/)
 # make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
+# make docs                           the documentation site from docs/ into site/ (MkDocs, warnings are errors, offline)
 # make fuzz                           the commands fuzzed with fresh random inputs for FUZZ_SECONDS (default 600)
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost; ensembles against
 #                                     scipy and MuJoCo's rollout on 1 and 2 cores and a local Dask cluster (bench/results/)
@@ -15,14 +16,14 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test test-fast fuzz pdf plot animations clean bench bench-setup bench-speed
+.PHONY: all setup generate generate-all test test-fast docs fuzz pdf plot animations clean bench bench-setup bench-speed
 
 all: generate
 
 $(VENV)/.installed: pyproject.toml
 	$(PY) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q -e '.[test,sweep,view,browser]'
+	$(VPY) -m pip install -q -e '.[test,sweep,view,browser,docs]'
 	touch $@
 
 setup: $(VENV)/.installed
@@ -41,6 +42,10 @@ test: setup
 test-fast: setup
 	$(VPY) -m pytest -q -n $(JOBS) tests/unit
 
+docs: setup
+	$(VPY) -m mkdocs build --strict -q -d site
+	@echo "site/index.html"
+
 FUZZ_SECONDS ?= 600
 fuzz: setup
 	FUZZ_SECONDS=$(FUZZ_SECONDS) $(VPY) -m pytest -q -s tests/tools/test_fuzz.py -k fuzz_for_a_while
@@ -51,18 +56,18 @@ $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
 
 plot: $(VENV)/.plot-installed
 	$(VPY) -m codegen generate -q specs/gimbal.toml >/dev/null
-	$(VPY) examples/plot_gimbal.py docs/gimbal_quadrature.png
+	$(VPY) examples/plot_gimbal.py docs/img/gimbal_quadrature.png
 	$(VPY) -m codegen generate -q specs/furuta.toml >/dev/null
-	$(VPY) examples/furuta_lqr.py docs/furuta_lqr.png
+	$(VPY) examples/furuta_lqr.py docs/img/furuta_lqr.png
 	rm -rf build/flip_map.zarr
 	$(VPY) -m codegen sweep specs/double_pendulum.toml --vary phi1=-3.14:3.14:300 --vary phi2=-3.14:3.14:300 \
 		--t1 10 --measure flip_time -q -o build/flip_map.zarr
-	$(VPY) -m codegen plot build/flip_map.zarr --log --cmap magma -o docs/double_pendulum_flip.png
+	$(VPY) -m codegen plot build/flip_map.zarr --log --cmap magma -o docs/img/double_pendulum_flip.png
 
 animations: setup
-	$(VPY) -m codegen animate specs/gimbal.toml --t1 8 --fps 20 --size 360x360 -o docs/gimbal.gif
+	$(VPY) -m codegen animate specs/gimbal.toml --t1 8 --fps 20 --size 360x360 -o docs/img/gimbal.gif
 	$(VPY) -m codegen animate specs/spatial3.toml --phi=-2,-0.75,-1.1 --phidot 0,0,0 --t1 8 --fps 20 --size 360x360 \
-		-o docs/spatial3_chaos.gif
+		-o docs/img/spatial3_chaos.gif
 
 $(VENV)/.bench-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,bench]'
@@ -88,4 +93,4 @@ pdf: generate
 	cd generated/$$name && pdflatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null && echo "generated/$$name/$$name.pdf"
 
 clean:
-	rm -rf $(VENV) .pytest_cache build *.egg-info
+	rm -rf $(VENV) .pytest_cache build site *.egg-info

@@ -1,6 +1,7 @@
-"""Command line: ``python -m codegen {generate,check,simulate,steady,sweep,animate} SPEC`` and ``plot STORE``.
+"""The equations of compound spatial pendulums: derived from a spec, emitted as C, Python and LaTeX, and run.
 
-This module parses arguments and prints; every command is a library function it calls
+The command line ``gyrochain {generate,check,simulate,steady,sweep,animate} SPEC`` and ``gyrochain
+plot STORE`` (``python -m codegen`` is the same).  This module parses arguments and prints; every command is a library function it calls
 (generate.run, simulate.run, steady.analyze, sweep.run, plot.store, animate.render).  A bad
 input gets one line on stderr naming the field, exit status 2, and nothing written.
 """
@@ -41,7 +42,8 @@ def cmd_generate(args) -> int:
     spec = load_spec(args.spec)
     target = Path(args.output) if args.output else Path("generated") / spec.name
     generate.check(spec, target, args.force)  # before the first line: a mistake is one line
-    print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
+    if not args.quiet:
+        print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
     result = generate.run(spec, target, Path(args.spec).name, build=not args.no_build, force=args.force,
                           qdd_form=args.qdd_form, der_form=args.derivative_form, progress=_Progress(args.quiet))
     for line in generate.report(result):
@@ -269,7 +271,7 @@ def main(argv=None) -> int:
     g.add_argument("spec")
     g.add_argument("-o", "--output", help="output folder (default generated/<name>)")
     g.add_argument("--no-build", action="store_true", help="do not compile the cffi extension")
-    g.add_argument("--force", action="store_true", help="replace an output folder codegen did not write")
+    g.add_argument("--force", action="store_true", help="replace an output folder gyrochain did not write")
     g.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     g.add_argument(
         "--qdd-form", choices=("auto", "composite", "articulated"), default="auto",

@@ -5,7 +5,7 @@ furuta_linearize gives A, B at the upright equilibrium (φ² = π, found by `cod
 gain is the discrete-time LQR of their zero-order-hold discretisation at the 1 kHz control rate
 (scipy's Riccati solver); the closed loop runs the emitted C integrator (RK4, one 1 ms step per
 control period, the motor torque held in between) from 0.2 rad off upright.  Without the
-controller the pendulum falls.  `make plot` writes docs/furuta_lqr.png.
+controller the pendulum falls.  `make plot` writes docs/img/furuta_lqr.png.
 """
 from __future__ import annotations
 

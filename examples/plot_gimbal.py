@@ -1,6 +1,6 @@
 """Nikolai's gyroscope in a Cardan suspension (specs/gimbal.toml, its [initial] state): φ(t) and
 ψ(t) from the quadratures (30) over an ODE solution of the generated equations, and the phase
-curve.  Writes docs/gimbal_quadrature.png; run by `make plot`."""
+curve.  Writes docs/img/gimbal_quadrature.png; run by `make plot`."""
 from __future__ import annotations
 
 import sys

@@ -198,11 +198,13 @@ def test_generate_does_not_recompile_what_has_not_changed(tmp_path):
     assert np.all(np.isfinite(load(out, "gimbal").qdd(np.array([0.1, 0.2, 0.3, 0.4]))))
 
 
-def test_the_readme_script_runs(tmp_path):
-    """The README's "Scripting the same steps" block, as a user pastes it (from the repository
-    folder): it runs and its φ̈ is the reference model's."""
-    text = (ROOT / "README.md").read_text()
-    block = text.split("Scripting the same steps as the commands:")[1].split("```python\n")[1].split("```")[0]
+def test_the_api_pages_script_runs(tmp_path):
+    """The Python API page's script (docs/reference/api.md), as a user pastes it (from the
+    repository folder): it runs and its φ̈ is the reference model's."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    import docrun
+
+    block = next(b.text for b in docrun.blocks(ROOT / "docs" / "reference" / "api.md") if b.kind == "python")
     res = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, cwd=ROOT,
                          env={**os.environ, "GYROCHAIN_CACHE": str(tmp_path)})
     assert res.returncode == 0, res.stderr

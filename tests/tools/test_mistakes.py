@@ -272,17 +272,3 @@ def test_normal_modes_of_two_point_masses():
     g, l = 9.81, 1.0
     want = np.array([(g / l) * (2 - np.sqrt(2)), (g / l) * (2 + np.sqrt(2))])
     assert np.allclose(w2, want, rtol=1e-12, atol=0), w2 - want
-
-
-def test_the_readme_mistakes_print_what_the_readme_shows(tmp_path):
-    """The README's "Mistakes" block: each `$ command` and the line it prints."""
-    text = (ROOT / "README.md").read_text()
-    block = text[text.index("**Mistakes.**"):]
-    block = block[block.index("```sh") + 5:block.index("```", block.index("```sh") + 5)]
-    lines = [ln for ln in block.strip().splitlines()]
-    pairs = [(lines[i][2:], lines[i + 1]) for i in range(0, len(lines), 2)]
-    assert len(pairs) >= 2 and all(cmd.startswith(".venv/bin/python -m codegen ") for cmd, _ in pairs)
-    for cmd, want in pairs:
-        args = [a.replace("x.gif", str(tmp_path / "x.gif")) for a in cmd.split()[3:]]
-        code, _, err, _ = run(*args)
-        assert code == 2 and err.strip() == want, (cmd, err)
