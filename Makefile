@@ -60,9 +60,9 @@ plot: $(VENV)/.plot-installed
 	$(VPY) -m codegen generate -q specs/furuta.toml >/dev/null
 	$(VPY) examples/furuta_lqr.py docs/img/furuta_lqr.png
 	rm -rf build/flip_map.zarr
-	$(VPY) -m codegen sweep specs/double_pendulum.toml --vary phi1=-3.14:3.14:300 --vary phi2=-3.14:3.14:300 \
+	$(VPY) -m codegen sweep specs/double_pendulum.toml --vary link1=-3.14:3.14:300 --vary link2=-3.14:3.14:300 \
 		--t1 10 --measure flip_time -q -o build/flip_map.zarr
-	$(VPY) -m codegen plot build/flip_map.zarr --log --cmap magma -o docs/img/double_pendulum_flip.png
+	$(VPY) -m codegen plot build/flip_map.zarr --log -o docs/img/double_pendulum_flip.png
 
 animations: setup
 	$(VPY) -m codegen animate specs/gimbal.toml --t1 8 --fps 20 --size 360x360 -o docs/img/gimbal.gif

@@ -149,7 +149,7 @@ def cmd_sweep(args) -> int:
     vary = [sw.parse_vary(v, args.random > 0) for v in args.vary or []]
     sweep = sw.Sweep(
         spec_text=spec.source, vary=vary, t1=args.t1, measures=args.measure or ["final"], random=args.random, seed=args.seed,
-        method=args.method, h=args.h, rtol=args.rtol, atol=args.atol, samples=args.samples, flip=args.flip,
+        method=args.method, h=args.h, rtol=args.rtol, atol=args.atol, samples=args.samples, flip=args.flip, angles=args.angles,
         lyap_interval=args.lyap_interval, phi=_floats(args.phi, "--phi", spec.n) if args.phi else [],
         phidot=_floats(args.phidot, "--phidot", spec.n) if args.phidot else [],
         u=_floats(args.u, "--u", len(spec.controls)) if args.u else [], params=_params_of(args.param), chunk=args.chunk,
@@ -315,10 +315,13 @@ def main(argv=None) -> int:
     sw.add_argument("--measure", action="append", help="final | flip_time | energy_error | lyapunov (repeatable; default final)")
     sw.add_argument("--method", default="dop853", help="rk4 | dop853 | gauss2")
     sw.add_argument("--h", type=float, default=0.0, help="step of rk4/gauss2 (first step of dop853, 0: automatic)")
-    sw.add_argument("--rtol", type=float, default=1e-8)
-    sw.add_argument("--atol", type=float, default=1e-10)
+    sw.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance of dop853")
+    sw.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance of dop853")
     sw.add_argument("--samples", type=int, default=1000, help="output intervals over [0, t1] for flip_time and energy_error")
-    sw.add_argument("--flip", default="", help="the coordinate of flip_time (phiK; default: the first of any)")
+    sw.add_argument("--flip", default="", help="the angle of flip_time (phiK: link or joint K; default: the first of any)")
+    sw.add_argument("--angles", default="auto", help="flip_time watches the links' absolute angles phi1+..+phiK (absolute; "
+                                                     "planar chains), the joint angles (relative), or auto: absolute where "
+                                                     "the chain is planar")
     sw.add_argument("--lyap-interval", type=float, default=0.1, help="renormalisation interval of the Lyapunov exponent (s)")
     sw.add_argument("--phi", default="", help="the coordinates that are not varied (default: the spec's initial or 0)")
     sw.add_argument("--phidot", default="", help="the rates that are not varied")
@@ -334,10 +337,10 @@ def main(argv=None) -> int:
     pl.add_argument("store")
     pl.add_argument("-o", "--output", required=True, help="the image (png, pdf, svg)")
     pl.add_argument("--measure", default="", help="which array (default: the sweep's first measure)")
-    pl.add_argument("--component", type=int, default=0, help="the state component of 'final'")
-    pl.add_argument("--cmap", default="viridis")
-    pl.add_argument("--log", action="store_true", help="a logarithmic colour scale (maps)")
-    pl.add_argument("--dpi", type=int, default=150)
+    pl.add_argument("--component", default="0", help="the state component of 'final': phiK, phidotK or its 0-based index")
+    pl.add_argument("--cmap", default="", help="the colour map of a map (default viridis; points without a value are grey)")
+    pl.add_argument("--log", action="store_true", help="a logarithmic scale: of the colours of a map, of the values of a curve")
+    pl.add_argument("--dpi", type=int, default=150, help="resolution of a PNG (dots per inch)")
     an = sub.add_parser("animate", help="the motion as a GIF, MP4, PNG still (--frame) or an offline HTML viewer")
     an.add_argument("spec", help="a spec file, or a sweep's store (with --at)")
     an.add_argument("-o", "--output", required=True, help="FILE.gif, FILE.mp4 (needs ffmpeg), FILE.html or FILE.png (with --frame)")

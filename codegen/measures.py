@@ -1,11 +1,12 @@
 """The measures of a sweep's trajectories, from arrays of states and the compiled model: the energy
-(23) along each, the first time a coordinate flips over (|φ| reaches π) and the largest Lyapunov
-exponent by Benettin's two-trajectory method."""
+(23) along each, the first time a link flips over (its absolute angle, or a joint angle, passes
+the upright) and the largest Lyapunov exponent by Benettin's two-trajectory method."""
 from __future__ import annotations
 
 import math
 
 import numpy as np
+import sympy as sp
 
 
 def energies(model, X: np.ndarray, params) -> np.ndarray:
@@ -26,10 +27,38 @@ def energies(model, X: np.ndarray, params) -> np.ndarray:
     return out.reshape(nb, nt)
 
 
+def link_signs(spec) -> list[int] | None:
+    """For a planar chain (every axis parallel or antiparallel to the one before: θᵏ = 0 or π for
+    k ≥ 2) the sign sₖ = ±1 with which φᵏ turns link k about ê¹₁, so that the absolute angle of
+    link k is θᵏ_abs = s₁φ¹ + … + sₖφᵏ (measured from where φ = 0 puts it); None for a spatial
+    chain, whose links have no one angle each."""
+    signs = [1]
+    for body in spec.bodies[1:]:
+        try:
+            c = float(sp.cos(body.theta))
+        except TypeError:  # a symbolic θ
+            return None
+        if abs(abs(c) - 1.0) > 1e-15:
+            return None
+        signs.append(signs[-1] * (1 if c > 0 else -1))
+    return signs
+
+
+def angles_of(Q: np.ndarray, signs: list[int] | None) -> np.ndarray:
+    """The joint angles Q (nb, nt, n) as absolute link angles (signs from link_signs), or as they
+    are (signs None)."""
+    return Q if signs is None else np.cumsum(Q * np.asarray(signs, float), axis=2)
+
+
 def flip_times(t: np.ndarray, Q: np.ndarray, k: int | None) -> np.ndarray:
-    """The first time |φ_k| reaches π (k None: any coordinate), linear between the output times;
-    NaN when it does not within the run.  Q has shape (nb, nt, n)."""
-    A = np.abs(Q if k is None else Q[:, :, k:k + 1])
+    """The first time an angle passes the upright, i.e. reaches an odd multiple of π (k None:
+    any of the angles, else angle k), linear between the output times; NaN when none does within
+    the run.  Q has shape (nb, nt, n): joint angles, or link angles (angles_of).  Each angle is
+    measured from the multiple of 2π nearest its start, so a start in (−π, π) flips when |angle|
+    reaches π, and a start beyond (a link angle summed from joint angles) is not a flip at t = 0."""
+    Q = Q if k is None else Q[:, :, k:k + 1]
+    start = np.nan_to_num(Q[:, :1, :], nan=0.0)
+    A = np.abs(Q - 2 * np.pi * np.round(start / (2 * np.pi)))
     over = np.nan_to_num(A, nan=0.0) >= np.pi
     out = np.full(Q.shape[0], np.nan)
     for b in range(Q.shape[0]):

@@ -13,10 +13,14 @@ from .spec import SpecError
 FORMATS = ("png", "pdf", "svg")  # the images plot writes (matplotlib's Agg, no extra library)
 
 
-def store(path: str | Path, output: str | Path, measure: str = "", component: int = 0, cmap: str = "viridis",
+NO_VALUE = "0.82"  # the grey of points without a value (no flip within t1, a failed run): no colour map's
+
+
+def store(path: str | Path, output: str | Path, measure: str = "", component: int | str = 0, cmap: str = "",
           log: bool = False, dpi: int = 150) -> Path:
     """A heat map (two varied quantities), a scatter (random samples) or a curve (one) of a sweep
-    store's measure, written to ``output`` (png, pdf, svg); returns its path."""
+    store's measure, written to ``output`` (png, pdf, svg); returns its path.  Points without a
+    value (no flip within t1, a run that failed) are grey on a map and said so in a legend."""
     output = Path(output)
     if output.suffix.lower().lstrip(".") not in FORMATS:
         raise SpecError("-o", f"{output.name}: an image type plot does not write (give .{', .'.join(FORMATS)})")
@@ -31,43 +35,20 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
     measure = measure or a["measures"][0]
     if measure not in data:
         raise SpecError("--measure", f"{measure!r} is not in the store (it has {', '.join(a['measures'])})")
-    values = data[measure]
-    if measure == "final":
-        dim = values.shape[-1]
-        if not 0 <= component < dim:
-            raise SpecError("--component", f"the state has components 0..{dim - 1}, got {component}")
-        values = values[..., component]
-    elif component:
-        raise SpecError("--component", f"only the measure final has components ({measure} is one number per point)")
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise SpecError("plot", "needs matplotlib: pip install 'gyrochain[plot]'") from None
-    if cmap not in matplotlib.colormaps:
-        raise SpecError("--cmap", f"{cmap!r} is not a matplotlib colour map (for example viridis, magma, cividis)")
+    values, comp = _values(data, measure, component)
     names = [v[0] for v in a["vary"]]
+    if len(names) > 2:
+        raise SpecError("store", f"plot shows one or two varied quantities; this sweep varies {len(names)}")
+    if len(names) == 1 and cmap:
+        raise SpecError("--cmap", "a curve has no colours (the sweep varies one quantity)")
+    plt, colormap = _matplotlib(cmap or "viridis")
     if log and not np.any(np.isfinite(values) & (values > 0)):
         raise SpecError("--log", f"{measure} has no positive value to draw on a logarithmic scale")
-    label = _measure_label(measure, component, data["attrs"])
+    label = _measure_label(measure, comp, data["attrs"])
     fig, ax = plt.subplots(figsize=(6.4, 5.2) if len(names) == 2 else (6.4, 4.0), dpi=dpi)
-    if len(names) == 2 and not a["random"]:
-        x, y = data["coords"][names[0]], data["coords"][names[1]]
-        norm = None
-        if log:
-            from matplotlib.colors import LogNorm
-            norm = LogNorm()
-        im = ax.pcolormesh(x, y, values.T, shading="nearest", cmap=cmap, norm=norm)
-        fig.colorbar(im, ax=ax, label=label)
-        ax.set_xlabel(_axis_label(names[0]))
-        ax.set_ylabel(_axis_label(names[1]))
-    elif len(names) == 2:
-        sc = ax.scatter(data["coords"][names[0]], data["coords"][names[1]], c=values, s=4, cmap=cmap)
-        fig.colorbar(sc, ax=ax, label=label)
-        ax.set_xlabel(_axis_label(names[0]))
-        ax.set_ylabel(_axis_label(names[1]))
-    elif len(names) == 1:
+    if len(names) == 2:
+        _map(fig, ax, data, names, values, colormap, log, label)
+    else:
         x = data["coords"][names[0]]
         order = np.argsort(x)
         ax.plot(x[order], values[order], ".-" if len(x) < 200 else "-")
@@ -75,9 +56,10 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
             ax.set_yscale("log")
         ax.set_xlabel(_axis_label(names[0]))
         ax.set_ylabel(label)
-    else:
-        raise SpecError("store", f"plot shows one or two varied quantities; this sweep varies {len(names)}")
-    ax.set_title(f"{data['attrs']['spec_name']}: {label}")
+    title = f"{data['attrs']['spec_name']}: {label.split(' (')[0]}"
+    if measure == "flip_time":
+        title += "\n" + _flip_definition(data["attrs"])
+    ax.set_title(title, fontsize=10)
     fig.tight_layout()
     output.parent.mkdir(parents=True, exist_ok=True)
     tmp = output.with_name(f".{output.name}.tmp")  # written beside and renamed: never half an image
@@ -90,15 +72,86 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
     return output
 
 
+def _values(data: dict, measure: str, component: int | str) -> tuple[np.ndarray, str]:
+    """The measure's values per point and, for ``final``, the state component's name (phiK or
+    phidotK; --component takes the name or its 0-based index)."""
+    values = data[measure]
+    if measure != "final":
+        if component not in (0, "0", "", None):
+            raise SpecError("--component", f"only the measure final has components ({measure} is one number per point)")
+        return values, ""
+    dim = values.shape[-1]
+    n = dim // 2
+    names = [f"phi{k}" for k in range(1, n + 1)] + [f"phidot{k}" for k in range(1, n + 1)]
+    comp = str(component)
+    if comp.isdigit() and int(comp) < dim:
+        comp = names[int(comp)]
+    if comp not in names:
+        raise SpecError("--component", f"one of {', '.join(names)} (or 0..{dim - 1}), got {component!r}")
+    return values[..., names.index(comp)], comp
+
+
+def _matplotlib(cmap: str):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise SpecError("plot", "needs matplotlib: pip install 'gyrochain[plot]'") from None
+    if cmap not in matplotlib.colormaps:
+        raise SpecError("--cmap", f"{cmap!r} is not a matplotlib colour map (for example viridis, magma, cividis)")
+    return plt, matplotlib.colormaps[cmap].with_extremes(bad=NO_VALUE)
+
+
+def _map(fig, ax, data: dict, names: list, values: np.ndarray, colormap, log: bool, label: str) -> None:
+    """A heat map of a grid or a scatter of random samples, with a colour bar (readable ticks on a
+    logarithmic one) and a legend entry for the points without a value."""
+    from matplotlib.colors import LogNorm
+    from matplotlib.patches import Patch
+    from matplotlib.ticker import FuncFormatter, LogLocator
+
+    norm = LogNorm() if log else None
+    if data["attrs"]["args"]["random"]:
+        art = ax.scatter(data["coords"][names[0]], data["coords"][names[1]], c=values, s=4, cmap=colormap, norm=norm,
+                         plotnonfinite=True)
+    else:
+        art = ax.pcolormesh(data["coords"][names[0]], data["coords"][names[1]], np.ma.masked_invalid(values.T),
+                            shading="nearest", cmap=colormap, norm=norm)
+    bar = fig.colorbar(art, ax=ax, label=label)
+    if log:
+        bar.ax.yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+        bar.ax.yaxis.set_minor_locator(LogLocator(subs="all"))
+        bar.ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+    ax.set_xlabel(_axis_label(names[0]))
+    ax.set_ylabel(_axis_label(names[1]))
+    missing = int(np.sum(~np.isfinite(values)))
+    if missing:
+        what = "no flip" if "flip" in label else "no value"
+        ax.legend(handles=[Patch(facecolor=NO_VALUE, edgecolor="0.4", label=f"{what} ({missing} points)")],
+                  loc="upper right", fontsize=8, framealpha=0.9)
+
+
+def _flip_definition(attrs: dict) -> str:
+    """What flip_time measured, as the plot states it."""
+    if attrs.get("flip_angles", "relative") == "absolute":
+        return "the first time a link's absolute angle φ¹+…+φᵏ passes the upright (±π)"
+    return "the first time a joint angle φᵏ passes ±π"
+
+
 def _axis_label(name: str) -> str:
-    m = re.fullmatch(r"(phi|phidot)(\d+)", name)
+    m = re.fullmatch(r"(phi|phidot|link)(\d+)", name)
     if not m:
         return name
+    if m.group(1) == "link":
+        k = int(m.group(2))
+        total = {1: "\\varphi^1", 2: "\\varphi^1 + \\varphi^2"}.get(k, f"\\varphi^1 + \\ldots + \\varphi^{{{k}}}")
+        return f"link {k}: ${total}$ at t = 0 (rad)"
     return f"$\\varphi^{{{m.group(2)}}}$ (rad)" if m.group(1) == "phi" else f"$\\dot\\varphi^{{{m.group(2)}}}$ (rad/s)"
 
 
-def _measure_label(measure: str, component: int, attrs: dict) -> str:
+def _measure_label(measure: str, component: str, attrs: dict) -> str:
     t1 = attrs["args"]["t1"]
-    return {"flip_time": f"flip time (s; blank: none within {t1:g} s)", "energy_error": "largest |E(t) - E(0)|",
-            "lyapunov": "largest Lyapunov exponent (1/s)", "code": "integrator return code"}.get(
-        measure, f"final state component {component}")
+    if measure == "final":
+        return f"{_axis_label(component).replace(' (', f' at t = {t1:g} s (')}"
+    return {"flip_time": f"flip time (s; grey: none within {t1:g} s)", "energy_error": "largest |E(t) - E(0)| (J)",
+            "lyapunov": "largest Lyapunov exponent (1/s)", "code": "integrator return code"}[measure]

@@ -28,11 +28,12 @@ import numpy as np
 
 from . import __version__, pipeline
 from .codes import METHODS
-from .measures import energies, flip_times, lyapunov
+from .measures import angles_of, energies, flip_times, link_signs, lyapunov
 from .physical import check_values, run_values
 from .spec import SpecError
 
 MEASURES = ("final", "flip_time", "energy_error", "lyapunov")
+ANGLES = ("auto", "absolute", "relative")  # --angles: what flip_time watches
 METHOD_NAMES = tuple(m for m in METHODS if m in ("rk4", "dop853", "gauss2"))  # those a sweep offers
 STORE_KIND = "gyrochain-sweep"
 
@@ -54,6 +55,7 @@ class Sweep:
     atol: float = 1e-10
     samples: int = 1000  # output intervals over [0, t1] for flip_time and energy_error
     flip: str = ""  # the coordinate of flip_time (phiK), "" = the first of any
+    angles: str = "auto"  # flip_time on the links' absolute angles, the joint angles, or auto (absolute where planar)
     lyap_interval: float = 0.1  # renormalisation interval of the Lyapunov exponent
     lyap_d0: float = 1e-8  # the initial separation (Euclidean, in state space)
     phi: list = field(default_factory=list)  # the state of what is not varied
@@ -113,10 +115,15 @@ class Plan:
         names = [v[0] for v in sweep.vary]
         if not names:
             raise SpecError("--vary", "nothing to vary")
+        self.link_signs = link_signs(spec)  # linkK, the absolute angle of link K, exists where the chain is planar
+        self.link_names = [f"link{k}" for k in range(1, n + 1)] if self.link_signs else []
         for name in names:
-            if name not in self.state_names and name not in self.param_names:
-                allowed = f"phi1..phi{n}, phidot1..phidot{n}" + (f" or a parameter ({', '.join(self.param_names)})" if self.param_names else "")
+            if name not in self.state_names + self.link_names and name not in self.param_names:
+                allowed = (f"phi1..phi{n}, phidot1..phidot{n}" + (f", link1..link{n}" if self.link_names else "")
+                           + (f" or a parameter ({', '.join(self.param_names)})" if self.param_names else ""))
                 raise SpecError("--vary", f"unknown name {name!r} (expected {allowed})")
+        if any(nm in self.link_names for nm in names) and any(nm in self.state_names[:n] for nm in names):
+            raise SpecError("--vary", "give the links' absolute angles (linkK) or the joint angles (phiK), not both")
         if len(set(names)) != len(names):
             raise SpecError("--vary", "a name is varied twice")
         clash = [nm for nm in names if nm in MEASURES + ("code", "done")]
@@ -139,6 +146,13 @@ class Plan:
             raise SpecError("--samples", "must be at least 1")
         if sweep.flip and sweep.flip not in self.state_names[:n]:
             raise SpecError("--flip", f"expected one of phi1..phi{n}")
+        if sweep.angles not in ANGLES:
+            raise SpecError("--angles", f"one of {', '.join(ANGLES)}, got {sweep.angles!r}")
+        self.signs = self.link_signs if sweep.angles != "relative" else None
+        if sweep.angles == "absolute" and self.signs is None:
+            raise SpecError("--angles", "absolute: the axes are not all parallel, so a link has no one angle "
+                                        "(use relative, the joint angles)")
+        self.angles = "relative" if self.signs is None else "absolute"  # what flip_time measures
         if "lyapunov" in sweep.measures and not (0 < sweep.lyap_interval <= sweep.t1):
             raise SpecError("--lyap-interval", "must be in (0, t1]")
         fixed = [p for p in self.param_names if p not in names]
@@ -230,17 +244,33 @@ class Plan:
 
 
 # --------------------------------------------------------------------------- one chunk
+def start_states(plan: Plan, pts: np.ndarray) -> np.ndarray:
+    """The initial states (nb, 2n) of points (nb, number of varied names): the base state with the
+    varied coordinates set; varied absolute link angles θ_k = s_1 φ¹ + … + s_k φᵏ (linkK) set the
+    joint angles φᵏ = s_k (θ_k − θ_{k−1})."""
+    n = plan.n
+    X0 = np.tile(plan.base, (len(pts), 1))
+    links = [(j, plan.link_names.index(nm)) for j, nm in enumerate(plan.names) if nm in plan.link_names]
+    if links:
+        s = np.asarray(plan.link_signs, float)
+        theta = np.cumsum(X0[:, :n] * s, axis=1)
+        for j, k in links:
+            theta[:, k] = pts[:, j]
+        X0[:, :n] = s * np.diff(theta, axis=1, prepend=0.0)
+    for j, name in enumerate(plan.names):
+        if name in plan.state_names:
+            X0[:, plan.state_names.index(name)] = pts[:, j]
+    return X0
+
+
 def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
     """The measures of chunk i (arrays over the chunk's part of the grid) and the return codes."""
     sw = plan.sweep
     pts = plan.chunk_points(i)
     nb, n = len(pts), plan.n
-    X0 = np.tile(plan.base, (nb, 1))
+    X0 = start_states(plan, pts)
     params = dict(plan.params)
     per_point = None
-    for j, name in enumerate(plan.names):
-        if name in plan.state_names:
-            X0[:, plan.state_names.index(name)] = pts[:, j]
     varied_params = [(j, name) for j, name in enumerate(plan.names) if name in plan.param_names]
     if varied_params:
         per_point = [dict(params, **{name: float(pts[k, j]) for j, name in varied_params}) for k in range(nb)]
@@ -257,7 +287,8 @@ def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
         if "final" in sw.measures:
             out["final"] = X[:, -1, :].copy()
         if "flip_time" in sw.measures:
-            out["flip_time"] = flip_times(t, X[:, :, :n], plan.state_names.index(sw.flip) if sw.flip else None)
+            out["flip_time"] = flip_times(t, angles_of(X[:, :, :n], plan.signs),
+                                          plan.state_names.index(sw.flip) if sw.flip else None)
         if "energy_error" in sw.measures:
             E = energies(model, X, per_point if per_point is not None else params or None)
             out["energy_error"] = np.max(np.abs(E - E[:, :1]), axis=1)
@@ -299,7 +330,8 @@ def _zarr():
 
 def _attrs(plan: Plan) -> dict:
     return {"kind": STORE_KIND, "codegen": __version__, "spec_name": plan.spec.name, "spec": plan.sweep.spec_text,
-            "args": json.loads(json.dumps(plan.sweep.args())), "shape": list(plan.shape), "dims": plan.dims}
+            "args": json.loads(json.dumps(plan.sweep.args())), "shape": list(plan.shape), "dims": plan.dims,
+            "flip_angles": plan.angles, "link_signs": plan.signs}
 
 
 def stored_attrs(path: str | Path) -> dict | None:
@@ -562,11 +594,6 @@ def point(store: str | Path, at: str) -> dict:
         values = np.array(values)
         label = ", ".join(f"{nm} = {v:.6g}" for nm, v in zip(names, values))
         note = ("--at: not a point of the grid; the nearest one is shown (" + ", ".join(snapped) + ")") if snapped else ""
-    x0 = plan.base.copy()
-    params = dict(plan.params)
-    for j, nm in enumerate(names):
-        if nm in plan.state_names:
-            x0[plan.state_names.index(nm)] = values[j]
-        else:
-            params[nm] = float(values[j])
+    x0 = start_states(plan, np.asarray(values, float)[None, :])[0]
+    params = dict(plan.params, **{nm: float(values[j]) for j, nm in enumerate(names) if nm in plan.param_names})
     return dict(spec_text=attrs["spec"], x0=x0, params=params, u=list(plan.sweep.u), t1=plan.sweep.t1, label=label, note=note)

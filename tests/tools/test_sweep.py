@@ -173,8 +173,8 @@ def test_killed_worker_loses_nothing(tmp_path):
 
 # --------------------------------------------------------------------------- the measures
 def test_measures(tmp_path):
-    """final against the independent reference model; flip_time against a dense trajectory of the
-    same C (30000 samples); the energy error of DOP853 at 1e-11; the Lyapunov exponent of small
+    """final against the independent reference model; flip_time (a link's absolute angle passing
+    the upright) against a dense trajectory of the same C (30000 samples); the energy error of DOP853 at 1e-11; the Lyapunov exponent of small
     oscillations against that of the chaotic big swings."""
     sw = small(measures=("final", "flip_time", "energy_error"), t1=3.0, samples=1500, rtol=1e-11, atol=1e-12,
                vary=[("phi1", 0.3, 2.6, 2), ("phi2", 0.2, 2.8, 2)])
@@ -188,7 +188,9 @@ def test_measures(tmp_path):
         for j, p2 in enumerate(d["coords"]["phi2"]):
             x0 = [p1, p2, 0.0, 0.0]
             X = model.integrate(tt, x0, rtol=1e-11, atol=1e-12)
-            over = np.nonzero(np.abs(X[:, :2]).max(axis=1) >= np.pi)[0]
+            theta = np.cumsum(X[:, :2], axis=1)  # the links' absolute angles, from their start's nearest 2πk
+            theta -= 2 * np.pi * np.round(theta[0] / (2 * np.pi))
+            over = np.nonzero(np.abs(theta).max(axis=1) >= np.pi)[0]
             if len(over):
                 flips += 1
                 assert d["flip_time"][i, j] == pytest.approx(tt[over[0]], abs=3.0 / 1500)
@@ -220,6 +222,51 @@ def test_random_samples_and_a_parameter(tmp_path):
     k = 7
     x = model.integrate([0, 1.0], [0.0, d["coords"]["phi2"][k], 0.0, 0.0], u=[0.0], params=dict(varied, l=d["coords"]["l"][k]))
     assert np.array_equal(d["final"][k], x[-1])
+
+
+def test_no_flip_where_the_energy_forbids_it(tmp_path):
+    """The double pendulum of equal uniform rods released at rest with link angles θ¹, θ²: a link
+    can pass the upright only if its energy reaches that of one link upright and the other
+    hanging, so where 3 cos θ¹ + cos θ² > 2 no point of the map may flip (checked on every point),
+    while elsewhere most do."""
+    sw = small(measures=("flip_time",), vary=[("link1", -3.1, 3.1, 41), ("link2", -3.1, 3.1, 41)], t1=10.0,
+               samples=1000, chunk=400)
+    sweep.run(sw, tmp_path / "e.zarr", threads=2, progress=False)
+    d = sweep.read(tmp_path / "e.zarr")
+    assert d["attrs"]["flip_angles"] == "absolute"
+    t1, t2 = np.meshgrid(d["coords"]["link1"], d["coords"]["link2"], indexing="ij")
+    forbidden = 3 * np.cos(t1) + np.cos(t2) > 2
+    assert forbidden.sum() > 100 and (~forbidden).sum() > 100
+    assert np.all(np.isnan(d["flip_time"][forbidden])), np.argwhere(~np.isnan(d["flip_time"]) & forbidden)
+    assert np.mean(np.isfinite(d["flip_time"][~forbidden])) > 0.5
+
+
+def test_link_angles_set_the_joint_angles():
+    """linkK is φ¹ + … + φᵏ at the start (a planar chain); the joint angles follow, and a spatial
+    chain has no link angles (nor --angles absolute)."""
+    plan = sweep.Plan(small(vary=[("link1", 0.5, 1.0, 2), ("link2", -1.0, 2.0, 2)], phidot=[0.1, 0.2]))
+    x0 = sweep.start_states(plan, np.array([[0.5, 2.0], [1.0, -1.0]]))
+    assert np.allclose(x0, [[0.5, 1.5, 0.1, 0.2], [1.0, -2.0, 0.1, 0.2]])
+    spatial = dict(spec_text=(ROOT / "specs" / "spatial3.toml").read_text())
+    with pytest.raises(sweep.SpecError, match="link1"):
+        sweep.Plan(small(**spatial, vary=[("link1", 0, 1, 2)]))
+    with pytest.raises(sweep.SpecError, match="not all parallel"):
+        sweep.Plan(small(**spatial, vary=[("phi1", 0, 1, 2)], angles="absolute"))
+    with pytest.raises(sweep.SpecError, match="not both"):
+        sweep.Plan(small(vary=[("link1", 0, 1, 2), ("phi2", 0, 1, 2)]))
+    assert sweep.Plan(small(**spatial, vary=[("phi1", 0, 1, 2)])).angles == "relative"
+
+
+def test_relative_angles_flip_when_a_joint_angle_passes_pi(tmp_path):
+    """--angles relative watches the joint angles: from φ = (−1.75, 3) the links fold (φ² passes
+    π, at 1.07 s) while neither link passes the upright within 3 s, which absolute does not count."""
+    vary = [("phi1", -1.75, -1.75, 1), ("phi2", 3.0, 3.0, 1)]
+    rel, ab = small(measures=("flip_time",), vary=vary, angles="relative"), small(measures=("flip_time",), vary=vary)
+    sweep.run(rel, tmp_path / "r.zarr", threads=1, progress=False)
+    sweep.run(ab, tmp_path / "a.zarr", threads=1, progress=False)
+    r, a = sweep.read(tmp_path / "r.zarr"), sweep.read(tmp_path / "a.zarr")
+    assert r["attrs"]["flip_angles"] == "relative" and a["attrs"]["flip_angles"] == "absolute"
+    assert r["flip_time"][0, 0] == pytest.approx(1.07, abs=0.01) and np.isnan(a["flip_time"][0, 0])
 
 
 # --------------------------------------------------------------------------- bad input
@@ -278,6 +325,40 @@ def test_plot_map_and_curve(tmp_path):
     assert main(["plot", str(tmp_path / "curve.zarr"), "-o", str(tmp_path / "curve.png"), "--component", "2"]) == 0
     for f in ("map.png", "curve.png"):
         assert (tmp_path / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_plots_say_what_they_show(tmp_path, capsys):
+    """A map's points without a flip are grey and counted in a legend, a logarithmic colour bar
+    labels its ticks with plain numbers (1, 2, 5 per decade), the title states what flip_time
+    measured, a curve names its coordinate and unit, and options that do not apply are refused."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    from codegen import plot
+
+    sweep.run(small(measures=("flip_time",)), tmp_path / "m.zarr", threads=2, progress=False)
+    d = sweep.read(tmp_path / "m.zarr")
+    _plt, cmap = plot._matplotlib("viridis")
+    assert tuple(cmap.get_bad()[:3]) == pytest.approx((0.82, 0.82, 0.82))
+    fig, ax = plt.subplots()
+    plot._map(fig, ax, d, ["phi1", "phi2"], d["flip_time"], cmap, True, "flip time")
+    fig.canvas.draw()
+    ticks = [t.get_text() for t in fig.axes[1].get_yticklabels() if t.get_text()]
+    plt.close(fig)
+    assert len(ticks) >= 3 and all(float(t) > 0 for t in ticks), ticks
+    assert ax.get_legend().get_texts()[0].get_text() == f"no flip ({int(np.isnan(d['flip_time']).sum())} points)"
+    assert "absolute angle" in plot._flip_definition(d["attrs"])
+    curve = small(measures=("final",), vary=[("phi1", 0.1, 1.0, 9)])
+    sweep.run(curve, tmp_path / "c.zarr", threads=1, progress=False)
+    c = sweep.read(tmp_path / "c.zarr")
+    assert plot._measure_label("final", plot._values(c, "final", "phidot2")[1], c["attrs"]) == \
+        "$\\dot\\varphi^{2}$ at t = 3 s (rad/s)"
+    assert plot._values(c, "final", 1)[1] == "phi2"
+    for args, field in ((["--cmap", "magma"], "--cmap"), (["--component", "psi"], "--component"),
+                        (["--component", "9"], "--component")):
+        assert main(["plot", str(tmp_path / "c.zarr"), "-o", str(tmp_path / "c.png"), *args]) == 2
+        assert capsys.readouterr().err.startswith(f"error: {field}:")
+    assert not (tmp_path / "c.png").exists()
 
 
 def test_model_files_are_the_generated_c():
