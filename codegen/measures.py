@@ -50,6 +50,11 @@ def angles_of(Q: np.ndarray, signs: list[int] | None) -> np.ndarray:
     return Q if signs is None else np.cumsum(Q * np.asarray(signs, float), axis=2)
 
 
+def joint_angles(theta: np.ndarray, signs: list[int]) -> np.ndarray:
+    """The inverse of angles_of: link angles (..., n) back to joint angles φᵏ = sₖ(θₖ − θₖ₋₁)."""
+    return np.asarray(signs, float) * np.diff(theta, axis=-1, prepend=0.0)
+
+
 def flip_times(t: np.ndarray, Q: np.ndarray, k: int | None) -> np.ndarray:
     """The first time an angle passes the upright, i.e. reaches an odd multiple of π (k None:
     any of the angles, else angle k), linear between the output times; NaN when none does within

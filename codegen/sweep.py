@@ -1,10 +1,7 @@
 """Ensembles: a grid (or random samples) of initial states and parameters, integrated by the
 batched C (NAME_integrate_batch) chunk by chunk, on threads of this machine, a local Dask cluster
-or an existing one, each finished chunk written to a Zarr store at once.
-
-    python -m codegen sweep SPEC --vary phi1=-3.1:3.1:400 --vary phi2=-3.1:3.1:400 --t1 10 \\
-        --measure flip_time -o out.zarr
-
+or an existing one, each finished chunk written to a Zarr store at once
+(``gyrochain sweep SPEC --vary link1=-3.1:3.1:400 --vary link2=-3.1:3.1:400 --t1 10 --measure flip_time -o out.zarr``).
 The store holds one array per measure over the grid (dimension names for xarray), the grid's
 coordinates, the integrator's return code of every point and a ``done`` flag per chunk; its
 attributes are the spec, the sweep's arguments and the codegen version.  A chunk's results depend
@@ -28,7 +25,7 @@ import numpy as np
 
 from . import __version__, pipeline
 from .codes import METHODS
-from .measures import angles_of, energies, flip_times, link_signs, lyapunov
+from .measures import angles_of, energies, flip_times, joint_angles, link_signs, lyapunov
 from .physical import check_values, run_values
 from .spec import SpecError
 
@@ -129,32 +126,7 @@ class Plan:
         clash = [nm for nm in names if nm in MEASURES + ("code", "done")]
         if clash:
             raise SpecError("--vary", f"{clash[0]!r} is the name of a stored array; rename the parameter")
-        for m in sweep.measures:
-            if m not in MEASURES:
-                raise SpecError("--measure", f"unknown measure {m!r} (one of {', '.join(MEASURES)})")
-        if not sweep.measures:
-            raise SpecError("--measure", "no measure asked for")
-        if len(set(sweep.measures)) != len(sweep.measures):
-            raise SpecError("--measure", "a measure is asked for twice")
-        if sweep.method not in METHOD_NAMES:
-            raise SpecError("--method", f"one of {', '.join(METHOD_NAMES)}")
-        if sweep.method != "dop853" and not sweep.h > 0:
-            raise SpecError("--h", f"{sweep.method} needs a step --h > 0")
-        if not (sweep.t1 > 0 and math.isfinite(sweep.t1)):
-            raise SpecError("--t1", "must be a positive number")
-        if sweep.samples < 1:
-            raise SpecError("--samples", "must be at least 1")
-        if sweep.flip and sweep.flip not in self.state_names[:n]:
-            raise SpecError("--flip", f"expected one of phi1..phi{n}")
-        if sweep.angles not in ANGLES:
-            raise SpecError("--angles", f"one of {', '.join(ANGLES)}, got {sweep.angles!r}")
-        self.signs = self.link_signs if sweep.angles != "relative" else None
-        if sweep.angles == "absolute" and self.signs is None:
-            raise SpecError("--angles", "absolute: the axes are not all parallel, so a link has no one angle "
-                                        "(use relative, the joint angles)")
-        self.angles = "relative" if self.signs is None else "absolute"  # what flip_time measures
-        if "lyapunov" in sweep.measures and not (0 < sweep.lyap_interval <= sweep.t1):
-            raise SpecError("--lyap-interval", "must be in (0, t1]")
+        self._check_options()
         fixed = [p for p in self.param_names if p not in names]
         # the values of the parameters that are not varied: --param over the spec's [values]
         self.params = {k: v for k, v in run_values(spec, sweep.params, needed=fixed).items() if k not in names}
@@ -189,10 +161,39 @@ class Plan:
         if "energy_error" in sweep.measures and not self._has_energy():
             raise SpecError("--measure", "energy_error: the energy (23) is not an integral of this spec")
 
+    def _check_options(self) -> None:
+        """The measures, the integrator and the flip angles asked for."""
+        sweep, n = self.sweep, self.n
+        for m in sweep.measures:
+            if m not in MEASURES:
+                raise SpecError("--measure", f"unknown measure {m!r} (one of {', '.join(MEASURES)})")
+        if not sweep.measures:
+            raise SpecError("--measure", "no measure asked for")
+        if len(set(sweep.measures)) != len(sweep.measures):
+            raise SpecError("--measure", "a measure is asked for twice")
+        if sweep.method not in METHOD_NAMES:
+            raise SpecError("--method", f"one of {', '.join(METHOD_NAMES)}")
+        if sweep.method != "dop853" and not sweep.h > 0:
+            raise SpecError("--h", f"{sweep.method} needs a step --h > 0")
+        if not (sweep.t1 > 0 and math.isfinite(sweep.t1)):
+            raise SpecError("--t1", "must be a positive number")
+        if sweep.samples < 1:
+            raise SpecError("--samples", "must be at least 1")
+        if sweep.flip and sweep.flip not in self.state_names[:n]:
+            raise SpecError("--flip", f"expected one of phi1..phi{n}")
+        if sweep.angles not in ANGLES:
+            raise SpecError("--angles", f"one of {', '.join(ANGLES)}, got {sweep.angles!r}")
+        self.signs = self.link_signs if sweep.angles != "relative" else None
+        if sweep.angles == "absolute" and self.signs is None:
+            raise SpecError("--angles", "absolute: the axes are not all parallel, so a link has no one angle "
+                                        "(use relative, the joint angles)")
+        self.angles = "relative" if self.signs is None else "absolute"  # what flip_time measures
+        if "lyapunov" in sweep.measures and not (0 < sweep.lyap_interval <= sweep.t1):
+            raise SpecError("--lyap-interval", "must be in (0, t1]")
+
     def _check_size(self) -> None:
-        """Refuse, before anything is allocated, a sweep too large for one store: more than
-        MAX_POINTS points (a random sweep's points are held in memory, a grid's store has that many
-        entries per measure) or more than MAX_CHUNKS chunks (each a task and a stored file)."""
+        """Refuse, before anything is allocated, more than MAX_POINTS points (held in memory, stored
+        per measure) or MAX_CHUNKS chunks (each a task and a stored file)."""
         sweep = self.sweep
         points = sweep.random if sweep.random > 0 else math.prod(v[3] for v in sweep.vary)
         if points > MAX_POINTS:
@@ -252,11 +253,9 @@ def start_states(plan: Plan, pts: np.ndarray) -> np.ndarray:
     X0 = np.tile(plan.base, (len(pts), 1))
     links = [(j, plan.link_names.index(nm)) for j, nm in enumerate(plan.names) if nm in plan.link_names]
     if links:
-        s = np.asarray(plan.link_signs, float)
-        theta = np.cumsum(X0[:, :n] * s, axis=1)
-        for j, k in links:
-            theta[:, k] = pts[:, j]
-        X0[:, :n] = s * np.diff(theta, axis=1, prepend=0.0)
+        theta = np.cumsum(X0[:, :n] * plan.link_signs, axis=1)
+        theta[:, [k for _, k in links]] = pts[:, [j for j, _ in links]]
+        X0[:, :n] = joint_angles(theta, plan.link_signs)
     for j, name in enumerate(plan.names):
         if name in plan.state_names:
             X0[:, plan.state_names.index(name)] = pts[:, j]
