@@ -403,12 +403,38 @@ def _motion_of(source, phi, phidot, u, params, t1, at) -> tuple:
     return spec, x0, torques(spec, u), run_values(spec, params), t1 if t1 is not None else 10.0, spec.description, ""
 
 
+def _still(spec, X: np.ndarray, phi, phidot, at: str) -> bool:
+    """No state given, none in the spec, and the motion from φ = 0 at rest stays there."""
+    if phi is not None or phidot is not None or at or spec.initial:
+        return False
+    return bool(np.all(np.isfinite(X))) and float(np.max(np.abs(X - X[:1]))) < 1e-9
+
+
+def _follows(spec, ch, times) -> tuple[bool, str]:
+    """Whether the camera follows the platform's O¹ by default: where O¹ moves farther than the
+    chain reaches, the world view would show a small chain drifting; and the line that says so."""
+    from . import reference, scene
+
+    if spec.base is None:
+        return False, ""
+    r0 = np.array([reference.platform(ch, float(t))[3] for t in times[:: max(1, len(times) // 400)]], float)
+    excursion = float(np.max(np.linalg.norm(r0 - r0[:1], axis=1)))
+    reach = scene.Geometry(ch).size
+    if excursion <= reach:
+        return False, ""
+    return True, (f"the camera follows the platform's O1 (it moves {excursion:.3g} m, the chain reaches "
+                  f"{reach:.3g} m; --no-follow for the world view)")
+
+
 def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=None, fps: float = 25.0,
            frame: float | None = None, at: str = "", trajectory: str = "", size=(480, 480), view=None,
-           trace: float = 2.0, follow: bool = False, rtol: float = 1e-10, force: bool = False) -> dict:
+           trace: float = 2.0, follow: bool | None = None, rtol: float = 1e-10, force: bool = False) -> dict:
     """The motion of a spec (a path or a parsed spec) or of a sweep store's point (``at``) as
     ``output`` (.gif, .mp4, .html, or a .png still at ``frame``).  ``view``: (azimuth, elevation)
-    in degrees, default fitted to the motion.  Returns the path, the frame times and the size."""
+    in degrees, default fitted to the motion.  ``follow`` None: the camera follows the platform's
+    O¹ where it moves farther than the chain reaches.  A spec without [initial] that would stand
+    still at φ = 0 is given a small push (0.2 rad in every joint), and the note says so.  Returns
+    the path, the frame times, the size and the note (what was chosen for the user)."""
     from . import pipeline, reference, scene
     from .simulate import motion
 
@@ -432,12 +458,20 @@ def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=Non
         fine, has_rate = frame_times(t1, fps, None, sub), True
         times = fine[::sub]
     model, derived = pipeline.compiled(spec)
-    if not trajectory:
-        fine_X = motion(model, fine, x0, u=u, params=params or None, rtol=rtol, atol=rtol * 1e-2)
-        X = fine_X[np.searchsorted(fine, times)]
-    integral = integral_curve(model, derived, X, times, u, params or None) if has_rate else None
     if follow and spec.base is None:
         raise SpecError("--follow", "the spec has no [base]: there is no platform to follow")
+    if not trajectory:
+        fine_X = motion(model, fine, x0, u=u, params=params or None, rtol=rtol, atol=rtol * 1e-2)
+        if _still(spec, fine_X, phi, phidot, at):
+            x0 = [0.2] * spec.n + [0.0] * spec.n
+            note = (f"the spec has no [initial] and stays at rest at phi = 0: drawing the motion from phi = "
+                    f"{', '.join(['0.2'] * spec.n)} (give --phi/--phidot to choose)")
+            fine_X = motion(model, fine, x0, u=u, params=params or None, rtol=rtol, atol=rtol * 1e-2)
+        X = fine_X[np.searchsorted(fine, times)]
+    integral = integral_curve(model, derived, X, times, u, params or None) if has_rate else None
+    if follow is None:
+        follow, why = _follows(spec, ch, fine)
+        note = "\n".join(filter(None, [note, why]))
     sc = scene.build(spec, ch, times, X, trace=trace, integral=integral, tip_times=fine, tip_X=fine_X,
                      rates=has_rate, follow=follow)
     camera = scene.Camera(math.radians(view[0]), math.radians(view[1])) if view else scene.default_camera(sc.points)

@@ -356,7 +356,9 @@ def main(argv=None) -> int:
     an.add_argument("--size", default="480x480", help="WIDTHxHEIGHT of a GIF, MP4 or PNG")
     an.add_argument("--view", default="", help="azimuth,elevation of the camera in degrees (default: fitted to the motion)")
     an.add_argument("--trace", type=float, default=2.0, help="seconds of the tip's trace")
-    an.add_argument("--follow", action="store_true", help="keep the platform's O1 in the middle of the view (a heaving base)")
+    an.add_argument("--follow", action=argparse.BooleanOptionalAction, default=None,
+                    help="keep the platform's O1 in the middle of the view (default: where O1 moves farther than the "
+                         "chain reaches; --no-follow for the world view)")
     an.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of DOP853")
     an.add_argument("--force", action="store_true", help="replace an existing file animate did not write")
     an.add_argument("-q", "--quiet", action="store_true")

@@ -399,6 +399,35 @@ def test_follow_keeps_the_platform_in_place(tmp_path, capsys):
     fails(capsys, ["animate", str(GIMBAL), "--follow", "-o", str(tmp_path / "g.gif")], "--follow")
 
 
+def test_the_camera_follows_a_platform_that_moves_farther_than_the_chain(tmp_path, capsys):
+    """By default the ship's gimbal (0.1 m) is followed on its 0.5 m heave and a line says so;
+    --no-follow keeps the world view; Kapitza's 1 cm pivot under a 0.2 m pendulum is not followed."""
+    spec = load_spec(SPECS / "ship_gimbal.toml")
+    follows, why = animate._follows(spec, reference.numeric(spec), np.linspace(0, 10, 251))
+    assert follows and "--no-follow" in why
+    kap = load_spec(SPECS / "kapitza.toml")
+    assert animate._follows(kap, reference.numeric(kap, dict(kap.values)), np.linspace(0, 10, 251)) == (False, "")
+    for extra, note in (([], True), (["--no-follow"], False)):
+        capsys.readouterr()
+        assert main(["animate", str(SPECS / "ship_gimbal.toml"), *extra, "--frame", "1", "--size", "120x120",
+                     "-o", str(tmp_path / "s.png")]) == 0
+        assert ("the camera follows the platform's O1" in capsys.readouterr().err) == note
+
+
+def test_a_spec_without_a_state_that_would_stand_still_gets_a_push(tmp_path, capsys):
+    """furuta.toml has no [initial] and hangs at rest at φ = 0: animate draws the motion from
+    φ = 0.2 in every joint and says so; a given state, even at rest, is drawn as given."""
+    times, x = np.linspace(0, 1, 5), np.zeros((5, 4))
+    spec = load_spec(SPECS / "furuta.toml")
+    assert animate._still(spec, x, None, None, "") and not animate._still(spec, x, [0.0, 0.0], None, "")
+    assert not animate._still(load_spec(GIMBAL), x, None, None, "")  # the gimbal has an [initial]
+    assert main(["animate", str(SPECS / "furuta.toml"), "--frame", "1", "--size", "120x120", "-o", str(tmp_path / "f.png")]) == 0
+    assert "drawing the motion from phi = 0.2, 0.2" in capsys.readouterr().err
+    assert main(["animate", str(SPECS / "furuta.toml"), "--phi", "0,0", "--frame", "1", "--size", "120x120",
+                 "-o", str(tmp_path / "g.png")]) == 0
+    assert "drawing the motion" not in capsys.readouterr().err
+
+
 def test_spec_text_is_escaped_in_the_page(tmp_path):
     """The spec's description is text in the page, never markup or script."""
     spec = tmp_path / "evil.toml"
