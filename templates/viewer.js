@@ -15,13 +15,17 @@
   const speed = document.getElementById("speed");
   const readout = document.getElementById("state");
   const dpr = window.devicePixelRatio || 1;
-  for (const c of [scene, plot]) {
-    const w = c.width, h = c.height;
-    c.style.width = w + "px"; c.style.height = h + "px";
-    c.width = Math.round(w * dpr); c.height = Math.round(h * dpr);
-    c.getContext("2d").setTransform(dpr, 0, 0, dpr, 0, 0);
+  let W = 640, H = 480;
+  // the canvases take the size the page's layout gives them (the window's width), in device pixels
+  function fit() {
+    for (const c of [scene, plot]) {
+      const r = c.getBoundingClientRect();
+      c.width = Math.max(1, Math.round(r.width * dpr)); c.height = Math.max(1, Math.round(r.height * dpr));
+      c.getContext("2d").setTransform(dpr, 0, 0, dpr, 0, 0);
+    }
+    W = scene.width / dpr; H = scene.height / dpr;
   }
-  const W = scene.width / dpr, H = scene.height / dpr;
+  fit();
   const ctx = scene.getContext("2d");
   const pctx = plot.getContext("2d");
 
@@ -37,7 +41,7 @@
     // rows right, up, towards the camera, written in ê⁰: (X, Y, Z) = (x₃, x₂, −x₁)
     M = [r, u, d].map(b => [-b[2], b[1], b[0]]);
   }
-  const TOP = 44;
+  const TOP = 8;  // the page shows the name and the clock; the canvas keeps a small margin only
   function project(p) {
     const q = [0, 1, 2].map(i => M[i][0] * p[0] + M[i][1] * p[1] + M[i][2] * p[2]);
     const c = D.centre;
@@ -114,10 +118,8 @@
     for (const p of D.static.concat(D.frames[i])) items.push(item(p, items.length));
     items.sort((a, b) => a[0] - b[0] || a[1] - b[1]);
     for (const it of items) it[2]();
-    // the name, the clock and the direction of gravity (ê⁰₁)
-    ctx.fillStyle = "#1e1e1e"; ctx.font = "14px sans-serif"; ctx.textAlign = "left"; ctx.textBaseline = "top";
-    ctx.fillText(D.name, 10, 8);
-    ctx.fillText(`t = ${t.toFixed(2)} s`, 10, 26);
+    // the direction of gravity (ê⁰₁); the name and the clock are the page's
+    ctx.font = "14px sans-serif"; ctx.textAlign = "left"; ctx.textBaseline = "top";
     if (D.gravity) {
       const cx = 34, cy = H - 34, dx = M[0][0], dy = M[1][0], L = Math.hypot(dx, dy);
       ctx.strokeStyle = D.frameColour; ctx.fillStyle = D.frameColour; ctx.lineWidth = 2;
@@ -141,29 +143,37 @@
     drawPlot();
   }
 
-  // ---- the integral's curve with a cursor at the frame's time
+  // ---- the integral's curve: its deviation from the start (relative where the start is not 0),
+  // with a cursor and the value at the frame's time
   function drawPlot() {
-    const w = plot.width / dpr, h = plot.height / dpr, L = 64, R = 12, T = 22, B = 22;
+    const w = plot.width / dpr, h = plot.height / dpr, L = 70, R = 12, T = 40, B = 22;
     pctx.fillStyle = "#ffffff"; pctx.fillRect(0, 0, w, h);
     pctx.fillStyle = "#333"; pctx.font = "12px sans-serif"; pctx.textBaseline = "top"; pctx.textAlign = "left";
     if (!D.integral) { pctx.fillText("no integral plotted (the trajectory has no rates)", L, T); return; }
-    const v = D.integral.values, t0 = D.times[0], t1 = D.times[N - 1] > t0 ? D.times[N - 1] : t0 + 1;
-    let lo = Math.min(...v), hi = Math.max(...v);
-    const mid = (lo + hi) / 2, half = Math.max((hi - lo) / 2, 1e-6 * Math.max(Math.abs(mid), 1e-12));
-    lo = mid - 1.1 * half; hi = mid + 1.1 * half;
-    const rel = (Math.max(...v) - Math.min(...v)) / Math.max(...v.map(Math.abs), 1e-300);
-    pctx.fillText(`${D.integral.label}: ${v[0].toPrecision(8)} at t = ${t0.toFixed(2)} s, relative change ${rel.toExponential(1)}`, L, 4);
+    const v = D.integral.values, unit = D.integral.unit, v0 = v[0], i = state.frame;
+    const t0 = D.times[0], t1 = D.times[N - 1] > t0 ? D.times[N - 1] : t0 + 1;
+    const relative = Math.abs(v0) > 0, s = relative ? Math.abs(v0) : 1;
+    const d = v.map(y => (y - v0) / s);
+    let lo = Math.min(0, ...d), hi = Math.max(0, ...d);
+    const half = Math.max((hi - lo) / 2, 1e-16), mid = (lo + hi) / 2;
+    lo = mid - 1.15 * half; hi = mid + 1.15 * half;
+    const e = x => (x === 0 ? "0" : x.toExponential(1));
+    pctx.fillText(`${D.integral.label}: ${v0.toPrecision(8)} ${unit} at t = ${t0.toFixed(2)} s`, 4, 4);
+    pctx.fillText((relative ? "relative deviation (I(t) − I(0)) / |I(0)|" : `deviation I(t) − I(0) (${unit})`)
+      + `: ${e(d[i])} at t = ${D.times[i].toFixed(2)} s`, 4, 20);
     const X = t => L + (t - t0) / (t1 - t0) * (w - L - R), Y = y => T + (hi - y) / (hi - lo) * (h - T - B);
     pctx.strokeStyle = "#bbb"; pctx.lineWidth = 1; pctx.strokeRect(L, T, w - L - R, h - T - B);
+    pctx.setLineDash([3, 3]); pctx.beginPath(); pctx.moveTo(L, Y(0)); pctx.lineTo(w - R, Y(0)); pctx.stroke();
+    pctx.setLineDash([]);
     pctx.textAlign = "right"; pctx.textBaseline = "middle";
-    pctx.fillText(hi.toPrecision(6), L - 4, T); pctx.fillText(lo.toPrecision(6), L - 4, h - B);
+    pctx.fillText(e(hi), L - 4, T); pctx.fillText(e(lo), L - 4, h - B); pctx.fillText("0", L - 4, Y(0));
     pctx.textBaseline = "top";
     pctx.textAlign = "left"; pctx.fillText(`${t0.toFixed(2)} s`, L, h - B + 4);
     pctx.textAlign = "right"; pctx.fillText(`${t1.toFixed(2)} s`, w - R, h - B + 4);
     pctx.strokeStyle = "#0072B2"; pctx.lineWidth = 1.5; pctx.beginPath();
-    v.forEach((y, j) => j ? pctx.lineTo(X(D.times[j]), Y(y)) : pctx.moveTo(X(D.times[j]), Y(y)));
+    d.forEach((y, j) => j ? pctx.lineTo(X(D.times[j]), Y(y)) : pctx.moveTo(X(D.times[j]), Y(y)));
     pctx.stroke();
-    const x = X(D.times[state.frame]);
+    const x = X(D.times[i]);
     pctx.strokeStyle = "#C0392B"; pctx.beginPath(); pctx.moveTo(x, T); pctx.lineTo(x, h - B); pctx.stroke();
   }
 
@@ -200,6 +210,7 @@
     if (e.code === "ArrowRight" || e.code === "ArrowLeft") {
       e.preventDefault(); pause(); setFrame(state.frame + (e.code === "ArrowRight" ? 1 : -1));
     }
+    if (e.code === "Home" || e.code === "End") { e.preventDefault(); pause(); setFrame(e.code === "Home" ? 0 : N - 1); }
   });
   scene.addEventListener("dblclick", () => { state.az = D.camera.az; state.el = D.camera.el; state.zoom = 1; draw(); });
   let drag = null;
@@ -226,6 +237,7 @@
     get az() { return state.az; }, get el() { return state.el; }, get zoom() { return state.zoom; },
     get playing() { return state.playing; }, get rate() { return state.rate; }, frames: N, setFrame, play, pause,
   };
+  window.addEventListener("resize", () => { fit(); draw(); });
   if (state.playing) play(); else button.textContent = "Play";
   draw();
   requestAnimationFrame(tick);

@@ -263,9 +263,9 @@ def browser():
             b.close()
 
 
-def _open(browser, page_file: Path):
+def _open(browser, page_file: Path, viewport=(800, 900)):
     errors, requests = [], []
-    page = browser.new_page(viewport={"width": 800, "height": 900})
+    page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]})
     page.set_default_timeout(20_000)
     page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
     page.on("pageerror", lambda e: errors.append(str(e)))
@@ -367,6 +367,10 @@ def test_html_viewer_in_headless_chromium(browser, tmp_path):
         page.keyboard.press("ArrowLeft")
         page.keyboard.press("ArrowLeft")
         assert page.evaluate("gyroViewer.frame") == 49
+        page.keyboard.press("End")
+        assert page.evaluate("gyroViewer.frame") == 100 and page.inner_text("#clock") == "t = 4.00 s"
+        page.keyboard.press("Home")
+        assert page.evaluate("gyroViewer.frame") == 0
         page.mouse.dblclick(cx, cy)
         assert page.evaluate("gyroViewer.az") == pytest.approx(az) and page.evaluate("gyroViewer.zoom") == 1
         # playing advances the frame, at the chosen rate
@@ -378,6 +382,45 @@ def test_html_viewer_in_headless_chromium(browser, tmp_path):
         page.close()
     assert errors == [], errors
     assert requests == [], requests
+
+
+SHOTS = Path(os.environ.get("GYROCHAIN_SHOTS", "")) if os.environ.get("GYROCHAIN_SHOTS") else None
+
+
+@pytest.mark.parametrize("viewport, side_by_side", [((1280, 800), True), ((390, 844), False)])
+def test_the_viewer_fills_the_window_and_says_how_to_use_it(browser, tmp_path, viewport, side_by_side):
+    """At 1280×800 the scene and the integral's plot stand side by side and the scene takes most of
+    the width; on a phone (390×844) they are stacked; either way nothing scrolls sideways, the help
+    is above the fold, and the page places the bodies as the raster does.  GYROCHAIN_SHOTS=folder
+    keeps the screenshots to look at."""
+    page_file, png = tmp_path / "dp.html", tmp_path / "dp.png"
+    args = ["--phi", "0.7,-0.4", "--phidot", "0,0", "--view", "35,20", "-q"]
+    assert main(["animate", str(DP), "-o", str(page_file), "--t1", "2", *args]) == 0
+    assert main(["animate", str(DP), "--frame", "0", "-o", str(png), *args]) == 0
+    page, errors, requests = _open(browser, page_file, viewport)
+    try:
+        page.click("#play")
+        page.locator("#time").fill("0")
+        box = {k: page.locator(k).bounding_box() for k in ("#scene", "#plot", "#help", "#state")}
+        w, h = viewport
+        assert page.evaluate("document.documentElement.scrollWidth") <= w
+        assert box["#help"]["y"] + box["#help"]["height"] <= h
+        if side_by_side:
+            assert box["#scene"]["width"] > 0.5 * w and box["#plot"]["x"] >= box["#scene"]["x"] + box["#scene"]["width"]
+            assert box["#scene"]["y"] + box["#scene"]["height"] <= h  # the scene fits the window
+        else:
+            assert box["#scene"]["width"] > 0.85 * w and box["#plot"]["y"] >= box["#scene"]["y"] + box["#scene"]["height"]
+        html = _shot(page.locator("#scene"))
+        if SHOTS:
+            SHOTS.mkdir(parents=True, exist_ok=True)
+            page.screenshot(path=str(SHOTS / f"viewer_{w}x{h}.png"), full_page=True)
+    finally:
+        page.close()
+    raster = Image.open(png).convert("RGB")
+    d_html = _centroid(html, scene.body_colour(2)) - _centroid(html, scene.body_colour(1))
+    d_png = _centroid(raster, scene.body_colour(2)) - _centroid(raster, scene.body_colour(1))
+    assert d_html @ d_png / np.linalg.norm(d_html) / np.linalg.norm(d_png) > 0.99, (d_html, d_png)
+    assert errors == [] and requests == []
 
 
 def test_follow_keeps_the_platform_in_place(tmp_path, capsys):
