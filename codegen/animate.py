@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .scene import BODY_COLOURS, FRAME_COLOUR, PLATFORM_COLOUR, TRACE_COLOUR, Camera, Scene, default_camera
+from .scene import BODY_COLOURS, FRAME_COLOUR, PLATFORM_COLOUR, TRACE_COLOUR, Camera, Scene, body_colour, default_camera
 from .spec import SpecError
 
 MARKER = "gyrochain animate"
@@ -131,15 +131,18 @@ class Raster:
         self.k = k
         self.font = ImageFont.load_default(size=max(8, round(14 * k)))
         self.small = ImageFont.load_default(size=max(8, round(12 * k)))
-        # fit every key point of every frame, below the two text lines
+        # fit every key point of every frame, below the two text lines and above the legend
+        self.rows = self._legend_rows()
+        self.band = (len(self.rows) * 15 + 6) * k / ss if self.rows else 0.0  # in final pixels
         P = self.cam.project(scene.points)[:, :2]
         lo, hi = P.min(axis=0), P.max(axis=0)
         span = np.maximum(hi - lo, 1e-9)
         top = 44 * height / 480.0
         margin = 0.06 * min(width, height)
-        self.scale = min((width - 2 * margin) / span[0], (height - top - 2 * margin) / span[1]) * ss
+        room = height - top - self.band
+        self.scale = min((width - 2 * margin) / span[0], (room - 2 * margin) / span[1]) * ss
         self.centre = (lo + hi) / 2
-        self.origin = np.array([width / 2 * ss, (top + (height - top) / 2) * ss])
+        self.origin = np.array([width / 2 * ss, (top + room / 2) * ss])
 
     def _px(self, p):
         """Fixed-frame points → x (right), y (down) on the supersampled canvas, and depth."""
@@ -203,13 +206,64 @@ class Raster:
             return (float(z), order, lambda: draw.text((x, y), text, fill=_rgb(col), font=self.small, anchor="mm"))
         raise ValueError(kind)
 
+    def _legend_rows(self) -> list:
+        """The legend's entries laid out in rows across the picture: [[(symbol, text, x), …], …]."""
+        k, rows, x = self.k, [[]], 8 * self.k
+        for sym, text in self.scene.legend:
+            w = (26 + 4 + 10) * k * (sym != "bodies") + 10 * k + self.small.getlength(text)
+            if rows[-1] and x + w > self.W * self.ss - 8 * k:
+                rows.append([])
+                x = 8 * k
+            rows[-1].append((sym, text, x))
+            x += w
+        return rows if rows[0] else []
+
+    def _legend(self, draw):
+        k, H = self.k, self.H * self.ss
+        grey, y0 = (85, 85, 85), H - len(self.rows) * 15 * k - 3 * k
+        for r, row in enumerate(self.rows):
+            y = y0 + (r * 15 + 7) * k
+            for sym, text, x in row:
+                if sym == "bodies":  # "body 1 2 …", each number in its body's colour
+                    words = text.split()
+                    draw.text((x, y), words[0], fill=(60, 60, 60), font=self.small, anchor="lm")
+                    x += self.small.getlength(words[0] + " ")
+                    for j, word in enumerate(words[1:]):
+                        draw.text((x, y), word, fill=_rgb(body_colour(j + 1)), font=self.small, anchor="lm")
+                        x += self.small.getlength(word + " ")
+                    continue
+                self._symbol(draw, sym, x, y, grey)
+                draw.text((x + 30 * k, y), text, fill=(60, 60, 60), font=self.small, anchor="lm")
+
+    def _symbol(self, draw, sym, x, y, grey):
+        k = self.k
+        w = max(1, round(k))
+        if sym in ("bar", "link"):
+            draw.line((x, y, x + 24 * k, y), fill=grey, width=max(1, round((4 if sym == "bar" else 2.5) * k)))
+        elif sym == "dot":
+            draw.ellipse((x + 7 * k, y - 5 * k, x + 17 * k, y + 5 * k), fill=grey, outline=(40, 40, 40), width=w)
+        elif sym in ("disc", "deck"):
+            col = _rgb(PLATFORM_COLOUR) if sym == "deck" else grey
+            draw.ellipse((x, y - 5 * k, x + 24 * k, y + 5 * k), fill=col + (90,), outline=col, width=w)
+            if sym == "disc":
+                draw.line((x + 12 * k, y, x + 22 * k, y), fill=(255, 255, 255), width=max(1, round(2 * k)))
+        elif sym == "triad":
+            col = _rgb(FRAME_COLOUR)
+            for dx, dy in ((0, 7), (12, -5), (-9, -5)):
+                draw.line((x + 12 * k, y, x + (12 + dx) * k, y + dy * k), fill=col, width=w)
+        elif sym == "trace":
+            col = _rgb(TRACE_COLOUR)
+            for j in range(6):
+                draw.line((x + 4 * j * k, y, x + 4 * (j + 1) * k, y), fill=col + (int(255 * (j + 1) / 6),), width=max(1, round(1.8 * k)))
+
     def _overlay(self, draw, t: float):
         k = self.k
         draw.text((10 * k, 8 * k), self.scene.name, fill=(30, 30, 30), font=self.font)
         draw.text((10 * k, 26 * k), f"t = {t:.2f} s", fill=(30, 30, 30), font=self.font)
-        if self.scene.gravity:  # an arrow along ê⁰₁ in the lower left corner
+        self._legend(draw)
+        if self.scene.gravity:  # an arrow along ê⁰₁ in the lower left corner, above the legend
             d = self.cam.matrix[:2, 0]  # screen right/up of ê⁰₁
-            H = self.H * self.ss
+            H = self.H * self.ss - self.band * self.ss
             cx, cy = 34 * k, H - 34 * k
             if np.hypot(*d) < 0.2:
                 draw.ellipse((cx - 4 * k, cy - 4 * k, cx + 4 * k, cy + 4 * k), outline=_rgb(FRAME_COLOUR), width=max(1, round(1.5 * k)))
@@ -278,7 +332,7 @@ def write_gif(raster: Raster, path: Path, fps: float) -> None:
     for j, f in enumerate(sample):
         strip.paste(f, (0, raster.H * j))
     # a median cut averages colours: the scene's own colours are added exactly (white stays white)
-    own = [Raster.BACKGROUND, (30, 30, 30), (40, 40, 40)] + [_rgb(c) for c in BODY_COLOURS + [FRAME_COLOUR, TRACE_COLOUR, PLATFORM_COLOUR]]
+    own = [Raster.BACKGROUND, (30, 30, 30), (40, 40, 40), (60, 60, 60), (85, 85, 85)] + [_rgb(c) for c in BODY_COLOURS + [FRAME_COLOUR, TRACE_COLOUR, PLATFORM_COLOUR]]
     cut = strip.quantize(colors=256 - len(own), method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
     got = cut.getpalette() or []  # fewer entries than asked where the frames have few colours
     entries = [tuple(c) for c in own] + [tuple(got[3 * i:3 * i + 3]) for i in range(min(len(got) // 3, 256 - len(own)))]
@@ -357,11 +411,14 @@ def scene_json(scene: Scene, camera: Camera) -> str:
         "trace": scene.trace,
         "traceColour": TRACE_COLOUR,
         "frameColour": FRAME_COLOUR,
+        "platformColour": PLATFORM_COLOUR,
+        "bodyColours": BODY_COLOURS,
         "gravity": scene.gravity,
         "centre": [_num(v) for v in centre],
         "radius": _num(float(np.max(np.linalg.norm(P - centre, axis=1))) or 1.0),
         "camera": {"az": camera.az, "el": camera.el},
         "integral": scene.integral,
+        "legend": scene.legend,
         "states": None if scene.states is None else [[_num(v) for v in x] for x in scene.states],
     }
     # JSON inside <script>: no "</" may close the element early

@@ -103,6 +103,7 @@ class Scene:
     integral: dict | None = None  # {"label", "values"}: the plot under the HTML scene
     points: np.ndarray = field(default=None)  # every key point of every frame (for fitting the view)
     states: np.ndarray | None = None  # (F, 2n) φ, φ̇ at the frames (the page's readout), None if φ̇ is unknown
+    legend: list = field(default_factory=list)  # [(symbol, text)]: what the picture's marks are (legend())
 
 
 def _unit(v):
@@ -230,6 +231,29 @@ def shifted(prim: tuple, d: np.ndarray) -> tuple:
     return tuple(a + d if i in _POINTS[prim[0]] else a for i, a in enumerate(prim))
 
 
+def legend(frames: list, static: list, trace: float) -> list[tuple[str, str]]:
+    """The legend of a scene, read off the primitives it draws: one entry per kind of mark in
+    any frame (symbols: bar, link, dot, disc, deck, triad, trace)."""
+    marks, bodies = set(), set()
+    for prim in static + [p for f in frames for p in f]:
+        if prim[0] == "seg" and prim[4] == 5.0:
+            marks.add("bar")
+            bodies.add(prim[3])
+        elif prim[0] == "seg" and prim[4] == 3.5:
+            marks.add("link")
+        elif prim[0] in ("dot", "disc"):
+            marks.add("deck" if prim[-1] == PLATFORM_COLOUR else prim[0])
+        elif prim[0] == "label" and prim[3] == FRAME_COLOUR:
+            marks.add("triad")
+    if trace > 0:
+        marks.add("trace")
+    words = {"bar": "joint axis", "link": "link", "dot": "centre of mass (size: mass)",
+             "disc": "rotor (white spoke: its sense)", "deck": "platform, its axes 1 2 3",
+             "triad": "fixed axes 1 2 3 (1 down)", "trace": f"path of the tip, last {trace:g} s"}
+    n = sum(body_colour(k) in bodies for k in range(1, len(bodies) + 1))
+    return [("bodies", "body " + " ".join(str(k) for k in range(1, n + 1)))] + [(k, words[k]) for k in words if k in marks]
+
+
 def build(spec, ch: reference.NumericChain, times, X, trace: float = 2.0, integral: dict | None = None,
           tip_times=None, tip_X=None, rates: bool = True, follow: bool = False) -> Scene:
     """The scene of the trajectory X (states at the frame ``times``); the trace follows
@@ -258,4 +282,5 @@ def build(spec, ch: reference.NumericChain, times, X, trace: float = 2.0, integr
                      for t, x in zip(tip_times, tip_X)])
     return Scene(name=spec.name, times=np.asarray(times, float), frames=frames, static=[] if follow else static,
                  tip_times=np.asarray(tip_times, float), tips=tips, trace=trace, size=geo.size, gravity=ch.g != 0,
-                 integral=integral, points=np.array(keys), states=np.asarray(X, float)[:, :2 * n] if rates else None)
+                 integral=integral, points=np.array(keys), states=np.asarray(X, float)[:, :2 * n] if rates else None,
+                 legend=legend(frames, [] if follow else static, trace))

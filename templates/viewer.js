@@ -237,6 +237,25 @@
     get az() { return state.az; }, get el() { return state.el; }, get zoom() { return state.zoom; },
     get playing() { return state.playing; }, get rate() { return state.rate; }, frames: N, setFrame, play, pause,
   };
+  // the legend: what the marks are, as codegen/scene.py read them off the primitives
+  const SYMBOLS = { bar: ["━", "#555"], link: ["─", "#555"], dot: ["●", "#555"], disc: ["◍", "#555"],
+                    deck: ["⬬", D.platformColour], triad: ["⅄", D.frameColour], trace: ["┄", D.traceColour] };
+  const legend = document.getElementById("legend");
+  D.legend.forEach(([sym, text], j) => {
+    if (j) legend.append(" · ");
+    if (sym === "bodies") {
+      text.split(" ").forEach((word, i) => {
+        const s = document.createElement("span");
+        s.textContent = (i ? " " : "") + word;
+        if (i) s.style.color = D.bodyColours[i - 1];
+        legend.append(s);
+      });
+      return;
+    }
+    const s = document.createElement("span");
+    s.className = "sym"; s.textContent = SYMBOLS[sym][0]; s.style.color = SYMBOLS[sym][1];
+    legend.append(s, " " + text);
+  });
   window.addEventListener("resize", () => { fit(); draw(); });
   if (state.playing) play(); else button.textContent = "Play";
   draw();

@@ -423,6 +423,33 @@ def test_the_viewer_fills_the_window_and_says_how_to_use_it(browser, tmp_path, v
     assert errors == [] and requests == []
 
 
+def test_the_legend_names_the_marks_the_picture_has(browser, tmp_path):
+    """The legend is read off the drawn primitives: the gimbal's has rotors and no platform, the
+    double pendulum neither, the ship a platform; the raster paints it in a band at the bottom and
+    the page lists it under the scene."""
+    def marks(spec_path, **kw):
+        spec = load_spec(spec_path)
+        ch = reference.numeric(spec)
+        X = np.tile([0.1] * spec.n + [0.0] * spec.n, (3, 1))
+        return [m for m, _ in scene.build(spec, ch, np.linspace(0, 1, 3), X, **kw).legend]
+
+    assert marks(GIMBAL) == ["bodies", "bar", "dot", "disc", "triad", "trace"]
+    assert marks(DP) == ["bodies", "bar", "link", "dot", "triad", "trace"]
+    assert "deck" in marks(SPECS / "ship_gimbal.toml") and "trace" not in marks(DP, trace=0.0)
+    png, page_file = tmp_path / "g.png", tmp_path / "g.html"
+    assert main(["animate", str(GIMBAL), "--frame", "1", "-o", str(png), "-q"]) == 0
+    img = np.asarray(Image.open(png).convert("RGB")).astype(int)
+    band = img[-40:, :, :]
+    assert (np.abs(band - 255).sum(axis=2) > 60).sum() > 300  # the legend's marks and words
+    assert main(["animate", str(GIMBAL), "--t1", "1", "-o", str(page_file), "-q"]) == 0
+    page, errors, _requests = _open(browser, page_file)
+    try:
+        text = page.inner_text("#legend")
+    finally:
+        page.close()
+    assert text.startswith("body 1 2") and "joint axis" in text and "rotor" in text and errors == []
+
+
 def test_follow_keeps_the_platform_in_place(tmp_path, capsys):
     """--follow draws the ship's gimbal relative to O¹ = r₀(t): the outer ring's bar stays centred
     on the origin of the drawing, while without it the bar heaves with r₀(t) = (0.5 sin 0.6t, 0, 0)."""
