@@ -331,3 +331,12 @@ def test_found_a_sweep_of_a_hundred_million_chunks(tmp_path):
         code, _, err, dt = run(["sweep", SPECS / "gimbal.toml", *args, "-o", tmp_path / "s.zarr"], 30)
         assert code == 2 and err.startswith(f"error: {field}:") and dt < 10, (err, dt)
     assert not any(tmp_path.iterdir())
+
+
+def test_found_a_purely_relative_tolerance(tmp_path):
+    """simulate --reference --atol 0 --phidot 0,0: scipy's DOP853 asked for steps without end (no
+    answer in 120 s, with numpy's warnings on stderr); the C said STEP_UNDERFLOW.  --atol must be
+    positive now, on both paths."""
+    for extra in ([], ["--reference"]):
+        code, _, err, dt = run(["simulate", SPECS / "gimbal.toml", "--atol", "0", "--phidot", "0,0", *extra], 30)
+        assert code == 2 and err.startswith("error: --atol:") and dt < 10, (err, dt)

@@ -142,7 +142,7 @@ def test_plot_mistakes_are_one_line(store, tmp_path):
     (["--t1", "-1"], "--t1", "positive"),
     (["--t1", "nan"], "--t1", "positive"),
     (["--method", "euler"], "--method", "dop853, rk4"),
-    (["--rtol", "0", "--atol", "0"], "--rtol", "not both be zero"),
+    (["--rtol", "0", "--atol", "0"], "--atol", "must be > 0"),
     (["--atol", "-inf"], "--atol", "finite tolerance"),
     (["--t1", "-1e3"], "--t1", "positive"),
     (["--phi", "1,2,3"], "--phi", "expected 2"),
