@@ -285,6 +285,8 @@ def test_fuzz_for_a_while(tmp_path, store):
     while time.monotonic() < t_end:
         given(mutated_spec())(rounds(lambda data: spec_property(data, _fresh(tmp_path, next(count)))))()
         given(command_line())(rounds(lambda args: command_property(args, _fresh(tmp_path, next(count)), store)))()
+        print(f"fuzz: {TRIED['spec'] - start['spec']} specs and {TRIED['command'] - start['command']} command lines "
+              f"so far", flush=True)
     print(f"\nfuzz: {TRIED['spec'] - start['spec']} specs and {TRIED['command'] - start['command']} command lines "
           f"in {LONG:.0f} s, no failure")
 
