@@ -200,6 +200,13 @@ class Raster:
             x, y, z = self._px(pts)
             poly = list(zip(x.tolist(), y.tolist()))
             return (z.mean(), order, lambda: draw.polygon(poly, fill=_rgb(col) + (90,), outline=_rgb(col), width=max(1, round(1.5 * k))))
+        if kind == "ring":
+            _, c, u, v, r, col = prim
+            a = np.linspace(0.0, 2 * math.pi, 64, endpoint=False)
+            pts = np.asarray(c) + r * (np.cos(a)[:, None] * np.asarray(u) + np.sin(a)[:, None] * np.asarray(v))
+            x, y, z = self._px(pts)
+            ring = list(zip(x.tolist(), y.tolist()))
+            return (z.mean(), order, lambda: draw.line(ring + ring[:1], fill=_rgb(col), width=max(1, round(2.5 * k)), joint="curve"))
         if kind == "label":
             _, p, text, col = prim
             x, y, z = self._px(np.asarray(p))
@@ -242,6 +249,8 @@ class Raster:
             draw.line((x, y, x + 24 * k, y), fill=grey, width=max(1, round((4 if sym == "bar" else 2.5) * k)))
         elif sym == "dot":
             draw.ellipse((x + 7 * k, y - 5 * k, x + 17 * k, y + 5 * k), fill=grey, outline=(40, 40, 40), width=w)
+        elif sym == "ring":
+            draw.ellipse((x, y - 6 * k, x + 24 * k, y + 6 * k), outline=grey, width=max(1, round(2 * k)))
         elif sym in ("disc", "deck"):
             col = _rgb(PLATFORM_COLOUR) if sym == "deck" else grey
             draw.ellipse((x, y - 5 * k, x + 24 * k, y + 5 * k), fill=col + (90,), outline=col, width=w)

@@ -131,7 +131,10 @@ class Geometry:
         self.rg = np.array(rg)
         reach = float(sum(np.linalg.norm(ch.s[k]) for k in range(n - 1)) + np.linalg.norm(ch.c[-1]))
         self.size = max(reach, float(self.rg.max()), 1e-3)
+        self.ring = np.array([_ring_radius(ch, k) for k in range(n)])  # 0: not drawn as a Cardan ring
         self.bar = np.maximum(0.8 * self.rg, 0.15 * self.size)
+        # an axis reaches the ring whose bearings hold it (the one before) and its own ring
+        self.bar = np.maximum(self.bar, 1.12 * np.maximum(self.ring, np.concatenate([[0.0], self.ring[:-1]])))
         mmax = float(ch.m.max()) if ch.m.max() > 0 else 1.0
         self.dot = np.maximum(0.05 * self.size * np.cbrt(np.maximum(ch.m, 0) / mmax), 0.02 * self.size)
         self.disc = np.maximum(0.7 * self.rg, 0.12 * self.size)
@@ -166,6 +169,11 @@ def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list
         b = geo.bar[k]
         prims.append(("seg", O - b * e, O + b * e, col, 5.0))
         keys += [O - b * e, O + b * e]
+        ring = cardan_ring(geo, P, k)
+        if ring is not None:
+            u, v, r = ring
+            prims.append(("ring", O, u, v, r, col))
+            keys += [O + r * u, O - r * u, O + r * v, O - r * v]
         lam = P["lam"][k]
         rotor = np.linalg.norm(lam) > 0
         end, link = link_end(geo, P, k)
@@ -199,6 +207,32 @@ def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list
     return prims, keys
 
 
+def _ring_radius(ch: reference.NumericChain, k: int) -> float:
+    """A body centred on its own joint axis (c = 0 and, but for the last, s = 0: a ring of a Cardan
+    suspension) is drawn as a ring through the bearings it carries, in the plane of its axis eᵏ
+    and the next axis (the last body's: its rotor's axle; none where that is along eᵏ), of the
+    radius of a thin ring with its inertia about eᵏ: r = √(2 eᵏ·Aᵏ·eᵏ / mᵏ).  0 where none."""
+    n = ch.n
+    if np.linalg.norm(ch.c[k]) > 0 or (k < n - 1 and np.linalg.norm(ch.s[k]) > 0) or ch.m[k] <= 0:
+        return 0.0
+    # the next axis in body k's frame is ê^k_1 turned by θ^{k+1} about ê^k_2; the rotor's axle is λᵏ
+    across = abs(math.sin(ch.theta[k + 1])) if k < n - 1 else float(np.hypot(ch.lam[k][1], ch.lam[k][2]))
+    inertia = float(ch.A[k][0, 0])  # about ê^k_1 = eᵏ
+    return math.sqrt(2.0 * inertia / ch.m[k]) if across > 1e-9 and inertia > 0 else 0.0
+
+
+def cardan_ring(geo: Geometry, P: dict, k: int):
+    """Body k's Cardan ring at the pose P: (u, v, r) with u = eᵏ and v across it in the ring's
+    plane, or None (see _ring_radius)."""
+    r = geo.ring[k]
+    if r <= 0:
+        return None
+    u = P["e"][k]
+    w = np.asarray(P["e"][k + 1] if k < geo.ch.n - 1 else P["lam"][k], float)
+    v = w - (w @ u) * u
+    return (u, _unit(v), r) if np.linalg.norm(v) > 0 else None
+
+
 def link_end(geo: Geometry, P: dict, k: int) -> tuple[np.ndarray, bool]:
     """Where body k's drawing ends (the last body's: its tip) and whether that is a link:
     Oᵏ⁺¹; for the last body Gⁿ (a link to it) where cⁿ ≠ 0, else the end of its rotor's axle,
@@ -223,7 +257,7 @@ def static_primitives(geo: Geometry) -> list:
     return out
 
 
-_POINTS = {"seg": (1, 2), "dot": (1,), "disc": (1,), "label": (1,)}  # the arguments that are points
+_POINTS = {"seg": (1, 2), "dot": (1,), "disc": (1,), "ring": (1,), "label": (1,)}  # the arguments that are points
 
 
 def shifted(prim: tuple, d: np.ndarray) -> tuple:
@@ -241,13 +275,16 @@ def legend(frames: list, static: list, trace: float) -> list[tuple[str, str]]:
             bodies.add(prim[3])
         elif prim[0] == "seg" and prim[4] == 3.5:
             marks.add("link")
+        elif prim[0] == "ring":
+            marks.add("ring")
         elif prim[0] in ("dot", "disc"):
             marks.add("deck" if prim[-1] == PLATFORM_COLOUR else prim[0])
         elif prim[0] == "label" and prim[3] == FRAME_COLOUR:
             marks.add("triad")
     if trace > 0:
         marks.add("trace")
-    words = {"bar": "joint axis", "link": "link", "dot": "centre of mass (size: mass)",
+    words = {"bar": "joint axis", "link": "link", "ring": "Cardan ring (a body centred on its axis)",
+             "dot": "centre of mass (size: mass)",
              "disc": "rotor (white spoke: its sense)", "deck": "platform, its axes 1 2 3",
              "triad": "fixed axes 1 2 3 (1 down)", "trace": f"path of the tip, last {trace:g} s"}
     n = sum(body_colour(k) in bodies for k in range(1, len(bodies) + 1))

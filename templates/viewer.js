@@ -86,6 +86,21 @@
         ctx.closePath(); ctx.fill(); ctx.stroke();
       }];
     }
+    if (kind === "ring") {
+      const c = prim[1], u = prim[2], v = prim[3], r = prim[4];
+      const pts = [];
+      let z = 0;
+      for (let j = 0; j < 64; j++) {
+        const t = 2 * Math.PI * j / 64, ct = Math.cos(t), st = Math.sin(t);
+        const p = project([0, 1, 2].map(i => c[i] + r * (ct * u[i] + st * v[i])));
+        pts.push(p); z += p[2] / 64;
+      }
+      return [z, order, () => {
+        ctx.strokeStyle = prim[5]; ctx.lineWidth = 2.5; ctx.lineJoin = "round";
+        ctx.beginPath(); pts.forEach((p, j) => j ? ctx.lineTo(p[0], p[1]) : ctx.moveTo(p[0], p[1]));
+        ctx.closePath(); ctx.stroke();
+      }];
+    }
     if (kind === "label") {
       const a = project(prim[1]);
       return [a[2], order, () => {
@@ -238,7 +253,7 @@
     get playing() { return state.playing; }, get rate() { return state.rate; }, frames: N, setFrame, play, pause,
   };
   // the legend: what the marks are, as codegen/scene.py read them off the primitives
-  const SYMBOLS = { bar: ["━", "#555"], link: ["─", "#555"], dot: ["●", "#555"], disc: ["◍", "#555"],
+  const SYMBOLS = { bar: ["━", "#555"], link: ["─", "#555"], ring: ["◯", "#555"], dot: ["●", "#555"], disc: ["◍", "#555"],
                     deck: ["⬬", D.platformColour], triad: ["⅄", D.frameColour], trace: ["┄", D.traceColour] };
   const legend = document.getElementById("legend");
   D.legend.forEach(([sym, text], j) => {

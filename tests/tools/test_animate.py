@@ -433,9 +433,21 @@ def test_the_legend_names_the_marks_the_picture_has(browser, tmp_path):
         X = np.tile([0.1] * spec.n + [0.0] * spec.n, (3, 1))
         return [m for m, _ in scene.build(spec, ch, np.linspace(0, 1, 3), X, **kw).legend]
 
-    assert marks(GIMBAL) == ["bodies", "bar", "dot", "disc", "triad", "trace"]
+    assert marks(GIMBAL) == ["bodies", "bar", "ring", "dot", "disc", "triad", "trace"]  # two Cardan rings
     assert marks(DP) == ["bodies", "bar", "link", "dot", "triad", "trace"]
     assert "deck" in marks(SPECS / "ship_gimbal.toml") and "trace" not in marks(DP, trace=0.0)
+    # the gimbal's rings: the outer one in the plane of l1 and l2, the inner one of l2 and the rotor's
+    # axle, each of the radius of a thin ring of its inertia about its axis, r = sqrt(2 A11 / m)
+    spec = load_spec(GIMBAL)
+    ch = reference.numeric(spec)
+    geo = scene.Geometry(ch)
+    assert np.allclose(geo.ring, [math.sqrt(2 * 0.005 / 0.5), math.sqrt(2 * 0.006 / 1.2)])
+    P = scene.pose(ch, np.array([0.4, 0.7]), 0.0)
+    for k, w in ((0, P["e"][1]), (1, P["lam"][1])):
+        u, v, r = scene.cardan_ring(geo, P, k)
+        assert np.allclose(u, P["e"][k]) and abs(v @ u) < 1e-12 and abs(np.cross(u, v) @ w) < 1e-12
+    assert geo.bar[1] > geo.ring[0]  # the inner axis reaches the outer ring's bearings
+    assert not scene.Geometry(reference.numeric(load_spec(DP))).ring.any()  # rods off their axes: no ring
     png, page_file = tmp_path / "g.png", tmp_path / "g.html"
     assert main(["animate", str(GIMBAL), "--frame", "1", "-o", str(png), "-q"]) == 0
     img = np.asarray(Image.open(png).convert("RGB")).astype(int)
