@@ -251,8 +251,8 @@ class Raster:
             draw.ellipse((x + 7 * k, y - 5 * k, x + 17 * k, y + 5 * k), fill=grey, outline=(40, 40, 40), width=w)
         elif sym == "ring":
             draw.ellipse((x, y - 6 * k, x + 24 * k, y + 6 * k), outline=grey, width=max(1, round(2 * k)))
-        elif sym in ("disc", "deck"):
-            col = _rgb(PLATFORM_COLOUR) if sym == "deck" else grey
+        elif sym in ("disc", "deck", "deck_only"):
+            col = _rgb(PLATFORM_COLOUR) if sym.startswith("deck") else grey
             draw.ellipse((x, y - 5 * k, x + 24 * k, y + 5 * k), fill=col + (90,), outline=col, width=w)
             if sym == "disc":
                 draw.line((x + 12 * k, y, x + 22 * k, y), fill=(255, 255, 255), width=max(1, round(2 * k)))
@@ -269,6 +269,8 @@ class Raster:
         k = self.k
         draw.text((10 * k, 8 * k), self.scene.name, fill=(30, 30, 30), font=self.font)
         draw.text((10 * k, 26 * k), f"t = {t:.2f} s", fill=(30, 30, 30), font=self.font)
+        if self.scene.caption:
+            draw.text((self.W * self.ss - 10 * k, 8 * k), self.scene.caption, fill=(60, 60, 60), font=self.small, anchor="ra")
         self._legend(draw)
         if self.scene.gravity:  # an arrow along ê⁰₁ in the lower left corner, above the legend
             d = self.cam.matrix[:2, 0]  # screen right/up of ê⁰₁
@@ -428,6 +430,7 @@ def scene_json(scene: Scene, camera: Camera) -> str:
         "camera": {"az": camera.az, "el": camera.el},
         "integral": scene.integral,
         "legend": scene.legend,
+        "caption": scene.caption,
         "states": None if scene.states is None else [[_num(v) for v in x] for x in scene.states],
     }
     # JSON inside <script>: no "</" may close the element early
@@ -475,6 +478,27 @@ def _still(spec, X: np.ndarray, phi, phidot, at: str) -> bool:
     if phi is not None or phidot is not None or at or spec.initial:
         return False
     return bool(np.all(np.isfinite(X))) and float(np.max(np.abs(X - X[:1]))) < 1e-9
+
+
+def fast_base(spec, ch, times) -> float:
+    """The frequency (Hz) of the platform's translation where it is faster than half the frame rate
+    of ``times`` (frames would sample it with aliasing: Kapitza's 41 Hz pivot at 25 frames/s), else 0.
+    Judged on 16 samples per frame: fast when O¹ sweeps most of its range within a frame."""
+    from . import reference
+
+    if spec.base is None or len(times) < 2:
+        return 0.0
+    t = np.linspace(times[0], times[-1], 16 * (len(times) - 1) + 1)
+    r0 = np.array([reference.platform(ch, float(x))[3] for x in t], float)
+    span = float(np.max(np.ptp(r0, axis=0)))
+    if span <= 0:
+        return 0.0
+    within = np.ptp(r0[:-1].reshape(len(times) - 1, 16, 3), axis=1).max(axis=1)
+    if float(np.median(within)) < 0.5 * span:
+        return 0.0
+    d = (r0 - r0.mean(axis=0)) @ np.linalg.svd(r0 - r0.mean(axis=0), full_matrices=False)[2][0]  # the main direction
+    crossings = int(np.sum(np.signbit(d[1:]) != np.signbit(d[:-1])))
+    return crossings / (2.0 * (t[-1] - t[0]))
 
 
 def _follows(spec, ch, times) -> tuple[bool, str]:
@@ -535,12 +559,24 @@ def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=Non
                     f"{', '.join(['0.2'] * spec.n)} (give --phi/--phidot to choose)")
             fine_X = motion(model, fine, x0, u=u, params=params or None, rtol=rtol, atol=rtol * 1e-2)
         X = fine_X[np.searchsorted(fine, times)]
-    integral = integral_curve(model, derived, X, times, u, params or None) if has_rate else None
+    fast = fast_base(spec, ch, times) if not trajectory and frame is None else 0.0
+    if fast and follow is None:  # drawn relative to the pivot, the integral sampled finely enough
+        follow = True
+        note = "\n".join(filter(None, [note, f"the platform moves at {fast:.3g} Hz, faster than half the frame rate "
+                                              f"({fps / 2:g} Hz): drawn relative to its O1, held still (--no-follow: as sampled)"]))
+    if has_rate and fast:
+        t_int = np.linspace(times[0], times[-1], (len(times) - 1) * max(4, math.ceil(10 * fast / fps)) + 1)
+        X_int = motion(model, t_int, x0, u=u, params=params or None, rtol=rtol, atol=rtol * 1e-2)
+        integral = dict(integral_curve(model, derived, X_int, t_int, u, params or None), times=[float(v) for v in t_int])
+    else:
+        integral = integral_curve(model, derived, X, times, u, params or None) if has_rate else None
     if follow is None:
         follow, why = _follows(spec, ch, fine)
         note = "\n".join(filter(None, [note, why]))
     sc = scene.build(spec, ch, times, X, trace=trace, integral=integral, tip_times=fine, tip_X=fine_X,
                      rates=has_rate, follow=follow)
+    if fast and follow:
+        sc.caption = f"platform at {fast:.3g} Hz (> {fps / 2:g} Hz): O1 held still"
     camera = scene.Camera(math.radians(view[0]), math.radians(view[1])) if view else scene.default_camera(sc.points)
     with out:
         if out.ext == ".html":

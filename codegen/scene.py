@@ -104,6 +104,7 @@ class Scene:
     points: np.ndarray = field(default=None)  # every key point of every frame (for fitting the view)
     states: np.ndarray | None = None  # (F, 2n) φ, φ̇ at the frames (the page's readout), None if φ̇ is unknown
     legend: list = field(default_factory=list)  # [(symbol, text)]: what the picture's marks are (legend())
+    caption: str = ""  # a line the picture carries about how it was drawn (a fast platform drawn about its mean)
 
 
 def _unit(v):
@@ -156,9 +157,10 @@ def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list
     if base:
         R0, r0 = P["R0"], P["r0"]
         ey, ez = R0[:, 1], R0[:, 2]  # the platform's axes 2, 3 in ê⁰
-        a = 0.8 * geo.size
+        a = 0.6 * geo.size
         prims.append(("disc", r0, ey, ez, a, PLATFORM_COLOUR))  # the deck, across the platform's ê⁰₁
-        for j, lab in enumerate("123"):
+        turns = ch.general is not None and bool(ch.general.rotations)
+        for j, lab in enumerate("123" if turns else ""):  # a deck that only translates keeps the fixed axes' directions
             q = r0 + 0.3 * geo.size * R0[:, j]
             prims.append(("seg", r0, q, PLATFORM_COLOUR, 1.2))
             prims.append(("label", q, lab, PLATFORM_COLOUR))
@@ -278,14 +280,15 @@ def legend(frames: list, static: list, trace: float) -> list[tuple[str, str]]:
         elif prim[0] == "ring":
             marks.add("ring")
         elif prim[0] in ("dot", "disc"):
-            marks.add("deck" if prim[-1] == PLATFORM_COLOUR else prim[0])
+            marks.add(("deck" if any(p[0] == "label" and p[3] == PLATFORM_COLOUR for f in frames[:1] for p in f)
+                       else "deck_only") if prim[-1] == PLATFORM_COLOUR else prim[0])
         elif prim[0] == "label" and prim[3] == FRAME_COLOUR:
             marks.add("triad")
     if trace > 0:
         marks.add("trace")
     words = {"bar": "joint axis", "link": "link", "ring": "Cardan ring (a body centred on its axis)",
              "dot": "centre of mass (size: mass)",
-             "disc": "rotor (white spoke: its sense)", "deck": "platform, its axes 1 2 3",
+             "disc": "rotor (white spoke: its sense)", "deck": "platform, its axes 1 2 3", "deck_only": "platform (it only translates)",
              "triad": "fixed axes 1 2 3 (1 down)", "trace": f"path of the tip, last {trace:g} s"}
     n = sum(body_colour(k) in bodies for k in range(1, len(bodies) + 1))
     return [("bodies", "body " + " ".join(str(k) for k in range(1, n + 1)))] + [(k, words[k]) for k in words if k in marks]

@@ -165,7 +165,10 @@
     pctx.fillStyle = "#ffffff"; pctx.fillRect(0, 0, w, h);
     pctx.fillStyle = "#333"; pctx.font = "12px sans-serif"; pctx.textBaseline = "top"; pctx.textAlign = "left";
     if (!D.integral) { pctx.fillText("no integral plotted (the trajectory has no rates)", L, T); return; }
-    const v = D.integral.values, unit = D.integral.unit, v0 = v[0], i = state.frame;
+    const v = D.integral.values, unit = D.integral.unit, v0 = v[0];
+    const ts = D.integral.times || D.times, tf = D.times[state.frame];
+    let i = 0;  // the sample at the frame's time (the integral may be sampled finer than the frames)
+    while (i + 1 < ts.length && ts[i + 1] <= tf + 1e-9) i++;
     const t0 = D.times[0], t1 = D.times[N - 1] > t0 ? D.times[N - 1] : t0 + 1;
     const relative = Math.abs(v0) > 0, s = relative ? Math.abs(v0) : 1;
     const d = v.map(y => (y - v0) / s);
@@ -175,20 +178,21 @@
     const e = x => (x === 0 ? "0" : x.toExponential(1));
     pctx.fillText(`${D.integral.label}: ${v0.toPrecision(8)} ${unit} at t = ${t0.toFixed(2)} s`, 4, 4);
     pctx.fillText((relative ? "relative deviation (I(t) − I(0)) / |I(0)|" : `deviation I(t) − I(0) (${unit})`)
-      + `: ${e(d[i])} at t = ${D.times[i].toFixed(2)} s`, 4, 20);
+      + `: ${e(d[i])} at t = ${tf.toFixed(2)} s`, 4, 20);
     const X = t => L + (t - t0) / (t1 - t0) * (w - L - R), Y = y => T + (hi - y) / (hi - lo) * (h - T - B);
     pctx.strokeStyle = "#bbb"; pctx.lineWidth = 1; pctx.strokeRect(L, T, w - L - R, h - T - B);
     pctx.setLineDash([3, 3]); pctx.beginPath(); pctx.moveTo(L, Y(0)); pctx.lineTo(w - R, Y(0)); pctx.stroke();
     pctx.setLineDash([]);
     pctx.textAlign = "right"; pctx.textBaseline = "middle";
-    pctx.fillText(e(hi), L - 4, T); pctx.fillText(e(lo), L - 4, h - B); pctx.fillText("0", L - 4, Y(0));
+    pctx.fillText(e(hi), L - 4, T); pctx.fillText(e(lo), L - 4, h - B);
+    if (Y(0) - T > 12 && h - B - Y(0) > 12) pctx.fillText("0", L - 4, Y(0));
     pctx.textBaseline = "top";
     pctx.textAlign = "left"; pctx.fillText(`${t0.toFixed(2)} s`, L, h - B + 4);
     pctx.textAlign = "right"; pctx.fillText(`${t1.toFixed(2)} s`, w - R, h - B + 4);
     pctx.strokeStyle = "#0072B2"; pctx.lineWidth = 1.5; pctx.beginPath();
-    d.forEach((y, j) => j ? pctx.lineTo(X(D.times[j]), Y(y)) : pctx.moveTo(X(D.times[j]), Y(y)));
+    d.forEach((y, j) => j ? pctx.lineTo(X(ts[j]), Y(y)) : pctx.moveTo(X(ts[j]), Y(y)));
     pctx.stroke();
-    const x = X(D.times[i]);
+    const x = X(tf);
     pctx.strokeStyle = "#C0392B"; pctx.beginPath(); pctx.moveTo(x, T); pctx.lineTo(x, h - B); pctx.stroke();
   }
 
@@ -254,8 +258,9 @@
   };
   // the legend: what the marks are, as codegen/scene.py read them off the primitives
   const SYMBOLS = { bar: ["━", "#555"], link: ["─", "#555"], ring: ["◯", "#555"], dot: ["●", "#555"], disc: ["◍", "#555"],
-                    deck: ["⬬", D.platformColour], triad: ["⅄", D.frameColour], trace: ["┄", D.traceColour] };
+                    deck: ["▭", D.platformColour], deck_only: ["▭", D.platformColour], triad: ["⅄", D.frameColour], trace: ["┄", D.traceColour] };
   const legend = document.getElementById("legend");
+  if (D.caption) { const c = document.createElement("em"); c.textContent = D.caption + ". "; legend.append(c); }
   D.legend.forEach(([sym, text], j) => {
     if (j) legend.append(" · ");
     if (sym === "bodies") {

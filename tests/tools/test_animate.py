@@ -462,6 +462,29 @@ def test_the_legend_names_the_marks_the_picture_has(browser, tmp_path):
     assert text.startswith("body 1 2") and "joint axis" in text and "rotor" in text and errors == []
 
 
+def test_a_platform_faster_than_half_the_frame_rate_is_not_aliased(tmp_path, capsys):
+    """Kapitza's pivot (w = 260 rad/s: 41.4 Hz) at 25 frames/s: detected, drawn with O1 held
+    still (said on the picture and in a line), and the page's integral sampled at least 8 times
+    per period of the pivot; the ship's slow heave is not fast; --no-follow draws it as sampled."""
+    kap = load_spec(SPECS / "kapitza.toml")
+    ch = reference.numeric(kap, dict(kap.values))
+    times = animate.frame_times(2.0, 25.0, None)
+    assert animate.fast_base(kap, ch, times) == pytest.approx(260 / (2 * math.pi), rel=0.02)
+    ship = load_spec(SPECS / "ship_gimbal.toml")
+    assert animate.fast_base(ship, reference.numeric(ship), times) == 0.0
+    page = tmp_path / "k.html"
+    assert main(["animate", str(SPECS / "kapitza.toml"), "--t1", "2", "-o", str(page)]) == 0
+    assert "faster than half the frame rate (12.5 Hz)" in capsys.readouterr().err
+    data = _page_data(page)
+    assert data["caption"].startswith("platform at 41") and len(data["integral"]["times"]) >= 8 * 41.4 * 2
+    assert len(data["integral"]["times"]) == len(data["integral"]["values"])
+    deck = [[p for p in f if p[0] == "disc"][0][1] for f in data["frames"]]
+    assert np.allclose(deck, deck[0], atol=1e-12)  # O1 held still
+    assert main(["animate", str(SPECS / "kapitza.toml"), "--t1", "2", "--no-follow", "-o", str(tmp_path / "n.html"), "-q"]) == 0
+    deck = [[p for p in f if p[0] == "disc"][0][1] for f in _page_data(tmp_path / "n.html")["frames"]]
+    assert np.ptp(np.array(deck)[:, 0]) > 0.015  # sampled: the pivot's 1 cm jumps between frames
+
+
 def test_follow_keeps_the_platform_in_place(tmp_path, capsys):
     """--follow draws the ship's gimbal relative to O¹ = r₀(t): the outer ring's bar stays centred
     on the origin of the drawing, while without it the bar heaves with r₀(t) = (0.5 sin 0.6t, 0, 0)."""
