@@ -42,12 +42,24 @@
     M = [r, u, d].map(b => [-b[2], b[1], b[0]]);
   }
   const TOP = 8;  // the page shows the name and the clock; the canvas keeps a small margin only
+  // the view fits the projection of every key point of every frame (their hull's), as the raster does
+  let fitScale = 1, fitCentre = [0, 0];
+  function fitView() {
+    let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+    for (const p of D.hull) {
+      for (let i = 0; i < 2; i++) {
+        const q = M[i][0] * p[0] + M[i][1] * p[1] + M[i][2] * p[2];
+        lo[i] = Math.min(lo[i], q); hi[i] = Math.max(hi[i], q);
+      }
+    }
+    const m = 0.06 * Math.min(W, H), sx = Math.max(hi[0] - lo[0], 1e-9), sy = Math.max(hi[1] - lo[1], 1e-9);
+    fitScale = Math.min((W - 2 * m) / sx, (H - TOP - 2 * m) / sy);
+    fitCentre = [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2];
+  }
   function project(p) {
     const q = [0, 1, 2].map(i => M[i][0] * p[0] + M[i][1] * p[1] + M[i][2] * p[2]);
-    const c = D.centre;
-    const qc = [0, 1].map(i => M[i][0] * c[0] + M[i][1] * c[1] + M[i][2] * c[2]);
-    const s = Math.min(W, H - TOP) / (2.1 * D.radius) * state.zoom;
-    return [W / 2 + (q[0] - qc[0]) * s, TOP + (H - TOP) / 2 - (q[1] - qc[1]) * s, q[2], s];
+    const s = fitScale * state.zoom;
+    return [W / 2 + (q[0] - fitCentre[0]) * s, TOP + (H - TOP) / 2 - (q[1] - fitCentre[1]) * s, q[2], s];
   }
 
   // ---- painting one frame
@@ -113,6 +125,7 @@
 
   function draw() {
     camera();
+    fitView();
     const i = state.frame, t = D.times[i];
     ctx.fillStyle = "#ffffff"; ctx.fillRect(0, 0, W, H);
     const items = [];

@@ -462,6 +462,31 @@ def test_the_legend_names_the_marks_the_picture_has(browser, tmp_path):
     assert text.startswith("body 1 2") and "joint axis" in text and "rotor" in text and errors == []
 
 
+def test_the_page_fits_the_motion_not_a_sphere_around_it(browser, tmp_path):
+    """spatial3's chaotic swing: the union of the drawn pixels over the run spans most of the
+    canvas (the page fits the projected extent of every frame, as the raster does; a bounding
+    sphere left two thirds of it empty)."""
+    page_file = tmp_path / "s.html"
+    assert main(["animate", str(SPECS / "spatial3.toml"), "--phi=-2,-0.75,-1.1", "--phidot", "0,0,0", "--t1", "4",
+                 "--trace", "0", "-o", str(page_file), "-q"]) == 0
+    page, errors, _requests = _open(browser, page_file, (1280, 800))
+    try:
+        page.click("#play")
+        drawn = None
+        for i in range(0, 101, 5):
+            page.locator("#time").fill(str(i))
+            a = np.asarray(_shot(page.locator("#scene"))).astype(int)
+            mark = np.abs(a - 255).sum(axis=2) > 60
+            drawn = mark if drawn is None else drawn | mark
+    finally:
+        page.close()
+    drawn[-80:, :80] = False  # the gravity arrow
+    drawn[:3, :] = drawn[-3:, :] = drawn[:, :3] = drawn[:, -3:] = False  # the border
+    ys, xs = np.nonzero(drawn)
+    assert max(np.ptp(xs) / drawn.shape[1], np.ptp(ys) / drawn.shape[0]) > 0.8, (np.ptp(xs), np.ptp(ys), drawn.shape)
+    assert errors == []
+
+
 def test_a_platform_faster_than_half_the_frame_rate_is_not_aliased(tmp_path, capsys):
     """Kapitza's pivot (w = 260 rad/s: 41.4 Hz) at 25 frames/s: detected, drawn with O1 held
     still (said on the picture and in a line), and the page's integral sampled at least 8 times
