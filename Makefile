@@ -1,7 +1,7 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
 # make test                           set up .venv and run the whole test suite (tests/unit, models, physics, tools)
 # make test-fast                      the unit layer only: the stages, printers, pipeline and architecture, no compiler (< 1 min)
-# make plot                           the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map (docs/)
+# make plot                           the frames figure, the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map (docs/img/)
 # make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
 # make docs                           the documentation site from docs/ into site/ (MkDocs, warnings are errors, offline)
 # make fuzz                           the commands fuzzed with fresh random inputs for FUZZ_SECONDS (default 600)
@@ -56,6 +56,7 @@ $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
 
 plot: $(VENV)/.plot-installed
 	$(VPY) -m codegen generate -q specs/gimbal.toml >/dev/null
+	$(VPY) examples/frames_figure.py docs/img/frames.png
 	$(VPY) examples/plot_gimbal.py docs/img/gimbal_quadrature.png
 	$(VPY) -m codegen generate -q specs/furuta.toml >/dev/null
 	$(VPY) examples/furuta_lqr.py docs/img/furuta_lqr.png
