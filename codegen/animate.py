@@ -114,6 +114,42 @@ def _rgb(hexcol: str) -> tuple:
     return tuple(int(hexcol[i:i + 2], 16) for i in (1, 3, 5))
 
 
+def occluders(prims: list, cam) -> list:
+    """The discs of a frame as the planes a bar is ordered against: (centre, unit normal, radius,
+    depth of the centre)."""
+    out = []
+    for prim in prims:
+        if prim[0] == "disc":
+            c = np.asarray(prim[1], float)
+            out.append((c, np.cross(prim[2], prim[3]), float(prim[4]), float(cam.project(c)[2])))
+    return out
+
+
+def seg_pieces(prim: tuple, discs: list, cam, pieces: int = 8) -> list:
+    """A thick segment in pieces, each with the depth it is painted at: its own, except where it
+    lies over a disc on the screen, where it goes just in front of the disc if it is on the
+    camera's side of the disc's plane and just behind otherwise (a bar through a rotor shows
+    through on the far side and over it on the near side, whatever their mean depths)."""
+    _, p, q, col, w = prim
+    p, q = np.asarray(p, float), np.asarray(q, float)
+    view = cam.matrix[2]  # towards the camera
+    out = []
+    for j in range(pieces):
+        a, b = p + (q - p) * j / pieces, p + (q - p) * (j + 1) / pieces
+        m = (a + b) / 2
+        depth = float(cam.project(m)[2])
+        for c, nrm, r, dc in discs:
+            dn = float(view @ nrm)
+            if abs(dn) < 1e-9:
+                continue
+            hit = m - ((m - c) @ nrm) / dn * view  # where the line of sight through m meets the plane
+            if np.linalg.norm(hit - c) <= r:
+                eps = 1e-9 * max(1.0, r)
+                depth = max(depth, dc + eps) if (m - hit) @ view > 0 else min(depth, dc - eps)
+        out.append((("seg", a, b, col, w), depth))
+    return out
+
+
 class Raster:
     """Paints a scene's frames with Pillow, at ``ss``× the size and then reduced (anti-aliasing)."""
 
@@ -174,19 +210,25 @@ class Raster:
                 seg = (x[j], y[j], x[j + 1], y[j + 1])
                 items.append((min(z[j], z[j + 1]), len(items),
                               lambda seg=seg, a=a: draw.line(seg, fill=col + (a,), width=max(1, round(1.8 * k)))))
-        for prim in sc.static + sc.frames[i]:
-            items.append(self._item(draw, prim, len(items)))
+        prims = sc.static + sc.frames[i]
+        discs = occluders(prims, self.cam)
+        for prim in prims:
+            if prim[0] == "seg" and prim[4] >= 2.0 and discs:  # in pieces, each ordered against the discs
+                items += [self._item(draw, piece, len(items), depth) for piece, depth in seg_pieces(prim, discs, self.cam)]
+            else:
+                items.append(self._item(draw, prim, len(items)))
         for _, _, paint in sorted(items, key=lambda it: (it[0], it[1])):
             paint()
         self._overlay(draw, t)
         return img.reduce(self.ss)  # the mean of each ss × ss block: anti-aliasing
 
-    def _item(self, draw, prim, order):
+    def _item(self, draw, prim, order, depth=None):
         kind, k = prim[0], self.k
         if kind == "seg":
             _, p, q, col, w = prim
             x, y, z = self._px(np.array([p, q]))
-            return (z.mean(), order, lambda: draw.line((x[0], y[0], x[1], y[1]), fill=_rgb(col), width=max(1, round(w * k))))
+            return (z.mean() if depth is None else depth, order,
+                    lambda: draw.line((x[0], y[0], x[1], y[1]), fill=_rgb(col), width=max(1, round(w * k))))
         if kind == "dot":
             _, p, r, col = prim
             x, y, z = self._px(np.asarray(p))

@@ -123,6 +123,35 @@
     throw new Error("unknown primitive " + kind);
   }
 
+  // ---- a bar through a disc: in pieces, each in front of the disc where it is on the camera's side
+  // of the disc's plane (as codegen/animate.py's occluders and seg_pieces)
+  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+  function occluders(prims) {
+    return prims.filter(p => p[0] === "disc").map(p => [p[1], cross(p[2], p[3]), p[4], project(p[1])[2]]);
+  }
+  function segPieces(p, discs) {
+    const view = M[2], out = [], n = 8;
+    for (let j = 0; j < n; j++) {
+      const a = [0, 1, 2].map(i => p[1][i] + (p[2][i] - p[1][i]) * j / n);
+      const b = [0, 1, 2].map(i => p[1][i] + (p[2][i] - p[1][i]) * (j + 1) / n);
+      const m = [0, 1, 2].map(i => (a[i] + b[i]) / 2);
+      let depth = project(m)[2];
+      for (const [c, nrm, r, dc] of discs) {
+        const dn = dot(view, nrm);
+        if (Math.abs(dn) < 1e-9) continue;
+        const f = dot([0, 1, 2].map(i => m[i] - c[i]), nrm) / dn;
+        const hit = [0, 1, 2].map(i => m[i] - f * view[i]);
+        if (Math.hypot(hit[0] - c[0], hit[1] - c[1], hit[2] - c[2]) <= r) {
+          const eps = 1e-9 * Math.max(1, r);
+          depth = dot([0, 1, 2].map(i => m[i] - hit[i]), view) > 0 ? Math.max(depth, dc + eps) : Math.min(depth, dc - eps);
+        }
+      }
+      out.push([["seg", a, b, p[3], p[4]], depth]);
+    }
+    return out;
+  }
+
   function draw() {
     camera();
     fitView();
@@ -143,7 +172,13 @@
         ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
       }]);
     }
-    for (const p of D.static.concat(D.frames[i])) items.push(item(p, items.length));
+    const prims = D.static.concat(D.frames[i]);
+    const discs = occluders(prims);
+    for (const p of prims) {
+      if (p[0] === "seg" && p[4] >= 2 && discs.length) {
+        for (const [piece, depth] of segPieces(p, discs)) { const it = item(piece, items.length); it[0] = depth; items.push(it); }
+      } else items.push(item(p, items.length));
+    }
     items.sort((a, b) => a[0] - b[0] || a[1] - b[1]);
     for (const it of items) it[2]();
     // the direction of gravity (ê⁰₁); the name and the clock are the page's
@@ -268,6 +303,7 @@
     get frame() { return state.frame; }, get time() { return D.times[state.frame]; },
     get az() { return state.az; }, get el() { return state.el; }, get zoom() { return state.zoom; },
     get playing() { return state.playing; }, get rate() { return state.rate; }, frames: N, setFrame, play, pause,
+    project: p => { camera(); fitView(); return project(p).slice(0, 2); },  // a fixed-frame point → canvas px
   };
   // the legend: what the marks are, as codegen/scene.py read them off the primitives
   const SYMBOLS = { bar: ["━", "#555"], link: ["─", "#555"], ring: ["◯", "#555"], dot: ["●", "#555"], disc: ["◍", "#555"],

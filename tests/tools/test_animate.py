@@ -462,6 +462,55 @@ def test_the_legend_names_the_marks_the_picture_has(browser, tmp_path):
     assert text.startswith("body 1 2") and "joint axis" in text and "rotor" in text and errors == []
 
 
+def _bar_through_disc(view=(40.0, 25.0)):
+    """A disc in the plane x₁ = 0 (normal ê⁰₁) and a bar along its normal through its centre, as
+    one frame; and the camera."""
+    disc = ("disc", np.zeros(3), np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0]), 0.5, "#009E73")
+    bar = ("seg", np.array([-0.6, 0.0, 0.0]), np.array([0.6, 0.0, 0.0]), "#0072B2", 5.0)
+    pts = np.array([[-0.6, 0, 0], [0.6, 0, 0], [0, 0.5, 0], [0, -0.5, 0], [0, 0, 0.5], [0, 0, -0.5]], float)
+    sc = scene.Scene(name="t", times=np.array([0.0]), frames=[[bar, disc]], static=[], tip_times=np.array([0.0]),
+                     tips=np.zeros((1, 3)), trace=0.0, size=1.0, gravity=False, points=pts)
+    return sc, scene.Camera(math.radians(view[0]), math.radians(view[1]))
+
+
+def test_a_bar_through_a_disc_shows_in_front_of_it_only_on_the_near_side():
+    """The bar's half on the camera's side of the disc is painted over it, the far half under its
+    translucent fill (sorted whole, either all of the bar or none of it was in front)."""
+    sc, cam = _bar_through_disc()
+    r = animate.Raster(sc, 320, 320, cam)
+    img = np.asarray(r.frame(0)).astype(int)
+    near_end, far_end = (np.array([-0.6, 0, 0]), np.array([0.6, 0, 0]))
+    if cam.project(near_end)[2] < cam.project(far_end)[2]:
+        near_end, far_end = far_end, near_end
+    blue = np.array(animate._rgb("#0072B2"))
+    for end, in_front in ((near_end, True), (far_end, False)):
+        x, y, _ = r.to_pixels(0.2 * end)  # on the bar, within the disc's outline on the screen
+        px = img[int(round(y)), int(round(x))]
+        assert (np.abs(px - blue).sum() < 30) == in_front, (end, px)
+
+
+def test_the_page_orders_a_bar_through_a_disc_as_the_raster_does(browser, tmp_path):
+    """The same bar and disc in the page: the near half over the disc, the far half under it."""
+    sc, cam = _bar_through_disc()
+    page_file = tmp_path / "b.html"
+    animate.write_html(sc, cam, page_file, "a bar through a disc")
+    near_end, far_end = (np.array([-0.6, 0, 0]), np.array([0.6, 0, 0]))
+    if cam.project(near_end)[2] < cam.project(far_end)[2]:
+        near_end, far_end = far_end, near_end
+    page, errors, _requests = _open(browser, page_file, (1280, 800))
+    try:
+        img = np.asarray(_shot(page.locator("#scene"))).astype(int)
+        border = 1  # the canvas's CSS border: the screenshot includes it
+        blue = np.array(animate._rgb("#0072B2"))
+        for end, in_front in ((near_end, True), (far_end, False)):
+            x, y = page.evaluate(f"gyroViewer.project({[float(v) for v in 0.2 * end]})")
+            px = img[int(round(y)) + border, int(round(x)) + border]
+            assert (np.abs(px - blue).sum() < 30) == in_front, (end, px)
+    finally:
+        page.close()
+    assert errors == []
+
+
 def test_the_page_fits_the_motion_not_a_sphere_around_it(browser, tmp_path):
     """spatial3's chaotic swing: the union of the drawn pixels over the run spans most of the
     canvas (the page fits the projected extent of every frame, as the raster does; a bounding
