@@ -98,7 +98,7 @@ def integral_curve(model, derived, X, times, u, params) -> dict | None:
     momentum = model.has_momentum and (ints.has_momentum_integral or (
         ints.momentum_condition is None and bool(ints.momentum_reasons)
         and all(r == "control torque in joint 1" and idle for r in ints.momentum_reasons)))
-    unit = "J"
+    unit, conserved = "J", True
     if energy:
         label, f = "energy T − U (23), an integral", lambda x, t: model.energy(x, t=t, **kw)
     elif model.has_jacobi:
@@ -107,7 +107,9 @@ def integral_curve(model, derived, X, times, u, params) -> dict | None:
         label, f, unit = "momentum (27), an integral", lambda x, t: model.momentum(x, t=t, **kw), "kg m²/s"
     else:
         label, f = "energy T − U (23), not an integral here", lambda x, t: model.energy(x, t=t, **kw)
-    return {"label": label, "unit": unit, "values": [float(f(np.asarray(x, float), float(t))) for x, t in zip(X, times)]}
+        conserved = False
+    return {"label": label, "unit": unit, "conserved": conserved,
+            "values": [float(f(np.asarray(x, float), float(t))) for x, t in zip(X, times)]}
 
 
 # --------------------------------------------------------------------------- writing

@@ -206,34 +206,44 @@
     drawPlot();
   }
 
-  // ---- the integral's curve: its deviation from the start (relative where the start is not 0),
-  // with a cursor and the value at the frame's time
+  // ---- the integral's curve with a cursor and the value at the frame's time: a conserved one as
+  // its deviation from the start (relative where the start is not 0), a quantity that is not
+  // conserved (the energy where no integral exists) as its value
+  function fitText(text, x, y, width) {  // one line, the font shrunk until it fits the canvas
+    let size = 12;
+    pctx.font = `${size}px sans-serif`;
+    while (size > 8 && pctx.measureText(text).width > width) pctx.font = `${--size}px sans-serif`;
+    pctx.fillText(text, x, y);
+    pctx.font = "12px sans-serif";
+  }
   function drawPlot() {
     const w = plot.width / dpr, h = plot.height / dpr, L = 70, R = 12, T = 40, B = 22;
     pctx.fillStyle = "#ffffff"; pctx.fillRect(0, 0, w, h);
     pctx.fillStyle = "#333"; pctx.font = "12px sans-serif"; pctx.textBaseline = "top"; pctx.textAlign = "left";
     if (!D.integral) { pctx.fillText("no integral plotted (the trajectory has no rates)", L, T); return; }
-    const v = D.integral.values, unit = D.integral.unit, v0 = v[0];
+    const v = D.integral.values, unit = D.integral.unit, v0 = v[0], conserved = D.integral.conserved !== false;
     const ts = D.integral.times || D.times, tf = D.times[state.frame];
     let i = 0;  // the sample at the frame's time (the integral may be sampled finer than the frames)
     while (i + 1 < ts.length && ts[i + 1] <= tf + 1e-9) i++;
     const t0 = D.times[0], t1 = D.times[N - 1] > t0 ? D.times[N - 1] : t0 + 1;
-    const relative = Math.abs(v0) > 0, s = relative ? Math.abs(v0) : 1;
-    const d = v.map(y => (y - v0) / s);
-    let lo = Math.min(0, ...d), hi = Math.max(0, ...d);
-    const half = Math.max((hi - lo) / 2, 1e-16), mid = (lo + hi) / 2;
+    const relative = conserved && Math.abs(v0) > 0, s = relative ? Math.abs(v0) : 1;
+    const d = conserved ? v.map(y => (y - v0) / s) : v, ref = conserved ? 0 : v0;
+    let lo = Math.min(ref, ...d), hi = Math.max(ref, ...d);
+    const half = Math.max((hi - lo) / 2, 1e-16 * Math.max(1, Math.abs(ref))), mid = (lo + hi) / 2;
     lo = mid - 1.15 * half; hi = mid + 1.15 * half;
     const e = x => (x === 0 ? "0" : x.toExponential(1));
-    pctx.fillText(`${D.integral.label}: ${v0.toPrecision(8)} ${unit} at t = ${t0.toFixed(2)} s`, 4, 4);
-    pctx.fillText((relative ? "relative deviation (I(t) − I(0)) / |I(0)|" : `deviation I(t) − I(0) (${unit})`)
-      + `: ${e(d[i])} at t = ${tf.toFixed(2)} s`, 4, 20);
+    const wide = w - 8;
+    fitText(`${D.integral.label}: ${v0.toPrecision(8)} ${unit} at t = ${t0.toFixed(2)} s`, 4, 4, wide);
+    fitText(conserved
+      ? (relative ? "relative deviation (I(t) − I(0)) / |I(0)|" : `deviation I(t) − I(0) (${unit})`) + `: ${e(d[i])} at t = ${tf.toFixed(2)} s`
+      : `its value (${unit}): ${v[i].toPrecision(6)} ${unit} at t = ${tf.toFixed(2)} s; dashed: the start`, 4, 20, wide);
     const X = t => L + (t - t0) / (t1 - t0) * (w - L - R), Y = y => T + (hi - y) / (hi - lo) * (h - T - B);
     pctx.strokeStyle = "#bbb"; pctx.lineWidth = 1; pctx.strokeRect(L, T, w - L - R, h - T - B);
-    pctx.setLineDash([3, 3]); pctx.beginPath(); pctx.moveTo(L, Y(0)); pctx.lineTo(w - R, Y(0)); pctx.stroke();
+    pctx.setLineDash([3, 3]); pctx.beginPath(); pctx.moveTo(L, Y(ref)); pctx.lineTo(w - R, Y(ref)); pctx.stroke();
     pctx.setLineDash([]);
     pctx.textAlign = "right"; pctx.textBaseline = "middle";
     pctx.fillText(e(hi), L - 4, T); pctx.fillText(e(lo), L - 4, h - B);
-    if (Y(0) - T > 12 && h - B - Y(0) > 12) pctx.fillText("0", L - 4, Y(0));
+    if (Y(ref) - T > 12 && h - B - Y(ref) > 12) pctx.fillText(e(ref), L - 4, Y(ref));
     pctx.textBaseline = "top";
     pctx.textAlign = "left"; pctx.fillText(`${t0.toFixed(2)} s`, L, h - B + 4);
     pctx.textAlign = "right"; pctx.fillText(`${t1.toFixed(2)} s`, w - R, h - B + 4);

@@ -649,6 +649,7 @@ def test_integral_curve_is_the_integral_that_exists(case, tmp_path):
             "jacobi": "Jacobi integral, conserved", "momentum": "momentum (27), an integral",
             "moving_base": "energy T − U (23), not an integral here"}[case]
     assert curve["label"] == want
+    assert curve["conserved"] is ("not an integral" not in want)  # the page plots a conserved one as its deviation
     if "not an integral" in want:
         assert rel > 1e-4
     else:
