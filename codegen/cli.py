@@ -8,6 +8,7 @@ input gets one line on stderr naming the field, exit status 2, and nothing writt
 from __future__ import annotations
 
 import argparse
+import difflib
 import math
 import os
 import re
@@ -220,8 +221,35 @@ class _Parser(argparse.ArgumentParser):
     """argparse with one line for a mistake: ``error: <what> (see <prog> --help)``, exit 2."""
 
     def error(self, message):
-        print(f"error: {message} (see {self.prog} --help)", file=sys.stderr)
+        print(f"error: {_plain(message)} (see {self.prog} --help)", file=sys.stderr)
         raise SystemExit(EXIT_BAD_INPUT)
+
+
+def _unrecognized(extra: list[str], parser: argparse.ArgumentParser) -> str:
+    """The first word a command does not know, and the option of the command nearest to it."""
+    word = extra[0].split("=", 1)[0]
+    if not word.startswith("-"):
+        return f"{word}: unexpected argument"
+    known = [o for a in parser._actions for o in a.option_strings]
+    near = difflib.get_close_matches(word, known, n=1)
+    return f"{word}: no such option of {parser.prog}" + (f"; did you mean {near[0]}?" if near else "")
+
+
+_CHOICE = re.compile(r"^argument (?P<what>[^:]+): invalid choice: '(?P<got>[^']*)' \(choose from (?P<among>.*)\)$")
+
+
+def _plain(message: str) -> str:
+    """argparse's words in the form of every other error, ``<what>: <why>``: "argument --t1:
+    invalid float value: 'x'" → "--t1: invalid float value: 'x'", and a mistyped choice answered
+    with the nearest one ("command: no such command 'chek'; did you mean 'check'? ...")."""
+    m = _CHOICE.match(message)
+    if m:
+        among = [c.strip(" '") for c in m["among"].split(",")]
+        what = "command" if m["what"] == "cmd" else m["what"]
+        near = difflib.get_close_matches(m["got"], among, n=1)
+        hint = f"did you mean '{near[0]}'? " if near else ""
+        return f"{what}: no such {'command' if what == 'command' else 'choice'} '{m['got']}'; {hint}one of {', '.join(among)}"
+    return message.removeprefix("argument ")
 
 
 _NEGATIVE = re.compile(r"^-(\.?\d|inf|nan)", re.IGNORECASE)
@@ -362,7 +390,9 @@ def main(argv=None) -> int:
     an.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of DOP853")
     an.add_argument("--force", action="store_true", help="replace an existing file animate did not write")
     an.add_argument("-q", "--quiet", action="store_true")
-    args = ap.parse_args(_join_negative(list(sys.argv[1:] if argv is None else argv), _valued_options(ap)))
+    args, extra = ap.parse_known_args(_join_negative(list(sys.argv[1:] if argv is None else argv), _valued_options(ap)))
+    if extra:  # said by the command's own parser, with the nearest option it has
+        sub.choices[args.cmd].error(_unrecognized(extra, sub.choices[args.cmd]))
     try:
         return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
                 "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate}[args.cmd](args)

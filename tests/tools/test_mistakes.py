@@ -150,11 +150,18 @@ def test_plot_mistakes_are_one_line(store, tmp_path):
     (["--phi", "nan,0"], "--phi", "finite"),
     (["--u", "1"], "--u", "no controlled joint"),
     (["--param", "m"], "--param m", "name=number"),
-    (["--steps", "x"], "argument --steps", "invalid int value"),
-    (["--frobnicate"], "unrecognized arguments", "--frobnicate"),
+    (["--steps", "x"], "--steps", "invalid int value"),
+    (["--frobnicate"], "--frobnicate", "no such option of"),
+    (["--phdot", "0,0"], "--phdot", "did you mean --phidot?"),
+    (["extra_word"], "extra_word", "unexpected argument"),
 ])
 def test_simulate_option_mistakes(args, field, words):
     refused(field, "simulate", SPECS / "gimbal.toml", *args, words=words)
+
+
+def test_a_mistyped_command_is_answered_with_the_nearest():
+    refused("command", "chek", SPECS / "gimbal.toml", words="no such command 'chek'; did you mean 'check'?")
+    refused("--t1", "simulate", SPECS / "gimbal.toml", "--t1", "abc", words="invalid float value: 'abc'")
 
 
 def test_internal_errors_say_so_and_exit_1(monkeypatch):
