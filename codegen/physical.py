@@ -28,7 +28,11 @@ def check_physical(where: str, m, c, A) -> None:
 
 
 def _check_tensor(where: str, m: float, c: np.ndarray, A: np.ndarray, label: str = "") -> None:
-    AG = A - m * (c @ c * np.eye(3) - np.outer(c, c))
+    with np.errstate(all="ignore"):
+        AG = A - m * (c @ c * np.eye(3) - np.outer(c, c))
+    if not np.all(np.isfinite(AG)):
+        raise SpecError(where, "too large: the inertia about the centre of mass A − m(|c|²1 − c cᵀ) "
+                               f"overflows double precision (m = {m:g}, |c| = {math.hypot(*c):g}){label}")
     ev = np.linalg.eigvalsh(AG)
     scale = max(abs(ev).max(), abs(A).max(), 1e-300)
     moments = ", ".join(f"{e:.6g}" for e in ev)

@@ -342,3 +342,14 @@ def test_found_a_purely_relative_tolerance(tmp_path):
     for extra in ([], ["--reference"]):
         code, _, err, dt = run(["simulate", SPECS / "gimbal.toml", "--atol", "0", "--phidot", "0,0", *extra], 30)
         assert code == 2 and err.startswith("error: --atol:") and dt < 10, (err, dt)
+
+
+def test_found_an_inertia_that_overflows(tmp_path):
+    """m = 1e300 with |c| = 1e200: the central inertia A − m(|c|²1 − c cᵀ) overflowed to inf − inf,
+    numpy printed three RuntimeWarnings and eigvalsh failed ("Eigenvalues did not converge", exit 1).
+    Refused now, naming the field, on every path that checks an inertia."""
+    text = (SPECS / "gimbal.toml").read_text().replace("m = 0.5", "m = 1e300", 1).replace("c = [0.0, 0.0, 0.0]", "c = [1e200, 0.0, 0.0]", 1)
+    spec = tmp_path / "big.toml"
+    spec.write_text(text)
+    code, _, err = holds(["check", spec], tmp_path, 30)
+    assert code == 2 and err.startswith("error: body[1].") and "overflows double precision" in err, err
