@@ -139,23 +139,24 @@ class Raster:
                                                           outline=(40, 40, 40), width=max(1, round(k))))
         if kind == "disc":
             _, c, u, v, r, col = prim
-            a = np.linspace(0.0, 2 * math.pi, 48, endpoint=False)
-            pts = np.asarray(c) + r * (np.cos(a)[:, None] * np.asarray(u) + np.sin(a)[:, None] * np.asarray(v))
-            x, y, z = self._px(pts)
-            poly = list(zip(x.tolist(), y.tolist()))
+            poly, z = self._circle(c, u, v, r, 48)
             return (z.mean(), order, lambda: draw.polygon(poly, fill=_rgb(col) + (90,), outline=_rgb(col), width=max(1, round(1.5 * k))))
         if kind == "ring":
             _, c, u, v, r, col = prim
-            a = np.linspace(0.0, 2 * math.pi, 64, endpoint=False)
-            pts = np.asarray(c) + r * (np.cos(a)[:, None] * np.asarray(u) + np.sin(a)[:, None] * np.asarray(v))
-            x, y, z = self._px(pts)
-            ring = list(zip(x.tolist(), y.tolist()))
+            ring, z = self._circle(c, u, v, r, 64)
             return (z.mean(), order, lambda: draw.line(ring + ring[:1], fill=_rgb(col), width=max(1, round(2.5 * k)), joint="curve"))
         if kind == "label":
             _, p, text, col = prim
             x, y, z = self._px(np.asarray(p))
             return (float(z), order, lambda: draw.text((x, y), text, fill=_rgb(col), font=self.small, anchor="mm"))
         raise ValueError(kind)
+
+    def _circle(self, c, u, v, r, count: int):
+        """A circle of radius r about c in the plane of u, v: its pixels and their depths."""
+        a = np.linspace(0.0, 2 * math.pi, count, endpoint=False)
+        pts = np.asarray(c) + r * (np.cos(a)[:, None] * np.asarray(u) + np.sin(a)[:, None] * np.asarray(v))
+        x, y, z = self._px(pts)
+        return list(zip(x.tolist(), y.tolist())), z
 
     def _legend_rows(self) -> list:
         """The legend's entries laid out in rows across the picture: [[(symbol, text, x), …], …]."""
