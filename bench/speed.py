@@ -14,6 +14,7 @@ import csv
 import dataclasses
 import json
 import os
+import re
 import resource
 import shutil
 import subprocess
@@ -83,7 +84,17 @@ def generate_one(spec_path: str, out: str) -> None:
     t_cc = time.perf_counter() - t1
     from codegen.assemble import op_counts
 
-    print(json.dumps(dict(emit=t_emit, cc=t_cc, rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, ops=op_counts(model))))
+    c_file = out / f"{spec.name}.c"
+    print(json.dumps(dict(emit=t_emit, cc=t_cc, rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, ops=op_counts(model),
+                          c_kb=c_file.stat().st_size / 1e3, fn_kb=function_sizes(c_file.read_text(), spec.name))))
+
+
+def function_sizes(c_text: str, name: str) -> dict[str, float]:
+    """KB of each function of a generated C file (from its definition to the next one's)."""
+    heads = [(m.start(), m.group(1)) for m in re.finditer(
+        rf"^(?:static )?(?:int|void|double|long) {re.escape(name)}_(\w+)\(", c_text, re.M)]
+    ends = [a for a, _ in heads[1:]] + [len(c_text)]
+    return {fn: (b - a) / 1e3 for (a, fn), b in zip(heads, ends)}
 
 
 def generate(text: str, name: str) -> dict:
@@ -235,7 +246,11 @@ def speed(ns: list[int]) -> list[dict]:
         gen = generate(text, f"chain{n}")
         xs = states(n)
         ref = np.array([reference.qdd(ch, x) for x in xs])
-        row = dict(n=n, qdd_ops=gen["ops"]["qdd"], gen_s=gen["emit"], cc_s=gen["cc"], rss_mb=gen["rss_mb"])
+        row = dict(n=n, qdd_ops=gen["ops"]["qdd"], gen_s=gen["emit"], cc_s=gen["cc"], rss_mb=gen["rss_mb"],
+                   c_kb=gen["c_kb"], c_kb_per_link=gen["c_kb"] / n)
+        big = sorted(gen["fn_kb"].items(), key=lambda kv: -kv[1])[:6]
+        print(f"n={n:>3}  C {gen['c_kb']:.0f} KB ({gen['c_kb'] / n:.0f} KB per link); largest: "
+              + ", ".join(f"{fn} {kb:.0f}" for fn, kb in big), flush=True)
         exe = build_ours(n, d)
         qdd, med, _ = run(exe, xs, d)
         err = check(qdd, ref)
@@ -269,6 +284,17 @@ def speed(ns: list[int]) -> list[dict]:
         rows.append(row)
         print(_speed_line(row), flush=True)
     return rows
+
+
+def slopes(rows: list[dict]) -> str:
+    """Log-log slopes against n between the two largest chains: 1 is linear growth, 2 quadratic."""
+    if len(rows) < 2:
+        return "slopes: need two sizes"
+    a, b = rows[-2], rows[-1]
+    k = lambda key: np.log(b[key] / a[key]) / np.log(b["n"] / a["n"])  # noqa: E731
+    parts = [f"{label} {k(key):.2f}" for key, label in (("gen_s", "derive + emit"), ("cc_s", "gcc"), ("c_kb", "C size"),
+                                                          ("ours_ns", "ns per qdd")) if a.get(key) and b.get(key)]
+    return f"slopes d log / d log n from n = {a['n']} to {b['n']}: " + ", ".join(parts)
 
 
 def _fmt(v, spec=".0f"):
@@ -388,6 +414,7 @@ def main() -> int:
     print(f"machine: {os.cpu_count()} cores, {_cpu()}; flags {' '.join(CFLAGS)} for every compiled peer", flush=True)
     sp = speed(args.n)
     write_csv(RESULTS / "speed.csv", sp)
+    print(slopes(sp), flush=True)
     sym = symbolic(args.symbolic) if args.symbolic else []
     if sym:
         write_csv(RESULTS / "generation_symbolic.csv", sym)
