@@ -8,7 +8,6 @@ input gets one line on stderr naming the field, exit status 2, and nothing writt
 from __future__ import annotations
 
 import argparse
-import difflib
 import math
 import os
 import re
@@ -20,6 +19,7 @@ import numpy as np
 
 from .physical import run_values
 from .simulate import torques
+from .errors import did_you_mean
 from .spec import SpecError, load_spec
 
 EXIT_BAD_INPUT = 2
@@ -230,9 +230,8 @@ def _unrecognized(extra: list[str], parser: argparse.ArgumentParser) -> str:
     word = extra[0].split("=", 1)[0]
     if not word.startswith("-"):
         return f"{word}: unexpected argument"
-    known = [o for a in parser._actions for o in a.option_strings]
-    near = difflib.get_close_matches(word, known, n=1)
-    return f"{word}: no such option of {parser.prog}" + (f"; did you mean {near[0]}?" if near else "")
+    hint = did_you_mean(word, [o for a in parser._actions for o in a.option_strings])
+    return f"{word}: no such option of {parser.prog}" + (f"; {hint.strip()}" if hint else "")
 
 
 _CHOICE = re.compile(r"^argument (?P<what>[^:]+): invalid choice: '(?P<got>[^']*)' \(choose from (?P<among>.*)\)$")
@@ -246,8 +245,7 @@ def _plain(message: str) -> str:
     if m:
         among = [c.strip(" '") for c in m["among"].split(",")]
         what = "command" if m["what"] == "cmd" else m["what"]
-        near = difflib.get_close_matches(m["got"], among, n=1)
-        hint = f"did you mean '{near[0]}'? " if near else ""
+        hint = did_you_mean(m["got"], among)
         return f"{what}: no such {'command' if what == 'command' else 'choice'} '{m['got']}'; {hint}one of {', '.join(among)}"
     return message.removeprefix("argument ")
 

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from .errors import SpecError
+from .errors import SpecError, did_you_mean
 from .physical import check_physical, check_values
 
 __all__ = ["SpecError", "BodySpec", "ChainSpec", "BaseSpec", "LoadSpec", "load_spec", "parse_spec", "parse_expression",
@@ -331,7 +331,7 @@ def _fields(raw: dict, at: str, allowed, required, expected: str) -> None:
     name = (lambda key: f"{at}.{key}") if at else (lambda key: key)
     for key in raw:
         if key not in allowed:
-            raise SpecError(name(key), f"unknown field (expected {expected})")
+            raise SpecError(name(key), f"unknown field ({did_you_mean(key, allowed)}expected {expected})")
     for key in required:
         if key not in raw:
             raise SpecError(name(key), "missing field")

@@ -27,6 +27,7 @@ from . import __version__, pipeline
 from .codes import METHODS
 from .measures import angles_of, energies, flip_times, joint_angles, link_signs, lyapunov
 from .physical import check_values, run_values
+from .errors import did_you_mean
 from .spec import SpecError
 
 MEASURES = ("final", "flip_time", "energy_error", "lyapunov")
@@ -166,7 +167,7 @@ class Plan:
         sweep, n = self.sweep, self.n
         for m in sweep.measures:
             if m not in MEASURES:
-                raise SpecError("--measure", f"unknown measure {m!r} (one of {', '.join(MEASURES)})")
+                raise SpecError("--measure", f"unknown measure {m!r} ({did_you_mean(m, MEASURES)}one of {', '.join(MEASURES)})")
         if not sweep.measures:
             raise SpecError("--measure", "no measure asked for")
         if len(set(sweep.measures)) != len(sweep.measures):

@@ -159,9 +159,12 @@ def test_simulate_option_mistakes(args, field, words):
     refused(field, "simulate", SPECS / "gimbal.toml", *args, words=words)
 
 
-def test_a_mistyped_command_is_answered_with_the_nearest():
-    refused("command", "chek", SPECS / "gimbal.toml", words="no such command 'chek'; did you mean 'check'?")
+def test_a_mistyped_command_is_answered_with_the_nearest(tmp_path):
+    refused("command", "chek", SPECS / "gimbal.toml", words="no such command 'chek'; did you mean check?")
     refused("--t1", "simulate", SPECS / "gimbal.toml", "--t1", "abc", words="invalid float value: 'abc'")
+    refused("--measure", "sweep", SPECS / "gimbal.toml", "--vary", "phi1=0:1:2", "--measure", "flip_tme", "-o", tmp_path / "s.zarr",
+            words="did you mean flip_time?")
+    nothing_in(tmp_path)
 
 
 def test_internal_errors_say_so_and_exit_1(monkeypatch):

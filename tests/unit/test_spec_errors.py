@@ -51,6 +51,7 @@ CASES = [
     ("missing-s", replace_body1("s", ""), "body[1].s", "missing"),
     ("unknown-top", spec(top='name = "bad"\ng = 9.81\ncolour = "red"\n'), "colour", "unknown field"),
     ("unknown-body", replace_body1("mass", "mass = 2.0"), "body[1].mass", "unknown field"),
+    ("typo-body", replace_body1("lambda", "lamda = [0, 0, 1]"), "body[1].lamda", "unknown field (did you mean lambda?"),
     ("s-on-last", spec(body2=BODY2 + "s = [0.0, 0.0, 1.0]\n"), "body[2].s", "last body"),
     ("vector-shape", replace_body1("c", "c = [0.0, 0.1]"), "body[1].c", "3 entries"),
     ("matrix-shape", replace_body1("A", "A = [[0.004, 0.0], [0.0, 0.004]]"), "body[1].A", "3×3"),
