@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import did_you_mean
 from .physical import run_values
 from .simulate import torques
-from .errors import did_you_mean
 from .spec import SpecError, load_spec
 
 EXIT_BAD_INPUT = 2
@@ -240,7 +240,7 @@ _CHOICE = re.compile(r"^argument (?P<what>[^:]+): invalid choice: '(?P<got>[^']*
 def _plain(message: str) -> str:
     """argparse's words in the form of every other error, ``<what>: <why>``: "argument --t1:
     invalid float value: 'x'" → "--t1: invalid float value: 'x'", and a mistyped choice answered
-    with the nearest one ("command: no such command 'chek'; did you mean 'check'? ...")."""
+    with the nearest one ("command: no such command 'chek'; did you mean check? ...")."""
     m = _CHOICE.match(message)
     if m:
         among = [c.strip(" '") for c in m["among"].split(",")]
