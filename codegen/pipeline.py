@@ -31,6 +31,7 @@ C_FILES = (".c", ".h", ".cdef")  # what an extension is built from
 _DERIVED: OrderedDict = OrderedDict()  # (spec text, forms) → Model, the last few derived
 _DERIVED_MAX = 8
 _LOCK = threading.Lock()
+_REGULAR: set = set()  # the (spec text, values) whose mass matrix was found regular
 _LOADED: dict = {}  # content hash of the sources → CModel (an extension loads once per process)
 
 
@@ -73,12 +74,18 @@ def check_mass_matrix(spec, tries: int = 3) -> None:
 
     if len(spec.values) < len(spec.params):
         return
+    key = (spec.source, tuple(sorted((str(k), str(v)) for k, v in spec.values.items())), tries)
+    with _LOCK:
+        if key in _REGULAR:  # generate checks before it derives, derive checks again: once is enough
+            return
     ch = reference.numeric(spec, spec.values)
     rng = np.random.default_rng(0)
     for _ in range(tries):
         M = reference.mass_matrix(ch, rng.uniform(-np.pi, np.pi, spec.n))
         ev, vec = np.linalg.eigh((M + M.T) / 2)
         if ev[0] > 1e-12 * max(abs(ev[-1]), 1e-300):
+            with _LOCK:
+                _REGULAR.add(key)
             return
     k = int(np.argmax(np.abs(vec[:, 0]))) + 1
     raise SpecError(f"body[{k}]", f"the mass matrix is singular in every configuration: turning joint {k} moves no mass "

@@ -2,7 +2,7 @@
 
 Nothing here uses the sympy derivation.  Every vector is taken into the fixed frame ê⁰
 with the direction cosines (11)/(14) (and the platform's attitude R(t)), and equation (3) is
-evaluated as printed, with the sums over p ≥ k and q > k written out:
+evaluated as printed, with the sums over p ≥ k and q > k written out (summed from the tip):
 
     eᵏ·{ Σ_{p≥k} [(Aᵖωᵖ+λᵖ)˙ + mᵖ cᵖ × a_{Oᵖ} − Mᵖ] + Σ_{q>k} O^kO^q × (m^q a_{G^q} − F^q) } = Lᵏ
 
@@ -279,14 +279,13 @@ def _wrenches(ch: NumericChain, phi, phidot, phiddot, t: float):
     Mg = np.cross(c, ch.g * ch.m[:, None] * down)  # moment of gravity about O^p
     Fg = ch.g * ch.m[:, None] * down
     Fx, Nx, _ = _loads(ch, mo, t, phi, phidot)
-    totals = np.empty((n, 3))
-    for k in range(n):
-        total = np.zeros(3)
-        for p in range(k, n):
-            total += dH[p] + ch.m[p] * np.cross(c[p], mo["aO"][p]) - Mg[p] - Nx[p]
-        for q in range(k + 1, n):
-            total += np.cross(O[q] - O[k], ch.m[q] * mo["aG"][q] - Fg[q] - Fx[q])
-        totals[k] = total
+    # Σ_{p≥k} X_p + Σ_{q>k} (O^q − O^k) × Y_q, as suffix sums from the tip (O(n), not O(n²)):
+    # Σ_{p≥k} X_p + Σ_{q>k} O^q × Y_q − O^k × Σ_{q>k} Y_q
+    X = dH + ch.m[:, None] * np.cross(c, mo["aO"]) - Mg - Nx
+    Y = ch.m[:, None] * mo["aG"] - Fg - Fx
+    tip = lambda a: np.cumsum(a[::-1], axis=0)[::-1]  # noqa: E731  (row k: the sum over rows ≥ k)
+    after = lambda a: np.vstack([tip(a)[1:], np.zeros((1, 3))])  # noqa: E731  (rows > k)
+    totals = tip(X) + after(np.cross(O, Y)) - np.cross(O, after(Y))
     force = np.sum(ch.m[:, None] * mo["aG"] - Fg - Fx, axis=0)
     return totals, force, mo
 
