@@ -85,17 +85,22 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
     say("straight-line code: mass matrix, forces, qdd, integrals")
     appends_to(prog, kin)
     P = prog
-    lines["mass_matrix"] = straight_line(P, lower)
+    loops = dyn.loops is not None
+    # the loop form (loopform.py): S and z1 per joint, the pairs and the LDLᵀ are the template's loops
+    axes = [x for v in (dyn.loops.S + dyn.loops.z1 if loops else ()) for x in v]
+    lines["mass_matrix"] = straight_line(P, axes if loops else lower)
     lines["forces"] = straight_line(P, dyn.f)
-    composite = straight_line(P, lower + list(dyn.f))
+    # a long chain's composite form (O(n²) straight line, O(n³) LDLᵀ) is derived only when asked for
+    composite = straight_line(P, lower + list(dyn.f)) if not loops or qdd_form == "composite" else None
     art = aba.derive(spec, P, kin, dyn)
     articulated = straight_line(P, list(art.qdd) + list(art.pivots))
-    cheaper = articulated.op_count() < composite.op_count() + ldlt_op_count(n)
+    cheaper = composite is None or articulated.op_count() < composite.op_count() + ldlt_op_count(n)
     if qdd_form == "articulated" or (qdd_form == "auto" and cheaper):
         lines["qdd"], form = articulated, "articulated"
     else:
         lines["qdd"], form = composite, "composite"
-    say(f"qdd: {form} form ({articulated.op_count()} ops articulated, {composite.op_count() + ldlt_op_count(n)} composite + LDL^T)")
+    say(f"qdd: {form} form ({articulated.op_count()} ops articulated"
+        + (f", {composite.op_count() + ldlt_op_count(n)} composite + LDL^T)" if composite is not None else ")"))
     lines["energy"] = straight_line(P, [ints.energy])
     if ints.momentum is not None:
         lines["momentum"] = straight_line(P, [ints.momentum])
@@ -116,7 +121,7 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
         say("straight-line code: momenta p = dL/dphidot and their rate (the symplectic GAUSS2)")
         can = derivatives.canonical(spec, P, kin, dyn)
         lines["momenta"] = straight_line(P, list(can.p))
-        lines["velocity_terms"] = straight_line(P, lower + list(can.k))
+        lines["velocity_terms"] = straight_line(P, (axes if loops else lower) + list(can.k))
         lines["pdot"] = straight_line(P, list(can.pdot))
     chosen = forward
     if use_world:
@@ -266,6 +271,10 @@ def op_counts(model: Model) -> dict[str, int]:
     if model.qdd_form == "composite":
         counts["qdd"] += ldlt_op_count(n)
     counts["rhs"] = counts["qdd"]
+    if model.dyn.loops is not None:  # the loop form: S and z1, then a 6-dot (11 ops) per pair
+        counts["mass_matrix"] += 11 * n * (n + 1) // 2
+        if "velocity_terms" in counts:
+            counts["velocity_terms"] += 11 * n * (n + 1) // 2
     if "velocity_terms" in counts:  # M and k, then φ̇ = M⁻¹(p − k) by LDLᵀ
         counts["velocities"] = counts.pop("velocity_terms") + ldlt_op_count(n) + n
     if model.der is not None:

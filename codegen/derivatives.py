@@ -200,7 +200,10 @@ def canonical(spec, prog: Program, kin, dyn) -> Canonical:
     P = prog
     qd = [P.input(kin.phidot[j]) for j in range(1, n + 1)]
     k = tuple(dyn.Lam[i][0] for i in range(n))
-    p = tuple(sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO) + k[i] for i in range(n))
+    if dyn.loops is not None:  # (M φ̇)ᵢ by frame 0's recursion: O(n), and so is its tangent
+        p = tuple(mq + ki for mq, ki in zip(dyn.loops.Mqd, k))
+    else:
+        p = tuple(sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO) + k[i] for i in range(n))
     # the tangent along (φ, φ̇) ↦ (φ̇, 0): each φʲ's tangent is φ̇ʲ (label "p": names <quantity>_dp)
     seeds = {next(iter(P.input(kin.phi[j]).terms))[0]: {0: qd[j - 1]} for j in range(1, n + 1)}
     tan = tangents(P, list(p), seeds, ("p",))

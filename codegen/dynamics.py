@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .algebra import ZERO, Poly
+from . import loopform
 from .kinematics import NULL, Kinematics, appends_to
 from .program import Program
 from .vec3 import add, cross, dot, matvec, scale
@@ -47,6 +48,7 @@ class Dynamics:
     Phi: tuple = ()  # generalized force of the external loads Fᵏ, Mᵏ (right side; () when none)
     loads: tuple = ()  # (force, moment about Oᵏ) of the external loads on body k, frame k
     force_vectors: tuple = ()  # per body, each [[body.force]] in frame k
+    loops: object = None  # loopform.LoopForm of a long chain (M is then z1ᵏ·Sʲ in frame 0), else None
 
     @property
     def torques(self) -> tuple:
@@ -256,12 +258,13 @@ def _mass_matrix(kin: Kinematics, s: list, I_c: list, h_c: list) -> list:
     return M
 
 
-def derive(spec: ChainSpec, prog: Program, kin: Kinematics) -> Dynamics:
+def derive(spec: ChainSpec, prog: Program, kin: Kinematics, loops: bool = False) -> Dynamics:
     """(17)–(19), or (8)–(10) in the general case, in three passes over the chain (named as
     Pinocchio names its passes): the forward pass of the accelerations at φ̈ = 0, the backward
     pass over the sub-chains p ≥ k (the paper's sums; Q, Γ, G, the code's bias, the composite
     bodies), and the composite-rigid-body pass of the mass matrix; the quantities appended to
-    ``prog``."""
+    ``prog``.  ``loops``: the mass matrix of loopform.py instead of the composite-rigid-body pass
+    (a long chain: O(n) quantities, the pairs left to the template's loops)."""
     appends_to(prog, kin)
     n = spec.n
     bd = _inertial(spec, kin)
@@ -270,7 +273,8 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics) -> Dynamics:
     nxt = _SubChain()
     for k in range(n, 0, -1):
         nxt = _backward_step(kin, k, bd, acc, nxt, out)
-    M = _mass_matrix(kin, bd.s, out["I"], out["h"])
+    lf = loopform.derive(spec, kin) if loops else None
+    M = lf.mass_matrix() if loops else _mass_matrix(kin, bd.s, out["I"], out["h"])
     joint = tuple(joint_torque(spec, kin, k) for k in range(1, n + 1))
     return Dynamics(
         M=tuple(tuple(row) for row in M),
@@ -280,5 +284,6 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics) -> Dynamics:
         Phi=tuple(out["Phi"][1:]) if bd.has_loads else (),
         loads=tuple(e[:2] for e in bd.ext[1:]),
         force_vectors=tuple(e[2] for e in bd.ext[1:]),
+        loops=lf,
         **{key: tuple(out[key][1:]) for key in ("Q", "Gamma", "G", "bias", "m_c", "h", "I", "Lam", "body_bias")},
     )

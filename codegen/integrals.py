@@ -225,8 +225,11 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> In
     P = prog
     pm = kin.platform
     # ½ φ̇ᵀ M φ̇ row by row: (M φ̇)_i named, so the sum is O(n²) and not a product of sums
-    Mq = [P.let(f"Mqd{i + 1}", sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO)) for i in range(n)]
-    T2 = 0.5 * sum((Mq[i] * qd[i] for i in range(n)), ZERO)
+    if dyn.loops is not None:  # a long chain: (M φ̇)ᵢ and T₂ = ½ Σ vᵏ·Iᵏvᵏ from frame 0's recursion (loopform.py)
+        Mq, T2 = list(dyn.loops.Mqd), dyn.loops.T2
+    else:
+        Mq = [P.let(f"Mqd{i + 1}", sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO)) for i in range(n)]
+        T2 = 0.5 * sum((Mq[i] * qd[i] for i in range(n)), ZERO)
     U = P.from_sympy(spec.g) * dot(dyn.h[0], kin.gamma[1])
     extra = _potential(spec, kin, dyn)
     if pm is not None:

@@ -21,7 +21,7 @@ import threading
 from collections import OrderedDict
 from pathlib import Path
 
-from . import assemble, build, dynamics, integrals, kinematics, printers
+from . import assemble, build, dynamics, integrals, kinematics, loopform, printers
 from .errors import SpecError
 from .assemble import FormNotApplicable, Model, Stages  # noqa: F401  (the pipeline's vocabulary)
 from .program import Program
@@ -35,13 +35,17 @@ _REGULAR: set = set()  # the (spec text, values) whose mass matrix was found reg
 _LOADED: dict = {}  # content hash of the sources → CModel (an extension loads once per process)
 
 
-def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = True, progress=None) -> Model:
+def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = True, progress=None,
+           loops: str = "auto") -> Model:
     """Everything the printers need, derived once: kinematics (15)/(1)–(3), dynamics (17)–(19) or
     (8)–(10), the integrals (23), (27) and Jacobi's, the forms of φ̈ and of its derivatives chosen
     by op count, the quadratures (30) and Hamilton's variables where they exist, and (``latex``,
     general case only) the stages again with the platform's motion as symbols for the LaTeX.
-    The same spec text and options give the same Model object within a process."""
-    key = (spec.source, qdd_form, der_form)
+    The same spec text and options give the same Model object within a process.  ``loops``: the
+    loop form of long chains (loopform.py) by the number of joints ("auto"), or forced
+    ("straight", "loops"; tests and benchmarks compare the two)."""
+    key = (spec.source, qdd_form, der_form) + (() if loops == "auto" else (loops,))
+    use_loops = loopform.uses_loops(spec.n, loops)
     with _LOCK:
         found = _DERIVED.get(key)
     if found is not None:
@@ -54,7 +58,7 @@ def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = T
     prog = Program()  # the straight-line program every stage appends its named quantities to, in turn
     kin = kinematics.derive(spec, prog)
     say("dynamics: mass matrix and forces (recursions over the sub-chains p >= k)")
-    dyn = dynamics.derive(spec, prog, kin)
+    dyn = dynamics.derive(spec, prog, kin, loops=use_loops)
     say("integrals: energy (23) and, where l1 may be vertical, momentum (27)")
     ints = integrals.derive(spec, prog, kin, dyn)
     model = assemble.build_model(spec, prog, kin, dyn, ints, progress=say, qdd_form=qdd_form, der_form=der_form)
@@ -113,7 +117,7 @@ def _with_symbolic(model: Model) -> Model:
     prog = Program()
     kin = kinematics.derive(model.spec, prog, symbolic_platform=True)
     kin_defs = len(prog.defs)
-    dyn = dynamics.derive(model.spec, prog, kin)
+    dyn = dynamics.derive(model.spec, prog, kin, loops=model.dyn.loops is not None)
     return replace(model, symbolic=Stages(kin, dyn, integrals.derive(model.spec, prog, kin, dyn), kin_defs))
 
 
@@ -126,9 +130,9 @@ def render(model: Model, spec_label: str | None = None, targets=printers.ALL) ->
 
 
 def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_form: str = "auto",
-                      der_form: str = "auto", targets=printers.ALL) -> tuple[dict[str, str], Model]:
+                      der_form: str = "auto", targets=printers.ALL, loops: str = "auto") -> tuple[dict[str, str], Model]:
     """``derive`` then ``render``: the files and the model."""
-    model = derive(spec, qdd_form, der_form, latex="latex" in targets, progress=progress)
+    model = derive(spec, qdd_form, der_form, latex="latex" in targets, progress=progress, loops=loops)
     say = progress or (lambda msg: None)
     say("printing " + ", ".join({"c": "C", "python": "Python", "latex": "LaTeX"}[t] for t in printers.ALL if t in targets))
     return render(model, spec_label, targets), model
@@ -185,9 +189,9 @@ def compile(files: dict[str, str], name: str) -> build.CModel:  # noqa: A001  (t
         return _LOADED.setdefault(memo, model)
 
 
-def compiled(spec, qdd_form: str = "auto", der_form: str = "auto") -> tuple[build.CModel, Model]:
+def compiled(spec, qdd_form: str = "auto", der_form: str = "auto", loops: str = "auto") -> tuple[build.CModel, Model]:
     """A parsed spec's compiled model and its derivation (without the LaTeX)."""
-    files, model = derive_and_render(spec, targets=("c",), qdd_form=qdd_form, der_form=der_form)
+    files, model = derive_and_render(spec, targets=("c",), qdd_form=qdd_form, der_form=der_form, loops=loops)
     return compile(files, spec.name), model
 
 

@@ -48,7 +48,7 @@ from dataclasses import dataclass
 from . import derivatives
 from .algebra import ONE, ZERO, Poly
 from .kinematics import appends_to
-from .vec3 import add, cross, dot, scale, skew
+from .vec3 import add, cross, dot, fcross as _fcross, inertia_apply as _inertia, mcross as _mcross, scale, skew
 
 VECTORS = ("S", "z1", "z2", "beta", "w", "G", "K")  # per joint, 6 components each (the C arrays)
 
@@ -66,27 +66,6 @@ class World:
 def applies(spec, kin, dyn) -> bool:
     """A fixed base, constant λ and no body loads: ID is rigid bodies, rotors and gravity."""
     return kin.platform is None and not dyn.Lamdot and not dyn.Phi
-
-
-def _mcross(a, b) -> list:
-    """Motion × motion: (ω₁ × ω₂, ω₁ × v₂ + v₁ × ω₂)."""
-    return cross(a[:3], b[:3]) + add(cross(a[:3], b[3:]), cross(a[3:], b[:3]))
-
-
-def _fcross(a, f) -> list:
-    """Motion ×* force: (ω × n + v × F, ω × F)."""
-    return add(cross(a[:3], f[:3]), cross(a[3:], f[3:])) + cross(a[:3], f[3:])
-
-
-def _inertia(I, m6) -> list:
-    """(A, h, m) about O¹ applied to a motion: (Aω + h × v, m v − h × ω)."""
-    A, h, m = I
-    Aw = [sum((A[i][j] * m6[j] for j in range(3)), ZERO) for i in range(3)]
-    return add(Aw, cross(h, m6[3:])) + [m * m6[3 + i] - x for i, x in enumerate(cross(h, m6[:3]))]
-
-
-def _dot6(a, b) -> Poly:
-    return sum((a[i] * b[i] for i in range(6)), ZERO)
 
 
 def _dmul(D, m6) -> list:

@@ -46,6 +46,7 @@ def code_context(model: Model, spec_label: str, counts: dict) -> dict:
         has_jacobi="jacobi" in model.lines,
         canonical="momenta" in model.lines,
         articulated=model.qdd_form == "articulated",
+        loops=model.dyn.loops is not None,  # a long chain: M from S and z1 by the template's loops (loopform.py)
         has_energy_integral=int(ints.has_energy_integral),
         has_momentum_integral=int(ints.has_momentum_integral),
         momentum_condition=ints.momentum_condition and c_comment(ints.momentum_condition).replace('"', "'"),

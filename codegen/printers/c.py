@@ -88,8 +88,9 @@ def layout_data(ctx: dict, env) -> dict:
         forward_mode_how=", by one generic tangent function" if ctx["der_generic"] else "",
         du_arg="B ? du : 0" if nu else "0",
         inputs_not_finite=f"!{name}_all_finite_(x, {2 * n})" + (f" || (u && !{name}_all_finite_(u, {nu}))" if nu else ""),
-        ldlt_factor={A: ldlt_factor_lines(A, n, NAME) for A in ("LD", "M")},
-        ldlt_solve_code={f"M,{b}": ldlt_solve_lines("M", b, n) for b in ("f", "qd")},
+        # unrolled: O(n³) text, printed only where the loop form (long chains) does not take its place
+        ldlt_factor={A: ldlt_factor_lines(A, n, NAME) for A in ("LD", "M") if not ctx["loops"] or A == "M" and not ctx["articulated"]},
+        ldlt_solve_code={f"M,{b}": ldlt_solve_lines("M", b, n) for b in ("f", "qd") if not ctx["loops"] or b == "f" and not ctx["articulated"]},
         integrate_c=integrators(ctx),
     )
     if ctx["quad"]:

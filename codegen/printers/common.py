@@ -153,8 +153,13 @@ def functions(model: Model, printer_cls, style: str, array_printer_cls=None) -> 
         qdd_targets = lower + [f"f[{k}]" for k in range(n)]
     else:
         qdd_targets = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
+    if model.dyn.loops is not None:  # the loop form: per joint S and z1 into arrays, the pairs in loops
+        if style == "c":
+            axes = [f"{v}_[{6 * k + i}]" for v in ("S", "z1") for k in range(n) for i in range(6)]
+        else:
+            axes = [f"{v}_[{k}, {i}]" for v in ("S", "z1") for k in range(n) for i in range(6)]
     fs = {
-        "mass_matrix": function_of("mass_matrix", model.lines["mass_matrix"], lower, prq),
+        "mass_matrix": function_of("mass_matrix", model.lines["mass_matrix"], axes if model.dyn.loops else lower, prq),
         "forces": function_of("forces", model.lines["forces"], [f"f[{k}]" for k in range(n)], pr),
         "qdd": function_of("qdd", model.lines["qdd"], qdd_targets, pr),
         "energy": function_of("energy", model.lines["energy"], ["result"], pr),
@@ -187,7 +192,7 @@ def functions(model: Model, printer_cls, style: str, array_printer_cls=None) -> 
     if "momenta" in model.lines:
         fs["momenta"] = function_of("momenta", model.lines["momenta"], [f"pm[{k}]" for k in range(n)], pr)
         fs["velocity_terms"] = function_of("velocity_terms", model.lines["velocity_terms"],
-                                         lower + [f"k[{i}]" for i in range(n)], prq)
+                                         (axes if model.dyn.loops else lower) + [f"k[{i}]" for i in range(n)], prq)
         fs["pdot"] = function_of("pdot", model.lines["pdot"], [f"pdot[{k}]" for k in range(n)], pr)
     if "quad_terms" in model.lines:
         # a function of φ = φ² alone (ψ = φ¹ is cyclic); in Python on numpy arrays of φ

@@ -137,18 +137,33 @@ def world_model(make_model):
     return make_model(text, der_form="world")
 
 
+@pytest.fixture(scope="module")
+def loop_models(make_model):
+    """The loop form of long chains (codegen/loopform.py) forced on spatial3 (fixed base: Hamilton's
+    variables too) and on ship_gimbal (a moving platform: no canonical functions), with the world
+    form of the derivatives where it applies: the loops' helpers go through the same checks."""
+    text = (ROOT / "specs" / "spatial3.toml").read_text().replace('name = "spatial3"', 'name = "spatial3l"')
+    ship = (ROOT / "specs" / "ship_gimbal.toml").read_text().replace('name = "ship_gimbal"', 'name = "ship_gimball"')
+    return [make_model(text, der_form="world", loops="loops"),
+            make_model(ship, example_params("ship_gimbal"), loops="loops")]
+
+
 @pytest.mark.parametrize("cc,flags", COMPILERS, ids=[c for c, _ in COMPILERS])
-def test_world_form_compiles_warning_free(world_model, cc, flags, tmp_path):
+@pytest.mark.parametrize("form", ["world", "loops", "loops, moving base"])
+def test_world_and_loop_forms_compile_warning_free(world_model, loop_models, form, cc, flags, tmp_path):
     if not shutil.which(cc):
         pytest.skip(f"{cc} is not installed")
-    src = world_model.folder / f"{world_model.spec.name}.c"
-    assert "ldlt_factor_" in src.read_text()
+    model = {"world": world_model, "loops": loop_models[0], "loops, moving base": loop_models[1]}[form]
+    src = model.folder / f"{model.spec.name}.c"
+    assert ("ldlt_factor_" if form == "world" else "ldlt_checked_") in src.read_text()
     res = _run([cc, *flags, *STRICT, "-O2", "-c", str(src), "-o", str(tmp_path / "m.o")])
     assert res.returncode == 0 and not res.stderr, res.stderr
 
 
-def test_world_form_sanitizers_clean(world_model, tmp_path):
-    _sanitized_driver(world_model.folder, world_model.spec, None, tmp_path)
+@pytest.mark.parametrize("form", ["world", "loops", "loops, moving base"])
+def test_world_and_loop_forms_sanitizers_clean(world_model, loop_models, form, tmp_path):
+    model = {"world": world_model, "loops": loop_models[0], "loops, moving base": loop_models[1]}[form]
+    _sanitized_driver(model.folder, model.spec, model.params, tmp_path)
 
 
 def _sanitized_driver(folder, spec, params, tmp_path):

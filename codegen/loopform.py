@@ -1,0 +1,102 @@
+"""The loop form of a long chain: per-joint quantities in frame 0, so that every emitted function
+is O(n) straight-line code and the O(n²) work is loops of the template.
+
+The straight-line forms name a quantity per pair of joints (the composite-rigid-body pass carries
+the force and moment of joint k back to every joint j < k, (Mφ̇)ⱼ and its tangent sum over the
+row): code of size O(n²), which gcc needs minutes for at n = 32 (its unrolled LDLᵀ is O(n³)).
+Past ``LOOP_MIN_N`` joints the model takes instead, in frame 0 (the platform's frame, about O¹):
+
+    Sᵏ = (eᵏ, Oᵏ × eᵏ)   joint k's axis as a twist,
+    Iᵏ = (Aᵏ, hᵏ, mᵏ)   body k's inertia about O¹ (the parallel-axis rule from Oᵏ),
+    z1ᵏ = Iᶜᵏ Sᵏ         with Iᶜᵏ = Σ_{p≥k} Iᵖ the sub-chain's,
+    M_kj = z1ᵏ · Sʲ      (k ≥ j; the composite-rigid-body algorithm as a 6-dot per pair),
+    vᵏ = vᵏ⁻¹ + Sᵏ φ̇ᵏ    the motion of body k relative to the platform,
+    T₂ = ½ Σₖ vᵏ · Iᵏvᵏ   (= ½ φ̇ᵀ M φ̇),
+    (M φ̇)ⱼ = Sʲ · Σ_{i≥j} Iⁱvⁱ   (the momenta of Hamilton's form are (M φ̇)ⱼ + eʲ·Λᶜʲ).
+
+S and z1 are the straight line's outputs (6n numbers each, folded and with zeros gone per joint);
+M's lower triangle is the template's loop over the pairs, its LDLᵀ a loop too.  The same S and z1
+are world.py's (there with the velocity terms of the derivatives).  Below ``LOOP_MIN_N`` the model
+keeps the straight-line forms, byte for byte.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .algebra import ONE, ZERO, Poly
+from .kinematics import Kinematics, appends_to
+from .vec3 import cross, dot, dot6, inertia_apply
+
+# From this many joints on, the mass matrix, the energy, the momenta and their rate, and the
+# velocities from the momenta are emitted in the loop form (chosen by measured cost: see
+# docs/benchmarks.md, "Long chains").
+LOOP_MIN_N = 12
+
+LOOP_FORMS = ("auto", "straight", "loops")
+
+
+def uses_loops(n: int, form: str = "auto") -> bool:
+    """Whether a chain of n joints gets the loop form (``form`` forces it either way)."""
+    if form not in LOOP_FORMS:
+        raise ValueError(f"loop form must be one of {', '.join(LOOP_FORMS)}, not {form!r}")
+    return form == "loops" or (form == "auto" and n >= LOOP_MIN_N)
+
+
+@dataclass(frozen=True)
+class LoopForm:
+    """Per joint (index k − 1) the 6-vectors S and z1; T₂ and M φ̇ (see the module)."""
+
+    S: tuple
+    z1: tuple
+    T2: Poly
+    Mqd: tuple
+
+    def mass_matrix(self) -> tuple:
+        """M as polynomials of S and z1 (rows of Poly; what the LaTeX and the composite form read)."""
+        n = len(self.S)
+        return tuple(tuple(dot6(self.z1[max(i, j)], self.S[min(i, j)]) for j in range(n)) for i in range(n))
+
+
+def derive(spec, kin: Kinematics) -> LoopForm:
+    """S, z1, T₂ and M φ̇, appended to ``kin.prog`` (names C…)."""
+    appends_to(kin.prog, kin)
+    P, J, num, n = kin.prog, kin.joint, kin.prog.from_sympy, spec.n
+    rows = [[ONE, ZERO, ZERO], [ZERO, ONE, ZERO], [ZERO, ZERO, ONE]]  # row i: ê⁰ᵢ in frame k, so R_k[i][j] = ê⁰ᵢ·êᵏⱼ
+    O = [ZERO] * 3
+    v = [ZERO] * 6
+    S, body, mom = [], [], []
+    for k in range(1, n + 1):
+        b = spec.bodies[k - 1]
+        if k > 1:  # Oᵏ = Oᵏ⁻¹ + R_{k−1} sᵏ⁻¹
+            s = [num(x) for x in spec.bodies[k - 2].s]
+            O = P.vec(f"CO{k}", [O[i] + dot(rows[i], s) for i in range(3)])
+        rows = [P.vec(f"CR{k}r{i + 1}", J[k].down(rows[i])) for i in range(3)]
+        e = [rows[i][0] for i in range(3)]
+        S.append(e + P.vec(f"CSv{k}", cross(O, e)))
+        m = num(b.m)
+        A = [[num(x) for x in row] for row in b.A]
+        Ar = [[dot(A[i], rows[j]) for i in range(3)] for j in range(3)]  # Ar[j] = A (row j of R)ᵀ
+        Aw = [[dot(rows[i], Ar[j]) for j in range(3)] for i in range(3)]
+        hw = [dot(rows[i], [m * num(x) for x in b.c]) for i in range(3)]
+        diag = m * dot(O, O) + 2 * dot(O, hw)
+        A0 = P.sym_mat(f"CA{k}", [[Aw[i][j] + (diag if i == j else ZERO) - m * O[i] * O[j] - hw[i] * O[j] - O[i] * hw[j]
+                                   for j in range(3)] for i in range(3)])
+        body.append((A0, P.vec(f"Ch{k}", [hw[i] + m * O[i] for i in range(3)]), m))
+        v = P.vec(f"Cv{k}a", [v[i] + S[-1][i] * kin.qd[k] for i in range(3)]) + \
+            P.vec(f"Cv{k}l", [v[3 + i] + S[-1][3 + i] * kin.qd[k] for i in range(3)])
+        hk = inertia_apply(body[-1], v)
+        mom.append((v, P.vec(f"Cm{k}a", hk[:3]) + P.vec(f"Cm{k}l", hk[3:])))  # Iᵏvᵏ
+    T2 = 0.5 * sum((dot6(vk, hk) for vk, hk in mom), ZERO)
+    z1, Mqd = [None] * n, [None] * n
+    IC = HC = None
+    for k in range(n, 0, -1):
+        A0, h0, m = body[k - 1]
+        IC = (A0, h0, m) if IC is None else (
+            P.sym_mat(f"CIC{k}", [[A0[i][j] + IC[0][i][j] for j in range(3)] for i in range(3)]),
+            P.vec(f"ChC{k}", [h0[i] + IC[1][i] for i in range(3)]), P.let(f"CmC{k}", m + IC[2]))
+        hk = mom[k - 1][1]
+        HC = hk if HC is None else P.vec(f"CHC{k}a", [hk[i] + HC[i] for i in range(3)]) + \
+            P.vec(f"CHC{k}l", [hk[3 + i] + HC[3 + i] for i in range(3)])
+        z1[k - 1] = [Poly.lift(x) for x in inertia_apply(IC, S[k - 1])]
+        Mqd[k - 1] = dot6(S[k - 1], HC)
+    return LoopForm(tuple(tuple(Poly.lift(x) for x in s) for s in S), tuple(tuple(z) for z in z1), T2, tuple(Mqd))
