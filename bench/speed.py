@@ -90,11 +90,16 @@ def generate_one(spec_path: str, out: str) -> None:
 
 
 def function_sizes(c_text: str, name: str) -> dict[str, float]:
-    """KB of each function of a generated C file (from its definition to the next one's)."""
+    """KB of each function of a generated C file (from its definition to the next one's); a long
+    function's parts (printers/chunks.py) are counted in it."""
     heads = [(m.start(), m.group(1)) for m in re.finditer(
-        rf"^(?:static )?(?:int|void|double|long) {re.escape(name)}_(\w+)\(", c_text, re.M)]
+        rf"^(?:static )?(?:int|void|double|long|{re.escape(name.upper())}_PART_) {re.escape(name)}_(\w+)\(", c_text, re.M)]
     ends = [a for a, _ in heads[1:]] + [len(c_text)]
-    return {fn: (b - a) / 1e3 for (a, fn), b in zip(heads, ends)}
+    out: dict[str, float] = {}
+    for (a, fn), b in zip(heads, ends):
+        fn = re.sub(r"_part\d+_$", "", fn)
+        out[fn] = out.get(fn, 0.0) + (b - a) / 1e3
+    return out
 
 
 def generate(text: str, name: str) -> dict:

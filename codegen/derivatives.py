@@ -185,8 +185,10 @@ class Canonical:
     kⱼ = eʲ·Σ_{p≥j} λᵖ (ℒ = T + Σλᵏ·ωᵏ + U, digest §7, and ∂ωᵏ/∂φ̇ʲ = eʲ for k ≥ j), and their
     rate ṗ = ∂ℒ/∂φ + (the torques that have no force function).  ṗ is computed as
     (∂p/∂φ)·φ̇ + M φ̈ = (∂p/∂φ)·φ̇ + f: by Lagrange's equations that is the same, and it needs
-    only the forward-mode tangent of p along (φ̇, 0) next to the f the model already has.
-    ``k`` is what φ̇ = M⁻¹(p − k) needs besides M."""
+    only the forward-mode tangent of p along (φ̇, 0) next to the f the model already has.  A long
+    chain's loop form (loopform.py) takes ṗ = ∂(T₂ + Σλ·ω)/∂φ + the generalized forces of
+    gravity, the loads and the joint torques instead: O(n) code where the tangent is O(n) too
+    but five times longer.  ``k`` is what φ̇ = M⁻¹(p − k) needs besides M."""
 
     p: tuple
     k: tuple
@@ -200,8 +202,10 @@ def canonical(spec, prog: Program, kin, dyn) -> Canonical:
     P = prog
     qd = [P.input(kin.phidot[j]) for j in range(1, n + 1)]
     k = tuple(dyn.Lam[i][0] for i in range(n))
-    if dyn.loops is not None:  # (M φ̇)ᵢ by frame 0's recursion: O(n), and so is its tangent
+    if dyn.loops is not None:  # (M φ̇)ᵢ and ∂ℒ/∂φ by frame 0's recursion (loopform.py)
         p = tuple(mq + ki for mq, ki in zip(dyn.loops.Mqd, k))
+        phi_force = dyn.Phi or (ZERO,) * n
+        return Canonical(p, k, tuple(tq + g + ph + d for tq, g, ph, d in zip(dyn.torques, dyn.G, phi_force, dyn.loops.dLdq)))
     else:
         p = tuple(sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO) + k[i] for i in range(n))
     # the tangent along (φ, φ̇) ↦ (φ̇, 0): each φʲ's tangent is φ̇ʲ (label "p": names <quantity>_dp)

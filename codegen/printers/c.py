@@ -4,7 +4,7 @@ from __future__ import annotations
 from sympy.printing.c import C99CodePrinter
 
 from ..codes import METHODS, MOTIONS, QUAD_STATUS, STATUS
-from . import kernels
+from . import chunks, kernels
 from .common import NumbersAsDoubles, functions
 
 
@@ -107,7 +107,8 @@ class CTarget:
 
     def files(self, model, context: dict, env) -> dict[str, str]:
         name = model.spec.name
-        ctx = dict(context, fn=functions(model, CPrinter, "c"))
+        ctx = dict(context)
+        ctx["fn"], ctx["parts_c"] = chunks.cut_all(functions(model, CPrinter, "c"), ctx)
         ctx.update(layout_data(ctx, env))
         ctx["decls"] = env.get_template("_decls.jinja").render(ctx)
         return {

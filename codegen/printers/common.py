@@ -95,6 +95,10 @@ class Function:
     name: str
     temporaries: tuple[tuple[str, str], ...]
     outputs: tuple[tuple[str, str], ...]
+    # the names of the temporaries each temporary and each output reads (printers/chunks.py)
+    reads: tuple = ()
+    out_reads: tuple = ()
+    pre: tuple = ()  # C statements before the temporaries (the calls of a long function's parts)
 
 
 def function_of(name: str, line: StraightLine, targets: list[str], printer) -> Function:
@@ -108,7 +112,14 @@ def function_of(name: str, line: StraightLine, targets: list[str], printer) -> F
 
     temps = tuple((lhs.name, code(rhs)) for lhs, rhs in line.temporaries)
     outs = tuple((t, code(e)) for t, e in zip(targets, line.outputs))
-    return Function(name, temps, outs)
+    own = {lhs.name for lhs, _ in line.temporaries}
+
+    def reads(rhs):
+        found = [a.name for a in rhs.atoms()] if isinstance(rhs, Poly) else [s.name for s in rhs.free_symbols]
+        return tuple(sorted(set(found) & own))
+
+    return Function(name, temps, outs, tuple(reads(rhs) for _, rhs in line.temporaries),
+                    tuple(reads(e) for e in line.outputs))
 
 
 # NAME_qdd_derivatives: φ̈ by the articulated recursion (line "qdd_derivatives"), then one column of

@@ -253,3 +253,60 @@ def test_embedding_example_builds_with_plain_cc_and_runs(tmp_path):
     assert e_drift < 1e-9 and k_drift < 1e-9
     psi_a, phi_a = map(float, re.search(r"DOP853: psi = (\S+)\s+phi = (\S+)", out.stdout).groups())
     assert abs(psi_a - ref[0]) < 1e-8 and abs(phi_a - ref[1]) < 1e-8
+
+
+@pytest.fixture(scope="module")
+def cut_models(tmp_path_factory, monkeypatch_module):
+    """A 4-link gyrostat chain with a control torque in the loop form, with every long function
+    cut into parts of 25 temporaries (printers/chunks.py; a real model is cut at 150 from 3 parts
+    on), and the same spec whole."""
+    from codegen import pipeline
+    from codegen.printers import chunks
+    from codegen.randspec import random_spec_text
+    from codegen.spec import parse_spec
+
+    spec = parse_spec(random_spec_text(np.random.default_rng(5), 4, name="cut4", controls=(2,)))
+    whole_files, _ = pipeline.derive_and_render(spec, targets=("c",), loops="loops", der_form="world")
+    monkeypatch_module.setattr(chunks, "PART_TEMPORARIES", 25)
+    cut_files, _ = pipeline.derive_and_render(spec, targets=("c",), loops="loops", der_form="world")
+    folder = tmp_path_factory.mktemp("cut") / "cut4"
+    pipeline.write_tree(cut_files, folder, build_it=False, name="cut4")
+    return spec, folder, pipeline.compile(whole_files, "cut4"), pipeline.compile(cut_files, "cut4"), cut_files
+
+
+@pytest.fixture(scope="module")
+def monkeypatch_module():
+    mp = pytest.MonkeyPatch()
+    yield mp
+    mp.undo()
+
+
+def test_parts_are_the_same_computation(cut_models, rng):
+    """Cut into parts, every function gives the same doubles, bit for bit (the values cross the
+    parts through memory, unrounded)."""
+    spec, _folder, whole, cut, files = cut_models
+    text = files["cut4.c"]
+    assert text.count("_part") > 20 and "CUT4_PART_" in text  # it was cut, in many parts
+    n = spec.n
+    for _ in range(5):
+        x = np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.normal(size=n)])
+        u = rng.normal(size=1)
+        for fn, args in (("mass_matrix", (x[:n],)), ("qdd", (x, u)), ("energy", (x,)), ("momenta", (x,)),
+                         ("velocities", (x[:n], x[n:])), ("pdot", (x, u)), ("forces", (x, u))):
+            assert np.array_equal(getattr(whole, fn)(*args), getattr(cut, fn)(*args)), fn
+        for a, b in zip(whole.qdd_derivatives(x, u), cut.qdd_derivatives(x, u)):
+            assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("cc,flags", COMPILERS, ids=[c for c, _ in COMPILERS])
+def test_parts_compile_warning_free(cut_models, cc, flags, tmp_path):
+    if not shutil.which(cc):
+        pytest.skip(f"{cc} is not installed")
+    _spec, folder, *_ = cut_models
+    res = _run([cc, *flags, *STRICT, "-O2", "-c", str(folder / "cut4.c"), "-o", str(tmp_path / "m.o")])
+    assert res.returncode == 0 and not res.stderr, res.stderr
+
+
+def test_parts_sanitizers_clean(cut_models, tmp_path):
+    spec, folder, *_ = cut_models
+    _sanitized_driver(folder, spec, None, tmp_path)

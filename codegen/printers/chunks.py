@@ -1,0 +1,96 @@
+"""A long C function in parts: its temporaries cut into static functions of at most
+``PART_TEMPORARIES`` each, the values a later part reads passed through one array.
+
+gcc's register allocation of one straight-line function grows faster than its length (the
+LRA of a 1 MB function of a 32-link chain took most of its two minutes): thousands of values
+live at once.  In parts, each value lives inside its part or in memory, and gcc's time is
+linear in the length.  The parts are ``noinline`` where the compiler knows the attribute (gcc
+would otherwise inline a static function called once and undo the cut); elsewhere they are
+plain static functions, the same code.  Shorter functions (every example) are printed whole.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from .common import Function
+
+PART_TEMPORARIES = 150  # temporaries per part; a function is cut from 3 parts on
+MIN_PARTS = 3
+
+# (how the function names φ's array, whether it reads u, whether it takes t when the model is
+# time dependent): the arguments its parts take, as the template's signature of the function
+SIGNATURES = {
+    "mass_matrix": ("q", False, False), "forces": ("x", True, True), "qdd": ("x", True, True),
+    "qdd_derivatives": ("x", True, True), "energy": ("x", False, True), "momentum": ("x", False, True),
+    "jacobi": ("x", False, False), "momenta": ("x", False, False), "velocity_terms": ("q", False, False),
+    "pdot": ("x", True, False),
+}
+
+NOINLINE = """#if defined(__GNUC__)
+#define {NAME}_PART_ static __attribute__((noinline)) void
+#else
+#define {NAME}_PART_ static void
+#endif
+"""
+
+
+def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
+    """(the function with its temporaries moved into parts, the parts' C text); a function too
+    short to cut, or one of no known signature, comes back as it is, with no parts."""
+    temps = fn.temporaries
+    if key not in SIGNATURES or len(temps) < MIN_PARTS * PART_TEMPORARIES or not fn.reads:
+        return fn, []
+    xname, with_u, with_t = SIGNATURES[key]
+    with_t = with_t and ctx["time_dependent"]
+    bounds = list(range(0, len(temps), PART_TEMPORARIES)) + [len(temps)]
+    part_of = {}
+    for c, (a, b) in enumerate(zip(bounds, bounds[1:])):
+        for lhs, _ in temps[a:b]:
+            part_of[lhs] = c
+    # a slot in s_ for every value read outside the part that computes it
+    slot: dict = {}
+    for c, (a, b) in enumerate(zip(bounds, bounds[1:])):
+        for reads in fn.reads[a:b]:
+            for r in reads:
+                if part_of[r] != c and r not in slot:
+                    slot[r] = len(slot)
+    out_reads = {r for reads in fn.out_reads for r in reads}
+    if key == "qdd_derivatives":  # the template also stores the recursion's values the columns read (b[])
+        out_reads |= set(ctx["der_store"]) & set(part_of)
+    out_reads = sorted(out_reads)
+    for r in out_reads:
+        slot.setdefault(r, len(slot))
+    name, NAME = ctx["name"], ctx["NAME"]
+    params = (("double t, " if with_t else "") + f"const double *{xname}, " + ("const double *u, " if with_u else "")
+              + f"const {name}_params *p, double *s_")
+    args = ("t, " if with_t else "") + f"{xname}, " + ("u, " if with_u else "") + "p, s_"
+    parts = []
+    for c, (a, b) in enumerate(zip(bounds, bounds[1:])):
+        lines = [f"/* {name}_{fn.name}, part {c + 1} of {len(bounds) - 1} (codegen/printers/chunks.py) */",
+                 f"{NAME}_PART_ {name}_{fn.name}_part{c + 1}_({params})", "{"]
+        lines += [f"    (void){v};" for v in (["t"] if with_t else []) + [xname] + (["u"] if with_u else []) + ["p"]]
+        if with_u:
+            for i, k in ctx["controls"]:
+                lines += [f"    const double tau_{k} = u ? u[{i}] : 0.0;", f"    (void)tau_{k};"]
+        needed = sorted({r for reads in fn.reads[a:b] for r in reads if part_of[r] != c}, key=slot.get)
+        lines += [f"    const double {r} = s_[{slot[r]}];" for r in needed]
+        lines += [f"    const double {lhs} = {rhs};" for lhs, rhs in temps[a:b]]
+        lines += [f"    s_[{slot[lhs]}] = {lhs};" for lhs, _ in temps[a:b] if lhs in slot]
+        parts.append("\n".join(lines + ["}", ""]))
+    pre = [f"double s_[{max(1, len(slot))}];"] + [f"{name}_{fn.name}_part{c + 1}_({args});" for c in range(len(bounds) - 1)]
+    if with_u:  # the function's own tau_k may now be read by its parts alone
+        pre += [f"(void)tau_{k};" for _, k in ctx["controls"]]
+    imports = tuple((r, f"s_[{slot[r]}]") for r in out_reads)
+    return replace(fn, temporaries=imports, pre=tuple(pre), reads=(), out_reads=()), parts
+
+
+def cut_all(fns: dict, ctx: dict) -> tuple[dict, str]:
+    """Every function of ``fns`` cut where it is long; the parts' C text (with the attribute's
+    #define), empty when nothing was cut."""
+    out, parts = {}, []
+    for key, fn in fns.items():
+        out[key], p = cut(key, fn, ctx)
+        parts += p
+    if not parts:
+        return out, ""
+    return out, NOINLINE.format(NAME=ctx["NAME"]) + "\n" + "\n".join(parts)
