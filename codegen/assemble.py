@@ -119,7 +119,7 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
         lines.update(der_lines)
     if canonical_applies(spec, kin, dyn, lines):
         say("straight-line code: momenta p = dL/dphidot and their rate (the symplectic GAUSS2)")
-        can = derivatives.canonical(spec, P, kin, dyn)
+        can = derivatives.canonical(spec, P, kin, dyn, ints.subchain)
         lines["momenta"] = straight_line(P, list(can.p))
         lines["velocity_terms"] = straight_line(P, (axes if loops else lower) + list(can.k))
         lines["pdot"] = straight_line(P, list(can.pdot))

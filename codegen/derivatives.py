@@ -186,26 +186,38 @@ class Canonical:
     rate ṗ = ∂ℒ/∂φ + (the torques that have no force function).  ṗ is computed as
     (∂p/∂φ)·φ̇ + M φ̈ = (∂p/∂φ)·φ̇ + f: by Lagrange's equations that is the same, and it needs
     only the forward-mode tangent of p along (φ̇, 0) next to the f the model already has.  A long
-    chain's loop form (loopform.py) takes ṗ = ∂(T₂ + Σλ·ω)/∂φ + the generalized forces of
-    gravity, the loads and the joint torques instead: O(n) code where the tangent is O(n) too
-    but five times longer.  ``k`` is what φ̇ = M⁻¹(p − k) needs besides M."""
+    chain (the loop form) takes p from the sub-chains' momenta and ṗ = ∂(T + Σλ·ω)/∂φ + the
+    generalized forces of gravity, the loads and the joint torques instead: O(n) code, where
+    M φ̇ and its tangent are O(n²).  ``k`` is what φ̇ = M⁻¹(p − k) needs besides M."""
 
     p: tuple
     k: tuple
     pdot: tuple
 
 
-def canonical(spec, prog: Program, kin, dyn) -> Canonical:
-    """p, k and ṗ (see Canonical), appended to ``prog``."""
+def _canonical_local(dyn, subchain) -> tuple:
+    """(p, ṗ) of a long chain, O(n): pⱼ = eʲ·Kʲ, and ṗⱼ = ∂(T + Σλ·ω)/∂φʲ + the generalized forces
+    of gravity, the loads and the joint torques, where turning joint j by δ turns the sub-chain j…n
+    and its rotors about eʲ through Oʲ, so that everything cancels but the motion of the joint's
+    base: ∂(T + Σλ·ω)/∂φʲ = −(eʲ × ωʲ⁻¹)·Kʲ − (eʲ × v_Oʲ)·Pʲ (frame j, where eʲ = (1, 0, 0) and
+    ωʲ⁻¹ has ωʲ's 2nd and 3rd components)."""
+    p = tuple(K[0] for _w, _v, K, _P in subchain)
+    dL = [-(w[1] * K[2] - w[2] * K[1] + v[1] * P[2] - v[2] * P[1]) for w, v, K, P in subchain]
+    loads = dyn.Phi or (ZERO,) * len(subchain)
+    return p, tuple(tq + g + ph + d for tq, g, ph, d in zip(dyn.torques, dyn.G, loads, dL))
+
+
+def canonical(spec, prog: Program, kin, dyn, subchain: tuple = ()) -> Canonical:
+    """p, k and ṗ (see Canonical), appended to ``prog``; ``subchain``: a long chain's momenta of
+    the sub-chains (Integrals.subchain), the O(n) form."""
     appends_to(prog, kin)
     n = spec.n
     P = prog
     qd = [P.input(kin.phidot[j]) for j in range(1, n + 1)]
     k = tuple(dyn.Lam[i][0] for i in range(n))
-    if dyn.loops is not None:  # (M φ̇)ᵢ and ∂ℒ/∂φ by frame 0's recursion (loopform.py)
-        p = tuple(mq + ki for mq, ki in zip(dyn.loops.Mqd, k))
-        phi_force = dyn.Phi or (ZERO,) * n
-        return Canonical(p, k, tuple(tq + g + ph + d for tq, g, ph, d in zip(dyn.torques, dyn.G, phi_force, dyn.loops.dLdq)))
+    if subchain:  # a long chain: p and ṗ from the sub-chains' momenta in frame j (integrals.py)
+        p, pdot = _canonical_local(dyn, subchain)
+        return Canonical(p, k, pdot)
     else:
         p = tuple(sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO) + k[i] for i in range(n))
     # the tangent along (φ, φ̇) ↦ (φ̇, 0): each φʲ's tangent is φ̇ʲ (label "p": names <quantity>_dp)

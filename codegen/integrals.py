@@ -55,6 +55,9 @@ class Integrals:
     energy_reasons: tuple = ()  # the fields that remove the energy integral
     momentum_reasons: tuple = ()  # the fields that remove the momentum integral (l¹ vertical)
     U_extra: tuple = ()  # (what, Poly) of U beyond gravity: springs, constant fixed forces (LaTeX)
+    # a long chain on a fixed base (the loop form): per joint k, in frame k, (ωᵏ, v_Oᵏ, Kᵏ, Pᵏ) with
+    # Kᵏ, Pᵏ the angular momentum about Oᵏ (rotors included) and the momentum of the sub-chain k…n
+    subchain: tuple = ()
 
 
 def vertical_axis(spec: ChainSpec) -> bool | None:
@@ -172,10 +175,12 @@ def _kinetic(spec: ChainSpec, kin: Kinematics, vel) -> Poly:
     return T
 
 
-def _abs_momentum(spec: ChainSpec, kin: Kinematics, vel) -> Poly:
-    """ê¹₁·K_O¹ with absolute velocities: K of the sub-chain k…n about Oᵏ, carried back."""
+def _abs_momentum(spec: ChainSpec, kin: Kinematics, vel) -> list:
+    """(Kᵏ, Pᵏ) per joint with absolute velocities: the angular momentum (rotors included) of the
+    sub-chain k…n about Oᵏ and its momentum, carried back joint by joint; ê¹₁·K¹ is (27)."""
     P, J, num = kin.prog, kin.joint, kin.prog.from_sympy
     K = Pm = None
+    out = []
     for k in range(spec.n, 0, -1):
         b = spec.bodies[k - 1]
         w, v = vel[k - 1]
@@ -188,7 +193,8 @@ def _abs_momentum(spec: ChainSpec, kin: Kinematics, vel) -> Poly:
             Kin, Pin = J[k + 1].up(K), J[k + 1].up(Pm)
             Kk, Pk = add(Kk, Kin, cross(s, Pin)), add(Pk, Pin)
         K, Pm = P.vec(f"Kabs{k}", Kk), P.vec(f"Pabs{k}", Pk)
-    return K[0]
+        out.append((K, Pm))
+    return out[::-1]
 
 
 def _potential(spec: ChainSpec, kin: Kinematics, dyn: Dynamics) -> list:
@@ -225,8 +231,16 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> In
     P = prog
     pm = kin.platform
     # ½ φ̇ᵀ M φ̇ row by row: (M φ̇)_i named, so the sum is O(n²) and not a product of sums
-    if dyn.loops is not None:  # a long chain: (M φ̇)ᵢ and T₂ = ½ Σ vᵏ·Iᵏvᵏ from frame 0's recursion (loopform.py)
-        Mq, T2 = list(dyn.loops.Mqd), dyn.loops.T2
+    subchain = ()
+    if dyn.loops is not None and pm is None:
+        # a long chain on a fixed base: T and the sub-chains' momenta by O(n) recursions in frame k
+        # (the velocities are the absolute ones), not by M φ̇ (O(n²))
+        vel = _velocities(spec, kin, "abs", transport=False)
+        KP = _abs_momentum(spec, kin, vel)
+        subchain = tuple((w, v, K, Pm) for (w, v), (K, Pm) in zip(vel, KP))
+        Mq, T2 = None, _kinetic(spec, kin, vel)
+    elif dyn.loops is not None:  # on a platform: T₂ (Jacobi's integral) by loopform.py, in frame 0
+        Mq, T2 = None, dyn.loops.T2
     else:
         Mq = [P.let(f"Mqd{i + 1}", sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO)) for i in range(n)]
         T2 = 0.5 * sum((Mq[i] * qd[i] for i in range(n)), ZERO)
@@ -245,7 +259,10 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> In
     vertical = vertical_axis(spec)
     momentum, condition = None, None
     if vertical is not False:
-        momentum = Mq[0] + dyn.Lam[0][0] if pm is None else _abs_momentum(spec, kin, vel)
+        if subchain:
+            momentum = subchain[0][2][0]
+        else:
+            momentum = Mq[0] + dyn.Lam[0][0] if pm is None else _abs_momentum(spec, kin, vel)[0][0][0]
     if vertical is None:
         th = spec.bodies[0].theta
         condition = f"sin(theta1) = 0 (theta1 = {th} is a parameter: conserved only for theta1 = 0 or pi)"
@@ -272,4 +289,5 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> In
         energy_reasons=tuple(reasons),
         momentum_reasons=tuple(m_reasons),
         U_extra=tuple(extra),
+        subchain=subchain,
     )

@@ -12,14 +12,10 @@ Past ``LOOP_MIN_N`` joints the model takes instead, in frame 0 (the platform's f
     M_kj = z1ᵏ · Sʲ      (k ≥ j; the composite-rigid-body algorithm as a 6-dot per pair),
     vᵏ = vᵏ⁻¹ + Sᵏ φ̇ᵏ    the motion of body k relative to the platform,
     T₂ = ½ Σₖ vᵏ · Iᵏvᵏ   (= ½ φ̇ᵀ M φ̇),
-    (M φ̇)ⱼ = Sʲ · Σ_{i≥j} Iⁱvⁱ   (the momenta of Hamilton's form are (M φ̇)ⱼ + eʲ·Λᶜʲ),
-    ∂(T₂ + Σ λⁱ·ωⁱ)/∂φʲ = −wʲ · (Σ_{i≥j} Iⁱvⁱ + (Λᶜʲ, 0)),   wʲ = Sʲ × vʲ⁻¹,
 
-the last because turning joint j by δ turns every body i ≥ j and its rotor about Sʲ: δvⁱ =
-Sʲ × (vⁱ − vʲ⁻¹) δ, δIⁱ = (Sʲ×* Iⁱ − Iⁱ Sʲ×) δ, δλⁱ = eʲ × λⁱ δ, and all but the motion of the
-joint's base cancels (world.py's identity at zero acceleration).  With the generalized forces
-of gravity, the loads and the joint torques it is ṗ of Hamilton's form, O(n) (the tangent of p
-along φ̇, the straight-line form's way, is five times longer).
+(T₂ is Jacobi's on a moving platform; on a fixed base the energy, the momenta and their rate
+come from the sub-chains' momenta in frame k instead, integrals.py and derivatives.py: fewer
+operations per joint than in frame 0.)
 
 S and z1 are the straight line's outputs (6n numbers each, folded and with zeros gone per joint);
 M's lower triangle is the template's loop over the pairs, its LDLᵀ a loop too.  The same S and z1
@@ -32,7 +28,7 @@ from dataclasses import dataclass
 
 from .algebra import ONE, ZERO, Poly
 from .kinematics import Kinematics, appends_to
-from .vec3 import cross, dot, dot6, inertia_apply, mcross
+from .vec3 import cross, dot, dot6, inertia_apply
 
 # From this many joints on, the mass matrix, the energy, the momenta and their rate, and the
 # velocities from the momenta are emitted in the loop form (chosen by measured cost: see
@@ -51,13 +47,11 @@ def uses_loops(n: int, form: str = "auto") -> bool:
 
 @dataclass(frozen=True)
 class LoopForm:
-    """Per joint (index k − 1) the 6-vectors S and z1; T₂, M φ̇ and ∂(T₂ + Σ λ·ω)/∂φ (see the module)."""
+    """Per joint (index k − 1) the 6-vectors S and z1; T₂ (see the module)."""
 
     S: tuple
     z1: tuple
     T2: Poly
-    Mqd: tuple
-    dLdq: tuple
 
     def mass_matrix(self) -> tuple:
         """M as polynomials of S and z1 (rows of Poly; what the LaTeX and the composite form read)."""
@@ -66,13 +60,13 @@ class LoopForm:
 
 
 def derive(spec, kin: Kinematics) -> LoopForm:
-    """S, z1, T₂ and M φ̇, appended to ``kin.prog`` (names C…)."""
+    """S, z1 and T₂, appended to ``kin.prog`` (names C…)."""
     appends_to(kin.prog, kin)
     P, J, num, n = kin.prog, kin.joint, kin.prog.from_sympy, spec.n
     rows = [[ONE, ZERO, ZERO], [ZERO, ONE, ZERO], [ZERO, ZERO, ONE]]  # row i: ê⁰ᵢ in frame k, so R_k[i][j] = ê⁰ᵢ·êᵏⱼ
     O = [ZERO] * 3
     v = [ZERO] * 6
-    S, body, mom, w, lam = [], [], [], [], []
+    S, body, mom = [], [], []
     for k in range(1, n + 1):
         b = spec.bodies[k - 1]
         if k > 1:  # Oᵏ = Oᵏ⁻¹ + R_{k−1} sᵏ⁻¹
@@ -90,26 +84,17 @@ def derive(spec, kin: Kinematics) -> LoopForm:
         A0 = P.sym_mat(f"CA{k}", [[Aw[i][j] + (diag if i == j else ZERO) - m * O[i] * O[j] - hw[i] * O[j] - O[i] * hw[j]
                                    for j in range(3)] for i in range(3)])
         body.append((A0, P.vec(f"Ch{k}", [hw[i] + m * O[i] for i in range(3)]), m))
-        wk = mcross(S[-1], v)  # v = vᵏ⁻¹ here
-        w.append(P.vec(f"Cw{k}a", wk[:3]) + P.vec(f"Cw{k}l", wk[3:]))
-        lam.append([dot(rows[i], [num(x) for x in b.lam]) for i in range(3)])
         v = P.vec(f"Cv{k}a", [v[i] + S[-1][i] * kin.qd[k] for i in range(3)]) + \
             P.vec(f"Cv{k}l", [v[3 + i] + S[-1][3 + i] * kin.qd[k] for i in range(3)])
         hk = inertia_apply(body[-1], v)
         mom.append((v, P.vec(f"Cm{k}a", hk[:3]) + P.vec(f"Cm{k}l", hk[3:])))  # Iᵏvᵏ
     T2 = 0.5 * sum((dot6(vk, hk) for vk, hk in mom), ZERO)
-    z1, Mqd, dLdq = [None] * n, [None] * n, [None] * n
-    IC = HC = LC = None
+    z1 = [None] * n
+    IC = None
     for k in range(n, 0, -1):
         A0, h0, m = body[k - 1]
         IC = (A0, h0, m) if IC is None else (
             P.sym_mat(f"CIC{k}", [[A0[i][j] + IC[0][i][j] for j in range(3)] for i in range(3)]),
             P.vec(f"ChC{k}", [h0[i] + IC[1][i] for i in range(3)]), P.let(f"CmC{k}", m + IC[2]))
-        hk = mom[k - 1][1]
-        HC = hk if HC is None else P.vec(f"CHC{k}a", [hk[i] + HC[i] for i in range(3)]) + \
-            P.vec(f"CHC{k}l", [hk[3 + i] + HC[3 + i] for i in range(3)])
-        LC = lam[k - 1] if LC is None else P.vec(f"CLC{k}", [lam[k - 1][i] + LC[i] for i in range(3)])
         z1[k - 1] = [Poly.lift(x) for x in inertia_apply(IC, S[k - 1])]
-        Mqd[k - 1] = dot6(S[k - 1], HC)
-        dLdq[k - 1] = -(dot6(w[k - 1], HC) + dot(w[k - 1][:3], LC))
-    return LoopForm(tuple(tuple(Poly.lift(x) for x in s) for s in S), tuple(tuple(z) for z in z1), T2, tuple(Mqd), tuple(dLdq))
+    return LoopForm(tuple(tuple(Poly.lift(x) for x in s) for s in S), tuple(tuple(z) for z in z1), T2)
