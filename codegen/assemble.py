@@ -80,12 +80,13 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
                                 + ("a moving platform" if kin.platform is not None else "rotors that change" if dyn.Lamdot else "body loads"))
     n = spec.n
     say = progress or (lambda msg: None)
-    lower = [dyn.M[i][j] for i in range(n) for j in range(i + 1)]
+    loops = dyn.loops is not None
+    # a long chain's n² entries are formed only where a straight-line form reads them
+    lower = [dyn.M[i][j] for i in range(n) for j in range(i + 1)] if not loops or qdd_form == "composite" else None
     lines = {}
     say("straight-line code: mass matrix, forces, qdd, integrals")
     appends_to(prog, kin)
     P = prog
-    loops = dyn.loops is not None
     # the loop form (loopform.py): S and z1 per joint, the pairs and the LDLᵀ are the template's loops
     axes = [x for v in (dyn.loops.S + dyn.loops.z1 if loops else ()) for x in v]
     lines["mass_matrix"] = straight_line(P, axes if loops else lower)

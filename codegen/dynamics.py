@@ -32,7 +32,7 @@ from .spec import T, ChainSpec
 
 @dataclass(frozen=True)
 class Dynamics:
-    M: tuple  # n×n mass matrix (tuple of rows of Poly), symmetric positive definite
+    M: tuple  # n×n mass matrix (rows of Poly; loopform.PairMatrix for a long chain), symmetric positive definite
     Q: tuple  # velocity-quadratic terms (left side)
     Gamma: tuple  # gyroscopic terms from λ (left side)
     G: tuple  # gravity terms (right side)
@@ -277,7 +277,7 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, loops: bool = False)
     M = lf.mass_matrix() if loops else _mass_matrix(kin, bd.s, out["I"], out["h"])
     joint = tuple(joint_torque(spec, kin, k) for k in range(1, n + 1))
     return Dynamics(
-        M=tuple(tuple(row) for row in M),
+        M=M if loops else tuple(tuple(row) for row in M),
         L=tuple(kin.tau[k] if spec.bodies[k - 1].control else ZERO for k in range(1, n + 1)),
         joint=() if all(j.is_zero() for j in joint) else joint,
         Lamdot=tuple(out["Lamdot"][1:]) if bd.timed_lam else (),

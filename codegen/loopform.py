@@ -53,10 +53,44 @@ class LoopForm:
     z1: tuple
     T2: Poly
 
-    def mass_matrix(self) -> tuple:
-        """M as polynomials of S and z1 (rows of Poly; what the LaTeX and the composite form read)."""
-        n = len(self.S)
-        return tuple(tuple(dot6(self.z1[max(i, j)], self.S[min(i, j)]) for j in range(n)) for i in range(n))
+    def mass_matrix(self) -> "PairMatrix":
+        """M as polynomials of S and z1 (what the LaTeX and a forced composite form read), each
+        entry formed when first read."""
+        return PairMatrix(self)
+
+
+class PairMatrix:
+    """M[i][j] = z1^max(i,j) · S^min(i,j), formed on first reading (a long chain's n² entries are
+    read only by the LaTeX)."""
+
+    def __init__(self, lf: LoopForm):
+        self._lf, self._n, self._done = lf, len(lf.S), {}
+
+    def __len__(self) -> int:
+        return self._n
+
+    def __getitem__(self, i: int) -> "PairMatrix._Row":
+        if not 0 <= i < self._n:
+            raise IndexError(i)
+        return PairMatrix._Row(self, i)
+
+    def entry(self, i: int, j: int) -> Poly:
+        key = (max(i, j), min(i, j))
+        if key not in self._done:
+            self._done[key] = dot6(self._lf.z1[key[0]], self._lf.S[key[1]])
+        return self._done[key]
+
+    class _Row:
+        def __init__(self, m: "PairMatrix", i: int):
+            self._m, self._i = m, i
+
+        def __len__(self) -> int:
+            return self._m._n
+
+        def __getitem__(self, j: int) -> Poly:
+            if not 0 <= j < self._m._n:
+                raise IndexError(j)
+            return self._m.entry(self._i, j)
 
 
 def derive(spec, kin: Kinematics) -> LoopForm:

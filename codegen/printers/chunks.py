@@ -10,6 +10,7 @@ plain static functions, the same code.  Shorter functions (every example) are pr
 """
 from __future__ import annotations
 
+import re
 from dataclasses import replace
 
 from .common import Function
@@ -80,8 +81,17 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
     pre = [f"double s_[{max(1, len(slot))}];"] + [f"{name}_{fn.name}_part{c + 1}_({args});" for c in range(len(bounds) - 1)]
     if with_u:  # the function's own tau_k may now be read by its parts alone
         pre += [f"(void)tau_{k};" for _, k in ctx["controls"]]
-    imports = tuple((r, f"s_[{slot[r]}]") for r in out_reads)
-    return replace(fn, temporaries=imports, pre=tuple(pre), reads=(), out_reads=()), parts
+    # the outputs read s_ in place (thousands of imported values live at once would bring back the
+    # register pressure the parts removed); the values the template reads by name are imported
+    ident = re.compile(r"\b[A-Za-z_]\w*\b")
+
+    def in_place(code: str) -> str:
+        return ident.sub(lambda m: f"s_[{slot[m.group(0)]}]" if m.group(0) in slot else m.group(0), code)
+
+    outputs = tuple((lhs, in_place(code)) for lhs, code in fn.outputs)
+    named = set(ctx["der_store"]) & set(part_of) if key == "qdd_derivatives" else set()
+    imports = tuple((r, f"s_[{slot[r]}]") for r in sorted(named))
+    return replace(fn, temporaries=imports, outputs=outputs, pre=tuple(pre), reads=(), out_reads=()), parts
 
 
 def cut_all(fns: dict, ctx: dict) -> tuple[dict, str]:
