@@ -81,8 +81,9 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
     n = spec.n
     say = progress or (lambda msg: None)
     loops = dyn.loops is not None
-    # a long chain's n² entries are formed only where a straight-line form reads them
-    lower = [dyn.M[i][j] for i in range(n) for j in range(i + 1)] if not loops or qdd_form == "composite" else None
+    # a long chain's n² entries (and its composite form: O(n²) straight line, O(n³) LDLᵀ) only when asked for
+    straight_M = not loops or qdd_form == "composite"
+    lower = [dyn.M[i][j] for i in range(n) for j in range(i + 1)] if straight_M else None
     lines = {}
     say("straight-line code: mass matrix, forces, qdd, integrals")
     appends_to(prog, kin)
@@ -91,8 +92,7 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
     axes = [x for v in (dyn.loops.S + dyn.loops.z1 if loops else ()) for x in v]
     lines["mass_matrix"] = straight_line(P, axes if loops else lower)
     lines["forces"] = straight_line(P, dyn.f)
-    # a long chain's composite form (O(n²) straight line, O(n³) LDLᵀ) is derived only when asked for
-    composite = straight_line(P, lower + list(dyn.f)) if not loops or qdd_form == "composite" else None
+    composite = straight_line(P, lower + list(dyn.f)) if straight_M else None
     art = aba.derive(spec, P, kin, dyn)
     articulated = straight_line(P, list(art.qdd) + list(art.pivots))
     cheaper = composite is None or articulated.op_count() < composite.op_count() + ldlt_op_count(n)

@@ -218,8 +218,7 @@ def canonical(spec, prog: Program, kin, dyn, subchain: tuple = ()) -> Canonical:
     if subchain:  # a long chain: p and ṗ from the sub-chains' momenta in frame j (integrals.py)
         p, pdot = _canonical_local(dyn, subchain)
         return Canonical(p, k, pdot)
-    else:
-        p = tuple(sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO) + k[i] for i in range(n))
+    p = tuple(sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO) + k[i] for i in range(n))
     # the tangent along (φ, φ̇) ↦ (φ̇, 0): each φʲ's tangent is φ̇ʲ (label "p": names <quantity>_dp)
     seeds = {next(iter(P.input(kin.phi[j]).terms))[0]: {0: qd[j - 1]} for j in range(1, n + 1)}
     tan = tangents(P, list(p), seeds, ("p",))

@@ -230,7 +230,6 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> In
     qd = kin.qd[1:]
     P = prog
     pm = kin.platform
-    # ½ φ̇ᵀ M φ̇ row by row: (M φ̇)_i named, so the sum is O(n²) and not a product of sums
     subchain = ()
     if dyn.loops is not None and pm is None:
         # a long chain on a fixed base: T and the sub-chains' momenta by O(n) recursions in frame k
@@ -241,7 +240,7 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> In
         Mq, T2 = None, _kinetic(spec, kin, vel)
     elif dyn.loops is not None:  # on a platform: T₂ (Jacobi's integral) by loopform.py, in frame 0
         Mq, T2 = None, dyn.loops.T2
-    else:
+    else:  # ½ φ̇ᵀ M φ̇ row by row: (M φ̇)_i named, so the sum is O(n²) and not a product of sums
         Mq = [P.let(f"Mqd{i + 1}", sum((dyn.M[i][j] * qd[j] for j in range(n)), ZERO)) for i in range(n)]
         T2 = 0.5 * sum((Mq[i] * qd[i] for i in range(n)), ZERO)
     U = P.from_sympy(spec.g) * dot(dyn.h[0], kin.gamma[1])

@@ -93,31 +93,47 @@ class PairMatrix:
             return self._m.entry(self._i, j)
 
 
+ROWS0 = [[ONE, ZERO, ZERO], [ZERO, ONE, ZERO], [ZERO, ZERO, ONE]]  # R_0: the platform's own frame
+
+
+def place_joint(spec, kin: Kinematics, k: int, rows, O, tag: str) -> tuple:
+    """Joint k in frame 0, from joint k − 1's ``rows`` and ``O``: (rows of R_k, Oᵏ, Sᵏ), named
+    ``{tag}R…``, ``{tag}O…``, ``{tag}Sv…``.  Row i of R_k is ê⁰ᵢ in frame k, R_k[i][j] = ê⁰ᵢ·êᵏⱼ."""
+    P, num = kin.prog, kin.prog.from_sympy
+    if k > 1:  # Oᵏ = Oᵏ⁻¹ + R_{k−1} sᵏ⁻¹
+        s = [num(x) for x in spec.bodies[k - 2].s]
+        O = P.vec(f"{tag}O{k}", [O[i] + dot(rows[i], s) for i in range(3)])
+    rows = [P.vec(f"{tag}R{k}r{i + 1}", kin.joint[k].down(rows[i])) for i in range(3)]
+    e = [rows[i][0] for i in range(3)]
+    return rows, O, e + P.vec(f"{tag}Sv{k}", cross(O, e))
+
+
+def body_inertia(spec, kin: Kinematics, k: int, rows, O, tag: str) -> tuple:
+    """Body k's spatial inertia (A, h, m) about O¹ in frame 0: A_w = R A Rᵀ, h = R m c, then moved
+    from Oᵏ to O¹ (names ``{tag}A…``, ``{tag}h…``)."""
+    P, num, b = kin.prog, kin.prog.from_sympy, spec.bodies[k - 1]
+    m = num(b.m)
+    A = [[num(x) for x in row] for row in b.A]
+    Ar = [[dot(A[i], rows[j]) for i in range(3)] for j in range(3)]  # Ar[j] = A (row j of R)ᵀ
+    Aw = [[dot(rows[i], Ar[j]) for j in range(3)] for i in range(3)]
+    hw = [dot(rows[i], [m * num(x) for x in b.c]) for i in range(3)]
+    diag = m * dot(O, O) + 2 * dot(O, hw)
+    A0 = P.sym_mat(f"{tag}A{k}", [[Aw[i][j] + (diag if i == j else ZERO) - m * O[i] * O[j] - hw[i] * O[j] - O[i] * hw[j]
+                                  for j in range(3)] for i in range(3)])
+    return A0, P.vec(f"{tag}h{k}", [hw[i] + m * O[i] for i in range(3)]), m
+
+
 def derive(spec, kin: Kinematics) -> LoopForm:
     """S, z1 and T₂, appended to ``kin.prog`` (names C…)."""
     appends_to(kin.prog, kin)
-    P, J, num, n = kin.prog, kin.joint, kin.prog.from_sympy, spec.n
-    rows = [[ONE, ZERO, ZERO], [ZERO, ONE, ZERO], [ZERO, ZERO, ONE]]  # row i: ê⁰ᵢ in frame k, so R_k[i][j] = ê⁰ᵢ·êᵏⱼ
-    O = [ZERO] * 3
+    P, n = kin.prog, spec.n
+    rows, O = ROWS0, [ZERO] * 3
     v = [ZERO] * 6
     S, body, mom = [], [], []
     for k in range(1, n + 1):
-        b = spec.bodies[k - 1]
-        if k > 1:  # Oᵏ = Oᵏ⁻¹ + R_{k−1} sᵏ⁻¹
-            s = [num(x) for x in spec.bodies[k - 2].s]
-            O = P.vec(f"CO{k}", [O[i] + dot(rows[i], s) for i in range(3)])
-        rows = [P.vec(f"CR{k}r{i + 1}", J[k].down(rows[i])) for i in range(3)]
-        e = [rows[i][0] for i in range(3)]
-        S.append(e + P.vec(f"CSv{k}", cross(O, e)))
-        m = num(b.m)
-        A = [[num(x) for x in row] for row in b.A]
-        Ar = [[dot(A[i], rows[j]) for i in range(3)] for j in range(3)]  # Ar[j] = A (row j of R)ᵀ
-        Aw = [[dot(rows[i], Ar[j]) for j in range(3)] for i in range(3)]
-        hw = [dot(rows[i], [m * num(x) for x in b.c]) for i in range(3)]
-        diag = m * dot(O, O) + 2 * dot(O, hw)
-        A0 = P.sym_mat(f"CA{k}", [[Aw[i][j] + (diag if i == j else ZERO) - m * O[i] * O[j] - hw[i] * O[j] - O[i] * hw[j]
-                                   for j in range(3)] for i in range(3)])
-        body.append((A0, P.vec(f"Ch{k}", [hw[i] + m * O[i] for i in range(3)]), m))
+        rows, O, Sk = place_joint(spec, kin, k, rows, O, "C")
+        S.append(Sk)
+        body.append(body_inertia(spec, kin, k, rows, O, "C"))
         v = P.vec(f"Cv{k}a", [v[i] + S[-1][i] * kin.qd[k] for i in range(3)]) + \
             P.vec(f"Cv{k}l", [v[3 + i] + S[-1][3 + i] * kin.qd[k] for i in range(3)])
         hk = inertia_apply(body[-1], v)

@@ -45,8 +45,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from . import derivatives
-from .algebra import ONE, ZERO, Poly
+from . import derivatives, loopform
+from .algebra import ZERO, Poly
 from .kinematics import appends_to
 from .vec3 import add, cross, dot, fcross as _fcross, inertia_apply as _inertia, mcross as _mcross, scale, skew
 
@@ -93,39 +93,21 @@ def _outward(spec, kin, art) -> tuple:
     O¹ (A, h, m), its momentum Iᵏvᵏ, its bias force, λᵏ and Dᵏ."""
     n = spec.n
     P = kin.prog
-    J = kin.joint
     num = P.from_sympy
     qd = kin.qd
     qdd = [None] + list(art.qdd)
-    rows = [[ONE, ZERO, ZERO], [ZERO, ONE, ZERO], [ZERO, ZERO, ONE]]  # rows of R_k (frame k → frame 0): row i holds êᵏ₁…êᵏ₃'s i-th components
-    O = [ZERO] * 3
+    rows, O = loopform.ROWS0, [ZERO] * 3
     v = [ZERO] * 6
     a = [ZERO] * 3 + scale(-num(spec.g), kin.gamma[0])  # gravity as an upward acceleration of the base
     S, w, beta, Iw, mom, fb, lam, D = ({} for _ in range(8))
     for k in range(1, n + 1):
         b = spec.bodies[k - 1]
-        if k > 1:  # Oᵏ = Oᵏ⁻¹ + R_{k−1} sᵏ⁻¹
-            s = [num(x) for x in spec.bodies[k - 2].s]
-            O = P.vec(f"WO{k}", [O[i] + dot(rows[i], s) for i in range(3)])
-        rows = [P.vec(f"WR{k}r{i + 1}", J[k].down(rows[i])) for i in range(3)]
-        e = [rows[i][0] for i in range(3)]
-        S[k] = e + P.vec(f"WSv{k}", cross(O, e))
+        rows, O, S[k] = loopform.place_joint(spec, kin, k, rows, O, "W")
         wk = _mcross(S[k], v)
         w[k] = P.vec(f"Ww{k}a", wk[:3]) + P.vec(f"Ww{k}l", wk[3:])
         al, wv = _mcross(S[k], a), _mcross(w[k], v)  # with v = vᵏ⁻¹, a = aᵏ⁻¹
         beta[k] = P.vec(f"Wb{k}a", [wv[i] - al[i] for i in range(3)]) + P.vec(f"Wb{k}l", [wv[3 + i] - al[3 + i] for i in range(3)])
-        # body k about O¹ in frame 0: A_w = R A Rᵀ, h = R m c, then moved from Oᵏ to O¹
-        m = num(b.m)
-        A = [[num(x) for x in row] for row in b.A]
-        Ar = [[dot(A[i], rows[j]) for i in range(3)] for j in range(3)]  # Ar[j] = A (row j of R)ᵀ
-        Aw = [[dot(rows[i], Ar[j]) for j in range(3)] for i in range(3)]
-        hw = [dot(rows[i], [m * num(x) for x in b.c]) for i in range(3)]
-        Oh = dot(O, hw)
-        diag = m * dot(O, O) + 2 * Oh
-        A0 = P.sym_mat(f"WA{k}", [[Aw[i][j] + (diag if i == j else ZERO) - m * O[i] * O[j] - hw[i] * O[j] - O[i] * hw[j]
-                                   for j in range(3)] for i in range(3)])
-        h0 = P.vec(f"Wh{k}", [hw[i] + m * O[i] for i in range(3)])
-        Iw[k] = (A0, h0, m)
+        Iw[k] = loopform.body_inertia(spec, kin, k, rows, O, "W")  # body k about O¹ in frame 0
         lam[k] = P.vec(f"Wl{k}", [dot(rows[i], [num(x) for x in b.lam]) for i in range(3)])
         v = P.vec(f"Wv{k}a", [v[i] + S[k][i] * qd[k] for i in range(3)]) + P.vec(f"Wv{k}l", [v[3 + i] + S[k][3 + i] * qd[k] for i in range(3)])
         # aᵏ = aᵏ⁻¹ + Sᵏφ̈ᵏ − wᵏφ̇ᵏ  (vᵏ × Sᵏ = vᵏ⁻¹ × Sᵏ = −wᵏ)

@@ -44,30 +44,26 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
     xname, with_u, with_t = SIGNATURES[key]
     with_t = with_t and ctx["time_dependent"]
     bounds = list(range(0, len(temps), PART_TEMPORARIES)) + [len(temps)]
-    part_of = {}
-    for c, (a, b) in enumerate(zip(bounds, bounds[1:])):
-        for lhs, _ in temps[a:b]:
-            part_of[lhs] = c
+    spans = list(zip(bounds, bounds[1:]))
+    part_of = {lhs: c for c, (a, b) in enumerate(spans) for lhs, _ in temps[a:b]}
+    # the template also stores, by name, the recursion's values the columns read (b[])
+    named = sorted(set(ctx["der_store"]) & set(part_of)) if key == "qdd_derivatives" else []
     # a slot in s_ for every value read outside the part that computes it
     slot: dict = {}
-    for c, (a, b) in enumerate(zip(bounds, bounds[1:])):
+    for c, (a, b) in enumerate(spans):
         for reads in fn.reads[a:b]:
             for r in reads:
                 if part_of[r] != c and r not in slot:
                     slot[r] = len(slot)
-    out_reads = {r for reads in fn.out_reads for r in reads}
-    if key == "qdd_derivatives":  # the template also stores the recursion's values the columns read (b[])
-        out_reads |= set(ctx["der_store"]) & set(part_of)
-    out_reads = sorted(out_reads)
-    for r in out_reads:
+    for r in sorted({r for reads in fn.out_reads for r in reads} | set(named)):
         slot.setdefault(r, len(slot))
     name, NAME = ctx["name"], ctx["NAME"]
     params = (("double t, " if with_t else "") + f"const double *{xname}, " + ("const double *u, " if with_u else "")
               + f"const {name}_params *p, double *s_")
     args = ("t, " if with_t else "") + f"{xname}, " + ("u, " if with_u else "") + "p, s_"
     parts = []
-    for c, (a, b) in enumerate(zip(bounds, bounds[1:])):
-        lines = [f"/* {name}_{fn.name}, part {c + 1} of {len(bounds) - 1} (codegen/printers/chunks.py) */",
+    for c, (a, b) in enumerate(spans):
+        lines = [f"/* {name}_{fn.name}, part {c + 1} of {len(spans)} (codegen/printers/chunks.py) */",
                  f"{NAME}_PART_ {name}_{fn.name}_part{c + 1}_({params})", "{"]
         lines += [f"    (void){v};" for v in (["t"] if with_t else []) + [xname] + (["u"] if with_u else []) + ["p"]]
         if with_u:
@@ -78,7 +74,7 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
         lines += [f"    const double {lhs} = {rhs};" for lhs, rhs in temps[a:b]]
         lines += [f"    s_[{slot[lhs]}] = {lhs};" for lhs, _ in temps[a:b] if lhs in slot]
         parts.append("\n".join(lines + ["}", ""]))
-    pre = [f"double s_[{max(1, len(slot))}];"] + [f"{name}_{fn.name}_part{c + 1}_({args});" for c in range(len(bounds) - 1)]
+    pre = [f"double s_[{max(1, len(slot))}];"] + [f"{name}_{fn.name}_part{c + 1}_({args});" for c in range(len(spans))]
     if with_u:  # the function's own tau_k may now be read by its parts alone
         pre += [f"(void)tau_{k};" for _, k in ctx["controls"]]
     # the outputs read s_ in place (thousands of imported values live at once would bring back the
@@ -89,8 +85,7 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
         return ident.sub(lambda m: f"s_[{slot[m.group(0)]}]" if m.group(0) in slot else m.group(0), code)
 
     outputs = tuple((lhs, in_place(code)) for lhs, code in fn.outputs)
-    named = set(ctx["der_store"]) & set(part_of) if key == "qdd_derivatives" else set()
-    imports = tuple((r, f"s_[{slot[r]}]") for r in sorted(named))
+    imports = tuple((r, f"s_[{slot[r]}]") for r in named)
     return replace(fn, temporaries=imports, outputs=outputs, pre=tuple(pre), reads=(), out_reads=()), parts
 
 
