@@ -69,6 +69,7 @@ animations: setup
 	$(VPY) -m codegen animate specs/gimbal.toml --t1 8 --fps 20 --size 360x360 -o docs/img/gimbal.gif
 	$(VPY) -m codegen animate specs/spatial3.toml --phi=-2,-0.75,-1.1 --phidot 0,0,0 --t1 8 --fps 20 --size 360x360 \
 		-o docs/img/spatial3_chaos.gif
+	$(VPY) -m codegen animate specs/cable64.toml --t1 4 --fps 20 --size 360x360 -o docs/img/cable64.gif
 
 $(VENV)/.bench-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,bench]'

@@ -133,12 +133,17 @@ class Geometry:
         reach = float(sum(np.linalg.norm(ch.s[k]) for k in range(n - 1)) + np.linalg.norm(ch.c[-1]))
         self.size = max(reach, float(self.rg.max()), 1e-3)
         self.ring = np.array([_ring_radius(ch, k) for k in range(n)])  # 0: not drawn as a Cardan ring
-        self.bar = np.maximum(0.8 * self.rg, 0.15 * self.size)
+        # the marks of a body scale with the whole picture, but not beyond six times its own
+        # link (a cable of many short links stays a cable)
+        own = np.array([max(np.linalg.norm(ch.s[k] if k < n - 1 else ch.c[k]), self.rg[k]) for k in range(n)])
+        scale = np.minimum(self.size, 6.0 * own)
+        scale = np.where(scale > 0, scale, self.size)
+        self.bar = np.maximum(0.8 * self.rg, 0.15 * scale)
         # an axis reaches the ring whose bearings hold it (the one before) and its own ring
         self.bar = np.maximum(self.bar, 1.12 * np.maximum(self.ring, np.concatenate([[0.0], self.ring[:-1]])))
         mmax = float(ch.m.max()) if ch.m.max() > 0 else 1.0
-        self.dot = np.maximum(0.05 * self.size * np.cbrt(np.maximum(ch.m, 0) / mmax), 0.02 * self.size)
-        self.disc = np.maximum(0.7 * self.rg, 0.12 * self.size)
+        self.dot = np.maximum(0.05 * scale * np.cbrt(np.maximum(ch.m, 0) / mmax), 0.02 * scale)
+        self.disc = np.maximum(0.7 * self.rg, 0.12 * scale)
 
 
 def pose(ch: reference.NumericChain, phi, t: float) -> dict:

@@ -20,6 +20,10 @@ from codegen import build, pipeline, reference  # noqa: E402
 from codegen.spec import ChainSpec, load_spec, parse_spec  # noqa: E402
 
 EXAMPLES = sorted(p.stem for p in (ROOT / "specs").glob("*.toml"))
+# the long chains (specs/cable64.toml): the tests that cost minutes per example there (sanitizers,
+# differences of the reference model) run on the short examples and on long random chains of their own
+LONG_EXAMPLES = [e for e in EXAMPLES if len(load_spec(ROOT / "specs" / f"{e}.toml").bodies) >= 12]
+SHORT_EXAMPLES = [e for e in EXAMPLES if e not in LONG_EXAMPLES]
 
 def _spec_values(name: str) -> dict:
     return dict(load_spec(ROOT / "specs" / f"{name}.toml").values)

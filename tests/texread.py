@@ -15,6 +15,10 @@ class TexSyntaxError(ValueError):
     pass
 
 
+MATHRM = re.compile(r"\\mathrm\{[^{}]*\}")
+RECURSION = r"\subsection*{The recursion}"
+
+
 def document_names(tex: str, n: int) -> dict[str, sp.Symbol]:
     """The names a document's formulas use: the joint state, the torques, time, the platform's
     quantities and the symbolic parameters its scene section lists as "$tex$ (\\texttt{name})"."""
@@ -35,14 +39,27 @@ def document_names(tex: str, n: int) -> dict[str, sp.Symbol]:
         listing = " ".join(tex.splitlines()[i + 1:i + 1 + 200]).split(".\n")[0]
         for t, name in re.findall(r"\$([^$]+)\$ \(\\texttt\{([^}]*)\}\)", listing):
             names[t] = sp.Symbol("param_" + name.replace(r"\_", "_"))
+    for lhs, _ in recursion(tex):
+        names[lhs] = sp.Symbol("rec" + re.sub(r"\W+", "_", lhs))
     return names
+
+
+def recursion(tex: str) -> list[tuple[str, str]]:
+    """The definitions of a long chain's recursion section, in order: (name, its formula).  The
+    lines that only restate cos φᵏ, sin φᵏ define nothing new."""
+    if RECURSION not in tex:
+        return []
+    section = tex.split(RECURSION, 1)[1].split(r"\section*", 1)[0]
+    return [(lhs, rhs) for lhs, rhs in equations(section).items() if not lhs.startswith((r"\cos", r"\sin"))]
 
 
 class Parser:
     def __init__(self, text: str, names: dict):
         self.s = text
         self.i = 0
-        self.names = sorted(names.items(), key=lambda kv: -len(kv[0]))
+        # \mathrm{...} names (a long chain's recursion has thousands) by lookup, the rest longest first
+        self.mathrm = {k: v for k, v in names.items() if MATHRM.fullmatch(k)}
+        self.names = sorted(((k, v) for k, v in names.items() if k not in self.mathrm), key=lambda kv: -len(kv[0]))
 
     # ---- lexing helpers
     def ws(self) -> None:
@@ -164,6 +181,10 @@ class Parser:
 
     def name(self):
         self.ws()
+        m = MATHRM.match(self.s, self.i)
+        if m and m.group() in self.mathrm:
+            self.i = m.end()
+            return self.mathrm[m.group()]
         for tex, sym in self.names:
             if self.s.startswith(tex, self.i):
                 after = self.s[self.i + len(tex):self.i + len(tex) + 1]

@@ -463,7 +463,7 @@ def initial_text(spec) -> str:
     """The spec's [initial] state as the document states it (E and k of the quadratures are its values)."""
     if spec.initial is None:
         return r"The spec gives no initial state (\texttt{[initial]})."
-    fmt = lambda v: ", ".join(f"{float(x):.10g}" for x in v)  # noqa: E731
+    fmt = lambda v: r",\allowbreak ".join(f"{float(x):.10g}" for x in v)  # noqa: E731  (a long chain's state wraps)
     return (rf"Initial state (\texttt{{[initial]}}): $\varphi = ({fmt(spec.initial['phi'])})$, "
             rf"$\dot\varphi = ({fmt(spec.initial['phidot'])})$.")
 

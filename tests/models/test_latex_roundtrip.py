@@ -41,6 +41,11 @@ def _random_cases() -> dict:
         rng = np.random.default_rng(2500 + i)
         cases[f"rt_fixed{n}{'p' if planar else ''}"] = (random_spec_text(rng, n, name=f"rt_fixed{n}{'p' if planar else ''}",
                                                                           planar=planar, controls=(1,)), None)
+    # past CLOSED_FORM_MAX_N the document prints the recursion's quantities; from n = 12 on the
+    # code is the loop form (codegen/loopform.py)
+    for n in (4, 12):
+        rng = np.random.default_rng(2540 + n)
+        cases[f"rt_recursion{n}"] = (random_spec_text(rng, n, name=f"rt_recursion{n}", controls=(2,)), None)
     rng = np.random.default_rng(2510)
     cases["rt_vertical2"] = (random_spec_text(rng, 2, name="rt_vertical2", theta1=0.0), None)
     for i, kw in enumerate([dict(), dict(rotate=False), dict(translate=False, loads=False), dict(springs=False, spin_up=False),
@@ -67,6 +72,7 @@ class Doc:
         self.names = texread.document_names(tex, n)
         self.eqs = texread.equations(tex)
         self.params = {sp.Symbol("param_" + k): v for k, v in (params or {}).items()}
+        self.recursion = [lhs for lhs, _ in texread.recursion(tex)]  # a long chain's quantities, in order
         self._parsed: dict = {}
 
     def has(self, lhs: str) -> bool:
@@ -95,6 +101,9 @@ class Doc:
                 lhs = f"{tex},{i}}}" if key == "vdot" else f"{tex}_{{{i}}}"
                 if self.has(lhs):
                     env[sp.Symbol(f"{key}0_{i}")] = self.value(lhs, env)[0]
+        for lhs in self.recursion:
+            sym = self.names[lhs]
+            env[sym], env[("scale", sym)] = self.value(lhs, env)
         return env
 
     def value(self, lhs: str, env: dict) -> tuple[float, float]:
@@ -107,7 +116,10 @@ class Doc:
         missing = [s for s in syms if s not in env]
         assert not missing, f"{lhs}: the document's formula has symbols it does not define: {missing}"
         terms = fn(*[env[s] for s in syms])
-        return math.fsum(terms), math.fsum(abs(v) for v in terms)
+        # a recursion quantity carries the rounding of the printed numbers it was computed from:
+        # its scale is its formula evaluated with every term's magnitude (a forward error bound)
+        mags = fn(*[env.get(("scale", s), env[s]) for s in syms]) if self.recursion else terms
+        return math.fsum(terms), math.fsum(abs(v) for v in mags)
 
 
 def mismatches(doc: Doc, model, params, rng, points: int = 3) -> list[str]:
@@ -233,7 +245,8 @@ def _planted(tex: str, lhs: str) -> str:
     return tex[:pos] + str((int(tex[pos]) + 1) % 10) + tex[pos + 1:]
 
 
-@pytest.mark.parametrize("case,lhs", [("rt_fixed3", "Q_{2}"), ("rt_general0", r"\Pi_{1}"), ("rt_fixed2", "M_{11}")])
+@pytest.mark.parametrize("case,lhs", [("rt_fixed3", "Q_{2}"), ("rt_general0", r"\Pi_{1}"), ("rt_fixed2", "M_{11}"),
+                                      ("rt_recursion4", "I^{3}_{11}"), ("rt_recursion4", "N^{2}_{1}")])
 def test_a_misprinted_coefficient_fails(case, lhs, make_model):
     text, params = RANDOM[case]
     model = make_model(text, params, latex=True)

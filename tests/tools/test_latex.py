@@ -21,8 +21,9 @@ def test_latex_compiles_to_pdf(name, tmp_path):
     assert pdf.exists() and pdf.stat().st_size > 10_000
     log = (tmp_path / f"{name}.log").read_text(errors="replace")
     assert "Undefined control sequence" not in log
-    # no box that runs into the margin, no character the font lacks (issue 25: the build log is checked)
-    assert "Overfull \\hbox" not in log and "Missing character" not in log, [
+    # no box that runs into the margin or off the page (a long chain's tables), no character the
+    # font lacks (issue 25: the build log is checked)
+    assert "Overfull" not in log and "Missing character" not in log, [
         ln for ln in log.splitlines() if ln.startswith(("Overfull", "Missing character"))][:5]
 
 
