@@ -69,22 +69,23 @@ static void cable64_pairs_(const double *S, const double *z1, double *M, int upp
     }
 }
 
-/* In-place LDL^T of the row-major 64 x 64 array A (lower triangle read): L below the diagonal,
- * D on it.  SINGULAR when a pivot is not above PIVOT_TOL times the largest |diagonal entry| (M not
- * numerically positive definite); the loops of the unrolled form of shorter chains. */
-static int cable64_ldlt_checked_(double *A)
+/* LDL^T of the row-major 64 x 64 array M (lower triangle read) into A (lower triangle written;
+ * A may be M): L below the diagonal, D on it.  SINGULAR when a pivot is not above PIVOT_TOL times the
+ * largest |diagonal entry| (M not numerically positive definite); the loops of the unrolled form of
+ * shorter chains.  Reading M in place of a copy keeps gcc from calling memcpy (not libm). */
+static int cable64_ldlt_checked_(const double *M, double *A)
 {
     double v[64];
     double tol = 0.0, d, s, r;
     int i, j, k;
     for (i = 0; i < 64; ++i) {
-        if (fabs(A[i * 65]) > tol) {
-            tol = fabs(A[i * 65]);
+        if (fabs(M[i * 65]) > tol) {
+            tol = fabs(M[i * 65]);
         }
     }
     tol *= CABLE64_PIVOT_TOL;
     for (j = 0; j < 64; ++j) {
-        d = A[j * 64 + j];
+        d = M[j * 64 + j];
         for (k = 0; k < j; ++k) {
             v[k] = A[j * 64 + k] * A[k * 65];
             d -= A[j * 64 + k] * v[k];
@@ -95,7 +96,7 @@ static int cable64_ldlt_checked_(double *A)
         A[j * 65] = d;
         r = 1.0 / d;
         for (i = j + 1; i < 64; ++i) {
-            s = A[i * 64 + j];
+            s = M[i * 64 + j];
             for (k = 0; k < j; ++k) {
                 s -= A[i * 64 + k] * v[k];
             }
@@ -25430,7 +25431,6 @@ int cable64_mass_matrix(const double *q, const cable64_params *p, double *M)
     double S_[384];
     double z1_[384];
     double LD[4096];
-    int i;
     (void)p;
 
     if (!cable64_all_finite_(q, 64)) {
@@ -26219,10 +26219,7 @@ int cable64_mass_matrix(const double *q, const cable64_params *p, double *M)
     if (!cable64_all_finite_(M, 4096)) {
         return CABLE64_NONFINITE;
     }
-    for (i = 0; i < 4096; ++i) {
-        LD[i] = M[i];
-    }
-    return cable64_ldlt_checked_(LD);
+    return cable64_ldlt_checked_(M, LD);
 }
 
 int cable64_forces(const double *x, const double *u, const cable64_params *p, double *f)
@@ -30491,7 +30488,7 @@ int cable64_velocities(const double *q, const double *pm, const cable64_params *
         }
         qd[i] = pm[i] - k[i];
     }
-    code = cable64_ldlt_checked_(M);
+    code = cable64_ldlt_checked_(M, M);
     if (code != CABLE64_OK) {
         return code;
     }
