@@ -1,7 +1,9 @@
-"""`make bench-speed`: ns per forward-dynamics call of the generated C against Pinocchio's ABA
-(C++), CasADi-generated C (our ABA in SX, numbers folded in) and MuJoCo's mj_forward, on the
-same random spatial gyrostat chains, in one run; generation time, peak memory and op counts
-against n; the op count of reduced scenes (planar, no rotors, zero offsets).
+"""`make bench-speed`: the scale benchmark, n = 2 ... 128.  ns per forward-dynamics call of the
+generated C against Pinocchio's ABA (C++), CasADi-generated C (our ABA in SX, numbers folded in; up
+to n = CASADI_MAX_N) and MuJoCo's mj_forward, and ns per Jacobian ∂φ̈/∂(φ, φ̇) against Pinocchio's
+computeABADerivatives, on the same random spatial gyrostat chains, in one run; generation and gcc
+time, C size, peak memory and op counts against n, with their log-log slopes; the op count of
+reduced scenes (planar, no rotors, zero offsets).
 
 Every implementation's φ̈ is checked against codegen.reference before it is timed.  Peers that
 are not installed (pip install '.[bench]', apt libeigen3-dev) are reported as missing.
@@ -239,6 +241,7 @@ def build_mujoco(ch, n: int, d: Path) -> Path | None:
 
 # --------------------------------------------------------------------------- main
 PEERS = ("pinocchio", "mujoco", "casadi")
+CASADI_MAX_N = 32  # CasADi's SX of the ABA is straight-line code: its C grows with n like ours before the loop form
 
 
 def speed(ns: list[int]) -> list[dict]:
@@ -271,7 +274,7 @@ def speed(ns: list[int]) -> list[dict]:
             ("casadi", build_casadi, ch, ref),
         ):
             try:
-                exe = builder(chain, n, d)
+                exe = None if peer == "casadi" and n > CASADI_MAX_N else builder(chain, n, d)
             except subprocess.CalledProcessError as e:
                 print(f"  {peer} n = {n}: build failed ({e})", file=sys.stderr)
                 exe = None
@@ -286,20 +289,58 @@ def speed(ns: list[int]) -> list[dict]:
                 print(f"  {peer} n = {n}: disagrees with the reference ({err:.2e}); not timed", file=sys.stderr)
         best = min((row[f"{p}_ns"] for p in PEERS if row[f"{p}_ns"]), default=None)
         row["best_peer_over_ours"] = best / row["ours_ns"] if best else None
+        jacobian(ch, ch0, n, d, xs, row)
         rows.append(row)
         print(_speed_line(row), flush=True)
     return rows
 
 
+def jacobian(ch, ch0, n: int, d: Path, xs: np.ndarray, row: dict) -> None:
+    """ns per ∂φ̈/∂(φ, φ̇): ours (NAME_qdd_derivatives) and Pinocchio's computeABADerivatives
+    (on the chain without rotors, which it cannot take), each checked first against Richardson
+    differences of the reference model (bench/derivatives.py has the other peers)."""
+    import derivatives as dv
+
+    ref = [dv.ref_jacobian(ch, x) for x in xs[:dv.N_CHECK]]
+    J, med, _ = run(dv.build_ours(n, d), xs, d)
+    err = dv.err(J[:dv.N_CHECK], ref)
+    if err > dv.TOL:
+        raise SystemExit(f"n = {n}: our derivatives disagree with the reference ({err:.2e})")
+    row["ours_jac_ns"] = med
+    row["pinocchio_jac_ns"] = None
+    try:
+        exe = build_pinocchio(ch0, n, d, "pinocchio_derivatives")
+    except subprocess.CalledProcessError as e:
+        print(f"  pinocchio derivatives n = {n}: build failed ({e})", file=sys.stderr)
+        exe = None
+    if exe is not None:
+        J, med, _ = run(exe, xs, d)
+        err = dv.err(J[:dv.N_CHECK], [dv.ref_jacobian(ch0, x) for x in xs[:dv.N_CHECK]])
+        row["pinocchio_jac_ns"] = med if err <= dv.TOL else None
+        if err > dv.TOL:
+            print(f"  pinocchio derivatives n = {n}: disagree with the reference ({err:.2e}); not timed", file=sys.stderr)
+    row["pinocchio_jac_over_ours"] = row["pinocchio_jac_ns"] / row["ours_jac_ns"] if row["pinocchio_jac_ns"] else None
+
+
+SLOPE_MIN_N = 16  # the slopes are fitted from here on: below it the fixed costs dominate
+
+
 def slopes(rows: list[dict]) -> str:
-    """Log-log slopes against n between the two largest chains: 1 is linear growth, 2 quadratic."""
+    """Log-log slopes against n, least squares over n >= SLOPE_MIN_N: 1 is linear growth, 2
+    quadratic (the aims: 1 for generation and per φ̈ call, 2 for the Jacobian)."""
+    rows = [r for r in rows if r["n"] >= SLOPE_MIN_N]
     if len(rows) < 2:
-        return "slopes: need two sizes"
-    a, b = rows[-2], rows[-1]
-    k = lambda key: np.log(b[key] / a[key]) / np.log(b["n"] / a["n"])  # noqa: E731
-    parts = [f"{label} {k(key):.2f}" for key, label in (("gen_s", "derive + emit"), ("cc_s", "gcc"), ("c_kb", "C size"),
-                                                          ("ours_ns", "ns per qdd")) if a.get(key) and b.get(key)]
-    return f"slopes d log / d log n from n = {a['n']} to {b['n']}: " + ", ".join(parts)
+        return "slopes: need two sizes from n = %d on" % SLOPE_MIN_N
+
+    def k(key):
+        pts = [(r["n"], r[key]) for r in rows if r.get(key)]
+        return np.polyfit(np.log([p[0] for p in pts]), np.log([p[1] for p in pts]), 1)[0] if len(pts) > 1 else None
+
+    keys = (("gen_s", "derive + emit"), ("cc_s", "gcc"), ("c_kb", "C size"), ("ours_ns", "ns per qdd"),
+            ("pinocchio_ns", "Pinocchio qdd"), ("mujoco_ns", "MuJoCo"), ("ours_jac_ns", "ns per Jacobian"),
+            ("pinocchio_jac_ns", "Pinocchio Jacobian"))
+    parts = [f"{label} {s:.2f}" for key, label in keys if (s := k(key)) is not None]
+    return f"slopes d log / d log n over n = {rows[0]['n']}...{rows[-1]['n']}: " + ", ".join(parts)
 
 
 def _fmt(v, spec=".0f"):
@@ -311,6 +352,8 @@ def _speed_line(r: dict) -> str:
         f"n={r['n']:>3}  ours {_fmt(r['ours_ns']):>7} ns ({r['qdd_ops']} ops)  pinocchio {_fmt(r['pinocchio_ns']):>7}"
         f"  mujoco(λ=0) {_fmt(r['mujoco_ns']):>7}  casadi {_fmt(r['casadi_ns']):>7}"
         f"  best peer / ours {_fmt(r['best_peer_over_ours'], '.2f'):>5}"
+        f"  | Jacobian ours {_fmt(r['ours_jac_ns']):>8} ns  Pinocchio (λ=0) {_fmt(r['pinocchio_jac_ns']):>8}"
+        f"  Pinocchio / ours {_fmt(r['pinocchio_jac_over_ours'], '.2f'):>5}"
         f"  | generate {r['gen_s']:.1f} s + gcc {r['cc_s']:.1f} s, peak {r['rss_mb']:.0f} MB"
     )
 
@@ -367,22 +410,25 @@ def charts(sp: list[dict], sym: list[dict]) -> None:
     import matplotlib.pyplot as plt
 
     ns = [r["n"] for r in sp]
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    for key, label, style in (
-        ("ours", "generated C (this tool)", "o-"),
-        ("casadi", "CasADi-generated C (ABA in SX)", "s--"),
-        ("pinocchio", "Pinocchio ABA (C++)", "^--"),
-        ("mujoco", "MuJoCo mj_forward (λ = 0)", "v--"),
+    fig, (ax, aj) = plt.subplots(1, 2, figsize=(11.0, 4.4))
+    for a, title, ylabel, curves in (
+        (ax, "Forward dynamics φ̈", "ns per call (median)", (
+            ("ours", "generated C (this tool)", "o-"), ("casadi", "CasADi-generated C (ABA in SX)", "s--"),
+            ("pinocchio", "Pinocchio ABA (C++)", "^--"), ("mujoco", "MuJoCo mj_forward (λ = 0)", "v--"))),
+        (aj, "Jacobian ∂φ̈/∂(φ, φ̇)", "ns per call (median)", (
+            ("ours_jac", "generated C: qdd_derivatives", "o-"),
+            ("pinocchio_jac", "Pinocchio computeABADerivatives (λ = 0)", "^--"))),
     ):
-        pts = [(r["n"], r[f"{key}_ns"]) for r in sp if r.get(f"{key}_ns")]
-        if pts:
-            ax.loglog(*zip(*pts), style, label=label, base=2)
-    ax.set_xlabel("bodies n")
-    ax.set_ylabel("ns per forward-dynamics call (median)")
-    ax.set_xticks(ns, [str(n) for n in ns])
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
-    ax.set_title("Forward dynamics of random spatial gyrostat chains")
+        for key, label, style in curves:
+            pts = [(r["n"], r[f"{key}_ns"]) for r in sp if r.get(f"{key}_ns")]
+            if pts:
+                a.loglog(*zip(*pts), style, label=label, base=2)
+        a.set_xlabel("bodies n")
+        a.set_ylabel(ylabel)
+        a.set_xticks(ns, [str(n) for n in ns])
+        a.grid(True, which="both", alpha=0.3)
+        a.legend(fontsize=8)
+        a.set_title(title + ", random spatial gyrostat chains", fontsize=9)
     fig.tight_layout()
     fig.savefig(RESULTS / "speed.png", dpi=110)
 
@@ -411,7 +457,7 @@ def main() -> int:
         generate_one(sys.argv[2], sys.argv[3])
         return 0
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--n", type=int, nargs="*", default=[1, 2, 4, 8, 16, 32])
+    ap.add_argument("--n", type=int, nargs="*", default=[2, 4, 8, 16, 32, 64, 128])
     ap.add_argument("--symbolic", type=int, nargs="*", default=[1, 2, 3, 4, 5, 6])
     args = ap.parse_args()
     BUILD.mkdir(parents=True, exist_ok=True)
