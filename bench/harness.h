@@ -25,7 +25,7 @@ static int bench_cmp(const void *a, const void *b)
 }
 
 #define BENCH_K 64
-#define BENCH_NMAX 64
+#define BENCH_NMAX 128
 #define BENCH_REPEATS 21
 #ifndef BENCH_NOUT
 #define BENCH_NOUT(n) (n)
