@@ -86,10 +86,17 @@ def table(sizes=SIZES) -> str:
     return "\n".join(rows)
 
 
+def links(text: str) -> int:
+    n = int(text) if text.isdigit() else 0
+    if n < 2:
+        raise argparse.ArgumentTypeError(f"expected a number of links >= 2, got {text!r}")
+    return n
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--spec", type=int, metavar="N", help="print the spec of the N-link cable and stop")
-    ap.add_argument("--n", type=int, nargs="*", default=list(SIZES), help="the chain lengths of the table")
+    ap.add_argument("--spec", type=links, metavar="N", help="print the spec of the N-link cable and stop")
+    ap.add_argument("--n", type=links, nargs="*", default=list(SIZES), help="the chain lengths of the table")
     args = ap.parse_args()
     if args.spec:
         sys.stdout.write(spec_text(args.spec))
