@@ -16,14 +16,24 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from codegen import build, pipeline, reference  # noqa: E402
+from codegen import build, loopform, pipeline, reference  # noqa: E402
 from codegen.spec import ChainSpec, load_spec, parse_spec  # noqa: E402
 
 EXAMPLES = sorted(p.stem for p in (ROOT / "specs").glob("*.toml"))
 # the long chains (specs/cable64.toml): the tests that cost minutes per example there (sanitizers,
 # differences of the reference model) run on the short examples and on long random chains of their own
-LONG_EXAMPLES = [e for e in EXAMPLES if len(load_spec(ROOT / "specs" / f"{e}.toml").bodies) >= 12]
+LONG_EXAMPLES = [e for e in EXAMPLES if len(load_spec(ROOT / "specs" / f"{e}.toml").bodies) >= loopform.LOOP_MIN_N]
 SHORT_EXAMPLES = [e for e in EXAMPLES if e not in LONG_EXAMPLES]
+
+
+def example_script(name: str):
+    """examples/<name>.py imported as a module (the examples are scripts, not a package)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(f"example_{name}", ROOT / "examples" / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
 
 def _spec_values(name: str) -> dict:
     return dict(load_spec(ROOT / "specs" / f"{name}.toml").values)

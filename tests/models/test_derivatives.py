@@ -13,7 +13,7 @@ import pytest
 
 from codegen import build
 from codegen.build import ModelError
-from conftest import FURUTA_SYM_PARAMS, ROOT, SHORT_EXAMPLES, check_derivatives
+from conftest import FURUTA_SYM_PARAMS, ROOT, SHORT_EXAMPLES, check_derivatives, example_script
 
 
 def _state(rng, n):
@@ -100,13 +100,7 @@ def test_mutation_is_caught(example, tmp_path, rng):
 def test_furuta_lqr_example(example):
     """examples/furuta_lqr.py: the LQR gain from furuta_linearize catches the pendulum 0.2 rad off
     upright at a 1 kHz control rate; without it the pendulum falls."""
-    import importlib.util
-
-    from conftest import ROOT
-
-    spec = importlib.util.spec_from_file_location("furuta_lqr", ROOT / "examples" / "furuta_lqr.py")
-    lqr = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(lqr)
+    lqr = example_script("furuta_lqr")
     m = example("furuta")
     K = lqr.gain(m.c)
     T, X, U = lqr.run(m.c, K, t1=4.0)

@@ -4,8 +4,6 @@ in absolute angles, independently of the generator, and against Daniel Bernoulli
 hanging chain as n grows."""
 from __future__ import annotations
 
-import importlib.util
-
 import numpy as np
 import pytest
 from scipy.linalg import eigh
@@ -13,17 +11,10 @@ from scipy.special import jn_zeros
 
 from codegen import pipeline
 from codegen.spec import load_spec, parse_spec
-from conftest import ROOT
+from conftest import ROOT, example_script
 
 
-def _example_module():
-    spec = importlib.util.spec_from_file_location("cable_example", ROOT / "examples" / "cable.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-cable = _example_module()
+cable = example_script("cable")
 
 
 def discrete_chain(n: int, L: float = 2.0, mass: float = 1.0, g: float = 9.81) -> np.ndarray:
