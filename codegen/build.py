@@ -1,6 +1,7 @@
 """cffi (API mode, out of line) build of an emitted model, and a numpy-friendly wrapper."""
 from __future__ import annotations
 
+import functools
 import importlib.util
 import shutil
 import sys
@@ -14,6 +15,25 @@ from .codes import METHODS, MOTIONS, status_text
 # after Python's own flags, which carry -g and -O3: -O2 as everywhere in this project, and no debug
 # information (for a 128-link chain's 12 MB of C it cost a gigabyte and a fifth of gcc's time)
 CFLAGS = ["-std=c99", "-O2", "-g0", "-Wall", "-Wextra"]
+
+
+@functools.cache
+def lto_flags() -> tuple[list[str], list[str]]:
+    """(compile, link) flags that spread gcc's work over every core: the C is compiled to GIMPLE
+    (-flto, quick) and the link step optimises and generates code in parallel partitions
+    (-flto=auto).  gcc's time is all in that second half, so a long chain builds in about half the
+    time on two cores (n = 32: 21 s before, 11 s after).  Empty with a compiler that is not gcc."""
+    import subprocess
+    import sysconfig
+
+    cc = (sysconfig.get_config_var("CC") or "cc").split()
+    try:
+        banner = subprocess.run([*cc, "--version"], capture_output=True, text=True, timeout=30).stdout
+    except (OSError, subprocess.SubprocessError):
+        return [], []
+    if "Free Software Foundation" not in banner or "clang" in banner.lower():
+        return [], []
+    return ["-flto"], ["-flto=auto", *CFLAGS]
 
 
 def module_name(name: str) -> str:
@@ -34,7 +54,7 @@ def build_key(src_dir: str | Path, name: str, extra_cflags=()) -> str:
     for suffix in (".c", ".h", ".cdef"):
         h.update((src_dir / f"{name}{suffix}").read_bytes())
         h.update(b"\0")
-    parts = [*CFLAGS, *extra_cflags, str(sysconfig.get_config_var("CC")), str(sysconfig.get_config_var("EXT_SUFFIX")),
+    parts = [*CFLAGS, *extra_cflags, *lto_flags()[0], *lto_flags()[1], str(sysconfig.get_config_var("CC")), str(sysconfig.get_config_var("EXT_SUFFIX")),
              cffi.__version__, sys.version]
     h.update("\0".join(parts).encode("utf-8"))
     return h.hexdigest()
@@ -76,12 +96,14 @@ def compile_model(src_dir: str | Path, name: str, out_dir: str | Path | None = N
     out_dir = Path(out_dir or src_dir).resolve()
     ffi = cffi.FFI()
     ffi.cdef((src_dir / f"{name}.cdef").read_text())
+    lto_compile, lto_link = lto_flags()
     ffi.set_source(
         module_name(name),
         f'#include "{name}.h"',
         sources=[str(src_dir / f"{name}.c")],
         include_dirs=[str(src_dir)],
-        extra_compile_args=list(CFLAGS) + list(extra_cflags),
+        extra_compile_args=list(CFLAGS) + list(extra_cflags) + lto_compile,
+        extra_link_args=lto_link + list(extra_cflags),
         libraries=["m"],
     )
     with tempfile.TemporaryDirectory(prefix="codegen-build-") as tmp:
