@@ -219,13 +219,22 @@ def _split_platform(prog, p: Poly, platform: set) -> tuple[sp.Expr, sp.Expr]:
     return rest.to_sympy(prog.sympy_of, symbolic=True), plat.to_sympy(prog.sympy_of, symbolic=True)
 
 
+def _mass_targets(dyn, n: int) -> list:
+    """What the mass matrix section prints: M's upper triangle, or for the loop form of a long
+    chain (loopform.py) the 6-vectors Sᵏ then z1ᵏ of each joint, from which M_kr = z1ᵏ·Sʳ (k ≥ r):
+    O(n) quantities instead of n(n + 1)/2."""
+    if dyn.loops is not None:
+        return [x for k in range(n) for x in (*dyn.loops.S[k], *dyn.loops.z1[k])]
+    return [dyn.M[k][r] for k in range(n) for r in range(k, n)]
+
+
 def _values(spec, kin, dyn, ints, closed: bool) -> dict:
     """The document's quantities: closed forms (sympy, small n) or the program's polynomials.
     In the general case with a moving platform and closed forms, the platform terms of Q and Γ
     are split off as Π (lines 4–7 of (8)–(10))."""
     n = spec.n
     get = (lambda ps: kin.prog.inline(list(ps), symbolic=True)) if closed else list
-    out = dict(M=get(dyn.M[k][r] for k in range(n) for r in range(k, n)), Q=get(dyn.Q), Gamma=get(dyn.Gamma),
+    out = dict(M=get(_mass_targets(dyn, n)), Q=get(dyn.Q), Gamma=get(dyn.Gamma),
                G=get(dyn.G), U=get([ints.U])[0], K=get([ints.momentum])[0] if ints.momentum is not None else None,
                Pi=None, Lamdot=get(dyn.Lamdot), Phi=get(dyn.Phi),
                joint=[(k, v) for k, v in enumerate(get(dyn.joint)) if not dyn.joint[k].is_zero()])
@@ -304,7 +313,7 @@ def _bodies(spec, kin, doc: Doc) -> list[dict]:
             for k, b in enumerate(spec.bodies, start=1)]
 
 
-def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list) -> dict:
+def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: bool = False) -> dict:
     """M, Q, Γ, G, Π, Λ̊, W, τ, U and k as printed: closed forms (small n) or the recursion's
     quantities (their definitions listed in the recursion section)."""
     n = spec.n
@@ -312,9 +321,12 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list) -> dict:
         lines, grouped = doc.lines, (lambda e: doc.grouped(e, gens))
     else:
         lines = grouped = doc.poly_lines
-    pairs = [(k, r) for k in range(n) for r in range(k, n)]
+    if pair_form:  # per joint S^k then z^k (six components each), as _mass_targets lists them
+        names = [f"{v}^{{{k + 1}}}_{{{i + 1}}}" for k in range(n) for v in ("S", "z") for i in range(6)]
+    else:
+        names = [f"M_{{{k + 1}{r + 1}}}" for k in range(n) for r in range(k, n)]
     out = dict(
-        M=[TexEquation(f"M_{{{k + 1}{r + 1}}}", lines(v)) for (k, r), v in zip(pairs, vals["M"])],
+        M=[TexEquation(lhs, lines(v)) for lhs, v in zip(names, vals["M"])],
         Q=[TexEquation(f"Q_{{{k + 1}}}", grouped(v)) for k, v in enumerate(vals["Q"])],
         Gamma=[TexEquation(rf"\Gamma_{{{k + 1}}}", grouped(v)) for k, v in enumerate(vals["Gamma"])],
         G=[TexEquation(f"G_{{{k + 1}}}", lines(v)) for k, v in enumerate(vals["G"])],
@@ -414,10 +426,11 @@ def _tex(model: Model) -> dict:
     vals = _values(spec, kin, dyn, ints, closed)
     if closed:  # one trigonometric form for the whole document: the shortest over the equations of motion
         doc.choose(vals["M"] + vals["Q"] + vals["Gamma"] + vals["G"] + (vals["Pi"] or []))
-    eqs = _equations(spec, vals, doc, closed, kin.phidot[1:])
+    pair_form = dyn.loops is not None
+    eqs = _equations(spec, vals, doc, closed, kin.phidot[1:], pair_form)
     recursion = []
     if not closed:
-        targets = [dyn.M[k][r] for k in range(n) for r in range(k, n)] + list(dyn.Q) + list(dyn.Gamma) + list(dyn.G)
+        targets = _mass_targets(dyn, n) + list(dyn.Q) + list(dyn.Gamma) + list(dyn.G)
         targets += [ints.U] + ([ints.momentum] if ints.momentum is not None else [])
         targets += list(dyn.Lamdot) + list(dyn.Phi) + [j for j in dyn.joint if not j.is_zero()]
         recursion = _recursion(kin, doc, targets)
@@ -438,6 +451,7 @@ def _tex(model: Model) -> dict:
         form_counts=texscene.form_counts(doc.form, doc.counts),
         g=doc.w.sum_text(fold_numbers(spec.g)),
         closed=closed,
+        pair_form=pair_form,
         controls=", ".join(f"$L^{{{k}}}$" for k in spec.controls),
         deriv=_derivative_tex(model, stages, doc, eqs["printed_terms"]),
         deriv_generic="d_jvp" in model.lines,
