@@ -122,7 +122,8 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
         say("straight-line code: momenta p = dL/dphidot and their rate (the symplectic GAUSS2)")
         can = derivatives.canonical(spec, P, kin, dyn, ints.subchain)
         lines["momenta"] = straight_line(P, list(can.p))
-        lines["velocity_terms"] = straight_line(P, (axes if loops else lower) + list(can.k))
+        # the loop form's velocities take M from the mass matrix's S and z1 (the C's mass_pairs_)
+        lines["velocity_terms"] = straight_line(P, ([] if loops else lower) + list(can.k))
         lines["pdot"] = straight_line(P, list(can.pdot))
     chosen = forward
     if use_world:
@@ -274,8 +275,8 @@ def op_counts(model: Model) -> dict[str, int]:
     counts["rhs"] = counts["qdd"]
     if model.dyn.loops is not None:  # the loop form: S and z1, then a 6-dot (11 ops) per pair
         counts["mass_matrix"] += 11 * n * (n + 1) // 2
-        if "velocity_terms" in counts:
-            counts["velocity_terms"] += 11 * n * (n + 1) // 2
+        if "velocity_terms" in counts:  # M as mass_matrix forms it, then k
+            counts["velocity_terms"] += counts["mass_matrix"]
     if "velocity_terms" in counts:  # M and k, then φ̇ = M⁻¹(p − k) by LDLᵀ
         counts["velocities"] = counts.pop("velocity_terms") + ldlt_op_count(n) + n
     if model.der is not None:

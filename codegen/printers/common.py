@@ -203,7 +203,7 @@ def functions(model: Model, printer_cls, style: str, array_printer_cls=None) -> 
     if "momenta" in model.lines:
         fs["momenta"] = function_of("momenta", model.lines["momenta"], [f"pm[{k}]" for k in range(n)], pr)
         fs["velocity_terms"] = function_of("velocity_terms", model.lines["velocity_terms"],
-                                         (axes if model.dyn.loops else lower) + [f"k[{i}]" for i in range(n)], prq)
+                                         ([] if model.dyn.loops else lower) + [f"k[{i}]" for i in range(n)], prq)
         fs["pdot"] = function_of("pdot", model.lines["pdot"], [f"pdot[{k}]" for k in range(n)], pr)
     if "quad_terms" in model.lines:
         # a function of φ = φ² alone (ψ = φ¹ is cyclic); in Python on numpy arrays of φ
