@@ -22,7 +22,8 @@ def lto_flags() -> tuple[list[str], list[str]]:
     """(compile, link) flags that spread gcc's work over every core: the C is compiled to GIMPLE
     (-flto, quick) and the link step optimises and generates code in parallel partitions
     (-flto=auto).  gcc's time is all in that second half, so a long chain builds in about half the
-    time on two cores (n = 32: 21 s before, 11 s after).  Empty with a compiler that is not gcc."""
+    time on two cores (n = 32: gcc 21 s on one core, 11 s on two; docs/benchmarks.md, "Long
+    chains").  Empty with a compiler that is not gcc."""
     import subprocess
     import sysconfig
 
@@ -54,7 +55,8 @@ def build_key(src_dir: str | Path, name: str, extra_cflags=()) -> str:
     for suffix in (".c", ".h", ".cdef"):
         h.update((src_dir / f"{name}{suffix}").read_bytes())
         h.update(b"\0")
-    parts = [*CFLAGS, *extra_cflags, *lto_flags()[0], *lto_flags()[1], str(sysconfig.get_config_var("CC")), str(sysconfig.get_config_var("EXT_SUFFIX")),
+    lto_compile, lto_link = lto_flags()
+    parts = [*CFLAGS, *extra_cflags, *lto_compile, *lto_link, str(sysconfig.get_config_var("CC")), str(sysconfig.get_config_var("EXT_SUFFIX")),
              cffi.__version__, sys.version]
     h.update("\0".join(parts).encode("utf-8"))
     return h.hexdigest()
