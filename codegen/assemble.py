@@ -127,7 +127,7 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
         lines["pdot"] = straight_line(P, list(can.pdot))
     chosen = forward
     if use_world:
-        w = _world(spec, P, kin, dyn, art)
+        w = _world(spec, P, kin, dyn)
         ndir = 2 * n + len(spec.controls)
         line_ops = w[2]["qdd_derivatives"].op_count()
         w_count = world_op_count(n, ndir, line_ops)
@@ -171,12 +171,13 @@ def _forward(spec, P: Program, kin, art, articulated: StraightLine, skip_generic
     return der, tuple(a for a in base if a in used), lines, "generic"
 
 
-def _world(spec, P: Program, kin, dyn, art) -> tuple:
-    """(der, store, lines, form) of the world form: φ̈ and world.py's per-joint vectors in one
-    straight line; the pairs and the solve are loops of the template."""
-    der = world.derive(spec, P, kin, dyn, art)
-    outs = [c for name in world.VECTORS for v in der.vec[name] for c in v] + [d for _, _, d in der.ext]
-    return der, (), {"qdd_derivatives": straight_line(P, list(art.qdd) + list(art.pivots) + outs)}, "world"
+def _world(spec, P: Program, kin, dyn) -> tuple:
+    """(der, store, lines, form) of the world form: M φ̈'s right side and world.py's per-joint
+    vectors in one straight line; the pairs, the solves and φ̈'s share of β and G are loops of the
+    template."""
+    der = world.derive(spec, P, kin, dyn)
+    outs = [c for name in world.VECTORS for v in der.vec[name] for c in v] + [c for v in der.ic for c in v]
+    return der, (), {"qdd_derivatives": straight_line(P, list(der.rhs) + outs + [d for _, _, d in der.ext])}, "world"
 
 
 # An operation of the world form's loops (6-dots of arrays, the LDLᵀ solve) costs about twice one of
@@ -185,15 +186,21 @@ def _world(spec, P: Program, kin, dyn, art) -> tuple:
 WORLD_LOOP_WEIGHT = 2
 
 
+# The template's world_accel_ per joint: the prefix and suffix sums (24), S × A (30), Iᶜ applied
+# twice (2 × 42), Z added to Iᶜ A (6), S ×* (30) and the updates of β and G (18)
+WORLD_ACCEL_OPS = 192
+
+
 def world_op_count(n: int, ndir: int, line_ops: int) -> int:
     """Operations of the world form: its straight line, then in loops the 6-dots of M's lower
     triangle and of ∂ID (two per pair below the diagonal, one on and above it, for φ and φ̇),
-    the LDLᵀ factorization and the solve with every column."""
+    the LDLᵀ factorization, the solve for φ̈, φ̈'s share of β and G, and the solve with every
+    column."""
     below, upper = n * (n - 1) // 2, n * (n + 1) // 2
     pairs = 11 * upper + 2 * (24 * below + 11 * upper)
     factor = sum(2 * j * (n - j) + 2 * j for j in range(n))
-    solve = ndir * (2 * n * (n - 1) + n)
-    return line_ops + pairs + factor + solve
+    solve = (ndir + 1) * (2 * n * (n - 1) + n)
+    return line_ops + pairs + factor + solve + WORLD_ACCEL_OPS * n
 
 
 def canonical_applies(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, lines: dict) -> bool:

@@ -33,10 +33,21 @@ summed with Σ Iᵖ[vᵖ×] = −(Σ [vᵖ×*] Iᵖ)ᵀ; the tests check every e
 the articulated recursion to round-off, both against differences, and bench/derivatives.py
 --symbolic against the exact derivatives of the sympy Lagrangian.)
 
-The per-joint vectors are straight-line code (numbers folded, zeros gone); the pairs, M's LDLᵀ
-and the solve with the 2n + nu columns are loops in the template (O(n²) code would be too long
-to compile for n = 32).  ∂τ/∂x, the joint torques' own derivatives (springs, dampers, controls,
-torque expressions), is the forward mode of derivatives.py on τ alone: a few entries.
+φ̈ itself comes from the same LDLᵀ of M as the derivatives: the outward pass runs at φ̈ = 0
+(aᵏ⁰, gravity and the velocity products only), so ID_k(φ, φ̇, 0) = Sᵏ·Fᶜᵏ⁰ and M φ̈ = τ − ID(0)
+(``rhs``).  β and G are then the only vectors that depend on φ̈, and linearly: with
+Aʲ = Σ_{i<j} Sⁱφ̈ⁱ (what φ̈ adds to aʲ⁻¹) and Zʲ = Σ_{i≥j} z1ⁱφ̈ⁱ,
+
+    βʲ = βʲ⁰ − Sʲ × Aʲ,    Gʲ = Gʲ⁰ + Sʲ ×* (Iᶜʲ Aʲ + Zʲ) − Iᶜʲ (Sʲ × Aʲ)
+
+(Σ_{p≥j} Iᵖ Σ_{i≤p} Sⁱφ̈ⁱ = Iᶜʲ Aʲ + Σ_{i≥j} Iᶜⁱ Sⁱ φ̈ⁱ), an O(n) loop of the template that reads
+Iᶜ (``IC``, ten numbers per joint).  The articulated recursion is not repeated here.
+
+The per-joint vectors are straight-line code (numbers folded, zeros gone); the pairs, M's LDLᵀ,
+the solve for φ̈, φ̈'s share of β and G, and the solve with the 2n + nu columns are loops in the
+template (O(n²) code would be too long to compile for n = 32).  ∂τ/∂x, the joint torques' own
+derivatives (springs, dampers, controls, torque expressions), is the forward mode of
+derivatives.py on τ alone: a few entries.
 
 It applies where ID is that of a fixed-base chain with constant rotors and joint torques only
 (``applies``); a platform, body loads or λ(t) keep the forward mode.
@@ -51,14 +62,18 @@ from .kinematics import appends_to
 from .vec3 import add, cross, dot, fcross as _fcross, inertia_apply as _inertia, mcross as _mcross, scale, skew
 
 VECTORS = ("S", "z1", "z2", "beta", "w", "G", "K")  # per joint, 6 components each (the C arrays)
+IC_PARTS = 10  # Iᶜᵏ per joint as (A₁₁, A₁₂, A₁₃, A₂₂, A₂₃, A₃₃, h₁, h₂, h₃, m), the array IC
 
 
 @dataclass(frozen=True)
 class World:
-    """``vec[name][k]``: the 6-vector ``name`` of joint k+1 (names ``VECTORS``); ``ext``: the
-    nonzero ∂τ_k/∂(direction c) as (k, c, Poly), directions φ, φ̇, u in that order."""
+    """``vec[name][k]``: the 6-vector ``name`` of joint k+1 (names ``VECTORS``; β and G at
+    φ̈ = 0); ``ic[k]``: Iᶜ of joint k+1 (``IC_PARTS``); ``rhs[k]``: τ_k − ID_k(φ, φ̇, 0);
+    ``ext``: the nonzero ∂τ_k/∂(direction c) as (k, c, Poly), directions φ, φ̇, u in that order."""
 
     vec: dict
+    ic: tuple
+    rhs: tuple
     ext: tuple
     labels: tuple
 
@@ -88,14 +103,13 @@ def _body_D(I, v) -> tuple:
     return D11, D12
 
 
-def _outward(spec, kin, art) -> tuple:
-    """The outward pass in frame 0, joint by joint: the axis Sᵏ, wᵏ, βᵏ, body k's inertia about
-    O¹ (A, h, m), its momentum Iᵏvᵏ, its bias force, λᵏ and Dᵏ."""
+def _outward(spec, kin) -> tuple:
+    """The outward pass in frame 0 at φ̈ = 0, joint by joint: the axis Sᵏ, wᵏ, βᵏ⁰, body k's
+    inertia about O¹ (A, h, m), its momentum Iᵏvᵏ, its bias force, λᵏ and Dᵏ."""
     n = spec.n
     P = kin.prog
     num = P.from_sympy
     qd = kin.qd
-    qdd = [None] + list(art.qdd)
     rows, O = loopform.ROWS0, [ZERO] * 3
     v = [ZERO] * 6
     a = [ZERO] * 3 + scale(-num(spec.g), kin.gamma[0])  # gravity as an upward acceleration of the base
@@ -110,9 +124,9 @@ def _outward(spec, kin, art) -> tuple:
         Iw[k] = loopform.body_inertia(spec, kin, k, rows, O, "W")  # body k about O¹ in frame 0
         lam[k] = P.vec(f"Wl{k}", [dot(rows[i], [num(x) for x in b.lam]) for i in range(3)])
         v = P.vec(f"Wv{k}a", [v[i] + S[k][i] * qd[k] for i in range(3)]) + P.vec(f"Wv{k}l", [v[3 + i] + S[k][3 + i] * qd[k] for i in range(3)])
-        # aᵏ = aᵏ⁻¹ + Sᵏφ̈ᵏ − wᵏφ̇ᵏ  (vᵏ × Sᵏ = vᵏ⁻¹ × Sᵏ = −wᵏ)
-        a = P.vec(f"Wa{k}a", [a[i] + S[k][i] * qdd[k] - w[k][i] * qd[k] for i in range(3)]) + \
-            P.vec(f"Wa{k}l", [a[3 + i] + S[k][3 + i] * qdd[k] - w[k][3 + i] * qd[k] for i in range(3)])
+        # aᵏ⁰ = aᵏ⁻¹⁰ − wᵏφ̇ᵏ  (aᵏ = aᵏ⁻¹ + Sᵏφ̈ᵏ + vᵏ × Sᵏφ̇ᵏ at φ̈ = 0; vᵏ × Sᵏ = vᵏ⁻¹ × Sᵏ = −wᵏ)
+        a = P.vec(f"Wa{k}a", [a[i] - w[k][i] * qd[k] for i in range(3)]) + \
+            P.vec(f"Wa{k}l", [a[3 + i] - w[k][3 + i] * qd[k] for i in range(3)])
         hk = _inertia(Iw[k], v)
         mom[k] = P.vec(f"Wm{k}a", hk[:3]) + P.vec(f"Wm{k}l", hk[3:])  # Iᵏvᵏ
         Ia, vh = _inertia(Iw[k], a), _fcross(v, mom[k])
@@ -121,11 +135,12 @@ def _outward(spec, kin, art) -> tuple:
     return S, w, beta, Iw, mom, fb, lam, D
 
 
-def _inward(P, n: int, outward: tuple) -> dict:
-    """The inward pass: the composite sums over the bodies p ≥ k and the per-joint vectors of
-    VECTORS (S, z1, z2, β, w, G, K) they give."""
+def _inward(P, n: int, outward: tuple, torques) -> tuple:
+    """The inward pass: the composite sums over the bodies p ≥ k and what they give per joint:
+    the vectors of VECTORS (S, z1, z2, β⁰, w, G⁰, K), Iᶜ (IC_PARTS) and τ_k − Sᵏ·Fᶜᵏ⁰."""
     S, w, beta, Iw, mom, fb, lam, D = outward
     vec = {name: [None] * n for name in VECTORS}
+    ic, rhs = [None] * n, [None] * n
     IC = HC = FC = LC = DC = None
     for k in range(n, 0, -1):
         A0, h0, m = Iw[k]
@@ -155,7 +170,10 @@ def _inward(P, n: int, outward: tuple) -> dict:
         Kv = [-2 * x - d + yy + r for x, d, yy, r in zip(_inertia(IC, wk), DS, y, cross(e, LC) + [ZERO] * 3)]
         for name, val in zip(VECTORS, (Sk, z1, z2, beta[k], wk, Gv, Kv)):
             vec[name][k - 1] = [Poly.lift(x) for x in val]
-    return vec
+        Ac = IC[0]
+        ic[k - 1] = [Poly.lift(x) for x in (Ac[0][0], Ac[0][1], Ac[0][2], Ac[1][1], Ac[1][2], Ac[2][2], *IC[1], IC[2])]
+        rhs[k - 1] = Poly.lift(torques[k - 1]) - Poly.lift(sum((Sk[i] * FC[i] for i in range(6)), ZERO))
+    return vec, ic, rhs
 
 
 def _torque_tangents(spec, kin, dyn) -> tuple:
@@ -174,10 +192,11 @@ def _torque_tangents(spec, kin, dyn) -> tuple:
     return tuple(ext), labels
 
 
-def derive(spec, prog, kin, dyn, art) -> World:
-    """The per-joint vectors of the pairs' formulas and ∂τ/∂x, appended to ``prog``; ``art``
-    gives φ̈ (aba.derive)."""
+def derive(spec, prog, kin, dyn) -> World:
+    """The per-joint vectors of the pairs' formulas, M φ̈'s right side and ∂τ/∂x, appended to
+    ``prog``."""
     appends_to(prog, kin)
-    vec = _inward(prog, spec.n, _outward(spec, kin, art))
+    vec, ic, rhs = _inward(prog, spec.n, _outward(spec, kin), dyn.torques)
     ext, labels = _torque_tangents(spec, kin, dyn)
-    return World({name: tuple(tuple(x) for x in vec[name]) for name in VECTORS}, ext, labels)
+    return World({name: tuple(tuple(x) for x in vec[name]) for name in VECTORS}, tuple(tuple(x) for x in ic),
+                 tuple(rhs), ext, labels)

@@ -56,6 +56,7 @@ def code_context(model: Model, spec_label: str, counts: dict) -> dict:
         der_generic="d_jvp" in model.lines,
         der_world=model.der_form == "world",
         world_vectors=world.VECTORS,
+        ic_parts=world.IC_PARTS,
         world_ext=[(k, c, i) for i, (k, c, _) in enumerate(model.der.ext)] if model.der_form == "world" else [],
         newton=n <= GAUSS2_NEWTON_MAX_N,
         newton_sweeps=newton_sweeps(n, counts),

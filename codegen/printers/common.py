@@ -180,13 +180,15 @@ def functions(model: Model, printer_cls, style: str, array_printer_cls=None) -> 
     if "jacobi" in model.lines:
         fs["jacobi"] = function_of("jacobi", model.lines["jacobi"], ["result"], pr)
     if model.der_form == "world":
-        acc = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
+        rhs = [f"acc[{k}]" for k in range(n)]  # τ − ID(φ, φ̇, 0), solved for φ̈ in place
         if style == "c":
             vecs = [f"{name}_[{6 * k + i}]" for name in world.VECTORS for k in range(n) for i in range(6)]
+            vecs += [f"IC_[{world.IC_PARTS * k + i}]" for k in range(n) for i in range(world.IC_PARTS)]
         else:
             vecs = [f"{name}_[{k}, {i}]" for name in world.VECTORS for k in range(n) for i in range(6)]
+            vecs += [f"IC_[{k}, {i}]" for k in range(n) for i in range(world.IC_PARTS)]
         ext = [f"ext[{i}]" for i in range(len(model.der.ext))]
-        fs["qdd_derivatives"] = function_of("qdd_derivatives", model.lines["qdd_derivatives"], acc + vecs + ext, pr)
+        fs["qdd_derivatives"] = function_of("qdd_derivatives", model.lines["qdd_derivatives"], rhs + vecs + ext, pr)
     elif model.der is not None:
         acc = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
         fs["qdd_derivatives"] = function_of("qdd_derivatives", model.lines["qdd_derivatives"], acc, pr)
