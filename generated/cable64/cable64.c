@@ -21592,40 +21592,63 @@ static void cable64_world_accel_(const double *qdd, const double *S, const doubl
     }
 }
 
-/* X = A^-1 X for the row-major 64 x 64 array X, with A factored by ldlt_factor_.  Row by row:
- * the products of the rows already solved are summed in a local row (it cannot alias X, so the
- * innermost loops, contiguous and of a constant trip count, vectorise). */
+/* X = A^-1 X for the row-major 64 x 64 array X, with A factored by ldlt_factor_.  Row by row,
+ * eight columns at a time: the products of the rows already solved are summed in eight locals,
+ * which stay in registers (eight independent sums keep the adder busy; one sum per column, in the
+ * order of k, as a plain loop would add them). */
 static void cable64_ldlt_columns_(const double *A, double *X)
 {
-    double acc[64];
+    double s0, s1, s2, s3, s4, s5, s6, s7;
     int i, k, c;
     for (i = 1; i < 64; ++i) {
-        for (c = 0; c < 64; ++c) {
-            acc[c] = 0.0;
-        }
-        for (k = 0; k < i; ++k) {
-            const double l = A[i * 64 + k];
-            for (c = 0; c < 64; ++c) {
-                acc[c] += l * X[k * 64 + c];
+        for (c = 0; c < 64; c += 8) {
+            s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0;
+            for (k = 0; k < i; ++k) {
+                const double l = A[i * 64 + k];
+                const double *x = X + k * 64 + c;
+                s0 += l * x[0];
+                s1 += l * x[1];
+                s2 += l * x[2];
+                s3 += l * x[3];
+                s4 += l * x[4];
+                s5 += l * x[5];
+                s6 += l * x[6];
+                s7 += l * x[7];
             }
-        }
-        for (c = 0; c < 64; ++c) {
-            X[i * 64 + c] -= acc[c];
+            X[i * 64 + c + 0] -= s0;
+            X[i * 64 + c + 1] -= s1;
+            X[i * 64 + c + 2] -= s2;
+            X[i * 64 + c + 3] -= s3;
+            X[i * 64 + c + 4] -= s4;
+            X[i * 64 + c + 5] -= s5;
+            X[i * 64 + c + 6] -= s6;
+            X[i * 64 + c + 7] -= s7;
         }
     }
     for (i = 63; i >= 0; --i) {
         const double r = 1.0 / A[i * 64 + i];
-        for (c = 0; c < 64; ++c) {
-            acc[c] = 0.0;
-        }
-        for (k = i + 1; k < 64; ++k) {
-            const double l = A[k * 64 + i];
-            for (c = 0; c < 64; ++c) {
-                acc[c] += l * X[k * 64 + c];
+        for (c = 0; c < 64; c += 8) {
+            s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0;
+            for (k = i + 1; k < 64; ++k) {
+                const double l = A[k * 64 + i];
+                const double *x = X + k * 64 + c;
+                s0 += l * x[0];
+                s1 += l * x[1];
+                s2 += l * x[2];
+                s3 += l * x[3];
+                s4 += l * x[4];
+                s5 += l * x[5];
+                s6 += l * x[6];
+                s7 += l * x[7];
             }
-        }
-        for (c = 0; c < 64; ++c) {
-            X[i * 64 + c] = X[i * 64 + c] * r - acc[c];
+            X[i * 64 + c + 0] = X[i * 64 + c + 0] * r - s0;
+            X[i * 64 + c + 1] = X[i * 64 + c + 1] * r - s1;
+            X[i * 64 + c + 2] = X[i * 64 + c + 2] * r - s2;
+            X[i * 64 + c + 3] = X[i * 64 + c + 3] * r - s3;
+            X[i * 64 + c + 4] = X[i * 64 + c + 4] * r - s4;
+            X[i * 64 + c + 5] = X[i * 64 + c + 5] * r - s5;
+            X[i * 64 + c + 6] = X[i * 64 + c + 6] * r - s6;
+            X[i * 64 + c + 7] = X[i * 64 + c + 7] * r - s7;
         }
     }
 }

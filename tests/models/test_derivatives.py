@@ -120,6 +120,7 @@ WORLD_CASES = [  # (n, planar, gyro, controls, springs/dampers/torque expression
     (4, False, True, (), True),
     (5, True, True, (5,), False),
     (7, False, True, (1, 7), True),
+    (10, False, True, (3,), False),  # the solve's blocks of eight columns and the two left over
 ]
 
 
