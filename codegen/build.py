@@ -13,8 +13,11 @@ import numpy as np
 from .codes import METHODS, MOTIONS, status_text
 
 # after Python's own flags, which carry -g and -O3: -O2 as everywhere in this project, and no debug
-# information (for a 128-link chain's 12 MB of C it cost a gigabyte and a fifth of gcc's time)
-CFLAGS = ["-std=c99", "-O2", "-g0", "-Wall", "-Wextra"]
+# information (for a 128-link chain's 12 MB of C it cost a gigabyte and a fifth of gcc's time).
+# No SLP vectoriser (gcc and clang spell it so): on the emitted straight-line code it took a
+# sixth of gcc's time and won nothing (n = 32: gcc 10.0 -> 8.2 s; qdd and the Jacobian as fast;
+# docs/benchmarks.md, "Long chains").  The loops' vectoriser stays on.
+CFLAGS = ["-std=c99", "-O2", "-fno-tree-slp-vectorize", "-g0", "-Wall", "-Wextra"]
 
 
 @functools.cache

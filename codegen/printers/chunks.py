@@ -10,7 +10,6 @@ plain static functions, the same code.  Shorter functions (every example) are pr
 """
 from __future__ import annotations
 
-import re
 from dataclasses import replace
 
 from .common import Function
@@ -43,6 +42,19 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
         return fn, []
     xname, with_u, with_t = SIGNATURES[key]
     with_t = with_t and ctx["time_dependent"]
+    # the outputs too are computed in the parts (as temporaries out<k>_, each to its slot) and the
+    # function only copies them: thousands of output expressions in one function made gcc's dead
+    # store elimination, PRE and SLP passes grow as the square of their number (n = 128: the
+    # function's 630 KB of outputs cost more than all its parts).  Each output is computed right
+    # after the last temporary it reads, so that it reads the values of its own part.
+    outs = [(f"out{k}_", code) for k, (_, code) in enumerate(fn.outputs)]
+    assert not {lhs for lhs, _ in temps} & {lhs for lhs, _ in outs}, "a temporary named out<k>_"
+    index = {lhs: i for i, (lhs, _) in enumerate(temps)}
+    order = [(i, ("t", i)) for i in range(len(temps))]
+    order += [(max((index[r] for r in reads), default=-1) + 0.5, ("o", k)) for k, reads in enumerate(fn.out_reads)]
+    order = [w for _, w in sorted(order, key=lambda e: e[0])]  # stable: the outputs keep their order
+    temps, all_reads = (tuple(temps[i] if kind == "t" else outs[i] for kind, i in order),
+                        tuple(fn.reads[i] if kind == "t" else fn.out_reads[i] for kind, i in order))
     bounds = list(range(0, len(temps), PART_TEMPORARIES)) + [len(temps)]
     spans = list(zip(bounds, bounds[1:]))
     part_of = {lhs: c for c, (a, b) in enumerate(spans) for lhs, _ in temps[a:b]}
@@ -51,11 +63,11 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
     # a slot in s_ for every value read outside the part that computes it
     slot: dict = {}
     for c, (a, b) in enumerate(spans):
-        for reads in fn.reads[a:b]:
+        for reads in all_reads[a:b]:
             for r in reads:
                 if part_of[r] != c and r not in slot:
                     slot[r] = len(slot)
-    for r in sorted({r for reads in fn.out_reads for r in reads} | set(named)):
+    for r in [lhs for lhs, _ in outs] + sorted(named):
         slot.setdefault(r, len(slot))
     name, NAME = ctx["name"], ctx["NAME"]
     params = (("double t, " if with_t else "") + f"const double *{xname}, " + ("const double *u, " if with_u else "")
@@ -69,7 +81,7 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
         if with_u:
             for i, k in ctx["controls"]:
                 lines += [f"    const double tau_{k} = u ? u[{i}] : 0.0;", f"    (void)tau_{k};"]
-        needed = sorted({r for reads in fn.reads[a:b] for r in reads if part_of[r] != c}, key=slot.get)
+        needed = sorted({r for reads in all_reads[a:b] for r in reads if part_of[r] != c}, key=slot.get)
         lines += [f"    const double {r} = s_[{slot[r]}];" for r in needed]
         lines += [f"    const double {lhs} = {rhs};" for lhs, rhs in temps[a:b]]
         lines += [f"    s_[{slot[lhs]}] = {lhs};" for lhs, _ in temps[a:b] if lhs in slot]
@@ -77,14 +89,8 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
     pre = [f"double s_[{max(1, len(slot))}];"] + [f"{name}_{fn.name}_part{c + 1}_({args});" for c in range(len(spans))]
     if with_u:  # the function's own tau_k may now be read by its parts alone
         pre += [f"(void)tau_{k};" for _, k in ctx["controls"]]
-    # the outputs read s_ in place (thousands of imported values live at once would bring back the
-    # register pressure the parts removed); the values the template reads by name are imported
-    ident = re.compile(r"\b[A-Za-z_]\w*\b")
-
-    def in_place(code: str) -> str:
-        return ident.sub(lambda m: f"s_[{slot[m.group(0)]}]" if m.group(0) in slot else m.group(0), code)
-
-    outputs = tuple((lhs, in_place(code)) for lhs, code in fn.outputs)
+    # the values the template reads by name are imported
+    outputs = tuple((lhs, f"s_[{slot[out]}]") for (lhs, _), (out, _) in zip(fn.outputs, outs))
     imports = tuple((r, f"s_[{slot[r]}]") for r in named)
     return replace(fn, temporaries=imports, outputs=outputs, pre=tuple(pre), reads=(), out_reads=()), parts
 
