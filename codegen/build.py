@@ -48,15 +48,20 @@ def build_key(src_dir: str | Path, name: str, extra_cflags=()) -> str:
     """What an extension depends on: the C, header and cdef texts (they carry the spec and the
     generator's output), the compiler flags, the compiler and the Python ABI.  ``generate``
     reuses an extension whose key is unchanged instead of compiling it again."""
+    src_dir = Path(src_dir)
+    return key_of([(src_dir / f"{name}{suffix}").read_bytes() for suffix in (".c", ".h", ".cdef")], extra_cflags)
+
+
+def key_of(sources: list[bytes], extra_cflags=()) -> str:
+    """``build_key`` of the C, header and cdef given as bytes, in that order."""
     import hashlib
     import sysconfig
 
     import cffi
 
-    src_dir = Path(src_dir)
     h = hashlib.sha256()
-    for suffix in (".c", ".h", ".cdef"):
-        h.update((src_dir / f"{name}{suffix}").read_bytes())
+    for text in sources:
+        h.update(text)
         h.update(b"\0")
     lto_compile, lto_link = lto_flags()
     parts = [*CFLAGS, *extra_cflags, *lto_compile, *lto_link, str(sysconfig.get_config_var("CC")), str(sysconfig.get_config_var("EXT_SUFFIX")),
@@ -74,6 +79,14 @@ def extensions(directory: str | Path, name: str) -> list[Path]:
     """The compiled extensions of a model in a folder (one, normally)."""
     directory = Path(directory)
     return sorted(directory.glob(f"{module_name(name)}.*.so")) + sorted(directory.glob(f"{module_name(name)}.so"))
+
+
+def is_current(directory: str | Path, name: str, sources: list[bytes]) -> bool:
+    """Whether the folder's extension was built from these C, header and cdef bytes with the
+    flags and compiler of now (its key file says so)."""
+    key_file = key_path(directory, name)
+    return (len(extensions(directory, name)) == 1 and key_file.is_file()
+            and key_file.read_text().strip() == key_of(sources))
 
 
 def reuse_extension(old_dir: str | Path, new_dir: str | Path, name: str) -> bool:

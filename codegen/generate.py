@@ -39,13 +39,18 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     target = Path(target)
     check(spec, target, force)
     say = progress or (lambda msg: None)
+    ahead = pipeline.BuildAhead(target, spec.name) if build else None
     try:
-        files, model = pipeline.derive_and_render(spec, label, say, qdd_form=qdd_form, der_form=der_form)
-    except pipeline.FormNotApplicable as exc:
-        raise SpecError("--derivative-form", str(exc)) from None
-    if build:
-        say("the cffi extension: the folder's if built from the same C and flags, else the model cache's (compiled if new)")
-    how = pipeline.write_tree(files, target, build, spec.name)
+        try:
+            files, model = pipeline.derive_and_render(spec, label, say, qdd_form=qdd_form, der_form=der_form, on_c=ahead)
+        except pipeline.FormNotApplicable as exc:
+            raise SpecError("--derivative-form", str(exc)) from None
+        if build:
+            say("the cffi extension: the folder's if built from the same C and flags, else the model cache's (compiled if new)")
+        how = pipeline.write_tree(files, target, build, spec.name, ahead)
+    finally:
+        if ahead is not None:
+            ahead.close()
     return Result(spec, model, target, tuple(sorted(files)), how)
 
 

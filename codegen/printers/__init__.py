@@ -72,9 +72,11 @@ def code_context(model: Model, spec_label: str, counts: dict) -> dict:
     )
 
 
-def render(model: Model, spec_label: str, targets=ALL) -> dict[str, str]:
+def render(model: Model, spec_label: str, targets=ALL, on_c=None) -> dict[str, str]:
     """The emitted files of the asked targets, by file name.  With every target, also
-    MANIFEST.json (the spec's hash, the versions, the op counts and every file's hash)."""
+    MANIFEST.json (the spec's hash, the versions, the op counts and every file's hash).
+    ``on_c``, if given, is called with the C target's files as soon as they are printed (the
+    build can start while the Python and the LaTeX are printed)."""
     unknown = [t for t in targets if t not in TARGETS]
     if unknown:
         raise ValueError(f"unknown target {unknown[0]!r} (one of {', '.join(TARGETS)})")
@@ -85,6 +87,8 @@ def render(model: Model, spec_label: str, targets=ALL) -> dict[str, str]:
     for key in ALL:  # in one order, whatever the order asked
         if key in targets:
             files.update(TARGETS[key]().files(model, context, env))
+            if key == "c" and on_c is not None:
+                on_c(dict(files))
     if set(targets) == set(ALL):
         spec = model.spec
         manifest = dict(

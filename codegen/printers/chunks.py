@@ -10,8 +10,10 @@ plain static functions, the same code.  Shorter functions (every example) are pr
 """
 from __future__ import annotations
 
+import re
 from dataclasses import replace
 
+from ..world import VECTORS
 from .common import Function
 
 PART_TEMPORARIES = 150  # temporaries per part; a function is cut from 3 parts on
@@ -24,6 +26,15 @@ SIGNATURES = {
     "qdd_derivatives": ("x", True, True), "energy": ("x", False, True), "momentum": ("x", False, True),
     "jacobi": ("x", False, False), "momenta": ("x", False, False), "velocity_terms": ("q", False, False),
     "pdot": ("x", True, False),
+}
+
+# the arrays a function's outputs fill that are locals of the template's C function, declared
+# before its parts are called (templates/model.c.jinja): the parts write them directly.  Others
+# (the caller's M, f, pm, ... which might overlap the inputs) are copied from s_ at the end.
+LOCAL_OUTPUTS = {
+    "qdd": {"acc", "piv", "M", "f"},
+    "mass_matrix": {"S_", "z1_"},  # only the loop form's per-joint axes (NAME_mass_pairs_)
+    "qdd_derivatives": {"acc", "piv", "ext", "IC_"} | {f"{v}_" for v in VECTORS},
 }
 
 NOINLINE = """#if defined(__GNUC__)
@@ -46,8 +57,12 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
     # function only copies them: thousands of output expressions in one function made gcc's dead
     # store elimination, PRE and SLP passes grow as the square of their number (n = 128: the
     # function's 630 KB of outputs cost more than all its parts).  Each output is computed right
-    # after the last temporary it reads, so that it reads the values of its own part.
-    outs = [(f"out{k}_", code) for k, (_, code) in enumerate(fn.outputs)]
+    # after the last temporary it reads, so that it reads the values of its own part; an output
+    # into one of the template's own arrays (LOCAL_OUTPUTS) is written there directly.
+    local = LOCAL_OUTPUTS.get(key, set())
+    direct = [lhs.split("[")[0] in local and re.fullmatch(r"\w+\[\d+\]", lhs) is not None for lhs, _ in fn.outputs]
+    arrays = sorted({lhs.split("[")[0] for (lhs, _), d in zip(fn.outputs, direct) if d})
+    outs = [(lhs if d else f"out{k}_", code) for k, ((lhs, code), d) in enumerate(zip(fn.outputs, direct))]
     assert not {lhs for lhs, _ in temps} & {lhs for lhs, _ in outs}, "a temporary named out<k>_"
     index = {lhs: i for i, (lhs, _) in enumerate(temps)}
     order = [(i, ("t", i)) for i in range(len(temps))]
@@ -57,7 +72,7 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
                         tuple(fn.reads[i] if kind == "t" else fn.out_reads[i] for kind, i in order))
     bounds = list(range(0, len(temps), PART_TEMPORARIES)) + [len(temps)]
     spans = list(zip(bounds, bounds[1:]))
-    part_of = {lhs: c for c, (a, b) in enumerate(spans) for lhs, _ in temps[a:b]}
+    part_of = {lhs: c for c, (a, b) in enumerate(spans) for lhs, _ in temps[a:b] if "[" not in lhs}
     # the template also stores, by name, the recursion's values the columns read (b[])
     named = sorted(set(ctx["der_store"]) & set(part_of)) if key == "qdd_derivatives" else []
     # a slot in s_ for every value read outside the part that computes it
@@ -67,30 +82,30 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
             for r in reads:
                 if part_of[r] != c and r not in slot:
                     slot[r] = len(slot)
-    for r in [lhs for lhs, _ in outs] + sorted(named):
+    for r in [lhs for lhs, _ in outs if "[" not in lhs] + sorted(named):
         slot.setdefault(r, len(slot))
     name, NAME = ctx["name"], ctx["NAME"]
     params = (("double t, " if with_t else "") + f"const double *{xname}, " + ("const double *u, " if with_u else "")
-              + f"const {name}_params *p, double *s_")
-    args = ("t, " if with_t else "") + f"{xname}, " + ("u, " if with_u else "") + "p, s_"
+              + f"const {name}_params *p, double *s_" + "".join(f", double *{a}" for a in arrays))
+    args = ("t, " if with_t else "") + f"{xname}, " + ("u, " if with_u else "") + "p, s_" + "".join(f", {a}" for a in arrays)
     parts = []
     for c, (a, b) in enumerate(spans):
         lines = [f"/* {name}_{fn.name}, part {c + 1} of {len(spans)} (codegen/printers/chunks.py) */",
                  f"{NAME}_PART_ {name}_{fn.name}_part{c + 1}_({params})", "{"]
-        lines += [f"    (void){v};" for v in (["t"] if with_t else []) + [xname] + (["u"] if with_u else []) + ["p"]]
+        lines += [f"    (void){v};" for v in (["t"] if with_t else []) + [xname] + (["u"] if with_u else []) + ["p", "s_"] + arrays]
         if with_u:
             for i, k in ctx["controls"]:
                 lines += [f"    const double tau_{k} = u ? u[{i}] : 0.0;", f"    (void)tau_{k};"]
         needed = sorted({r for reads in all_reads[a:b] for r in reads if part_of[r] != c}, key=slot.get)
         lines += [f"    const double {r} = s_[{slot[r]}];" for r in needed]
-        lines += [f"    const double {lhs} = {rhs};" for lhs, rhs in temps[a:b]]
+        lines += [f"    {lhs} = {rhs};" if "[" in lhs else f"    const double {lhs} = {rhs};" for lhs, rhs in temps[a:b]]
         lines += [f"    s_[{slot[lhs]}] = {lhs};" for lhs, _ in temps[a:b] if lhs in slot]
         parts.append("\n".join(lines + ["}", ""]))
     pre = [f"double s_[{max(1, len(slot))}];"] + [f"{name}_{fn.name}_part{c + 1}_({args});" for c in range(len(spans))]
     if with_u:  # the function's own tau_k may now be read by its parts alone
         pre += [f"(void)tau_{k};" for _, k in ctx["controls"]]
     # the values the template reads by name are imported
-    outputs = tuple((lhs, f"s_[{slot[out]}]") for (lhs, _), (out, _) in zip(fn.outputs, outs))
+    outputs = tuple((lhs, f"s_[{slot[out]}]") for (lhs, _), (out, _), d in zip(fn.outputs, outs, direct) if not d)
     imports = tuple((r, f"s_[{slot[r]}]") for r in named)
     return replace(fn, temporaries=imports, outputs=outputs, pre=tuple(pre), reads=(), out_reads=()), parts
 

@@ -300,6 +300,29 @@ def test_parts_are_the_same_computation(cut_models, rng):
             assert np.array_equal(a, b)
 
 
+def test_parts_of_the_other_forms_are_the_same_computation(monkeypatch, rng):
+    """The composite qdd (its parts write the function's own M and f) and the forward-mode
+    derivatives (acc and piv), cut into parts of 25 temporaries: the same doubles, bit for bit."""
+    from codegen import pipeline
+    from codegen.printers import chunks
+    from codegen.randspec import random_spec_text
+    from codegen.spec import parse_spec
+
+    spec = parse_spec(random_spec_text(np.random.default_rng(6), 3, name="cut3", controls=(1,)))
+    forms = dict(targets=("c",), qdd_form="composite", der_form="forward")
+    whole_files, _ = pipeline.derive_and_render(spec, **forms)
+    monkeypatch.setattr(chunks, "PART_TEMPORARIES", 25)
+    cut_files, _ = pipeline.derive_and_render(spec, **forms)
+    assert cut_files["cut3.c"].count("cut3_qdd_part") > 6 and "cut3_qdd_derivatives_part" in cut_files["cut3.c"]
+    whole, cut = pipeline.compile(whole_files, "cut3"), pipeline.compile(cut_files, "cut3")
+    for _ in range(5):
+        x = np.concatenate([rng.uniform(-np.pi, np.pi, 3), rng.normal(size=3)])
+        u = rng.normal(size=1)
+        assert np.array_equal(whole.qdd(x, u), cut.qdd(x, u))
+        for a, b in zip(whole.qdd_derivatives(x, u), cut.qdd_derivatives(x, u)):
+            assert np.array_equal(a, b)
+
+
 @pytest.mark.parametrize("cc,flags", COMPILERS, ids=[c for c, _ in COMPILERS])
 def test_parts_compile_warning_free(cut_models, cc, flags, tmp_path):
     if not shutil.which(cc):

@@ -45,3 +45,23 @@ def test_the_same_sources_load_once_per_process(tmp_path, monkeypatch):
     monkeypatch.setenv("GYROCHAIN_CACHE", str(tmp_path))
     files, _ = pipeline.derive_and_render(load_spec(ROOT / "specs" / "double_pendulum.toml"), targets=("c",))
     assert pipeline.compile(files, "double_pendulum") is pipeline.compile(dict(files), "double_pendulum")
+
+
+def test_generate_builds_ahead_only_what_the_folder_lacks(tmp_path, monkeypatch):
+    """generate's BuildAhead: the extension is compiled into the cache by a child process while
+    the Python and the LaTeX are printed, and generate reports it as compiled; a folder whose
+    extension is current starts no build at all."""
+    from codegen import generate
+
+    monkeypatch.setenv("GYROCHAIN_CACHE", str(tmp_path / "cache"))
+    spec, out = load_spec(ROOT / "specs" / "double_pendulum.toml"), tmp_path / "dp"
+    assert generate.run(spec, out, "double_pendulum.toml").build == "compiled"
+    assert len(list((tmp_path / "cache").glob("double_pendulum-*/_double_pendulum_cffi*.so"))) == 1
+    files, _ = pipeline.derive_and_render(spec)
+    ahead = pipeline.BuildAhead(out, "double_pendulum")
+    ahead(files)
+    assert ahead._future is None and ahead.built() is False  # the folder's own extension is current
+    ahead = pipeline.BuildAhead(tmp_path / "elsewhere", "double_pendulum")
+    ahead(files)
+    assert ahead._future is not None and ahead.built() is False  # started; the cache had it already
+    assert generate.run(spec, out, "double_pendulum.toml").build == "reused"
