@@ -42,6 +42,13 @@ NOINLINE = """#if defined(__GNUC__)
 #else
 #define {NAME}_PART_ static void
 #endif
+#if !defined(__cplusplus)
+#define {NAME}_RESTRICT_ restrict
+#elif defined(__GNUC__)
+#define {NAME}_RESTRICT_ __restrict__
+#else
+#define {NAME}_RESTRICT_
+#endif
 """
 
 
@@ -85,8 +92,12 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
     for r in [lhs for lhs, _ in outs if "[" not in lhs] + sorted(named):
         slot.setdefault(r, len(slot))
     name, NAME = ctx["name"], ctx["NAME"]
-    params = (("double t, " if with_t else "") + f"const double *{xname}, " + ("const double *u, " if with_u else "")
-              + f"const {name}_params *p, double *s_" + "".join(f", double *{a}" for a in arrays))
+    # restrict (C99; __restrict__ where the file is compiled as C++): a part writes only s_ and the
+    # template's own arrays, distinct objects the caller's inputs cannot overlap; without it gcc
+    # reloads inputs after every store (n = 32: qdd and the Jacobian 2-4 % slower)
+    r = f"*{NAME}_RESTRICT_ "
+    params = (("double t, " if with_t else "") + f"const double {r}{xname}, " + (f"const double {r}u, " if with_u else "")
+              + f"const {name}_params {r}p, double {r}s_" + "".join(f", double {r}{a}" for a in arrays))
     args = ("t, " if with_t else "") + f"{xname}, " + ("u, " if with_u else "") + "p, s_" + "".join(f", {a}" for a in arrays)
     parts = []
     for c, (a, b) in enumerate(spans):

@@ -111,9 +111,16 @@ static int cable64_ldlt_checked_(const double *M, double *A)
 #else
 #define CABLE64_PART_ static void
 #endif
+#if !defined(__cplusplus)
+#define CABLE64_RESTRICT_ restrict
+#elif defined(__GNUC__)
+#define CABLE64_RESTRICT_ __restrict__
+#else
+#define CABLE64_RESTRICT_
+#endif
 
 /* cable64_mass_matrix, part 1 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part1_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part1_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -273,7 +280,7 @@ CABLE64_PART_ cable64_mass_matrix_part1_(const double *q, const cable64_params *
 }
 
 /* cable64_mass_matrix, part 2 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part2_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part2_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -433,7 +440,7 @@ CABLE64_PART_ cable64_mass_matrix_part2_(const double *q, const cable64_params *
 }
 
 /* cable64_mass_matrix, part 3 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part3_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part3_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -593,7 +600,7 @@ CABLE64_PART_ cable64_mass_matrix_part3_(const double *q, const cable64_params *
 }
 
 /* cable64_mass_matrix, part 4 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part4_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part4_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -887,7 +894,7 @@ CABLE64_PART_ cable64_mass_matrix_part4_(const double *q, const cable64_params *
 }
 
 /* cable64_mass_matrix, part 5 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part5_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part5_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -1155,7 +1162,7 @@ CABLE64_PART_ cable64_mass_matrix_part5_(const double *q, const cable64_params *
 }
 
 /* cable64_mass_matrix, part 6 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part6_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part6_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -1423,7 +1430,7 @@ CABLE64_PART_ cable64_mass_matrix_part6_(const double *q, const cable64_params *
 }
 
 /* cable64_mass_matrix, part 7 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part7_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part7_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -1687,7 +1694,7 @@ CABLE64_PART_ cable64_mass_matrix_part7_(const double *q, const cable64_params *
 }
 
 /* cable64_mass_matrix, part 8 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part8_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part8_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -1953,7 +1960,7 @@ CABLE64_PART_ cable64_mass_matrix_part8_(const double *q, const cable64_params *
 }
 
 /* cable64_mass_matrix, part 9 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part9_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part9_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -2170,7 +2177,7 @@ CABLE64_PART_ cable64_mass_matrix_part9_(const double *q, const cable64_params *
 }
 
 /* cable64_mass_matrix, part 10 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part10_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part10_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -2462,7 +2469,7 @@ CABLE64_PART_ cable64_mass_matrix_part10_(const double *q, const cable64_params 
 }
 
 /* cable64_mass_matrix, part 11 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part11_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part11_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -2748,7 +2755,7 @@ CABLE64_PART_ cable64_mass_matrix_part11_(const double *q, const cable64_params 
 }
 
 /* cable64_mass_matrix, part 12 of 12 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_mass_matrix_part12_(const double *q, const cable64_params *p, double *s_, double *S_, double *z1_)
+CABLE64_PART_ cable64_mass_matrix_part12_(const double *CABLE64_RESTRICT_ q, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ z1_)
 {
     (void)q;
     (void)p;
@@ -2762,7 +2769,7 @@ CABLE64_PART_ cable64_mass_matrix_part12_(const double *q, const cable64_params 
 }
 
 /* cable64_forces, part 1 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_forces_part1_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_forces_part1_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -3071,7 +3078,7 @@ CABLE64_PART_ cable64_forces_part1_(const double *x, const double *u, const cabl
 }
 
 /* cable64_forces, part 2 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_forces_part2_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_forces_part2_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -3404,7 +3411,7 @@ CABLE64_PART_ cable64_forces_part2_(const double *x, const double *u, const cabl
 }
 
 /* cable64_forces, part 3 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_forces_part3_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_forces_part3_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -3745,7 +3752,7 @@ CABLE64_PART_ cable64_forces_part3_(const double *x, const double *u, const cabl
 }
 
 /* cable64_forces, part 4 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_forces_part4_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_forces_part4_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -3969,7 +3976,7 @@ CABLE64_PART_ cable64_forces_part4_(const double *x, const double *u, const cabl
 }
 
 /* cable64_forces, part 5 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_forces_part5_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_forces_part5_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -4264,7 +4271,7 @@ CABLE64_PART_ cable64_forces_part5_(const double *x, const double *u, const cabl
 }
 
 /* cable64_forces, part 6 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_forces_part6_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_forces_part6_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -4561,7 +4568,7 @@ CABLE64_PART_ cable64_forces_part6_(const double *x, const double *u, const cabl
 }
 
 /* cable64_forces, part 7 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_forces_part7_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_forces_part7_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -4658,7 +4665,7 @@ CABLE64_PART_ cable64_forces_part7_(const double *x, const double *u, const cabl
 }
 
 /* cable64_qdd, part 1 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part1_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part1_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -4968,7 +4975,7 @@ CABLE64_PART_ cable64_qdd_part1_(const double *x, const double *u, const cable64
 }
 
 /* cable64_qdd, part 2 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part2_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part2_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -5304,7 +5311,7 @@ CABLE64_PART_ cable64_qdd_part2_(const double *x, const double *u, const cable64
 }
 
 /* cable64_qdd, part 3 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part3_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part3_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -5651,7 +5658,7 @@ CABLE64_PART_ cable64_qdd_part3_(const double *x, const double *u, const cable64
 }
 
 /* cable64_qdd, part 4 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part4_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part4_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -6034,7 +6041,7 @@ CABLE64_PART_ cable64_qdd_part4_(const double *x, const double *u, const cable64
 }
 
 /* cable64_qdd, part 5 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part5_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part5_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -6449,7 +6456,7 @@ CABLE64_PART_ cable64_qdd_part5_(const double *x, const double *u, const cable64
 }
 
 /* cable64_qdd, part 6 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part6_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part6_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -6687,7 +6694,7 @@ CABLE64_PART_ cable64_qdd_part6_(const double *x, const double *u, const cable64
 }
 
 /* cable64_qdd, part 7 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part7_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part7_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -6923,7 +6930,7 @@ CABLE64_PART_ cable64_qdd_part7_(const double *x, const double *u, const cable64
 }
 
 /* cable64_qdd, part 8 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part8_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part8_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -7159,7 +7166,7 @@ CABLE64_PART_ cable64_qdd_part8_(const double *x, const double *u, const cable64
 }
 
 /* cable64_qdd, part 9 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part9_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part9_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -7397,7 +7404,7 @@ CABLE64_PART_ cable64_qdd_part9_(const double *x, const double *u, const cable64
 }
 
 /* cable64_qdd, part 10 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part10_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part10_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -7635,7 +7642,7 @@ CABLE64_PART_ cable64_qdd_part10_(const double *x, const double *u, const cable6
 }
 
 /* cable64_qdd, part 11 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part11_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part11_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -7871,7 +7878,7 @@ CABLE64_PART_ cable64_qdd_part11_(const double *x, const double *u, const cable6
 }
 
 /* cable64_qdd, part 12 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part12_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part12_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -8107,7 +8114,7 @@ CABLE64_PART_ cable64_qdd_part12_(const double *x, const double *u, const cable6
 }
 
 /* cable64_qdd, part 13 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part13_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part13_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -8345,7 +8352,7 @@ CABLE64_PART_ cable64_qdd_part13_(const double *x, const double *u, const cable6
 }
 
 /* cable64_qdd, part 14 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part14_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part14_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -8583,7 +8590,7 @@ CABLE64_PART_ cable64_qdd_part14_(const double *x, const double *u, const cable6
 }
 
 /* cable64_qdd, part 15 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part15_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part15_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -8828,7 +8835,7 @@ CABLE64_PART_ cable64_qdd_part15_(const double *x, const double *u, const cable6
 }
 
 /* cable64_qdd, part 16 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part16_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part16_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -9179,7 +9186,7 @@ CABLE64_PART_ cable64_qdd_part16_(const double *x, const double *u, const cable6
 }
 
 /* cable64_qdd, part 17 of 17 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_part17_(const double *x, const double *u, const cable64_params *p, double *s_, double *acc, double *piv)
+CABLE64_PART_ cable64_qdd_part17_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ piv)
 {
     (void)x;
     (void)u;
@@ -9421,7 +9428,7 @@ CABLE64_PART_ cable64_qdd_part17_(const double *x, const double *u, const cable6
 }
 
 /* cable64_energy, part 1 of 4 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_energy_part1_(const double *x, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_energy_part1_(const double *CABLE64_RESTRICT_ x, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)p;
@@ -9729,7 +9736,7 @@ CABLE64_PART_ cable64_energy_part1_(const double *x, const cable64_params *p, do
 }
 
 /* cable64_energy, part 2 of 4 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_energy_part2_(const double *x, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_energy_part2_(const double *CABLE64_RESTRICT_ x, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)p;
@@ -9978,7 +9985,7 @@ CABLE64_PART_ cable64_energy_part2_(const double *x, const cable64_params *p, do
 }
 
 /* cable64_energy, part 3 of 4 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_energy_part3_(const double *x, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_energy_part3_(const double *CABLE64_RESTRICT_ x, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)p;
@@ -10319,7 +10326,7 @@ CABLE64_PART_ cable64_energy_part3_(const double *x, const cable64_params *p, do
 }
 
 /* cable64_energy, part 4 of 4 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_energy_part4_(const double *x, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_energy_part4_(const double *CABLE64_RESTRICT_ x, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)p;
@@ -10576,7 +10583,7 @@ CABLE64_PART_ cable64_energy_part4_(const double *x, const cable64_params *p, do
 }
 
 /* cable64_qdd_derivatives, part 1 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part1_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part1_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -10744,7 +10751,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part1_(const double *x, const double *u, c
 }
 
 /* cable64_qdd_derivatives, part 2 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part2_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part2_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -10912,7 +10919,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part2_(const double *x, const double *u, c
 }
 
 /* cable64_qdd_derivatives, part 3 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part3_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part3_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -11080,7 +11087,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part3_(const double *x, const double *u, c
 }
 
 /* cable64_qdd_derivatives, part 4 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part4_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part4_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -11248,7 +11255,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part4_(const double *x, const double *u, c
 }
 
 /* cable64_qdd_derivatives, part 5 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part5_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part5_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -11416,7 +11423,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part5_(const double *x, const double *u, c
 }
 
 /* cable64_qdd_derivatives, part 6 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part6_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part6_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -11584,7 +11591,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part6_(const double *x, const double *u, c
 }
 
 /* cable64_qdd_derivatives, part 7 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part7_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part7_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -11752,7 +11759,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part7_(const double *x, const double *u, c
 }
 
 /* cable64_qdd_derivatives, part 8 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part8_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part8_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -11920,7 +11927,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part8_(const double *x, const double *u, c
 }
 
 /* cable64_qdd_derivatives, part 9 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part9_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part9_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -12088,7 +12095,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part9_(const double *x, const double *u, c
 }
 
 /* cable64_qdd_derivatives, part 10 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part10_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part10_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -12256,7 +12263,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part10_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 11 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part11_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part11_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -12424,7 +12431,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part11_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 12 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part12_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part12_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -12593,7 +12600,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part12_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 13 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part13_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part13_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -12903,7 +12910,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part13_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 14 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part14_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part14_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -13184,7 +13191,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part14_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 15 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part15_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part15_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -13471,7 +13478,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part15_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 16 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part16_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part16_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -13753,7 +13760,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part16_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 17 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part17_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part17_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -14035,7 +14042,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part17_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 18 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part18_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part18_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -14322,7 +14329,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part18_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 19 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part19_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part19_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -14609,7 +14616,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part19_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 20 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part20_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part20_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -14889,7 +14896,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part20_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 21 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part21_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part21_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -15171,7 +15178,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part21_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 22 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part22_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part22_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -15458,7 +15465,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part22_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 23 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part23_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part23_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -15740,7 +15747,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part23_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 24 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part24_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part24_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -16022,7 +16029,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part24_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 25 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part25_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part25_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -16309,7 +16316,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part25_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 26 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part26_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part26_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -16596,7 +16603,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part26_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 27 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part27_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part27_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -16876,7 +16883,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part27_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 28 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part28_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part28_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -17096,7 +17103,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part28_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 29 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part29_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part29_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -17385,7 +17392,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part29_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 30 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part30_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part30_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -17671,7 +17678,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part30_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 31 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part31_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part31_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -17966,7 +17973,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part31_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 32 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part32_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part32_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -18255,7 +18262,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part32_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 33 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part33_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part33_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -18541,7 +18548,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part33_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 34 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part34_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part34_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -18833,7 +18840,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part34_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 35 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part35_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part35_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -19126,7 +19133,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part35_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 36 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part36_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part36_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -19415,7 +19422,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part36_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 37 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part37_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part37_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -19701,7 +19708,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part37_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 38 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part38_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part38_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -19996,7 +20003,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part38_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 39 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part39_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part39_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -20285,7 +20292,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part39_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 40 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part40_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part40_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -20571,7 +20578,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part40_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 41 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part41_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part41_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -20863,7 +20870,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part41_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 42 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part42_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part42_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -21156,7 +21163,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part42_(const double *x, const double *u, 
 }
 
 /* cable64_qdd_derivatives, part 43 of 43 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_qdd_derivatives_part43_(const double *x, const double *u, const cable64_params *p, double *s_, double *G_, double *IC_, double *K_, double *S_, double *acc, double *beta_, double *w_, double *z1_, double *z2_)
+CABLE64_PART_ cable64_qdd_derivatives_part43_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_, double *CABLE64_RESTRICT_ G_, double *CABLE64_RESTRICT_ IC_, double *CABLE64_RESTRICT_ K_, double *CABLE64_RESTRICT_ S_, double *CABLE64_RESTRICT_ acc, double *CABLE64_RESTRICT_ beta_, double *CABLE64_RESTRICT_ w_, double *CABLE64_RESTRICT_ z1_, double *CABLE64_RESTRICT_ z2_)
 {
     (void)x;
     (void)u;
@@ -21291,7 +21298,7 @@ CABLE64_PART_ cable64_qdd_derivatives_part43_(const double *x, const double *u, 
 }
 
 /* cable64_momenta, part 1 of 6 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_momenta_part1_(const double *x, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_momenta_part1_(const double *CABLE64_RESTRICT_ x, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)p;
@@ -21599,7 +21606,7 @@ CABLE64_PART_ cable64_momenta_part1_(const double *x, const cable64_params *p, d
 }
 
 /* cable64_momenta, part 2 of 6 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_momenta_part2_(const double *x, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_momenta_part2_(const double *CABLE64_RESTRICT_ x, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)p;
@@ -22057,7 +22064,7 @@ CABLE64_PART_ cable64_momenta_part2_(const double *x, const cable64_params *p, d
 }
 
 /* cable64_momenta, part 3 of 6 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_momenta_part3_(const double *x, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_momenta_part3_(const double *CABLE64_RESTRICT_ x, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)p;
@@ -22320,7 +22327,7 @@ CABLE64_PART_ cable64_momenta_part3_(const double *x, const cable64_params *p, d
 }
 
 /* cable64_momenta, part 4 of 6 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_momenta_part4_(const double *x, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_momenta_part4_(const double *CABLE64_RESTRICT_ x, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)p;
@@ -22614,7 +22621,7 @@ CABLE64_PART_ cable64_momenta_part4_(const double *x, const cable64_params *p, d
 }
 
 /* cable64_momenta, part 5 of 6 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_momenta_part5_(const double *x, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_momenta_part5_(const double *CABLE64_RESTRICT_ x, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)p;
@@ -22910,7 +22917,7 @@ CABLE64_PART_ cable64_momenta_part5_(const double *x, const cable64_params *p, d
 }
 
 /* cable64_momenta, part 6 of 6 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_momenta_part6_(const double *x, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_momenta_part6_(const double *CABLE64_RESTRICT_ x, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)p;
@@ -22932,7 +22939,7 @@ CABLE64_PART_ cable64_momenta_part6_(const double *x, const cable64_params *p, d
 }
 
 /* cable64_pdot, part 1 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_pdot_part1_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_pdot_part1_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -23241,7 +23248,7 @@ CABLE64_PART_ cable64_pdot_part1_(const double *x, const double *u, const cable6
 }
 
 /* cable64_pdot, part 2 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_pdot_part2_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_pdot_part2_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -23556,7 +23563,7 @@ CABLE64_PART_ cable64_pdot_part2_(const double *x, const double *u, const cable6
 }
 
 /* cable64_pdot, part 3 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_pdot_part3_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_pdot_part3_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -23885,7 +23892,7 @@ CABLE64_PART_ cable64_pdot_part3_(const double *x, const double *u, const cable6
 }
 
 /* cable64_pdot, part 4 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_pdot_part4_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_pdot_part4_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -24241,7 +24248,7 @@ CABLE64_PART_ cable64_pdot_part4_(const double *x, const double *u, const cable6
 }
 
 /* cable64_pdot, part 5 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_pdot_part5_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_pdot_part5_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -24640,7 +24647,7 @@ CABLE64_PART_ cable64_pdot_part5_(const double *x, const double *u, const cable6
 }
 
 /* cable64_pdot, part 6 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_pdot_part6_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_pdot_part6_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
@@ -25066,7 +25073,7 @@ CABLE64_PART_ cable64_pdot_part6_(const double *x, const double *u, const cable6
 }
 
 /* cable64_pdot, part 7 of 7 (codegen/printers/chunks.py) */
-CABLE64_PART_ cable64_pdot_part7_(const double *x, const double *u, const cable64_params *p, double *s_)
+CABLE64_PART_ cable64_pdot_part7_(const double *CABLE64_RESTRICT_ x, const double *CABLE64_RESTRICT_ u, const cable64_params *CABLE64_RESTRICT_ p, double *CABLE64_RESTRICT_ s_)
 {
     (void)x;
     (void)u;
