@@ -47,21 +47,51 @@ def test_the_same_sources_load_once_per_process(tmp_path, monkeypatch):
     assert pipeline.compile(files, "double_pendulum") is pipeline.compile(dict(files), "double_pendulum")
 
 
-def test_generate_builds_ahead_only_what_the_folder_lacks(tmp_path, monkeypatch):
-    """generate's BuildAhead: the extension is compiled into the cache by a child process while
-    the Python and the LaTeX are printed, and generate reports it as compiled; a folder whose
-    extension is current starts no build at all."""
-    from codegen import generate
+AHEAD = r"""
+import sys
+from pathlib import Path
+from codegen import generate, pipeline
+from codegen.spec import load_spec
 
-    monkeypatch.setenv("GYROCHAIN_CACHE", str(tmp_path / "cache"))
-    spec, out = load_spec(ROOT / "specs" / "double_pendulum.toml"), tmp_path / "dp"
-    assert generate.run(spec, out, "double_pendulum.toml").build == "compiled"
+spec, out = load_spec("specs/double_pendulum.toml"), Path(sys.argv[1])
+first = generate.run(spec, out, "double_pendulum.toml").build
+files, _ = pipeline.derive_and_render(spec)
+here = pipeline.BuildAhead(out, "double_pendulum")
+here(files)
+current = (here._future is None, here.built())
+there = pipeline.BuildAhead(out.parent / "elsewhere", "double_pendulum")
+there(files)
+started = (there._future is not None, there.built())
+print(first, current, started, generate.run(spec, out, "double_pendulum.toml").build)
+"""
+
+
+def test_generate_builds_ahead_only_what_the_folder_lacks(tmp_path):
+    """generate's BuildAhead, in a fresh process (it forks only where no other thread runs, and a
+    test process may have some): the extension is compiled into the cache by a child while the
+    Python and the LaTeX are printed, and generate reports it as compiled; a folder whose
+    extension is current starts no build; another folder starts one, which finds the cache's."""
+    env = {"GYROCHAIN_CACHE": str(tmp_path / "cache"), "PATH": "/usr/bin:/bin", "PYTHONPATH": str(ROOT)}
+    res = subprocess.run([sys.executable, "-c", AHEAD, str(tmp_path / "dp")], cwd=ROOT, env=env,
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert res.stdout.split("\n")[0] == "compiled (True, False) (True, False) reused", res.stdout
     assert len(list((tmp_path / "cache").glob("double_pendulum-*/_double_pendulum_cffi*.so"))) == 1
-    files, _ = pipeline.derive_and_render(spec)
-    ahead = pipeline.BuildAhead(out, "double_pendulum")
-    ahead(files)
-    assert ahead._future is None and ahead.built() is False  # the folder's own extension is current
-    ahead = pipeline.BuildAhead(tmp_path / "elsewhere", "double_pendulum")
-    ahead(files)
-    assert ahead._future is not None and ahead.built() is False  # started; the cache had it already
-    assert generate.run(spec, out, "double_pendulum.toml").build == "reused"
+
+
+def test_no_build_ahead_beside_another_thread(tmp_path):
+    """A fork copies only the calling thread (and not the locks the others hold): with another
+    thread running, BuildAhead starts nothing and write_tree builds as before."""
+    import threading
+
+    files, _ = pipeline.derive_and_render(load_spec(ROOT / "specs" / "double_pendulum.toml"), targets=("c",))
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait)
+    other.start()
+    try:
+        ahead = pipeline.BuildAhead(tmp_path / "dp", "double_pendulum")
+        ahead(files)
+        assert ahead._future is None and ahead.built() is False
+    finally:
+        stop.set()
+        other.join()
