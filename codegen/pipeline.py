@@ -196,7 +196,8 @@ class BuildAhead:
 
         sources = _sources(files)
         texts = [sources[f"{self.name}{s}"].encode("utf-8") for s in C_FILES]
-        if threading.active_count() > 1 or (self.target.is_dir() and build.is_current(self.target, self.name, texts)):
+        if (threading.active_count() > 1 or "fork" not in multiprocessing.get_all_start_methods()
+                or (self.target.is_dir() and build.is_current(self.target, self.name, texts))):
             return
         self._pool = concurrent.futures.ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork"))
         self._future = self._pool.submit(extension, sources, self.name)
