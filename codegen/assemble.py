@@ -230,6 +230,15 @@ def _reads(P, line: StraightLine) -> set:
 
 
 GAUSS2_NEWTON_MAX_N = 16  # GAUSS2's Newton matrix is 2n × 2n on the stack: 8 KB at n = 16
+# NAME_integrate_variational carries the 2n × 2n fundamental matrix through DOP853's 16 stages on the
+# stack: 28 (2n)(2n + 1) doubles, 236 KB at n = 16; longer chains are not emitted one
+VARIATIONAL_MAX_N = 16
+
+
+def variational_stack_bytes(n: int) -> int:
+    """The stack NAME_integrate_variational's arrays take: DOP853's 16 stages, 5 work vectors and 7
+    dense-output rows of the system (x, Φ), and the wrapper's two rows of it."""
+    return 8 * (28 + 2) * 2 * n * (2 * n + 1)
 
 
 def newton_sweeps(n: int, counts: dict) -> int:

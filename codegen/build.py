@@ -174,6 +174,7 @@ class CModel:
         self.has_momentum = hasattr(self.lib, f"{name}_momentum")
         self.has_jacobi = hasattr(self.lib, f"{name}_jacobi")
         self.has_canonical = bool(getattr(self.lib, f"{name.upper()}_HAS_CANONICAL", 0))
+        self.has_variational = bool(getattr(self.lib, f"{name.upper()}_HAS_VARIATIONAL", 0))
         # NAME_TIME_DEPENDENT (general models only): forces, qdd, energy, momentum take t first
         self.time_dependent = bool(getattr(self.lib, f"{name.upper()}_TIME_DEPENDENT", 0))
 
@@ -347,6 +348,31 @@ class CModel:
         if failed < 0:
             raise ModelError(f"{self.name}_integrate_batch", -failed)
         return X, codes
+
+    def integrate_variational(self, t0, t1, x0, Phi0=None, u=None, params=None, rtol=1e-10, atol=1e-12, h=0.0,
+                              full_output=False):
+        """(x(t1), Φ(t1)) from x(t0) = x0 by NAME_integrate_variational: the state with its
+        fundamental matrix, Φ' = A(t, x) Φ with A the exact Jacobian of the emitted φ̈, by DOP853
+        at rtol/atol over both.  Φ(t0) = Phi0 (2N × 2N; the identity by default, when Φ(t1) is
+        ∂x(t1)/∂x(t0), the monodromy matrix over a period).  Raises IntegrationError when it stops
+        early; with full_output also the counts (n_rhs, n_steps, n_rejected)."""
+        if not self.has_variational:
+            raise ValueError(f"{self.name}: no NAME_integrate_variational (emitted up to n = 16; n = {self.n})")
+        dim = 2 * self.n
+        xp, _k = self._arr(x0, dim)
+        up, _ku = self._u(u)
+        Phi = np.array(np.eye(dim) if Phi0 is None else Phi0, dtype=float, order="C")
+        if Phi.shape != (dim, dim):
+            raise ValueError(f"Phi0 must have shape ({dim}, {dim}), not {Phi.shape}")
+        x1 = np.empty(dim)
+        st = self.ffi.new(f"{self.name}_integrate_stats *")
+        dp = lambda a: self.ffi.cast("double *", self.ffi.from_buffer(a))  # noqa: E731
+        code = self._fn("integrate_variational")(float(t0), float(t1), float(h), float(rtol), float(atol), xp, up,
+                                                 self._p(params), dp(x1), dp(Phi), st)
+        stats = dict(t=st.t, x=np.array(list(st.x)), n_rhs=st.n_rhs, n_steps=st.n_steps, n_rejected=st.n_rejected)
+        if code != 0:
+            raise IntegrationError(f"{self.name}_integrate_variational", code, x1[None, :], stats)
+        return (x1, Phi, stats) if full_output else (x1, Phi)
 
     # ---- the two-body quadratures (models with NAME_HAS_QUADRATURES)
     def quad_motion(self, x0, params=None) -> dict:

@@ -206,3 +206,28 @@ def check_derivatives(model, x, u=None, t=None, tol=1e-8):
         worst = max(worst, err)
         assert err <= tol, (err, np.hstack([dq, dv, du]), want)
     return worst
+
+
+def perturbed_c(model: Generated, folder: Path, block: str = "dqdd_dphi", factor: float = 1.0 + 1e-6) -> build.CModel:
+    """The model's C with one block of its derivatives perturbed (every entry of ``block``, an
+    output of NAME_qdd_derivatives, times ``factor``), built in ``folder``: whatever reads the
+    derivatives (linearize, the variational equations, Newton) reads the perturbed ones.  The
+    mutation check of a test that rests on the exact derivatives."""
+    import shutil
+
+    name, n = model.spec.name, model.spec.n
+    src = (model.folder / f"{name}.c").read_text()
+    head = f"int {name}_qdd_derivatives("
+    assert src.count(head) == 1, "one definition of qdd_derivatives"
+    src = src.replace(head, f"static int {name}_qdd_derivatives_exact_(")
+    t_param, t_arg = ("double t, ", "t, ") if model.c.time_dependent else ("", "")
+    src += (f"\nint {name}_qdd_derivatives({t_param}const double *x, const double *u, const {name}_params *p,\n"
+            f"    double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)\n{{\n"
+            f"    int i, code = {name}_qdd_derivatives_exact_({t_arg}x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du);\n"
+            f"    for (i = 0; {block} && i < {n * n if block != 'dqdd_du' else n * len(model.spec.controls)}; ++i) {{\n"
+            f"        {block}[i] *= {factor!r};\n    }}\n    return code;\n}}\n")
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / f"{name}.c").write_text(src)
+    for ext in (".h", ".cdef"):
+        shutil.copy2(model.folder / f"{name}{ext}", folder / f"{name}{ext}")
+    return build.CModel(build.compile_model(folder, name), name)

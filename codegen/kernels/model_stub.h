@@ -16,6 +16,9 @@
 #define MODEL_CANONICAL 1
 #endif
 #define MODEL_CANONICAL_NEWTON (MODEL_CANONICAL && MODEL_NEWTON)
+#ifndef MODEL_VARIATIONAL
+#define MODEL_VARIATIONAL 1
+#endif
 #ifndef MODEL_TIME_DEPENDENT
 #define MODEL_TIME_DEPENDENT 0
 #endif
@@ -37,6 +40,7 @@
 #define MODEL_V_DIM2 16
 #define MODEL_V_2DIM 8
 #define MODEL_V_4DIM2 64
+#define MODEL_V_VDIM 20
 #define MODEL_V_OPS_QDD 30
 #define MODEL_V_OPS_QDD_DERIVATIVES 300
 #define MODEL_V_OPS_VELOCITIES 40
@@ -110,6 +114,9 @@ int model_integrate_grid(int method, int nt, const double *t, double h, double r
 int model_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                           long max_steps, const double *x0, const double *u, long u_stride,
                           const model_params *p, long p_stride, double *X, int *codes);
+int model_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+                                const double *x0, const double *u, const model_params *p,
+                                double *x1, double *Phi, model_integrate_stats *stats);
 double model_energy(const double *x, const model_params *p);
 double model_momentum(const double *x, const model_params *p);
 static int model_all_finite_(const double *v, int count)

@@ -13,7 +13,8 @@ import json
 import sympy as sp
 
 from .. import __version__, world
-from ..assemble import GAUSS2_NEWTON_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts, time_dependent
+from ..assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
+                        time_dependent, variational_stack_bytes)
 from .c import CTarget
 from .common import c_comment, environment, py_docstring
 from .latex import LatexTarget
@@ -59,6 +60,8 @@ def code_context(model: Model, spec_label: str, counts: dict) -> dict:
         ic_parts=world.IC_PARTS,
         world_ext=[(k, c, i) for i, (k, c, _) in enumerate(model.der.ext)] if model.der_form == "world" else [],
         newton=n <= GAUSS2_NEWTON_MAX_N,
+        variational=n <= VARIATIONAL_MAX_N,
+        variational_stack_kb=(variational_stack_bytes(n) + 1023) // 1024,
         newton_sweeps=newton_sweeps(n, counts),
         newton_sweeps_canonical=newton_sweeps_canonical(n, counts),
         counts=counts,

@@ -30,6 +30,7 @@ def defines(ctx: dict) -> list[tuple[str, int]]:
     if ctx["general"]:
         out += [("HAS_JACOBI_INTEGRAL", int(ctx["has_jacobi"])), ("TIME_DEPENDENT", int(ctx["time_dependent"]))]
     out += status[4:] + [(k.upper(), v) for k, v in METHODS.items()] + [("HAS_CANONICAL", int(ctx["canonical"]))]
+    out += [("HAS_VARIATIONAL", int(ctx["variational"]))]
     if ctx["quad"]:
         out += [(k, STATUS[k]) for k in QUAD_STATUS] + [(k.upper(), v) for k, v in MOTIONS.items()]
     return out
@@ -64,13 +65,13 @@ def integrators(ctx: dict) -> str:
     (the template's line ends it)."""
     n, counts = ctx["n"], ctx["counts"]
     dim = 2 * n
-    values = dict(N=n, DIM=dim, NN=n * n, DIM2=dim * dim, **{"2DIM": 2 * dim, "4DIM2": 4 * dim * dim},
+    values = dict(N=n, DIM=dim, NN=n * n, DIM2=dim * dim, **{"2DIM": 2 * dim, "4DIM2": 4 * dim * dim}, VDIM=dim * (dim + 1),
                   OPS_QDD=counts["qdd"], OPS_QDD_DERIVATIVES=counts.get("qdd_derivatives", 0),
                   OPS_VELOCITIES=counts.get("velocities", 0), OPS_PDOT=counts.get("pdot", 0),
                   OPS_CANONICAL=counts.get("velocities", 0) + counts.get("pdot", 0),
                   NEWTON_SWEEPS=ctx["newton_sweeps"], NEWTON_SWEEPS_CANONICAL=ctx["newton_sweeps_canonical"])
     flags = dict(NEWTON=ctx["newton"], CANONICAL=ctx["canonical"], CANONICAL_NEWTON=ctx["canonical"] and ctx["newton"],
-                 TIME_DEPENDENT=ctx["time_dependent"], HAS_PARAMS=ctx["has_params"])
+                 TIME_DEPENDENT=ctx["time_dependent"], HAS_PARAMS=ctx["has_params"], VARIATIONAL=ctx["variational"])
     text = kernels.specialise("integrate.c", ctx["name"], flags, {}, values, ctx["time_dependent"])
     return text[:-1] if text.endswith("\n") else text
 

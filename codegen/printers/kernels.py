@@ -10,6 +10,12 @@ model's printed code, ``MODEL_V_<KEY>`` by the model's number (a size, an op cou
 ``MODEL_T_OR(a, b)`` by a or b likewise, and ``model_``/``MODEL_`` (C) or ``{model}`` (Python) by
 the model's name.  The kernel's C compiles as it stands with ``model_stub.h``, which defines
 these macros the same way.
+
+A C kernel may print another one more than once, as a C++ template is instantiated: the lines
+``#define SYS_<X> <name>`` or ``#define sys_<x> <name>`` before ``#include "<kernel>.c"`` name the
+instance (DOP853 over the state, and over the state with its fundamental matrix), and the
+printer puts that kernel's body there with those names spelled out (the ``#define`` and
+``#undef`` lines are dropped).  A compiler does the same with the preprocessor.
 """
 from __future__ import annotations
 
@@ -23,6 +29,9 @@ _GENERATED = re.compile(r"[^\n]*@generated (\w+)[^\n]*\n")
 _VALUE = re.compile(r"\bMODEL_V_(\w+)\b")
 _TIME = re.compile(r"MODEL_T\(((?:[^()]|\([^()]*\))*)\)")
 _TIME_OR = re.compile(r"MODEL_T_OR\(([^,()]*), ([^,()]*)\)")
+_INSTANCE_NAME = re.compile(r"#define ((?:SYS|sys)_\w+) (\w+)\n")
+_INSTANCE_UNDEF = re.compile(r"#undef (?:SYS|sys)_\w+\n")
+_INCLUDE = re.compile(r'#include "(\w+\.c)"\n')
 
 
 @lru_cache(maxsize=None)
@@ -31,7 +40,30 @@ def _body(filename: str) -> str:
     starts = [i for i, line in enumerate(lines) if line.strip() in ("/* @kernel */", "# @kernel")]
     if len(starts) != 1:
         raise ValueError(f"kernel {filename}: expected one @kernel line, found {len(starts)}")
-    return "".join(lines[starts[0] + 1:])
+    return _instances(lines[starts[0] + 1:])
+
+
+def _instances(lines: list[str]) -> str:
+    """The body with every ``#include "<kernel>.c"`` replaced by that kernel's body, its
+    ``SYS_``/``sys_`` names spelled as the ``#define`` lines before it say."""
+    out, names = [], {}
+    for line in lines:
+        m = _INSTANCE_NAME.fullmatch(line)
+        if m:
+            names[m.group(1)] = m.group(2)
+            continue
+        if _INSTANCE_UNDEF.fullmatch(line):
+            continue
+        m = _INCLUDE.fullmatch(line)
+        if m:
+            if not names:
+                raise ValueError(f"#include \"{m.group(1)}\" without the #define lines that name its instance")
+            pattern = re.compile(r"\b(" + "|".join(map(re.escape, names)) + r")\b")
+            out.append(pattern.sub(lambda w: names[w.group(1)], _body(m.group(1))))
+            names = {}
+            continue
+        out.append(line)
+    return "".join(out)
 
 
 def specialise(filename: str, name: str, flags: dict[str, bool], parts: dict[str, str],

@@ -33,6 +33,8 @@
  * trajectories whose code is not CABLE64_OK, or -CABLE64_BAD_ARGUMENT (nothing written)
  * when nb < 0 or x0, X or codes is NULL.  No allocation, no state: callers may split a batch
  * across threads.
+ * No cable64_integrate_variational (CABLE64_HAS_VARIATIONAL 0): its fundamental matrix would take
+ * about 3870 KB of stack at n = 64; it is emitted up to n = 16.
  * cable64_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (exact: M^-1 (dtau/dx - dID/dx) with the inverse dynamics ID differentiated in closed
  * form in frame 0, O(n^2) pairs of joints and an LDL^T solve), row-major n x n, n x n, n x nu; a
@@ -71,6 +73,7 @@ extern "C" {
 #define CABLE64_GAUSS2_FIXED 4
 #define CABLE64_GAUSS2_SYMPLECTIC 5
 #define CABLE64_HAS_CANONICAL 1
+#define CABLE64_HAS_VARIATIONAL 0
 typedef struct cable64_params {
     double unused_;
 } cable64_params;

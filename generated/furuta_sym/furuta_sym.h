@@ -33,6 +33,12 @@
  * trajectories whose code is not FURUTA_SYM_OK, or -FURUTA_SYM_BAD_ARGUMENT (nothing written)
  * when nb < 0 or x0, X or codes is NULL.  No allocation, no state: callers may split a batch
  * across threads.
+ * furuta_sym_integrate_variational(t0, t1, h, rtol, atol, x0, u, p, x1, Phi, stats) integrates the state
+ * with its fundamental matrix (FURUTA_SYM_HAS_VARIATIONAL): x' = f(t, x), Phi' = A(t, x) Phi with A the
+ * exact Jacobian of furuta_sym_linearize, by DOP853 (rtol/atol over x and Phi, h the first step or 0).
+ * Phi is 2N x 2N row-major: on entry Phi(t0) (the identity for the fundamental matrix), on return
+ * Phi(t1) = dx(t1)/dx(t0) Phi(t0), the tangent map of the emitted dynamics; x1 = x(t1).  On failure x1
+ * is the last accepted state and Phi is NaN.  stats may be NULL.  Stack: about 5 KB.
  * furuta_sym_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
@@ -70,6 +76,7 @@ extern "C" {
 #define FURUTA_SYM_GAUSS2_FIXED 4
 #define FURUTA_SYM_GAUSS2_SYMPLECTIC 5
 #define FURUTA_SYM_HAS_CANONICAL 1
+#define FURUTA_SYM_HAS_VARIATIONAL 1
 typedef struct furuta_sym_params {
     double g0;
     double m1;
@@ -110,6 +117,9 @@ int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, dou
 int furuta_sym_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const furuta_sym_params *p, long p_stride, double *X, int *codes);
+int furuta_sym_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+                               const double *x0, const double *u, const furuta_sym_params *p,
+                               double *x1, double *Phi, furuta_sym_integrate_stats *stats);
 
 #ifdef __cplusplus
 }

@@ -35,6 +35,12 @@
  * function reads the time t: then ship_gimbal_forces, _qdd, _energy and _momentum take double t first;
  * ship_gimbal_mass_matrix never does and ship_gimbal_rhs(t, ...) passes its t on.  ship_gimbal_energy is
  * T - U with absolute velocities, U including the springs and constant fixed forces.
+ * ship_gimbal_integrate_variational(t0, t1, h, rtol, atol, x0, u, p, x1, Phi, stats) integrates the state
+ * with its fundamental matrix (SHIP_GIMBAL_HAS_VARIATIONAL): x' = f(t, x), Phi' = A(t, x) Phi with A the
+ * exact Jacobian of ship_gimbal_linearize, by DOP853 (rtol/atol over x and Phi, h the first step or 0).
+ * Phi is 2N x 2N row-major: on entry Phi(t0) (the identity for the fundamental matrix), on return
+ * Phi(t1) = dx(t1)/dx(t0) Phi(t0), the tangent map of the emitted dynamics; x1 = x(t1).  On failure x1
+ * is the last accepted state and Phi is NaN.  stats may be NULL.  Stack: about 5 KB.
  * ship_gimbal_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
@@ -71,6 +77,7 @@ extern "C" {
 #define SHIP_GIMBAL_GAUSS2_FIXED 4
 #define SHIP_GIMBAL_GAUSS2_SYMPLECTIC 5
 #define SHIP_GIMBAL_HAS_CANONICAL 0
+#define SHIP_GIMBAL_HAS_VARIATIONAL 1
 typedef struct ship_gimbal_params {
     double unused_;
 } ship_gimbal_params;
@@ -100,6 +107,9 @@ int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, do
 int ship_gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const ship_gimbal_params *p, long p_stride, double *X, int *codes);
+int ship_gimbal_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+                               const double *x0, const double *u, const ship_gimbal_params *p,
+                               double *x1, double *Phi, ship_gimbal_integrate_stats *stats);
 
 #ifdef __cplusplus
 }

@@ -2223,6 +2223,7 @@ static void spatial3_to_state_(const double *y, const spatial3_params *p, double
     }
 }
 
+/* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
 static void spatial3_add_(double *x, double *cmp, const double *dx)
 {
@@ -2242,6 +2243,198 @@ static void spatial3_copy_(double *dst, const double *src)
         dst[i] = src[i];
     }
 }
+
+/* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
+static void spatial3_ksum_(const double *w, int count, double k[][6], double hs, double *out)
+{
+    int i, j;
+    for (i = 0; i < 6; ++i) {
+        double acc = 0.0;
+        for (j = 0; j < count; ++j) {
+            acc += w[j] * k[j][i];
+        }
+        out[i] = hs * acc;
+    }
+}
+
+/* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
+ * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
+static int spatial3_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+                              const double *u, const spatial3_params *p, double *X,
+                              spatial3_integrate_stats *st)
+{
+    /* the stage times c_i are not needed: the model is autonomous (u constant over the call) */
+    /* a[i][j], j < i: rows 0-11 the steps' stages, 12 the solution (b; its f is the next k0),
+       13-15 the extra stages of the dense output */
+    static const double a[16][16] = {
+        {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.05260015195876773, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.0197250569845379, 0.0591751709536137, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.02958758547680685, 0.0, 0.08876275643042054, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.2413651341592667, 0.0, -0.8845494793282861, 0.924834003261792, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.037037037037037035, 0.0, 0.0, 0.17082860872947386, 0.12546768756682242, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.037109375, 0.0, 0.0, 0.17025221101954405, 0.06021653898045596, -0.017578125, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.03709200011850479, 0.0, 0.0, 0.17038392571223998, 0.10726203044637328, -0.015319437748624402, 0.008273789163814023, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.6241109587160757, 0.0, 0.0, -3.3608926294469414, -0.868219346841726, 27.59209969944671, 20.154067550477894, -43.48988418106996, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.47766253643826434, 0.0, 0.0, -2.4881146199716677, -0.590290826836843, 21.230051448181193, 15.279233632882423, -33.28821096898486, -0.020331201708508627, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {-0.9371424300859873, 0.0, 0.0, 5.186372428844064, 1.0914373489967295, -8.149787010746927, -18.52006565999696, 22.739487099350505, 2.4936055526796523, -3.0467644718982196, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {2.273310147516538, 0.0, 0.0, -10.53449546673725, -2.0008720582248625, -17.9589318631188, 27.94888452941996, -2.8589982771350235, -8.87285693353063, 12.360567175794303, 0.6433927460157636, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.054293734116568765, 0.0, 0.0, 0.0, 0.0, 4.450312892752409, 1.8915178993145003, -5.801203960010585, 0.3111643669578199, -0.1521609496625161, 0.20136540080403034, 0.04471061572777259, 0.0, 0.0, 0.0, 0.0},
+        {0.056167502283047954, 0.0, 0.0, 0.0, 0.0, 0.0, 0.25350021021662483, -0.2462390374708025, -0.12419142326381637, 0.15329179827876568, 0.00820105229563469, 0.007567897660545699, -0.008298, 0.0, 0.0, 0.0},
+        {0.03183464816350214, 0.0, 0.0, 0.0, 0.0, 0.028300909672366776, 0.053541988307438566, -0.05492374857139099, 0.0, 0.0, -0.00010834732869724932, 0.0003825710908356584, -0.00034046500868740456, 0.1413124436746325, 0.0, 0.0},
+        {-0.42889630158379194, 0.0, 0.0, 0.0, 0.0, -4.697621415361164, 7.683421196062599, 4.06898981839711, 0.3567271874552811, 0.0, 0.0, 0.0, -0.0013990241651590145, 2.9475147891527724, -9.15095847217987, 0.0},
+    };
+    static const double e3[13] = {-0.18980075407240762, 0.0, 0.0, 0.0, 0.0, 4.450312892752409, 1.8915178993145003, -5.801203960010585, -0.4226823213237919, -0.1521609496625161, 0.20136540080403034, 0.02265179219836082, 0.0};
+    static const double e5[13] = {0.01312004499419488, 0.0, 0.0, 0.0, 0.0, -1.2251564463762044, -0.4957589496572502, 1.6643771824549864, -0.35032884874997366, 0.3341791187130175, 0.08192320648511571, -0.022355307863886294, 0.0};
+    static const double dd[4][16] = {
+        {-8.428938276109013, 0.0, 0.0, 0.0, 0.0, 0.5667149535193777, -3.0689499459498917, 2.38466765651207, 2.117034582445028, -0.871391583777973, 2.2404374302607883, 0.6315787787694688, -0.08899033645133331, 18.148505520854727, -9.194632392478356, -4.436036387594894},
+        {10.427508642579134, 0.0, 0.0, 0.0, 0.0, 242.28349177525817, 165.20045171727028, -374.5467547226902, -22.113666853125306, 7.733432668472264, -30.674084731089398, -9.332130526430229, 15.697238121770845, -31.139403219565178, -9.35292435884448, 35.81684148639408},
+        {19.985053242002433, 0.0, 0.0, 0.0, 0.0, -387.0373087493518, -189.17813819516758, 527.8081592054236, -11.57390253995963, 6.8812326946963, -1.0006050966910838, 0.7777137798053443, -2.778205752353508, -60.19669523126412, 84.32040550667716, 11.99229113618279},
+        {-25.69393346270375, 0.0, 0.0, 0.0, 0.0, -154.18974869023643, -231.5293791760455, 357.6391179106141, 93.40532418362432, -37.45832313645163, 104.0996495089623, 29.8402934266605, -43.53345659001114, 96.32455395918828, -39.17726167561544, -149.72683625798564},
+    };
+    double k[16][6], x[6], cmp[6], y[6], dy[6], sc[6];
+    const double tend = tt[nt - 1], dir = tend >= tt[0] ? 1.0 : -1.0;
+    double t = tt[0], h, hmin, err, e3n, e5n, fac, s3, s5;
+    int i, j, s, code, next = 1, rejected = 0, fail = 0;
+    spatial3_copy_(x, X);
+    for (i = 0; i < 6; ++i) {
+        cmp[i] = 0.0;
+    }
+    if ((code = spatial3_eval_(x, u, p, k[0], st)) != 0) {
+        return code;
+    }
+    if (h0 > 0.0) {
+        h = fmin(h0, fabs(tend - t));
+    } else {
+        /* the starting step of Hairer, Norsett, Wanner II.4 (one more evaluation) */
+        double d0 = 0.0, d1 = 0.0, d2 = 0.0, h1;
+        for (i = 0; i < 6; ++i) {
+            sc[i] = atol + fabs(x[i]) * rtol;
+            d0 += (x[i] / sc[i]) * (x[i] / sc[i]);
+            d1 += (k[0][i] / sc[i]) * (k[0][i] / sc[i]);
+        }
+        d0 = sqrt(d0 / 6);
+        d1 = sqrt(d1 / 6);
+        h = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+        h = fmin(h, fabs(tend - t));
+        for (i = 0; i < 6; ++i) {
+            y[i] = x[i] + dir * h * k[0][i];
+        }
+        if (spatial3_eval_(y, u, p, k[1], st) == 0) {
+            for (i = 0; i < 6; ++i) {
+                d2 += ((k[1][i] - k[0][i]) / sc[i]) * ((k[1][i] - k[0][i]) / sc[i]);
+            }
+            d2 = sqrt(d2 / 6) / h;
+            h1 = (d1 <= 1e-15 && d2 <= 1e-15) ? fmax(1e-6, 1e-3 * h) : pow(0.01 / fmax(d1, d2), 0.125);
+            h = fmin(fmin(100.0 * h, h1), fabs(tend - t));
+        }
+    }
+    while (next < nt) {
+        double hs, tnew;
+        if (st->n_steps + st->n_rejected >= max_steps) {
+            return SPATIAL3_TOO_MANY_STEPS;
+        }
+        hmin = 10.0 * SPATIAL3_EPS * fmax(fabs(t), 1e-300);
+        if (h < hmin) {
+            return fail ? fail : SPATIAL3_STEP_UNDERFLOW;
+        }
+        tnew = t + dir * h;
+        if (dir * (tnew - tend) >= 0.0) {
+            tnew = tend;
+        }
+        hs = tnew - t;  /* signed */
+        code = 0;
+        for (s = 1; s <= 12 && code == 0; ++s) {
+            /* stages 1-11, then s = 12: the solution y and its f (the next step's k0) */
+            spatial3_ksum_(a[s], s, k, hs, dy);
+            for (i = 0; i < 6; ++i) {
+                y[i] = x[i] + dy[i];
+            }
+            code = spatial3_eval_(y, u, p, k[s], st);
+        }
+        if (code == SPATIAL3_SINGULAR || code == SPATIAL3_NONFINITE) {
+            /* a stage left the domain: the step was too long, or the motion ends here */
+            fail = code;
+            st->n_rejected++;
+            rejected = 1;
+            h = 0.25 * fabs(hs);
+            continue;
+        }
+        if (code != 0) {
+            return code;
+        }
+        e3n = e5n = 0.0;
+        for (i = 0; i < 6; ++i) {
+            s3 = s5 = 0.0;
+            for (j = 0; j < 13; ++j) {
+                s3 += e3[j] * k[j][i];
+                s5 += e5[j] * k[j][i];
+            }
+            sc[i] = atol + rtol * fmax(fabs(x[i]), fabs(y[i]));
+            e3n += (s3 / sc[i]) * (s3 / sc[i]);
+            e5n += (s5 / sc[i]) * (s5 / sc[i]);
+        }
+        err = (e3n == 0.0 && e5n == 0.0) ? 0.0 : fabs(hs) * e5n / sqrt((e5n + 0.01 * e3n) * 6);
+        if (!(err <= 1.0)) {
+            /* rejected (also when err is NaN) */
+            st->n_rejected++;
+            rejected = 1;
+            h = fabs(hs) * (err < HUGE_VAL ? fmax(0.2, 0.9 * pow(err, -0.125)) : 0.2);
+            continue;
+        }
+        /* accepted: the output times inside the step from the dense output */
+        if (next < nt && dir * (tt[next] - tnew) < 0.0) {
+            double F[7][6];
+            int r;
+            for (s = 13; s < 16 && code == 0; ++s) {
+                spatial3_ksum_(a[s], s, k, hs, sc);
+                for (i = 0; i < 6; ++i) {
+                    sc[i] += x[i];
+                }
+                code = spatial3_eval_(sc, u, p, k[s], st);
+            }
+            if (code != 0) {
+                return code;
+            }
+            for (i = 0; i < 6; ++i) {
+                F[0][i] = dy[i];
+                F[1][i] = hs * k[0][i] - dy[i];
+                F[2][i] = 2.0 * dy[i] - hs * (k[12][i] + k[0][i]);
+            }
+            for (r = 0; r < 4; ++r) {
+                spatial3_ksum_(dd[r], 16, k, hs, F[3 + r]);
+            }
+            for (; next < nt && dir * (tt[next] - tnew) < 0.0; ++next) {
+                const double th = (tt[next] - t) / hs, th1 = 1.0 - th;
+                double *out = X + next * 6;
+                for (i = 0; i < 6; ++i) {
+                    double v = 0.0;
+                    for (r = 6; r >= 0; --r) {
+                        v = (v + F[r][i]) * ((6 - r) % 2 == 0 ? th : th1);
+                    }
+                    out[i] = x[i] + v;
+                }
+            }
+        }
+        spatial3_add_(x, cmp, dy);
+        t = tnew;
+        st->n_steps++;
+        st->t = t;
+        for (i = 0; i < 6; ++i) {
+            st->x[i] = x[i];  /* the state: the first 6 components */
+        }
+        for (; next < nt && tt[next] == t; ++next) {
+            spatial3_copy_(X + next * 6, x);
+        }
+        spatial3_copy_(k[0], k[12]);
+        fac = err == 0.0 ? 10.0 : fmin(10.0, 0.9 * pow(err, -0.125));
+        h = fabs(hs) * (rejected ? fmin(1.0, fac) : fac);
+        rejected = 0;
+        fail = 0;
+    }
+    return SPATIAL3_OK;
+}
+
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double spatial3_floor_(const double *x)
@@ -2658,195 +2851,6 @@ static int spatial3_fixed_(int method, int nt, const double *tt, double h, long 
     return code;
 }
 
-/* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void spatial3_ksum_(const double *w, int count, double k[][6], double hs, double *out)
-{
-    int i, j;
-    for (i = 0; i < 6; ++i) {
-        double acc = 0.0;
-        for (j = 0; j < count; ++j) {
-            acc += w[j] * k[j][i];
-        }
-        out[i] = hs * acc;
-    }
-}
-
-/* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
- * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int spatial3_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
-                              const double *u, const spatial3_params *p, double *X,
-                              spatial3_integrate_stats *st)
-{
-    /* the stage times c_i are not needed: the model is autonomous (u constant over the call) */
-    /* a[i][j], j < i: rows 0-11 the steps' stages, 12 the solution (b; its f is the next k0),
-       13-15 the extra stages of the dense output */
-    static const double a[16][16] = {
-        {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {0.05260015195876773, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {0.0197250569845379, 0.0591751709536137, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {0.02958758547680685, 0.0, 0.08876275643042054, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {0.2413651341592667, 0.0, -0.8845494793282861, 0.924834003261792, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {0.037037037037037035, 0.0, 0.0, 0.17082860872947386, 0.12546768756682242, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {0.037109375, 0.0, 0.0, 0.17025221101954405, 0.06021653898045596, -0.017578125, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {0.03709200011850479, 0.0, 0.0, 0.17038392571223998, 0.10726203044637328, -0.015319437748624402, 0.008273789163814023, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {0.6241109587160757, 0.0, 0.0, -3.3608926294469414, -0.868219346841726, 27.59209969944671, 20.154067550477894, -43.48988418106996, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {0.47766253643826434, 0.0, 0.0, -2.4881146199716677, -0.590290826836843, 21.230051448181193, 15.279233632882423, -33.28821096898486, -0.020331201708508627, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {-0.9371424300859873, 0.0, 0.0, 5.186372428844064, 1.0914373489967295, -8.149787010746927, -18.52006565999696, 22.739487099350505, 2.4936055526796523, -3.0467644718982196, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {2.273310147516538, 0.0, 0.0, -10.53449546673725, -2.0008720582248625, -17.9589318631188, 27.94888452941996, -2.8589982771350235, -8.87285693353063, 12.360567175794303, 0.6433927460157636, 0.0, 0.0, 0.0, 0.0, 0.0},
-        {0.054293734116568765, 0.0, 0.0, 0.0, 0.0, 4.450312892752409, 1.8915178993145003, -5.801203960010585, 0.3111643669578199, -0.1521609496625161, 0.20136540080403034, 0.04471061572777259, 0.0, 0.0, 0.0, 0.0},
-        {0.056167502283047954, 0.0, 0.0, 0.0, 0.0, 0.0, 0.25350021021662483, -0.2462390374708025, -0.12419142326381637, 0.15329179827876568, 0.00820105229563469, 0.007567897660545699, -0.008298, 0.0, 0.0, 0.0},
-        {0.03183464816350214, 0.0, 0.0, 0.0, 0.0, 0.028300909672366776, 0.053541988307438566, -0.05492374857139099, 0.0, 0.0, -0.00010834732869724932, 0.0003825710908356584, -0.00034046500868740456, 0.1413124436746325, 0.0, 0.0},
-        {-0.42889630158379194, 0.0, 0.0, 0.0, 0.0, -4.697621415361164, 7.683421196062599, 4.06898981839711, 0.3567271874552811, 0.0, 0.0, 0.0, -0.0013990241651590145, 2.9475147891527724, -9.15095847217987, 0.0},
-    };
-    static const double e3[13] = {-0.18980075407240762, 0.0, 0.0, 0.0, 0.0, 4.450312892752409, 1.8915178993145003, -5.801203960010585, -0.4226823213237919, -0.1521609496625161, 0.20136540080403034, 0.02265179219836082, 0.0};
-    static const double e5[13] = {0.01312004499419488, 0.0, 0.0, 0.0, 0.0, -1.2251564463762044, -0.4957589496572502, 1.6643771824549864, -0.35032884874997366, 0.3341791187130175, 0.08192320648511571, -0.022355307863886294, 0.0};
-    static const double dd[4][16] = {
-        {-8.428938276109013, 0.0, 0.0, 0.0, 0.0, 0.5667149535193777, -3.0689499459498917, 2.38466765651207, 2.117034582445028, -0.871391583777973, 2.2404374302607883, 0.6315787787694688, -0.08899033645133331, 18.148505520854727, -9.194632392478356, -4.436036387594894},
-        {10.427508642579134, 0.0, 0.0, 0.0, 0.0, 242.28349177525817, 165.20045171727028, -374.5467547226902, -22.113666853125306, 7.733432668472264, -30.674084731089398, -9.332130526430229, 15.697238121770845, -31.139403219565178, -9.35292435884448, 35.81684148639408},
-        {19.985053242002433, 0.0, 0.0, 0.0, 0.0, -387.0373087493518, -189.17813819516758, 527.8081592054236, -11.57390253995963, 6.8812326946963, -1.0006050966910838, 0.7777137798053443, -2.778205752353508, -60.19669523126412, 84.32040550667716, 11.99229113618279},
-        {-25.69393346270375, 0.0, 0.0, 0.0, 0.0, -154.18974869023643, -231.5293791760455, 357.6391179106141, 93.40532418362432, -37.45832313645163, 104.0996495089623, 29.8402934266605, -43.53345659001114, 96.32455395918828, -39.17726167561544, -149.72683625798564},
-    };
-    double k[16][6], x[6], cmp[6], y[6], dy[6], sc[6];
-    const double tend = tt[nt - 1], dir = tend >= tt[0] ? 1.0 : -1.0;
-    double t = tt[0], h, hmin, err, e3n, e5n, fac, s3, s5;
-    int i, j, s, code, next = 1, rejected = 0, fail = 0;
-    spatial3_copy_(x, X);
-    for (i = 0; i < 6; ++i) {
-        cmp[i] = 0.0;
-    }
-    if ((code = spatial3_eval_(x, u, p, k[0], st)) != 0) {
-        return code;
-    }
-    if (h0 > 0.0) {
-        h = fmin(h0, fabs(tend - t));
-    } else {
-        /* the starting step of Hairer, Norsett, Wanner II.4 (one more evaluation) */
-        double d0 = 0.0, d1 = 0.0, d2 = 0.0, h1;
-        for (i = 0; i < 6; ++i) {
-            sc[i] = atol + fabs(x[i]) * rtol;
-            d0 += (x[i] / sc[i]) * (x[i] / sc[i]);
-            d1 += (k[0][i] / sc[i]) * (k[0][i] / sc[i]);
-        }
-        d0 = sqrt(d0 / 6);
-        d1 = sqrt(d1 / 6);
-        h = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
-        h = fmin(h, fabs(tend - t));
-        for (i = 0; i < 6; ++i) {
-            y[i] = x[i] + dir * h * k[0][i];
-        }
-        if (spatial3_eval_(y, u, p, k[1], st) == 0) {
-            for (i = 0; i < 6; ++i) {
-                d2 += ((k[1][i] - k[0][i]) / sc[i]) * ((k[1][i] - k[0][i]) / sc[i]);
-            }
-            d2 = sqrt(d2 / 6) / h;
-            h1 = (d1 <= 1e-15 && d2 <= 1e-15) ? fmax(1e-6, 1e-3 * h) : pow(0.01 / fmax(d1, d2), 0.125);
-            h = fmin(fmin(100.0 * h, h1), fabs(tend - t));
-        }
-    }
-    while (next < nt) {
-        double hs, tnew;
-        if (st->n_steps + st->n_rejected >= max_steps) {
-            return SPATIAL3_TOO_MANY_STEPS;
-        }
-        hmin = 10.0 * SPATIAL3_EPS * fmax(fabs(t), 1e-300);
-        if (h < hmin) {
-            return fail ? fail : SPATIAL3_STEP_UNDERFLOW;
-        }
-        tnew = t + dir * h;
-        if (dir * (tnew - tend) >= 0.0) {
-            tnew = tend;
-        }
-        hs = tnew - t;  /* signed */
-        code = 0;
-        for (s = 1; s <= 12 && code == 0; ++s) {
-            /* stages 1-11, then s = 12: the solution y and its f (the next step's k0) */
-            spatial3_ksum_(a[s], s, k, hs, dy);
-            for (i = 0; i < 6; ++i) {
-                y[i] = x[i] + dy[i];
-            }
-            code = spatial3_eval_(y, u, p, k[s], st);
-        }
-        if (code == SPATIAL3_SINGULAR || code == SPATIAL3_NONFINITE) {
-            /* a stage left the domain: the step was too long, or the motion ends here */
-            fail = code;
-            st->n_rejected++;
-            rejected = 1;
-            h = 0.25 * fabs(hs);
-            continue;
-        }
-        if (code != 0) {
-            return code;
-        }
-        e3n = e5n = 0.0;
-        for (i = 0; i < 6; ++i) {
-            s3 = s5 = 0.0;
-            for (j = 0; j < 13; ++j) {
-                s3 += e3[j] * k[j][i];
-                s5 += e5[j] * k[j][i];
-            }
-            sc[i] = atol + rtol * fmax(fabs(x[i]), fabs(y[i]));
-            e3n += (s3 / sc[i]) * (s3 / sc[i]);
-            e5n += (s5 / sc[i]) * (s5 / sc[i]);
-        }
-        err = (e3n == 0.0 && e5n == 0.0) ? 0.0 : fabs(hs) * e5n / sqrt((e5n + 0.01 * e3n) * 6);
-        if (!(err <= 1.0)) {
-            /* rejected (also when err is NaN) */
-            st->n_rejected++;
-            rejected = 1;
-            h = fabs(hs) * (err < HUGE_VAL ? fmax(0.2, 0.9 * pow(err, -0.125)) : 0.2);
-            continue;
-        }
-        /* accepted: the output times inside the step from the dense output */
-        if (next < nt && dir * (tt[next] - tnew) < 0.0) {
-            double F[7][6];
-            int r;
-            for (s = 13; s < 16 && code == 0; ++s) {
-                spatial3_ksum_(a[s], s, k, hs, sc);
-                for (i = 0; i < 6; ++i) {
-                    sc[i] += x[i];
-                }
-                code = spatial3_eval_(sc, u, p, k[s], st);
-            }
-            if (code != 0) {
-                return code;
-            }
-            for (i = 0; i < 6; ++i) {
-                F[0][i] = dy[i];
-                F[1][i] = hs * k[0][i] - dy[i];
-                F[2][i] = 2.0 * dy[i] - hs * (k[12][i] + k[0][i]);
-            }
-            for (r = 0; r < 4; ++r) {
-                spatial3_ksum_(dd[r], 16, k, hs, F[3 + r]);
-            }
-            for (; next < nt && dir * (tt[next] - tnew) < 0.0; ++next) {
-                const double th = (tt[next] - t) / hs, th1 = 1.0 - th;
-                double *out = X + next * 6;
-                for (i = 0; i < 6; ++i) {
-                    double v = 0.0;
-                    for (r = 6; r >= 0; --r) {
-                        v = (v + F[r][i]) * ((6 - r) % 2 == 0 ? th : th1);
-                    }
-                    out[i] = x[i] + v;
-                }
-            }
-        }
-        spatial3_add_(x, cmp, dy);
-        t = tnew;
-        st->n_steps++;
-        st->t = t;
-        spatial3_copy_(st->x, x);
-        for (; next < nt && tt[next] == t; ++next) {
-            spatial3_copy_(X + next * 6, x);
-        }
-        spatial3_copy_(k[0], k[12]);
-        fac = err == 0.0 ? 10.0 : fmin(10.0, 0.9 * pow(err, -0.125));
-        h = fabs(hs) * (rejected ? fmin(1.0, fac) : fac);
-        rejected = 0;
-        fail = 0;
-    }
-    return SPATIAL3_OK;
-}
-
 int spatial3_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const spatial3_params *p,
                               double *X, spatial3_integrate_stats *stats)
@@ -2934,4 +2938,313 @@ int spatial3_integrate(int method, double t0, double t1, double h, double rtol, 
         *n_rhs = st.n_rhs;
     }
     return code;
+}
+
+/* ---------------------------------------------------------------------------------------
+ * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),
+ *   x' = f(t, x),   Phi' = A(t, x) Phi,   A = [[0, I], [dqdd/dphi, dqdd/dphidot]],
+ * A the exact derivative of the emitted phi'' (spatial3_qdd_derivatives, whose phi'' is x's rate
+ * too: one call a stage), integrated by DOP853 with one step-size control over all components,
+ * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
+ * --------------------------------------------------------------------------------------- */
+static int spatial3_eval_variational_(const double *y, const double *u, const spatial3_params *p,
+                                   double *ydot, spatial3_integrate_stats *st)
+{
+    double dq[9], dv[9];
+    const double *Phi = y + 6;
+    double *dPhi = ydot + 6;
+    int i, j, k, code;
+    st->n_rhs++;
+    if ((code = spatial3_qdd_derivatives(y, u, p, ydot + 3, dq, dv, 0)) != 0) {
+        return code;
+    }
+    for (i = 0; i < 3; ++i) {
+        ydot[i] = y[3 + i];
+    }
+    /* the upper rows: (d/dt) dphi = dphidot */
+    for (i = 0; i < 3 * 6; ++i) {
+        dPhi[i] = Phi[3 * 6 + i];
+    }
+    /* the lower rows: (d/dt) dphidot = dqdd/dphi dphi + dqdd/dphidot dphidot */
+    for (i = 0; i < 3; ++i) {
+        double *row = dPhi + (3 + i) * 6;
+        for (j = 0; j < 6; ++j) {
+            row[j] = 0.0;
+        }
+        for (k = 0; k < 3; ++k) {
+            const double a = dq[i * 3 + k], b = dv[i * 3 + k];
+            const double *top = Phi + k * 6, *bottom = Phi + (3 + k) * 6;
+            for (j = 0; j < 6; ++j) {
+                row[j] += a * top[j] + b * bottom[j];
+            }
+        }
+    }
+    return SPATIAL3_OK;
+}
+
+/* DOP853 of (x, Phi) (kernels/dop853.c) */
+/* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
+static void spatial3_add_variational_(double *x, double *cmp, const double *dx)
+{
+    int i;
+    for (i = 0; i < 42; ++i) {
+        const double y = dx[i] + cmp[i];
+        const double s = x[i] + y;
+        cmp[i] = (x[i] - s) + y;
+        x[i] = s;
+    }
+}
+
+static void spatial3_copy_variational_(double *dst, const double *src)
+{
+    int i;
+    for (i = 0; i < 42; ++i) {
+        dst[i] = src[i];
+    }
+}
+
+/* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
+static void spatial3_ksum_variational_(const double *w, int count, double k[][42], double hs, double *out)
+{
+    int i, j;
+    for (i = 0; i < 42; ++i) {
+        double acc = 0.0;
+        for (j = 0; j < count; ++j) {
+            acc += w[j] * k[j][i];
+        }
+        out[i] = hs * acc;
+    }
+}
+
+/* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
+ * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
+static int spatial3_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+                              const double *u, const spatial3_params *p, double *X,
+                              spatial3_integrate_stats *st)
+{
+    /* the stage times c_i are not needed: the model is autonomous (u constant over the call) */
+    /* a[i][j], j < i: rows 0-11 the steps' stages, 12 the solution (b; its f is the next k0),
+       13-15 the extra stages of the dense output */
+    static const double a[16][16] = {
+        {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.05260015195876773, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.0197250569845379, 0.0591751709536137, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.02958758547680685, 0.0, 0.08876275643042054, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.2413651341592667, 0.0, -0.8845494793282861, 0.924834003261792, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.037037037037037035, 0.0, 0.0, 0.17082860872947386, 0.12546768756682242, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.037109375, 0.0, 0.0, 0.17025221101954405, 0.06021653898045596, -0.017578125, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.03709200011850479, 0.0, 0.0, 0.17038392571223998, 0.10726203044637328, -0.015319437748624402, 0.008273789163814023, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.6241109587160757, 0.0, 0.0, -3.3608926294469414, -0.868219346841726, 27.59209969944671, 20.154067550477894, -43.48988418106996, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.47766253643826434, 0.0, 0.0, -2.4881146199716677, -0.590290826836843, 21.230051448181193, 15.279233632882423, -33.28821096898486, -0.020331201708508627, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {-0.9371424300859873, 0.0, 0.0, 5.186372428844064, 1.0914373489967295, -8.149787010746927, -18.52006565999696, 22.739487099350505, 2.4936055526796523, -3.0467644718982196, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {2.273310147516538, 0.0, 0.0, -10.53449546673725, -2.0008720582248625, -17.9589318631188, 27.94888452941996, -2.8589982771350235, -8.87285693353063, 12.360567175794303, 0.6433927460157636, 0.0, 0.0, 0.0, 0.0, 0.0},
+        {0.054293734116568765, 0.0, 0.0, 0.0, 0.0, 4.450312892752409, 1.8915178993145003, -5.801203960010585, 0.3111643669578199, -0.1521609496625161, 0.20136540080403034, 0.04471061572777259, 0.0, 0.0, 0.0, 0.0},
+        {0.056167502283047954, 0.0, 0.0, 0.0, 0.0, 0.0, 0.25350021021662483, -0.2462390374708025, -0.12419142326381637, 0.15329179827876568, 0.00820105229563469, 0.007567897660545699, -0.008298, 0.0, 0.0, 0.0},
+        {0.03183464816350214, 0.0, 0.0, 0.0, 0.0, 0.028300909672366776, 0.053541988307438566, -0.05492374857139099, 0.0, 0.0, -0.00010834732869724932, 0.0003825710908356584, -0.00034046500868740456, 0.1413124436746325, 0.0, 0.0},
+        {-0.42889630158379194, 0.0, 0.0, 0.0, 0.0, -4.697621415361164, 7.683421196062599, 4.06898981839711, 0.3567271874552811, 0.0, 0.0, 0.0, -0.0013990241651590145, 2.9475147891527724, -9.15095847217987, 0.0},
+    };
+    static const double e3[13] = {-0.18980075407240762, 0.0, 0.0, 0.0, 0.0, 4.450312892752409, 1.8915178993145003, -5.801203960010585, -0.4226823213237919, -0.1521609496625161, 0.20136540080403034, 0.02265179219836082, 0.0};
+    static const double e5[13] = {0.01312004499419488, 0.0, 0.0, 0.0, 0.0, -1.2251564463762044, -0.4957589496572502, 1.6643771824549864, -0.35032884874997366, 0.3341791187130175, 0.08192320648511571, -0.022355307863886294, 0.0};
+    static const double dd[4][16] = {
+        {-8.428938276109013, 0.0, 0.0, 0.0, 0.0, 0.5667149535193777, -3.0689499459498917, 2.38466765651207, 2.117034582445028, -0.871391583777973, 2.2404374302607883, 0.6315787787694688, -0.08899033645133331, 18.148505520854727, -9.194632392478356, -4.436036387594894},
+        {10.427508642579134, 0.0, 0.0, 0.0, 0.0, 242.28349177525817, 165.20045171727028, -374.5467547226902, -22.113666853125306, 7.733432668472264, -30.674084731089398, -9.332130526430229, 15.697238121770845, -31.139403219565178, -9.35292435884448, 35.81684148639408},
+        {19.985053242002433, 0.0, 0.0, 0.0, 0.0, -387.0373087493518, -189.17813819516758, 527.8081592054236, -11.57390253995963, 6.8812326946963, -1.0006050966910838, 0.7777137798053443, -2.778205752353508, -60.19669523126412, 84.32040550667716, 11.99229113618279},
+        {-25.69393346270375, 0.0, 0.0, 0.0, 0.0, -154.18974869023643, -231.5293791760455, 357.6391179106141, 93.40532418362432, -37.45832313645163, 104.0996495089623, 29.8402934266605, -43.53345659001114, 96.32455395918828, -39.17726167561544, -149.72683625798564},
+    };
+    double k[16][42], x[42], cmp[42], y[42], dy[42], sc[42];
+    const double tend = tt[nt - 1], dir = tend >= tt[0] ? 1.0 : -1.0;
+    double t = tt[0], h, hmin, err, e3n, e5n, fac, s3, s5;
+    int i, j, s, code, next = 1, rejected = 0, fail = 0;
+    spatial3_copy_variational_(x, X);
+    for (i = 0; i < 42; ++i) {
+        cmp[i] = 0.0;
+    }
+    if ((code = spatial3_eval_variational_(x, u, p, k[0], st)) != 0) {
+        return code;
+    }
+    if (h0 > 0.0) {
+        h = fmin(h0, fabs(tend - t));
+    } else {
+        /* the starting step of Hairer, Norsett, Wanner II.4 (one more evaluation) */
+        double d0 = 0.0, d1 = 0.0, d2 = 0.0, h1;
+        for (i = 0; i < 42; ++i) {
+            sc[i] = atol + fabs(x[i]) * rtol;
+            d0 += (x[i] / sc[i]) * (x[i] / sc[i]);
+            d1 += (k[0][i] / sc[i]) * (k[0][i] / sc[i]);
+        }
+        d0 = sqrt(d0 / 42);
+        d1 = sqrt(d1 / 42);
+        h = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+        h = fmin(h, fabs(tend - t));
+        for (i = 0; i < 42; ++i) {
+            y[i] = x[i] + dir * h * k[0][i];
+        }
+        if (spatial3_eval_variational_(y, u, p, k[1], st) == 0) {
+            for (i = 0; i < 42; ++i) {
+                d2 += ((k[1][i] - k[0][i]) / sc[i]) * ((k[1][i] - k[0][i]) / sc[i]);
+            }
+            d2 = sqrt(d2 / 42) / h;
+            h1 = (d1 <= 1e-15 && d2 <= 1e-15) ? fmax(1e-6, 1e-3 * h) : pow(0.01 / fmax(d1, d2), 0.125);
+            h = fmin(fmin(100.0 * h, h1), fabs(tend - t));
+        }
+    }
+    while (next < nt) {
+        double hs, tnew;
+        if (st->n_steps + st->n_rejected >= max_steps) {
+            return SPATIAL3_TOO_MANY_STEPS;
+        }
+        hmin = 10.0 * SPATIAL3_EPS * fmax(fabs(t), 1e-300);
+        if (h < hmin) {
+            return fail ? fail : SPATIAL3_STEP_UNDERFLOW;
+        }
+        tnew = t + dir * h;
+        if (dir * (tnew - tend) >= 0.0) {
+            tnew = tend;
+        }
+        hs = tnew - t;  /* signed */
+        code = 0;
+        for (s = 1; s <= 12 && code == 0; ++s) {
+            /* stages 1-11, then s = 12: the solution y and its f (the next step's k0) */
+            spatial3_ksum_variational_(a[s], s, k, hs, dy);
+            for (i = 0; i < 42; ++i) {
+                y[i] = x[i] + dy[i];
+            }
+            code = spatial3_eval_variational_(y, u, p, k[s], st);
+        }
+        if (code == SPATIAL3_SINGULAR || code == SPATIAL3_NONFINITE) {
+            /* a stage left the domain: the step was too long, or the motion ends here */
+            fail = code;
+            st->n_rejected++;
+            rejected = 1;
+            h = 0.25 * fabs(hs);
+            continue;
+        }
+        if (code != 0) {
+            return code;
+        }
+        e3n = e5n = 0.0;
+        for (i = 0; i < 42; ++i) {
+            s3 = s5 = 0.0;
+            for (j = 0; j < 13; ++j) {
+                s3 += e3[j] * k[j][i];
+                s5 += e5[j] * k[j][i];
+            }
+            sc[i] = atol + rtol * fmax(fabs(x[i]), fabs(y[i]));
+            e3n += (s3 / sc[i]) * (s3 / sc[i]);
+            e5n += (s5 / sc[i]) * (s5 / sc[i]);
+        }
+        err = (e3n == 0.0 && e5n == 0.0) ? 0.0 : fabs(hs) * e5n / sqrt((e5n + 0.01 * e3n) * 42);
+        if (!(err <= 1.0)) {
+            /* rejected (also when err is NaN) */
+            st->n_rejected++;
+            rejected = 1;
+            h = fabs(hs) * (err < HUGE_VAL ? fmax(0.2, 0.9 * pow(err, -0.125)) : 0.2);
+            continue;
+        }
+        /* accepted: the output times inside the step from the dense output */
+        if (next < nt && dir * (tt[next] - tnew) < 0.0) {
+            double F[7][42];
+            int r;
+            for (s = 13; s < 16 && code == 0; ++s) {
+                spatial3_ksum_variational_(a[s], s, k, hs, sc);
+                for (i = 0; i < 42; ++i) {
+                    sc[i] += x[i];
+                }
+                code = spatial3_eval_variational_(sc, u, p, k[s], st);
+            }
+            if (code != 0) {
+                return code;
+            }
+            for (i = 0; i < 42; ++i) {
+                F[0][i] = dy[i];
+                F[1][i] = hs * k[0][i] - dy[i];
+                F[2][i] = 2.0 * dy[i] - hs * (k[12][i] + k[0][i]);
+            }
+            for (r = 0; r < 4; ++r) {
+                spatial3_ksum_variational_(dd[r], 16, k, hs, F[3 + r]);
+            }
+            for (; next < nt && dir * (tt[next] - tnew) < 0.0; ++next) {
+                const double th = (tt[next] - t) / hs, th1 = 1.0 - th;
+                double *out = X + next * 42;
+                for (i = 0; i < 42; ++i) {
+                    double v = 0.0;
+                    for (r = 6; r >= 0; --r) {
+                        v = (v + F[r][i]) * ((6 - r) % 2 == 0 ? th : th1);
+                    }
+                    out[i] = x[i] + v;
+                }
+            }
+        }
+        spatial3_add_variational_(x, cmp, dy);
+        t = tnew;
+        st->n_steps++;
+        st->t = t;
+        for (i = 0; i < 6; ++i) {
+            st->x[i] = x[i];  /* the state: the first 6 components */
+        }
+        for (; next < nt && tt[next] == t; ++next) {
+            spatial3_copy_variational_(X + next * 42, x);
+        }
+        spatial3_copy_variational_(k[0], k[12]);
+        fac = err == 0.0 ? 10.0 : fmin(10.0, 0.9 * pow(err, -0.125));
+        h = fabs(hs) * (rejected ? fmin(1.0, fac) : fac);
+        rejected = 0;
+        fail = 0;
+    }
+    return SPATIAL3_OK;
+}
+
+
+int spatial3_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+                                const double *x0, const double *u, const spatial3_params *p,
+                                double *x1, double *Phi, spatial3_integrate_stats *stats)
+{
+    spatial3_integrate_stats local;
+    spatial3_integrate_stats *st = stats ? stats : &local;
+    double tt[2], Y[2 * 42];
+    int i, code;
+    st->t = t0;
+    st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = st->n_newton = 0;
+    for (i = 0; i < 6; ++i) {
+        st->x[i] = NAN;
+    }
+    if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
+        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        return SPATIAL3_BAD_ARGUMENT;
+    }
+    (void)p;
+    if (!spatial3_all_finite_(x0, 6) || !spatial3_all_finite_(Phi, 36)) {
+        return SPATIAL3_NONFINITE;
+    }
+    for (i = 0; i < 6; ++i) {
+        Y[i] = x0[i];
+        st->x[i] = x0[i];
+    }
+    for (i = 0; i < 36; ++i) {
+        Y[6 + i] = Phi[i];
+    }
+    code = SPATIAL3_OK;
+    if (t1 != t0) {
+        tt[0] = t0;
+        tt[1] = t1;
+        code = spatial3_dop853_variational_(2, tt, h, rtol, atol, SPATIAL3_INTEGRATE_MAX_STEPS, u, p, Y, st);
+    }
+    if (code != SPATIAL3_OK) {
+        for (i = 0; i < 6; ++i) {
+            x1[i] = st->x[i];  /* the last accepted state */
+        }
+        for (i = 0; i < 36; ++i) {
+            Phi[i] = NAN;
+        }
+        return code;
+    }
+    for (i = 0; i < 42; ++i) {
+        const double v = t1 != t0 ? Y[42 + i] : Y[i];  /* the row of t1 */
+        if (i < 6) {
+            x1[i] = v;
+        } else {
+            Phi[i - 6] = v;
+        }
+    }
+    return SPATIAL3_OK;
 }

@@ -38,6 +38,12 @@
  * function reads the time t: then ziegler_forces, _qdd, _energy and _momentum take double t first;
  * ziegler_mass_matrix never does and ziegler_rhs(t, ...) passes its t on.  ziegler_energy is
  * T - U with absolute velocities, U including the springs and constant fixed forces.
+ * ziegler_integrate_variational(t0, t1, h, rtol, atol, x0, u, p, x1, Phi, stats) integrates the state
+ * with its fundamental matrix (ZIEGLER_HAS_VARIATIONAL): x' = f(t, x), Phi' = A(t, x) Phi with A the
+ * exact Jacobian of ziegler_linearize, by DOP853 (rtol/atol over x and Phi, h the first step or 0).
+ * Phi is 2N x 2N row-major: on entry Phi(t0) (the identity for the fundamental matrix), on return
+ * Phi(t1) = dx(t1)/dx(t0) Phi(t0), the tangent map of the emitted dynamics; x1 = x(t1).  On failure x1
+ * is the last accepted state and Phi is NaN.  stats may be NULL.  Stack: about 5 KB.
  * ziegler_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
@@ -77,6 +83,7 @@ extern "C" {
 #define ZIEGLER_GAUSS2_FIXED 4
 #define ZIEGLER_GAUSS2_SYMPLECTIC 5
 #define ZIEGLER_HAS_CANONICAL 1
+#define ZIEGLER_HAS_VARIATIONAL 1
 typedef struct ziegler_params {
     double P;
 } ziegler_params;
@@ -109,6 +116,9 @@ int ziegler_integrate_grid(int method, int nt, const double *t, double h, double
 int ziegler_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const ziegler_params *p, long p_stride, double *X, int *codes);
+int ziegler_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+                               const double *x0, const double *u, const ziegler_params *p,
+                               double *x1, double *Phi, ziegler_integrate_stats *stats);
 
 #ifdef __cplusplus
 }

@@ -182,6 +182,14 @@ def _sanitized_driver(folder, spec, params, tmp_path):
         mom += (f"\n        {{ double pm[{name.upper()}_N], qd[{name.upper()}_N], pd[{name.upper()}_N];\n"
                 f"          int rc = {name}_momenta(x, p, pm) | {name}_velocities(x, pm, p, qd) | {name}_pdot(x, u, p, pd);\n"
                 f"          if (rc < 0 || rc > 3) bad |= 256; }}")
+    if f"{name.upper()}_HAS_VARIATIONAL 1" in header:
+        # the state with its fundamental matrix: any documented code is allowed
+        mom += (f"\n        if (k % 20 == 0) {{ double x1[2 * {name.upper()}_N], Phi[4 * {name.upper()}_N * {name.upper()}_N];\n"
+                f"          int rc;\n"
+                f"          for (i = 0; i < 4 * {name.upper()}_N * {name.upper()}_N; ++i) Phi[i] = (i % (2 * {name.upper()}_N + 1)) == 0;\n"
+                f"          rc = {name}_integrate_variational(0.0, 0.05, 0.0, 1e-6, 1e-6, x, u, p, x1, Phi, NULL);\n"
+                f"          rc |= {name}_integrate_variational(0.0, 0.05, 0.0, 1e-6, 1e-6, x, NULL, p, x1, NULL, NULL);\n"
+                f"          if (rc < 0 || rc > 15) bad |= 512; }}")
     quad = ""
     if "_quad_state" in (folder / f"{name}.h").read_text():
         # every quadrature entry point on random states: any documented code is allowed, the

@@ -14,8 +14,8 @@ STRICT = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-Wno-unused-
 
 
 # the flags a model sets (printers/c.py); Hamilton's variables exist only for an autonomous model
-FLAGS = [dict(HAS_PARAMS=hp, TIME_DEPENDENT=td, CANONICAL=c, NEWTON=nw)
-         for hp in (0, 1) for td in (0, 1) for c in (0, 1) for nw in (0, 1) if not (td and c)]
+FLAGS = [dict(HAS_PARAMS=hp, TIME_DEPENDENT=td, CANONICAL=c, NEWTON=nw, VARIATIONAL=v)
+         for hp in (0, 1) for td in (0, 1) for c in (0, 1) for nw in (0, 1) for v in (0, 1) if not (td and c)]
 
 
 @pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (apt-get install gcc)")

@@ -34,10 +34,11 @@ def test_an_unknown_flag_or_part_is_an_error():
         kernels.specialise("quad.c", "arm", {"HAS_PARAMS": True}, {})
 
 
-def _integrators(time_dependent: bool, canonical: bool) -> str:
-    values = dict(N=3, DIM=6, NN=9, DIM2=36, OPS_QDD=11, OPS_QDD_DERIVATIVES=12, OPS_VELOCITIES=13, OPS_PDOT=14,
+def _integrators(time_dependent: bool, canonical: bool, variational: bool = True) -> str:
+    values = dict(N=3, DIM=6, NN=9, DIM2=36, VDIM=42, OPS_QDD=11, OPS_QDD_DERIVATIVES=12, OPS_VELOCITIES=13, OPS_PDOT=14,
                   OPS_CANONICAL=27, NEWTON_SWEEPS=5, NEWTON_SWEEPS_CANONICAL=6, **{"2DIM": 12, "4DIM2": 144})
-    flags = dict(NEWTON=True, CANONICAL=canonical, CANONICAL_NEWTON=canonical, TIME_DEPENDENT=time_dependent, HAS_PARAMS=False)
+    flags = dict(NEWTON=True, CANONICAL=canonical, CANONICAL_NEWTON=canonical, TIME_DEPENDENT=time_dependent, HAS_PARAMS=False,
+                 VARIATIONAL=variational)
     return kernels.specialise("integrate.c", "arm", flags, {}, values, time_dependent)
 
 
@@ -50,3 +51,19 @@ def test_the_integrators_take_the_models_numbers_and_time():
     assert "static int arm_rk4_step_(double t0, const double *x, double h," in timed
     assert "arm_eval_canonical_" in auto and "arm_eval_canonical_" not in timed
     assert "27 ops against GAUSS2's 11." in auto
+
+
+def test_dop853_is_printed_once_per_system():
+    """kernels/dop853.c is instantiated for the state (6 components) and, where the model has the
+    variational equations, for the state with its fundamental matrix (6 + 36 = 42), its names and
+    dimension spelled out: no SYS_/sys_ name and no #include is left (the defines that named them are gone)."""
+    both, one = _integrators(True, False), _integrators(False, True, variational=False)
+    for body in (both, one):
+        assert "SYS_" not in body and "sys_" not in body and "#include" not in body
+        assert "static int arm_dop853_(int nt," in body and "double k[][6]" in body
+    assert "static int arm_dop853_variational_(int nt," in both and "double k[][42]" in both
+    assert "arm_eval_variational_(t, y, u, p, k[0], st)" not in both  # the stage calls read t + c h
+    assert "arm_eval_variational_(t, x, u, p, k[0], st)" in both
+    assert "variational" not in one
+    with pytest.raises(ValueError):
+        kernels._instances(['#include "dop853.c"\n'])
