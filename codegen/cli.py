@@ -133,7 +133,9 @@ def cmd_steady(args) -> int:
     starts = [_floats(s, "--start", spec.n) for s in args.start or []]
     try:
         omegas = steady.parse_range(args.omega) if args.omega else None
-        an, eqs, branches, omegas = steady.analyze(spec, params or None, u, omegas, starts, rotations=not args.no_rotations)
+        vary = steady.parse_vary(args.vary, spec) if args.vary else None
+        an, eqs, branches, omegas = steady.analyze(spec, params or None, u, omegas, starts, rotations=not args.no_rotations,
+                                                   period=args.period, vary=vary)
     except steady.SteadyError as exc:
         what, _, why = str(exc).partition(": ")
         raise SpecError(what, why) from None
@@ -332,6 +334,10 @@ def main(argv=None) -> int:
     st.add_argument("--omega", default="", help="a:b:N grid of the rotation rate phidot1 (default: from the equilibria)")
     st.add_argument("--start", action="append", help="an extra Newton start phi1,...,phin")
     st.add_argument("--no-rotations", action="store_true", help="equilibria only")
+    st.add_argument("--period", type=float, default=None, help="the period of a model that depends on t "
+                    "(default: from the spec's sines and cosines of t)")
+    st.add_argument("--vary", default="", help="name=a:b:N: a model that depends on t, its equilibria continued over a "
+                    "parameter, where the Floquet verdict changes")
     sw = sub.add_parser("sweep", help="integrate a grid or random samples of initial states/parameters into a Zarr store")
     sw.add_argument("spec")
     sw.add_argument("--vary", action="append", help="name=lo:hi:count (grid; name phiK, phidotK or a parameter) or name=lo:hi with --random")

@@ -28,12 +28,13 @@ NAME_mass_matrix); nothing is differenced.
 """
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
 
-STARTS = "every combination of 0, pi/2, pi, -pi/2 per free coordinate (n_free <= 4); beyond that 0 and pi per coordinate (at most 256) and 32 random points (seed 0)"
+from . import floquet
+from .floquet import STARTS, start_grid, verdict_segments
+from .floquet import wrap as _wrap
 
 
 class SteadyError(ValueError):
@@ -58,12 +59,6 @@ class Branch:
 
     points: list = field(default_factory=list)
     changes: list = field(default_factory=list)
-
-
-def _wrap(phi):
-    """Angles in (−π, π]."""
-    r = (np.asarray(phi, float) + np.pi) % (2 * np.pi) - np.pi
-    return np.where(r <= -np.pi + 1e-12, r + 2 * np.pi, r)
 
 
 TIME_DEPENDENT = "steady: the model depends on t (a moving platform or a load of t): it has no steady motions in this sense"
@@ -168,13 +163,8 @@ class Analysis:
         return phi if np.max(np.abs(r)) <= 1e3 * tol * scale else None
 
     def starts(self, extra=()):
-        nf = self.n - 1 if self.cyclic else self.n
-        if nf <= 4:
-            grid = [list(c) for c in itertools.product((0.0, np.pi / 2, np.pi, -np.pi / 2), repeat=nf)]
-        else:
-            grid = [list(c) for c in itertools.islice(itertools.product((0.0, np.pi), repeat=nf), 256)]
-            grid += [list(r) for r in np.random.default_rng(0).uniform(-np.pi, np.pi, (32, nf))]
         pre = [0.0] if self.cyclic else []
+        grid = start_grid(self.n - 1 if self.cyclic else self.n)
         return [np.array(pre + g) for g in grid] + [np.asarray(e, float) for e in extra]
 
     # ---- the linearisation and the verdict
@@ -324,7 +314,12 @@ def _fmt_ev(ev) -> str:
     return ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" if abs(z.imag) > 0 else f"{z.real:.4g}" for z in ev)
 
 
-def report(an: Analysis, eqs, branches=None, omegas=None) -> str:
+def report(an, eqs, branches=None, omegas=None) -> str:
+    """The printed analysis: of an autonomous model (Analysis: equilibria, steady rotations), or of
+    a time-periodic one (floquet.DrivenAnalysis: ``branches`` are then its continuations along
+    ``--vary`` and ``omegas`` their values)."""
+    if isinstance(an, floquet.DrivenAnalysis):
+        return floquet.report(an, eqs, branches, omegas)
     out = []
     n = an.n
     cyc = " (phi1 is cyclic: any phi1; phi1 = 0 shown)" if an.cyclic else ""
@@ -337,15 +332,7 @@ def report(an: Analysis, eqs, branches=None, omegas=None) -> str:
         for i, br in enumerate(branches, 1):
             a, b = br.points[0], br.points[-1]
             out.append(f"  branch {i}: omega {a.omega:.6g} .. {b.omega:.6g}, phi from {_fmt_phi(a.phi)} to {_fmt_phi(b.phi)}")
-            segs, cur = [], br.points[0]
-            for p in br.points[1:]:
-                if p.verdict != cur.verdict:
-                    segs.append(cur)
-                    cur = p
-            segs.append(cur)
-            ends = [f"{q.omega:.6g})" for q in segs[1:]] + [f"{b.omega:.6g}]"]
-            for p, end in zip(segs, ends):
-                out.append(f"    omega in [{p.omega:.6g}, {end} on the grid: {p.verdict}: {p.reason}")
+            out += ["    " + ln for ln in verdict_segments([(p.omega, p.verdict, p.reason) for p in br.points], "omega")]
             for w, v1, v2 in br.changes:
                 out.append(f"    verdict changes at omega = {w:.10g}: {v1} -> {v2}")
     return "\n".join(out)
@@ -359,37 +346,66 @@ def default_omegas(an: Analysis, eqs) -> np.ndarray:
     return np.linspace(-top, top, 161)
 
 
-def parse_range(text: str) -> np.ndarray:
+def parse_range(text: str, what: str = "--omega", example: str = "-20:20:81") -> np.ndarray:
     """``a:b:N`` (N values from a to b, N ≥ 2, a < b)."""
     try:
         a, b, count = text.split(":")
         a, b, count = float(a), float(b), int(count)
     except ValueError:
-        raise SteadyError("--omega: expected a:b:N, for example -20:20:81") from None
+        raise SteadyError(f"{what}: expected a:b:N, for example {example}") from None
     if not (np.isfinite(a) and np.isfinite(b) and a < b and count >= 2):
-        raise SteadyError("--omega: expected finite a < b and N >= 2")
+        raise SteadyError(f"{what}: expected finite a < b and N >= 2")
     return np.linspace(a, b, count)
 
 
-def compile_spec(spec):
-    """The spec's compiled model and its derivation (pipeline.compiled): (CModel, assemble.Model)."""
+def parse_vary(text: str, spec) -> tuple[str, np.ndarray]:
+    """``--vary name=a:b:N``: a symbolic parameter of the spec and its grid."""
+    name, eq, rng = text.partition("=")
+    name = name.strip()
+    if not eq or not name:
+        raise SteadyError("--vary: expected name=a:b:N, for example a=0:0.03:61")
+    names = [str(p) for p in spec.params]
+    if name not in names:
+        from .errors import did_you_mean
+
+        raise SteadyError(f"--vary {name}: not a symbolic parameter of the spec ({did_you_mean(name, names)}"
+                          + (f"its parameters: {', '.join(names)})" if names else "it has none)"))
+    return name, parse_range(rng, f"--vary {name}", "0:0.03:61")
+
+
+def compile_spec(spec, driven_ok: bool = False):
+    """The spec's compiled model and its derivation (pipeline.compiled): (CModel, assemble.Model).
+    A model that depends on t is refused unless ``driven_ok``."""
     from . import pipeline
     from .assemble import time_dependent
 
     cm, model = pipeline.compiled(spec)
-    if time_dependent(model):
+    if time_dependent(model) and not driven_ok:
         raise SteadyError(TIME_DEPENDENT)
     return cm, model
 
 
-def analyze(spec, params=None, u=None, omegas=None, starts=(), rotations: bool = True):
+def analyze(spec, params=None, u=None, omegas=None, starts=(), rotations: bool = True, period: float | None = None,
+            vary: tuple | None = None):
     """Find and classify the spec's steady motions: (Analysis, equilibria, branches or None,
-    ω grid or None)."""
+    ω grid or None).  A model that depends on t periodically gets its equilibria for all t and
+    their Floquet verdicts instead (floquet.DrivenAnalysis, equilibria, the continuations along
+    ``vary`` = (name, values) or None, the values); ``period`` replaces the spec's period."""
+    from .assemble import time_dependent
+
     for s in starts:
         if len(s) != spec.n or not np.all(np.isfinite(s)):
             raise SteadyError(f"--start: expected {spec.n} finite numbers")
     check_inputs(spec, params, u)
-    cm, model = compile_spec(spec)
+    cm, model = compile_spec(spec, driven_ok=True)
+    if time_dependent(model):
+        if omegas is not None:
+            raise SteadyError("--omega: the model depends on t: it has no steady rotations (its equilibria for all t are analysed)")
+        return _analyze_driven(cm, model, params, u, starts, period, vary)
+    if period is not None:
+        raise SteadyError("--period: the model does not depend on t")
+    if vary is not None:
+        raise SteadyError("--vary: only for a model that depends on t (steady rotations take --omega)")
     an = Analysis(cm, model, params, u)
     eqs = an.equilibria(starts)
     branches = None
@@ -397,3 +413,26 @@ def analyze(spec, params=None, u=None, omegas=None, starts=(), rotations: bool =
         omegas = default_omegas(an, eqs) if omegas is None else omegas
         branches = an.rotations(omegas, starts)
     return an, eqs, branches, omegas
+
+
+def _analyze_driven(cm, model, params, u, starts, period, vary):
+    from .errors import SpecError
+
+    if u is None and model.spec.controls:
+        u = np.zeros(len(model.spec.controls))
+    try:
+        an = floquet.DrivenAnalysis(cm, model, params, u, period)
+        eqs = an.equilibria()
+        for s in starts:  # a start the user gives must lead to an equilibrium that persists
+            phi = an.solve(s)
+            if phi is None:
+                raise SteadyError(f"--start {','.join(f'{v:g}' for v in s)}: no equilibrium that persists for all t was "
+                                  "found from it (phi'' = 0 at every t of a period)")
+            if not any(np.max(np.abs(_wrap(_wrap(phi) - e.phi))) < 1e-7 for e in eqs):
+                eqs.append(an.classify(_wrap(phi)))
+        continued = [an.along(vary[0], vary[1], e) for e in eqs] if vary else None
+    except SpecError as exc:
+        raise SteadyError(f"{exc.field}: {exc.message}") from None
+    except ArithmeticError as exc:  # the integration of a period failed (codegen.build.IntegrationError)
+        raise SteadyError(f"steady: the variational equations over a period did not integrate: {exc}") from None
+    return an, eqs, continued, (vary[1] if vary else None)

@@ -108,6 +108,8 @@ int kapitza_forces(double t, const double *x, const double *u, const kapitza_par
         return KAPITZA_NO_PARAMS;
     }
 
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
+
     if (!kapitza_all_finite_(x, 2)) {
         return KAPITZA_NONFINITE;
     }
@@ -136,6 +138,8 @@ int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params
     if (!p) {
         return KAPITZA_NO_PARAMS;
     }
+
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     if (!kapitza_all_finite_(x, 2)) {
         return KAPITZA_NONFINITE;
@@ -302,6 +306,8 @@ double kapitza_energy(double t, const double *x, const kapitza_params *p)
     if (!p) {
         return NAN;
     }
+
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     {
         const double pe1 = cos(t*p->w);

@@ -118,6 +118,8 @@ int ship_gimbal_forces(double t, const double *x, const double *u, const ship_gi
 {
     (void)p;
 
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
+
     if (!ship_gimbal_all_finite_(x, 4)) {
         return SHIP_GIMBAL_NONFINITE;
     }
@@ -184,6 +186,8 @@ int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimba
     double piv[2];
     int i, code;
     (void)p;
+
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     if (!ship_gimbal_all_finite_(x, 4)) {
         return SHIP_GIMBAL_NONFINITE;
@@ -540,6 +544,8 @@ double ship_gimbal_energy(double t, const double *x, const ship_gimbal_params *p
     double result;
     (void)p;
 
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
+
     {
         const double pe1 = cos(0.2*sin(0.5*t));
         const double pe2 = cos(0.08*sin(0.7*t + 1.0));
@@ -582,6 +588,8 @@ double ship_gimbal_momentum(double t, const double *x, const ship_gimbal_params 
 {
     double result;
     (void)p;
+
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     {
         const double pe1 = cos(0.2*sin(0.5*t));

@@ -343,3 +343,17 @@ def test_parts_compile_warning_free(cut_models, cc, flags, tmp_path):
 def test_parts_sanitizers_clean(cut_models, tmp_path):
     spec, folder, *_ = cut_models
     _sanitized_driver(folder, spec, None, tmp_path)
+
+
+@pytest.mark.parametrize("cc,flags", COMPILERS, ids=[c for c, _ in COMPILERS])
+def test_a_uniformly_moving_platform_compiles_warning_free(make_model, cc, flags, tmp_path):
+    """A platform moving at constant velocity: the energy reads t, the equations of motion do not
+    (NAME_TIME_DEPENDENT 1 all the same): their unused t is no warning."""
+    if not shutil.which(cc):
+        pytest.skip(f"{cc} is not installed")
+    text = (ROOT / "specs" / "kapitza.toml").read_text().replace('position = ["a*cos(w*t)", 0, 0]', 'position = ["a*w*t", 0, 0]')
+    model = make_model(text.replace('name = "kapitza"', 'name = "drift"'), example_params("kapitza"))
+    src = model.folder / "drift.c"
+    assert "DRIFT_TIME_DEPENDENT 1" in (model.folder / "drift.h").read_text()
+    res = _run([cc, *flags, *STRICT, "-O2", "-c", str(src), "-o", str(tmp_path / "m.o")])
+    assert res.returncode == 0 and not res.stderr, res.stderr

@@ -144,7 +144,10 @@ def test_cli_output_and_bad_input():
     assert res.returncode == 0, res.stderr
     assert "equilibria: 4 found" in res.stdout and res.stdout.count("unstable") == 3
     for args, field in ((("specs/furuta.toml", "--u", "1,2"), "--u"), (("specs/double_pendulum.toml", "--start", "0,nan"), "--start"),
-                        (("specs/kapitza.toml", "--param", "a=0.01", "--param", "w=200"), "steady"),
+                        (("specs/kapitza.toml", "--period", "0.01"), "--period"),
+                        (("specs/kapitza.toml", "--omega", "0:1:3"), "--omega"),
+                        (("specs/kapitza.toml", "--vary", "b=0:1:3"), "--vary b"),
+                        (("specs/gimbal.toml", "--vary", "a=0:1:3"), "--vary a"),
                         (("specs/gimbal.toml", "--omega", "5:1:3"), "--omega"),
                         (("specs/furuta_sym.toml", "--u", "0", "--param", "m2=-1"), "body[2].m"),
                         (("specs/furuta_sym.toml", "--param", "m=1"), "--param m")):
