@@ -107,7 +107,6 @@ int kapitza_forces(double t, const double *x, const double *u, const kapitza_par
     if (!p) {
         return KAPITZA_NO_PARAMS;
     }
-
     (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     if (!kapitza_all_finite_(x, 2)) {
@@ -138,7 +137,6 @@ int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params
     if (!p) {
         return KAPITZA_NO_PARAMS;
     }
-
     (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     if (!kapitza_all_finite_(x, 2)) {
@@ -306,7 +304,6 @@ double kapitza_energy(double t, const double *x, const kapitza_params *p)
     if (!p) {
         return NAN;
     }
-
     (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     {

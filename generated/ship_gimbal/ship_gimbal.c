@@ -117,7 +117,6 @@ int ship_gimbal_mass_matrix(const double *q, const ship_gimbal_params *p, double
 int ship_gimbal_forces(double t, const double *x, const double *u, const ship_gimbal_params *p, double *f)
 {
     (void)p;
-
     (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     if (!ship_gimbal_all_finite_(x, 4)) {
@@ -186,7 +185,6 @@ int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimba
     double piv[2];
     int i, code;
     (void)p;
-
     (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     if (!ship_gimbal_all_finite_(x, 4)) {
@@ -543,7 +541,6 @@ double ship_gimbal_energy(double t, const double *x, const ship_gimbal_params *p
 {
     double result;
     (void)p;
-
     (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     {
@@ -588,7 +585,6 @@ double ship_gimbal_momentum(double t, const double *x, const ship_gimbal_params 
 {
     double result;
     (void)p;
-
     (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     {
