@@ -2,7 +2,7 @@
 
     trajectory  the emitted C's DOP853 with dense output at the frame times (``motion``), or a
                 saved trajectory: a CSV as ``simulate`` prints it (``read_csv``) or a point of a
-                sweep store (``sweep.point``)
+                sweep store (``sweep_point``)
     scene       the spec's geometry at every frame (``scene.build``)
     picture     ``raster.Raster`` paints the primitives with Pillow (2× supersampled), ``write_gif`` /
                 ``write_mp4`` / ``write_png`` encode; ``write_html`` puts the primitives, the
@@ -297,7 +297,7 @@ def _motion_of(source, phi, phidot, u, params, t1, at) -> tuple:
     if isinstance(source, (str, Path)) and Path(source).is_dir():  # a sweep store: its spec, state, parameters
         if phi is not None or phidot is not None or params or u is not None:
             raise SpecError("--at", "the state, parameters and torques come from the sweep's point; drop --phi/--phidot/--param/--u")
-        pt = sweep.point(source, at)
+        pt = sweep_point(source, at)
         spec = parse_spec(pt["spec_text"])
         description = f"{spec.description} (sweep {Path(source).name}: {pt['label']})"
         return spec, list(pt["x0"]), pt["u"] or None, pt["params"], t1 if t1 is not None else pt["t1"], description, pt["note"]
@@ -421,3 +421,60 @@ def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=Non
             {".gif": lambda: write_gif(raster, out.tmp, fps), ".png": lambda: write_png(raster, out.tmp),
              ".mp4": lambda: write_mp4(raster, out.tmp, fps)}[out.ext]()
     return dict(path=out.path, times=times, bytes=out.path.stat().st_size, note=note)
+
+
+def sweep_point(store: str | Path, at: str) -> dict:
+    """One point of a sweep store, to be seen again: the spec text, the initial state, the
+    parameters and torques, and the sweep's t1.  ``at`` is ``name=value,…`` for every varied name
+    of a grid (the nearest grid value is taken) or the sample's index of a --random sweep."""
+    from . import sweep
+
+    attrs = sweep.stored_attrs(store)
+    if attrs is None:
+        raise SpecError("SPEC", f"{store} is neither a spec file nor a sweep store")
+    args = dict(attrs["args"])
+    args["vary"] = [tuple(v) for v in args["vary"]]
+    plan = sweep.Plan(sweep.Sweep(spec_text=attrs["spec"], **args))
+    names = plan.names
+    if not at:
+        raise SpecError("--at", f"which point of the sweep? give {'an index 0..' + str(plan.shape[0] - 1) if plan.points is not None else ','.join(f'{nm}=VALUE' for nm in names)}")
+    if plan.points is not None:
+        try:
+            i = int(at)
+        except ValueError:
+            raise SpecError("--at", f"{at!r}: a --random sweep's points are numbered 0..{plan.shape[0] - 1}") from None
+        if not 0 <= i < plan.shape[0]:
+            raise SpecError("--at", f"{i}: a --random sweep's points are numbered 0..{plan.shape[0] - 1}")
+        values = plan.points[i]
+        label, note = f"sample {i}", ""
+    else:
+        want = {}
+        for item in at.split(","):
+            nm, eq, val = item.partition("=")
+            nm = nm.strip()
+            if not eq or nm not in names:
+                raise SpecError("--at", f"{item!r}: expected name=value with name one of {', '.join(names)}")
+            try:
+                want[nm] = float(val)
+            except ValueError:
+                raise SpecError("--at", f"{item!r}: the value is not a number") from None
+        missing = [nm for nm in names if nm not in want]
+        if missing:
+            raise SpecError("--at", f"no value for the varied {missing[0]}")
+        values, snapped = [], []
+        for j, nm in enumerate(names):
+            axis = plan.axes[j]
+            lo, hi = min(axis[0], axis[-1]), max(axis[0], axis[-1])
+            step = abs(axis[1] - axis[0]) if len(axis) > 1 else 0.0
+            if not (lo - 0.5 * step - 1e-12 * max(1.0, abs(lo)) <= want[nm] <= hi + 0.5 * step + 1e-12 * max(1.0, abs(hi))):
+                raise SpecError("--at", f"{nm}={want[nm]:g} is outside the sweep's grid ({nm} from {axis[0]:g} to {axis[-1]:g})")
+            v = float(axis[int(np.argmin(np.abs(axis - want[nm])))])
+            if abs(v - want[nm]) > 1e-9 * max(1.0, abs(v)):
+                snapped.append(f"{nm}={want[nm]:g} → {v:.6g}")
+            values.append(v)
+        values = np.array(values)
+        label = ", ".join(f"{nm} = {v:.6g}" for nm, v in zip(names, values))
+        note = ("--at: not a point of the grid; the nearest one is shown (" + ", ".join(snapped) + ")") if snapped else ""
+    x0 = sweep.start_states(plan, np.asarray(values, float)[None, :])[0]
+    params = dict(plan.params, **{nm: float(values[j]) for j, nm in enumerate(names) if nm in plan.param_names})
+    return dict(spec_text=attrs["spec"], x0=x0, params=params, u=list(plan.sweep.u), t1=plan.sweep.t1, label=label, note=note)

@@ -1,8 +1,8 @@
 """The equations of compound spatial pendulums: derived from a spec, emitted as C, Python and LaTeX, and run.
 
-The command line ``gyrochain {generate,check,simulate,steady,sweep,animate} SPEC`` and ``gyrochain
+The command line ``gyrochain {generate,check,simulate,steady,orbits,sweep,animate} SPEC`` and ``gyrochain
 plot STORE`` (``python -m codegen`` is the same).  This module parses arguments and prints; every command is a library function it calls
-(generate.run, simulate.run, steady.analyze, sweep.run, plot.store, animate.render).  A bad
+(generate.run, simulate.run, steady.analyze, orbits.analyze, sweep.run, plot.store, animate.render).  A bad
 input gets one line on stderr naming the field, exit status 2, and nothing written.
 """
 from __future__ import annotations
@@ -141,6 +141,33 @@ def cmd_steady(args) -> int:
         raise SpecError(what, why) from None
     print(f"{spec.name}: n = {spec.n}" + (f", u = {u}" if u else "") + (f", {params}" if params else ""))
     print(steady.report(an, eqs, branches, omegas))
+    return 0
+
+
+def cmd_orbits(args) -> int:
+    """Periodic orbits of an autonomous spec: nonlinear normal modes, steady rotations as orbits."""
+    from . import orbits, steady
+
+    spec = load_spec(args.spec)
+    params = run_values(spec, _params_of(args.param))
+    u = torques(spec, _float_list(args.u, "--u"))
+    at = _floats(args.at, "--at", spec.n) if args.at else None
+    try:
+        energies = steady.parse_range(args.energy, "--energy", "0.1:5:20") if args.energy else None
+        if energies is not None and energies[0] <= 0:
+            raise steady.SteadyError("--energy: the energies above the equilibrium's must be positive")
+        vary = steady.parse_vary(args.vary, spec) if args.vary else None
+        omegas = None
+        if args.omega:
+            omegas = (steady.parse_range(args.omega, "--omega", "1:10:10") if ":" in args.omega
+                      else np.array(_floats(args.omega, "--omega", 1)))
+    except steady.SteadyError as exc:
+        what, _, why = str(exc).partition(": ")
+        raise SpecError(what, why) from None
+    modes = [int(m) for m in args.mode] if args.mode else None
+    families = orbits.analyze(spec, params or None, u, at, energies, modes, vary, omegas)
+    print(f"{spec.name}: n = {spec.n}" + (f", {params}" if params else ""))
+    print(orbits.report(families))
     return 0
 
 
@@ -338,13 +365,27 @@ def main(argv=None) -> int:
                     "(default: from the spec's sines and cosines of t)")
     st.add_argument("--vary", default="", help="name=a:b:N: a model that depends on t, its equilibria continued over a "
                     "parameter, where the Floquet verdict changes")
+    ob = sub.add_parser("orbits", help="periodic orbits of an autonomous spec (nonlinear normal modes, steady rotations) "
+                        "by shooting, with their Floquet multipliers")
+    ob.add_argument("spec")
+    ob.add_argument("--at", default="", help="the stable equilibrium phi1,...,phin (default: the one of least energy)")
+    ob.add_argument("--energy", default="", help="a:b:N energies above the equilibrium's (J; default: 20 up to half the "
+                    "lowest barrier)")
+    ob.add_argument("--mode", action="append", type=int, help="the linear mode to continue, 1 = the slowest (repeatable; "
+                    "default all)")
+    ob.add_argument("--vary", default="", help="name=a:b:N: continue over a parameter at the first energy instead")
+    ob.add_argument("--omega", default="", help="W or a:b:N: the steady rotations phidot1 = W as periodic orbits "
+                    "(phi1 cyclic)")
+    ob.add_argument("--u", default="", help="constant torques of the controlled joints (default 0)")
+    ob.add_argument("--param", action="append", help="name=value for a symbolic parameter")
     sw = sub.add_parser("sweep", help="integrate a grid or random samples of initial states/parameters into a Zarr store")
     sw.add_argument("spec")
     sw.add_argument("--vary", action="append", help="name=lo:hi:count (grid; name phiK, phidotK or a parameter) or name=lo:hi with --random")
     sw.add_argument("--random", type=int, default=0, help="that many uniform random samples in the box of the --vary ranges")
     sw.add_argument("--seed", type=int, default=0, help="seed of --random")
     sw.add_argument("--t1", type=float, default=10.0, help="end time of every trajectory (s)")
-    sw.add_argument("--measure", action="append", help="final | flip_time | energy_error | lyapunov (repeatable; default final)")
+    sw.add_argument("--measure", action="append", help="final | flip_time | energy_error | lyapunov | lyapunov_spectrum | "
+                    "floquet (repeatable; default final)")
     sw.add_argument("--method", default="dop853", help="rk4 | dop853 | gauss2")
     sw.add_argument("--h", type=float, default=0.0, help="step of rk4/gauss2 (first step of dop853, 0: automatic)")
     sw.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance of dop853")
@@ -354,7 +395,8 @@ def main(argv=None) -> int:
     sw.add_argument("--angles", default="auto", help="flip_time watches the links' absolute angles phi1+..+phiK (absolute; "
                                                      "planar chains), the joint angles (relative), or auto: absolute where "
                                                      "the chain is planar")
-    sw.add_argument("--lyap-interval", type=float, default=0.1, help="renormalisation interval of the Lyapunov exponent (s)")
+    sw.add_argument("--lyap-interval", type=float, default=0.1, help="renormalisation interval of the Lyapunov exponent "
+                    "and of lyapunov_spectrum's QR (s)")
     sw.add_argument("--phi", default="", help="the coordinates that are not varied (default: the spec's initial or 0)")
     sw.add_argument("--phidot", default="", help="the rates that are not varied")
     sw.add_argument("--u", default="", help="constant torques of the controlled joints")
@@ -399,7 +441,7 @@ def main(argv=None) -> int:
         sub.choices[args.cmd].error(_unrecognized(extra, sub.choices[args.cmd]))
     try:
         return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
-                "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate}[args.cmd](args)
+                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate}[args.cmd](args)
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT

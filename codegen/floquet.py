@@ -154,6 +154,55 @@ def check_period(cm, T: float, params, u, what: str = "--period") -> None:
 
 
 # --------------------------------------------------------------------------- equilibria and multipliers
+def _residual(cm, phi, times, params, u):
+    """φ̈(φ, 0, t) at each of ``times``, stacked, and ∂φ̈/∂φ there, stacked."""
+    x = np.concatenate([phi, np.zeros(cm.n)])
+    rows, jac = [], []
+    for t in times:
+        q, dq, _, _ = cm.qdd_derivatives(x, u, params, t=t)
+        rows.append(q)
+        jac.append(dq)
+    return np.concatenate(rows), np.vstack(jac)
+
+
+def equilibrium(cm, start, times=(0.0,), params=None, u=None, cyclic: bool = False, tol: float = 1e-12,
+                iters: int = 60):
+    """Gauss–Newton (least squares, with backtracking) for φ̈(φ, 0, t) = 0 at every t of ``times``
+    (one time for an autonomous model), from ``start``; φ¹ held at 0 when it is cyclic.  Returns
+    (φ, the scale of ∂φ̈/∂φ) or None when it does not converge."""
+    free = list(range(1, cm.n)) if cyclic else list(range(cm.n))
+    phi = np.array(start, float)
+    if cyclic:
+        phi[0] = 0.0
+    try:
+        r, J = _residual(cm, phi, times, params, u)
+    except ArithmeticError:
+        return None
+    scale = max(1.0, np.max(np.abs(J)))
+    for _ in range(iters):
+        if np.max(np.abs(r)) <= tol * scale or not free:
+            break
+        step = np.linalg.lstsq(J[:, free], -r, rcond=None)[0]
+        lam = 1.0
+        while lam > 1e-4:
+            trial = phi.copy()
+            trial[free] += lam * step
+            try:
+                r2, J2 = _residual(cm, trial, times, params, u)
+            except ArithmeticError:
+                lam /= 2
+                continue
+            if np.max(np.abs(r2)) < np.max(np.abs(r)):
+                break
+            lam /= 2
+        else:
+            return None
+        phi, r, J = trial, r2, J2
+    if np.max(np.abs(r)) > 1e3 * tol * scale:
+        return None
+    return phi, scale
+
+
 @dataclass
 class Driven:
     """An equilibrium that persists for all t and its Floquet analysis at one parameter set."""
@@ -249,56 +298,20 @@ class DrivenAnalysis:
                 return False
         return True
 
-    def _residual(self, phi, times):
-        n = self.n
-        x = np.concatenate([phi, np.zeros(n)])
-        rows, jac = [], []
-        for t in times:
-            q, dq, _, _ = self.c.qdd_derivatives(x, self.u, self.params, t=t)
-            rows.append(q)
-            jac.append(dq)
-        return np.concatenate(rows), np.vstack(jac)
-
     def solve(self, start, tol: float = 1e-12, iters: int = 60):
-        """Gauss–Newton (with backtracking) for φ̈(φ, 0, t) = 0 at the sample times; the φ found,
-        or None when it does not converge or the equilibrium does not persist at other times."""
-        free = list(range(1, self.n)) if self.cyclic else list(range(self.n))
-        phi = np.array(start, float)
-        if self.cyclic:
-            phi[0] = 0.0
-        try:
-            r, J = self._residual(phi, self.times)
-        except ArithmeticError:
+        """φ with φ̈(φ, 0, t) = 0 at the sample times (``equilibrium``), or None when Newton does
+        not converge or the equilibrium does not persist at other times."""
+        got = equilibrium(self.c, start, self.times, self.params, self.u, self.cyclic, tol, iters)
+        if got is None:
             return None
-        scale = max(1.0, np.max(np.abs(J)))
-        for _ in range(iters):
-            if np.max(np.abs(r)) <= tol * scale:
-                break
-            step = np.linalg.lstsq(J[:, free], -r, rcond=None)[0]
-            lam = 1.0
-            while lam > 1e-4:
-                trial = phi.copy()
-                trial[free] += lam * step
-                try:
-                    r2, J2 = self._residual(trial, self.times)
-                except ArithmeticError:
-                    lam /= 2
-                    continue
-                if np.max(np.abs(r2)) < np.max(np.abs(r)):
-                    break
-                lam /= 2
-            else:
-                return None
-            phi, r, J = trial, r2, J2
-        if np.max(np.abs(r)) > 1e3 * tol * scale:
-            return None
+        phi, scale = got
         return phi if self.persists(phi, scale) else None
 
     def persists(self, phi, scale: float = 1.0) -> bool:
         """φ̈(φ, 0, t) = 0 at CHECKS random times of a period too (to 1e-9 of ``scale``)."""
         times = np.random.default_rng(2).uniform(0.0, self.period, CHECKS)
         try:
-            r, _ = self._residual(phi, times)
+            r, _ = _residual(self.c, phi, times, self.params, self.u)
         except ArithmeticError:
             return False
         return bool(np.max(np.abs(r)) <= 1e-9 * scale)
@@ -414,3 +427,57 @@ def report(an: DrivenAnalysis, eqs: list[Driven], continued: list[Continued] | N
 
 def _fmt_phi(phi) -> str:
     return "[" + ", ".join(f"{v:.9g}" for v in phi) + "]"
+
+
+# --------------------------------------------------------------------------- a sweep's measure
+def largest_multiplier(cm, model, x, params, u=None, cyclic: bool = False, what: str = "--measure floquet") -> float:
+    """max |μ| of the equilibrium state x (φ̇ = 0) at the parameters ``params`` over the period the
+    spec's expressions give there; NaN where x is not an equilibrium for all t at these values (φ̈
+    not 0, to 1e-9 of the scale of ∂φ̈/∂φ, at SAMPLES times of the period)."""
+    T, _ = time_period(model, params, what)
+    n = cm.n
+    for t in T * np.arange(SAMPLES) / SAMPLES:
+        q, dq, _, _ = cm.qdd_derivatives(x, u, params, t=t)
+        if np.max(np.abs(q)) > 1e-9 * max(1.0, np.max(np.abs(dq))):
+            return float("nan")
+    mu = multipliers(monodromy(cm, np.asarray(x, float), T, params, u), cyclic and n > 1)
+    return float(np.max(np.abs(mu))) if len(mu) else 1.0
+
+
+def sweep_setup(compiled, model, x, first_params, u, varied_states, what: str = "--measure floquet") -> bool:
+    """A sweep's floquet measure: a time-periodic model of up to 16 bodies, only parameters varied,
+    the state x an equilibrium for all t at the grid's first point; whether φ¹ is cyclic.
+    ``compiled()`` builds the model (only once the cheap checks passed)."""
+    from .assemble import time_dependent
+
+    n = len(x) // 2
+    if not time_dependent(model):
+        raise SpecError(what, "the model does not depend on t: an equilibrium's stability is `gyrochain steady`'s")
+    if n > 16:
+        raise SpecError(what, f"needs NAME_integrate_variational, emitted up to n = 16 (n = {n})")
+    if varied_states:
+        raise SpecError(what, f"vary parameters only (not {varied_states[0]}): the state is the equilibrium "
+                              "(--phi, phidot 0)")
+    if np.any(np.asarray(x[n:]) != 0.0):
+        raise SpecError("--phidot", "floquet: an equilibrium has phidot = 0")
+    time_period(model, first_params, what)  # periodic at all (one line if not)
+    cm = compiled()
+    if not np.isfinite(largest_multiplier(cm, model, x, first_params, u, what=what)):
+        raise SpecError("--phi", f"floquet: phi = {[float(v) for v in x[:n]]} is not an equilibrium for all t at "
+                                 + ", ".join(f"{k} = {v:g}" for k, v in (first_params or {}).items()))
+    return DrivenAnalysis(cm, model, first_params, u, what=what).cyclic
+
+
+def sweep_moduli(cm, model, X0, params, u, cyclic) -> tuple[np.ndarray, np.ndarray]:
+    """max |μ| at each start state X0[k] (an equilibrium) with params[k]: NaN where it is not an
+    equilibrium for all t there or the drive stops (a frequency 0); the integrators' codes."""
+    mu = np.full(len(X0), np.nan)
+    codes = np.zeros(len(X0), dtype=np.int32)
+    for k, x in enumerate(X0):
+        try:
+            mu[k] = largest_multiplier(cm, model, x, params[k], u, cyclic)
+        except ArithmeticError as exc:  # the period's integration failed
+            codes[k] = getattr(exc, "code", 1)
+        except SpecError:  # no period at this point (a frequency of t is 0 there)
+            pass
+    return mu, codes

@@ -41,7 +41,7 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
         raise SpecError("store", f"plot shows one or two varied quantities; this sweep varies {len(names)}")
     if len(names) == 1 and cmap:
         raise SpecError("--cmap", "a curve has no colours (the sweep varies one quantity)")
-    plt, colormap = _matplotlib(cmap or "viridis")
+    plt, colormap = _matplotlib(cmap or ("OrRd" if measure == "floquet" else "viridis"))
     if log and not np.any(np.isfinite(values) & (values > 0)):
         raise SpecError("--log", f"{measure} has no positive value to draw on a logarithmic scale")
     label = _measure_label(measure, comp, data["attrs"])
@@ -74,15 +74,20 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
 
 def _values(data: dict, measure: str, component: int | str) -> tuple[np.ndarray, str]:
     """The measure's values per point and, for ``final``, the state component's name (phiK or
-    phidotK; --component takes the name or its 0-based index)."""
+    phidotK), for ``lyapunov_spectrum`` the exponent's (lambdaK, K = 1 the largest); --component
+    takes the name or its 0-based index."""
     values = data[measure]
-    if measure != "final":
+    if measure not in sw.EXTRA_DIM:
         if component not in (0, "0", "", None):
-            raise SpecError("--component", f"only the measure final has components ({measure} is one number per point)")
+            raise SpecError("--component", f"only the measures {' and '.join(sw.EXTRA_DIM)} have components "
+                                            f"({measure} is one number per point)")
         return values, ""
     dim = values.shape[-1]
     n = dim // 2
-    names = [f"phi{k}" for k in range(1, n + 1)] + [f"phidot{k}" for k in range(1, n + 1)]
+    if measure == "final":
+        names = [f"phi{k}" for k in range(1, n + 1)] + [f"phidot{k}" for k in range(1, n + 1)]
+    else:
+        names = [f"lambda{k}" for k in range(1, dim + 1)]
     comp = str(component)
     if comp.isdigit() and int(comp) < dim:
         comp = names[int(comp)]
@@ -111,6 +116,9 @@ def _map(fig, ax, data: dict, names: list, values: np.ndarray, colormap, log: bo
     from matplotlib.ticker import FuncFormatter, LogLocator
 
     norm = LogNorm() if log else None
+    if "Floquet" in label:
+        _stable_region(fig, ax, data, names, values, colormap, label)
+        return
     if data["attrs"]["args"]["random"]:
         art = ax.scatter(data["coords"][names[0]], data["coords"][names[1]], c=values, s=4, cmap=colormap, norm=norm,
                          plotnonfinite=True)
@@ -129,6 +137,45 @@ def _map(fig, ax, data: dict, names: list, values: np.ndarray, colormap, log: bo
         what = "no flip" if "flip" in label else "no value"
         ax.legend(handles=[Patch(facecolor=NO_VALUE, edgecolor="0.4", label=f"{what} ({missing} points)")],
                   loc="upper right", fontsize=8, framealpha=0.9)
+
+
+STABLE = "#c6dbef"  # the colour of the stable region of a floquet map (a pale blue, in no default colour map)
+
+
+def _stable_region(fig, ax, data: dict, names: list, values: np.ndarray, colormap, label: str) -> None:
+    """A floquet map: the stable region (every |μ| ≤ 1 + floquet.MU_TOL) in one colour, the unstable
+    one coloured by the largest |μ| on a logarithmic scale, the boundary a black line."""
+    from matplotlib.colors import ListedColormap, LogNorm
+    from matplotlib.patches import Patch
+
+    from .floquet import MU_TOL
+
+    colormap = colormap.with_extremes(bad=(0.0, 0.0, 0.0, 0.0))  # the unstable layer leaves the rest uncovered
+    stable = np.isfinite(values) & (values <= 1.0 + MU_TOL)
+    unstable = np.where(np.isfinite(values) & ~stable, values, np.nan)
+    x, y = data["coords"][names[0]], data["coords"][names[1]]
+    handles = [Patch(facecolor=STABLE, edgecolor="0.4", label=f"stable: every |μ| ≤ 1 ({int(stable.sum())} points)")]
+    if data["attrs"]["args"]["random"]:
+        ax.scatter(x[stable], y[stable], c=STABLE, s=4)
+        art = ax.scatter(x[~stable], y[~stable], c=unstable[~stable], s=4, cmap=colormap, norm=LogNorm(), plotnonfinite=True)
+    else:
+        ax.pcolormesh(x, y, np.ma.masked_where(~stable.T, np.ones_like(values.T)), shading="nearest",
+                      cmap=ListedColormap([STABLE]))
+        art = ax.pcolormesh(x, y, np.ma.masked_invalid(unstable.T), shading="nearest", cmap=colormap,
+                            norm=LogNorm(vmin=1.0, vmax=max(np.nanmax(unstable), 1.0 + 1e-3)) if np.any(np.isfinite(unstable)) else None)
+        if stable.any() and (~stable).any():
+            ax.contour(x, y, stable.T.astype(float), levels=[0.5], colors="k", linewidths=0.8)
+    if np.any(np.isfinite(unstable)):
+        fig.colorbar(art, ax=ax, label=label)
+    missing = int(np.sum(~np.isfinite(values)))
+    if missing and not data["attrs"]["args"]["random"]:
+        ax.pcolormesh(x, y, np.ma.masked_where(np.isfinite(values.T), np.ones_like(values.T)), shading="nearest",
+                      cmap=ListedColormap([NO_VALUE]))
+    if missing:
+        handles.append(Patch(facecolor=NO_VALUE, edgecolor="0.4", label=f"no equilibrium for all t ({missing} points)"))
+    ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
+    ax.set_xlabel(_axis_label(names[0]))
+    ax.set_ylabel(_axis_label(names[1]))
 
 
 def _flip_definition(attrs: dict) -> str:
@@ -153,5 +200,9 @@ def _measure_label(measure: str, component: str, attrs: dict) -> str:
     t1 = attrs["args"]["t1"]
     if measure == "final":
         return f"{_axis_label(component).replace(' (', f' at t = {t1:g} s (')}"
+    if measure == "lyapunov_spectrum":
+        k = component.removeprefix("lambda")
+        return f"Lyapunov exponent $\\lambda_{{{k}}}$ (1/s{', the largest' if k == '1' else ''})"
     return {"flip_time": f"flip time (s; grey: none within {t1:g} s)", "energy_error": "largest |E(t) - E(0)| (J)",
-            "lyapunov": "largest Lyapunov exponent (1/s)", "code": "integrator return code"}[measure]
+            "lyapunov": "largest Lyapunov exponent (1/s)", "floquet": "largest Floquet multiplier |μ|",
+            "code": "integrator return code"}[measure]

@@ -25,12 +25,17 @@ import numpy as np
 
 from . import __version__, pipeline
 from .codes import METHODS
-from .measures import angles_of, energies, flip_times, joint_angles, link_signs, lyapunov
+from . import floquet
+from .measures import angles_of, energies, flip_times, joint_angles, link_signs, lyapunov, lyapunov_spectrum
 from .physical import check_values, run_values
 from .errors import did_you_mean
 from .spec import SpecError
 
-MEASURES = ("final", "flip_time", "energy_error", "lyapunov")
+MEASURES = ("final", "flip_time", "energy_error", "lyapunov", "lyapunov_spectrum", "floquet")
+# the measures on the variational equations (NAME_integrate_variational: DOP853 at --rtol/--atol)
+VARIATIONAL_MEASURES = ("lyapunov_spectrum", "floquet")
+# the extra dimension of a measure with more than one number per point
+EXTRA_DIM = {"final": "state", "lyapunov_spectrum": "exponent"}
 ANGLES = ("auto", "absolute", "relative")  # --angles: what flip_time watches
 METHOD_NAMES = tuple(m for m in METHODS if m in ("rk4", "dop853", "gauss2"))  # those a sweep offers
 STORE_KIND = "gyrochain-sweep"
@@ -54,7 +59,7 @@ class Sweep:
     samples: int = 1000  # output intervals over [0, t1] for flip_time and energy_error
     flip: str = ""  # the coordinate of flip_time (phiK), "" = the first of any
     angles: str = "auto"  # flip_time on the links' absolute angles, the joint angles, or auto (absolute where planar)
-    lyap_interval: float = 0.1  # renormalisation interval of the Lyapunov exponent
+    lyap_interval: float = 0.1  # renormalisation interval of the Lyapunov exponent (and of the spectrum's QR)
     lyap_d0: float = 1e-8  # the initial separation (Euclidean, in state space)
     phi: list = field(default_factory=list)  # the state of what is not varied
     phidot: list = field(default_factory=list)
@@ -161,6 +166,16 @@ class Plan:
         self._check_varied_values()
         if "energy_error" in sweep.measures and not self._has_energy():
             raise SpecError("--measure", "energy_error: the energy (23) is not an integral of this spec")
+        if "floquet" in sweep.measures:
+            self._check_floquet()
+
+    def _check_floquet(self) -> None:
+        """floquet: a time-periodic model, the state an equilibrium for all t (floquet.sweep_setup)."""
+        self.model = pipeline.derive(self.spec, latex=False)
+        first = dict(self.params, **{nm: float(self.chunk_points(0)[0, j]) for j, nm in enumerate(self.names)})
+        self.cyclic = floquet.sweep_setup(lambda: pipeline.compiled(self.spec)[0], self.model, self.base, first,
+                                          np.array(self.sweep.u, float) if self.sweep.u else None,
+                                          [nm for nm in self.names if nm not in self.param_names])
 
     def _check_options(self) -> None:
         """The measures, the integrator and the flip angles asked for."""
@@ -189,8 +204,14 @@ class Plan:
             raise SpecError("--angles", "absolute: the axes are not all parallel, so a link has no one angle "
                                         "(use relative, the joint angles)")
         self.angles = "relative" if self.signs is None else "absolute"  # what flip_time measures
-        if "lyapunov" in sweep.measures and not (0 < sweep.lyap_interval <= sweep.t1):
+        if ("lyapunov" in sweep.measures or "lyapunov_spectrum" in sweep.measures) and not (0 < sweep.lyap_interval <= sweep.t1):
             raise SpecError("--lyap-interval", "must be in (0, t1]")
+        asked = [m for m in VARIATIONAL_MEASURES if m in sweep.measures]
+        if asked and sweep.method != "dop853":
+            raise SpecError("--method", f"{asked[0]} integrates the variational equations with dop853 at --rtol/--atol; "
+                                        "give --method dop853 (the default)")
+        if asked and n > 16:
+            raise SpecError("--measure", f"{asked[0]}: needs NAME_integrate_variational, emitted up to n = 16 (n = {n})")
 
     def _check_size(self) -> None:
         """Refuse, before anything is allocated, more than MAX_POINTS points (held in memory, stored
@@ -297,6 +318,13 @@ def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
         lam, c = lyapunov(model, X0, sw, kw, prm)
         out["lyapunov"] = lam
         codes = np.maximum(codes, c)
+    if "lyapunov_spectrum" in sw.measures:
+        lam, c = lyapunov_spectrum(model, X0, sw.t1, sw.lyap_interval, prm, u, sw.rtol, sw.atol)
+        out["lyapunov_spectrum"] = lam
+        codes = np.maximum(codes, c)
+    if "floquet" in sw.measures:
+        out["floquet"], c = floquet.sweep_moduli(model, plan.model, X0, per_point or [params or None] * nb, u, plan.cyclic)
+        codes = np.maximum(codes, c)
     shape = plan.chunk_shape(i)
     res = {k: v.reshape(shape + v.shape[1:]) for k, v in out.items()}
     res["code"] = codes.reshape(shape)
@@ -376,9 +404,9 @@ def open_store(path: Path, plan: Plan):
         a = g.create_array(name, shape=values.shape, dtype="f8", dimension_names=dims, chunks=values.shape)
         a[...] = values
     for m in plan.sweep.measures:
-        extra = (2 * plan.n,) if m == "final" else ()
+        extra = (2 * plan.n,) if m in EXTRA_DIM else ()
         g.create_array(m, shape=plan.shape + extra, chunks=chunks + extra, dtype="f8", fill_value=np.nan,
-                       dimension_names=plan.dims + (["state"] if extra else []))
+                       dimension_names=plan.dims + ([EXTRA_DIM[m]] if extra else []))
     g.create_array("code", shape=plan.shape, chunks=chunks, dtype="i4", fill_value=-1, dimension_names=plan.dims)
     g.create_array("done", shape=(plan.n_chunks,), chunks=(1,), dtype="bool", fill_value=False, dimension_names=["chunk"])
     g.attrs["gyrochain_sweep"] = want
@@ -542,58 +570,3 @@ def read(store: str | Path) -> dict:
         else:
             out[key] = arr
     return out
-
-
-def point(store: str | Path, at: str) -> dict:
-    """One point of a sweep store, to be seen again: the spec text, the initial state, the
-    parameters and torques, and the sweep's t1.  ``at`` is ``name=value,…`` for every varied name
-    of a grid (the nearest grid value is taken) or the sample's index of a --random sweep."""
-    attrs = stored_attrs(store)
-    if attrs is None:
-        raise SpecError("SPEC", f"{store} is neither a spec file nor a sweep store")
-    args = dict(attrs["args"])
-    args["vary"] = [tuple(v) for v in args["vary"]]
-    plan = Plan(Sweep(spec_text=attrs["spec"], **args))
-    names = plan.names
-    if not at:
-        raise SpecError("--at", f"which point of the sweep? give {'an index 0..' + str(plan.shape[0] - 1) if plan.points is not None else ','.join(f'{nm}=VALUE' for nm in names)}")
-    if plan.points is not None:
-        try:
-            i = int(at)
-        except ValueError:
-            raise SpecError("--at", f"{at!r}: a --random sweep's points are numbered 0..{plan.shape[0] - 1}") from None
-        if not 0 <= i < plan.shape[0]:
-            raise SpecError("--at", f"{i}: a --random sweep's points are numbered 0..{plan.shape[0] - 1}")
-        values = plan.points[i]
-        label, note = f"sample {i}", ""
-    else:
-        want = {}
-        for item in at.split(","):
-            nm, eq, val = item.partition("=")
-            nm = nm.strip()
-            if not eq or nm not in names:
-                raise SpecError("--at", f"{item!r}: expected name=value with name one of {', '.join(names)}")
-            try:
-                want[nm] = float(val)
-            except ValueError:
-                raise SpecError("--at", f"{item!r}: the value is not a number") from None
-        missing = [nm for nm in names if nm not in want]
-        if missing:
-            raise SpecError("--at", f"no value for the varied {missing[0]}")
-        values, snapped = [], []
-        for j, nm in enumerate(names):
-            axis = plan.axes[j]
-            lo, hi = min(axis[0], axis[-1]), max(axis[0], axis[-1])
-            step = abs(axis[1] - axis[0]) if len(axis) > 1 else 0.0
-            if not (lo - 0.5 * step - 1e-12 * max(1.0, abs(lo)) <= want[nm] <= hi + 0.5 * step + 1e-12 * max(1.0, abs(hi))):
-                raise SpecError("--at", f"{nm}={want[nm]:g} is outside the sweep's grid ({nm} from {axis[0]:g} to {axis[-1]:g})")
-            v = float(axis[int(np.argmin(np.abs(axis - want[nm])))])
-            if abs(v - want[nm]) > 1e-9 * max(1.0, abs(v)):
-                snapped.append(f"{nm}={want[nm]:g} → {v:.6g}")
-            values.append(v)
-        values = np.array(values)
-        label = ", ".join(f"{nm} = {v:.6g}" for nm, v in zip(names, values))
-        note = ("--at: not a point of the grid; the nearest one is shown (" + ", ".join(snapped) + ")") if snapped else ""
-    x0 = start_states(plan, np.asarray(values, float)[None, :])[0]
-    params = dict(plan.params, **{nm: float(values[j]) for j, nm in enumerate(names) if nm in plan.param_names})
-    return dict(spec_text=attrs["spec"], x0=x0, params=params, u=list(plan.sweep.u), t1=plan.sweep.t1, label=label, note=note)
