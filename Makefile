@@ -1,12 +1,14 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
 # make test                           set up .venv and run the whole test suite (tests/unit, models, physics, tools)
 # make test-fast                      the unit layer only: the stages, printers, pipeline and architecture, no compiler (< 1 min)
-# make plot                           the frames figure, the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map (docs/img/)
+# make plot                           the frames figure, the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map,
+#                                     Kapitza's stability chart, the double pendulum's nonlinear normal modes (docs/img/)
 # make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
 # make docs                           the documentation site from docs/ into site/ (MkDocs, warnings are errors, offline)
 # make fuzz                           the commands fuzzed with fresh random inputs for FUZZ_SECONDS (default 600)
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost; ensembles against
-#                                     scipy and MuJoCo's rollout on 1 and 2 cores and a local Dask cluster (bench/results/)
+#                                     scipy and MuJoCo's rollout on 1 and 2 cores and a local Dask cluster; the variational
+#                                     equations against scipy (bench/results/)
 # make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo; derivatives against Pinocchio, CasADi, differences (bench/results/)
 SHELL := /bin/bash
 PY ?= python3
@@ -64,6 +66,10 @@ plot: $(VENV)/.plot-installed
 	$(VPY) -m codegen sweep specs/double_pendulum.toml --vary link1=-3.14:3.14:300 --vary link2=-3.14:3.14:300 \
 		--t1 10 --measure flip_time -q -o build/flip_map.zarr
 	$(VPY) -m codegen plot build/flip_map.zarr --log -o docs/img/double_pendulum_flip.png
+	$(VPY) -m codegen generate -q specs/kapitza.toml >/dev/null
+	$(VPY) examples/kapitza_chart.py docs/img/kapitza_chart.png
+	$(VPY) -m codegen generate -q specs/double_pendulum_point.toml >/dev/null
+	$(VPY) examples/nnm_periods.py docs/img/nnm_periods.png
 
 animations: setup
 	$(VPY) -m codegen animate specs/gimbal.toml --t1 8 --fps 20 --size 360x360 -o docs/img/gimbal.gif
@@ -85,6 +91,7 @@ bench: $(VENV)/.plot-installed
 	$(VPY) bench/integrators.py
 	$(VPY) bench/ensemble.py
 	$(VPY) bench/lanes.py
+	$(VPY) bench/variational.py
 
 bench-speed: bench-setup
 	$(VPY) bench/speed.py

@@ -199,6 +199,8 @@ def cmd_sweep(args) -> int:
                     progress=not args.quiet, plan=plan)
     print(f"{counts['written']} chunks computed, {counts['skipped']} already done, in {time.perf_counter() - t0:.1f} s",
           file=sys.stderr)
+    if "lyapunov_spectrum" in sweep.measures:
+        print(sw.spectrum_summary(args.output, plan), file=sys.stderr)
     return 0
 
 
@@ -354,7 +356,8 @@ def main(argv=None) -> int:
     s.add_argument("--atol", type=float, default=1e-12, help="absolute tolerance of dop853")
     s.add_argument("--reference", action="store_true", help="integrate the independent numpy model with scipy's DOP853 "
                    "instead (slow; a cross-check)")
-    st = sub.add_parser("steady", help="equilibria and steady rotations, with their stability")
+    st = sub.add_parser("steady", help="equilibria and steady rotations, with their stability (of a model driven "
+                        "periodically in t: its equilibria for all t, by Floquet multipliers)")
     st.add_argument("spec")
     st.add_argument("--u", default="", help="constant torques of the controlled joints (default 0)")
     st.add_argument("--param", action="append", help="name=value for a symbolic parameter")

@@ -26,7 +26,7 @@ import numpy as np
 from . import __version__, pipeline
 from .codes import METHODS
 from . import floquet
-from .measures import angles_of, energies, flip_times, joint_angles, link_signs, lyapunov, lyapunov_spectrum
+from .measures import angles_of, energies, flip_times, joint_angles, link_signs, lyapunov, lyapunov_spectrum, pairing
 from .physical import check_values, run_values
 from .errors import did_you_mean
 from .spec import SpecError
@@ -570,3 +570,18 @@ def read(store: str | Path) -> dict:
         else:
             out[key] = arr
     return out
+
+
+def spectrum_summary(store: str | Path, plan: Plan) -> str:
+    """What the stored spectra say of their pairing: the largest max|λᵢ + λ₂ₙ₊₁₋ᵢ| and |Σλᵢ| over
+    the points, and whether the model is conservative (where a spectrum comes in ± pairs)."""
+    lam = np.asarray(read(store)["lyapunov_spectrum"]).reshape(-1, 2 * plan.n)
+    ok = lam[np.all(np.isfinite(lam), axis=1)]
+    if not len(ok):
+        return "lyapunov_spectrum: no point has a spectrum (every integration failed)"
+    errs = np.array([pairing(s) for s in ok])
+    why = ("the model is conservative: its spectra come in pairs ±lambda summing to 0 as t1 grows"
+           if plan._has_energy() else "the model is not conservative (damping, a load or a torque): no pairing is expected")
+    return (f"lyapunov_spectrum: over {len(ok)} points the largest pairing error max|lambda_i + lambda_(2n+1-i)| is "
+            f"{errs[:, 0].max():.2g} /s and the largest |sum of lambda_i| {errs[:, 1].max():.2g} /s; {why}")
+

@@ -206,3 +206,23 @@ def test_the_period_of_several_frequencies(example):
     res = subprocess.run([sys.executable, "-m", "codegen", "steady", "specs/ship_gimbal.toml", "--start", "0,0.3"],
                          capture_output=True, text=True, cwd=ROOT)
     assert res.returncode == 2 and len(res.stderr.strip().splitlines()) == 1 and "--start 0,0.3" in res.stderr
+
+
+def test_the_sweep_measure_sees_a_perturbed_derivative(kapitza, example, tmp_path):
+    """floquet.sweep_moduli (what `sweep --measure floquet` stores) at amplitudes 1e-7 either side
+    of the 40-digit upright boundary at ω = 260 rad/s: unstable below it, stable above; with ∂φ̈/∂φ
+    perturbed by 1e-6 in the C the boundary moves by more than that, and a point changes side."""
+    cm, model, values = kapitza
+    alpha = -4 * G / (L * values["w"] ** 2)
+    with mp.workdps(40):
+        a_c = float(mp.findroot(lambda z: a0_precise(z) - alpha, math.sqrt(-2 * alpha)) * L / 2)
+    X0 = np.array([[math.pi, 0.0], [math.pi, 0.0]])
+    params = [{**values, "a": a_c * (1 - 1e-7)}, {**values, "a": a_c * (1 + 1e-7)}]
+
+    def sides(c):
+        mu, codes = floquet.sweep_moduli(c, model, X0, params, None, False)
+        assert not codes.any()
+        return [bool(m > 1 + floquet.MU_TOL) for m in mu]
+
+    assert sides(cm) == [True, False]
+    assert sides(perturbed_c(example("kapitza"), tmp_path / "bad")) != [True, False]

@@ -222,8 +222,8 @@ def test_examples_with_symbolic_parameters_run_every_command_without_param(name,
         assert code == 0 and "phi = [0, 0]" in out, err
     elif name == "turntable":  # a table turning at a constant rate: steady in the turning frame
         assert code == 0 and "equilibria" in out, err
-    else:  # a vibrating pivot: steady says why it has nothing to say (issue 29 adds Floquet analysis)
-        assert code == 2 and "depends on t" in err, err
+    else:  # a vibrating pivot: its equilibria for all t, by Floquet multipliers
+        assert code == 0 and "periodic in t" in out and "phi = [3.14159265]: linearly stable" in out, err
 
 
 # --------------------------------------------------------------------------- sweep points and workers
