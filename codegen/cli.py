@@ -159,8 +159,13 @@ def cmd_orbits(args) -> int:
         vary = steady.parse_vary(args.vary, spec) if args.vary else None
         omegas = None
         if args.omega:
-            omegas = (steady.parse_range(args.omega, "--omega", "1:10:10") if ":" in args.omega
-                      else np.array(_floats(args.omega, "--omega", 1)))
+            try:
+                omegas = (steady.parse_range(args.omega, "--omega", "1:10:10") if ":" in args.omega
+                          else np.array(_finite([float(args.omega)], "--omega")))
+            except ValueError as exc:
+                if isinstance(exc, (SpecError, steady.SteadyError)):
+                    raise
+                raise SpecError("--omega", "expected a rate W or a grid a:b:N, for example 1:10:10") from None
     except steady.SteadyError as exc:
         what, _, why = str(exc).partition(": ")
         raise SpecError(what, why) from None

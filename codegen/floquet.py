@@ -350,7 +350,10 @@ class DrivenAnalysis:
         phi = eq.phi
         try:
             for v in values:
-                self.set_params({**base, name: float(v)})
+                try:
+                    self.set_params({**base, name: float(v)})
+                except SpecError as exc:
+                    raise SpecError(f"--vary {name}", f"at {name} = {v:g}: {exc.message}") from None
                 p = self.solve(phi)
                 if p is None:
                     out.lost = float(v)
@@ -460,7 +463,11 @@ def sweep_setup(compiled, model, x, first_params, u, varied_states, what: str = 
                               "(--phi, phidot 0)")
     if np.any(np.asarray(x[n:]) != 0.0):
         raise SpecError("--phidot", "floquet: an equilibrium has phidot = 0")
-    time_period(model, first_params, what)  # periodic at all (one line if not)
+    try:
+        time_period(model, first_params, what)  # periodic at all (one line if not)
+    except SpecError as exc:
+        at = ", ".join(f"{k} = {v:g}" for k, v in (first_params or {}).items())
+        raise SpecError(exc.field, f"{exc.message} (at the grid's first point: {at})") from None
     cm = compiled()
     if not np.isfinite(largest_multiplier(cm, model, x, first_params, u, what=what)):
         raise SpecError("--phi", f"floquet: phi = {[float(v) for v in x[:n]]} is not an equilibrium for all t at "

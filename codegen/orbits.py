@@ -358,13 +358,13 @@ def analyze(spec, params=None, u=None, at=None, energies=None, modes=None, vary=
     (default: 20 values up to half the lowest barrier to another equilibrium), or along ``vary``;
     with ``omegas``, the steady rotations of a cyclic φ¹ as orbits."""
     from . import pipeline
-    from .assemble import time_dependent
+    from .assemble import VARIATIONAL_MAX_N, time_dependent
 
+    if spec.n > VARIATIONAL_MAX_N:  # before anything is built
+        raise SpecError("orbits", f"needs NAME_integrate_variational, emitted up to n = {VARIATIONAL_MAX_N} (n = {spec.n})")
     cm, model = pipeline.compiled(spec)
     if time_dependent(model):
         raise SpecError("orbits", "the model depends on t: the stability of its equilibria for all t is `gyrochain steady`'s")
-    if not cm.has_variational:
-        raise SpecError("orbits", f"needs NAME_integrate_variational, emitted up to n = 16 (n = {cm.n})")
     if not model.integrals.has_energy_integral or (u is not None and np.any(np.asarray(u) != 0)):
         raise SpecError("orbits", "the energy (23) is not an integral here (damping, loads, a torque): periodic orbits "
                                   "are continued in the energy, which must be conserved")

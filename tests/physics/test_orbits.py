@@ -122,3 +122,13 @@ def test_the_command_and_its_mistakes():
         res = _cli(*args)
         assert res.returncode == 2 and res.stdout == "", (args, res.stdout, res.stderr)
         assert len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, (args, res.stderr)
+
+
+def test_more_mistakes_are_one_line():
+    """A long chain is refused before it is built; a bad --omega, a --vary that leaves the drive."""
+    for args, field in ((("orbits", "specs/cable64.toml"), "orbits"),
+                        (("orbits", "specs/double_pendulum_point.toml", "--omega", "abc"), "--omega"),
+                        (("steady", "specs/kapitza.toml", "--vary", "w=0:100:3"), "--vary w")):
+        res = subprocess.run([sys.executable, "-m", "codegen", *args], capture_output=True, text=True, cwd=ROOT, timeout=60)
+        assert res.returncode == 2 and res.stdout == "", (args, res.stdout, res.stderr)
+        assert len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, (args, res.stderr)
