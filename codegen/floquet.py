@@ -60,6 +60,20 @@ def wrap(phi):
     return np.where(r <= -np.pi + 1e-12, r + 2 * np.pi, r)
 
 
+def distinct(starts, solve) -> list[np.ndarray]:
+    """The distinct solutions (angles wrapped, equal to 1e-7 merged, sorted) that ``solve(start)``
+    finds from the starts (None where it finds none): the equilibria of steady, floquet, orbits."""
+    found: list = []
+    for s in starts:
+        phi = solve(s)
+        if phi is None:
+            continue
+        phi = wrap(phi)
+        if not any(np.max(np.abs(wrap(phi - f))) < 1e-7 for f in found):
+            found.append(phi)
+    return sorted(found, key=lambda p: tuple(np.round(p, 9)))
+
+
 # --------------------------------------------------------------------------- the period
 @dataclass(frozen=True)
 class TimeDependence:
@@ -329,17 +343,7 @@ class DrivenAnalysis:
         nf = self.n - 1 if self.cyclic else self.n
         pre = [0.0] if self.cyclic else []
         starts = [np.array(pre + g) for g in start_grid(nf)] + [np.asarray(e, float) for e in extra_starts]
-        found = []
-        for s in starts:
-            phi = self.solve(s)
-            if phi is None:
-                continue
-            phi = wrap(phi)
-            if any(np.max(np.abs(wrap(phi - f))) < 1e-7 for f in found):
-                continue
-            found.append(phi)
-        found.sort(key=lambda p: tuple(np.round(p, 9)))
-        return [self.classify(p) for p in found]
+        return [self.classify(p) for p in distinct(starts, self.solve)]
 
     def along(self, name: str, values: np.ndarray, eq: Driven) -> "Continued":
         """The equilibrium ``eq`` continued over the parameter ``name`` = values (increasing): the

@@ -328,15 +328,11 @@ def report(families: list[Family]) -> str:
 def stable_equilibrium(cm, params=None, u=None):
     """The stable equilibrium of least energy among those Newton finds from floquet.start_grid,
     and the energy barrier to the nearest other equilibrium (inf if none)."""
-    found = []
-    for s in floquet.start_grid(cm.n):
+    def solve(s):
         got = floquet.equilibrium(cm, s, (0.0,), params, u)
-        if got is None:
-            continue
-        phi = floquet.wrap(got[0])
-        if any(np.max(np.abs(floquet.wrap(phi - f))) < 1e-7 for f in found):
-            continue
-        found.append(phi)
+        return None if got is None else got[0]
+
+    found = floquet.distinct(floquet.start_grid(cm.n), solve)
     energy = {i: float(cm.energy(np.concatenate([f, np.zeros(cm.n)]), params)) for i, f in enumerate(found)}
     stable = []
     for i, f in enumerate(found):

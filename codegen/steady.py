@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import floquet
-from .floquet import STARTS, start_grid, verdict_segments
+from .floquet import STARTS, distinct, start_grid, verdict_segments
 from .floquet import wrap as _wrap
 
 
@@ -226,17 +226,7 @@ class Analysis:
 
     # ---- the searches
     def equilibria(self, extra_starts=()) -> list[Steady]:
-        found = []
-        for s in self.starts(extra_starts):
-            phi = self.solve(s, 0.0)
-            if phi is None:
-                continue
-            phi = _wrap(phi)
-            if any(np.max(np.abs(_wrap(phi - f))) < 1e-7 for f in found):
-                continue
-            found.append(phi)
-        found.sort(key=lambda p: tuple(np.round(p, 9)))
-        return [self.classify(p, 0.0) for p in found]
+        return [self.classify(p, 0.0) for p in distinct(self.starts(extra_starts), lambda s: self.solve(s, 0.0))]
 
     def rotations(self, omegas, extra_starts=()) -> list[Branch]:
         """Steady rotations φ̇¹ = ω over the grid ``omegas`` (increasing), as branches."""
