@@ -38,7 +38,8 @@
  * exact Jacobian of double_pendulum_point_linearize, by DOP853 (rtol/atol over x and Phi, h the first step or 0).
  * Phi is 2N x 2N row-major: on entry Phi(t0) (the identity for the fundamental matrix), on return
  * Phi(t1) = dx(t1)/dx(t0) Phi(t0), the tangent map of the emitted dynamics; x1 = x(t1).  On failure x1
- * is the last accepted state and Phi is NaN.  stats may be NULL.  Stack: about 5 KB.
+ * is the last accepted state and Phi is NaN.  stats may be NULL.  Its arrays take about 5 KB
+ * of stack, besides what double_pendulum_point_qdd_derivatives takes.
  * double_pendulum_point_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
