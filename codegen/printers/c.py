@@ -4,8 +4,9 @@ from __future__ import annotations
 from sympy.printing.c import C99CodePrinter
 
 from ..codes import METHODS, MOTIONS, QUAD_STATUS, STATUS
+from .. import __version__
 from . import chunks, kernels
-from .common import NumbersAsDoubles, functions
+from .common import NumbersAsDoubles, build_text, functions
 
 
 class CPrinter(NumbersAsDoubles, C99CodePrinter):
@@ -104,7 +105,7 @@ def layout_data(ctx: dict, env) -> dict:
 class CTarget:
     """Prints every function of the model in C and lays them out by the templates."""
 
-    suffixes = (".h", ".c", ".cdef")
+    suffixes = (".h", ".c", ".cdef", ".pc.in", "CMakeLists.txt")
 
     def files(self, model, context: dict, env) -> dict[str, str]:
         name = model.spec.name
@@ -112,8 +113,12 @@ class CTarget:
         ctx["fn"], ctx["parts_c"] = chunks.cut_all(functions(model, CPrinter, "c"), ctx)
         ctx.update(layout_data(ctx, env))
         ctx["decls"] = env.get_template("_decls.jinja").render(ctx)
+        # the package files for C and C++ builds: a CMake library NAME::NAME and a pkg-config file
+        package = dict(ctx, package_version=__version__, pc_description=build_text(model.spec.description or name))
         return {
             f"{name}.h": env.get_template("model.h.jinja").render(ctx),
             f"{name}.c": env.get_template("model.c.jinja").render(ctx),
             f"{name}.cdef": env.get_template("model.cdef.jinja").render(ctx),
+            "CMakeLists.txt": env.get_template("CMakeLists.txt.jinja").render(package),
+            f"{name}.pc.in": env.get_template("model.pc.in.jinja").render(package),
         }

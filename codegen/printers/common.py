@@ -264,6 +264,12 @@ def c_comment(text: str) -> str:
     return "".join(ch if 32 <= ord(ch) < 127 else "?" for ch in text)
 
 
+def build_text(text: str) -> str:
+    """Spec text in a CMake comment or a pkg-config field: one line of printable ASCII without the
+    characters CMake's configure_file or pkg-config would expand (@, $) or a shell quotes."""
+    return "".join(ch if 32 <= ord(ch) < 127 and ch not in "@$`\\\"" else "?" for ch in one_line(text))
+
+
 def py_docstring(text: str) -> str:
     """Spec text inside a Python triple-quoted docstring."""
     return one_line(text).replace("\\", "\\\\").replace('"', '\\"')

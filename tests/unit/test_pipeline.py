@@ -25,10 +25,10 @@ def test_a_spec_is_derived_once_per_process():
 
 
 @pytest.mark.parametrize("targets, suffixes", [
-    (("c",), {".c", ".h", ".cdef"}),
+    (("c",), {".c", ".h", ".cdef", ".pc.in", ".txt"}),  # with the package files: CMakeLists.txt, NAME.pc.in
     (("python",), {".py"}),
     (("latex",), {".tex"}),
-    (("c", "python"), {".c", ".h", ".cdef", ".py"}),
+    (("c", "python"), {".c", ".h", ".cdef", ".pc.in", ".txt", ".py"}),
 ])
 def test_render_prints_only_the_asked_targets_and_the_same_bytes(targets, suffixes):
     spec = load_spec(GIMBAL)
