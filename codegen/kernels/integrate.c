@@ -592,7 +592,7 @@ int model_integrate_grid(int method, int nt, const double *t, double h, double r
                               long max_steps, const double *x0, const double *u, const model_params *p,
                               double *X, model_integrate_stats *stats)
 {
-    model_integrate_stats local;
+    model_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     model_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -749,7 +749,7 @@ int model_integrate_variational(double t0, double t1, double h, double rtol, dou
                                 const double *x0, const double *u, const model_params *p,
                                 double *x1, double *Phi, model_integrate_stats *stats)
 {
-    model_integrate_stats local;
+    model_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     model_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * MODEL_V_VDIM];
     int i, code;

@@ -26513,7 +26513,7 @@ int cable64_integrate_grid(int method, int nt, const double *t, double h, double
                               long max_steps, const double *x0, const double *u, const cable64_params *p,
                               double *X, cable64_integrate_stats *stats)
 {
-    cable64_integrate_stats local;
+    cable64_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     cable64_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;

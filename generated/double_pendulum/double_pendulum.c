@@ -1263,7 +1263,7 @@ int double_pendulum_integrate_grid(int method, int nt, const double *t, double h
                               long max_steps, const double *x0, const double *u, const double_pendulum_params *p,
                               double *X, double_pendulum_integrate_stats *stats)
 {
-    double_pendulum_integrate_stats local;
+    double_pendulum_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     double_pendulum_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -1607,7 +1607,7 @@ int double_pendulum_integrate_variational(double t0, double t1, double h, double
                                 const double *x0, const double *u, const double_pendulum_params *p,
                                 double *x1, double *Phi, double_pendulum_integrate_stats *stats)
 {
-    double_pendulum_integrate_stats local;
+    double_pendulum_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     double_pendulum_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * 20];
     int i, code;

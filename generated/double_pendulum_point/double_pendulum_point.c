@@ -1260,7 +1260,7 @@ int double_pendulum_point_integrate_grid(int method, int nt, const double *t, do
                               long max_steps, const double *x0, const double *u, const double_pendulum_point_params *p,
                               double *X, double_pendulum_point_integrate_stats *stats)
 {
-    double_pendulum_point_integrate_stats local;
+    double_pendulum_point_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     double_pendulum_point_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -1604,7 +1604,7 @@ int double_pendulum_point_integrate_variational(double t0, double t1, double h, 
                                 const double *x0, const double *u, const double_pendulum_point_params *p,
                                 double *x1, double *Phi, double_pendulum_point_integrate_stats *stats)
 {
-    double_pendulum_point_integrate_stats local;
+    double_pendulum_point_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     double_pendulum_point_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * 20];
     int i, code;

@@ -1261,7 +1261,7 @@ int fast_gyro_integrate_grid(int method, int nt, const double *t, double h, doub
                               long max_steps, const double *x0, const double *u, const fast_gyro_params *p,
                               double *X, fast_gyro_integrate_stats *stats)
 {
-    fast_gyro_integrate_stats local;
+    fast_gyro_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     fast_gyro_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -1605,7 +1605,7 @@ int fast_gyro_integrate_variational(double t0, double t1, double h, double rtol,
                                 const double *x0, const double *u, const fast_gyro_params *p,
                                 double *x1, double *Phi, fast_gyro_integrate_stats *stats)
 {
-    fast_gyro_integrate_stats local;
+    fast_gyro_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     fast_gyro_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * 20];
     int i, code;

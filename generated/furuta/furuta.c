@@ -1387,7 +1387,7 @@ int furuta_integrate_grid(int method, int nt, const double *t, double h, double 
                               long max_steps, const double *x0, const double *u, const furuta_params *p,
                               double *X, furuta_integrate_stats *stats)
 {
-    furuta_integrate_stats local;
+    furuta_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     furuta_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -1731,7 +1731,7 @@ int furuta_integrate_variational(double t0, double t1, double h, double rtol, do
                                 const double *x0, const double *u, const furuta_params *p,
                                 double *x1, double *Phi, furuta_integrate_stats *stats)
 {
-    furuta_integrate_stats local;
+    furuta_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     furuta_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * 20];
     int i, code;

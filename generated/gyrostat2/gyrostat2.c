@@ -1524,7 +1524,7 @@ int gyrostat2_integrate_grid(int method, int nt, const double *t, double h, doub
                               long max_steps, const double *x0, const double *u, const gyrostat2_params *p,
                               double *X, gyrostat2_integrate_stats *stats)
 {
-    gyrostat2_integrate_stats local;
+    gyrostat2_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     gyrostat2_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -1868,7 +1868,7 @@ int gyrostat2_integrate_variational(double t0, double t1, double h, double rtol,
                                 const double *x0, const double *u, const gyrostat2_params *p,
                                 double *x1, double *Phi, gyrostat2_integrate_stats *stats)
 {
-    gyrostat2_integrate_stats local;
+    gyrostat2_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     gyrostat2_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * 20];
     int i, code;

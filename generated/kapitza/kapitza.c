@@ -896,7 +896,7 @@ int kapitza_integrate_grid(int method, int nt, const double *t, double h, double
                               long max_steps, const double *x0, const double *u, const kapitza_params *p,
                               double *X, kapitza_integrate_stats *stats)
 {
-    kapitza_integrate_stats local;
+    kapitza_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     kapitza_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -1246,7 +1246,7 @@ int kapitza_integrate_variational(double t0, double t1, double h, double rtol, d
                                 const double *x0, const double *u, const kapitza_params *p,
                                 double *x1, double *Phi, kapitza_integrate_stats *stats)
 {
-    kapitza_integrate_stats local;
+    kapitza_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     kapitza_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * 6];
     int i, code;

@@ -1194,7 +1194,7 @@ int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, do
                               long max_steps, const double *x0, const double *u, const ship_gimbal_params *p,
                               double *X, ship_gimbal_integrate_stats *stats)
 {
-    ship_gimbal_integrate_stats local;
+    ship_gimbal_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     ship_gimbal_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -1542,7 +1542,7 @@ int ship_gimbal_integrate_variational(double t0, double t1, double h, double rto
                                 const double *x0, const double *u, const ship_gimbal_params *p,
                                 double *x1, double *Phi, ship_gimbal_integrate_stats *stats)
 {
-    ship_gimbal_integrate_stats local;
+    ship_gimbal_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     ship_gimbal_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * 20];
     int i, code;

@@ -2855,7 +2855,7 @@ int spatial3_integrate_grid(int method, int nt, const double *t, double h, doubl
                               long max_steps, const double *x0, const double *u, const spatial3_params *p,
                               double *X, spatial3_integrate_stats *stats)
 {
-    spatial3_integrate_stats local;
+    spatial3_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     spatial3_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -3199,7 +3199,7 @@ int spatial3_integrate_variational(double t0, double t1, double h, double rtol, 
                                 const double *x0, const double *u, const spatial3_params *p,
                                 double *x1, double *Phi, spatial3_integrate_stats *stats)
 {
-    spatial3_integrate_stats local;
+    spatial3_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     spatial3_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * 42];
     int i, code;

@@ -907,7 +907,7 @@ int turntable_integrate_grid(int method, int nt, const double *t, double h, doub
                               long max_steps, const double *x0, const double *u, const turntable_params *p,
                               double *X, turntable_integrate_stats *stats)
 {
-    turntable_integrate_stats local;
+    turntable_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     turntable_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -1253,7 +1253,7 @@ int turntable_integrate_variational(double t0, double t1, double h, double rtol,
                                 const double *x0, const double *u, const turntable_params *p,
                                 double *x1, double *Phi, turntable_integrate_stats *stats)
 {
-    turntable_integrate_stats local;
+    turntable_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     turntable_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * 6];
     int i, code;

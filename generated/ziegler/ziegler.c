@@ -1282,7 +1282,7 @@ int ziegler_integrate_grid(int method, int nt, const double *t, double h, double
                               long max_steps, const double *x0, const double *u, const ziegler_params *p,
                               double *X, ziegler_integrate_stats *stats)
 {
-    ziegler_integrate_stats local;
+    ziegler_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     ziegler_integrate_stats *st = stats ? stats : &local;
     int i, j, code;
     st->t = 0.0;
@@ -1628,7 +1628,7 @@ int ziegler_integrate_variational(double t0, double t1, double h, double rtol, d
                                 const double *x0, const double *u, const ziegler_params *p,
                                 double *x1, double *Phi, ziegler_integrate_stats *stats)
 {
-    ziegler_integrate_stats local;
+    ziegler_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     ziegler_integrate_stats *st = stats ? stats : &local;
     double tt[2], Y[2 * 20];
     int i, code;
