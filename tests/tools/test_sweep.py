@@ -367,6 +367,6 @@ def test_model_files_are_the_generated_c():
     for name in ("double_pendulum", "ship_gimbal"):
         files, _ = pipeline.derive_and_render(parse_spec((ROOT / "specs" / f"{name}.toml").read_text()), f"{name}.toml",
                                               targets=("c",))
-        assert sorted(files) == sorted(f"{name}.{e}" for e in ("c", "h", "cdef"))
+        assert sorted(files) == sorted([f"{name}.{e}" for e in ("c", "h", "cdef", "pc.in")] + ["CMakeLists.txt"])
         for k, v in files.items():
             assert v == (ROOT / "generated" / name / k).read_text(), k
