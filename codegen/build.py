@@ -177,6 +177,10 @@ class CModel:
         self.has_variational = bool(getattr(self.lib, f"{name.upper()}_HAS_VARIATIONAL", 0))
         # NAME_TIME_DEPENDENT (general models only): forces, qdd, energy, momentum take t first
         self.time_dependent = bool(getattr(self.lib, f"{name.upper()}_TIME_DEPENDENT", 0))
+        # NAME_REAL: double, or float (generate --real float): the arrays in and out follow it
+        self.real = self.ffi.typeof(self._fn("mass_matrix")).args[0].item.cname
+        self.dtype = np.float32 if self.real == "float" else np.float64
+        self._ptr = f"{self.real} *"
 
     def _t(self, t) -> tuple:
         return (float(t),) if self.time_dependent else ()
@@ -193,9 +197,9 @@ class CModel:
         return p
 
     def _arr(self, v, n):
-        v = np.ascontiguousarray(v, dtype=float)
+        v = np.ascontiguousarray(v, dtype=self.dtype)
         assert v.shape == (n,), (v.shape, n)
-        return self.ffi.cast("double *", self.ffi.from_buffer(v)), v
+        return self.ffi.cast(self._ptr, self.ffi.from_buffer(v)), v
 
     def _u(self, u):
         if u is None:
@@ -203,8 +207,8 @@ class CModel:
         return self._arr(u, self.nu)
 
     def _call(self, what, *args, out_len):
-        out = np.empty(out_len)
-        code = self._fn(what)(*args, self.ffi.cast("double *", self.ffi.from_buffer(out)))
+        out = np.empty(out_len, self.dtype)
+        code = self._fn(what)(*args, self.ffi.cast(self._ptr, self.ffi.from_buffer(out)))
         if code != 0:
             raise ModelError(f"{self.name}_{what}", code)
         return out
@@ -234,8 +238,8 @@ class CModel:
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
         n, nu = self.n, self.nu
-        out = [np.empty(n), np.empty((n, n)), np.empty((n, n)), np.empty((n, nu))]
-        ptrs = [self.ffi.cast("double *", self.ffi.from_buffer(a)) if a.size else self.ffi.NULL for a in out]
+        out = [np.empty(shape, self.dtype) for shape in (n, (n, n), (n, n), (n, nu))]
+        ptrs = [self.ffi.cast(self._ptr, self.ffi.from_buffer(a)) if a.size else self.ffi.NULL for a in out]
         code = self._fn("qdd_derivatives")(*self._t(t), xp, up, self._p(params), *ptrs)
         if code != 0:
             raise ModelError(f"{self.name}_qdd_derivatives", code)
@@ -245,9 +249,9 @@ class CModel:
         """(A, B) of ẋ ≈ A δx + B δu about (x, u), from NAME_linearize."""
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
-        A, B = np.empty((2 * self.n, 2 * self.n)), np.empty((2 * self.n, self.nu))
-        bp = self.ffi.cast("double *", self.ffi.from_buffer(B)) if B.size else self.ffi.NULL
-        code = self._fn("linearize")(float(t), xp, up, self._p(params), self.ffi.cast("double *", self.ffi.from_buffer(A)), bp)
+        A, B = np.empty((2 * self.n, 2 * self.n), self.dtype), np.empty((2 * self.n, self.nu), self.dtype)
+        bp = self.ffi.cast(self._ptr, self.ffi.from_buffer(B)) if B.size else self.ffi.NULL
+        code = self._fn("linearize")(float(t), xp, up, self._p(params), self.ffi.cast(self._ptr, self.ffi.from_buffer(A)), bp)
         if code != 0:
             raise ModelError(f"{self.name}_linearize", code)
         return A, B
@@ -294,14 +298,14 @@ class CModel:
         if method == "gauss2_symplectic" and not self.has_canonical:
             raise ValueError(f"{self.name}: gauss2_symplectic needs Hamilton's variables, which a model with a moving "
                              "platform, a lambda(t) or a load of t does not have")
-        ts = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
+        ts = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=self.dtype)))
         xp, _k = self._arr(x0, 2 * self.n)
         up, _ku = self._u(u)
-        X = np.empty((len(ts), 2 * self.n))
+        X = np.empty((len(ts), 2 * self.n), self.dtype)
         st = self.ffi.new(f"{self.name}_integrate_stats *")
         code = self._fn("integrate_grid")(
-            METHODS[method], len(ts), self.ffi.cast("double *", self.ffi.from_buffer(ts)), float(h), float(rtol),
-            float(atol), int(max_steps), xp, up, self._p(params), self.ffi.cast("double *", self.ffi.from_buffer(X)), st)
+            METHODS[method], len(ts), self.ffi.cast(self._ptr, self.ffi.from_buffer(ts)), float(h), float(rtol),
+            float(atol), int(max_steps), xp, up, self._p(params), self.ffi.cast(self._ptr, self.ffi.from_buffer(X)), st)
         stats = dict(t=st.t, x=np.array(list(st.x)), n_rhs=st.n_rhs, n_steps=st.n_steps,
                      n_rejected=st.n_rejected, n_iter=st.n_iter, n_newton=st.n_newton)
         if code != 0:
@@ -313,14 +317,14 @@ class CModel:
         runs without the GIL): X0 of shape (nb, 2N); u None, one (NU,) for all or (nb, NU); params
         None, one dict for all or a list of nb dicts.  Returns X of shape (nb, len(t), 2N) (rows
         past a failure NaN) and the return code of each trajectory (0: OK)."""
-        ts = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
-        X0 = np.ascontiguousarray(X0, dtype=float)
+        ts = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=self.dtype)))
+        X0 = np.ascontiguousarray(X0, dtype=self.dtype)
         if X0.ndim != 2 or X0.shape[1] != 2 * self.n:
             raise ValueError(f"X0 must have shape (nb, {2 * self.n}), not {X0.shape}")
         nb = X0.shape[0]
         U, u_stride = None, 0
         if u is not None:
-            U = np.ascontiguousarray(u, dtype=float)
+            U = np.ascontiguousarray(u, dtype=self.dtype)
             if U.shape == (self.nu,):
                 u_stride = 0
             elif U.shape == (nb, self.nu):
@@ -338,9 +342,9 @@ class CModel:
             for i, d in enumerate(params):
                 for k, v in d.items():
                     setattr(pp[i], k, float(v))
-        X = np.empty((nb, len(ts), 2 * self.n))
+        X = np.empty((nb, len(ts), 2 * self.n), self.dtype)
         codes = np.zeros(nb, dtype=np.intc)
-        dp = lambda a: self.ffi.cast("double *", self.ffi.from_buffer(a))  # noqa: E731
+        dp = lambda a: self.ffi.cast(self._ptr, self.ffi.from_buffer(a))  # noqa: E731
         failed = self._fn("integrate_batch")(
             METHODS[method], nb, len(ts), dp(ts), float(h), float(rtol), float(atol), int(max_steps), dp(X0),
             dp(U) if U is not None else self.ffi.NULL, u_stride, pp, p_stride, dp(X),
@@ -361,12 +365,12 @@ class CModel:
         dim = 2 * self.n
         xp, _k = self._arr(x0, dim)
         up, _ku = self._u(u)
-        Phi = np.array(np.eye(dim) if Phi0 is None else Phi0, dtype=float, order="C")
+        Phi = np.array(np.eye(dim) if Phi0 is None else Phi0, dtype=self.dtype, order="C")
         if Phi.shape != (dim, dim):
             raise ValueError(f"Phi0 must have shape ({dim}, {dim}), not {Phi.shape}")
-        x1 = np.empty(dim)
+        x1 = np.empty(dim, self.dtype)
         st = self.ffi.new(f"{self.name}_integrate_stats *")
-        dp = lambda a: self.ffi.cast("double *", self.ffi.from_buffer(a))  # noqa: E731
+        dp = lambda a: self.ffi.cast(self._ptr, self.ffi.from_buffer(a))  # noqa: E731
         code = self._fn("integrate_variational")(float(t0), float(t1), float(h), float(rtol), float(atol), xp, up,
                                                  self._p(params), dp(x1), dp(Phi), st)
         stats = dict(t=st.t, x=np.array(list(st.x)), n_rhs=st.n_rhs, n_steps=st.n_steps, n_rejected=st.n_rejected)
@@ -387,7 +391,7 @@ class CModel:
 
     def quad_period(self, x0, params=None) -> float:
         xp, _k = self._arr(x0, 4)
-        out = self.ffi.new("double *")
+        out = self.ffi.new(self._ptr)
         code = self._fn("quad_period")(xp, self._p(params), out)
         if code != 0:
             raise ModelError(f"{self.name}_quad_period", code)
@@ -396,10 +400,10 @@ class CModel:
     def quad_state(self, t, x0, params=None) -> np.ndarray:
         xp, _k = self._arr(x0, 4)
         ts = np.atleast_1d(np.asarray(t, dtype=float))
-        out = np.empty((len(ts), 4))
+        out = np.empty((len(ts), 4), self.dtype)
         p = self._p(params)
         for i, ti in enumerate(ts):
-            code = self._fn("quad_state")(float(ti), xp, p, self.ffi.cast("double *", self.ffi.from_buffer(out[i])))
+            code = self._fn("quad_state")(float(ti), xp, p, self.ffi.cast(self._ptr, self.ffi.from_buffer(out[i])))
             if code != 0:
                 raise ModelError(f"{self.name}_quad_state", code)
         return out if np.ndim(t) else out[0]

@@ -46,7 +46,8 @@ def cmd_generate(args) -> int:
     if not args.quiet:
         print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
     result = generate.run(spec, target, Path(args.spec).name, build=not args.no_build, force=args.force,
-                          qdd_form=args.qdd_form, der_form=args.derivative_form, progress=_Progress(args.quiet))
+                          qdd_form=args.qdd_form, der_form=args.derivative_form, progress=_Progress(args.quiet),
+                          real=args.real)
     for line in generate.report(result):
         print(line)
     print(f"done in {time.perf_counter() - t0:.2f} s")
@@ -344,6 +345,9 @@ def main(argv=None) -> int:
         help="how NAME_qdd_derivatives is computed: auto (fewer operations, the default), forward mode over the "
              "articulated recursion, or inverse dynamics differentiated in frame 0 (fixed base, constant rotors, no body loads)",
     )
+    g.add_argument("--real", choices=("double", "float"), default="double",
+                   help="the floating type of the C: double (the default) or float, for a single-precision FPU "
+                        "(the Python mirror stays in double)")
     c = sub.add_parser("check", help="validate a spec without generating")
     c.add_argument("spec")
     s = sub.add_parser("simulate", help="integrate a spec with the emitted C (CSV to stdout: t, phi, phidot, energy)")

@@ -33,7 +33,7 @@ class Result:
 
 
 def run(spec, target: Path, label: str, build: bool = True, force: bool = False, qdd_form: str = "auto",
-        der_form: str = "auto", progress=None) -> Result:
+        der_form: str = "auto", progress=None, real: str = "double") -> Result:
     """Derive, print and write ``spec`` into ``target`` (built unless ``build`` is False).  A
     folder this generator did not write is replaced only with ``force``."""
     target = Path(target)
@@ -42,7 +42,8 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     ahead = pipeline.BuildAhead(target, spec.name) if build else None
     try:
         try:
-            files, model = pipeline.derive_and_render(spec, label, say, qdd_form=qdd_form, der_form=der_form, on_c=ahead)
+            files, model = pipeline.derive_and_render(spec, label, say, qdd_form=qdd_form, der_form=der_form, on_c=ahead,
+                                                      real=real)
         except pipeline.FormNotApplicable as exc:
             raise SpecError("--derivative-form", str(exc)) from None
         if build:

@@ -15,7 +15,7 @@ def energies(model, X: np.ndarray, params) -> np.ndarray:
     nb, nt, dim = X.shape
     X = np.ascontiguousarray(X)
     ffi, f = model.ffi, model._fn("energy")
-    base = ffi.cast("double *", ffi.from_buffer(X))
+    base = ffi.cast(model._ptr, ffi.from_buffer(X))
     per_point = isinstance(params, list)
     p = None if per_point else model._p(params)
     out = np.empty(nb * nt)

@@ -121,22 +121,24 @@ def _with_symbolic(model: Model) -> Model:
     return replace(model, symbolic=Stages(kin, dyn, integrals.derive(model.spec, prog, kin, dyn), kin_defs))
 
 
-def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on_c=None) -> dict[str, str]:
+def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on_c=None, real: str = "double") -> dict[str, str]:
     """The emitted files of the asked targets ("c", "python", "latex"), by file name; with all
     three also MANIFEST.json.  ``spec_label``: how the header names the spec (default NAME.toml);
-    ``on_c``: called with the C files as soon as they are printed (``BuildAhead``)."""
+    ``on_c``: called with the C files as soon as they are printed (``BuildAhead``); ``real``: the
+    floating type of the C ("double", or "float": single precision)."""
     if "latex" in targets and model.spec.general and model.symbolic is None:
         model = _with_symbolic(model)
-    return printers.render(model, spec_label or f"{model.spec.name}.toml", targets, on_c)
+    return printers.render(model, spec_label or f"{model.spec.name}.toml", targets, on_c, real)
 
 
 def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_form: str = "auto",
-                      der_form: str = "auto", targets=printers.ALL, loops: str = "auto", on_c=None) -> tuple[dict[str, str], Model]:
+                      der_form: str = "auto", targets=printers.ALL, loops: str = "auto", on_c=None,
+                      real: str = "double") -> tuple[dict[str, str], Model]:
     """``derive`` then ``render``: the files and the model."""
     model = derive(spec, qdd_form, der_form, latex="latex" in targets, progress=progress, loops=loops)
     say = progress or (lambda msg: None)
     say("printing " + ", ".join({"c": "C", "python": "Python", "latex": "LaTeX"}[t] for t in printers.ALL if t in targets))
-    return render(model, spec_label, targets, on_c), model
+    return render(model, spec_label, targets, on_c, real), model
 
 
 # --------------------------------------------------------------------------- compile

@@ -19,8 +19,10 @@ from .c import CTarget
 from .common import c_comment, environment, py_docstring
 from .latex import LatexTarget
 from .python import PythonTarget
+from .real import single_precision
 
 TARGETS = {"c": CTarget, "python": PythonTarget, "latex": LatexTarget}
+REALS = ("double", "float")  # generate --real: the floating type of the C
 ALL = tuple(TARGETS)
 
 
@@ -75,11 +77,12 @@ def code_context(model: Model, spec_label: str, counts: dict) -> dict:
     )
 
 
-def render(model: Model, spec_label: str, targets=ALL, on_c=None) -> dict[str, str]:
+def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "double") -> dict[str, str]:
     """The emitted files of the asked targets, by file name.  With every target, also
     MANIFEST.json (the spec's hash, the versions, the op counts and every file's hash).
     ``on_c``, if given, is called with the C target's files as soon as they are printed (the
-    build can start while the Python and the LaTeX are printed)."""
+    build can start while the Python and the LaTeX are printed).  ``real``: "float" retypes the C to
+    single precision (printers/real.py)."""
     unknown = [t for t in targets if t not in TARGETS]
     if unknown:
         raise ValueError(f"unknown target {unknown[0]!r} (one of {', '.join(TARGETS)})")
@@ -90,6 +93,8 @@ def render(model: Model, spec_label: str, targets=ALL, on_c=None) -> dict[str, s
     for key in ALL:  # in one order, whatever the order asked
         if key in targets:
             files.update(TARGETS[key]().files(model, context, env))
+            if key == "c" and real == "float":
+                files = single_precision(files, model.spec.name)
             if key == "c" and on_c is not None:
                 on_c(dict(files))
     if set(targets) == set(ALL):
@@ -98,6 +103,7 @@ def render(model: Model, spec_label: str, targets=ALL, on_c=None) -> dict[str, s
             spec=spec_label,
             spec_sha256=hashlib.sha256(spec.source.encode("utf-8")).hexdigest(),
             codegen=__version__,
+            **({"real": real} if real != "double" else {}),
             sympy=sp.__version__,
             op_counts=counts,
             files={k: hashlib.sha256(v.encode("utf-8")).hexdigest() for k, v in sorted(files.items())},

@@ -53,6 +53,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define CABLE64_REAL double
 #define CABLE64_N 64
 #define CABLE64_NU 0
 #define CABLE64_NPARAMS 0

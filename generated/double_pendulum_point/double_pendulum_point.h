@@ -57,6 +57,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define DOUBLE_PENDULUM_POINT_REAL double
 #define DOUBLE_PENDULUM_POINT_N 2
 #define DOUBLE_PENDULUM_POINT_NU 0
 #define DOUBLE_PENDULUM_POINT_NPARAMS 0

@@ -57,6 +57,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define FAST_GYRO_REAL double
 #define FAST_GYRO_N 2
 #define FAST_GYRO_NU 0
 #define FAST_GYRO_NPARAMS 0

@@ -57,6 +57,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define FURUTA_SYM_REAL double
 #define FURUTA_SYM_N 2
 #define FURUTA_SYM_NU 1
 #define FURUTA_SYM_NPARAMS 9

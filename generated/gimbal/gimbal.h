@@ -57,6 +57,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define GIMBAL_REAL double
 #define GIMBAL_N 2
 #define GIMBAL_NU 0
 #define GIMBAL_NPARAMS 0

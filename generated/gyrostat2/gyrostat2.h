@@ -57,6 +57,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define GYROSTAT2_REAL double
 #define GYROSTAT2_N 2
 #define GYROSTAT2_NU 0
 #define GYROSTAT2_NPARAMS 0

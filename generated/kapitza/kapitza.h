@@ -56,6 +56,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define KAPITZA_REAL double
 #define KAPITZA_N 1
 #define KAPITZA_NU 0
 #define KAPITZA_NPARAMS 2

@@ -56,6 +56,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define SHIP_GIMBAL_REAL double
 #define SHIP_GIMBAL_N 2
 #define SHIP_GIMBAL_NU 0
 #define SHIP_GIMBAL_NPARAMS 0

@@ -57,6 +57,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define SPATIAL3_REAL double
 #define SPATIAL3_N 3
 #define SPATIAL3_NU 1
 #define SPATIAL3_NPARAMS 0

@@ -56,6 +56,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define TURNTABLE_REAL double
 #define TURNTABLE_N 1
 #define TURNTABLE_NU 0
 #define TURNTABLE_NPARAMS 1

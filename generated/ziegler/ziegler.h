@@ -62,6 +62,8 @@
 extern "C" {
 #endif
 
+/* the floating type of every argument and result: double, or float (generate --real float) */
+#define ZIEGLER_REAL double
 #define ZIEGLER_N 2
 #define ZIEGLER_NU 0
 #define ZIEGLER_NPARAMS 1
