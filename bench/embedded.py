@@ -9,12 +9,14 @@ MPS2 AN386 board (semihosting for the output); per example, in float and in doub
   executed instruction is one logged translation block, and a program calling NAME_qdd three times
   runs (that count − the count with one call) / 2 instructions more (calibrated on a run of 1000 nops).
 
-Prints the table of docs/embedding.md (`python bench/embedded.py`, a few minutes); the helpers are
+Prints the table of docs/embedding.md and writes every function's size to bench/results/embedded.csv
+(`python bench/embedded.py`, about a minute); the helpers are
 what tests/tools/test_m4.py builds and runs with.  Needs gcc-arm-none-eabi, libnewlib-arm-none-eabi
 and qemu-system-arm (Debian's packages).
 """
 from __future__ import annotations
 
+import csv
 import re
 import shutil
 import subprocess
@@ -157,6 +159,7 @@ def main() -> int:
     if missing:
         print(f"needs {missing} (apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm)")
         return 1
+    rows = []  # every function's size, per example and real: bench/results/embedded.csv
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         cal = calibrate(work)
@@ -174,6 +177,7 @@ def main() -> int:
                 obj, ci = model_object(folder, name, folder)
                 sz = sizes(obj, name)
                 total = sum(sz.values())
+                rows += [dict(example=name, real=real, function=fn, bytes=b) for fn, b in sorted(sz.items())]
                 qdd_stack = stack(ci, f"{name}_qdd")
                 rk4_stack = stack(ci, f"{name}_integrate")
                 params = example_params(name)
@@ -181,6 +185,12 @@ def main() -> int:
                 ins = per_call(prog, (folder,), folder, objects=(folder / f"{name}.c",))
                 print(f"| {name} | {real} | {sz.get('qdd', 0):,} | {sz.get('qdd_derivatives', 0):,} | "
                       f"{sz.get('integrate_grid', 0):,} | {total:,} | {qdd_stack:,} | {rk4_stack:,} | {ins:,.0f} |", flush=True)
+    out = ROOT / "bench" / "results" / "embedded.csv"
+    with out.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"\nwrote {out.relative_to(ROOT)} (the size of every function)")
     return 0
 
 

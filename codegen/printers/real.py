@@ -16,9 +16,6 @@ from __future__ import annotations
 
 import re
 
-# the unit round-off of each precision (DBL_EPSILON, FLT_EPSILON)
-EPS = {"double": 2.220446049250313e-16, "float": 1.1920928955078125e-07}
-
 # precision-dependent constants of the double C: (regex, its float replacement, what it is, where)
 PRECISION = [
     (r"2\.220446049250313e-16", "1.1920929e-07f", "the unit round-off (pivot test, step floors)", None),
