@@ -223,8 +223,7 @@ class Driven:
 
     phi: np.ndarray
     period: float
-    multipliers: np.ndarray
-    exponents: np.ndarray
+    multipliers: np.ndarray  # (the exponents are log μ / period: fmt_multipliers)
     verdict: str
     reason: str
     monodromy: np.ndarray = field(repr=False, default=None)
@@ -335,9 +334,7 @@ class DrivenAnalysis:
         Phi = monodromy(self.c, x, self.period, self.params, self.u)
         mu = multipliers(Phi, self.cyclic)
         v, why = verdict(mu)
-        with np.errstate(divide="ignore"):
-            ex = np.log(mu.astype(complex)) / self.period
-        return Driven(np.array(phi, float), self.period, mu, ex, v, why, Phi)
+        return Driven(np.array(phi, float), self.period, mu, v, why, Phi)
 
     def equilibria(self, extra_starts=()) -> list[Driven]:
         nf = self.n - 1 if self.cyclic else self.n
@@ -397,6 +394,11 @@ class Continued:
     lost: float | None = None
 
 
+def fmt_phi(phi) -> str:
+    """Coordinates as the reports print them (9 significant digits)."""
+    return "[" + ", ".join(f"{v:.9g}" for v in phi) + "]"
+
+
 def verdict_segments(points, name: str) -> list[str]:
     """The lines of a continuation: ``name in [a, b) on the grid: verdict: reason`` for each run of
     equal verdicts; ``points`` are (value, verdict, reason) in increasing order."""
@@ -419,21 +421,17 @@ def report(an: DrivenAnalysis, eqs: list[Driven], continued: list[Continued] | N
     out.append(f"equilibria for all t{cyc}: {len(eqs)} found by Newton on phi'' = 0 at {SAMPLES} times of a period "
                f"(checked at {CHECKS} more) from {STARTS}")
     for e in eqs:
-        out.append(f"  phi = {_fmt_phi(e.phi)}: {e.verdict}: {e.reason}")
+        out.append(f"  phi = {fmt_phi(e.phi)}: {e.verdict}: {e.reason}")
         out.append(f"    {fmt_multipliers(e.multipliers, e.period)}")
     for c in continued or []:
         out.append(f"along {c.name} in [{values[0]:.6g}, {values[-1]:.6g}] ({len(values)} values), "
-                   f"phi = {_fmt_phi(c.points[0][1].phi) if c.points else '?'}:")
+                   f"phi = {fmt_phi(c.points[0][1].phi) if c.points else '?'}:")
         out += ["  " + ln for ln in verdict_segments([(v, d.verdict, d.reason) for v, d in c.points], c.name)]
         for w, v1, v2 in c.changes:
             out.append(f"  verdict changes at {c.name} = {w:.10g}: {v1} -> {v2}")
         if c.lost is not None:
             out.append(f"  Newton lost the equilibrium at {c.name} = {c.lost:.6g} (it no longer persists there)")
     return "\n".join(out)
-
-
-def _fmt_phi(phi) -> str:
-    return "[" + ", ".join(f"{v:.9g}" for v in phi) + "]"
 
 
 # --------------------------------------------------------------------------- a sweep's measure

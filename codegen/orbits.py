@@ -33,7 +33,7 @@ import numpy as np
 from . import floquet
 from .errors import SpecError
 
-RTOL = ATOL = 1e-12  # of the variational integration over a period
+RTOL, ATOL = floquet.RTOL, floquet.ATOL  # of the variational integration over a period
 TOL = 1e-10  # the orbit closes to this, relative to max(1, |x₀|)
 MAX_ITER = 30
 MAX_HALVINGS = 6

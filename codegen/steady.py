@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import floquet
-from .floquet import STARTS, distinct, start_grid, verdict_segments
+from .floquet import STARTS, distinct, fmt_phi, start_grid, verdict_segments
 from .floquet import wrap as _wrap
 
 
@@ -290,10 +290,6 @@ class Analysis:
 
 
 # --------------------------------------------------------------------------- report
-def _fmt_phi(phi) -> str:
-    return "[" + ", ".join(f"{v:.9g}" for v in phi) + "]"
-
-
 def _fmt_ev(ev) -> str:
     """The eigenvalues as printed: a part below 1e-12 of the largest modulus is the eigensolver's
     round-off and prints as 0 (as does one below 1e-12 /s; the verdicts are decided on the unrounded values, with their own
@@ -315,13 +311,13 @@ def report(an, eqs, branches=None, omegas=None) -> str:
     cyc = " (phi1 is cyclic: any phi1; phi1 = 0 shown)" if an.cyclic else ""
     out.append(f"equilibria{cyc}: {len(eqs)} found by Newton from {STARTS}")
     for e in eqs:
-        out.append(f"  phi = {_fmt_phi(e.phi)}: {e.verdict}: {e.reason}")
+        out.append(f"  phi = {fmt_phi(e.phi)}: {e.verdict}: {e.reason}")
         out.append(f"    eigenvalues: {_fmt_ev(e.eigenvalues)}")
     if branches is not None:
         out.append(f"steady rotations phidot1 = omega, phi2..{n} at rest, omega in [{omegas[0]:.6g}, {omegas[-1]:.6g}] ({len(omegas)} values): {len(branches)} branch{'es' if len(branches) != 1 else ''}")
         for i, br in enumerate(branches, 1):
             a, b = br.points[0], br.points[-1]
-            out.append(f"  branch {i}: omega {a.omega:.6g} .. {b.omega:.6g}, phi from {_fmt_phi(a.phi)} to {_fmt_phi(b.phi)}")
+            out.append(f"  branch {i}: omega {a.omega:.6g} .. {b.omega:.6g}, phi from {fmt_phi(a.phi)} to {fmt_phi(b.phi)}")
             out += ["    " + ln for ln in verdict_segments([(p.omega, p.verdict, p.reason) for p in br.points], "omega")]
             for w, v1, v2 in br.changes:
                 out.append(f"    verdict changes at omega = {w:.10g}: {v1} -> {v2}")

@@ -121,6 +121,12 @@ static void model_to_state_(const double *y, const model_params *p, double *x)
 #undef sys_dop853_
 #undef sys_eval_
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int model_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double model_floor_(const double *x)
 {
@@ -610,7 +616,7 @@ int model_integrate_grid(int method, int nt, const double *t, double h, double r
         }
     }
     if (method == MODEL_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!model_tolerances_ok_(rtol, atol) || isnan(h)) {
             return MODEL_BAD_ARGUMENT;
         }
 #if MODEL_CANONICAL
@@ -759,7 +765,7 @@ int model_integrate_variational(double t0, double t1, double h, double rtol, dou
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !model_tolerances_ok_(rtol, atol)) {
         return MODEL_BAD_ARGUMENT;
     }
 #if MODEL_HAS_PARAMS

@@ -26326,6 +26326,12 @@ static int cable64_dop853_(int nt, const double *tt, double h0, double rtol, dou
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int cable64_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double cable64_floor_(const double *x)
 {
@@ -26531,7 +26537,7 @@ int cable64_integrate_grid(int method, int nt, const double *t, double h, double
         }
     }
     if (method == CABLE64_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!cable64_tolerances_ok_(rtol, atol) || isnan(h)) {
             return CABLE64_BAD_ARGUMENT;
         }
     } else if (method == CABLE64_RK4 || method == CABLE64_GAUSS2 || method == CABLE64_GAUSS2_FIXED               || method == CABLE64_GAUSS2_SYMPLECTIC) {

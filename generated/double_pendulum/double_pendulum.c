@@ -844,6 +844,12 @@ static int double_pendulum_dop853_(int nt, const double *tt, double h0, double r
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int double_pendulum_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double double_pendulum_floor_(const double *x)
 {
@@ -1281,7 +1287,7 @@ int double_pendulum_integrate_grid(int method, int nt, const double *t, double h
         }
     }
     if (method == DOUBLE_PENDULUM_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!double_pendulum_tolerances_ok_(rtol, atol) || isnan(h)) {
             return DOUBLE_PENDULUM_BAD_ARGUMENT;
         }
     } else if (method == DOUBLE_PENDULUM_RK4 || method == DOUBLE_PENDULUM_GAUSS2 || method == DOUBLE_PENDULUM_GAUSS2_FIXED               || method == DOUBLE_PENDULUM_GAUSS2_SYMPLECTIC) {
@@ -1617,7 +1623,7 @@ int double_pendulum_integrate_variational(double t0, double t1, double h, double
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !double_pendulum_tolerances_ok_(rtol, atol)) {
         return DOUBLE_PENDULUM_BAD_ARGUMENT;
     }
     (void)p;

@@ -841,6 +841,12 @@ static int double_pendulum_point_dop853_(int nt, const double *tt, double h0, do
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int double_pendulum_point_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double double_pendulum_point_floor_(const double *x)
 {
@@ -1278,7 +1284,7 @@ int double_pendulum_point_integrate_grid(int method, int nt, const double *t, do
         }
     }
     if (method == DOUBLE_PENDULUM_POINT_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!double_pendulum_point_tolerances_ok_(rtol, atol) || isnan(h)) {
             return DOUBLE_PENDULUM_POINT_BAD_ARGUMENT;
         }
     } else if (method == DOUBLE_PENDULUM_POINT_RK4 || method == DOUBLE_PENDULUM_POINT_GAUSS2 || method == DOUBLE_PENDULUM_POINT_GAUSS2_FIXED               || method == DOUBLE_PENDULUM_POINT_GAUSS2_SYMPLECTIC) {
@@ -1614,7 +1620,7 @@ int double_pendulum_point_integrate_variational(double t0, double t1, double h, 
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !double_pendulum_point_tolerances_ok_(rtol, atol)) {
         return DOUBLE_PENDULUM_POINT_BAD_ARGUMENT;
     }
     (void)p;

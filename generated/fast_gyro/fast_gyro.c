@@ -842,6 +842,12 @@ static int fast_gyro_dop853_(int nt, const double *tt, double h0, double rtol, d
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int fast_gyro_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double fast_gyro_floor_(const double *x)
 {
@@ -1279,7 +1285,7 @@ int fast_gyro_integrate_grid(int method, int nt, const double *t, double h, doub
         }
     }
     if (method == FAST_GYRO_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!fast_gyro_tolerances_ok_(rtol, atol) || isnan(h)) {
             return FAST_GYRO_BAD_ARGUMENT;
         }
     } else if (method == FAST_GYRO_RK4 || method == FAST_GYRO_GAUSS2 || method == FAST_GYRO_GAUSS2_FIXED               || method == FAST_GYRO_GAUSS2_SYMPLECTIC) {
@@ -1615,7 +1621,7 @@ int fast_gyro_integrate_variational(double t0, double t1, double h, double rtol,
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !fast_gyro_tolerances_ok_(rtol, atol)) {
         return FAST_GYRO_BAD_ARGUMENT;
     }
     (void)p;

@@ -968,6 +968,12 @@ static int furuta_dop853_(int nt, const double *tt, double h0, double rtol, doub
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int furuta_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double furuta_floor_(const double *x)
 {
@@ -1405,7 +1411,7 @@ int furuta_integrate_grid(int method, int nt, const double *t, double h, double 
         }
     }
     if (method == FURUTA_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!furuta_tolerances_ok_(rtol, atol) || isnan(h)) {
             return FURUTA_BAD_ARGUMENT;
         }
     } else if (method == FURUTA_RK4 || method == FURUTA_GAUSS2 || method == FURUTA_GAUSS2_FIXED               || method == FURUTA_GAUSS2_SYMPLECTIC) {
@@ -1741,7 +1747,7 @@ int furuta_integrate_variational(double t0, double t1, double h, double rtol, do
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !furuta_tolerances_ok_(rtol, atol)) {
         return FURUTA_BAD_ARGUMENT;
     }
     (void)p;

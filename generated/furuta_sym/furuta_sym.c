@@ -1113,6 +1113,12 @@ static int furuta_sym_dop853_(int nt, const double *tt, double h0, double rtol, 
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int furuta_sym_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double furuta_sym_floor_(const double *x)
 {
@@ -1550,7 +1556,7 @@ int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, dou
         }
     }
     if (method == FURUTA_SYM_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!furuta_sym_tolerances_ok_(rtol, atol) || isnan(h)) {
             return FURUTA_SYM_BAD_ARGUMENT;
         }
     } else if (method == FURUTA_SYM_RK4 || method == FURUTA_SYM_GAUSS2 || method == FURUTA_SYM_GAUSS2_FIXED               || method == FURUTA_SYM_GAUSS2_SYMPLECTIC) {
@@ -1888,7 +1894,7 @@ int furuta_sym_integrate_variational(double t0, double t1, double h, double rtol
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !furuta_sym_tolerances_ok_(rtol, atol)) {
         return FURUTA_SYM_BAD_ARGUMENT;
     }
     if (!p) {

@@ -842,6 +842,12 @@ static int gimbal_dop853_(int nt, const double *tt, double h0, double rtol, doub
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int gimbal_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double gimbal_floor_(const double *x)
 {
@@ -1279,7 +1285,7 @@ int gimbal_integrate_grid(int method, int nt, const double *t, double h, double 
         }
     }
     if (method == GIMBAL_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!gimbal_tolerances_ok_(rtol, atol) || isnan(h)) {
             return GIMBAL_BAD_ARGUMENT;
         }
     } else if (method == GIMBAL_RK4 || method == GIMBAL_GAUSS2 || method == GIMBAL_GAUSS2_FIXED               || method == GIMBAL_GAUSS2_SYMPLECTIC) {
@@ -1615,7 +1621,7 @@ int gimbal_integrate_variational(double t0, double t1, double h, double rtol, do
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !gimbal_tolerances_ok_(rtol, atol)) {
         return GIMBAL_BAD_ARGUMENT;
     }
     (void)p;

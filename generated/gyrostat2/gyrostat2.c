@@ -1105,6 +1105,12 @@ static int gyrostat2_dop853_(int nt, const double *tt, double h0, double rtol, d
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int gyrostat2_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double gyrostat2_floor_(const double *x)
 {
@@ -1542,7 +1548,7 @@ int gyrostat2_integrate_grid(int method, int nt, const double *t, double h, doub
         }
     }
     if (method == GYROSTAT2_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!gyrostat2_tolerances_ok_(rtol, atol) || isnan(h)) {
             return GYROSTAT2_BAD_ARGUMENT;
         }
     } else if (method == GYROSTAT2_RK4 || method == GYROSTAT2_GAUSS2 || method == GYROSTAT2_GAUSS2_FIXED               || method == GYROSTAT2_GAUSS2_SYMPLECTIC) {
@@ -1878,7 +1884,7 @@ int gyrostat2_integrate_variational(double t0, double t1, double h, double rtol,
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !gyrostat2_tolerances_ok_(rtol, atol)) {
         return GYROSTAT2_BAD_ARGUMENT;
     }
     (void)p;

@@ -575,6 +575,12 @@ static int kapitza_dop853_(int nt, const double *tt, double h0, double rtol, dou
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int kapitza_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double kapitza_floor_(const double *x)
 {
@@ -914,7 +920,7 @@ int kapitza_integrate_grid(int method, int nt, const double *t, double h, double
         }
     }
     if (method == KAPITZA_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!kapitza_tolerances_ok_(rtol, atol) || isnan(h)) {
             return KAPITZA_BAD_ARGUMENT;
         }
     } else if (method == KAPITZA_RK4 || method == KAPITZA_GAUSS2 || method == KAPITZA_GAUSS2_FIXED) {
@@ -1256,7 +1262,7 @@ int kapitza_integrate_variational(double t0, double t1, double h, double rtol, d
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !kapitza_tolerances_ok_(rtol, atol)) {
         return KAPITZA_BAD_ARGUMENT;
     }
     if (!p) {

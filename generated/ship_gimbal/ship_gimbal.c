@@ -873,6 +873,12 @@ static int ship_gimbal_dop853_(int nt, const double *tt, double h0, double rtol,
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int ship_gimbal_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double ship_gimbal_floor_(const double *x)
 {
@@ -1212,7 +1218,7 @@ int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, do
         }
     }
     if (method == SHIP_GIMBAL_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!ship_gimbal_tolerances_ok_(rtol, atol) || isnan(h)) {
             return SHIP_GIMBAL_BAD_ARGUMENT;
         }
     } else if (method == SHIP_GIMBAL_RK4 || method == SHIP_GIMBAL_GAUSS2 || method == SHIP_GIMBAL_GAUSS2_FIXED) {
@@ -1552,7 +1558,7 @@ int ship_gimbal_integrate_variational(double t0, double t1, double h, double rto
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !ship_gimbal_tolerances_ok_(rtol, atol)) {
         return SHIP_GIMBAL_BAD_ARGUMENT;
     }
     (void)p;

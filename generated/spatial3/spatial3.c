@@ -2436,6 +2436,12 @@ static int spatial3_dop853_(int nt, const double *tt, double h0, double rtol, do
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int spatial3_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double spatial3_floor_(const double *x)
 {
@@ -2873,7 +2879,7 @@ int spatial3_integrate_grid(int method, int nt, const double *t, double h, doubl
         }
     }
     if (method == SPATIAL3_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!spatial3_tolerances_ok_(rtol, atol) || isnan(h)) {
             return SPATIAL3_BAD_ARGUMENT;
         }
     } else if (method == SPATIAL3_RK4 || method == SPATIAL3_GAUSS2 || method == SPATIAL3_GAUSS2_FIXED               || method == SPATIAL3_GAUSS2_SYMPLECTIC) {
@@ -3209,7 +3215,7 @@ int spatial3_integrate_variational(double t0, double t1, double h, double rtol, 
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !spatial3_tolerances_ok_(rtol, atol)) {
         return SPATIAL3_BAD_ARGUMENT;
     }
     (void)p;

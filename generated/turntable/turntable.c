@@ -587,6 +587,12 @@ static int turntable_dop853_(int nt, const double *tt, double h0, double rtol, d
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int turntable_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double turntable_floor_(const double *x)
 {
@@ -925,7 +931,7 @@ int turntable_integrate_grid(int method, int nt, const double *t, double h, doub
         }
     }
     if (method == TURNTABLE_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!turntable_tolerances_ok_(rtol, atol) || isnan(h)) {
             return TURNTABLE_BAD_ARGUMENT;
         }
     } else if (method == TURNTABLE_RK4 || method == TURNTABLE_GAUSS2 || method == TURNTABLE_GAUSS2_FIXED) {
@@ -1263,7 +1269,7 @@ int turntable_integrate_variational(double t0, double t1, double h, double rtol,
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !turntable_tolerances_ok_(rtol, atol)) {
         return TURNTABLE_BAD_ARGUMENT;
     }
     if (!p) {

@@ -863,6 +863,12 @@ static int ziegler_dop853_(int nt, const double *tt, double h0, double rtol, dou
 }
 
 
+/* DOP853's tolerances: finite, not negative, not both zero. */
+static int ziegler_tolerances_ok_(double rtol, double atol)
+{
+    return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
+}
+
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
 static double ziegler_floor_(const double *x)
 {
@@ -1300,7 +1306,7 @@ int ziegler_integrate_grid(int method, int nt, const double *t, double h, double
         }
     }
     if (method == ZIEGLER_DOP853) {
-        if (!(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL) || isnan(h)) {
+        if (!ziegler_tolerances_ok_(rtol, atol) || isnan(h)) {
             return ZIEGLER_BAD_ARGUMENT;
         }
     } else if (method == ZIEGLER_RK4 || method == ZIEGLER_GAUSS2 || method == ZIEGLER_GAUSS2_FIXED               || method == ZIEGLER_GAUSS2_SYMPLECTIC) {
@@ -1638,7 +1644,7 @@ int ziegler_integrate_variational(double t0, double t1, double h, double rtol, d
         st->x[i] = NAN;
     }
     if (!x0 || !x1 || !Phi || !isfinite(t0) || !isfinite(t1) || isnan(h)
-        || !(rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL)) {
+        || !ziegler_tolerances_ok_(rtol, atol)) {
         return ZIEGLER_BAD_ARGUMENT;
     }
     if (!p) {
