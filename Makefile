@@ -31,10 +31,10 @@ $(VENV)/.installed: pyproject.toml
 setup: $(VENV)/.installed
 
 generate: setup
-	$(VPY) -m codegen generate $(SPEC)
+	$(VPY) -m gyrochain generate $(SPEC)
 
 generate-all: setup
-	@for s in $(EXAMPLES); do $(VPY) -m codegen generate -q $$s || exit 1; done
+	@for s in $(EXAMPLES); do $(VPY) -m gyrochain generate -q $$s || exit 1; done
 
 # the suite on JOBS processes (pytest-xdist; a file stays on one worker, so its models are built once)
 JOBS ?= 2
@@ -57,25 +57,25 @@ $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
 	touch $@
 
 plot: $(VENV)/.plot-installed
-	$(VPY) -m codegen generate -q specs/gimbal.toml >/dev/null
+	$(VPY) -m gyrochain generate -q specs/gimbal.toml >/dev/null
 	$(VPY) examples/frames_figure.py docs/img/frames.png
 	$(VPY) examples/plot_gimbal.py docs/img/gimbal_quadrature.png
-	$(VPY) -m codegen generate -q specs/furuta.toml >/dev/null
+	$(VPY) -m gyrochain generate -q specs/furuta.toml >/dev/null
 	$(VPY) examples/furuta_lqr.py docs/img/furuta_lqr.png
 	rm -rf build/flip_map.zarr
-	$(VPY) -m codegen sweep specs/double_pendulum.toml --vary link1=-3.14:3.14:300 --vary link2=-3.14:3.14:300 \
+	$(VPY) -m gyrochain sweep specs/double_pendulum.toml --vary link1=-3.14:3.14:300 --vary link2=-3.14:3.14:300 \
 		--t1 10 --measure flip_time -q -o build/flip_map.zarr
-	$(VPY) -m codegen plot build/flip_map.zarr --log -o docs/img/double_pendulum_flip.png
-	$(VPY) -m codegen generate -q specs/kapitza.toml >/dev/null
+	$(VPY) -m gyrochain plot build/flip_map.zarr --log -o docs/img/double_pendulum_flip.png
+	$(VPY) -m gyrochain generate -q specs/kapitza.toml >/dev/null
 	$(VPY) examples/kapitza_chart.py docs/img/kapitza_chart.png
-	$(VPY) -m codegen generate -q specs/double_pendulum_point.toml >/dev/null
+	$(VPY) -m gyrochain generate -q specs/double_pendulum_point.toml >/dev/null
 	$(VPY) examples/nnm_periods.py docs/img/nnm_periods.png
 
 animations: setup
-	$(VPY) -m codegen animate specs/gimbal.toml --t1 8 --fps 20 --size 360x360 -o docs/img/gimbal.gif
-	$(VPY) -m codegen animate specs/spatial3.toml --phi=-2,-0.75,-1.1 --phidot 0,0,0 --t1 8 --fps 20 --size 360x360 \
+	$(VPY) -m gyrochain animate specs/gimbal.toml --t1 8 --fps 20 --size 360x360 -o docs/img/gimbal.gif
+	$(VPY) -m gyrochain animate specs/spatial3.toml --phi=-2,-0.75,-1.1 --phidot 0,0,0 --t1 8 --fps 20 --size 360x360 \
 		-o docs/img/spatial3_chaos.gif
-	$(VPY) -m codegen animate specs/cable64.toml --t1 4 --fps 20 --size 360x360 -o docs/img/cable64.gif
+	$(VPY) -m gyrochain animate specs/cable64.toml --t1 4 --fps 20 --size 360x360 -o docs/img/cable64.gif
 
 $(VENV)/.bench-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,bench]'
@@ -98,7 +98,7 @@ bench-speed: bench-setup
 	$(VPY) bench/derivatives.py
 
 pdf: generate
-	@name=$$($(VPY) -c "from codegen.spec import load_spec; print(load_spec('$(SPEC)').name)"); \
+	@name=$$($(VPY) -c "from gyrochain.spec import load_spec; print(load_spec('$(SPEC)').name)"); \
 	cd generated/$$name && pdflatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null && echo "generated/$$name/$$name.pdf"
 
 clean:

@@ -24,8 +24,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
-from codegen import reference  # noqa: E402
-from codegen.spec import parse_spec  # noqa: E402
+from gyrochain import reference  # noqa: E402
+from gyrochain.spec import parse_spec  # noqa: E402
 from speed import BUILD, CFLAGS, RESULTS, build_pinocchio, chain_text, generate, run, states, write_csv, _cpu  # noqa: E402
 
 TOL = 1e-6  # relative agreement with the reference differences required before timing
@@ -151,7 +151,7 @@ def symbolic_check(cases) -> list[dict]:
     sys.path.insert(0, str(ROOT / "tests"))
     from conftest import generate as gen_model
     from lagrange import lagrangian
-    from codegen.randspec import random_spec_text
+    from gyrochain.randspec import random_spec_text
 
     rows = []
     for n, planar in cases:

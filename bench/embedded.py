@@ -151,8 +151,8 @@ def model_object(folder: Path, name: str, work: Path) -> tuple[Path, Path]:
 def main() -> int:
     sys.path.insert(0, str(ROOT))
     sys.path.insert(0, str(ROOT / "tests"))
-    from codegen import pipeline
-    from codegen.spec import load_spec
+    from gyrochain import pipeline
+    from gyrochain.spec import load_spec
     from conftest import SHORT_EXAMPLES, example_params
 
     missing = available()

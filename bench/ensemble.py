@@ -25,8 +25,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from codegen import build, pipeline  # noqa: E402
-from codegen.spec import parse_spec  # noqa: E402
+from gyrochain import build, pipeline  # noqa: E402
+from gyrochain.spec import parse_spec  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"
 SPEC = ROOT / "specs" / "double_pendulum.toml"

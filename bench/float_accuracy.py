@@ -24,9 +24,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
-from codegen import pipeline  # noqa: E402
-from codegen.randspec import random_spec_text  # noqa: E402
-from codegen.spec import load_spec, parse_spec  # noqa: E402
+from gyrochain import pipeline  # noqa: E402
+from gyrochain.randspec import random_spec_text  # noqa: E402
+from gyrochain.spec import load_spec, parse_spec  # noqa: E402
 from conftest import SHORT_EXAMPLES, example_params  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"

@@ -35,9 +35,9 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 sys.path.insert(0, str(ROOT / "tests"))
 
-from codegen import build, reference  # noqa: E402
-from codegen.build import IntegrationError  # noqa: E402
-from codegen.spec import load_spec  # noqa: E402
+from gyrochain import build, reference  # noqa: E402
+from gyrochain.build import IntegrationError  # noqa: E402
+from gyrochain.spec import load_spec  # noqa: E402
 from conftest import example_params  # noqa: E402  (the values of furuta_sym's parameters)
 
 RESULTS = ROOT / "bench" / "results"

@@ -119,8 +119,8 @@ def main() -> int:
     sys.path.insert(0, str(ROOT))
     import numpy as np
 
-    from codegen import pipeline
-    from codegen.spec import parse_spec
+    from gyrochain import pipeline
+    from gyrochain.spec import parse_spec
 
     text = (ROOT / "specs" / f"{NAME}.toml").read_text()
     files, _ = pipeline.derive_and_render(parse_spec(text), targets=("c",))

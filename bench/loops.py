@@ -1,4 +1,4 @@
-"""Where the loop form of long chains (codegen/loopform.py) starts to pay: the same random spatial
+"""Where the loop form of long chains (gyrochain/loopform.py) starts to pay: the same random spatial
 gyrostat chains emitted in the straight-line form and in the loop form, side by side in one run —
 C size, gcc -O2 time, and ns per call of every function the loop form changes.
 
@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from codegen import pipeline
-from codegen.randspec import random_spec_text
-from codegen.spec import parse_spec
+from gyrochain import pipeline
+from gyrochain.randspec import random_spec_text
+from gyrochain.spec import parse_spec
 
 DRIVER = r"""
 #include <stdio.h>

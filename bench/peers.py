@@ -1,4 +1,4 @@
-"""The peers of bench/speed.py, built from the same numeric chain (codegen.reference.NumericChain).
+"""The peers of bench/speed.py, built from the same numeric chain (gyrochain.reference.NumericChain).
 
 Conventions (digest §3): frame k turns from frame k-1 by alpha^k = R1(phi) R2(theta) (v^(k) =
 alpha v^(k-1)), the joint axis is e1 of frame k, O^k sits at s^(k-1) in frame k-1 (O^1 at the

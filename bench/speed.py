@@ -5,7 +5,7 @@ computeABADerivatives, on the same random spatial gyrostat chains, in one run; g
 time, C size, peak memory and op counts against n, with their log-log slopes; the op count of
 reduced scenes (planar, no rotors, zero offsets).
 
-Every implementation's φ̈ is checked against codegen.reference before it is timed.  Peers that
+Every implementation's φ̈ is checked against gyrochain.reference before it is timed.  Peers that
 are not installed (pip install '.[bench]', apt libeigen3-dev) are reported as missing.
 Results: bench/results/speed.csv, generation.csv, scenes.csv and the PNG charts.
 """
@@ -30,9 +30,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
-from codegen import reference  # noqa: E402
-from codegen.randspec import random_spec_text  # noqa: E402
-from codegen.spec import parse_spec  # noqa: E402
+from gyrochain import reference  # noqa: E402
+from gyrochain.randspec import random_spec_text  # noqa: E402
+from gyrochain.spec import parse_spec  # noqa: E402
 
 BUILD = ROOT / "bench" / "build"
 RESULTS = ROOT / "bench" / "results"
@@ -71,7 +71,7 @@ def states(n: int) -> np.ndarray:
 # --------------------------------------------------------------------------- generation
 def generate_one(spec_path: str, out: str) -> None:
     """Child process: derive + emit + compile one spec; print seconds and peak RSS as JSON."""
-    from codegen.pipeline import derive_and_render
+    from gyrochain.pipeline import derive_and_render
 
     t0 = time.perf_counter()
     spec = parse_spec(Path(spec_path).read_text())
@@ -84,7 +84,7 @@ def generate_one(spec_path: str, out: str) -> None:
     t1 = time.perf_counter()
     subprocess.run(["gcc", *CFLAGS, "-std=c99", "-c", str(out / f"{spec.name}.c"), "-o", str(out / f"{spec.name}.o")], check=True)
     t_cc = time.perf_counter() - t1
-    from codegen.assemble import op_counts
+    from gyrochain.assemble import op_counts
 
     c_file = out / f"{spec.name}.c"
     print(json.dumps(dict(emit=t_emit, cc=t_cc, rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, ops=op_counts(model),
@@ -370,7 +370,7 @@ def symbolic(ns: list[int]) -> list[dict]:
 
 def scenes(n: int) -> list[dict]:
     """The same chain (same random draws) general and reduced: the model shrinks with the scene."""
-    from codegen import assemble, dynamics, integrals, kinematics
+    from gyrochain import assemble, dynamics, integrals, kinematics
 
     rows = []
     variants = [

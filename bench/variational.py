@@ -20,7 +20,7 @@ from scipy.integrate import solve_ivp
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from codegen import build, orbits  # noqa: E402
+from gyrochain import build, orbits  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"
 EQUILIBRIUM = [1.33227005, 1.25831554, -1.64484794]  # spatial3's stable equilibrium (`gyrochain steady`)

@@ -60,7 +60,7 @@ def frequencies(cmodel, model) -> np.ndarray:
     """The chain's small-oscillation angular frequencies at φ = 0, lowest first, from `steady`
     (the eigenvalues ±iω of the generated model's linearisation); raises if the equilibrium is not
     stable."""
-    from codegen import steady
+    from gyrochain import steady
 
     st = steady.Analysis(cmodel, model).classify(np.zeros(model.spec.n))
     if not st.verdict.startswith("stable"):
@@ -69,8 +69,8 @@ def frequencies(cmodel, model) -> np.ndarray:
 
 
 def table(sizes=SIZES) -> str:
-    from codegen import pipeline
-    from codegen.spec import parse_spec
+    from gyrochain import pipeline
+    from gyrochain.spec import parse_spec
 
     wb = bernoulli()
     head = "| n | " + " | ".join(f"ω{i + 1} (rad/s)" for i in range(MODES)) + " | " + " | ".join(

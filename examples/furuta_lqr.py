@@ -1,7 +1,7 @@
 """Balancing the Furuta pendulum (specs/furuta.toml) upright with an LQR gain from the emitted
 linearisation.
 
-furuta_linearize gives A, B at the upright equilibrium (φ² = π, found by `codegen steady`); the
+furuta_linearize gives A, B at the upright equilibrium (φ² = π, found by `gyrochain steady`); the
 gain is the discrete-time LQR of their zero-order-hold discretisation at the 1 kHz control rate
 (scipy's Riccati solver); the closed loop runs the emitted C integrator (RK4, one 1 ms step per
 control period, the motor torque held in between) from 0.2 rad off upright.  Without the
@@ -17,7 +17,7 @@ from scipy.linalg import expm, solve_discrete_are
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from codegen.build import load  # noqa: E402
+from gyrochain.build import load  # noqa: E402
 
 RATE = 1000.0  # Hz
 UPRIGHT = np.array([0.0, np.pi, 0.0, 0.0])

@@ -23,9 +23,9 @@ from scipy.special import mathieu_a, mathieu_b  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from codegen import sweep  # noqa: E402
-from codegen.floquet import MU_TOL  # noqa: E402
-from codegen.plot import STABLE  # noqa: E402
+from gyrochain import sweep  # noqa: E402
+from gyrochain.floquet import MU_TOL  # noqa: E402
+from gyrochain.plot import STABLE  # noqa: E402
 
 G, L = 9.81, 0.2  # the example's gravity and bob distance (a point bob: l = A/(m c))
 A_MAX, W_MIN, W_MAX = 0.12, 20.0, 400.0

@@ -17,8 +17,8 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from codegen import orbits, pipeline  # noqa: E402
-from codegen.spec import load_spec  # noqa: E402
+from gyrochain import orbits, pipeline  # noqa: E402
+from gyrochain.spec import load_spec  # noqa: E402
 
 G, L, M = 9.81, 1.0, 1.0
 

@@ -15,8 +15,8 @@ from scipy.integrate import solve_ivp  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from codegen.build import load  # noqa: E402
-from codegen.spec import load_spec  # noqa: E402
+from gyrochain.build import load  # noqa: E402
+from gyrochain.spec import load_spec  # noqa: E402
 
 
 def main(out: Path) -> None:

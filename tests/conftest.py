@@ -16,8 +16,8 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from codegen import build, loopform, pipeline, reference  # noqa: E402
-from codegen.spec import ChainSpec, load_spec, parse_spec  # noqa: E402
+from gyrochain import build, loopform, pipeline, reference  # noqa: E402
+from gyrochain.spec import ChainSpec, load_spec, parse_spec  # noqa: E402
 
 EXAMPLES = sorted(p.stem for p in (ROOT / "specs").glob("*.toml"))
 # the long chains (specs/cable64.toml): the tests that cost minutes per example there (sanitizers,

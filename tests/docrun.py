@@ -3,7 +3,7 @@
 Every fenced block must carry one of these info strings (anything else is an error):
 
 - ``console``: ``$ command`` lines, each followed by the output it shows.  ``gyrochain …`` runs
-  in this process (``codegen.cli.main``, stdout and stderr in one stream as a terminal shows
+  in this process (``gyrochain.cli.main``, stdout and stderr in one stream as a terminal shows
   them), in the page's scratch folder (``specs/`` and ``examples/`` linked in).  ``make TARGET``
   runs for real in a scratch copy of the Makefile for ``generate``; for the targets that run
   the suite, benchmarks, TeX or long jobs (``make test`` inside ``make test`` would recurse)
@@ -148,7 +148,7 @@ def scratch(folder: Path) -> Path:
 
 
 def run_gyrochain(argv: list[str]) -> tuple[int, str]:
-    from codegen.cli import main
+    from gyrochain.cli import main
 
     buf = io.StringIO()
     argv0, columns = sys.argv[0], os.environ.get("COLUMNS")

@@ -3,7 +3,7 @@
     ℒ = Σ_k [T_k + λᵏ·ωᵏ] + U,   T_k = ½ mᵏ v_Oᵏ² + mᵏ v_Oᵏ·(ωᵏ × cᵏ) + ½ ωᵏ·Aᵏ·ωᵏ,
     U = g ê⁰₁ · Σ_k mᵏ r_Gᵏ.
 
-It shares nothing with codegen's recursions but the convention (15) for the frames."""
+It shares nothing with gyrochain's recursions but the convention (15) for the frames."""
 from __future__ import annotations
 
 import sympy as sp

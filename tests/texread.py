@@ -1,5 +1,5 @@
 """Read the generated LaTeX back: its equations as sympy expressions, by a parser of the small
-grammar the LaTeX printer uses (codegen/printers/texterms.py) — written apart from the printer, so
+grammar the LaTeX printer uses (gyrochain/printers/texterms.py) — written apart from the printer, so
 that a formula printed wrong reads back wrong.  Anything outside the grammar is an error."""
 from __future__ import annotations
 

@@ -10,9 +10,9 @@ import subprocess
 import numpy as np
 import pytest
 
-from codegen import reference
-from codegen.build import ModelError
-from codegen.spec import load_spec
+from gyrochain import reference
+from gyrochain.build import ModelError
+from gyrochain.spec import load_spec
 from conftest import EXAMPLES, ROOT, SHORT_EXAMPLES, example_params
 
 GEN = ROOT / "generated"
@@ -133,7 +133,7 @@ def test_sanitizers_clean(name, tmp_path):
 
 @pytest.fixture(scope="module")
 def world_model(make_model):
-    """spatial3 with NAME_qdd_derivatives in the world form (codegen/world.py), which the examples
+    """spatial3 with NAME_qdd_derivatives in the world form (gyrochain/world.py), which the examples
     do not choose: its loops, LDLᵀ and block handling go through the same checks."""
     text = (ROOT / "specs" / "spatial3.toml").read_text().replace('name = "spatial3"', 'name = "spatial3w"')
     return make_model(text, der_form="world")
@@ -141,7 +141,7 @@ def world_model(make_model):
 
 @pytest.fixture(scope="module")
 def loop_models(make_model):
-    """The loop form of long chains (codegen/loopform.py) forced on spatial3 (fixed base: Hamilton's
+    """The loop form of long chains (gyrochain/loopform.py) forced on spatial3 (fixed base: Hamilton's
     variables too) and on ship_gimbal (a moving platform: no canonical functions), with the world
     form of the derivatives where it applies: the loops' helpers go through the same checks."""
     text = (ROOT / "specs" / "spatial3.toml").read_text().replace('name = "spatial3"', 'name = "spatial3l"')
@@ -270,10 +270,10 @@ def cut_models(tmp_path_factory, monkeypatch_module):
     """A 4-link gyrostat chain with a control torque in the loop form, with every long function
     cut into parts of 25 temporaries (printers/chunks.py; a real model is cut at 150 from 3 parts
     on), and the same spec whole."""
-    from codegen import pipeline
-    from codegen.printers import chunks
-    from codegen.randspec import random_spec_text
-    from codegen.spec import parse_spec
+    from gyrochain import pipeline
+    from gyrochain.printers import chunks
+    from gyrochain.randspec import random_spec_text
+    from gyrochain.spec import parse_spec
 
     spec = parse_spec(random_spec_text(np.random.default_rng(5), 4, name="cut4", controls=(2,)))
     whole_files, _ = pipeline.derive_and_render(spec, targets=("c",), loops="loops", der_form="world")
@@ -311,10 +311,10 @@ def test_parts_are_the_same_computation(cut_models, rng):
 def test_parts_of_the_other_forms_are_the_same_computation(monkeypatch, rng):
     """The composite qdd (its parts write the function's own M and f) and the forward-mode
     derivatives (acc and piv), cut into parts of 25 temporaries: the same doubles, bit for bit."""
-    from codegen import pipeline
-    from codegen.printers import chunks
-    from codegen.randspec import random_spec_text
-    from codegen.spec import parse_spec
+    from gyrochain import pipeline
+    from gyrochain.printers import chunks
+    from gyrochain.randspec import random_spec_text
+    from gyrochain.spec import parse_spec
 
     spec = parse_spec(random_spec_text(np.random.default_rng(6), 3, name="cut3", controls=(1,)))
     forms = dict(targets=("c",), qdd_form="composite", der_form="forward")

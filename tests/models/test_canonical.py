@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from codegen.build import IntegrationError
-from codegen.randspec import random_spec_text
+from gyrochain.build import IntegrationError
+from gyrochain.randspec import random_spec_text
 from conftest import EXAMPLES, richardson
 from lagrange import lagrangian_np
 from test_models import CASES, IDS

@@ -11,8 +11,8 @@ import sys
 import numpy as np
 import pytest
 
-from codegen import build
-from codegen.build import ModelError
+from gyrochain import build
+from gyrochain.build import ModelError
 from conftest import FURUTA_SYM_PARAMS, ROOT, SHORT_EXAMPLES, check_derivatives, example_script
 
 
@@ -109,7 +109,7 @@ def test_furuta_lqr_example(example):
     assert np.max(np.abs(Xo[:, 1] - np.pi)) > 1.0
 
 
-# ------------------------------------------------------------------ the world form (codegen/world.py)
+# ------------------------------------------------------------------ the world form (gyrochain/world.py)
 # The same specs in both forms of NAME_qdd_derivatives: forward mode over the articulated recursion,
 # and the inverse dynamics differentiated in frame 0 (M⁻¹(∂τ/∂x − ∂ID/∂x)).  Both are exact, so they
 # agree to round-off; both against the reference's differences.
@@ -125,7 +125,7 @@ WORLD_CASES = [  # (n, planar, gyro, controls, springs/dampers/torque expression
 
 
 def _world_pair(make_model, n, planar, gyro, controls, springs):
-    from codegen.randspec import random_general_spec_text, random_spec_text
+    from gyrochain.randspec import random_general_spec_text, random_spec_text
 
     rng = np.random.default_rng(700 + 10 * n + len(controls))
     name = f"wf{n}{'p' if planar else 's'}{int(gyro)}{len(controls)}{int(springs)}"
@@ -201,7 +201,7 @@ def test_world_form_singular_and_not_applicable(make_model, tmp_path):
     check_derivatives(m, x, np.array([0.3]))
     # a spec the world form does not cover: a one-line error naming the option, nothing written
     out = tmp_path / "turn"
-    res = subprocess.run([sys.executable, "-m", "codegen", "generate", str(ROOT / "specs" / "turntable.toml"), "-o", str(out),
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "generate", str(ROOT / "specs" / "turntable.toml"), "-o", str(out),
                           "--derivative-form", "world", "--no-build", "-q"], capture_output=True, text=True, cwd=ROOT)
     assert res.returncode != 0
     assert "--derivative-form" in res.stderr and "moving platform" in res.stderr

@@ -12,9 +12,9 @@ import sys
 import numpy as np
 import pytest
 
-from codegen import pipeline
-from codegen.printers import real
-from codegen.spec import load_spec
+from gyrochain import pipeline
+from gyrochain.printers import real
+from gyrochain.spec import load_spec
 from conftest import EXAMPLES, LONG_EXAMPLES, ROOT, SHORT_EXAMPLES, example_params
 
 STRICT = ["-Wall", "-Wextra", "-Wpedantic", "-Wdouble-promotion", "-Wfloat-conversion", "-Werror"]
@@ -121,12 +121,12 @@ def test_float_integrators_run(pairs):
 
 
 def test_generate_real_float_writes_a_float_folder(tmp_path):
-    res = subprocess.run([sys.executable, "-m", "codegen", "generate", "-q", "specs/gimbal.toml", "-o", str(tmp_path / "g"),
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "generate", "-q", "specs/gimbal.toml", "-o", str(tmp_path / "g"),
                           "--real", "float", "--no-build"], capture_output=True, text=True, cwd=ROOT)
     assert res.returncode == 0, res.stderr
     assert "#define GIMBAL_REAL float" in (tmp_path / "g" / "gimbal.h").read_text()
     assert '"real": "float"' in (tmp_path / "g" / "MANIFEST.json").read_text()
-    res = subprocess.run([sys.executable, "-m", "codegen", "generate", "-q", "specs/gimbal.toml", "-o", str(tmp_path / "h"),
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "generate", "-q", "specs/gimbal.toml", "-o", str(tmp_path / "h"),
                           "--real", "single"], capture_output=True, text=True, cwd=ROOT)
     assert res.returncode == 2 and "--real" in res.stderr and len(res.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "h").exists()

@@ -20,7 +20,7 @@ PINNED_SYMPY = "1.14.0"
 def test_regenerated_output_is_byte_identical(name, hashseed, tmp_path):
     out = tmp_path / name
     env = dict(os.environ, PYTHONHASHSEED=hashseed)
-    res = subprocess.run([sys.executable, "-m", "codegen", "generate", "-q", "--no-build", str(ROOT / "specs" / f"{name}.toml"), "-o", str(out)],
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "generate", "-q", "--no-build", str(ROOT / "specs" / f"{name}.toml"), "-o", str(out)],
                          capture_output=True, text=True, cwd=ROOT, env=env)
     assert res.returncode == 0, res.stderr
     committed = ROOT / "generated" / name

@@ -9,9 +9,9 @@ import re
 import numpy as np
 import pytest
 
-from codegen import pipeline
-from codegen.randspec import random_general_spec_text, random_spec_text
-from codegen.spec import load_spec, parse_spec
+from gyrochain import pipeline
+from gyrochain.randspec import random_general_spec_text, random_spec_text
+from gyrochain.spec import load_spec, parse_spec
 from conftest import EXAMPLES, ROOT, example_params
 
 CLAIM = "The {what} is an integral of this model"
@@ -67,7 +67,7 @@ def test_the_document_claims_an_integral_exactly_when_the_code_has_it(case):
     for key, (claimed, flag) in said.items():
         assert claimed == flag, (key, said)
     # and generate's report says the same
-    from codegen.generate import integral_lines
+    from gyrochain.generate import integral_lines
 
     report = "\n".join(integral_lines(spec, model))
     assert ("energy T - U (23): conserved" in report) == said["energy"][0], report

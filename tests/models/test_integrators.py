@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from codegen.build import METHODS, IntegrationError
+from gyrochain.build import METHODS, IntegrationError
 
 GIMBAL_X0 = np.array([0.0, 0.3, 2.0, 0.5])  # specs/gimbal.toml [initial]: a libration
 FAST_X0 = np.array([0.0, 2.6, 1.0, 0.0])  # specs/fast_gyro.toml [initial]

@@ -1,4 +1,4 @@
-"""The fixed numerical kernels are real C: a compiler reads codegen/kernels/*.c as they stand
+"""The fixed numerical kernels are real C: a compiler reads gyrochain/kernels/*.c as they stand
 (with model_stub.h, for both values of every #if flag), strict and warning-free."""
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 
 from conftest import ROOT
 
-KERNELS = sorted((ROOT / "codegen" / "kernels").glob("*.c"))
+KERNELS = sorted((ROOT / "gyrochain" / "kernels").glob("*.c"))
 STRICT = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-Wno-unused-function", "-fsyntax-only"]
 
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from codegen.randspec import random_spec_text
-from codegen.spec import parse_spec
+from gyrochain.randspec import random_spec_text
+from gyrochain.spec import parse_spec
 from lagrange import lagrange_terms_np
 
 

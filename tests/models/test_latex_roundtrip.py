@@ -17,7 +17,7 @@ import pytest
 import sympy as sp
 
 import texread
-from codegen.randspec import random_general_spec_text, random_spec_text
+from gyrochain.randspec import random_general_spec_text, random_spec_text
 from conftest import EXAMPLES, ROOT, example_params
 
 TOL = 1e-9
@@ -42,7 +42,7 @@ def _random_cases() -> dict:
         cases[f"rt_fixed{n}{'p' if planar else ''}"] = (random_spec_text(rng, n, name=f"rt_fixed{n}{'p' if planar else ''}",
                                                                           planar=planar, controls=(1,)), None)
     # past CLOSED_FORM_MAX_N the document prints the recursion's quantities; from n = 12 on the
-    # code is the loop form (codegen/loopform.py)
+    # code is the loop form (gyrochain/loopform.py)
     for n in (4, 12):
         rng = np.random.default_rng(2540 + n)
         cases[f"rt_recursion{n}"] = (random_spec_text(rng, n, name=f"rt_recursion{n}", controls=(2,)), None)
@@ -228,7 +228,7 @@ def _check_derivatives(doc, c, params, x, uc, t, env, M, check):
 
 
 def _example(name, make_model):
-    from codegen.spec import load_spec
+    from gyrochain.spec import load_spec
 
     return make_model(load_spec(ROOT / "specs" / f"{name}.toml"), example_params(name), latex=True)
 

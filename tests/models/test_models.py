@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from codegen import reference
-from codegen.randspec import random_spec_text
+from gyrochain import reference
+from gyrochain.randspec import random_spec_text
 from conftest import EXAMPLES, LONG_EXAMPLES, check_derivatives
 
 # (n, planar, gyrostats, controlled joints, θ¹ or None for random)

@@ -5,14 +5,14 @@ from __future__ import annotations
 import subprocess
 import sys
 
-from codegen import pipeline
-from codegen.spec import load_spec
+from gyrochain import pipeline
+from gyrochain.spec import load_spec
 from conftest import ROOT
 
 ASK = r"""
 import sys, time
-from codegen import build, pipeline
-from codegen.spec import load_spec
+from gyrochain import build, pipeline
+from gyrochain.spec import load_spec
 
 real = build.compile_model
 
@@ -50,8 +50,8 @@ def test_the_same_sources_load_once_per_process(tmp_path, monkeypatch):
 AHEAD = r"""
 import sys
 from pathlib import Path
-from codegen import generate, pipeline
-from codegen.spec import load_spec
+from gyrochain import generate, pipeline
+from gyrochain.spec import load_spec
 
 spec, out = load_spec("specs/double_pendulum.toml"), Path(sys.argv[1])
 first = generate.run(spec, out, "double_pendulum.toml").build

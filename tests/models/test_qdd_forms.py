@@ -8,9 +8,9 @@ import re
 import numpy as np
 import pytest
 
-from codegen import reference
-from codegen.build import ModelError
-from codegen.randspec import random_spec_text
+from gyrochain import reference
+from gyrochain.build import ModelError
+from gyrochain.randspec import random_spec_text
 
 from conftest import ROOT, code_op_count, example_params, stated_op_counts
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from codegen.build import ModelError
-from codegen.randspec import random_spec_text
+from gyrochain.build import ModelError
+from gyrochain.randspec import random_spec_text
 
 ODE_TOL = 1e-13
 

@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from codegen import assemble, dynamics, integrals, kinematics, reference
-from codegen.randspec import random_spec_text
-from codegen.spec import parse_spec
+from gyrochain import assemble, dynamics, integrals, kinematics, reference
+from gyrochain.randspec import random_spec_text
+from gyrochain.spec import parse_spec
 
 from conftest import code_op_count, stated_op_counts
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from codegen.build import IntegrationError
-from codegen.spec import phi_symbol, phidot_symbol
+from gyrochain.build import IntegrationError
+from gyrochain.spec import phi_symbol, phidot_symbol
 from conftest import example_params, perturbed_c
 from lagrange import lagrangian
 

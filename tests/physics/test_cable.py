@@ -9,8 +9,8 @@ import pytest
 from scipy.linalg import eigh
 from scipy.special import jn_zeros
 
-from codegen import pipeline
-from codegen.spec import load_spec, parse_spec
+from gyrochain import pipeline
+from gyrochain.spec import load_spec, parse_spec
 from conftest import ROOT, example_script
 
 

@@ -1,4 +1,4 @@
-"""Floquet stability of driven pendulums (codegen/floquet.py) against the Mathieu equation.
+"""Floquet stability of driven pendulums (gyrochain/floquet.py) against the Mathieu equation.
 
 Kapitza's pendulum (specs/kapitza.toml: a point bob on a light rod of l = 0.2 m, the pivot moving
 as a cos(ω t) along the vertical) linearised about the upright position θ = φ − π is, with
@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 from scipy.special import mathieu_a, mathieu_b
 
-from codegen import floquet, pipeline
-from codegen.spec import load_spec
+from gyrochain import floquet, pipeline
+from gyrochain.spec import load_spec
 from conftest import ROOT, perturbed_c
 
 G, L = 9.81, 0.2  # the example's gravity and the bob's distance from the pivot
@@ -181,7 +181,7 @@ def test_a_model_that_is_not_periodic_is_one_line(tmp_path, position, field, wor
 
     spec = tmp_path / "drift.toml"
     spec.write_text(KAPITZA.replace('position = ["a*cos(w*t)", 0, 0]', f"position = {position}"))
-    res = subprocess.run([sys.executable, "-m", "codegen", "steady", str(spec)], capture_output=True, text=True, cwd=ROOT)
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "steady", str(spec)], capture_output=True, text=True, cwd=ROOT)
     assert res.returncode == 2 and res.stdout == "", (res.stdout, res.stderr)
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and field in lines[0] and words in lines[0], res.stderr
@@ -200,10 +200,10 @@ def test_the_period_of_several_frequencies(example):
     floquet.check_period(m[0], T, None, None)
     with pytest.raises(floquet.SpecError):
         floquet.check_period(m[0], T / 2, None, None)
-    res = subprocess.run([sys.executable, "-m", "codegen", "steady", "specs/ship_gimbal.toml"], capture_output=True,
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "steady", "specs/ship_gimbal.toml"], capture_output=True,
                          text=True, cwd=ROOT)
     assert res.returncode == 0 and "equilibria for all t: 0 found" in res.stdout
-    res = subprocess.run([sys.executable, "-m", "codegen", "steady", "specs/ship_gimbal.toml", "--start", "0,0.3"],
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "steady", "specs/ship_gimbal.toml", "--start", "0,0.3"],
                          capture_output=True, text=True, cwd=ROOT)
     assert res.returncode == 2 and len(res.stderr.strip().splitlines()) == 1 and "--start 0,0.3" in res.stderr
 

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from codegen import reference
-from codegen.randspec import random_general_spec_text
+from gyrochain import reference
+from gyrochain.randspec import random_general_spec_text
 from conftest import check_derivatives
 
 # (n, translate, rotate, loads, springs, spin_up)

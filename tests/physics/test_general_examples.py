@@ -15,8 +15,8 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from codegen import reference
-from codegen.randspec import random_spec_text
+from gyrochain import reference
+from gyrochain.randspec import random_spec_text
 
 
 # ---------------------------------------------------------------------------------- turntable

@@ -15,8 +15,8 @@ import sys
 import numpy as np
 import pytest
 
-from codegen import sweep
-from codegen.measures import lyapunov, lyapunov_spectrum, pairing
+from gyrochain import sweep
+from gyrochain.measures import lyapunov, lyapunov_spectrum, pairing
 from conftest import ROOT, perturbed_c
 
 REGULAR, CHAOTIC = [0.3, 0.2, 0.0, 0.0], [2.5, -2.0, 0.0, 0.0]
@@ -84,7 +84,7 @@ def test_short_time_spectrum_against_differences(example, tmp_path):
 
 
 def _run(*args):
-    return subprocess.run([sys.executable, "-m", "codegen", *args], capture_output=True, text=True, cwd=ROOT)
+    return subprocess.run([sys.executable, "-m", "gyrochain", *args], capture_output=True, text=True, cwd=ROOT)
 
 
 def test_the_sweep_measures(tmp_path):

@@ -1,4 +1,4 @@
-"""Periodic orbits by shooting (codegen/orbits.py): the nonlinear normal modes of the double pendulum
+"""Periodic orbits by shooting (gyrochain/orbits.py): the nonlinear normal modes of the double pendulum
 of point masses grow out of its linear modes, ω² = (g/l)(2 ∓ √2); every orbit closes under the
 independent reference model; the multipliers agree with differences of the flow (and a perturbed
 derivative is caught); a steady rotation of the heavy gyrostat as an orbit has the multipliers
@@ -12,8 +12,8 @@ import sys
 import numpy as np
 import pytest
 
-from codegen import orbits, pipeline, reference, steady
-from codegen.spec import load_spec
+from gyrochain import orbits, pipeline, reference, steady
+from gyrochain.spec import load_spec
 from conftest import ROOT, perturbed_c
 
 G, L = 9.81, 1.0
@@ -103,7 +103,7 @@ def test_a_steady_rotation_as_a_periodic_orbit():
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "codegen", "orbits", *args], capture_output=True, text=True, cwd=ROOT)
+    return subprocess.run([sys.executable, "-m", "gyrochain", "orbits", *args], capture_output=True, text=True, cwd=ROOT)
 
 
 def test_the_command_and_its_mistakes():
@@ -130,6 +130,6 @@ def test_more_mistakes_are_one_line():
     for args, field in ((("orbits", "specs/cable64.toml"), "orbits"),
                         (("orbits", "specs/double_pendulum_point.toml", "--omega", "abc"), "--omega"),
                         (("steady", "specs/kapitza.toml", "--vary", "w=0:100:3"), "--vary w")):
-        res = subprocess.run([sys.executable, "-m", "codegen", *args], capture_output=True, text=True, cwd=ROOT, timeout=60)
+        res = subprocess.run([sys.executable, "-m", "gyrochain", *args], capture_output=True, text=True, cwd=ROOT, timeout=60)
         assert res.returncode == 2 and res.stdout == "", (args, res.stdout, res.stderr)
         assert len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, (args, res.stderr)

@@ -1,4 +1,4 @@
-"""``codegen steady``: equilibria, steady rotations and their stability against classical results
+"""``gyrochain steady``: equilibria, steady rotations and their stability against classical results
 computed independently (closed forms, the reference model's M and potential)."""
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy.linalg import eigh
 
-from codegen import reference, steady
-from codegen.spec import load_spec, parse_spec
+from gyrochain import reference, steady
+from gyrochain.spec import load_spec, parse_spec
 from conftest import ROOT
 
 CARDAN = '''
@@ -136,7 +136,7 @@ def test_turntable_relative_equilibria(compiled):
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "codegen", "steady", *args], capture_output=True, text=True, cwd=ROOT, timeout=300)
+    return subprocess.run([sys.executable, "-m", "gyrochain", "steady", *args], capture_output=True, text=True, cwd=ROOT, timeout=300)
 
 
 def test_cli_output_and_bad_input():

@@ -14,9 +14,9 @@ import pytest
 PIL = pytest.importorskip("PIL", reason="the view extra (Pillow) is not installed")
 from PIL import Image, ImageChops  # noqa: E402
 
-from codegen import animate, pipeline, reference, scene  # noqa: E402
-from codegen.cli import main  # noqa: E402
-from codegen.spec import load_spec, parse_spec  # noqa: E402
+from gyrochain import animate, pipeline, reference, scene  # noqa: E402
+from gyrochain.cli import main  # noqa: E402
+from gyrochain.spec import load_spec, parse_spec  # noqa: E402
 
 from conftest import example_params  # noqa: E402
 

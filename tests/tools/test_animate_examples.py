@@ -9,9 +9,9 @@ import pytest
 pytest.importorskip("PIL", reason="the view extra (Pillow) is not installed")
 from PIL import Image  # noqa: E402
 
-from codegen import animate  # noqa: E402
-from codegen.cli import main  # noqa: E402
-from codegen.spec import load_spec  # noqa: E402
+from gyrochain import animate  # noqa: E402
+from gyrochain.cli import main  # noqa: E402
+from gyrochain.spec import load_spec  # noqa: E402
 
 from conftest import EXAMPLES  # noqa: E402
 from test_animate import changed, frames_of, param_args  # noqa: E402

@@ -7,15 +7,15 @@ import sys
 
 import numpy as np
 
-from codegen import reference
-from codegen.spec import load_spec
+from gyrochain import reference
+from gyrochain.spec import load_spec
 from conftest import ROOT
 
 
 def run(*args, cache=None):
     """The command as a user runs it; ``cache``: its own model cache folder ($GYROCHAIN_CACHE)."""
     env = dict(os.environ, GYROCHAIN_CACHE=str(cache)) if cache else None
-    return subprocess.run([sys.executable, "-m", "codegen", *args], capture_output=True, text=True, cwd=ROOT, env=env)
+    return subprocess.run([sys.executable, "-m", "gyrochain", *args], capture_output=True, text=True, cwd=ROOT, env=env)
 
 
 def test_generate_prints_op_counts_integrals_and_where(tmp_path):
@@ -28,7 +28,7 @@ def test_generate_prints_op_counts_integrals_and_where(tmp_path):
     # the [initial] state's motion, found by the generated module (C checks it in test_quadratures)
     line = next(ln for ln in res.stdout.splitlines() if ln.startswith("motion of [initial]: libration"))
     period = float(line.split("period ")[1].split()[0])
-    from codegen.build import load_python
+    from gyrochain.build import load_python
     spec = load_spec(ROOT / "specs" / "gimbal.toml")
     x0 = [*spec.initial["phi"], *spec.initial["phidot"]]
     assert abs(period - load_python(tmp_path / "g", "gimbal").quad_period(x0)) <= 1e-11 * period
@@ -74,7 +74,7 @@ def test_spec_text_is_data_in_every_output(tmp_path):
     """A description full of comment and string delimiters still gives valid C, Python, LaTeX."""
     import shutil
 
-    from codegen.build import load, load_python
+    from gyrochain.build import load, load_python
 
     evil = r'evil */ /* """ \" \\ % $ & # _ { } ~ ^ ??/ é \n end'
     text = (ROOT / "specs" / "gimbal.toml").read_text().replace('name = "gimbal"', 'name = "evil"')
@@ -126,7 +126,7 @@ def test_a_condition_on_a_parameter_is_stated_not_guessed(tmp_path):
     assert "tilted_momentum(" in header and "#define TILTED_HAS_QUADRATURES 0" in header
     assert "conserved, $= k$, only when the axis $l^1$ is vertical" in (tmp_path / "t" / "tilted.tex").read_text()
     # and the condition is right: conserved at th1 = 0 and at pi, not at 0.4
-    from codegen.build import load
+    from gyrochain.build import load
     from scipy.integrate import solve_ivp
     c = load(tmp_path / "t", "tilted")
     x0 = np.array([0.1, 0.5, 1.0, -2.0])
@@ -138,22 +138,22 @@ def test_a_condition_on_a_parameter_is_stated_not_guessed(tmp_path):
 
 
 def test_distribution_console_command_and_version(tmp_path):
-    """The distribution is gyrochain (free on the index; "codegen" there is someone else's), its
-    console command does what python -m codegen does, and the version lives in one place."""
+    """The distribution is gyrochain (free on the index; "gyrochain" there is someone else's), its
+    console command does what python -m gyrochain does, and the version lives in one place."""
     import importlib.metadata
     import shutil
     from pathlib import Path
 
-    import codegen
+    import gyrochain
 
-    assert importlib.metadata.version("gyrochain") == codegen.__version__
+    assert importlib.metadata.version("gyrochain") == gyrochain.__version__
     res = run("--version")
-    assert res.returncode == 0 and res.stdout.strip() == f"gyrochain {codegen.__version__}"
+    assert res.returncode == 0 and res.stdout.strip() == f"gyrochain {gyrochain.__version__}"
     exe = Path(sys.executable).parent / "gyrochain"
     exe = exe if exe.exists() else shutil.which("gyrochain")
     assert exe, "the console command gyrochain is installed with the package (pip install -e .)"
     res = subprocess.run([str(exe), "--version"], capture_output=True, text=True)
-    assert res.returncode == 0 and res.stdout.strip() == f"gyrochain {codegen.__version__}"
+    assert res.returncode == 0 and res.stdout.strip() == f"gyrochain {gyrochain.__version__}"
     a, b = tmp_path / "a", tmp_path / "b"
     res = subprocess.run([str(exe), "generate", "specs/furuta.toml", "-o", str(a), "--no-build", "-q"],
                          capture_output=True, text=True, cwd=ROOT)
@@ -176,7 +176,7 @@ def test_generate_does_not_recompile_what_has_not_changed(tmp_path):
     assert second.returncode == 0 and "not recompiled" in second.stdout, second.stdout
     so2 = next(out.glob("_gimbal_cffi*.so"))
     assert so2.stat().st_mtime_ns == stamp  # the same file, copied with its time
-    from codegen.build import load
+    from gyrochain.build import load
     assert np.all(np.isfinite(load(out, "gimbal").qdd(np.array([0.1, 0.2, 0.3, 0.4]))))
     # another folder, the same sources: the model cache's build, not compiled again
     other = run("generate", "specs/gimbal.toml", "-o", str(tmp_path / "h"), "-q", cache=cache)
@@ -216,7 +216,7 @@ def test_the_api_pages_script_runs(tmp_path):
 
 def test_a_closed_pipe_ends_the_output_without_a_traceback():
     """`simulate ... | head -1`: the reader stops early; the command stops quietly."""
-    proc = subprocess.Popen([sys.executable, "-m", "codegen", "simulate", "specs/gimbal.toml", "--t1", "0.1", "--steps", "20000"],
+    proc = subprocess.Popen([sys.executable, "-m", "gyrochain", "simulate", "specs/gimbal.toml", "--t1", "0.1", "--steps", "20000"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
     assert proc.stdout.readline().startswith(b"t,phi1")
     proc.stdout.close()

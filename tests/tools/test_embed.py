@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from codegen import build
+from gyrochain import build
 from conftest import ROOT
 
 pytestmark = pytest.mark.skipif(not (shutil.which("cmake") and shutil.which("c++") and shutil.which("cc")),

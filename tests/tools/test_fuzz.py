@@ -27,7 +27,7 @@ tomli_w = pytest.importorskip("tomli_w", reason="the test extra (tomli-w) is not
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from codegen.cli import main  # noqa: E402
+from gyrochain.cli import main  # noqa: E402
 from conftest import ROOT  # noqa: E402
 
 SPECS = ROOT / "specs"

@@ -41,7 +41,7 @@ def test_latex_has_the_paper_structure():
 
 def test_spec_text_prints_in_the_text_font():
     """The OT1 text font has no '<', '>' or '|': pdflatex would print '¿' for Kapitza's 'a^2 w^2 > …'."""
-    from codegen.printers.common import tex_escape
+    from gyrochain.printers.common import tex_escape
 
     assert tex_escape("a > b < c | d") == r"a \textgreater{} b \textless{} c \textbar{} d"
     tex = (ROOT / "generated" / "kapitza" / "kapitza.tex").read_text()

@@ -12,8 +12,8 @@ import sys
 import numpy as np
 import pytest
 
-from codegen import pipeline
-from codegen.spec import load_spec
+from gyrochain import pipeline
+from gyrochain.spec import load_spec
 from conftest import ROOT, example_script
 
 
@@ -37,7 +37,7 @@ def furuta(tmp_path_factory):
     work = tmp_path_factory.mktemp("m4")
     spec = load_spec(ROOT / "specs" / "furuta.toml")
     # as examples/embed/m4/README.md says
-    subprocess.run([sys.executable, "-m", "codegen", "generate", "specs/furuta.toml", "--real", "float", "-o", str(work),
+    subprocess.run([sys.executable, "-m", "gyrochain", "generate", "specs/furuta.toml", "--real", "float", "-o", str(work),
                     "--no-build", "-q"], cwd=ROOT, check=True, capture_output=True)
     K = example_script("furuta_lqr").gain(pipeline.compiled(spec)[0])[0]
     (work / "lqr_gain.h").write_text("#define FURUTA_K {" + ", ".join(f"{float(k)!r}f" for k in K) + "}\n")

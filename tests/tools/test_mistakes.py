@@ -14,15 +14,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from codegen import cli
-from codegen.cli import main
+from gyrochain import __version__, cli
+from gyrochain.cli import main
 from conftest import ROOT
 
 SPECS = ROOT / "specs"
 
 
 def run(*args):
-    """The command in this process (as `python -m codegen` runs it): status, stdout, stderr, seconds."""
+    """The command in this process (as `python -m gyrochain` runs it): status, stdout, stderr, seconds."""
     out, err = io.StringIO(), io.StringIO()
     t0 = time.perf_counter()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
@@ -101,9 +101,9 @@ def test_a_chain_whose_mass_matrix_is_singular_everywhere_is_refused_by_every_co
 def test_a_mass_matrix_not_positive_definite_at_the_start_has_the_c_words():
     """simulate and animate check M at the start (values valid body by body can still make it
     singular there) with the words of the C's SINGULAR, which ends a motion that reaches one."""
-    from codegen.codes import status_text
-    from codegen.errors import SpecError
-    from codegen.simulate import check_start
+    from gyrochain.codes import status_text
+    from gyrochain.errors import SpecError
+    from gyrochain.simulate import check_start
 
     check_start(np.array([[2.0, 1.0], [1.0, 1.0]]))
     with pytest.raises(SpecError, match="SINGULAR") as exc:
@@ -172,7 +172,21 @@ def test_internal_errors_say_so_and_exit_1(monkeypatch):
         raise RuntimeError("a bug")
     monkeypatch.setattr(cli, "cmd_check", broken)
     code, _, err, _ = run("check", SPECS / "gimbal.toml")
-    assert code == 1 and err.count("\n") == 1 and "internal error (RuntimeError: a bug); please report it" in err
+    assert code == 1 and err.count("\n") == 1 and f"internal error in gyrochain {__version__}: RuntimeError: a bug — please report it" in err
+
+
+def test_a_missing_package_file_is_an_internal_error_not_the_users(monkeypatch, tmp_path):
+    """A template missing from an installation (jinja2's TemplateNotFound is an OSError) is ours:
+    exit 1 with the version, not exit 2 as if the user's file were wrong; --debug shows the traceback."""
+    from gyrochain.printers import common
+
+    monkeypatch.setattr(common, "TEMPLATES", tmp_path / "nowhere")
+    code, _, err, _ = run("generate", "-q", "--no-build", SPECS / "gimbal.toml", "-o", tmp_path / "out")
+    assert code == 1 and err.count("\n") == 1, err
+    assert f"internal error in gyrochain {__version__}: TemplateNotFound" in err and "please report it" in err
+    assert not (tmp_path / "out").exists()
+    with pytest.raises(OSError, match="_c.jinja"):
+        main(["generate", "-q", "--no-build", str(SPECS / "gimbal.toml"), "-o", str(tmp_path / "out"), "--debug"])
 
 
 def test_a_file_system_error_is_one_line(tmp_path, store):
@@ -240,7 +254,7 @@ def test_an_at_outside_the_grid_is_refused_and_a_snap_is_said(store, tmp_path):
 
 
 def test_a_rerun_with_nothing_to_do_starts_no_cluster(store, monkeypatch):
-    from codegen import sweep
+    from gyrochain import sweep
 
     def no_cluster(*a, **k):
         raise AssertionError("a cluster was started")
@@ -263,8 +277,8 @@ def test_point_masses_and_slender_rods_are_accepted(tmp_path):
 
 
 def test_the_command_line_entry_point_prints_one_line(tmp_path):
-    """The real `python -m codegen` once (the others run in this process): one line, exit 2."""
-    res = subprocess.run([sys.executable, "-m", "codegen", "animate", str(SPECS / "gimbal.toml"), "--param", "m=2",
+    """The real `python -m gyrochain` once (the others run in this process): one line, exit 2."""
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "animate", str(SPECS / "gimbal.toml"), "--param", "m=2",
                           "-o", str(tmp_path / "x.gif")], capture_output=True, text=True, cwd=ROOT,
                          env=dict(os.environ, PYTHONPATH=str(ROOT)))
     assert res.returncode == 2 and res.stderr.count("\n") == 1 and res.stderr.startswith("error: --param m:"), res.stderr
@@ -273,8 +287,8 @@ def test_the_command_line_entry_point_prints_one_line(tmp_path):
 
 def test_normal_modes_of_two_point_masses():
     """double_pendulum_point: ω² = (g/l)(2 ∓ √2) for equal masses on equal massless rods."""
-    from codegen import pipeline
-    from codegen.spec import load_spec
+    from gyrochain import pipeline
+    from gyrochain.spec import load_spec
 
     cm, _ = pipeline.compiled(load_spec(SPECS / "double_pendulum_point.toml"))
     A, _ = cm.linearize(np.zeros(4))

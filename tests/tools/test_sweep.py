@@ -14,9 +14,9 @@ import pytest
 
 pytest.importorskip("zarr", reason="the sweep extra (zarr, dask, distributed, tqdm) is not installed")
 
-from codegen import pipeline, reference, sweep  # noqa: E402
-from codegen.cli import main  # noqa: E402
-from codegen.spec import load_spec, parse_spec  # noqa: E402
+from gyrochain import pipeline, reference, sweep  # noqa: E402
+from gyrochain.cli import main  # noqa: E402
+from gyrochain.spec import load_spec, parse_spec  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 DP = ROOT / "specs" / "double_pendulum.toml"
@@ -112,7 +112,7 @@ def test_interrupted_run_resumes_to_the_same_store(tmp_path):
 
 def test_killed_process_resumes_to_the_same_store(tmp_path):
     """The command killed (SIGKILL) after its first chunks are in the store, then run again."""
-    args = [sys.executable, "-m", "codegen", "sweep", str(DP), "--vary", "phi1=-3:3:40", "--vary", "phi2=-3:3:4",
+    args = [sys.executable, "-m", "gyrochain", "sweep", str(DP), "--vary", "phi1=-3:3:40", "--vary", "phi2=-3:3:4",
             "--t1", "4", "--measure", "flip_time", "--chunk", "4", "--threads", "1", "-q"]
     whole, cut = tmp_path / "whole.zarr", tmp_path / "cut.zarr"
     assert main(args[3:] + ["-o", str(whole)]) == 0
@@ -334,7 +334,7 @@ def test_plots_say_what_they_show(tmp_path, capsys):
     pytest.importorskip("matplotlib")
     import matplotlib.pyplot as plt
 
-    from codegen import plot
+    from gyrochain import plot
 
     sweep.run(small(measures=("flip_time",)), tmp_path / "m.zarr", threads=2, progress=False)
     d = sweep.read(tmp_path / "m.zarr")

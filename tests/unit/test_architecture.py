@@ -39,19 +39,19 @@ def test_the_layers_are_kept():
 def test_an_upward_import_breaks_the_contract(tmp_path, module, planted):
     """A copy of the package with one import planted against the layers: lint-imports fails and
     names it."""
-    shutil.copytree(ROOT / "codegen", tmp_path / "codegen", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(ROOT / "gyrochain", tmp_path / "gyrochain", ignore=shutil.ignore_patterns("__pycache__"))
     shutil.copy(ROOT / "pyproject.toml", tmp_path / "pyproject.toml")
-    path = tmp_path / "codegen" / module
+    path = tmp_path / "gyrochain" / module
     path.write_text(path.read_text() + "\n" + planted + "\n")
     res = lint(tmp_path)
     assert res.returncode != 0, res.stdout
     assert "BROKEN" in res.stdout, res.stdout
-    importer = "codegen." + module.removesuffix(".py").replace("/", ".")
+    importer = "gyrochain." + module.removesuffix(".py").replace("/", ".")
     assert importer in res.stdout, res.stdout
 
 
 def _modules():
-    return sorted((ROOT / "codegen").rglob("*.py"))
+    return sorted((ROOT / "gyrochain").rglob("*.py"))
 
 
 def test_no_module_is_too_long():
@@ -85,6 +85,6 @@ def test_every_module_has_a_layer():
 
     layers = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]["contracts"][0]["layers"]
     named = {m.strip() for layer in layers for m in layer.split("|")}
-    modules = {f"codegen.{p.stem}" for p in (ROOT / "codegen").glob("*.py") if p.stem != "__init__"}
-    modules |= {f"codegen.{p.parent.name}" for p in (ROOT / "codegen").glob("*/__init__.py")}
+    modules = {f"gyrochain.{p.stem}" for p in (ROOT / "gyrochain").glob("*.py") if p.stem != "__init__"}
+    modules |= {f"gyrochain.{p.parent.name}" for p in (ROOT / "gyrochain").glob("*/__init__.py")}
     assert modules - named == set(), sorted(modules - named)

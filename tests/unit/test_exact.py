@@ -19,13 +19,13 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from codegen import exact, trigform
-from codegen.algebra import Poly
-from codegen.pipeline import derive_and_render
-from codegen.printers.common import poly_code
-from codegen.program import Program
-from codegen.randspec import random_spec_text
-from codegen.spec import load_spec, parse_spec
+from gyrochain import exact, trigform
+from gyrochain.algebra import Poly
+from gyrochain.pipeline import derive_and_render
+from gyrochain.printers.common import poly_code
+from gyrochain.program import Program
+from gyrochain.randspec import random_spec_text
+from gyrochain.spec import load_spec, parse_spec
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = sorted(p.stem for p in (ROOT / "specs").glob("*.toml"))

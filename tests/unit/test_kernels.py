@@ -6,7 +6,7 @@ import ast
 
 import pytest
 
-from codegen.printers import kernels
+from gyrochain.printers import kernels
 from conftest import ROOT
 
 
@@ -21,7 +21,7 @@ def test_a_c_kernel_specialised():
 
 
 def test_a_python_kernel_is_python_and_specialised():
-    ast.parse((ROOT / "codegen" / "kernels" / "quad.py").read_text())
+    ast.parse((ROOT / "gyrochain" / "kernels" / "quad.py").read_text())
     body = kernels.specialise("quad.py", "arm", {}, {"prologue": "    p_m = 1.0\n", "quad_terms": "    out[0] = phi\n"})
     assert "{model}" not in body and "arm.c" in body and "model_stub" not in body
     assert "    p_m = 1.0\n" in body and "    out[0] = phi\n" in body

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from codegen import dynamics, integrals, kinematics
-from codegen.spec import parse_spec
+from gyrochain import dynamics, integrals, kinematics
+from gyrochain.spec import parse_spec
 from lagrange import lagrange_terms
 
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from codegen import pipeline
-from codegen.spec import load_spec, parse_spec
+from gyrochain import pipeline
+from gyrochain.spec import load_spec, parse_spec
 from conftest import ROOT
 
 GIMBAL = ROOT / "specs" / "gimbal.toml"
@@ -64,7 +64,7 @@ def test_the_latex_of_the_general_case_reads_the_derived_model():
 
 
 def test_header_defines_come_from_the_one_table():
-    from codegen.codes import METHODS, MOTIONS, STATUS
+    from gyrochain.codes import METHODS, MOTIONS, STATUS
 
     header = committed("gimbal")["gimbal.h"]  # the gimbal has the quadratures: every code appears
     for key, value in STATUS.items():

@@ -6,11 +6,11 @@ import math
 
 import sympy as sp
 
-from codegen.printers.c import CPrinter
-from codegen.printers.common import function_of, literal, poly_code
-from codegen.printers.python import NumpyPrinter, PyPrinter
-from codegen.program import Program
-from codegen.straightline import straight_line
+from gyrochain.printers.c import CPrinter
+from gyrochain.printers.common import function_of, literal, poly_code
+from gyrochain.printers.python import NumpyPrinter, PyPrinter
+from gyrochain.program import Program
+from gyrochain.straightline import straight_line
 
 
 def small_program():

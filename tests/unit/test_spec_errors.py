@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-from codegen.cli import main
+from gyrochain.cli import main
 from conftest import ROOT
 
 GOOD = (ROOT / "specs" / "furuta.toml").read_text()
@@ -144,7 +144,7 @@ CASES = [
 
 
 def run(*args):
-    """The command in this process (cli.main, as `python -m codegen` runs it): its exit status
+    """The command in this process (cli.main, as `python -m gyrochain` runs it): its exit status
     and what it printed (test_missing_file runs the real entry point once)."""
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
@@ -179,12 +179,12 @@ def test_good_spec_passes_check(tmp_path):
 def test_missing_file(tmp_path):
     res = run("check", str(tmp_path / "nope.toml"))
     assert res.returncode == 2 and "no such file" in res.stderr
-    res = subprocess.run([sys.executable, "-m", "codegen", "check", str(tmp_path / "nope.toml")], capture_output=True,
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "check", str(tmp_path / "nope.toml")], capture_output=True,
                          text=True, cwd=ROOT)
     assert res.returncode == 2 and res.stderr.count("\n") == 1 and "no such file" in res.stderr
 
 
-def test_refuses_to_replace_a_folder_codegen_did_not_write(tmp_path):
+def test_refuses_to_replace_a_folder_gyrochain_did_not_write(tmp_path):
     path = tmp_path / "good.toml"
     path.write_text(spec())
     out = tmp_path / "mine"

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from codegen.spec import SYMMETRY_TOL, parse_spec
+from gyrochain.spec import SYMMETRY_TOL, parse_spec
 
 HEAD = 'name = "ok"\ng = 9.81\n'
 LAST = "[[body]]\ntheta = 0.5\nm = 0.2\nc = [0.0, 0.0, -0.2]\nA = [[0.01, 0.0, 0.0], [0.0, 0.01, 0.0], [0.0, 0.0, 0.0001]]\n"

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from codegen import kinematics, pipeline, reference
-from codegen.randspec import random_spec_text
-from codegen.spec import parse_spec
+from gyrochain import kinematics, pipeline, reference
+from gyrochain.randspec import random_spec_text
+from gyrochain.spec import parse_spec
 from lagrange import lagrange_terms_np
 
 

@@ -133,7 +133,7 @@ def lyapunov_spectrum(model, X0, t1: float, interval: float, prm, u=None, rtol: 
                 d = np.diag(R)
                 lam[b] += np.log(np.abs(d))
                 Q = Q * np.sign(d)  # keep the basis oriented as Φ (R with a positive diagonal)
-        except ArithmeticError as exc:  # codegen.build.IntegrationError / ModelError
+        except ArithmeticError as exc:  # gyrochain.build.IntegrationError / ModelError
             codes[b] = getattr(exc, "code", 1)
             lam[b] = np.nan
     return lam / t1, codes

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import shlex
 
 import sympy as sp
 
@@ -26,15 +27,28 @@ REALS = ("double", "float")  # generate --real: the floating type of the C
 ALL = tuple(TARGETS)
 
 
-def code_context(model: Model, spec_label: str, counts: dict) -> dict:
+def regenerate_command(spec_label: str, options=(), real: str = "double") -> str:
+    """The command that writes these files again, as every file's first lines state it: the spec's
+    file name and the generate options that made them (``options``: e.g. ("--qdd-form",
+    "composite")), shell-quoted."""
+    words = [spec_label, *options, *(("--real", real) if real != "double" else ())]
+    return "gyrochain generate " + " ".join(shlex.quote(w) for w in words)
+
+
+def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | None = None) -> dict:
     """The facts the C and Python templates lay out (names, sizes, which functions exist)."""
     spec, ints = model.spec, model.integrals
     name, n = spec.name, spec.n
+    regenerate = regenerate or regenerate_command(spec_label)
     return dict(
         name=name,
         NAME=name.upper(),
         n=n,
         nn=n * n,
+        version=__version__,
+        spec_sha=hashlib.sha256(spec.source.encode("utf-8")).hexdigest()[:16],
+        regenerate=c_comment(regenerate),
+        regenerate_py=py_docstring(regenerate),
         spec_label=c_comment(spec_label),
         description=c_comment(spec.description),
         spec_label_py=py_docstring(spec_label),
@@ -72,14 +86,16 @@ def code_context(model: Model, spec_label: str, counts: dict) -> dict:
         t_param="double t, " if time_dependent(model) else "",
         t_arg="t, " if time_dependent(model) else "",
         label=spec_label,
-        codegen_version=__version__,
+        gyrochain_version=__version__,
         sympy_version=sp.__version__,
     )
 
 
-def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "double") -> dict[str, str]:
+def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "double", options=()) -> dict[str, str]:
     """The emitted files of the asked targets, by file name.  With every target, also
     MANIFEST.json (the spec's hash, the versions, the op counts and every file's hash).
+    ``options``: the generate options besides ``real`` that made the files (their headers say how
+    to regenerate them).
     ``on_c``, if given, is called with the C target's files as soon as they are printed (the
     build can start while the Python and the LaTeX are printed).  ``real``: "float" retypes the C to
     single precision (printers/real.py)."""
@@ -87,7 +103,7 @@ def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "d
     if unknown:
         raise ValueError(f"unknown target {unknown[0]!r} (one of {', '.join(TARGETS)})")
     counts = op_counts(model)
-    context = code_context(model, spec_label, counts)
+    context = code_context(model, spec_label, counts, regenerate_command(spec_label, options, real))
     env = environment()
     files: dict[str, str] = {}
     for key in ALL:  # in one order, whatever the order asked
@@ -102,7 +118,7 @@ def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "d
         manifest = dict(
             spec=spec_label,
             spec_sha256=hashlib.sha256(spec.source.encode("utf-8")).hexdigest(),
-            codegen=__version__,
+            gyrochain=__version__,
             **({"real": real} if real != "double" else {}),
             sympy=sp.__version__,
             op_counts=counts,

@@ -21,7 +21,7 @@ import threading
 from collections import OrderedDict
 from pathlib import Path
 
-from . import assemble, build, dynamics, integrals, kinematics, loopform, printers
+from . import DISTRIBUTION, assemble, build, dynamics, integrals, kinematics, loopform, printers
 from .errors import SpecError
 from .assemble import FormNotApplicable, Model, Stages  # noqa: F401  (the pipeline's vocabulary)
 from .program import Program
@@ -121,14 +121,16 @@ def _with_symbolic(model: Model) -> Model:
     return replace(model, symbolic=Stages(kin, dyn, integrals.derive(model.spec, prog, kin, dyn), kin_defs))
 
 
-def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on_c=None, real: str = "double") -> dict[str, str]:
+def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on_c=None, real: str = "double",
+           options=()) -> dict[str, str]:
     """The emitted files of the asked targets ("c", "python", "latex"), by file name; with all
     three also MANIFEST.json.  ``spec_label``: how the header names the spec (default NAME.toml);
     ``on_c``: called with the C files as soon as they are printed (``BuildAhead``); ``real``: the
-    floating type of the C ("double", or "float": single precision)."""
+    floating type of the C ("double", or "float": single precision); ``options``: the generate
+    options besides ``real`` that made them (the headers' regenerate command)."""
     if "latex" in targets and model.spec.general and model.symbolic is None:
         model = _with_symbolic(model)
-    return printers.render(model, spec_label or f"{model.spec.name}.toml", targets, on_c, real)
+    return printers.render(model, spec_label or f"{model.spec.name}.toml", targets, on_c, real, options)
 
 
 def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_form: str = "auto",
@@ -138,13 +140,60 @@ def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_fo
     model = derive(spec, qdd_form, der_form, latex="latex" in targets, progress=progress, loops=loops)
     say = progress or (lambda msg: None)
     say("printing " + ", ".join({"c": "C", "python": "Python", "latex": "LaTeX"}[t] for t in printers.ALL if t in targets))
-    return render(model, spec_label, targets, on_c, real), model
+    options = [*(("--qdd-form", qdd_form) if qdd_form != "auto" else ()),
+               *(("--derivative-form", der_form) if der_form != "auto" else ())]
+    return render(model, spec_label, targets, on_c, real, options), model
 
 
 # --------------------------------------------------------------------------- compile
 def cache_root() -> Path:
-    """Where compiled models are kept: $GYROCHAIN_CACHE, else gyrochain-cache in the temp folder."""
-    return Path(os.environ.get("GYROCHAIN_CACHE") or Path(tempfile.gettempdir()) / "gyrochain-cache")
+    """Where compiled models are kept, private to the user: $GYROCHAIN_CACHE, else the user's own
+    cache folder (platformdirs: $XDG_CACHE_HOME/gyrochain or ~/.cache/gyrochain on Linux,
+    ~/Library/Caches/gyrochain on macOS), created with mode 0700.  An extension in it is loaded
+    into this process, so a folder another user could have written is refused (``private``)."""
+    given = os.environ.get("GYROCHAIN_CACHE")
+    if given is not None and not given.strip():
+        raise SpecError("$GYROCHAIN_CACHE", "is empty; unset it for the default cache folder, or name a folder")
+    if given:
+        root = Path(given).expanduser()
+    else:
+        import platformdirs
+
+        root = Path(platformdirs.user_cache_dir(DISTRIBUTION, appauthor=False))
+    what = f"$GYROCHAIN_CACHE {given}" if given else f"build cache {root}"
+    try:
+        root.mkdir(mode=0o700, parents=True, exist_ok=True)
+        return private(root.resolve(strict=True), what)
+    except OSError as exc:
+        raise SpecError(what, f"cannot be used ({exc.strerror or exc})") from None
+
+
+def private(folder: Path, what: str) -> Path:
+    """``folder`` (resolved) if no other user can have written into it: it is a directory, owned
+    by this user and writable only by them, and each folder above it is owned by this user or
+    root and, if others may write there, sticky (as /tmp: nobody can rename another's entries).
+    Otherwise one line: what and why (docs/testing.md, "The build cache")."""
+    import stat
+
+    if not hasattr(os, "getuid"):  # no POSIX owners to check (not a supported platform for builds)
+        return folder
+    me = os.getuid()
+    st = os.stat(folder)
+    if not stat.S_ISDIR(st.st_mode):
+        raise SpecError(what, "is not a folder")
+    if st.st_uid != me:
+        raise SpecError(what, f"is owned by another user (uid {st.st_uid}); a compiled model loaded from it "
+                              "could run their code: name a folder of yours in $GYROCHAIN_CACHE")
+    if st.st_mode & 0o022:
+        raise SpecError(what, f"is writable by {'group and others' if st.st_mode & 0o022 == 0o022 else 'group' if st.st_mode & 0o020 else 'others'} "
+                              f"(mode {stat.S_IMODE(st.st_mode):04o}); a compiled model loaded from it could be anyone's: "
+                              f"chmod 700 it, or name another folder in $GYROCHAIN_CACHE")
+    for above in folder.parents:
+        st = os.stat(above)
+        if st.st_uid not in (0, me) or (st.st_mode & 0o022 and not st.st_mode & stat.S_ISVTX):
+            raise SpecError(what, f"lies in {above}, which another user can change (owner uid {st.st_uid}, mode "
+                                  f"{stat.S_IMODE(st.st_mode):04o}); name a folder of yours in $GYROCHAIN_CACHE")
+    return folder
 
 
 def _sources(files: dict[str, str]) -> dict[str, str]:
@@ -156,7 +205,6 @@ def extension(files: dict[str, str], name: str) -> tuple[Path, bool]:
     Built once per machine: the first caller builds under the file lock, the others wait and
     find its build."""
     root = cache_root()
-    root.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix="stage-", dir=root))
     built = False
     try:

@@ -1,4 +1,4 @@
-"""The fixed numerical kernels (codegen/kernels/): real C and Python source files that every
+"""The fixed numerical kernels (gyrochain/kernels/): real C and Python source files that every
 model shares, specialised to one model when printed.
 
 A kernel file is a preamble for compilers and linters, the line ``/* @kernel */`` (C) or
@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import re
 from functools import lru_cache
-from pathlib import Path
 
-KERNELS = Path(__file__).resolve().parent.parent / "kernels"
+from .. import KERNELS
+
 _IF = re.compile(r"#if MODEL_(\w+)\n")
 _GENERATED = re.compile(r"[^\n]*@generated (\w+)[^\n]*\n")
 _VALUE = re.compile(r"\bMODEL_V_(\w+)\b")

@@ -466,7 +466,7 @@ def source_text(model: Model, context: dict) -> str:
     nikolai = model.quad is not None and model.quad.nikolai
     return (rf"Derived from the spec \texttt{{{tex_escape(one_line(context['label']))}}} "
             rf"(sha256 \texttt{{{hashlib.sha256(spec.source.encode('utf-8')).hexdigest()[:16]}}}\dots) by gyrochain "
-            rf"{tex_escape(context['codegen_version'])} with sympy {tex_escape(context['sympy_version'])}, following the paper "
+            rf"{tex_escape(context['gyrochain_version'])} with sympy {tex_escape(context['sympy_version'])}, following the paper "
             r"\emph{The compound spatial pendulum} (a Donetsk collection on rigid-body dynamics), whose equations of motion "
             r"build on P.~V.~Kharlamov, \emph{On the equations of motion of a system of rigid bodies}"
             + (r"; the quadratures of the balanced gyroscope follow E.~L.~Nikolai, \emph{On the motion of a balanced "
@@ -502,5 +502,8 @@ class LatexTarget:
             initial_tex=initial_text(spec),
             articulated=model.qdd_form == "articulated",
             n=spec.n,
+            # the first lines, a TeX comment: the same words as the C's and Python's
+            version=context["version"], spec_label=context["spec_label"], spec_sha=context["spec_sha"],
+            regenerate=context["regenerate"],
         )
         return {f"{spec.name}.tex": env.get_template("model.tex.jinja").render(tex)}

@@ -15,7 +15,7 @@ The paper writes J, C, E(φ), K(φ) for its frame choices (s¹ along ê¹₂, c�
 the generated mass matrix, force function and gyrostatic moment of the spec, so any offsets and
 tensors are allowed.  J, U, β are trigonometric polynomials in φ of degree 2, 1, 1, so
 E(φ)J − K² has degree 3: the emitted code finds its Fourier coefficients from 8 samples and its
-roots (the turning points) by a walk that cannot step over a root (see codegen/kernels/quad.c).
+roots (the turning points) by a walk that cannot step over a root (see gyrochain/kernels/quad.c).
 
 This module only decides whether the case applies and names the five functions of φ; the
 numerical method lives in the templates, written once for C and once for Python.

@@ -4,12 +4,11 @@ the symbols' spellings, and spec text made safe for comments and docstrings."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import jinja2
 import sympy as sp
 
-from .. import world
+from .. import TEMPLATES, world
 from ..algebra import Poly
 from ..assemble import Model
 from ..exact import Fraction, Surd, is_unit, to_float
@@ -17,7 +16,6 @@ from ..kinematics import Kinematics
 from ..spec import T as TIME
 from ..straightline import StraightLine
 
-TEMPLATES = Path(__file__).resolve().parent.parent.parent / "templates"
 
 
 def literal(value) -> str:

@@ -101,7 +101,7 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
     args = ("t, " if with_t else "") + f"{xname}, " + ("u, " if with_u else "") + "p, s_" + "".join(f", {a}" for a in arrays)
     parts = []
     for c, (a, b) in enumerate(spans):
-        lines = [f"/* {name}_{fn.name}, part {c + 1} of {len(spans)} (codegen/printers/chunks.py) */",
+        lines = [f"/* {name}_{fn.name}, part {c + 1} of {len(spans)} (gyrochain/printers/chunks.py) */",
                  f"{NAME}_PART_ {name}_{fn.name}_part{c + 1}_({params})", "{"]
         lines += [f"    (void){v};" for v in (["t"] if with_t else []) + [xname] + (["u"] if with_u else []) + ["p", "s_"] + arrays]
         if with_u:

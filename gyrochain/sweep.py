@@ -4,7 +4,7 @@ or an existing one, each finished chunk written to a Zarr store at once
 (``gyrochain sweep SPEC --vary link1=-3.1:3.1:400 --vary link2=-3.1:3.1:400 --t1 10 --measure flip_time -o out.zarr``).
 The store holds one array per measure over the grid (dimension names for xarray), the grid's
 coordinates, the integrator's return code of every point and a ``done`` flag per chunk; its
-attributes are the spec, the sweep's arguments and the codegen version.  A chunk's results depend
+attributes are the spec, the sweep's arguments and the gyrochain version.  A chunk's results depend
 only on the spec, the arguments and the chunk's points (never on where or when it ran), and the
 client is the only writer: a rerun of the same command skips the chunks marked done, so an
 interrupted run or one that lost a worker ends with the same store as an undisturbed one.
@@ -357,7 +357,7 @@ def _zarr():
 
 
 def _attrs(plan: Plan) -> dict:
-    return {"kind": STORE_KIND, "codegen": __version__, "spec_name": plan.spec.name, "spec": plan.sweep.spec_text,
+    return {"kind": STORE_KIND, "gyrochain": __version__, "spec_name": plan.spec.name, "spec": plan.sweep.spec_text,
             "args": json.loads(json.dumps(plan.sweep.args())), "shape": list(plan.shape), "dims": plan.dims,
             "flip_angles": plan.angles, "link_signs": plan.signs}
 
@@ -377,9 +377,9 @@ def check_store(path: Path, plan: Plan) -> None:
         have = stored_attrs(path)
         if have is None:
             raise SpecError("-o", f"{path} exists and is not a sweep store; choose another path")
-        for key in ("spec", "args", "codegen"):
+        for key in ("spec", "args", "gyrochain"):
             if have.get(key) != want[key]:
-                what = {"spec": "a different spec", "args": "a different sweep (other arguments)", "codegen": f"codegen {have.get('codegen')}"}[key]
+                what = {"spec": "a different spec", "args": "a different sweep (other arguments)", "gyrochain": f"gyrochain {have.get('gyrochain')}"}[key]
                 raise SpecError("-o", f"{path} belongs to {what}; choose another path or delete it")
 
 

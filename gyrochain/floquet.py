@@ -276,7 +276,7 @@ def fmt_multipliers(mu: np.ndarray, T: float) -> str:
 
 
 class DrivenAnalysis:
-    """A built time-periodic model (codegen.build.CModel) at one parameter set: its persistent
+    """A built time-periodic model (gyrochain.build.CModel) at one parameter set: its persistent
     equilibria and their Floquet verdicts.  ``period``: the user's (checked), or None for the
     spec's (``time_period``)."""
 

@@ -1,4 +1,4 @@
-"""Steady motions of a generated model and their stability: ``python -m codegen steady SPEC``.
+"""Steady motions of a generated model and their stability: ``python -m gyrochain steady SPEC``.
 
 Everything here runs on the emitted C through its exact derivatives (NAME_qdd_derivatives,
 NAME_mass_matrix); nothing is differenced.
@@ -74,7 +74,7 @@ def check_inputs(spec, params, u) -> None:
 
 
 class Analysis:
-    """A built model (codegen.build.CModel) with the facts the verdicts need."""
+    """A built model (gyrochain.build.CModel) with the facts the verdicts need."""
 
     def __init__(self, cmodel, model, params=None, u=None):
         from .assemble import time_dependent
@@ -419,6 +419,6 @@ def _analyze_driven(cm, model, params, u, starts, period, vary):
         continued = [an.along(vary[0], vary[1], e) for e in eqs] if vary else None
     except SpecError as exc:
         raise SteadyError(f"{exc.field}: {exc.message}") from None
-    except ArithmeticError as exc:  # the integration of a period failed (codegen.build.IntegrationError)
+    except ArithmeticError as exc:  # the integration of a period failed (gyrochain.build.IntegrationError)
         raise SteadyError(f"steady: the variational equations over a period did not integrate: {exc}") from None
     return an, eqs, continued, (vary[1] if vary else None)

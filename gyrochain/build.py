@@ -124,7 +124,7 @@ def compile_model(src_dir: str | Path, name: str, out_dir: str | Path | None = N
         extra_link_args=lto_link + list(extra_cflags),
         libraries=["m"],
     )
-    with tempfile.TemporaryDirectory(prefix="codegen-build-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="gyrochain-build-") as tmp:
         so = Path(ffi.compile(tmpdir=tmp, verbose=False))
         target = out_dir / so.name
         shutil.copy2(so, target)

@@ -1,7 +1,7 @@
 """The equations of compound spatial pendulums: derived from a spec, emitted as C, Python and LaTeX, and run.
 
 The command line ``gyrochain {generate,check,simulate,steady,orbits,sweep,animate} SPEC`` and ``gyrochain
-plot STORE`` (``python -m codegen`` is the same).  This module parses arguments and prints; every command is a library function it calls
+plot STORE`` (``python -m gyrochain`` is the same).  This module parses arguments and prints; every command is a library function it calls
 (generate.run, simulate.run, steady.analyze, orbits.analyze, sweep.run, plot.store, animate.render).  A bad
 input gets one line on stderr naming the field, exit status 2, and nothing written.
 """
@@ -243,6 +243,43 @@ def cmd_animate(args) -> int:
     return 0
 
 
+def cmd_examples(args) -> int:
+    """The example specs that come with the package: listed, printed, or copied into a folder."""
+    from . import starter
+
+    if args.action == "copy":
+        for path in starter.copy(args.names, Path(args.output), args.force):
+            print(f"wrote {path}")
+        first = args.names[0] if args.names != ["all"] else "gimbal"
+        print(f"next: {_prog()} generate {Path(args.output) / (first.removesuffix('.toml') + '.toml')}")
+    elif args.action == "show":
+        print(starter.example_path(args.name).read_text(encoding="utf-8"), end="")
+    else:
+        rows = starter.shipped()
+        width = max(len(name) for name, _, _ in rows)
+        for name, n, description in rows:
+            print(f"{name:<{width}}  n = {n:<2}  {description}")
+        print(f"copy one into this folder with `{_prog()} examples copy NAME` (or all); print one with "
+              f"`{_prog()} examples show NAME`")
+    return 0
+
+
+def cmd_new(args) -> int:
+    """A new commented spec from a short description."""
+    from . import starter
+
+    text = starter.new_spec(args.kind, args.n, args.name, rotor=args.rotor, control=args.control, driven=args.driven,
+                            mass=args.mass, length=args.length)
+    if args.output == "-":
+        print(text, end="")
+        return 0
+    name = text.split('name = "', 1)[1].split('"', 1)[0]
+    path = Path(args.output) if args.output else Path(f"{name}.toml")
+    starter.write_new(path, text, args.force)
+    print(f"wrote {path}: edit it, then `{_prog()} check {path}` and `{_prog()} generate {path}`")
+    return 0
+
+
 def _size(text: str) -> tuple[int, int]:
     w, x, h = text.lower().partition("x")
     try:
@@ -318,10 +355,10 @@ def _valued_options(parser: argparse.ArgumentParser) -> set:
 
 
 def _prog() -> str:
-    """The command as the user typed it: the console script, or python -m codegen."""
+    """The command as the user typed it: the console script, or python -m gyrochain."""
     from . import DISTRIBUTION
 
-    return DISTRIBUTION if Path(sys.argv[0]).name == DISTRIBUTION else "python -m codegen"
+    return DISTRIBUTION if Path(sys.argv[0]).name == DISTRIBUTION else "python -m gyrochain"
 
 
 def main(argv=None) -> int:
@@ -329,6 +366,7 @@ def main(argv=None) -> int:
 
     ap = _Parser(prog=_prog(), description=__doc__.splitlines()[0])
     ap.add_argument("--version", action="version", version=f"{DISTRIBUTION} {__version__}")
+    ap.add_argument("--debug", action="store_true", help="on an internal error, print the traceback (anywhere on the line)")
     sub = ap.add_subparsers(dest="cmd", required=True)
     g = sub.add_parser("generate", help="derive and emit C, Python and LaTeX for a spec")
     g.add_argument("spec")
@@ -448,12 +486,39 @@ def main(argv=None) -> int:
     an.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of DOP853")
     an.add_argument("--force", action="store_true", help="replace an existing file animate did not write")
     an.add_argument("-q", "--quiet", action="store_true")
-    args, extra = ap.parse_known_args(_join_negative(list(sys.argv[1:] if argv is None else argv), _valued_options(ap)))
+    words = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in words or bool(os.environ.get(f"{DISTRIBUTION.upper()}_TRACEBACK"))
+    words = [w for w in words if w != "--debug"]  # anywhere on the line: the traceback of an internal error
+    ex = sub.add_parser("examples", help="list the example specs that come with the package, print one, or copy them "
+                        "into a folder to start from")
+    exs = ex.add_subparsers(dest="action")
+    exc = exs.add_parser("copy", help="copy example specs into a folder (NAME.toml; an existing file only with --force)")
+    exc.add_argument("names", nargs="+", metavar="NAME", help="example names (see gyrochain examples), or all")
+    exc.add_argument("-o", "--output", default=".", help="the folder (default: this one)")
+    exc.add_argument("--force", action="store_true", help="replace files of the same name")
+    exw = exs.add_parser("show", help="print an example spec")
+    exw.add_argument("name")
+    nw = sub.add_parser("new", help="write a new commented spec to start from: a pendulum, a planar or spatial chain, "
+                        "with rotors, motors or a vibrating pivot")
+    from .starter import KINDS
+
+    nw.add_argument("kind", choices=list(KINDS), help="; ".join(f"{k}: {v[1]}" for k, v in KINDS.items()))
+    nw.add_argument("--n", type=int, default=None, help="number of links of a chain")
+    nw.add_argument("--name", default="", help="the model's name, a C identifier (default: from the kind)")
+    nw.add_argument("--rotor", action="store_true", help="a spinning wheel in the last link (a gyrostat)")
+    nw.add_argument("--control", action="store_true", help="a motor torque in every joint (inputs u)")
+    nw.add_argument("--driven", action="store_true", help="the pivot vibrates vertically, a cos(w t) (parameters a, w)")
+    nw.add_argument("--mass", type=float, default=1.0, help="mass of each rod (kg)")
+    nw.add_argument("--length", type=float, default=1.0, help="length of each rod (m)")
+    nw.add_argument("-o", "--output", default="", help="the file (default NAME.toml here; - for standard output)")
+    nw.add_argument("--force", action="store_true", help="replace an existing file")
+    args, extra = ap.parse_known_args(_join_negative(words, _valued_options(ap)))
     if extra:  # said by the command's own parser, with the nearest option it has
         sub.choices[args.cmd].error(_unrecognized(extra, sub.choices[args.cmd]))
     try:
         return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
-                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate}[args.cmd](args)
+                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
+                "examples": cmd_examples, "new": cmd_new}[args.cmd](args)
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -461,6 +526,8 @@ def main(argv=None) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's flush at exit must not fail again
         return 0
     except OSError as exc:  # the file system: a folder that cannot be made, a disk full, no permission
+        if _ours(exc):  # a file of the package itself (a template, a kernel): not the user's doing
+            return _internal(exc, debug)
         where = exc.filename or "file"
         print(f"error: {where}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -468,8 +535,28 @@ def main(argv=None) -> int:
         print("error: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:  # noqa: BLE001  (a bug of ours: one line, and where to report it)
-        print(f"error: internal error ({type(exc).__name__}: {exc}); please report it with the command line "
-              f"(run with {DISTRIBUTION.upper()}_TRACEBACK=1 for the traceback)", file=sys.stderr)
-        if os.environ.get(f"{DISTRIBUTION.upper()}_TRACEBACK"):
-            raise
-        return EXIT_INTERNAL
+        return _internal(exc, debug)
+
+
+def _ours(exc: OSError) -> bool:
+    """Whether a file-system error is about the package's own files (a template or kernel missing
+    from an installation), not a file or folder the user named."""
+    if type(exc).__module__.split(".")[0] == "jinja2":  # TemplateNotFound is an OSError
+        return True
+    if not exc.filename:
+        return False
+    package = Path(__file__).resolve().parent
+    return Path(os.path.abspath(exc.filename)).is_relative_to(package)
+
+
+def _internal(exc: BaseException, debug: bool) -> int:
+    """A bug of ours, or a broken installation: one line that says so, with the version and what
+    to do; the traceback with --debug or $GYROCHAIN_TRACEBACK."""
+    from . import DISTRIBUTION, __version__
+
+    what = " ".join(str(exc).split()) or "(no message)"
+    print(f"error: internal error in {DISTRIBUTION} {__version__}: {type(exc).__name__}: {what} — please report it "
+          f"with the command (--debug or {DISTRIBUTION.upper()}_TRACEBACK=1 prints the traceback)", file=sys.stderr)
+    if debug:
+        raise exc
+    return EXIT_INTERNAL

@@ -59,7 +59,7 @@ def check(spec, target: Path, force: bool = False) -> None:
     """What must hold before anything is derived: the target is ours to replace (or ``force``) and
     the chain's mass matrix is not singular everywhere."""
     if not pipeline.is_ours(Path(target)) and not force:
-        raise SpecError("-o", f"{target} exists and was not written by codegen; choose another folder or pass --force")
+        raise SpecError("-o", f"{target} exists and was not written by gyrochain; choose another folder or pass --force")
     pipeline.check_mass_matrix(spec)
 
 

@@ -1,4 +1,4 @@
-"""``python -m codegen animate``: the motion of a spec as a GIF, MP4, PNG still or one offline HTML viewer.
+"""``python -m gyrochain animate``: the motion of a spec as a GIF, MP4, PNG still or one offline HTML viewer.
 
     trajectory  the emitted C's DOP853 with dense output at the frame times (``motion``), or a
                 saved trajectory: a CSV as ``simulate`` prints it (``read_csv``) or a point of a
@@ -22,14 +22,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
+from . import TEMPLATES, __version__
 from .raster import Raster, _rgb  # the painter (animate.Raster, as before)
 from .scene import BODY_COLOURS, FRAME_COLOUR, PLATFORM_COLOUR, TRACE_COLOUR, Camera, Scene
 from .spec import SpecError
 
 MARKER = "gyrochain animate"
 EXTENSIONS = (".gif", ".mp4", ".html", ".png")
-TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
 
 
 # --------------------------------------------------------------------------- trajectories

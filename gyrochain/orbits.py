@@ -65,7 +65,7 @@ class Family:
 
 
 class Shooting:
-    """The shooting equations of a built autonomous model (codegen.build.CModel) at ``params``."""
+    """The shooting equations of a built autonomous model (gyrochain.build.CModel) at ``params``."""
 
     def __init__(self, cm, params=None, u=None, shift=None, phase: int = 0, momentum: bool = False):
         self.c, self.n, self.params = cm, cm.n, params

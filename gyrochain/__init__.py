@@ -1,0 +1,21 @@
+"""gyrochain: closed-form equations of compound spatial pendulums → C, Python and LaTeX.
+
+The data flow, one module a stage: spec → the derivation stages (kinematics → dynamics →
+integrals, aba, derivatives, world, quadratures) → assemble (the Model, forms chosen by op count)
+→ printers (c, python, latex; the kernels) and build → pipeline (derive, render, compile: the one
+route) → the commands (generate, simulate, steady, sweep, animate, plot) → cli.  No module imports
+a layer above its own ([tool.importlinter] in pyproject.toml).
+
+The notation is the paper's ("The compound spatial pendulum", with Kharlamov's equations of
+motion of a system of rigid bodies): k is the body index (0 the base), phi/phidot are φᵏ/φ̇ᵏ,
+alpha are the direction cosines; equation numbers in comments are the paper's.
+"""
+__version__ = "0.3.0"  # the one place of the version (pyproject.toml reads it; --version prints it)
+DISTRIBUTION = "gyrochain"  # the name on the package index, of the import package and of the console command
+
+from pathlib import Path as _Path
+
+# the package data, found beside the code whether it runs from a checkout or a wheel
+TEMPLATES = _Path(__file__).resolve().parent / "templates"   # jinja2 layouts of the emitted files and the viewer
+KERNELS = _Path(__file__).resolve().parent / "kernels"       # the fixed numerical kernels (printers/kernels.py)
+EXAMPLES = _Path(__file__).resolve().parent / "examples"     # the example specs (`gyrochain examples`)
