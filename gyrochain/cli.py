@@ -490,7 +490,8 @@ def main(argv=None) -> int:
     debug = "--debug" in words or bool(os.environ.get(f"{DISTRIBUTION.upper()}_TRACEBACK"))
     words = [w for w in words if w != "--debug"]  # anywhere on the line: the traceback of an internal error
     ex = sub.add_parser("examples", help="list the example specs that come with the package, print one, or copy them "
-                        "into a folder to start from")
+                        "into a folder to start from",
+                        description="Without an action: list the example specs (name, number of bodies, what it is).")
     exs = ex.add_subparsers(dest="action")
     exc = exs.add_parser("copy", help="copy example specs into a folder (NAME.toml; an existing file only with --force)")
     exc.add_argument("names", nargs="+", metavar="NAME", help="example names (see gyrochain examples), or all")

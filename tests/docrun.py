@@ -21,7 +21,10 @@ Every fenced block must carry one of these info strings (anything else is an err
   it must be found there.
 
 A block right after ``<!-- docs-test: skip (reason) -->`` is not run (a cluster that needs other
-machines); the skips are counted and reported.
+machines); the skips are counted and reported.  A block right after ``<!-- docs-test: installed
+(reason) -->`` is what a user types after ``pip install gyrochain``, from an empty folder: it is not
+run here but by tests/tools/test_install.py, with the built wheel in a fresh virtual environment
+(every ``$`` line through the shell, ``pip install gyrochain`` installing the wheel).
 """
 from __future__ import annotations
 
@@ -43,6 +46,7 @@ DRY_MAKE = {"test", "test-fast", "fuzz", "bench", "bench-speed", "bench-setup", 
             "generate-all", "setup", "clean", "all", "pdf"}
 SKIP = re.compile(r"<!--\s*docs-test:\s*skip\s*\((.+?)\)\s*-->")
 FROM = re.compile(r"<!--\s*docs-test:\s*from\s+(\S+)\s*-->")
+INSTALLED = re.compile(r"<!--\s*docs-test:\s*installed\s*\((.+?)\)\s*-->")
 FENCE = re.compile(r"^(?P<indent>[ \t]*)(?P<fence>`{3,})(?P<info>[^`\n]*)$")
 
 
@@ -54,6 +58,7 @@ class Block:
     text: str
     skip: str = ""  # the reason, when marked not to run
     source: str = ""  # a text block quoting a file of the repository: every line must be in it
+    installed: bool = False  # run by tests/tools/test_install.py in a fresh virtual environment
 
     @property
     def where(self) -> str:
@@ -75,6 +80,7 @@ def blocks(path: Path, text: str | None = None) -> list[Block]:
             body.append(lines[j][len(indent):] if lines[j].startswith(indent) else lines[j].lstrip())
             j += 1
         skip = source = ""
+        installed = False
         k = i - 1
         while k >= 0 and not lines[k].strip():
             k -= 1
@@ -82,7 +88,9 @@ def blocks(path: Path, text: str | None = None) -> list[Block]:
             skip = s[1]
         if k >= 0 and (s := FROM.search(lines[k])):
             source = s[1]
-        found.append(Block(path, i + 1, info.split()[0] if info else "", "\n".join(body) + "\n", skip, source))
+        if k >= 0 and INSTALLED.search(lines[k]):
+            installed = True
+        found.append(Block(path, i + 1, info.split()[0] if info else "", "\n".join(body) + "\n", skip, source, installed))
         i = j + 1
     return found
 
@@ -271,11 +279,15 @@ def run_page(path: Path, folder: Path, text: str | None = None) -> dict:
     """Every block of one page, in order; returns how many of each kind ran (and the skips)."""
     folder = scratch(folder)
     namespace: dict = {"__name__": f"docs:{path.name}"}
-    counts = {k: 0 for k in KINDS} | {"commands": 0, "skipped": 0}
+    counts = {k: 0 for k in KINDS} | {"commands": 0, "skipped": 0, "installed": 0}
     for block in blocks(path, text):
         assert block.kind in KINDS, f"{block.where}: a code block needs one of {', '.join(KINDS)}, got {block.kind!r}"
         if block.skip:
             counts["skipped"] += 1
+            continue
+        if block.installed:  # tests/tools/test_install.py runs it
+            assert block.kind in ("console", "python"), f"{block.where}: an installed block is console or python"
+            counts["installed"] += 1
             continue
         if block.kind == "console":
             counts["commands"] += run_console(block, folder)
@@ -292,4 +304,10 @@ def run_page(path: Path, folder: Path, text: str | None = None) -> dict:
 
 
 def pages() -> list[Path]:
-    return [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    """The README, the package index's page (README-pypi.md) and the docs."""
+    return [ROOT / "README.md", ROOT / "README-pypi.md", *sorted((ROOT / "docs").rglob("*.md"))]
+
+
+def installed_blocks() -> list[Block]:
+    """The blocks a user types after ``pip install gyrochain``, in page order."""
+    return [b for page in pages() for b in blocks(page) if b.installed]

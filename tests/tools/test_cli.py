@@ -138,7 +138,7 @@ def test_a_condition_on_a_parameter_is_stated_not_guessed(tmp_path):
 
 
 def test_distribution_console_command_and_version(tmp_path):
-    """The distribution is gyrochain (free on the index; "gyrochain" there is someone else's), its
+    """The distribution is gyrochain (free on the index; "codegen" there is someone else's), its
     console command does what python -m gyrochain does, and the version lives in one place."""
     import importlib.metadata
     import shutil
@@ -222,3 +222,71 @@ def test_a_closed_pipe_ends_the_output_without_a_traceback():
     proc.stdout.close()
     err = proc.stderr.read().decode()
     assert proc.wait(timeout=120) == 0 and "Traceback" not in err, err
+
+
+# --------------------------------------------------------------------------- the build cache (docs/testing.md)
+def _planted_extension(folder):
+    """An "extension" under the exact name gimbal's build would have in ``folder``: were it loaded,
+    the command would end in an internal error (it is not a shared object)."""
+    import sysconfig
+
+    from gyrochain import build, pipeline
+
+    files, _ = pipeline.derive_and_render(load_spec(ROOT / "specs" / "gimbal.toml"), targets=("c",))
+    key = build.key_of([files[f"gimbal{s}"].encode("utf-8") for s in pipeline.C_FILES])
+    home = folder / f"gimbal-{key[:20]}"
+    home.mkdir(parents=True)
+    (home / f"{build.module_name('gimbal')}{sysconfig.get_config_var('EXT_SUFFIX')}").write_text("planted")
+    return home
+
+
+def _listing(folder):
+    return sorted((str(p.relative_to(folder)), p.stat().st_mode, p.stat().st_size, p.stat().st_mtime_ns)
+                  for p in folder.rglob("*"))
+
+
+def _simulate_with(env):
+    return subprocess.run([sys.executable, "-m", "gyrochain", "simulate", "specs/gimbal.toml", "--t1", "0.01", "--steps", "1"],
+                          capture_output=True, text=True, cwd=ROOT, env=env, timeout=300)
+
+
+def test_a_planted_cache_folder_is_never_built_into_or_loaded_from(tmp_path):
+    import stat
+
+    env = {k: v for k, v in os.environ.items() if k not in ("GYROCHAIN_CACHE", "XDG_CACHE_HOME")}
+    cases = []
+    anyone = tmp_path / "anyone"  # writable by everyone, with a planted extension
+    _planted_extension(anyone)
+    anyone.chmod(0o777)
+    cases.append((anyone, "is writable by group and others (mode 0777)"))
+    group = tmp_path / "group"
+    group.mkdir(mode=0o770)
+    group.chmod(0o770)
+    cases.append((group, "is writable by group (mode 0770)"))
+    open_parent = tmp_path / "open"  # a private folder inside one anyone can write (not sticky)
+    (open_parent / "mine").mkdir(parents=True, mode=0o700)
+    open_parent.chmod(0o777)
+    cases.append((open_parent / "mine", f"lies in {open_parent}, which another user can change"))
+    if os.getuid() == 0:  # only root can give a folder away: another user's folder, planted
+        theirs = tmp_path / "theirs"
+        _planted_extension(theirs)
+        for p in [theirs, *theirs.rglob("*")]:
+            os.chown(p, 65534, 65534)
+        cases.append((theirs, "is owned by another user (uid 65534)"))
+        home = tmp_path / "home"  # the default place, ~/.cache/gyrochain, made first by another user
+        _planted_extension(home / ".cache" / "gyrochain")
+        os.chown(home / ".cache" / "gyrochain", 65534, 65534)
+        res = _simulate_with({**env, "HOME": str(home)})
+        assert res.returncode == 2 and res.stderr.count("\n") == 1, res.stderr
+        assert f"error: build cache {home / '.cache' / 'gyrochain'}: is owned by another user" in res.stderr
+    for folder, why in cases:
+        before = _listing(folder)
+        res = _simulate_with({**env, "GYROCHAIN_CACHE": str(folder)})
+        assert res.returncode == 2 and res.stderr.count("\n") == 1, (folder, res.stderr)
+        assert res.stderr.startswith(f"error: $GYROCHAIN_CACHE {folder}: {why}"), res.stderr
+        assert res.stdout == "" and _listing(folder) == before  # nothing built into it, nothing loaded
+    # the control: a folder of ours is made private and used
+    fresh = tmp_path / "fresh" / "cache"
+    res = _simulate_with({**env, "GYROCHAIN_CACHE": str(fresh)})
+    assert res.returncode == 0, res.stderr
+    assert stat.S_IMODE(fresh.stat().st_mode) == 0o700 and any(p.name.startswith("gimbal-") for p in fresh.iterdir())

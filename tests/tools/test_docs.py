@@ -20,7 +20,7 @@ PAGES = docrun.pages()
 @pytest.mark.parametrize("page", PAGES, ids=[str(p.relative_to(ROOT)) for p in PAGES])
 def test_every_block_of_the_page_runs(page, tmp_path):
     counts = docrun.run_page(page, tmp_path / "work")
-    assert sum(counts[k] for k in docrun.KINDS) + counts["skipped"] == len(docrun.blocks(page))
+    assert sum(counts[k] for k in docrun.KINDS) + counts["skipped"] + counts["installed"] == len(docrun.blocks(page))
 
 
 def test_what_the_pages_hold():
@@ -48,6 +48,17 @@ def test_every_relative_link_resolves_inside_the_repository(page):
         assert path.exists(), f"{page.name}: link to {target}, which does not exist"
         assert path.is_relative_to(ROOT), f"{page.name}: link to {target}, outside the repository"
     assert "../shared" not in text and "DIGEST" not in text
+
+
+def test_the_index_page_stands_alone():
+    """README-pypi.md is the long description the package index shows: no link or image that only
+    resolves inside the repository, no make (a pip user has no Makefile), and the tour a pip user
+    types is there for test_install.py to run."""
+    text = (ROOT / "README-pypi.md").read_text()
+    assert not LINK.findall(text) and "![" not in text and "<img" not in text
+    assert not re.search(r"\bmake\b", text) and ".venv" not in text and "specs/" not in text
+    tour = [b for b in docrun.blocks(ROOT / "README-pypi.md") if b.installed]
+    assert tour and tour[0].kind == "console" and "$ pip install gyrochain" in tour[0].text
 
 
 # --------------------------------------------------------------------------- the runner fails on stale docs
