@@ -1,6 +1,8 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
 # make test                           set up .venv and run the whole test suite (tests/unit, models, physics, tools)
 # make test-fast                      the unit layer only: the stages, printers, pipeline and architecture, no compiler (< 1 min)
+# make test-install                   the package as users install it: sdist and wheel built, installed into a fresh venv,
+#                                     the tour run from an empty folder (part of make test too; needs the package index)
 # make plot                           the frames figure, the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map,
 #                                     Kapitza's stability chart, the double pendulum's nonlinear normal modes (docs/img/)
 # make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
@@ -18,7 +20,7 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test test-fast docs fuzz pdf plot animations clean bench bench-setup bench-speed
+.PHONY: all setup generate generate-all test test-fast test-install docs fuzz pdf plot animations clean bench bench-setup bench-speed
 
 all: generate
 
@@ -43,6 +45,9 @@ test: setup
 
 test-fast: setup
 	$(VPY) -m pytest -q -n $(JOBS) tests/unit
+
+test-install: setup
+	$(VPY) -m pytest -q tests/tools/test_install.py
 
 docs: setup
 	$(VPY) -m mkdocs build --strict -q -d site
@@ -102,4 +107,4 @@ pdf: generate
 	cd generated/$$name && pdflatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null && echo "generated/$$name/$$name.pdf"
 
 clean:
-	rm -rf $(VENV) .pytest_cache build site *.egg-info
+	rm -rf $(VENV) .pytest_cache build dist site *.egg-info

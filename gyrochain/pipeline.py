@@ -8,7 +8,7 @@ one process build while the others wait for it and load its build.
 
     model = pipeline.derive(spec)                      # assemble.Model: everything derived once
     files = pipeline.render(model, targets=("c",))    # {file name: text}, only what was asked
-    cm = pipeline.compile(files, spec.name)            # build.CModel, built once per machine
+    cm = pipeline.compile(files, spec.name)            # build.CModel, built once per user
 """
 from __future__ import annotations
 
@@ -202,7 +202,7 @@ def _sources(files: dict[str, str]) -> dict[str, str]:
 
 def extension(files: dict[str, str], name: str) -> tuple[Path, bool]:
     """The cached extension of these sources: (its path, whether it was built by this call).
-    Built once per machine: the first caller builds under the file lock, the others wait and
+    Built once per user: the first caller builds under the file lock, the others wait and
     find its build."""
     root = cache_root()
     staging = Path(tempfile.mkdtemp(prefix="stage-", dir=root))
@@ -270,7 +270,7 @@ class BuildAhead:
 
 def compile(files: dict[str, str], name: str) -> build.CModel:  # noqa: A001  (the pipeline's verb)
     """The compiled model of these sources (the C, header and cdef of ``files``; others are
-    ignored), built once per machine in the cache and loaded once per process."""
+    ignored), built once per user in the cache and loaded once per process."""
     sources = _sources(files)
     memo = hashlib.sha256("\0".join(f"{k}\0{sources[k]}" for k in sorted(sources)).encode("utf-8")).hexdigest()
     with _LOCK:

@@ -42,7 +42,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 KINDS = ("console", "python", "toml", "c", "text")
-DRY_MAKE = {"test", "test-fast", "fuzz", "bench", "bench-speed", "bench-setup", "docs", "plot", "animations",
+DRY_MAKE = {"test", "test-fast", "test-install", "fuzz", "bench", "bench-speed", "bench-setup", "docs", "plot", "animations",
             "generate-all", "setup", "clean", "all", "pdf"}
 SKIP = re.compile(r"<!--\s*docs-test:\s*skip\s*\((.+?)\)\s*-->")
 FROM = re.compile(r"<!--\s*docs-test:\s*from\s+(\S+)\s*-->")
