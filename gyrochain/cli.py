@@ -41,13 +41,15 @@ def cmd_generate(args) -> int:
 
     t0 = time.perf_counter()
     spec = load_spec(args.spec)
-    target = Path(args.output) if args.output else Path("generated") / spec.name
-    generate.check(spec, target, args.force)  # before the first line: a mistake is one line
+    if args.output is not None and not args.output.strip():
+        raise SpecError("-o", "is empty; name a folder (default generated/<name>)")
+    target = Path(args.output) if args.output is not None else Path("generated") / spec.name
+    generate.check(spec, target, args.force, Path(args.spec))  # before the first line: a mistake is one line
     if not args.quiet:
         print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
     result = generate.run(spec, target, Path(args.spec).name, build=not args.no_build, force=args.force,
                           qdd_form=args.qdd_form, der_form=args.derivative_form, progress=_Progress(args.quiet),
-                          real=args.real)
+                          real=args.real, source=Path(args.spec))
     for line in generate.report(result):
         print(line)
     print(f"done in {time.perf_counter() - t0:.2f} s")
@@ -135,6 +137,8 @@ def cmd_steady(args) -> int:
     try:
         omegas = steady.parse_range(args.omega) if args.omega else None
         vary = steady.parse_vary(args.vary, spec) if args.vary else None
+        if vary:
+            steady.check_vary_values(spec, given, vary)
         an, eqs, branches, omegas = steady.analyze(spec, params or None, u, omegas, starts, rotations=not args.no_rotations,
                                                    period=args.period, vary=vary)
     except steady.SteadyError as exc:
@@ -158,6 +162,8 @@ def cmd_orbits(args) -> int:
         if energies is not None and energies[0] <= 0:
             raise steady.SteadyError("--energy: the energies above the equilibrium's must be positive")
         vary = steady.parse_vary(args.vary, spec) if args.vary else None
+        if vary:
+            steady.check_vary_values(spec, _params_of(args.param), vary)
         omegas = None
         if args.omega:
             try:
@@ -372,7 +378,8 @@ def main(argv=None) -> int:
     g.add_argument("spec")
     g.add_argument("-o", "--output", help="output folder (default generated/<name>)")
     g.add_argument("--no-build", action="store_true", help="do not compile the cffi extension")
-    g.add_argument("--force", action="store_true", help="replace an output folder gyrochain did not write")
+    g.add_argument("--force", action="store_true", help="write into an output folder gyrochain did not write (its "
+                   "other files are kept; files of the same names are replaced)")
     g.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     g.add_argument(
         "--qdd-form", choices=("auto", "composite", "articulated"), default="auto",

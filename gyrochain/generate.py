@@ -4,8 +4,9 @@ report of what was derived: sizes, op counts, forms, which integrals exist and w
     result = generate.run(spec, Path("generated/gimbal"), "gimbal.toml")
     print("\\n".join(generate.report(result)))
 
-Outputs go to a temporary folder beside the target and replace it in one rename at the end
-(pipeline.write_tree): a failure leaves the old folder as it was.
+Outputs go to a temporary folder beside the target and move into it a rename a file at the end
+(pipeline.write_tree): a failure leaves the old files as they were, and nothing gyrochain did not
+write is touched.
 """
 from __future__ import annotations
 
@@ -33,11 +34,12 @@ class Result:
 
 
 def run(spec, target: Path, label: str, build: bool = True, force: bool = False, qdd_form: str = "auto",
-        der_form: str = "auto", progress=None, real: str = "double") -> Result:
+        der_form: str = "auto", progress=None, real: str = "double", source: Path | None = None) -> Result:
     """Derive, print and write ``spec`` into ``target`` (built unless ``build`` is False).  A
-    folder this generator did not write is replaced only with ``force``."""
+    folder this generator did not write is written into only with ``force``, and its other files
+    are kept; a folder that holds ``source``, the spec file, never."""
     target = Path(target)
-    check(spec, target, force)
+    check(spec, target, force, source)
     say = progress or (lambda msg: None)
     ahead = pipeline.BuildAhead(target, spec.name) if build else None
     try:
@@ -55,11 +57,21 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     return Result(spec, model, target, tuple(sorted(files)), how)
 
 
-def check(spec, target: Path, force: bool = False) -> None:
-    """What must hold before anything is derived: the target is ours to replace (or ``force``) and
-    the chain's mass matrix is not singular everywhere."""
-    if not pipeline.is_ours(Path(target)) and not force:
-        raise SpecError("-o", f"{target} exists and was not written by gyrochain; choose another folder or pass --force")
+def check(spec, target: Path, force: bool = False, source: Path | None = None) -> None:
+    """What must hold before anything is derived: the target is a folder we may write into (one
+    gyrochain wrote, a new or empty one, or with ``force`` any folder: its other files are kept),
+    it does not hold the spec file ``source`` itself, and the chain's mass matrix is not singular
+    everywhere."""
+    target = Path(target)
+    if target.exists() and not target.is_dir():
+        raise SpecError("-o", f"{target} is a file, not a folder")
+    if source is not None:
+        where = target.resolve()
+        if Path(source).resolve().parent.is_relative_to(where):
+            raise SpecError("-o", f"{target} holds the spec {source} itself; choose another folder")
+    if not pipeline.is_ours(target) and not force:
+        raise SpecError("-o", f"{target} exists and was not written by gyrochain; choose another folder or pass --force "
+                              "(its other files are kept)")
     pipeline.check_mass_matrix(spec)
 
 

@@ -304,14 +304,40 @@ def is_ours(directory: Path) -> bool:
         return False
 
 
+def ours_in(directory: Path, name: str) -> set[str]:
+    """The files of ``directory`` that gyrochain wrote: those its MANIFEST.json lists, the
+    manifest itself, and the model's compiled extension with its key file."""
+    import json
+
+    found = set()
+    try:
+        found |= set(json.loads((directory / "MANIFEST.json").read_text()).get("files", {})) | {"MANIFEST.json"}
+    except (OSError, ValueError, AttributeError):
+        pass
+    found |= {p.name for p in build.extensions(directory, name)}
+    found |= {build.key_path(directory, name).name} if build.key_path(directory, name).exists() else set()
+    return {f for f in found if "/" not in f and f not in (".", "..")}
+
+
+def umask_mode(mode: int = 0o777) -> int:
+    """``mode`` less the process's umask: how the user's own tools would create the file or folder."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return mode & ~mask
+
+
 def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str, ahead: BuildAhead | None = None) -> str | None:
-    """Write every file into a fresh temporary folder with its extension, then swap it in: nothing
-    half-written is ever at ``target``.  The extension is the folder's own when it was built from
-    the same C, header and cdef with the same flags and compiler (build.build_key), else the
-    model cache's (``extension``: compiled now only if no process built it before, ``ahead``'s
-    child included): returns "compiled", "reused" or None (no build)."""
+    """Write every file into a temporary folder beside ``target`` with its extension, then move
+    them into ``target`` one by one (a rename each: no file is ever half-written) and remove the
+    files of the previous generation that are no longer produced.  Nothing else in ``target`` is
+    touched: a file gyrochain did not write (a build folder, notes) stays.  Folders and files get
+    the user's umask.  The extension is the folder's own when it was built from the same C,
+    header and cdef with the same flags and compiler (build.build_key), else the model cache's
+    (``extension``: compiled now only if no process built it before, ``ahead``'s child included):
+    returns "compiled", "reused" or None (no build)."""
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
+    made = not target.exists()
     tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
     how = None
     try:
@@ -328,14 +354,20 @@ def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str, a
                 shutil.copy2(so, tmp / so.name)
                 build.key_path(tmp, name).write_text(build.build_key(tmp, name) + "\n")
                 how = "compiled" if built else "reused"
-        old = None
-        if target.exists():
-            old = target.parent / f".{target.name}.old-{os.getpid()}"
-            target.rename(old)
-        tmp.rename(target)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+        file_mode = umask_mode(0o666)
+        for f in tmp.iterdir():
+            os.chmod(f, file_mode | (0o111 & umask_mode() if f.suffix == ".so" else 0))
+        if made:
+            target.mkdir(mode=umask_mode())
+        stale = ours_in(target, name) - {f.name for f in tmp.iterdir()}
+        for f in sorted(tmp.iterdir(), key=lambda f: f.name == "MANIFEST.json"):  # the manifest last
+            f.replace(target / f.name)
+        for rel in sorted(stale):
+            (target / rel).unlink(missing_ok=True)
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if made and target.exists():
+            shutil.rmtree(target, ignore_errors=True)  # only what this call put there
         raise
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
     return how

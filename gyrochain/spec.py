@@ -19,35 +19,14 @@ from pathlib import Path
 import sympy as sp
 
 from .errors import SpecError, did_you_mean
+from .names import (C_KEYWORDS, GENERATED_NAMES, GENERATED_PATTERN, RESERVED_NAMES, RESERVED_PATTERN,  # noqa: F401
+                    model_name_clash)
 from .physical import check_physical, check_values
 
 __all__ = ["SpecError", "BodySpec", "ChainSpec", "BaseSpec", "LoadSpec", "load_spec", "parse_spec", "parse_expression",
            "T", "phi_symbol", "phidot_symbol"]
 
-
-C_KEYWORDS = frozenset(
-    """auto break case char const continue default do double else enum extern float for goto if
-    inline int long register restrict return short signed sizeof static struct switch typedef union
-    unsigned void volatile while _Bool _Complex _Imaginary
-    alignas alignof and and_eq asm bitand bitor bool catch class compl const_cast constexpr
-    decltype delete dynamic_cast explicit export false friend mutable namespace new noexcept not
-    not_eq nullptr operator or or_eq private protected public reinterpret_cast static_assert
-    static_cast template this thread_local throw true try typeid typename using virtual wchar_t
-    xor xor_eq""".split()
-)
 FUNCTIONS = {"sqrt": sp.sqrt, "sin": sp.sin, "cos": sp.cos, "tan": sp.tan}
-# Names the generated code itself uses (arguments, states, math functions, Python builtins
-# the generated module needs).  A parameter may not take one of them.
-GENERATED_NAMES = frozenset(
-    {"pi", "t", "q", "x", "u", "p", "M", "f", "qdd", "xdot", "np", "math", "numpy", "N"}
-    | set(FUNCTIONS) | {"exp", "log", "pow", "fabs", "isfinite", "abs", "None", "True", "False"}
-)
-# Names sympy, Python or C's <math.h> give a meaning (a constant, infinity, NaN, a macro): a parameter
-# called nan or E would not stay a parameter everywhere it is printed.
-RESERVED_NAMES = frozenset({"E", "I", "S", "O", "Q", "oo", "zoo", "EulerGamma", "GoldenRatio", "Catalan", "TribonacciConstant",
-                            "NULL", "EOF", "errno", "HUGE_VAL", "HUGE_VALF", "HUGE_VALL", "INFINITY", "NAN"})
-RESERVED_PATTERN = re.compile(r"^(?i:nan|inf|infinity)$|^M_[A-Z0-9_]+$|^FP_[A-Z_]+$|^MATH_ERR")
-GENERATED_PATTERN = re.compile(r"^(w\d+|phi_?\d+|phidot_?\d+|phiddot_?\d+|L_?\d+|tau_?\d+)$")
 IDENT = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 MAX_EXPR_LEN = 200
 
@@ -360,6 +339,9 @@ def parse_spec(text: str) -> ChainSpec:
         raise SpecError("name", f"{name!r} is not a C identifier (letters, digits, '_'; starting with a letter)")
     if name in C_KEYWORDS:
         raise SpecError("name", f"{name!r} is a C/C++ keyword")
+    clash = model_name_clash(name)
+    if clash:
+        raise SpecError("name", f"{name!r} would {clash}; choose another name (e.g. {name}_model)")
     if len(name) > 48:
         raise SpecError("name", "longer than 48 characters")
     description = data.get("description", "")

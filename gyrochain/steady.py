@@ -332,8 +332,11 @@ def default_omegas(an: Analysis, eqs) -> np.ndarray:
     return np.linspace(-top, top, 161)
 
 
+MAX_GRID = 1000  # points of an a:b:N grid of steady or orbits: each is a Newton solve (or a Floquet continuation step)
+
+
 def parse_range(text: str, what: str = "--omega", example: str = "-20:20:81") -> np.ndarray:
-    """``a:b:N`` (N values from a to b, N ≥ 2, a < b)."""
+    """``a:b:N`` (N values from a to b, 2 ≤ N ≤ MAX_GRID, a < b)."""
     try:
         a, b, count = text.split(":")
         a, b, count = float(a), float(b), int(count)
@@ -341,7 +344,25 @@ def parse_range(text: str, what: str = "--omega", example: str = "-20:20:81") ->
         raise SteadyError(f"{what}: expected a:b:N, for example {example}") from None
     if not (np.isfinite(a) and np.isfinite(b) and a < b and count >= 2):
         raise SteadyError(f"{what}: expected finite a < b and N >= 2")
+    if count > MAX_GRID:
+        raise SteadyError(f"{what}: {count} points; at most {MAX_GRID} (each is a Newton solve), for example {a:g}:{b:g}:{MAX_GRID}")
     return np.linspace(a, b, count)
+
+
+def check_vary_values(spec, given: dict, vary: tuple, what: str = "--vary") -> None:
+    """Every point of a --vary grid is a run's parameter values: checked as --param values are
+    (physical.run_values: a mass positive, an inertia possible), the ends first, before any work."""
+    from .physical import check_values, run_values
+
+    name, grid = vary
+    values = run_values(spec, {k: v for k, v in given.items() if k != name}, needed=[])  # the --param values alone
+    said = "".join(f", --param {k}={v:g}" for k, v in given.items() if k != name)
+    if len(values) + (name not in values) < len(spec.params):
+        return  # a parameter has no value yet: run_values says so, naming it, when the command starts
+    for i in [0, len(grid) - 1, *range(1, len(grid) - 1)]:
+        v = float(grid[i])
+        check_values(spec, {**values, name: v}, f" with {what} {name}={v:g}{said}"
+                     + (" and the spec's [values]" if len(values) > len(given) - (name in given) else ""))
 
 
 def parse_vary(text: str, spec) -> tuple[str, np.ndarray]:
