@@ -32,9 +32,13 @@ EXTENSIONS = (".gif", ".mp4", ".html", ".png")
 
 
 # --------------------------------------------------------------------------- trajectories
-def frame_times(t1: float, fps: float, frame: float | None, sub: int = 1) -> np.ndarray:
+MAX_FRAMES = 10_000  # frames of one animation past which animate asks for --yes (a GIF of 480 x 480: ~2 GB of pixels)
+
+
+def frame_times(t1: float, fps: float, frame: float | None, sub: int = 1, yes: bool = False) -> np.ndarray:
     """The output times: 0, 1/fps, … ≤ t1, or the single time ``frame`` (a still); with sub > 1,
-    ``sub`` times per frame interval (the frames are every sub-th)."""
+    ``sub`` times per frame interval (the frames are every sub-th).  More than MAX_FRAMES frames
+    are refused unless ``yes``."""
     if not (math.isfinite(fps) and fps > 0):
         raise SpecError("--fps", f"{fps!r}: must be a positive number")
     if frame is not None:
@@ -46,6 +50,10 @@ def frame_times(t1: float, fps: float, frame: float | None, sub: int = 1) -> np.
     count = int(math.floor(t1 * fps + 1e-9)) + 1
     if count < 2:
         raise SpecError("--t1", f"[0, {t1:g}] s at {fps:g} frames/s holds a single frame; make t1 >= {1 / fps:g} s or raise --fps")
+    if count > MAX_FRAMES and not yes:
+        raise SpecError("--t1" if t1 * 25.0 > MAX_FRAMES else "--fps",
+                        f"{t1:g} s at {fps:g} frames/s is {count} frames (more than {MAX_FRAMES}); a shorter --t1, a lower "
+                        "--fps, or --yes to draw them all")
     return np.arange((count - 1) * sub + 1) / (fps * sub)
 
 
@@ -353,7 +361,7 @@ def _follows(spec, ch, times) -> tuple[bool, str]:
 
 def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=None, fps: float = 25.0,
            frame: float | None = None, at: str = "", trajectory: str = "", size=(480, 480), view=None,
-           trace: float = 2.0, follow: bool | None = None, rtol: float = 1e-10, force: bool = False) -> dict:
+           trace: float = 2.0, follow: bool | None = None, rtol: float = 1e-10, force: bool = False, yes: bool = False) -> dict:
     """The motion of a spec (a path or a parsed spec) or of a sweep store's point (``at``) as
     ``output`` (.gif, .mp4, .html, or a .png still at ``frame``).  ``view``: (azimuth, elevation)
     in degrees, default fitted to the motion.  ``follow`` None: the camera follows the platform's
@@ -380,7 +388,7 @@ def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=Non
         times, has_rate = frame_times(t1, fps, frame), True
         fine = np.unique(np.concatenate([np.linspace(max(0.0, frame - trace), frame, 100), times]))
     else:
-        fine, has_rate = frame_times(t1, fps, None, sub), True
+        fine, has_rate = frame_times(t1, fps, None, sub, yes), True
         times = fine[::sub]
     model, derived = pipeline.compiled(spec)
     if follow and spec.base is None:

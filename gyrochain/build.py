@@ -151,6 +151,40 @@ def load_module(so_path: str | Path):
     return mod
 
 
+QUICK_CALL = 0.005  # seconds: an integrator call predicted shorter is made without a helper thread
+
+
+def interruptible(fn, *args, keep=()):
+    """``fn(*args)``, a call into the C that may run long (an integrator), made so that Ctrl-C
+    ends it at once: from the main thread the call runs in a helper thread, which cffi lets run
+    without the GIL, and the main thread waits for it in short timed waits, which a signal
+    interrupts; KeyboardInterrupt then unwinds the caller's stack (its clean-ups run) while the
+    abandoned call goes on in its daemon thread until the process exits.  From any other thread
+    (a sweep's workers) the call is made directly: the main thread is the one Ctrl-C reaches.
+    ``keep``: the arrays the pointers in ``args`` point into (a cffi cast does not keep its buffer
+    alive): the helper thread holds them, so an abandoned call never writes into freed memory.
+    A thread costs about 0.1 ms; it is used only for the integrators (docs/testing.md)."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return fn(*args)
+    box: dict = {}
+
+    def work(held=keep):  # noqa: ARG001  (held: alive as long as the call runs)
+        try:
+            box["result"] = fn(*args)
+        except BaseException as exc:  # noqa: BLE001  (raised again in the caller's thread)
+            box["error"] = exc
+
+    helper = threading.Thread(target=work, name="gyrochain-c-call", daemon=True)
+    helper.start()
+    while helper.is_alive():
+        helper.join(0.05)
+    if "error" in box:
+        raise box["error"]
+    return box["result"]
+
+
 class ModelError(ArithmeticError):
     def __init__(self, func: str, code: int):
         super().__init__(f"{func} returned {code}: {status_text(code)}")
@@ -188,12 +222,27 @@ class CModel:
         self.real = self.ffi.typeof(self._fn("mass_matrix")).args[0].item.cname
         self.dtype = np.float32 if self.real == "float" else np.float64
         self._ptr = f"{self.real} *"
+        self._took: dict = {}  # integrator → (seconds, work) of its last call: is the next one quick?
 
     def _t(self, t) -> tuple:
         return (float(t),) if self.time_dependent else ()
 
     def _fn(self, what):
         return getattr(self.lib, f"{self.name}_{what}")
+
+    def _long_call(self, what: str, work: float, *args, keep=()):
+        """An integrator's C call: made directly when its last call, scaled by ``work`` (the span
+        of t, times the trajectories), says it takes under QUICK_CALL seconds (a thread would cost
+        more than the call), else through ``interruptible``, so that Ctrl-C ends it within a
+        second even when the prediction is a hundred times short."""
+        import time
+
+        last = self._took.get(what)
+        quick = last is not None and last[0] * (work / last[1] if last[1] > 0 else 1.0) < QUICK_CALL
+        t0 = time.perf_counter()
+        code = self._fn(what)(*args) if quick else interruptible(self._fn(what), *args, keep=keep)
+        self._took[what] = (time.perf_counter() - t0, work)
+        return code
 
     def _p(self, params):
         if params is None:
@@ -310,9 +359,10 @@ class CModel:
         up, _ku = self._u(u)
         X = np.empty((len(ts), 2 * self.n), self.dtype)
         st = self.ffi.new(f"{self.name}_integrate_stats *")
-        code = self._fn("integrate_grid")(
+        code = self._long_call("integrate_grid", abs(float(ts[-1] - ts[0])),
             METHODS[method], len(ts), self.ffi.cast(self._ptr, self.ffi.from_buffer(ts)), float(h), float(rtol),
-            float(atol), int(max_steps), xp, up, self._p(params), self.ffi.cast(self._ptr, self.ffi.from_buffer(X)), st)
+            float(atol), int(max_steps), xp, up, self._p(params), self.ffi.cast(self._ptr, self.ffi.from_buffer(X)), st,
+            keep=(ts, X, _k, _ku))
         stats = dict(t=st.t, x=np.array(list(st.x)), n_rhs=st.n_rhs, n_steps=st.n_steps,
                      n_rejected=st.n_rejected, n_iter=st.n_iter, n_newton=st.n_newton)
         if code != 0:
@@ -352,10 +402,10 @@ class CModel:
         X = np.empty((nb, len(ts), 2 * self.n), self.dtype)
         codes = np.zeros(nb, dtype=np.intc)
         dp = lambda a: self.ffi.cast(self._ptr, self.ffi.from_buffer(a))  # noqa: E731
-        failed = self._fn("integrate_batch")(
+        failed = self._long_call("integrate_batch", nb * abs(float(ts[-1] - ts[0])),
             METHODS[method], nb, len(ts), dp(ts), float(h), float(rtol), float(atol), int(max_steps), dp(X0),
             dp(U) if U is not None else self.ffi.NULL, u_stride, pp, p_stride, dp(X),
-            self.ffi.cast("int *", self.ffi.from_buffer(codes)))
+            self.ffi.cast("int *", self.ffi.from_buffer(codes)), keep=(ts, X0, U, X, codes))
         if failed < 0:
             raise ModelError(f"{self.name}_integrate_batch", -failed)
         return X, codes
@@ -378,8 +428,9 @@ class CModel:
         x1 = np.empty(dim, self.dtype)
         st = self.ffi.new(f"{self.name}_integrate_stats *")
         dp = lambda a: self.ffi.cast(self._ptr, self.ffi.from_buffer(a))  # noqa: E731
-        code = self._fn("integrate_variational")(float(t0), float(t1), float(h), float(rtol), float(atol), xp, up,
-                                                 self._p(params), dp(x1), dp(Phi), st)
+        code = self._long_call("integrate_variational", abs(float(t1) - float(t0)), float(t0), float(t1), float(h),
+                               float(rtol), float(atol), xp, up, self._p(params), dp(x1), dp(Phi), st,
+                               keep=(_k, _ku, x1, Phi))
         stats = dict(t=st.t, x=np.array(list(st.x)), n_rhs=st.n_rhs, n_steps=st.n_steps, n_rejected=st.n_rejected)
         if code != 0:
             raise IntegrationError(f"{self.name}_integrate_variational", code, x1[None, :], stats)

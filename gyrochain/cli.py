@@ -23,6 +23,7 @@ from .simulate import torques
 from .spec import SpecError, load_spec
 
 EXIT_BAD_INPUT = 2
+MAX_RENORMALISATIONS = 10**6  # of a sweep's Lyapunov measures, per trajectory
 EXIT_INTERNAL = 1
 
 
@@ -92,6 +93,12 @@ def _finite(vals: list[float], what: str) -> list[float]:
     return vals
 
 
+def _one(what: str, given: list | None, why: str) -> None:
+    """An option that may be given once: a second one is refused, not silently taken for the first."""
+    if given and len(given) > 1:
+        raise SpecError(what, f"given {len(given)} times ({', '.join(given)}); {why}")
+
+
 def _params_of(items, what: str = "--param") -> dict:
     """name=number options (--param) as a dict (the names and values are checked against the
     spec by physical.run_values)."""
@@ -115,10 +122,16 @@ def cmd_simulate(args) -> int:
     from . import simulate
 
     spec = load_spec(args.spec)
-    simulate.check_options(args.t1, args.steps, args.method, args.h, args.rtol, args.atol)
+    simulate.check_applies(args.method, {"--h": args.h, "--rtol": args.rtol, "--atol": args.atol})
+    h = 0.0 if args.h is None else args.h
+    rtol = 1e-10 if args.rtol is None else args.rtol
+    atol = 1e-12 if args.atol is None else args.atol
+    simulate.check_options(args.t1, args.steps, args.method, h, rtol, atol)
+    if not args.yes:
+        simulate.check_size(spec.n, args.t1, args.steps, args.method, h or args.t1 / args.steps / 10)
     x0 = simulate.initial_state(spec, _float_list(args.phi, "--phi"), _float_list(args.phidot, "--phidot"))
     rows = simulate.run(spec, x0, args.t1, args.steps, _float_list(args.u, "--u"), _params_of(args.param),
-                        method=args.method, h=args.h, rtol=args.rtol, atol=args.atol, use_reference=args.reference)
+                        method=args.method, h=h, rtol=rtol, atol=atol, use_reference=args.reference, yes=args.yes)
     print(",".join(simulate.columns(spec.n)))
     for row in rows:
         print(",".join(f"{v:.17g}" for v in row))
@@ -134,6 +147,10 @@ def cmd_steady(args) -> int:
     params = run_values(spec, given)
     u = torques(spec, _float_list(args.u, "--u"))
     starts = [_floats(s, "--start", spec.n) for s in args.start or []]
+    _one("--vary", args.vary, "steady continues its equilibria over one parameter")
+    if args.omega and args.no_rotations:
+        raise SpecError("--omega", "is the grid of the steady rotations, which --no-rotations leaves out; give one of them")
+    args.vary = (args.vary or [""])[0]
     try:
         omegas = steady.parse_range(args.omega) if args.omega else None
         vary = steady.parse_vary(args.vary, spec) if args.vary else None
@@ -157,6 +174,12 @@ def cmd_orbits(args) -> int:
     params = run_values(spec, _params_of(args.param))
     u = torques(spec, _float_list(args.u, "--u"))
     at = _floats(args.at, "--at", spec.n) if args.at else None
+    _one("--vary", args.vary, "orbits continues over one parameter")
+    args.vary = (args.vary or [""])[0]
+    if args.omega and (args.energy or args.vary or args.mode or args.at):
+        given = next(o for o, v in (("--energy", args.energy), ("--vary", args.vary), ("--mode", args.mode), ("--at", args.at)) if v)
+        raise SpecError(given, "belongs to the nonlinear normal modes of an equilibrium; --omega asks for the steady "
+                               "rotations instead: give one or the other")
     try:
         energies = steady.parse_range(args.energy, "--energy", "0.1:5:20") if args.energy else None
         if energies is not None and energies[0] <= 0:
@@ -188,11 +211,31 @@ def cmd_sweep(args) -> int:
     from . import sweep as sw
 
     spec = load_spec(args.spec)  # the spec's own errors first, naming its fields
+    measures = args.measure or ["final"]
+    for option, value, belongs in (("--flip", args.flip, ("flip_time",)), ("--angles", args.angles, ("flip_time",)),
+                                   ("--samples", args.samples, ("flip_time", "energy_error")),
+                                   ("--lyap-interval", args.lyap_interval, ("lyapunov", "lyapunov_spectrum"))):
+        if value is not None and not set(belongs) & set(measures):
+            raise SpecError(option, f"belongs to --measure {' or '.join(belongs)}, which this sweep does not ask for")
+    if args.chunk < 1:
+        raise SpecError("--chunk", f"must be at least 1 point, got {args.chunk}")
+    if args.workers is not None and args.workers < 1:
+        raise SpecError("--workers", f"{args.workers} workers: give 1 or more (without --workers the sweep runs on threads here)")
+    if args.threads is not None and (args.workers or args.scheduler):
+        raise SpecError("--threads", "are this machine's; with --workers or --scheduler the Dask workers do the work")
+    lyap = 0.1 if args.lyap_interval is None else args.lyap_interval
+    if args.lyap_interval is not None and math.isfinite(lyap) and lyap > 0:
+        if args.method != "dop853" and args.h > 0 and lyap < args.h:
+            raise SpecError("--lyap-interval", f"{lyap:g} s is shorter than the step --h {args.h:g} s")
+        if args.t1 / lyap > MAX_RENORMALISATIONS:
+            raise SpecError("--lyap-interval", f"{lyap:g} s over --t1 {args.t1:g} s is {args.t1 / lyap:.3g} renormalisations "
+                                               f"per trajectory (at most {MAX_RENORMALISATIONS:.0e}); a longer interval")
     vary = [sw.parse_vary(v, args.random > 0) for v in args.vary or []]
     sweep = sw.Sweep(
-        spec_text=spec.source, vary=vary, t1=args.t1, measures=args.measure or ["final"], random=args.random, seed=args.seed,
-        method=args.method, h=args.h, rtol=args.rtol, atol=args.atol, samples=args.samples, flip=args.flip, angles=args.angles,
-        lyap_interval=args.lyap_interval, phi=_floats(args.phi, "--phi", spec.n) if args.phi else [],
+        spec_text=spec.source, vary=vary, t1=args.t1, measures=measures, random=args.random, seed=args.seed,
+        method=args.method, h=args.h, rtol=args.rtol, atol=args.atol, samples=1000 if args.samples is None else args.samples,
+        flip=args.flip or "", angles=args.angles or "auto",
+        lyap_interval=lyap, phi=_floats(args.phi, "--phi", spec.n) if args.phi else [],
         phidot=_floats(args.phidot, "--phidot", spec.n) if args.phidot else [],
         u=_floats(args.u, "--u", len(spec.controls)) if args.u else [], params=_params_of(args.param), chunk=args.chunk,
     )
@@ -207,7 +250,7 @@ def cmd_sweep(args) -> int:
              if args.workers else f"{args.threads or os.cpu_count()} thread(s)")
     print(f"sweep of {plan.spec.name}: {int(np.prod(plan.shape))} points in {plan.n_chunks} chunks on {where} -> {args.output}",
           file=sys.stderr)
-    counts = sw.run(sweep, args.output, threads=args.threads, workers=args.workers, scheduler=args.scheduler,
+    counts = sw.run(sweep, args.output, threads=args.threads, workers=args.workers or 0, scheduler=args.scheduler,
                     progress=not args.quiet, plan=plan)
     print(f"{counts['written']} chunks computed, {counts['skipped']} already done, in {time.perf_counter() - t0:.1f} s",
           file=sys.stderr)
@@ -232,13 +275,15 @@ def cmd_animate(args) -> int:
 
     t_start = time.perf_counter()
     animate.Output(args.output, force=args.force)  # the extension and an existing file first
+    if args.frame is not None and args.t1 is not None:
+        raise SpecError("--t1", "a still (--frame T) is the motion at one time and has no range [0, t1]; drop --t1")
     size = _size(args.size)
     view = _floats(args.view, "--view", 2) if args.view else None
     done = animate.render(
         args.spec, args.output, phi=_float_list(args.phi, "--phi"), phidot=_float_list(args.phidot, "--phidot"),
         u=_float_list(args.u, "--u"), params=_params_of(args.param), t1=args.t1, fps=args.fps, frame=args.frame,
         at=args.at, trajectory=args.trajectory, size=size, view=view, trace=args.trace, follow=args.follow,
-        rtol=args.rtol, force=args.force)
+        rtol=args.rtol, force=args.force, yes=args.yes)
     if done.get("note"):
         print(done["note"], file=sys.stderr)
     if not args.quiet:
@@ -405,9 +450,11 @@ def main(argv=None) -> int:
     s.add_argument("--param", action="append", help="name=value for a symbolic parameter (default: the spec's [values])")
     s.add_argument("--method", default="dop853", help="dop853 (adaptive, dense output; the default) | rk4 | gauss2 | "
                    "gauss2_symplectic (fixed step --h)")
-    s.add_argument("--h", type=float, default=0.0, help="step of rk4/gauss2 (default: a tenth of an output interval)")
-    s.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of dop853")
-    s.add_argument("--atol", type=float, default=1e-12, help="absolute tolerance of dop853")
+    s.add_argument("--h", type=float, default=None, help="step of rk4/gauss2 (default: a tenth of an output interval)")
+    s.add_argument("--rtol", type=float, default=None, help="relative tolerance of dop853 (default 1e-10)")
+    s.add_argument("--atol", type=float, default=None, help="absolute tolerance of dop853 (default 1e-12)")
+    s.add_argument("--yes", action="store_true", help="run past the limits (200 MiB of CSV, 1e8 fixed steps, an RK4 "
+                   "step beyond stability) instead of stopping")
     s.add_argument("--reference", action="store_true", help="integrate the independent numpy model with scipy's DOP853 "
                    "instead (slow; a cross-check)")
     st = sub.add_parser("steady", help="equilibria and steady rotations, with their stability (of a model driven "
@@ -420,8 +467,8 @@ def main(argv=None) -> int:
     st.add_argument("--no-rotations", action="store_true", help="equilibria only")
     st.add_argument("--period", type=float, default=None, help="the period of a model that depends on t "
                     "(default: from the spec's sines and cosines of t)")
-    st.add_argument("--vary", default="", help="name=a:b:N: a model that depends on t, its equilibria continued over a "
-                    "parameter, where the Floquet verdict changes")
+    st.add_argument("--vary", action="append", help="name=a:b:N: a model that depends on t, its equilibria continued over a "
+                    "parameter, where the Floquet verdict changes (one parameter)")
     ob = sub.add_parser("orbits", help="periodic orbits of an autonomous spec (nonlinear normal modes, steady rotations) "
                         "by shooting, with their Floquet multipliers")
     ob.add_argument("spec")
@@ -430,7 +477,8 @@ def main(argv=None) -> int:
                     "lowest barrier)")
     ob.add_argument("--mode", action="append", type=int, help="the linear mode to continue, 1 = the slowest (repeatable; "
                     "default all)")
-    ob.add_argument("--vary", default="", help="name=a:b:N: continue over a parameter at the first energy instead")
+    ob.add_argument("--vary", action="append", help="name=a:b:N: continue over a parameter at the first energy instead "
+                    "(one parameter)")
     ob.add_argument("--omega", default="", help="W or a:b:N: the steady rotations phidot1 = W as periodic orbits "
                     "(phi1 cyclic)")
     ob.add_argument("--u", default="", help="constant torques of the controlled joints (default 0)")
@@ -447,20 +495,21 @@ def main(argv=None) -> int:
     sw.add_argument("--h", type=float, default=0.0, help="step of rk4/gauss2 (first step of dop853, 0: automatic)")
     sw.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance of dop853")
     sw.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance of dop853")
-    sw.add_argument("--samples", type=int, default=1000, help="output intervals over [0, t1] for flip_time and energy_error")
-    sw.add_argument("--flip", default="", help="the angle of flip_time (phiK: link or joint K; default: the first of any)")
-    sw.add_argument("--angles", default="auto", help="flip_time watches the links' absolute angles phi1+..+phiK (absolute; "
+    sw.add_argument("--samples", type=int, default=None, help="output intervals over [0, t1] for flip_time and energy_error "
+                    "(default 1000)")
+    sw.add_argument("--flip", default=None, help="the angle of flip_time (phiK: link or joint K; default: the first of any)")
+    sw.add_argument("--angles", default=None, help="flip_time watches the links' absolute angles phi1+..+phiK (absolute; "
                                                      "planar chains), the joint angles (relative), or auto: absolute where "
                                                      "the chain is planar")
-    sw.add_argument("--lyap-interval", type=float, default=0.1, help="renormalisation interval of the Lyapunov exponent "
-                    "and of lyapunov_spectrum's QR (s)")
+    sw.add_argument("--lyap-interval", type=float, default=None, help="renormalisation interval of the Lyapunov exponent "
+                    "and of lyapunov_spectrum's QR (s; default 0.1)")
     sw.add_argument("--phi", default="", help="the coordinates that are not varied (default: the spec's initial or 0)")
     sw.add_argument("--phidot", default="", help="the rates that are not varied")
     sw.add_argument("--u", default="", help="constant torques of the controlled joints")
     sw.add_argument("--param", action="append", help="name=value for a symbolic parameter that is not varied")
     sw.add_argument("--chunk", type=int, default=1024, help="points per chunk (whole rows of the grid)")
     sw.add_argument("--threads", type=int, default=None, help="threads on this machine (default: one per core)")
-    sw.add_argument("--workers", type=int, default=0, help="start a local Dask cluster of N worker processes")
+    sw.add_argument("--workers", type=int, default=None, help="start a local Dask cluster of N worker processes")
     sw.add_argument("--scheduler", default="", help="address of an existing Dask scheduler (tcp://host:8786)")
     sw.add_argument("-o", "--output", required=True, help="the Zarr store (created, or resumed if it is this sweep's)")
     sw.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
@@ -492,6 +541,7 @@ def main(argv=None) -> int:
                          "chain reaches; --no-follow for the world view)")
     an.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of DOP853")
     an.add_argument("--force", action="store_true", help="replace an existing file animate did not write")
+    an.add_argument("--yes", action="store_true", help=f"draw more than {10_000} frames instead of stopping")
     an.add_argument("-q", "--quiet", action="store_true")
     words = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in words or bool(os.environ.get(f"{DISTRIBUTION.upper()}_TRACEBACK"))
@@ -539,11 +589,24 @@ def main(argv=None) -> int:
         where = exc.filename or "file"
         print(f"error: {where}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
+    except KeyboardInterrupt:  # the stack has unwound: every clean-up ran, nothing half-written is left
         print("error: interrupted", file=sys.stderr)
+        _exit_if_held(130)
         return 130
     except Exception as exc:  # noqa: BLE001  (a bug of ours: one line, and where to report it)
         return _internal(exc, debug)
+
+
+def _exit_if_held(code: int) -> None:
+    """End the process now if another thread is still running: a worker of a sweep's pool inside
+    a C call, which the interpreter would wait for at exit, or an abandoned C call
+    (build.interruptible), which must not run on while the interpreter is torn down."""
+    import threading
+
+    if any(t.is_alive() for t in threading.enumerate() if t is not threading.main_thread()):
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
 
 
 def _ours(exc: OSError) -> bool:

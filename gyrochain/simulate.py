@@ -78,6 +78,52 @@ def motion(model, times: np.ndarray, x0, u=None, params=None, method: str = "dop
     return X[len(t) - len(times):]
 
 
+FIXED_STEP = ("rk4", "gauss2", "gauss2_symplectic")
+MAX_CSV_BYTES = 200 << 20  # simulate's output past which it asks for --yes
+MAX_FIXED_STEPS = 10**8  # steps of a fixed-step method past which simulate asks for --yes
+RK4_STABLE = 2.785  # h |lambda| on the imaginary axis where classical RK4 stops being stable (2 sqrt 2)
+
+
+def check_applies(method: str, given: dict) -> None:
+    """One meaning per option: --h belongs to the fixed-step methods, --rtol and --atol to DOP853
+    (``given``: the options the user typed, by name)."""
+    if method == "dop853" and given.get("--h") is not None:
+        raise SpecError("--h", "dop853 chooses its own steps; --h is the step of rk4, gauss2 and gauss2_symplectic "
+                               "(give --method, or drop --h)")
+    for name in ("--rtol", "--atol"):
+        if method in FIXED_STEP and given.get(name) is not None:
+            raise SpecError(name, f"{method} takes fixed steps --h and has no tolerance; {name} is dop853's")
+
+
+def check_size(n: int, t1: float, steps: int, method: str, h: float) -> None:
+    """The work and output a run asks for, refused (SpecError, so the user can pass --yes) past
+    MAX_CSV_BYTES of CSV or MAX_FIXED_STEPS fixed steps."""
+    rows, cols = steps + 1, 2 * n + 2
+    csv = rows * cols * 24
+    if csv > MAX_CSV_BYTES:
+        raise SpecError("--steps", f"{rows} rows of {cols} numbers are about {csv / 2**20:.0f} MiB of CSV (more than "
+                                   f"{MAX_CSV_BYTES >> 20} MiB); fewer --steps, or --yes to write them")
+    if method in FIXED_STEP and h > 0 and t1 / h > MAX_FIXED_STEPS:
+        raise SpecError("--h", f"{t1 / h:.3g} steps of {h:g} s over {t1:g} s (more than {MAX_FIXED_STEPS:.0e}); a longer "
+                               "--h, or --yes to take them")
+
+
+def check_stability(model, x0, u, params, method: str, h: float) -> None:
+    """RK4 with a step beyond its stability at the start state (h |λ|max > 2.785, λ the
+    linearisation's eigenvalues) blows up: refused with the number and the step that would do."""
+    if method != "rk4" or h <= 0:
+        return
+    try:
+        A, _ = model.linearize(x0, u, params or None)
+    except ArithmeticError:
+        return
+    lam = float(np.max(np.abs(np.linalg.eigvals(A))))
+    if h * lam > RK4_STABLE:
+        raise SpecError("--h", f"{h:g} s is beyond RK4's stability at the start: h |lambda|max = {h * lam:.3g} > "
+                               f"{RK4_STABLE} (|lambda|max = {lam:.4g} /s), so the solution would blow up; take --h "
+                               f"below {RK4_STABLE / lam:.3g} s, or --yes")
+
+
 def check_options(t1: float, steps: int, method: str, h: float, rtol: float, atol: float) -> None:
     if not (math.isfinite(t1) and t1 > 0):
         raise SpecError("--t1", f"must be a positive number of seconds, got {t1:g}")
@@ -92,10 +138,13 @@ def check_options(t1: float, steps: int, method: str, h: float, rtol: float, ato
             raise SpecError(name, f"must be a finite tolerance >= 0, got {tol:g}")
     if atol == 0:  # a component at (or through) zero would ask a purely relative tolerance for endless steps
         raise SpecError("--atol", "must be > 0: a state component at zero makes a purely relative tolerance unreachable")
+    if rtol >= 1:
+        raise SpecError("--rtol", f"{rtol:g} allows errors as large as the state itself; take a tolerance below 1 "
+                                  "(the default is 1e-10)")
 
 
 def run(spec, x0, t1: float, steps: int, u=None, params: dict | None = None, method: str = "dop853", h: float = 0.0,
-        rtol: float = 1e-10, atol: float = 1e-12, use_reference: bool = False) -> np.ndarray:
+        rtol: float = 1e-10, atol: float = 1e-12, use_reference: bool = False, yes: bool = False) -> np.ndarray:
     """The states at steps + 1 equal intervals of [0, t1], with the energy (23) in the last column.
     A fixed-step method without ``h`` takes 10 steps per output interval."""
     check_options(t1, steps, method, h, rtol, atol)
@@ -114,6 +163,9 @@ def run(spec, x0, t1: float, steps: int, u=None, params: dict | None = None, met
     model, _ = pipeline.compiled(spec)
     if method != "dop853" and h == 0:
         h = t1 / steps / 10
+    if not yes:
+        check_size(spec.n, t1, steps, method, h)
+        check_stability(model, np.asarray(x0, float), u, values, method, h)
     if method == "gauss2_symplectic" and not model.has_canonical:
         raise SpecError("--method", "gauss2_symplectic needs Hamilton's variables: a fixed base and no time-dependent field")
     X = motion(model, t, x0, u=u, params=values, method=method, h=h, rtol=rtol, atol=atol)

@@ -316,14 +316,33 @@ def _fields(raw: dict, at: str, allowed, required, expected: str) -> None:
             raise SpecError(name(key), "missing field")
 
 
+MAX_SPEC_BYTES = 1 << 20  # a spec is text a person writes; the 64-link cable is 9 KB
+
+
 def load_spec(path: str | Path) -> ChainSpec:
+    """A spec file: a regular file (or a pipe) of at most MAX_SPEC_BYTES, parsed.  A device such as
+    /dev/zero, a folder or a larger file is one line, at once."""
+    import os
+    import stat
+
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        mode = os.stat(path).st_mode
+        if stat.S_ISDIR(mode):
+            raise SpecError(str(path), "is a folder, not a spec file")
+        if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) or stat.S_ISSOCK(mode):
+            raise SpecError(str(path), "is a device, not a spec file")
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_SPEC_BYTES + 1)
+        if len(data) > MAX_SPEC_BYTES:
+            raise SpecError(str(path), f"larger than {MAX_SPEC_BYTES >> 20} MB: not a spec file")
+        text = data.decode("utf-8")
     except FileNotFoundError:
         raise SpecError(str(path), "no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SpecError(str(path), f"cannot read: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise SpecError(str(path), f"cannot read: not UTF-8 text (byte {exc.start})") from None
+    except OSError as exc:
+        raise SpecError(str(path), f"cannot read: {exc.strerror or exc}") from None
     return parse_spec(text)
 
 
