@@ -10,20 +10,20 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import re
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from .errors import did_you_mean
+from . import cliargs
 from .physical import run_values
 from .simulate import torques
 from .spec import SpecError, load_spec
 
 EXIT_BAD_INPUT = 2
 MAX_RENORMALISATIONS = 10**6  # of a sweep's Lyapunov measures, per trajectory
+MAX_CHUNK_BYTES = 1 << 30  # of the trajectories one sweep chunk holds in memory
 EXIT_INTERNAL = 1
 
 
@@ -65,58 +65,6 @@ def cmd_check(args) -> int:
     return 0
 
 
-def _floats(text: str, what: str, count: int) -> list[float]:
-    try:
-        vals = [float(v) for v in text.split(",")] if text else [0.0] * count
-    except ValueError:
-        raise SpecError(what, f"expected {count} comma-separated numbers") from None
-    if len(vals) != count:
-        raise SpecError(what, f"expected {count} comma-separated numbers, got {len(vals)}")
-    return _finite(vals, what)
-
-
-def _float_list(text: str, what: str) -> list[float] | None:
-    """Comma-separated numbers, or None when the option was not given (its count is checked
-    where the spec is known)."""
-    if not text:
-        return None
-    try:
-        vals = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise SpecError(what, "expected comma-separated numbers") from None
-    return _finite(vals, what)
-
-
-def _finite(vals: list[float], what: str) -> list[float]:
-    if not all(math.isfinite(v) for v in vals):
-        raise SpecError(what, "expected finite numbers, got " + ",".join(f"{v:g}" for v in vals))
-    return vals
-
-
-def _one(what: str, given: list | None, why: str) -> None:
-    """An option that may be given once: a second one is refused, not silently taken for the first."""
-    if given and len(given) > 1:
-        raise SpecError(what, f"given {len(given)} times ({', '.join(given)}); {why}")
-
-
-def _params_of(items, what: str = "--param") -> dict:
-    """name=number options (--param) as a dict (the names and values are checked against the
-    spec by physical.run_values)."""
-    params = {}
-    for item in items or []:
-        key, eq, val = item.partition("=")
-        key = key.strip()
-        if key in params:
-            raise SpecError(f"{what} {key}", "given twice")
-        try:
-            if not (eq and key):
-                raise ValueError
-            params[key] = float(val)
-        except ValueError:
-            raise SpecError(f"{what} {item}", "expected name=number") from None
-    return params
-
-
 def cmd_simulate(args) -> int:
     """Integrate a spec with the emitted C (or the independent reference model); CSV on stdout."""
     from . import simulate
@@ -129,8 +77,8 @@ def cmd_simulate(args) -> int:
     simulate.check_options(args.t1, args.steps, args.method, h, rtol, atol)
     if not args.yes:
         simulate.check_size(spec.n, args.t1, args.steps, args.method, h or args.t1 / args.steps / 10)
-    x0 = simulate.initial_state(spec, _float_list(args.phi, "--phi"), _float_list(args.phidot, "--phidot"))
-    rows = simulate.run(spec, x0, args.t1, args.steps, _float_list(args.u, "--u"), _params_of(args.param),
+    x0 = simulate.initial_state(spec, cliargs.float_list(args.phi, "--phi"), cliargs.float_list(args.phidot, "--phidot"))
+    rows = simulate.run(spec, x0, args.t1, args.steps, cliargs.float_list(args.u, "--u"), cliargs.params_of(args.param),
                         method=args.method, h=h, rtol=rtol, atol=atol, use_reference=args.reference, yes=args.yes)
     print(",".join(simulate.columns(spec.n)))
     for row in rows:
@@ -143,11 +91,11 @@ def cmd_steady(args) -> int:
     from . import steady
 
     spec = load_spec(args.spec)
-    given = _params_of(args.param)
+    given = cliargs.params_of(args.param)
     params = run_values(spec, given)
-    u = torques(spec, _float_list(args.u, "--u"))
-    starts = [_floats(s, "--start", spec.n) for s in args.start or []]
-    _one("--vary", args.vary, "steady continues its equilibria over one parameter")
+    u = torques(spec, cliargs.float_list(args.u, "--u"))
+    starts = [cliargs.floats(s, "--start", spec.n) for s in args.start or []]
+    cliargs.one("--vary", args.vary, "steady continues its equilibria over one parameter")
     if args.omega and args.no_rotations:
         raise SpecError("--omega", "is the grid of the steady rotations, which --no-rotations leaves out; give one of them")
     args.vary = (args.vary or [""])[0]
@@ -171,10 +119,10 @@ def cmd_orbits(args) -> int:
     from . import orbits, steady
 
     spec = load_spec(args.spec)
-    params = run_values(spec, _params_of(args.param))
-    u = torques(spec, _float_list(args.u, "--u"))
-    at = _floats(args.at, "--at", spec.n) if args.at else None
-    _one("--vary", args.vary, "orbits continues over one parameter")
+    params = run_values(spec, cliargs.params_of(args.param))
+    u = torques(spec, cliargs.float_list(args.u, "--u"))
+    at = cliargs.floats(args.at, "--at", spec.n) if args.at else None
+    cliargs.one("--vary", args.vary, "orbits continues over one parameter")
     args.vary = (args.vary or [""])[0]
     if args.omega and (args.energy or args.vary or args.mode or args.at):
         given = next(o for o, v in (("--energy", args.energy), ("--vary", args.vary), ("--mode", args.mode), ("--at", args.at)) if v)
@@ -186,12 +134,12 @@ def cmd_orbits(args) -> int:
             raise steady.SteadyError("--energy: the energies above the equilibrium's must be positive")
         vary = steady.parse_vary(args.vary, spec) if args.vary else None
         if vary:
-            steady.check_vary_values(spec, _params_of(args.param), vary)
+            steady.check_vary_values(spec, cliargs.params_of(args.param), vary)
         omegas = None
         if args.omega:
             try:
                 omegas = (steady.parse_range(args.omega, "--omega", "1:10:10") if ":" in args.omega
-                          else np.array(_finite([float(args.omega)], "--omega")))
+                          else np.array(cliargs.finite([float(args.omega)], "--omega")))
             except ValueError as exc:
                 if isinstance(exc, (SpecError, steady.SteadyError)):
                     raise
@@ -235,16 +183,24 @@ def cmd_sweep(args) -> int:
         spec_text=spec.source, vary=vary, t1=args.t1, measures=measures, random=args.random, seed=args.seed,
         method=args.method, h=args.h, rtol=args.rtol, atol=args.atol, samples=1000 if args.samples is None else args.samples,
         flip=args.flip or "", angles=args.angles or "auto",
-        lyap_interval=lyap, phi=_floats(args.phi, "--phi", spec.n) if args.phi else [],
-        phidot=_floats(args.phidot, "--phidot", spec.n) if args.phidot else [],
-        u=_floats(args.u, "--u", len(spec.controls)) if args.u else [], params=_params_of(args.param), chunk=args.chunk,
+        lyap_interval=lyap, phi=cliargs.floats(args.phi, "--phi", spec.n) if args.phi else [],
+        phidot=cliargs.floats(args.phidot, "--phidot", spec.n) if args.phidot else [],
+        u=cliargs.floats(args.u, "--u", len(spec.controls)) if args.u else [], params=cliargs.params_of(args.param), chunk=args.chunk,
     )
     plan = sw.Plan(sweep)
+    if {"flip_time", "energy_error"} & set(measures):  # a chunk's trajectories are held at every sample
+        per_chunk = int(np.prod(plan.shape[1:])) * plan.rows * (sweep.samples + 1) * 2 * spec.n * 8
+        if per_chunk > MAX_CHUNK_BYTES:
+            raise SpecError("--samples", f"{sweep.samples} samples of {plan.rows * int(np.prod(plan.shape[1:]))} trajectories "
+                                         f"a chunk hold {per_chunk / 2**30:.3g} GiB (at most {MAX_CHUNK_BYTES >> 30} GiB per "
+                                         "thread); fewer --samples or a smaller --chunk")
     if args.threads is not None and args.threads < 1:
         raise SpecError("--threads", "must be at least 1")
     if args.workers and args.scheduler:
         raise SpecError("--workers", "give --workers (a local Dask cluster) or --scheduler (an existing one), not both")
     sw.check_store(Path(args.output), plan)
+    if args.scheduler:
+        sw.reachable(args.scheduler)  # before the store is made: a wrong address leaves nothing behind
     t0 = time.perf_counter()
     where = (f"the Dask scheduler {args.scheduler}" if args.scheduler else f"a local Dask cluster of {args.workers} worker processes"
              if args.workers else f"{args.threads or os.cpu_count()} thread(s)")
@@ -264,7 +220,7 @@ def cmd_plot(args) -> int:
     from . import plot
 
     path = plot.store(args.store, args.output, measure=args.measure, component=args.component, cmap=args.cmap,
-                      log=args.log, dpi=args.dpi)
+                      log=args.log, dpi=args.dpi, note=lambda line: print(line, file=sys.stderr))
     print(f"wrote {path}", file=sys.stderr)
     return 0
 
@@ -277,11 +233,11 @@ def cmd_animate(args) -> int:
     animate.Output(args.output, force=args.force)  # the extension and an existing file first
     if args.frame is not None and args.t1 is not None:
         raise SpecError("--t1", "a still (--frame T) is the motion at one time and has no range [0, t1]; drop --t1")
-    size = _size(args.size)
-    view = _floats(args.view, "--view", 2) if args.view else None
+    size = cliargs.size(args.size)
+    view = cliargs.floats(args.view, "--view", 2) if args.view else None
     done = animate.render(
-        args.spec, args.output, phi=_float_list(args.phi, "--phi"), phidot=_float_list(args.phidot, "--phidot"),
-        u=_float_list(args.u, "--u"), params=_params_of(args.param), t1=args.t1, fps=args.fps, frame=args.frame,
+        args.spec, args.output, phi=cliargs.float_list(args.phi, "--phi"), phidot=cliargs.float_list(args.phidot, "--phidot"),
+        u=cliargs.float_list(args.u, "--u"), params=cliargs.params_of(args.param), t1=args.t1, fps=args.fps, frame=args.frame,
         at=args.at, trajectory=args.trajectory, size=size, view=view, trace=args.trace, follow=args.follow,
         rtol=args.rtol, force=args.force, yes=args.yes)
     if done.get("note"):
@@ -331,78 +287,12 @@ def cmd_new(args) -> int:
     return 0
 
 
-def _size(text: str) -> tuple[int, int]:
-    w, x, h = text.lower().partition("x")
-    try:
-        size = (int(w), int(h)) if x else (0, 0)
-    except ValueError:
-        size = (0, 0)
-    if not (64 <= size[0] <= 4096 and 64 <= size[1] <= 4096) or size[0] % 2 or size[1] % 2:
-        raise SpecError("--size", f"{text!r}: expected WIDTHxHEIGHT, even numbers of pixels from 64 to 4096")
-    return size
-
-
 class _Parser(argparse.ArgumentParser):
     """argparse with one line for a mistake: ``error: <what> (see <prog> --help)``, exit 2."""
 
     def error(self, message):
-        print(f"error: {_plain(message)} (see {self.prog} --help)", file=sys.stderr)
+        print(f"error: {cliargs.plain(message)} (see {self.prog} --help)", file=sys.stderr)
         raise SystemExit(EXIT_BAD_INPUT)
-
-
-def _unrecognized(extra: list[str], parser: argparse.ArgumentParser) -> str:
-    """The first word a command does not know, and the option of the command nearest to it."""
-    word = extra[0].split("=", 1)[0]
-    if not word.startswith("-"):
-        return f"{word}: unexpected argument"
-    hint = did_you_mean(word, [o for a in parser._actions for o in a.option_strings])
-    return f"{word}: no such option of {parser.prog}" + (f"; {hint.strip()}" if hint else "")
-
-
-_CHOICE = re.compile(r"^argument (?P<what>[^:]+): invalid choice: '(?P<got>[^']*)' \(choose from (?P<among>.*)\)$")
-
-
-def _plain(message: str) -> str:
-    """argparse's words in the form of every other error, ``<what>: <why>``: "argument --t1:
-    invalid float value: 'x'" → "--t1: invalid float value: 'x'", and a mistyped choice answered
-    with the nearest one ("command: no such command 'chek'; did you mean check? ...")."""
-    m = _CHOICE.match(message)
-    if m:
-        among = [c.strip(" '") for c in m["among"].split(",")]
-        what = "command" if m["what"] == "cmd" else m["what"]
-        hint = did_you_mean(m["got"], among)
-        return f"{what}: no such {'command' if what == 'command' else 'choice'} '{m['got']}'; {hint}one of {', '.join(among)}"
-    return message.removeprefix("argument ")
-
-
-_NEGATIVE = re.compile(r"^-(\.?\d|inf|nan)", re.IGNORECASE)
-
-
-def _join_negative(argv: list[str], valued: set) -> list[str]:
-    """``--phi -1,0`` → ``--phi=-1,0`` for every option that takes a value (argparse takes "-1,0",
-    "-1e3" or "-inf" for an option)."""
-    out, i = [], 0
-    while i < len(argv):
-        a = argv[i]
-        if a in valued and i + 1 < len(argv) and _NEGATIVE.match(argv[i + 1]):
-            out.append(f"{a}={argv[i + 1]}")
-            i += 2
-            continue
-        out.append(a)
-        i += 1
-    return out
-
-
-def _valued_options(parser: argparse.ArgumentParser) -> set:
-    """The option strings of ``parser`` and its subcommands that take a value."""
-    out = set()
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            for sub in action.choices.values():
-                out |= _valued_options(sub)
-        elif action.option_strings and action.nargs != 0:
-            out |= {o for o in action.option_strings if o.startswith("--")}
-    return out
 
 
 def _prog() -> str:
@@ -570,9 +460,9 @@ def main(argv=None) -> int:
     nw.add_argument("--length", type=float, default=1.0, help="length of each rod (m)")
     nw.add_argument("-o", "--output", default="", help="the file (default NAME.toml here; - for standard output)")
     nw.add_argument("--force", action="store_true", help="replace an existing file")
-    args, extra = ap.parse_known_args(_join_negative(words, _valued_options(ap)))
+    args, extra = ap.parse_known_args(cliargs.join_negative(words, cliargs.valued_options(ap)))
     if extra:  # said by the command's own parser, with the nearest option it has
-        sub.choices[args.cmd].error(_unrecognized(extra, sub.choices[args.cmd]))
+        sub.choices[args.cmd].error(cliargs.unrecognized(extra, sub.choices[args.cmd]))
     try:
         return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
                 "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,

@@ -17,10 +17,12 @@ NO_VALUE = "0.82"  # the grey of points without a value (no flip within t1, a fa
 
 
 def store(path: str | Path, output: str | Path, measure: str = "", component: int | str = 0, cmap: str = "",
-          log: bool = False, dpi: int = 150) -> Path:
+          log: bool = False, dpi: int = 150, note=None) -> Path:
     """A heat map (two varied quantities), a scatter (random samples) or a curve (one) of a sweep
     store's measure, written to ``output`` (png, pdf, svg); returns its path.  Points without a
-    value (no flip within t1, a run that failed) are grey on a map and said so in a legend."""
+    value (no flip within t1, a run that failed) are grey on a map and said so in a legend; the
+    points of chunks not computed (an interrupted sweep, a chunk damaged on disk) are white, and
+    ``note(line)`` is told how many."""
     output = Path(output)
     if output.suffix.lower().lstrip(".") not in FORMATS:
         raise SpecError("-o", f"{output.name}: an image type plot does not write (give .{', .'.join(FORMATS)})")
@@ -36,6 +38,10 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
     if measure not in data:
         raise SpecError("--measure", f"{measure!r} is not in the store (it has {', '.join(a['measures'])})")
     values, comp = _values(data, measure, component)
+    computed = data["computed"]
+    if note is not None and missing_note(data):
+        note(missing_note(data))
+    values = np.where(computed, values, np.nan)  # a chunk not (or no longer) computed has no value: not "no flip"
     names = [v[0] for v in a["vary"]]
     if len(names) > 2:
         raise SpecError("store", f"plot shows one or two varied quantities; this sweep varies {len(names)}")
@@ -47,7 +53,7 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
     label = _measure_label(measure, comp, data["attrs"])
     fig, ax = plt.subplots(figsize=(6.4, 5.2) if len(names) == 2 else (6.4, 4.0), dpi=dpi)
     if len(names) == 2:
-        _map(fig, ax, data, names, values, colormap, log, label)
+        _map(fig, ax, data, names, values, colormap, log, label, computed)
     else:
         x = data["coords"][names[0]]
         order = np.argsort(x)
@@ -108,7 +114,20 @@ def _matplotlib(cmap: str):
     return plt, matplotlib.colormaps[cmap].with_extremes(bad=NO_VALUE)
 
 
-def _map(fig, ax, data: dict, names: list, values: np.ndarray, colormap, log: bool, label: str) -> None:
+def missing_note(data: dict) -> str:
+    """What a partial store lacks, as plot says it: the chunks not computed (an interrupted sweep)
+    and those damaged on disk; "" for a complete store."""
+    n_chunks = len(data["done"])
+    lost = n_chunks - int(np.sum(data["done"]))
+    if not lost:
+        return ""
+    points = int(np.sum(~data["computed"]))
+    damaged = f" ({len(data['damaged'])} of them damaged on disk)" if len(data["damaged"]) else ""
+    return (f"note: {lost} of {n_chunks} chunks of the store are not computed{damaged}: {points} points drawn "
+            "white as 'not computed'; run the same sweep again to finish it")
+
+
+def _map(fig, ax, data: dict, names: list, values: np.ndarray, colormap, log: bool, label: str, computed=None) -> None:
     """A heat map of a grid or a scatter of random samples, with a colour bar (readable ticks on a
     logarithmic one) and a legend entry for the points without a value."""
     from matplotlib.colors import LogNorm
@@ -132,11 +151,25 @@ def _map(fig, ax, data: dict, names: list, values: np.ndarray, colormap, log: bo
         bar.ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
     ax.set_xlabel(_axis_label(names[0]))
     ax.set_ylabel(_axis_label(names[1]))
-    missing = int(np.sum(~np.isfinite(values)))
+    computed = np.ones(values.shape, bool) if computed is None else computed
+    missing = int(np.sum(~np.isfinite(values) & computed))
+    handles = []
     if missing:
         what = "no flip" if "flip" in label else "no value"
-        ax.legend(handles=[Patch(facecolor=NO_VALUE, edgecolor="0.4", label=f"{what} ({missing} points)")],
-                  loc="upper right", fontsize=8, framealpha=0.9)
+        handles.append(Patch(facecolor=NO_VALUE, edgecolor="0.4", label=f"{what} ({missing} points)"))
+    if not computed.all():
+        from matplotlib.colors import ListedColormap
+
+        blank = np.ma.masked_where(computed, np.zeros(values.shape))
+        if data["attrs"]["args"]["random"]:
+            ax.scatter(data["coords"][names[0]][~computed], data["coords"][names[1]][~computed], c="white", s=4,
+                       edgecolors="0.6", linewidths=0.3)
+        else:
+            ax.pcolormesh(data["coords"][names[0]], data["coords"][names[1]], blank.T, shading="nearest",
+                          cmap=ListedColormap(["white"]))
+        handles.append(Patch(facecolor="white", edgecolor="0.4", label=f"not computed ({int(np.sum(~computed))} points)"))
+    if handles:
+        ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
 
 
 STABLE = "#c6dbef"  # the colour of the stable region of a floquet map (a pale blue, in no default colour map)

@@ -312,8 +312,13 @@ def joint_torques(ch: NumericChain, u) -> np.ndarray:
 
 
 def mass_matrix(ch: NumericChain, phi) -> np.ndarray:
+    """M(φ) as the differences of the inverse dynamics at unit φ̈, without gravity (which M does not
+    hold: with g = 1e20 its terms would swamp the differences)."""
+    import dataclasses
+
     n = ch.n
     zero = np.zeros(n)
+    ch = dataclasses.replace(ch, g=0.0)
     b = inverse_dynamics(ch, phi, zero, zero)
     return np.column_stack([inverse_dynamics(ch, phi, zero, np.eye(n)[r]) - b for r in range(n)])
 

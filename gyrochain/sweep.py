@@ -23,22 +23,24 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__, pipeline
+from . import pipeline
 from .codes import METHODS
 from . import floquet
 from .measures import angles_of, energies, flip_times, joint_angles, link_signs, lyapunov, lyapunov_spectrum, pairing
 from .physical import check_values, run_values
 from .errors import did_you_mean
 from .spec import SpecError
+# the store's layout and files (store.py); EXTRA_DIM, STORE_KIND, check_store, read and stored_attrs
+# are named here too, as the commands and plot know them
+from .store import (EXTRA_DIM, STORE_KIND, _attrs, _done_flags, _readable, _write, _zarr, check_store,  # noqa: F401
+                    open_store, read, stored_attrs)
 
 MEASURES = ("final", "flip_time", "energy_error", "lyapunov", "lyapunov_spectrum", "floquet")
 # the measures on the variational equations (NAME_integrate_variational: DOP853 at --rtol/--atol)
 VARIATIONAL_MEASURES = ("lyapunov_spectrum", "floquet")
 # the extra dimension of a measure with more than one number per point
-EXTRA_DIM = {"final": "state", "lyapunov_spectrum": "exponent"}
 ANGLES = ("auto", "absolute", "relative")  # --angles: what flip_time watches
 METHOD_NAMES = tuple(m for m in METHODS if m in ("rk4", "dop853", "gauss2"))  # those a sweep offers
-STORE_KIND = "gyrochain-sweep"
 
 
 # --------------------------------------------------------------------------- the sweep's arguments
@@ -348,81 +350,6 @@ _PLANS_LOCK = threading.Lock()
 
 
 # --------------------------------------------------------------------------- the store
-def _zarr():
-    try:
-        import zarr
-    except ImportError:
-        raise SpecError("sweep", "needs the sweep extra: pip install 'gyrochain[sweep]' (dask, distributed, zarr, tqdm)") from None
-    return zarr
-
-
-def _attrs(plan: Plan) -> dict:
-    return {"kind": STORE_KIND, "gyrochain": __version__, "spec_name": plan.spec.name, "spec": plan.sweep.spec_text,
-            "args": json.loads(json.dumps(plan.sweep.args())), "shape": list(plan.shape), "dims": plan.dims,
-            "flip_angles": plan.angles, "link_signs": plan.signs}
-
-
-def stored_attrs(path: str | Path) -> dict | None:
-    """The sweep attributes of the store at ``path``, or None if it is not a sweep store."""
-    try:
-        return dict(_zarr().open_group(str(path), mode="r").attrs).get("gyrochain_sweep")
-    except Exception:
-        return None
-
-
-def check_store(path: Path, plan: Plan) -> None:
-    """A one-line error unless ``path`` is free or a store of this spec and sweep (reads only)."""
-    want = _attrs(plan)
-    if path.exists():
-        have = stored_attrs(path)
-        if have is None:
-            raise SpecError("-o", f"{path} exists and is not a sweep store; choose another path")
-        for key in ("spec", "args", "gyrochain"):
-            if have.get(key) != want[key]:
-                what = {"spec": "a different spec", "args": "a different sweep (other arguments)", "gyrochain": f"gyrochain {have.get('gyrochain')}"}[key]
-                raise SpecError("-o", f"{path} belongs to {what}; choose another path or delete it")
-
-
-def open_store(path: Path, plan: Plan):
-    """Create the store, or open an existing one of the same spec and sweep (else a one-line
-    error, the store untouched)."""
-    zarr = _zarr()
-    check_store(path, plan)
-    want = _attrs(plan)
-    if path.exists():
-        for junk in path.rglob("*.partial"):  # a write an interruption cut short
-            junk.unlink(missing_ok=True)
-        return zarr.open_group(str(path), mode="r+")
-    # built beside its place and renamed into it: a run killed now leaves no half-made store
-    tmp = path.parent / f".{path.name}.tmp-{os.getpid()}"
-    shutil.rmtree(tmp, ignore_errors=True)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    g = zarr.open_group(str(tmp), mode="w")
-    rows = plan.rows
-    chunks = (rows,) + tuple(plan.shape[1:])
-    for name, (dims, values) in plan.coords.items():
-        a = g.create_array(name, shape=values.shape, dtype="f8", dimension_names=dims, chunks=values.shape)
-        a[...] = values
-    for m in plan.sweep.measures:
-        extra = (2 * plan.n,) if m in EXTRA_DIM else ()
-        g.create_array(m, shape=plan.shape + extra, chunks=chunks + extra, dtype="f8", fill_value=np.nan,
-                       dimension_names=plan.dims + ([EXTRA_DIM[m]] if extra else []))
-    g.create_array("code", shape=plan.shape, chunks=chunks, dtype="i4", fill_value=-1, dimension_names=plan.dims)
-    g.create_array("done", shape=(plan.n_chunks,), chunks=(1,), dtype="bool", fill_value=False, dimension_names=["chunk"])
-    g.attrs["gyrochain_sweep"] = want
-    tmp.rename(path)
-    return zarr.open_group(str(path), mode="r+")
-
-
-def _write(g, plan: Plan, i: int, res: dict, on_written=None) -> None:
-    r0, r1 = plan.chunk_rows(i)
-    for k, v in res.items():
-        g[k][r0:r1] = v
-    g["done"][i] = True  # after the data: a chunk cut short is computed again
-    if on_written is not None:
-        on_written(i)
-
-
 # --------------------------------------------------------------------------- running
 def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: int = 0, scheduler: str = "",
         progress: bool = True, plan: Plan | None = None, stop_after: int | None = None, on_written=None,
@@ -432,28 +359,37 @@ def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: in
     is told what happened on the way (a Dask worker lost; default: a line on stderr)."""
     plan = plan or Plan(sweep)
     store = Path(store)
+    created = not store.exists()
     g = open_store(store, plan)
-    done = np.asarray(g["done"][:])
-    todo = [i for i in range(plan.n_chunks) if not done[i]]
-    if not todo:  # nothing to do: no derivation, no cluster
-        return dict(chunks=plan.n_chunks, skipped=int(done.sum()), written=0)
-    files, _ = pipeline.derive_and_render(plan.spec, targets=("c",))
-    bar = _bar(plan.n_chunks, int(done.sum()), progress)
-    if workers or scheduler:
-        results = _dask_results(plan, sweep, files, todo, workers, scheduler, note or _stderr)
-    else:
-        results = _thread_results(pipeline.compile(files, plan.spec.name), plan, todo, threads or os.cpu_count() or 1)
     written = 0
     try:
-        for i, res in results:  # as chunks finish, wherever they ran; the client alone writes
-            _write(g, plan, i, res, on_written)
-            written += 1
-            bar.update(1)
-            if stop_after and written >= stop_after:
-                break
-    finally:
-        results.close()  # cancels what is pending, shuts a started cluster down
-        bar.close()
+        done = _done_flags(g, plan, note)
+        todo = [i for i in range(plan.n_chunks) if not done[i]]
+        if not todo:  # nothing to do: no derivation, no cluster
+            return dict(chunks=plan.n_chunks, skipped=int(done.sum()), written=0)
+        files, _ = pipeline.derive_and_render(plan.spec, targets=("c",))
+        bar = _bar(plan.n_chunks, int(done.sum()), progress)
+        if workers or scheduler:
+            results = _dask_results(plan, sweep, files, todo, workers, scheduler, note or _stderr)
+        else:
+            results = _thread_results(pipeline.compile(files, plan.spec.name), plan, todo, threads or os.cpu_count() or 1)
+        try:
+            for i, res in results:  # as chunks finish, wherever they ran; the client alone writes
+                _write(g, plan, i, res, on_written)
+                written += 1
+                bar.update(1)
+                if stop_after and written >= stop_after:
+                    break
+        finally:
+            results.close()  # cancels what is pending, shuts a started cluster down
+            bar.close()
+    except BaseException:
+        if created and written == 0:  # a store this run made and filled with nothing: not left behind
+            shutil.rmtree(store, ignore_errors=True)
+        elif written or not created:
+            kept = int(np.sum(np.asarray(g["done"][:]))) if _readable(g) else 0
+            (note or _stderr)(f"{store}: {kept} of {plan.n_chunks} chunks are in the store; the same command finishes it")
+        raise
     return dict(chunks=plan.n_chunks, skipped=int(done.sum()), written=written)
 
 
@@ -463,14 +399,37 @@ def _thread_results(model, plan: Plan, todo: list, nthreads: int):
         for i in todo:
             yield i, compute_chunk(model, plan, i)
         return
-    with ThreadPoolExecutor(max_workers=nthreads) as pool:
-        futures = {pool.submit(compute_chunk, model, plan, i): i for i in todo}
-        try:
-            for fut in as_completed(futures):
-                yield futures[fut], fut.result()
-        finally:
-            for f in futures:
-                f.cancel()
+    pool = ThreadPoolExecutor(max_workers=nthreads)
+    futures = {pool.submit(compute_chunk, model, plan, i): i for i in todo}
+    ended = False
+    try:
+        for fut in as_completed(futures):
+            yield futures[fut], fut.result()
+        ended = True
+    finally:
+        # at the end, wait for the threads; on an error or Ctrl-C, do not wait for the chunks still
+        # running (the command ends the process once its clean-ups are done: cli._exit_if_held)
+        pool.shutdown(wait=ended, cancel_futures=True)
+
+
+def reachable(address: str) -> None:
+    """A one-line error, within two seconds, unless a server answers at ``address``
+    (tcp://host:port, the form Dask's scheduler prints)."""
+    import socket
+    from urllib.parse import urlsplit
+
+    parts = urlsplit(address if "://" in address else f"tcp://{address}")
+    try:
+        host, port = parts.hostname, parts.port
+    except ValueError:
+        host = port = None
+    if parts.scheme not in ("tcp", "tls") or not host or not port:
+        raise SpecError("--scheduler", f"{address!r}: expected tcp://host:port (the address the Dask scheduler prints)")
+    try:
+        with socket.create_connection((host, port), timeout=2.0):
+            pass
+    except OSError as exc:
+        raise SpecError("--scheduler", f"nothing answers at {address} ({exc.strerror or exc})") from None
 
 
 def _dask_results(plan: Plan, sweep: Sweep, files: dict, todo: list, workers: int, scheduler: str, note):
@@ -481,7 +440,10 @@ def _dask_results(plan: Plan, sweep: Sweep, files: dict, todo: list, workers: in
         raise SpecError("--workers", "needs the sweep extra: pip install 'gyrochain[sweep]'") from None
     cluster = None
     if scheduler:
-        client = Client(scheduler, timeout="30s")
+        try:
+            client = Client(scheduler, timeout="10s")
+        except (OSError, TimeoutError) as exc:
+            raise SpecError("--scheduler", f"cannot connect to {scheduler}: {exc}") from None
     else:
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address=None, silence_logs=40)
@@ -554,24 +516,6 @@ def _bar(total: int, initial: int, show: bool):
 
 
 # --------------------------------------------------------------------------- reading
-def read(store: str | Path) -> dict:
-    """The store as numpy arrays: {"attrs", "coords": {name: values}, measure: array, "code", "done"}."""
-    zarr = _zarr()
-    g = zarr.open_group(str(store), mode="r")
-    attrs = dict(g.attrs).get("gyrochain_sweep")
-    if attrs is None:
-        raise SpecError("store", f"{store} is not a sweep store")
-    out = {"attrs": attrs, "coords": {}}
-    varied = [v[0] for v in attrs["args"]["vary"]]
-    for key in sorted(g.array_keys()):
-        arr = np.asarray(g[key][...])
-        if key in varied:
-            out["coords"][key] = arr
-        else:
-            out[key] = arr
-    return out
-
-
 def spectrum_summary(store: str | Path, plan: Plan) -> str:
     """What the stored spectra say of their pairing: the largest max|λᵢ + λ₂ₙ₊₁₋ᵢ| and |Σλᵢ| over
     the points, and whether the model is conservative (where a spectrum comes in ± pairs)."""

@@ -1,0 +1,203 @@
+"""The second wave of mistakes (issue "nothing wrong said, nothing lost, nothing stuck"): verdicts
+that check their premises, nothing the user gave lost, work that can be stopped and is sized
+before it starts, names that cannot collide, one meaning per option.  Each case failed on the
+code before this wave (a wrong verdict with exit 0, a deleted folder, a command deaf to Ctrl-C,
+a name that broke the build, an option silently ignored)."""
+from __future__ import annotations
+
+import os
+import random
+import signal
+import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+
+SPECS = ROOT / "specs"
+
+
+def gyro(*args, cwd=None, umask=None, timeout=120):
+    """The command as a user runs it: (exit status, stdout, stderr, seconds)."""
+    t0 = time.perf_counter()
+    r = subprocess.run([sys.executable, "-m", "gyrochain", *map(str, args)], capture_output=True, text=True,
+                       cwd=cwd or ROOT, timeout=timeout, preexec_fn=(lambda: os.umask(umask)) if umask is not None else None)
+    return r.returncode, r.stdout, r.stderr, time.perf_counter() - t0
+
+
+def refused(*args, words: str, within: float = 2.0, cwd=None) -> str:
+    """One line naming the field, exit 2, nothing on stdout, within ``within`` seconds of the work."""
+    code, out, err, dt = gyro(*args, cwd=cwd)
+    assert code == 2 and err.count("\n") == 1 and err.startswith("error: ") and out == "", (args, code, out, err)
+    assert words in err, (words, err)
+    assert "Traceback" not in err and "np.float64" not in err
+    assert dt < within + 3.0, f"{args}: {dt:.1f} s"  # + the interpreter's start and the imports
+    return err
+
+
+# --------------------------------------------------------------------------- verdicts check their premises
+def test_a_period_that_is_not_one_is_refused_and_the_printed_one_is_taken():
+    refused("steady", SPECS / "kapitza.toml", "--param", "w=100", "--period", "1e-9", words="--period: 1e-09 s is not a period")
+    code, out, err, _ = gyro("steady", SPECS / "kapitza.toml")
+    assert code == 0, err
+    printed = out.split("period ")[1].split(" s")[0]  # ten digits, as steady prints it
+    code, out2, err, _ = gyro("steady", SPECS / "kapitza.toml", "--period", printed)
+    assert code == 0 and "(given with --period: the spec's period)" in out2, err
+    assert out2.split("\n", 2)[2] == out.split("\n", 2)[2]  # the same equilibria and verdicts
+
+
+def test_vary_values_are_checked_like_param_values_before_any_work():
+    refused("steady", SPECS / "furuta_sym.toml", "--vary", "m2=-1:1:3", words="body[2].m: mass must be positive, got -1 with --vary m2=-1")
+    refused("orbits", SPECS / "furuta_sym.toml", "--vary", "m2=-1:1:3", words="with --vary m2=-1")
+    refused("steady", SPECS / "kapitza.toml", "--vary", "w=150:300:1000000000", words="at most 1000")
+
+
+# --------------------------------------------------------------------------- nothing lost
+def test_generate_never_deletes_the_folder_that_holds_the_spec(tmp_path):
+    inner = tmp_path / "inner"
+    inner.mkdir()
+    spec = inner / "x.toml"
+    spec.write_text((SPECS / "gimbal.toml").read_text())
+    refused("generate", "-q", spec, "-o", inner, "--force", words="holds the spec")
+    refused("generate", "-q", "inner/x.toml", "-o", ".", "--force", words="holds the spec", cwd=tmp_path)
+    refused("generate", "-q", spec, "-o", "", words="-o: is empty")
+    assert spec.read_text() == (SPECS / "gimbal.toml").read_text() and sorted(p.name for p in inner.iterdir()) == ["x.toml"]
+
+
+def test_force_writes_into_a_foreign_folder_and_keeps_its_files(tmp_path):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    refused("generate", "-q", "--no-build", SPECS / "gimbal.toml", "-o", out, words="not written by gyrochain")
+    code, _, err, _ = gyro("generate", "-q", "--no-build", SPECS / "gimbal.toml", "-o", out, "--force")
+    assert code == 0, err
+    assert (out / "notes.txt").read_text() == "mine" and (out / "gimbal.c").exists()
+    (out / "build").mkdir()  # the user's CMake build inside our folder: kept by the next generate
+    (out / "build" / "x").write_text("x")
+    code, _, err, _ = gyro("generate", "-q", "--no-build", SPECS / "double_pendulum.toml", "-o", out, "--force")
+    assert code == 0, err
+    names = sorted(p.name for p in out.iterdir())
+    assert "gimbal.c" not in names and "double_pendulum.c" in names and "notes.txt" in names and "build" in names
+
+
+@pytest.mark.parametrize("umask", [0o002, 0o077])
+def test_outputs_follow_the_users_umask(tmp_path, umask):
+    out = tmp_path / "g"
+    code, _, err, _ = gyro("generate", "-q", SPECS / "gimbal.toml", "-o", out, umask=umask)
+    assert code == 0, err
+    assert stat.S_IMODE(out.stat().st_mode) == 0o777 & ~umask
+    for f in out.iterdir():
+        want = (0o777 if f.suffix == ".so" else 0o666) & ~umask
+        assert stat.S_IMODE(f.stat().st_mode) == want, (f.name, oct(f.stat().st_mode))
+
+
+# --------------------------------------------------------------------------- names that cannot collide
+@pytest.mark.parametrize("name", ["math", "stdint", "stddef", "limits", "Python", "stdlib", "assert", "Math", "lambda",
+                                  "random", "numpy", "string"])
+def test_a_name_that_would_shadow_a_header_or_module_is_refused(tmp_path, name):
+    spec = tmp_path / "s.toml"
+    spec.write_text((SPECS / "gimbal.toml").read_text().replace('name = "gimbal"', f'name = "{name}"'))
+    refused("check", spec, words=f"name: '{name}' would")
+
+
+def test_invented_names_build(tmp_path):
+    """Names a fuzzer would invent that check accepts: each generates and compiles warning-free
+    (a name that shadowed a header broke the build after check passed)."""
+    from gyrochain.names import model_name_clash
+    from gyrochain.spec import C_KEYWORDS
+
+    rng = random.Random(int(time.time()))  # a fresh sample each run; the name is in the failure message
+    alphabet = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_"
+    names = ["stdio_h", "Py", "errno_", "time2"]
+    while len(names) < 6:
+        n = rng.choice(alphabet[:52]) + "".join(rng.choice(alphabet) for _ in range(rng.randint(0, 7)))
+        if n not in C_KEYWORDS and not model_name_clash(n):
+            names.append(n)
+    for name in names:
+        spec = tmp_path / f"{name}.toml"
+        spec.write_text((SPECS / "double_pendulum.toml").read_text().replace('name = "double_pendulum"', f'name = "{name}"'))
+        code, _, err, _ = gyro("generate", "-q", spec, "-o", tmp_path / name)
+        assert code == 0 and "warning" not in err.lower(), (name, err)
+
+
+# --------------------------------------------------------------------------- sized before it starts
+def test_work_past_the_limits_is_refused_with_its_size():
+    g = SPECS / "gimbal.toml"
+    refused("simulate", g, "--t1", "1e6", "--steps", "10000000", words="MiB of CSV")
+    refused("simulate", g, "--method", "rk4", "--h", "1e-9", "--t1", "1000", words="steps of 1e-09 s")
+    refused("simulate", g, "--method", "rk4", "--h", "5", "--t1", "10", "--steps", "2", words="beyond RK4's stability")
+    refused("animate", g, "--fps", "1e6", "-o", "/tmp/never.gif", words="frames (more than 10000)")
+    refused("animate", g, "--t1", "100000", "-o", "/tmp/never.gif", words="frames (more than 10000)")
+    refused("sweep", SPECS / "double_pendulum.toml", "--vary", "phi1=0:1:3", "--measure", "lyapunov", "--lyap-interval", "1e-9",
+            "-o", "/tmp/never.zarr", words="renormalisations")
+    assert not Path("/tmp/never.gif").exists() and not Path("/tmp/never.zarr").exists()
+
+
+def test_a_device_or_huge_file_as_spec_is_refused_at_once(tmp_path):
+    refused("check", "/dev/zero", words="is a device", within=1.0)
+    refused("simulate", "/dev/urandom", words="is a device", within=1.0)
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"#" * (2 << 20))
+    refused("check", big, words="larger than 1 MB", within=1.0)
+
+
+# --------------------------------------------------------------------------- one meaning per option
+@pytest.mark.parametrize("args, words", [
+    (("simulate", "gimbal", "--h", "0.1"), "--h: dop853 chooses its own steps"),
+    (("simulate", "gimbal", "--method", "rk4", "--rtol", "1e-6"), "--rtol: rk4 takes fixed steps"),
+    (("simulate", "gimbal", "--reference", "--rtol", "1", "--atol", "1"), "--rtol: 1 allows errors"),
+    (("animate", "gimbal", "--frame", "5", "--t1", "1", "-o", "/tmp/never.png"), "--t1: a still"),
+    (("steady", "kapitza", "--vary", "w=100:200:3", "--vary", "a=0:0.01:3"), "--vary: given 2 times"),
+    (("steady", "gimbal", "--omega", "1:2:3", "--no-rotations"), "--omega: is the grid of the steady rotations"),
+    (("orbits", "double_pendulum_point", "--omega", "1", "--energy", "0.1:1:3"), "--energy: belongs to the nonlinear normal modes"),
+    (("sweep", "double_pendulum", "--vary", "phi1=0:1:3", "--chunk", "0", "-o", "/tmp/never.zarr"), "--chunk: must be at least 1"),
+    (("sweep", "double_pendulum", "--vary", "phi1=0:1:3", "--chunk", "-5", "-o", "/tmp/never.zarr"), "--chunk: must be at least 1"),
+    (("sweep", "double_pendulum", "--vary", "phi1=0:1:3", "--workers", "0", "-o", "/tmp/never.zarr"), "--workers: 0 workers"),
+    (("sweep", "double_pendulum", "--vary", "phi1=0:1:3", "--flip", "phi1", "-o", "/tmp/never.zarr"), "--flip: belongs to --measure flip_time"),
+    (("sweep", "double_pendulum", "--vary", "phi1=0:1:3", "--samples", "5", "--measure", "lyapunov", "-o", "/tmp/never.zarr"),
+     "--samples: belongs to"),
+])
+def test_an_option_that_does_not_apply_is_refused(args, words):
+    cmd, spec, *rest = args
+    refused(cmd, SPECS / f"{spec}.toml", *rest, words=words)
+    assert not Path("/tmp/never.zarr").exists() and not Path("/tmp/never.png").exists()
+
+
+# --------------------------------------------------------------------------- Ctrl-C
+LONG = {
+    "simulate": ("simulate", "gimbal", "--t1", "1e6", "--steps", "1000"),
+    "orbits": ("orbits", "double_pendulum_point", "--energy", "1e6:1e7:3", "--mode", "1"),
+    "steady --vary": ("steady", "kapitza", "--vary", "w=1e-6:1e-5:3"),
+    "sweep": ("sweep", "double_pendulum", "--vary", "phi1=-3:3:200", "--vary", "phi2=-3:3:200", "--t1", "100", "-q", "-o", "{tmp}/s.zarr"),
+    "animate": ("animate", "gimbal", "--t1", "380", "-o", "{tmp}/a.gif"),
+}
+
+
+@pytest.mark.parametrize("what", list(LONG))
+def test_ctrl_c_ends_a_long_command_within_a_second(what, tmp_path):
+    """SIGINT at a random time (printed) into the work: exit 130 with one line within a second,
+    and nothing half-written (no temporary file; a sweep's store resumable as it says)."""
+    cmd, spec, *rest = LONG[what]
+    args = [cmd, str(SPECS / f"{spec}.toml"), *(a.format(tmp=tmp_path) for a in rest)]
+    delay = random.Random().uniform(1.5, 4.0)
+    print(f"{what}: SIGINT after {delay:.2f} s")
+    proc = subprocess.Popen([sys.executable, "-m", "gyrochain", *args], cwd=ROOT, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    time.sleep(delay)
+    assert proc.poll() is None, f"{what} ended before the signal: {proc.stderr.read()}"
+    t0 = time.perf_counter()
+    proc.send_signal(signal.SIGINT)
+    try:
+        proc.wait(timeout=10)
+    finally:
+        proc.kill()
+    took = time.perf_counter() - t0
+    err = proc.stderr.read()
+    assert proc.returncode == 130 and err.rstrip().endswith("error: interrupted"), (proc.returncode, err)
+    assert took < 1.0, f"{what}: {took:.2f} s after SIGINT"
+    assert not [p for p in tmp_path.rglob("*") if ".tmp" in p.name], list(tmp_path.rglob("*"))
+    assert not (tmp_path / "a.gif").exists()
