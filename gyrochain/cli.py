@@ -12,6 +12,7 @@ import math
 import os
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -463,10 +464,15 @@ def main(argv=None) -> int:
     args, extra = ap.parse_known_args(cliargs.join_negative(words, cliargs.valued_options(ap)))
     if extra:  # said by the command's own parser, with the nearest option it has
         sub.choices[args.cmd].error(cliargs.unrecognized(extra, sub.choices[args.cmd]))
+    command = {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
+               "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
+               "examples": cmd_examples, "new": cmd_new}[args.cmd]
     try:
-        return {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
-                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
-                "examples": cmd_examples, "new": cmd_new}[args.cmd](args)
+        # numpy's floating-point warnings are not the user's words: every result is checked for
+        # finiteness where it matters, and a failure is one line
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return command(args)
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -66,7 +66,10 @@ def open_store(path: Path, plan):
     if path.exists():
         for junk in path.rglob("*.partial"):  # a write an interruption cut short
             junk.unlink(missing_ok=True)
-        return zarr.open_group(str(path), mode="r+")
+        g = zarr.open_group(str(path), mode="r+")
+        for name, (_dims, values) in plan.coords.items():  # the coordinates follow from the plan: rewritten, so repaired
+            g[name][...] = values
+        return g
     # built beside its place and renamed into it: a run killed now leaves no half-made store
     tmp = path.parent / f".{path.name}.tmp-{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
@@ -74,10 +77,11 @@ def open_store(path: Path, plan):
     g = zarr.open_group(str(tmp), mode="w")
     rows = plan.rows
     chunks = (rows,) + tuple(plan.shape[1:])
-    for name, (dims, values) in plan.coords.items():
-        a = g.create_array(name, shape=values.shape, dtype="f8", dimension_names=dims, chunks=values.shape)
-        a[...] = values
     checked = _checksummed(zarr)  # every chunk carries its CRC-32C: a damaged one is found when read
+    for name, (dims, values) in plan.coords.items():
+        a = g.create_array(name, shape=values.shape, dtype="f8", dimension_names=dims, chunks=values.shape,
+                           compressors=checked)
+        a[...] = values
     for m in plan.sweep.measures:
         extra = (2 * plan.n,) if m in EXTRA_DIM else ()
         g.create_array(m, shape=plan.shape + extra, chunks=chunks + extra, dtype="f8", fill_value=np.nan,
@@ -99,9 +103,21 @@ def _checksummed(zarr) -> list:
     return [ZstdCodec(), Crc32cCodec()]
 
 
+def files_present(g, keys, i: int) -> bool:
+    """Whether every array in ``keys`` has its chunk ``i`` on disk (a folder store: the file
+    c/i/0/…, Zarr v3's default key encoding); True for a store that is not a folder."""
+    root = getattr(g.store, "root", None)
+    if root is None:
+        return True
+    return all((Path(root) / g.path / k / "c" / str(i) / "/".join("0" * (g[k].ndim - 1))).is_file() for k in keys)
+
+
 def chunk_intact(g, keys, i: int, rows: int) -> bool:
-    """Whether chunk ``i`` (rows i·rows …) of every array in ``keys`` and its done flag read back:
-    a checksum that does not match, or a chunk file cut short, is a damaged chunk."""
+    """Whether chunk ``i`` (rows i·rows …) of every array in ``keys`` and its done flag are there and
+    read back: a chunk file gone (it would read as the fill value, a "no flip"), a checksum that
+    does not match, or a file cut short is a damaged chunk."""
+    if not files_present(g, keys, i):
+        return False
     try:
         for k in keys:
             np.asarray(g[k][i * rows:(i + 1) * rows])
@@ -121,7 +137,8 @@ def _done_flags(g, plan, note) -> np.ndarray:
         except Exception:  # noqa: BLE001  (its flag itself damaged)
             flag = True
         if flag and not chunk_intact(g, keys, i, plan.rows):
-            (note or _stderr)(f"chunk {i} of the store is damaged (its checksum does not match): computing it again")
+            (note or _stderr)(f"chunk {i} of the store is damaged (a file missing, cut short or not matching its "
+                              "checksum): computing it again")
             for k in keys:
                 _rewrite_missing(g, k, i, plan.rows)
             g["done"][i] = False
@@ -138,10 +155,14 @@ def _rewrite_missing(g, key: str, i: int, rows: int) -> None:
 
 
 def _write(g, plan, i: int, res: dict, on_written=None) -> None:
+    """Chunk i's results, then its done flag; every chunk a file even when it is all NaN (Zarr
+    leaves out a chunk equal to the fill value unless told), so a missing file is a lost chunk."""
+    zarr = _zarr()
     r0, r1 = plan.chunk_rows(i)
-    for k, v in res.items():
-        g[k][r0:r1] = v
-    g["done"][i] = True  # after the data: a chunk cut short is computed again
+    with zarr.config.set({"array.write_empty_chunks": True}):
+        for k, v in res.items():
+            g[k][r0:r1] = v
+        g["done"][i] = True  # after the data: a chunk cut short is computed again
     if on_written is not None:
         on_written(i)
 
@@ -152,6 +173,14 @@ def _readable(g) -> bool:
         return True
     except Exception:  # noqa: BLE001
         return False
+
+
+def _flag(g, i: int) -> bool:
+    """Chunk i's done flag; a flag that does not read back counts as set (its chunk is then checked)."""
+    try:
+        return bool(g["done"][i])
+    except Exception:  # noqa: BLE001
+        return True
 
 
 def read(store: str | Path) -> dict:
@@ -167,15 +196,22 @@ def read(store: str | Path) -> dict:
     rows = g["code"].chunks[0]
     n_chunks = -(-shape[0] // rows)
     keys = [k for k in sorted(g.array_keys()) if k not in varied and k != "done"]
-    try:  # the whole arrays at once; a chunk that fails its checksum sends us chunk by chunk
+    try:  # the whole arrays at once; a chunk that fails its checksum, or is gone, sends us chunk by chunk
         for k in [*keys, "done"]:
             np.asarray(g[k][...])
+        flags = np.asarray(g["done"][...])
+        if not all(files_present(g, keys, i) for i in range(n_chunks) if flags[i]):
+            raise ValueError("a chunk marked done is not on disk")
         damaged = []
     except Exception:  # noqa: BLE001
-        damaged = [i for i in range(n_chunks) if not chunk_intact(g, keys, i, rows)]
+        damaged = [i for i in range(n_chunks) if _flag(g, i) and not chunk_intact(g, keys, i, rows)]
     for key in sorted(g.array_keys()):
         if key in varied:
-            out["coords"][key] = np.asarray(g[key][...])
+            try:
+                out["coords"][key] = np.asarray(g[key][...])
+            except Exception:  # noqa: BLE001  (the codecs' errors for a damaged chunk)
+                raise SpecError("store", f"{store}: the coordinates {key} are damaged; run the same sweep again, "
+                                         "which writes them anew") from None
         elif key == "done":
             out[key] = (np.asarray(g[key][...]) if not damaged else
                         np.array([bool(g[key][i]) if i not in damaged else False for i in range(n_chunks)]))

@@ -199,14 +199,35 @@ OPTIONS = {
     "plot": {"--measure": st.sampled_from(["final", "bogus", "flip_time"]), "--component": st.sampled_from(["0", "-1", "99"]),
              "--cmap": st.sampled_from(["viridis", "magam"]), "--log": None, "--dpi": st.sampled_from(["50", "0", "100000"])},
 }
+RANGE = st.sampled_from(["0.1:1:3", "1:0:3", "0:1:1", "x", "0:1:1000000000", "nan:1:2", "1e6:1e7:2", "0.5:1:2"])
+OPTIONS.update({
+    "simulate": {**OPTIONS["simulate"], "--t1": st.sampled_from(["0.05", "0", "-1", "nan", "x", "0.2", "1e4", "1e300"]),
+                 "--steps": st.sampled_from(["1", "5", "0", "-5", "x", "100000000"]),
+                 "--method": st.sampled_from(["rk4", "dop853", "euler", "gauss2", "gauss2_symplectic"]),
+                 "--h": st.sampled_from(["0.01", "0", "-1", "nan", "5", "1e-12"])},
+    "steady": {**OPTIONS["steady"], "--vary": st.sampled_from(["w=100:300:3", "a=-1:1:3", "m2=-1:1:3", "w=1:2:100000000", "x=1:2:3", "w"]),
+               "--period": st.sampled_from(["1e-9", "0", "-1", "nan", "0.02416609734", "0.1", "x"])},
+    "orbits": {"--at": LIST, "--energy": RANGE, "--mode": st.sampled_from(["1", "0", "-1", "9", "x"]),
+               "--vary": st.sampled_from(["m2=0.1:0.2:2", "m2=-1:1:3", "x"]), "--omega": st.sampled_from(["1", "0:1:2", "x", "nan"]),
+               "--u": LIST, "--param": PARAM},
+    "sweep": {**OPTIONS["sweep"], "--workers": st.sampled_from(["0", "-1"]), "--scheduler": st.sampled_from(["tcp://127.0.0.1:1", "x", ""]),
+              "--flip": st.sampled_from(["phi1", "phi9", ""]), "--angles": st.sampled_from(["auto", "relative", "bogus"]),
+              "--seed": st.sampled_from(["0", "-1", "x"]), "--samples": st.sampled_from(["10", "0", "1000000000"]),
+              "--lyap-interval": st.sampled_from(["0.01", "0", "10", "1e-9"])},
+    "generate": {"--no-build": None, "-q": None, "--force": None, "--qdd-form": st.sampled_from(["auto", "composite", "bogus"]),
+                 "--derivative-form": st.sampled_from(["auto", "world", "forward"]), "--real": st.sampled_from(["double", "float", "half"])},
+    "new": {"--n": st.sampled_from(["1", "3", "0", "65", "x"]), "--name": st.sampled_from(["x1", "math", "int", "a b", ""]),
+            "--rotor": None, "--control": None, "--driven": None, "--mass": NUM, "--length": NUM, "--force": None},
+})
 OUTPUTS = {"sweep": ["s.zarr", "sub/s.zarr", ""], "animate": ["a.gif", "a.png", "a.html", "a.avi", "sub/a.gif", ""],
-           "plot": ["p.png", "p.jpgg", "sub/p.svg", ""]}
+           "plot": ["p.png", "p.jpgg", "sub/p.svg", ""], "generate": ["g", "sub/g", ""], "new": ["n.toml", "-", "sub/n.toml"]}
+NEW_KINDS = st.sampled_from(["pendulum", "double-pendulum", "chain", "spatial-chain", "chian", ""])
 
 
 @st.composite
 def command_line(draw):
     cmd = draw(st.sampled_from(sorted(OPTIONS)))
-    args = [cmd, draw(SPEC_ARG)]
+    args = [cmd, draw(NEW_KINDS) if cmd == "new" else draw(SPEC_ARG)]
     opts = OPTIONS[cmd]
     for name in draw(st.lists(st.sampled_from(sorted(opts)), max_size=4)) if opts else []:
         args.append(name)
@@ -223,12 +244,60 @@ def command_line(draw):
     return args
 
 
+COVERED: dict = {}  # command → how many lines of it a search ran
+
+
 def command_property(args, folder: Path, store: Path):
     TRIED["command"] += 1
+    COVERED[args[0]] = COVERED.get(args[0], 0) + 1
     args = [str(a).replace("@OUT@", str(folder)) for a in args]
     if args[0] == "plot":
         args[1] = str(store)
+    if args[0] == "generate" and "-o" not in args:  # never into the repository's generated/
+        args += ["-o", str(folder / "g")]
     holds(args, folder, 120)
+
+
+@st.composite
+def damage(draw):
+    """A sweep store hurt as disks and interruptions hurt it: a chunk file cut short, flipped bits,
+    a chunk file gone, the done flags gone."""
+    return draw(st.sampled_from(["truncate", "flip", "remove", "done"])), draw(st.integers(0, 5)), draw(st.integers(0, 10**6))
+
+
+def damaged_store_property(how, store: Path, folder: Path):
+    """plot and the sweep's rerun on a damaged copy of the store: a picture with the missing points
+    said, or one line; the rerun repairs it (every chunk done and readable afterwards)."""
+    import shutil
+
+    from gyrochain import sweep
+
+    TRIED["command"] += 1
+    kind, which, seed = how
+    copy_ = folder / "hurt.zarr"
+    shutil.copytree(store, copy_)
+    files = sorted(p for p in copy_.rglob("c/*") if p.is_file()) + sorted(p for p in copy_.rglob("c/*/*") if p.is_file())
+    if kind == "done":
+        shutil.rmtree(copy_ / "done" / "c", ignore_errors=True)
+    elif files:
+        f = files[which % len(files)]
+        data = bytearray(f.read_bytes())
+        if kind == "truncate":
+            f.write_bytes(data[: len(data) // 2])
+        elif kind == "flip" and data:
+            data[seed % len(data)] ^= 0xFF
+            f.write_bytes(bytes(data))
+        else:
+            f.unlink()
+    holds(["plot", copy_, "-o", folder / "p.png"], folder, 120)
+    a = sweep.stored_attrs(copy_)["args"]
+    rerun = ["sweep", SPECS / "double_pendulum.toml", "-q", "-o", copy_, "--t1", str(a["t1"]),
+             *[x for v in a["vary"] for x in ("--vary", f"{v[0]}={v[1]}:{v[2]}:{v[3]}")],
+             *[x for m in a["measures"] for x in ("--measure", m)]]
+    code, _, err = holds(rerun, folder, 120)
+    assert code == 0, err
+    data = sweep.read(copy_)
+    assert data["done"].all() and not len(data["damaged"]), (how, data["done"])
 
 
 # --------------------------------------------------------------------------- the searches
@@ -273,6 +342,17 @@ def test_command_lines(tmp_path, store):
         command_property(args, _fresh(tmp_path, next(count)), store)
     prop()
     assert TRIED["command"] >= 100
+    assert set(COVERED) == set(OPTIONS), sorted(set(OPTIONS) - set(COVERED))  # every command, every run
+
+
+def test_damaged_stores(tmp_path, store):
+    count = iter(range(10**9))
+
+    @fixed(12)
+    @given(damage())
+    def prop(how):
+        damaged_store_property(how, store, _fresh(tmp_path, next(count)))
+    prop()
 
 
 @pytest.mark.skipif(LONG <= 0, reason="make fuzz (FUZZ_SECONDS) searches longer with fresh seeds")
@@ -285,10 +365,42 @@ def test_fuzz_for_a_while(tmp_path, store):
     while time.monotonic() < t_end:
         given(mutated_spec())(rounds(lambda data: spec_property(data, _fresh(tmp_path, next(count)))))()
         given(command_line())(rounds(lambda args: command_property(args, _fresh(tmp_path, next(count)), store)))()
+        given(damage())(settings(rounds, max_examples=5)(lambda how: damaged_store_property(how, store, _fresh(tmp_path, next(count)))))()
+        given(command_line(), st.floats(0.2, 3.0))(settings(rounds, max_examples=3)(
+            lambda args, delay: interrupt_property(args, delay, _fresh(tmp_path, next(count)), store)))()
         print(f"fuzz: {TRIED['spec'] - start['spec']} specs and {TRIED['command'] - start['command']} command lines "
               f"so far", flush=True)
     print(f"\nfuzz: {TRIED['spec'] - start['spec']} specs and {TRIED['command'] - start['command']} command lines "
           f"in {LONG:.0f} s, no failure")
+
+
+def interrupt_property(args, delay: float, folder: Path, store: Path):
+    """The command line in its own process, SIGINT after ``delay`` seconds: it has ended by itself
+    (0 or 2), or it ends within a second with exit 130 and one line, nothing half-written."""
+    import subprocess
+    import sys
+
+    TRIED["command"] += 1
+    args = [str(a).replace("@OUT@", str(folder)) for a in args]
+    if args[0] == "plot":
+        args[1] = str(store)
+    if args[0] == "generate" and "-o" not in args:
+        args += ["-o", str(folder / "g")]
+    proc = subprocess.Popen([sys.executable, "-m", "gyrochain", *args], cwd=folder, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    time.sleep(delay)
+    t0 = time.perf_counter()
+    proc.send_signal(signal.SIGINT)
+    try:
+        code = proc.wait(timeout=10)
+    finally:
+        proc.kill()
+    err = proc.stderr.read()
+    assert "Traceback" not in err, (args, err)
+    assert code in (0, 2, 130), (args, code, err)
+    if code == 130:
+        assert time.perf_counter() - t0 < 1.0 and err.rstrip().endswith("error: interrupted"), (args, err)
+        assert not [p for p in folder.rglob("*") if ".tmp" in p.name], (args, list(folder.rglob("*")))
 
 
 # --------------------------------------------------------------------------- what the searches found
