@@ -40,13 +40,13 @@ def frame_times(t1: float, fps: float, frame: float | None, sub: int = 1, yes: b
     ``sub`` times per frame interval (the frames are every sub-th).  More than MAX_FRAMES frames
     are refused unless ``yes``."""
     if not (math.isfinite(fps) and fps > 0):
-        raise SpecError("--fps", f"{fps!r}: must be a positive number")
+        raise SpecError("--fps", f"{float(fps):g}: must be a positive number")
     if frame is not None:
         if not (math.isfinite(frame) and frame >= 0):
-            raise SpecError("--frame", f"{frame!r}: must be a time >= 0")
+            raise SpecError("--frame", f"{float(frame):g}: must be a time >= 0")
         return np.array([frame])
     if not (math.isfinite(t1) and t1 > 0):
-        raise SpecError("--t1", f"{t1!r}: the time range [0, t1] needs t1 > 0")
+        raise SpecError("--t1", f"{float(t1):g}: the time range [0, t1] needs t1 > 0")
     count = int(math.floor(t1 * fps + 1e-9)) + 1
     if count < 2:
         raise SpecError("--t1", f"[0, {t1:g}] s at {fps:g} frames/s holds a single frame; make t1 >= {1 / fps:g} s or raise --fps")

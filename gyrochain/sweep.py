@@ -524,8 +524,17 @@ def spectrum_summary(store: str | Path, plan: Plan) -> str:
     if not len(ok):
         return "lyapunov_spectrum: no point has a spectrum (every integration failed)"
     errs = np.array([pairing(s) for s in ok])
-    why = ("the model is conservative: its spectra come in pairs ±lambda summing to 0 as t1 grows"
-           if plan._has_energy() else "the model is not conservative (damping, a load or a torque): no pairing is expected")
+    ints = pipeline.derive(plan.spec, latex=False).integrals
+    # a moving platform and constant joint torques leave the flow Hamiltonian (L depends on t; a constant
+    # torque has the potential -u phi), so symplectic: only the other reasons break the pairing
+    reasons = [r for r in ints.energy_reasons if not r.startswith("base") and "control" not in r]
+    if plan._has_energy():
+        why = "the model is conservative: its spectra come in pairs ±lambda summing to 0 as t1 grows"
+    elif not reasons:
+        why = ("the energy (23) is not conserved here (the platform moves or a torque acts), but the flow is still "
+               "Hamiltonian: its spectra come in pairs ±lambda summing to 0 as t1 grows")
+    else:
+        why = f"the flow is not Hamiltonian ({', '.join(reasons)}): no pairing is expected"
     return (f"lyapunov_spectrum: over {len(ok)} points the largest pairing error max|lambda_i + lambda_(2n+1-i)| is "
             f"{errs[:, 0].max():.2g} /s and the largest |sum of lambda_i| {errs[:, 1].max():.2g} /s; {why}")
 
