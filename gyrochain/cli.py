@@ -482,7 +482,7 @@ def main(argv=None) -> int:
     except OSError as exc:  # the file system: a folder that cannot be made, a disk full, no permission
         if _ours(exc):  # a file of the package itself (a template, a kernel): not the user's doing
             return _internal(exc, debug)
-        where = exc.filename or "file"
+        where = exc.filename or args.cmd  # a file the user named, else the command that met it
         print(f"error: {where}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:  # the stack has unwound: every clean-up ran, nothing half-written is left

@@ -37,6 +37,7 @@ from .errors import SpecError
 from .spec import T as TIME
 
 SAMPLES = 16  # times of a period at which Newton asks φ̈ = 0
+MAX_OWN_CYCLES = 1e5  # the pendulum's own oscillations in one drive period past which steady refuses the work
 CHECKS = 64  # further random times at which an equilibrium must hold
 MU_TOL = 1e-6  # |μ| − 1 beyond this is off the unit circle (Φ is good to ~1e-10 at the tolerances used)
 RTOL = ATOL = 1e-12  # of the variational integration over a period
@@ -303,6 +304,22 @@ class DrivenAnalysis:
         self.fixed_period, self.what = period, what  # what: the command, named in its errors
         self.set_params(params)
 
+    def _check_work(self) -> None:
+        """A drive so slow that one period holds more than MAX_OWN_CYCLES of the pendulum's own
+        oscillations (|λ|max of the linearisation at φ = 0, t = 0) would take hours per multiplier:
+        refused with the numbers (the slow-drive limit is the static problem)."""
+        try:
+            A, _ = self.c.linearize(np.zeros(2 * self.n), self.u, self.params, t=0.0)
+            lam = float(np.max(np.abs(np.linalg.eigvals(A))))
+        except (ArithmeticError, np.linalg.LinAlgError):
+            return
+        cycles = self.period * lam / (2 * math.pi)
+        if math.isfinite(cycles) and cycles > MAX_OWN_CYCLES:
+            raise SpecError("--vary" if self.fixed_period is None and self.what == "steady" and self.params else self.what,
+                            f"the drive's period {self.period:.4g} s holds {cycles:.3g} of the pendulum's own oscillations "
+                            f"(at most {MAX_OWN_CYCLES:.0e}): its Floquet multipliers would take hours; a drive that slow "
+                            "is the static problem (steady of the spec with the drive held)")
+
     def set_params(self, params) -> None:
         self.params = params
         if self.fixed_period is None:
@@ -315,6 +332,7 @@ class DrivenAnalysis:
                 own = None
             self.period, self.period_how = snap_period(self.fixed_period, own)
         check_period(self.c, self.period, params, self.u, "--period" if self.fixed_period else self.what)
+        self._check_work()
         self.times = self.period * np.arange(SAMPLES) / SAMPLES
         self.cyclic = self._cyclic()
 

@@ -64,10 +64,33 @@ def _precision(texts: dict[str, str], name: str) -> dict[str, str]:
     return out
 
 
+FLT_MAX, FLT_MIN = 3.4028234663852886e38, 1.1754943508222875e-38
+
+
+def check_range(text: str) -> None:
+    """Every constant of the code (outside comments and strings) within float's normal range, or a
+    one-line SpecError: a mass of 1e-50 or 1e39 would become 0 or inf in the float C (and gcc would
+    warn of an overflow in every line that has it)."""
+    from ..errors import SpecError
+
+    parts = _SKIP.split(text)
+    for i, part in enumerate(parts):
+        if i % 2:
+            continue
+        for m in _LITERAL.finditer(part):
+            v = abs(float(m.group(1)))
+            if v > FLT_MAX or 0 < v < FLT_MIN:
+                raise SpecError("--real", f"float holds numbers from {FLT_MIN:.3g} to {FLT_MAX:.3g}; the model has the "
+                                          f"constant {m.group(1)} (from the spec's numbers): generate it in double, or "
+                                          "give the spec in other units")
+
+
 def single_precision(files: dict[str, str], name: str) -> dict[str, str]:
-    """The C target's files of a model retyped to float (the others as they are)."""
+    """The C target's files of a model retyped to float (the others as they are); a constant
+    beyond float's range is refused (``check_range``)."""
     out = dict(files)
     out.update(_precision({f"{name}.c": files[f"{name}.c"], f"{name}.h": files[f"{name}.h"]}, name))
+    check_range(out[f"{name}.c"].replace("1e-30f", "1e-30"))  # (the precision constants are float's now)
     for fname in (f"{name}.c", f"{name}.h", f"{name}.cdef"):
         out[fname] = retype(out[fname])
     double_line = f"#define {name.upper()}_REAL double\n"

@@ -171,7 +171,7 @@ def test_an_option_that_does_not_apply_is_refused(args, words):
 LONG = {
     "simulate": ("simulate", "gimbal", "--t1", "1e6", "--steps", "1000"),
     "orbits": ("orbits", "double_pendulum_point", "--energy", "1e6:1e7:3", "--mode", "1"),
-    "steady --vary": ("steady", "kapitza", "--vary", "w=1e-6:1e-5:3"),
+    "steady --vary": ("steady", "kapitza", "--vary", "w=150:300:1000"),
     "sweep": ("sweep", "double_pendulum", "--vary", "phi1=-3:3:200", "--vary", "phi2=-3:3:200", "--t1", "100", "-q", "-o", "{tmp}/s.zarr"),
     "animate": ("animate", "gimbal", "--t1", "380", "-o", "{tmp}/a.gif"),
 }
@@ -201,3 +201,41 @@ def test_ctrl_c_ends_a_long_command_within_a_second(what, tmp_path):
     assert took < 1.0, f"{what}: {took:.2f} s after SIGINT"
     assert not [p for p in tmp_path.rglob("*") if ".tmp" in p.name], list(tmp_path.rglob("*"))
     assert not (tmp_path / "a.gif").exists()
+
+
+def test_float_constants_beyond_floats_range_are_refused():
+    """generate --real float of a spec whose numbers float cannot hold (a mass of 1e-50, 1e39): was
+    160 lines of gcc's -Woverflow and constants rounded to 0 or inf; one line now (comments aside)."""
+    from gyrochain.printers.real import check_range
+    from gyrochain.spec import SpecError
+
+    for text in ("x = 1.5e-40;", "x = 3.5e38 * y;", "x = -1e39;"):
+        with pytest.raises(SpecError, match="float holds numbers"):
+            check_range(text)
+    check_range("/* 1e-50 */ x = 2.0; y = 1.2e-38; z = 3.0e38;")
+
+
+def test_a_huge_gravity_is_a_scale_not_a_singular_mass_matrix(tmp_path):
+    """g = 1e20: was "the mass matrix is singular" (the reference M was differenced with gravity in
+    it); the hanging double pendulum now simply hangs."""
+    spec = tmp_path / "g.toml"
+    spec.write_text((SPECS / "double_pendulum.toml").read_text().replace("g = 9.81", "g = 1e20"))
+    code, out, err, _ = gyro("simulate", spec, "--t1", "0.1", "--steps", "1")
+    assert code == 0, err
+    assert out.splitlines()[-1].split(",")[1:5] == ["0", "0", "0", "0"]
+
+
+def test_a_drive_too_slow_for_floquet_is_refused_with_its_numbers():
+    """steady kapitza --vary w=1e-6:1e-5:3: ran on without output (a period of 6e6 s); refused now."""
+    refused("steady", SPECS / "kapitza.toml", "--vary", "w=1e-6:1e-5:3", words="of the pendulum's own oscillations")
+
+
+def test_the_spectrum_of_a_driven_pendulum_is_said_to_pair(tmp_path):
+    """lyapunov_spectrum on Kapitza's pendulum said "not conservative (damping, a load or a torque)";
+    its flow is Hamiltonian (the platform moves), and the spectra pair: the summary says so."""
+    pytest.importorskip("zarr", reason="the sweep extra")
+    code, _, err, _ = gyro("sweep", SPECS / "kapitza.toml", "--vary", "phi1=3:3.1:2", "--t1", "2", "--measure",
+                           "lyapunov_spectrum", "-q", "-o", tmp_path / "k.zarr")
+    assert code == 0, err
+    assert "still Hamiltonian" in err and "not conservative" not in err
+    assert float(err.split("pairing error max|lambda_i + lambda_(2n+1-i)| is ")[1].split(" ")[0]) < 1e-6
