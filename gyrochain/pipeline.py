@@ -2,9 +2,10 @@
 
 Every command that needs the model (generate, steady, sweep and its Dask workers, animate) and
 the tests take this route, so a spec is derived once per process and a model's C is compiled once per
-machine: ``compile`` keeps the extension in a cache folder named by the build key (the C, header
-and cdef texts, the flags, the compiler and the Python ABI; build.build_key), and a file lock lets
-one process build while the others wait for it and load its build.
+user: ``compile`` keeps the extension in the user's private cache folder (``cache_root``) under the
+build key (the C, header and cdef texts, the flags, the compiler and the Python ABI;
+build.build_key), and a file lock lets one process build while the others wait for it and load its
+build.
 
     model = pipeline.derive(spec)                      # assemble.Model: everything derived once
     files = pipeline.render(model, targets=("c",))    # {file name: text}, only what was asked
