@@ -32,6 +32,7 @@ EXTENSIONS = (".gif", ".mp4", ".html", ".png")
 
 
 # --------------------------------------------------------------------------- trajectories
+MAX_TRAJECTORY_BYTES = 512 << 20  # a --trajectory CSV larger than this is refused (a device never ends)
 MAX_FRAMES = 10_000  # frames of one animation past which animate asks for --yes (a GIF of 480 x 480: ~2 GB of pixels)
 
 
@@ -62,12 +63,21 @@ def read_csv(path: str, n: int, fps: float, frame: float | None) -> tuple:
     prints it), at the frame times over the file's span (or at ``frame``): φ linear between the
     rows, φ̇ the file's or 0.  Returns the times, the states, whether φ̇ was given, and the file's
     own times and states (for the trace)."""
+    import stat
+
     try:
+        mode = os.stat(path).st_mode
+        if not stat.S_ISREG(mode):
+            raise SpecError("--trajectory", f"{path}: not a file (a CSV as simulate writes it)")
+        if os.stat(path).st_size > MAX_TRAJECTORY_BYTES:
+            raise SpecError("--trajectory", f"{path}: larger than {MAX_TRAJECTORY_BYTES >> 20} MiB; thin it out (every k-th row)")
         with open(path, encoding="utf-8") as f:
             names = [h.strip() for h in f.readline().strip().split(",")]
             data = np.loadtxt(f, delimiter=",", ndmin=2)
+    except SpecError:
+        raise
     except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise SpecError("--trajectory", f"{path}: {exc}") from None
+        raise SpecError("--trajectory", f"{path}: {getattr(exc, 'strerror', None) or exc}") from None
     missing = [c for c in ["t"] + [f"phi{k}" for k in range(1, n + 1)] if c not in names]
     if missing:
         raise SpecError("--trajectory", f"{path}: no column {missing[0]!r} (expected t, phi1..phi{n}[, phidot1..phidot{n}])")

@@ -467,6 +467,10 @@ def main(argv=None) -> int:
     command = {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
                "examples": cmd_examples, "new": cmd_new}[args.cmd]
+    beat = _Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate") else None
+    stdout = sys.stdout
+    if beat is not None and beat.running:
+        sys.stdout = _ClearsFirst(stdout, beat)  # the results' first line ends the heartbeat's
     try:
         # numpy's floating-point warnings are not the user's words: every result is checked for
         # finiteness where it matters, and a failure is one line
@@ -491,6 +495,59 @@ def main(argv=None) -> int:
         return 130
     except Exception as exc:  # noqa: BLE001  (a bug of ours: one line, and where to report it)
         return _internal(exc, debug)
+    finally:
+        sys.stdout = stdout
+        if beat is not None:
+            beat.stop()
+
+
+class _ClearsFirst:
+    """stdout that stops the heartbeat (and clears its line) before the command's first output."""
+
+    def __init__(self, stream, beat):
+        self._stream, self._beat = stream, beat
+
+    def write(self, text):
+        self._beat.stop()
+        return self._stream.write(text)
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+class _Heartbeat:
+    """On a terminal, a command that runs longer than two seconds says so on stderr, once a second,
+    on one line it rewrites ("steady: working, 12 s; Ctrl-C stops it"), and clears the line when
+    it ends: a long run is never silent.  Not on a pipe or a file (scripts and tests see nothing)."""
+
+    def __init__(self, name: str, after: float = 2.0):
+        import threading
+
+        self.name, self.after, self.t0 = name, after, time.perf_counter()
+        self.done, self.shown, self.lock = threading.Event(), False, threading.Lock()
+        self.running = sys.stderr.isatty()
+        if self.running:
+            threading.Thread(target=self._run, name="gyrochain-heartbeat", daemon=True).start()
+
+    def _run(self) -> None:
+        if self.done.wait(self.after):
+            return
+        while True:
+            with self.lock:
+                if self.done.is_set():
+                    return
+                sys.stderr.write(f"\r{self.name}: working, {time.perf_counter() - self.t0:.0f} s; Ctrl-C stops it ")
+                sys.stderr.flush()
+                self.shown = True
+            self.done.wait(1.0)
+
+    def stop(self) -> None:
+        with self.lock:
+            self.done.set()
+            if self.shown:
+                sys.stderr.write("\r\033[K")
+                sys.stderr.flush()
+                self.shown = False
 
 
 def _exit_if_held(code: int) -> None:

@@ -239,3 +239,36 @@ def test_the_spectrum_of_a_driven_pendulum_is_said_to_pair(tmp_path):
     assert code == 0, err
     assert "still Hamiltonian" in err and "not conservative" not in err
     assert float(err.split("pairing error max|lambda_i + lambda_(2n+1-i)| is ")[1].split(" ")[0]) < 1e-6
+
+
+def test_a_device_as_trajectory_is_refused_at_once(tmp_path):
+    refused("animate", SPECS / "gimbal.toml", "--trajectory", "/dev/zero", "-o", tmp_path / "a.gif", words="not a file",
+            within=1.0)
+    assert not (tmp_path / "a.gif").exists()
+
+
+def test_a_long_run_on_a_terminal_says_it_is_working():
+    """On a terminal a command that runs past two seconds says so once a second on one line, and
+    clears it before its results (on a pipe nothing is added: every other test reads pipes)."""
+    import pty
+    import select
+
+    pid, fd = pty.fork()
+    if pid == 0:  # the child: the command as a user types it in a terminal
+        os.execv(sys.executable, [sys.executable, "-m", "gyrochain", "simulate", str(SPECS / "gimbal.toml"), "--t1", "7e4",
+                                  "--steps", "2"])
+    out, t0 = b"", time.monotonic()
+    while time.monotonic() - t0 < 120:
+        if select.select([fd], [], [], 0.5)[0]:
+            try:
+                chunk = os.read(fd, 4096)
+            except OSError:
+                break
+            if not chunk:
+                break
+            out += chunk
+    _, status = os.waitpid(pid, 0)
+    text = out.decode()
+    assert os.WEXITSTATUS(status) == 0, text
+    assert "simulate: working, 2 s; Ctrl-C stops it" in text, text
+    assert "\r\x1b[Kt,phi1,phi2,phidot1,phidot2,energy" in text  # the line cleared, then the results
