@@ -1,9 +1,11 @@
 """The equations of compound spatial pendulums: derived from a spec, emitted as C, Python and LaTeX, and run.
 
-The command line ``gyrochain {generate,check,simulate,steady,orbits,sweep,animate} SPEC`` and ``gyrochain
-plot STORE`` (``python -m gyrochain`` is the same).  This module parses arguments and prints; every command is a library function it calls
-(generate.run, simulate.run, steady.analyze, orbits.analyze, sweep.run, plot.store, animate.render).  A bad
-input gets one line on stderr naming the field, exit status 2, and nothing written.
+The command line ``gyrochain {generate,check,simulate,steady,orbits,sweep,animate} SPEC``, ``gyrochain
+plot STORE``, ``gyrochain examples`` and ``gyrochain new KIND`` (``python -m gyrochain`` is the same).
+This module parses arguments and prints; every command is a library function it calls (generate.run,
+simulate.run, steady.analyze, orbits.analyze, sweep.run, plot.store, animate.render, starter.copy,
+starter.new_spec).  A bad input gets one line on stderr naming the field, exit status 2, and nothing
+written; a bug of ours one line with exit status 1.
 """
 from __future__ import annotations
 
