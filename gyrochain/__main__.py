@@ -12,7 +12,9 @@ def _on_sigint(signum, frame):
     ignored" and lost, and the command runs on.  So the signal is sent again 50 ms later, until it
     lands in our own code."""
     if frame is not None and frame.f_code.co_filename.startswith("<frozen importlib"):
-        threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT)).start()
+        again = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
+        again.daemon = True  # a command that ends first is not held back by it
+        again.start()
         return
     raise KeyboardInterrupt
 
@@ -27,6 +29,7 @@ def run() -> None:
     except KeyboardInterrupt:  # before cli.main's own handler is in place (numpy, sympy still loading)
         print("error: interrupted", file=sys.stderr)
         code = 130
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command has ended: a late Ctrl-C must not interrupt the exit
     sys.exit(code)
 
 
