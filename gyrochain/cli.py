@@ -48,7 +48,7 @@ def cmd_generate(args) -> int:
     if args.output is not None and not args.output.strip():
         raise SpecError("-o", "is empty; name a folder (default generated/<name>)")
     target = Path(args.output) if args.output is not None else Path("generated") / spec.name
-    generate.check(spec, target, args.force, Path(args.spec))  # before the first line: a mistake is one line
+    generate.check(spec, target, args.force, Path(args.spec), args.derivative_form)  # before the first line: one line
     if not args.quiet:
         print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
     result = generate.run(spec, target, Path(args.spec).name, build=not args.no_build, force=args.force,

@@ -39,7 +39,7 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     folder this generator did not write is written into only with ``force``, and its other files
     are kept; a folder that holds ``source``, the spec file, never."""
     target = Path(target)
-    check(spec, target, force, source)
+    check(spec, target, force, source, der_form)
     say = progress or (lambda msg: None)
     ahead = pipeline.BuildAhead(target, spec.name) if build else None
     try:
@@ -57,7 +57,7 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     return Result(spec, model, target, tuple(sorted(files)), how)
 
 
-def check(spec, target: Path, force: bool = False, source: Path | None = None) -> None:
+def check(spec, target: Path, force: bool = False, source: Path | None = None, der_form: str = "auto") -> None:
     """What must hold before anything is derived: the target is a folder we may write into (one
     gyrochain wrote, a new or empty one, or with ``force`` any folder: its other files are kept),
     it does not hold the spec file ``source`` itself, and the chain's mass matrix is not singular
@@ -73,6 +73,13 @@ def check(spec, target: Path, force: bool = False, source: Path | None = None) -
         raise SpecError("-o", f"{target} exists and was not written by gyrochain; choose another folder or pass --force "
                               "(its other files are kept)")
     pipeline.check_mass_matrix(spec)
+    if der_form == "world":  # said before the first progress line, from the spec (assemble checks it again)
+        why = ("a moving platform" if spec.base is not None and spec.base.moves
+               else "rotors that change" if any(any(c != 0 for c in b.lam_dot) for b in spec.bodies)
+               else "body loads" if any(b.loaded for b in spec.bodies) else "")
+        if why:
+            raise SpecError("--derivative-form", f"the world form needs a fixed base, constant rotors and no body loads; "
+                                                 f"this spec has {why}")
 
 
 def report(result: Result) -> list[str]:

@@ -470,3 +470,12 @@ def test_found_an_inertia_that_overflows(tmp_path):
     spec.write_text(text)
     code, _, err = holds(["check", spec], tmp_path, 30)
     assert code == 2 and err.startswith("error: body[1].") and "overflows double precision" in err, err
+
+
+def test_found_a_forced_form_refused_after_the_progress_lines(tmp_path):
+    """generate --derivative-form world on a moving platform (or body loads): the refusal came after
+    four progress lines (the derivation ran first); it is said before the first line now."""
+    for spec in ("kapitza", "ziegler"):
+        code, _, err = holds(["generate", SPECS / f"{spec}.toml", "--derivative-form", "world", "-o", tmp_path / "g"],
+                             tmp_path, 60)
+        assert code == 2 and err.startswith("error: --derivative-form: the world form needs"), err
