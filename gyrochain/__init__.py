@@ -19,3 +19,16 @@ from pathlib import Path as _Path
 TEMPLATES = _Path(__file__).resolve().parent / "templates"   # jinja2 layouts of the emitted files and the viewer
 KERNELS = _Path(__file__).resolve().parent / "kernels"       # the fixed numerical kernels (printers/kernels.py)
 EXAMPLES = _Path(__file__).resolve().parent / "examples"     # the example specs (`gyrochain examples`)
+
+
+def caused_by_interrupt(exc: BaseException) -> bool:
+    """Whether a Ctrl-C is behind ``exc``: Python 3.11 turns an exception raised in a descriptor's
+    ``__set_name__`` (a dataclass field while a module loads) into a RuntimeError caused by it.
+    The command line (``__main__``, ``cli``) then ends as interrupted, not with an internal error."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False

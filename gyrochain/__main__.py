@@ -5,6 +5,8 @@ import signal
 import sys
 import threading
 
+from . import caused_by_interrupt
+
 
 def _on_sigint(signum, frame):
     """Ctrl-C as KeyboardInterrupt, but never inside the import machinery: there Python may run
@@ -26,7 +28,9 @@ def run() -> None:
         from .cli import main
 
         code = main()
-    except KeyboardInterrupt:  # before cli.main's own handler is in place (numpy, sympy still loading)
+    except BaseException as exc:  # before cli.main's own handler is in place (numpy, sympy still loading)
+        if not caused_by_interrupt(exc):
+            raise
         print("error: interrupted", file=sys.stderr)
         code = 130
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command has ended: a late Ctrl-C must not interrupt the exit

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import cliargs
+from . import caused_by_interrupt, cliargs
 from .physical import run_values
 from .simulate import torques
 from .spec import SpecError, load_spec
@@ -492,10 +492,10 @@ def main(argv=None) -> int:
         print(f"error: {where}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:  # the stack has unwound: every clean-up ran, nothing half-written is left
-        print("error: interrupted", file=sys.stderr)
-        _exit_if_held(130)
-        return 130
+        return _interrupted()
     except Exception as exc:  # noqa: BLE001  (a bug of ours: one line, and where to report it)
+        if caused_by_interrupt(exc):  # Ctrl-C that Python wrapped (in a class being made, say)
+            return _interrupted()
         return _internal(exc, debug)
     finally:
         sys.stdout = stdout
@@ -562,6 +562,12 @@ def _exit_if_held(code: int) -> None:
         sys.stdout.flush()
         sys.stderr.flush()
         os._exit(code)
+
+
+def _interrupted() -> int:
+    print("error: interrupted", file=sys.stderr)
+    _exit_if_held(130)
+    return 130
 
 
 def _ours(exc: OSError) -> bool:

@@ -203,6 +203,44 @@ def test_ctrl_c_ends_a_long_command_within_a_second(what, tmp_path):
     assert not (tmp_path / "a.gif").exists()
 
 
+class _CtrlCInSetName:
+    """A descriptor whose ``__set_name__`` meets Ctrl-C, as a dataclass field does when the signal
+    lands while its module loads: Python 3.11 hands on a RuntimeError caused by the interrupt."""
+
+    def __set_name__(self, owner, name):
+        raise KeyboardInterrupt
+
+
+def _make_a_class_while_interrupted(*_):
+    class Branch:  # noqa: F841
+        changes = _CtrlCInSetName()
+
+
+def test_ctrl_c_wrapped_by_python_while_a_class_is_made_is_an_interrupt(monkeypatch, capsys):
+    """Found by make fuzz (steady, 0.34 s in): the wrapped Ctrl-C was called an internal error, exit 1.
+    Both ways in end as interrupted: the command (cli.main) and the entry point loading the CLI."""
+    import types
+
+    from gyrochain import __main__ as entry
+    from gyrochain import cli
+
+    with pytest.raises(BaseException) as caught:
+        _make_a_class_while_interrupted()
+    assert not isinstance(caught.value, KeyboardInterrupt)  # Python wrapped it (or the test proves nothing)
+    monkeypatch.setattr(cli, "cmd_check", _make_a_class_while_interrupted)
+    monkeypatch.setattr(cli, "_exit_if_held", lambda code: None)
+    assert cli.main(["check", str(SPECS / "gimbal.toml")]) == 130
+    assert capsys.readouterr().err == "error: interrupted\n"
+    monkeypatch.setitem(sys.modules, "gyrochain.cli", types.SimpleNamespace(main=_make_a_class_while_interrupted))
+    monkeypatch.setattr(signal, "signal", lambda *a: None)  # the test's own process keeps its handlers
+    with pytest.raises(SystemExit) as exited:
+        entry.run()
+    assert exited.value.code == 130 and capsys.readouterr().err == "error: interrupted\n"
+    monkeypatch.setitem(sys.modules, "gyrochain.cli", types.SimpleNamespace(main=lambda: 1 / 0))
+    with pytest.raises(ZeroDivisionError):  # anything else is not taken for an interrupt
+        entry.run()
+
+
 def test_float_constants_beyond_floats_range_are_refused():
     """generate --real float of a spec whose numbers float cannot hold (a mass of 1e-50, 1e39): was
     160 lines of gcc's -Woverflow and constants rounded to 0 or inf; one line now (comments aside)."""
