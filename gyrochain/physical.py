@@ -65,6 +65,7 @@ def check_values(spec, values: dict, label: str = "") -> None:
     for k, b in enumerate(spec.bodies, start=1):
         at = f"body[{k}]"
         num(b.theta, f"{at}.theta")
+        num(b.offset, f"{at}.offset")
         m = num(b.m, f"{at}.m")
         if not m > 0:
             raise SpecError(f"{at}.m", f"mass must be positive, got {m:g}{label}")

@@ -16,11 +16,13 @@ def random_spec_text(
     gyro: bool = True,
     controls: tuple = (),
     theta1: float | None = None,
+    offsets: bool = False,
 ) -> str:
     """A chain of n gyrostats with random masses, offsets, full inertia tensors about O^k
     (a random positive definite central tensor that meets the triangle inequality, moved by
     the parallel-axis rule) and, if ``gyro``, random gyrostatic moments.  ``planar`` puts every
-    axis parallel to the first (θᵏ = 0 for k > 1) and every c, s in the plane ⟂ e¹."""
+    axis parallel to the first (θᵏ = 0 for k > 1) and every c, s in the plane ⟂ e¹.  ``offsets``
+    gives every joint a random zero (the field ``offset``), as imported robots have."""
     lines = [f'name = "{name}"', f'description = "random {"planar" if planar else "spatial"} chain, n = {n}"', "g = 9.81", ""]
     for k in range(1, n + 1):
         if k == 1:
@@ -54,6 +56,8 @@ def random_spec_text(
         lines.append("lambda = [" + ", ".join(_fmt(v) for v in lam) + "]")
         if k in controls:
             lines.append("control = true")
+        if offsets:
+            lines.append(f"offset = {_fmt(rng.uniform(-3.0, 3.0))}")
         lines.append("")
     return "\n".join(lines)
 

@@ -29,6 +29,7 @@ from .spec import T, ChainSpec, phi_symbol, phidot_symbol
 class NumericChain:
     g: float
     theta: np.ndarray  # (n,)
+    offset: np.ndarray  # (n,): the paper's φᵏ = the joint angle + offset
     m: np.ndarray  # (n,)
     c: np.ndarray  # (n, 3)
     A: np.ndarray  # (n, 3, 3) about O^k
@@ -159,6 +160,7 @@ def numeric(spec: ChainSpec, params: dict | None = None) -> NumericChain:
     return NumericChain(
         g=ev(spec.g),
         theta=np.array([ev(b.theta) for b in B]),
+        offset=np.array([ev(b.offset) for b in B]),
         m=np.array([ev(b.m) for b in B]),
         c=np.array([[ev(x) for x in b.c] for b in B]),
         A=np.array([[[ev(x) for x in row] for row in b.A] for b in B]),
@@ -175,7 +177,7 @@ def frames(ch: NumericChain, phi) -> np.ndarray:
     prev = np.eye(3)
     for k in range(ch.n):
         ct, st = np.cos(ch.theta[k]), np.sin(ch.theta[k])
-        cp, sp_ = np.cos(phi[k]), np.sin(phi[k])
+        cp, sp_ = np.cos(phi[k] + ch.offset[k]), np.sin(phi[k] + ch.offset[k])
         a = np.array([[ct, 0.0, -st], [st * sp_, cp, ct * sp_], [st * cp, -sp_, ct * cp]])  # eq. (15)
         prev = a @ prev
         R[k] = prev

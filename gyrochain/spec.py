@@ -91,6 +91,7 @@ class BodySpec:
     torque: sp.Expr | None = None  # any other joint torque, of t, the state and parameters
     forces: tuple[LoadSpec, ...] = ()
     moments: tuple[LoadSpec, ...] = ()
+    offset: sp.Expr = sp.Integer(0)  # the joint's zero: the paper's φᵏ is the spec's joint angle + offset
 
     @property
     def lam_dot(self) -> tuple:
@@ -297,7 +298,7 @@ def _matrix(value, where: str, names: dict, state: dict | None = None) -> tuple:
 # --------------------------------------------------------------------------- the spec
 TOP_FIELDS = {"name", "description", "g", "body", "initial", "base", "values"}
 BODY_FIELDS = {"theta", "m", "c", "A", "I_c", "s", "lambda", "rotor", "control", "spring", "rest", "damping", "torque",
-               "force", "moment"}
+               "force", "moment", "offset"}
 BODY_REQUIRED = ("theta", "m", "c")
 ROTOR_FIELDS = ("axis", "inertia", "speed")
 SYMMETRY_TOL = 1e-12  # a 3×3 tensor whose A_ij, A_ji differ by at most this × its largest entry is symmetrised
@@ -452,7 +453,7 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
     if "lambda" in raw and "rotor" in raw:
         raise SpecError(f"{at}.rotor", "give the rotor once: lambda (its angular momentum) or rotor = {axis, inertia, speed}")
     if k < n and "s" not in raw:
-        raise SpecError(f"{at}.s", "missing field (offset O^k → O^(k+1), needed for every body but the last)")
+        raise SpecError(f"{at}.s", "missing field (the vector O^k → O^(k+1), needed for every body but the last)")
     if k == n and "s" in raw:
         raise SpecError(f"{at}.s", "the last body has no next joint; leave s out")
     # Read in the file's order so that parameters are numbered by first appearance.
@@ -460,7 +461,7 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
     const, time, state = (_state_names(n, kind) for kind in ("const", "time", "state"))
     for key, value in raw.items():
         where = f"{at}.{key}"
-        if key in ("theta", "m", "spring", "rest", "damping"):
+        if key in ("theta", "offset", "m", "spring", "rest", "damping"):
             vals[key] = _scalar(value, where, names, const)
         elif key in ("c", "s"):
             vals[key] = _vector(value, where, names, const)
@@ -509,6 +510,7 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
         torque=vals.get("torque"),
         forces=vals.get("force", ()),
         moments=vals.get("moment", ()),
+        offset=vals.get("offset", sp.Integer(0)),
     )
 
 

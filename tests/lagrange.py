@@ -9,10 +9,11 @@ from __future__ import annotations
 import sympy as sp
 
 
-def frames(thetas, phis):
-    """αᵏ (rows êᵏᵢ in the fixed frame), by (15) and (14)."""
+def frames(thetas, phis, offsets=None):
+    """αᵏ (rows êᵏᵢ in the fixed frame), by (15) and (14); the paper's angle is φ + offset."""
     out, prev = [], sp.eye(3)
-    for th, ph in zip(thetas, phis):
+    for th, ph, d in zip(thetas, phis, offsets or [0] * len(phis)):
+        ph = ph + d
         ct, st, cp, s = sp.cos(th), sp.sin(th), sp.cos(ph), sp.sin(ph)
         a = sp.Matrix([[ct, 0, -st], [st * s, cp, ct * s], [st * cp, -s, ct * cp]])
         prev = a * prev
@@ -22,7 +23,7 @@ def frames(thetas, phis):
 
 def lagrangian(spec, phi, phidot):
     n = spec.n
-    R = frames([b.theta for b in spec.bodies], phi)
+    R = frames([b.theta for b in spec.bodies], phi, [b.offset for b in spec.bodies])
     e = [R[k][0, :].T for k in range(n)]
     w = []
     acc = sp.zeros(3, 1)
@@ -68,7 +69,7 @@ def lagrangian_np(ch, phi, v, sign13=-1.0):
     w = np.zeros(3, complex)
     for k in range(ch.n):
         ct, st = np.cos(ch.theta[k]), np.sin(ch.theta[k])
-        cp, s = np.cos(phi[k]), np.sin(phi[k])
+        cp, s = np.cos(phi[k] + ch.offset[k]), np.sin(phi[k] + ch.offset[k])
         a = np.array([[ct, 0, sign13 * st], [st * s, cp, ct * s], [st * cp, -s, ct * cp]])
         prev = a @ prev
         R = prev

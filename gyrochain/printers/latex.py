@@ -445,6 +445,8 @@ def _tex(model: Model) -> dict:
         recursion=recursion,
         quad=_quadratures(model, doc),
         bodies=_bodies(spec, kin, doc),
+        offsets=[(k, texscene.angle_text(b.offset, doc.w, fold_numbers)) for k, b in enumerate(spec.bodies, start=1)
+                 if b.offset != 0],
         scene=texscene.scene(spec, doc.w, fold_numbers),
         notation=texscene.notation(model, closed, [doc.w.name(p) for p in spec.params]),
         form_text=texscene.FORM_TEXT.get(doc.form),
