@@ -290,6 +290,23 @@ def cmd_new(args) -> int:
     return 0
 
 
+def cmd_import(args) -> int:
+    """A robot description (URDF) as a spec: the chain from the base to the tip."""
+    from . import exchange, starter
+
+    text, lines = exchange.import_text(args.description, args.base, args.tip, args.lock, args.name or None,
+                                       controls=not args.no_control, g=args.g)
+    if args.output == "-":
+        print(text, end="")
+        return 0
+    name = text.split('\nname = "', 1)[1].split('"', 1)[0]
+    path = Path(args.output) if args.output else Path(f"{name}.toml")
+    starter.write_new(path, text, args.force)
+    print("\n".join(lines))
+    print(f"wrote {path}: `{_prog()} generate {path}` derives its model")
+    return 0
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with one line for a mistake: ``error: <what> (see <prog> --help)``, exit 2."""
 
@@ -463,16 +480,28 @@ def main(argv=None) -> int:
     nw.add_argument("--length", type=float, default=1.0, help="length of each rod (m)")
     nw.add_argument("-o", "--output", default="", help="the file (default NAME.toml here; - for standard output)")
     nw.add_argument("--force", action="store_true", help="replace an existing file")
+    im = sub.add_parser("import", help="a robot description (URDF) as a spec: the revolute chain from the base to the tip",
+                        description="The spec's joint angles are the description's joint positions; fixed joints "
+                        "merge their links, and a joint the paper's chain cannot have must be locked.")
+    im.add_argument("description", help="the URDF file")
+    im.add_argument("-o", "--output", default="", help="the spec file (default NAME.toml here; - for standard output)")
+    im.add_argument("--base", default=None, help="the link the chain starts from (default: the root)")
+    im.add_argument("--tip", default=None, help="the link it ends at (needed where the movable joints branch)")
+    im.add_argument("--lock", action="append", metavar="JOINT=VALUE", help="fix a joint at a value (repeatable)")
+    im.add_argument("--name", default="", help="the model's name, a C identifier (default: from the robot's name)")
+    im.add_argument("--g", type=float, default=9.81, help="gravity along the description's -z (default 9.81)")
+    im.add_argument("--no-control", action="store_true", help="no torque inputs (default: one in every joint)")
+    im.add_argument("--force", action="store_true", help="replace an existing file")
     args, extra = ap.parse_known_args(cliargs.join_negative(words, cliargs.valued_options(ap)))
     if extra:  # said by the command's own parser, with the nearest option it has
         sub.choices[args.cmd].error(cliargs.unrecognized(extra, sub.choices[args.cmd]))
     command = {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
-               "examples": cmd_examples, "new": cmd_new}[args.cmd]
-    beat = _Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate") else None
+               "examples": cmd_examples, "new": cmd_new, "import": cmd_import}[args.cmd]
+    beat = cliargs.Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate") else None
     stdout = sys.stdout
     if beat is not None and beat.running:
-        sys.stdout = _ClearsFirst(stdout, beat)  # the results' first line ends the heartbeat's
+        sys.stdout = cliargs.ClearsFirst(stdout, beat)  # the results' first line ends the heartbeat's
     try:
         # numpy's floating-point warnings are not the user's words: every result is checked for
         # finiteness where it matters, and a failure is one line
@@ -501,55 +530,6 @@ def main(argv=None) -> int:
         sys.stdout = stdout
         if beat is not None:
             beat.stop()
-
-
-class _ClearsFirst:
-    """stdout that stops the heartbeat (and clears its line) before the command's first output."""
-
-    def __init__(self, stream, beat):
-        self._stream, self._beat = stream, beat
-
-    def write(self, text):
-        self._beat.stop()
-        return self._stream.write(text)
-
-    def __getattr__(self, name):
-        return getattr(self._stream, name)
-
-
-class _Heartbeat:
-    """On a terminal, a command that runs longer than two seconds says so on stderr, once a second,
-    on one line it rewrites ("steady: working, 12 s; Ctrl-C stops it"), and clears the line when
-    it ends: a long run is never silent.  Not on a pipe or a file (scripts and tests see nothing)."""
-
-    def __init__(self, name: str, after: float = 2.0):
-        import threading
-
-        self.name, self.after, self.t0 = name, after, time.perf_counter()
-        self.done, self.shown, self.lock = threading.Event(), False, threading.Lock()
-        self.running = sys.stderr.isatty()
-        if self.running:
-            threading.Thread(target=self._run, name="gyrochain-heartbeat", daemon=True).start()
-
-    def _run(self) -> None:
-        if self.done.wait(self.after):
-            return
-        while True:
-            with self.lock:
-                if self.done.is_set():
-                    return
-                sys.stderr.write(f"\r{self.name}: working, {time.perf_counter() - self.t0:.0f} s; Ctrl-C stops it ")
-                sys.stderr.flush()
-                self.shown = True
-            self.done.wait(1.0)
-
-    def stop(self) -> None:
-        with self.lock:
-            self.done.set()
-            if self.shown:
-                sys.stderr.write("\r\033[K")
-                sys.stderr.flush()
-                self.shown = False
 
 
 def _exit_if_held(code: int) -> None:

@@ -1,11 +1,13 @@
 """The command line's small parsers, shared by the commands in cli.py: comma-separated numbers,
 name=value options, an option given once, sizes, and argparse's words turned into the form of every
-other error (``<what>: <why>``)."""
+other error (``<what>: <why>``); the heartbeat of a long command on a terminal."""
 from __future__ import annotations
 
 import argparse
 import math
 import re
+import sys
+import time
 
 from .errors import did_you_mean
 from .spec import SpecError
@@ -127,3 +129,52 @@ def valued_options(parser: argparse.ArgumentParser) -> set:
         elif action.option_strings and action.nargs != 0:
             out |= {o for o in action.option_strings if o.startswith("--")}
     return out
+
+
+class ClearsFirst:
+    """stdout that stops the heartbeat (and clears its line) before the command's first output."""
+
+    def __init__(self, stream, beat):
+        self._stream, self._beat = stream, beat
+
+    def write(self, text):
+        self._beat.stop()
+        return self._stream.write(text)
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+class Heartbeat:
+    """On a terminal, a command that runs longer than two seconds says so on stderr, once a second,
+    on one line it rewrites ("steady: working, 12 s; Ctrl-C stops it"), and clears the line when
+    it ends: a long run is never silent.  Not on a pipe or a file (scripts and tests see nothing)."""
+
+    def __init__(self, name: str, after: float = 2.0):
+        import threading
+
+        self.name, self.after, self.t0 = name, after, time.perf_counter()
+        self.done, self.shown, self.lock = threading.Event(), False, threading.Lock()
+        self.running = sys.stderr.isatty()
+        if self.running:
+            threading.Thread(target=self._run, name="gyrochain-heartbeat", daemon=True).start()
+
+    def _run(self) -> None:
+        if self.done.wait(self.after):
+            return
+        while True:
+            with self.lock:
+                if self.done.is_set():
+                    return
+                sys.stderr.write(f"\r{self.name}: working, {time.perf_counter() - self.t0:.0f} s; Ctrl-C stops it ")
+                sys.stderr.flush()
+                self.shown = True
+            self.done.wait(1.0)
+
+    def stop(self) -> None:
+        with self.lock:
+            self.done.set()
+            if self.shown:
+                sys.stderr.write("\r\033[K")
+                sys.stderr.flush()
+                self.shown = False

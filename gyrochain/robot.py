@@ -154,71 +154,14 @@ def chain(desc: Description, base: str | None = None, tip: str | None = None, lo
     express is one line naming the joint or the links."""
     mp.mp.dps = DIGITS
     locks = dict(locks or {})
-    parent_of: dict = {}
-    children: dict = {name: [] for name in desc.links}
-    for j in desc.joints.values():
-        for end in (j.parent, j.child):
-            if end not in desc.links:
-                fail(desc, f"joint {j.name!r}", f"names the link {end!r}, which the description does not have")
-        if j.child in parent_of:
-            fail(desc, f"joint {j.name!r}", f"closes a loop: link {j.child!r} is already the child of joint "
-                 f"{parent_of[j.child].name!r} (the paper's chain is a tree of one path)")
-        parent_of[j.child] = j
-        children[j.parent].append(j)
-    for name, value in locks.items():
-        if name not in desc.joints:
-            fail(desc, f"--lock {name}", f"no such joint; {did_you_mean(name, desc.joints)}"
-                 f"the joints are {', '.join(desc.joints)}")
-        if desc.joints[name].kind not in LOCKABLE:
-            fail(desc, f"--lock {name}", f"a {desc.joints[name].kind} joint cannot be locked at one value")
-    roots = [name for name in desc.links if name not in parent_of]
-    if len(roots) != 1:
-        fail(desc, "", f"{len(roots)} links have no parent ({', '.join(roots[:5])}): a description is one tree")
-    base = base or roots[0]
+    children, root = _tree(desc, locks)
+    base = base or root
     for what, link in (("--base", base), ("--tip", tip)):
         if link is not None and link not in desc.links:
             fail(desc, f"{what} {link}", f"no such link; {did_you_mean(link, desc.links)}"
                  f"the links are {', '.join(desc.links)}")
-    mp.mp.dps = DIGITS
-    pose = {base: (mp.eye(3), mp.matrix([0, 0, 0]))}  # world rotation (columns: link axes), origin
-
-    def moves(j: Joint) -> bool:
-        """A joint of the chain (True), rigid (False), or one line saying why it can be neither."""
-        if j.name in locks or j.kind == "fixed":
-            return False
-        if j.mimic is not None:
-            fail(desc, f"joint {j.name!r}", f"mimics {j.mimic!r}: the paper's joints are independent "
-                 f"(lock it with --lock {j.name}=VALUE)")
-        if j.kind not in CHAIN_KINDS:
-            hint = f" (lock it with --lock {j.name}=VALUE)" if j.kind in LOCKABLE else ""
-            fail(desc, f"joint {j.name!r}", f"a {j.kind} joint: the paper's chain has revolute joints only{hint}")
-        return True
-
-    def place(j: Joint, q) -> None:
-        R, p = pose[j.parent]
-        Rj = R * _rpy(*j.rpy)
-        O = p + R * _v(j.xyz)
-        a = _unit(_v(j.axis))
-        if j.kind == "prismatic":
-            pose[j.child] = (Rj, O + Rj * (a * mp.mpf(q)))
-        else:
-            pose[j.child] = (Rj * _about(a, mp.mpf(q)) if q else Rj, O)
-
-    def cluster(head: str) -> tuple[list, list]:
-        """The links rigidly joined to ``head`` (placed), and the chain joints leaving them."""
-        links, out, todo = [], [], [head]
-        while todo:
-            link = todo.pop(0)
-            links.append(link)
-            for j in children[link]:
-                if moves(j):
-                    out.append(j)
-                else:
-                    place(j, locks.get(j.name, 0))
-                    todo.append(j.child)
-        return links, out
-
-    platform, out = cluster(base)
+    walk = _Walk(desc, children, locks, base)
+    platform, out = walk.cluster(base)
     path, bodies_links = [], []
     while out:
         if len(out) > 1:  # the movable joints branch: one branch is the chain, the others must be locked
@@ -230,8 +173,8 @@ def chain(desc: Description, base: str | None = None, tip: str | None = None, lo
             fail(desc, f"joint {others[0]!r}", f"is not on the chain from {base} to {tip}: lock it "
                  f"({' '.join(f'--lock {o}=VALUE' for o in others[:3])}{' …' if len(others) > 3 else ''})")
         j = out[0]
-        place(j, 0)
-        links, out = cluster(j.child)
+        walk.place(j, 0)
+        links, out = walk.cluster(j.child)
         path.append(j)
         bodies_links.append(links)
         if tip is not None and tip in links:
@@ -242,11 +185,80 @@ def chain(desc: Description, base: str | None = None, tip: str | None = None, lo
         fail(desc, "", f"no revolute or continuous joint below {base}: nothing moves")
     if tip is not None and tip not in bodies_links[-1]:
         fail(desc, f"--tip {tip}", f"is not moved by a joint below {base}")
-    bodies = tuple(_body(desc, j, links, pose) for j, links in zip(path, bodies_links))
-    above = tuple(name for name in desc.links if name not in pose)
+    bodies = tuple(_body(desc, j, links, walk.pose) for j, links in zip(path, bodies_links))
+    above = tuple(name for name in desc.links if name not in walk.pose)
     merged = tuple(x for links in bodies_links for x in links[1:])
-    return Chain(desc, base, tip or bodies_links[-1][0], bodies, {k: locks[k] for k in locks}, merged,
-                 tuple(platform), above)
+    return Chain(desc, base, tip or bodies_links[-1][0], bodies, dict(locks), merged, tuple(platform), above)
+
+
+def _tree(desc: Description, locks: dict) -> tuple[dict, str]:
+    """{link: its child joints} and the root; a joint naming a missing link, a second parent (a
+    closed loop), a lock of no joint or of a joint that cannot be locked are one line each."""
+    parent_of: dict = {}
+    children: dict = {name: [] for name in desc.links}
+    for j in desc.joints.values():
+        for end in (j.parent, j.child):
+            if end not in desc.links:
+                fail(desc, f"joint {j.name!r}", f"names the link {end!r}, which the description does not have")
+        if j.child in parent_of:
+            fail(desc, f"joint {j.name!r}", f"closes a loop: link {j.child!r} is already the child of joint "
+                 f"{parent_of[j.child].name!r} (the paper's chain is a tree of one path)")
+        parent_of[j.child] = j
+        children[j.parent].append(j)
+    for name in locks:
+        if name not in desc.joints:
+            fail(desc, f"--lock {name}", f"no such joint; {did_you_mean(name, desc.joints)}"
+                 f"the joints are {', '.join(desc.joints)}")
+        if desc.joints[name].kind not in LOCKABLE:
+            fail(desc, f"--lock {name}", f"a {desc.joints[name].kind} joint cannot be locked at one value")
+    roots = [name for name in desc.links if name not in parent_of]
+    if len(roots) != 1:
+        fail(desc, "", f"{len(roots)} links have no parent ({', '.join(roots[:5])}): a description is one tree")
+    return children, roots[0]
+
+
+class _Walk:
+    """The links' world poses at the zero, placed joint by joint from the base outwards."""
+
+    def __init__(self, desc: Description, children: dict, locks: dict, base: str):
+        self.desc, self.children, self.locks = desc, children, locks
+        self.pose = {base: (mp.eye(3), mp.matrix([0, 0, 0]))}  # world rotation (columns: link axes), origin
+
+    def moves(self, j: Joint) -> bool:
+        """A joint of the chain (True), rigid (False), or one line saying why it can be neither."""
+        if j.name in self.locks or j.kind == "fixed":
+            return False
+        if j.mimic is not None:
+            fail(self.desc, f"joint {j.name!r}", f"mimics {j.mimic!r}: the paper's joints are independent "
+                 f"(lock it with --lock {j.name}=VALUE)")
+        if j.kind not in CHAIN_KINDS:
+            hint = f" (lock it with --lock {j.name}=VALUE)" if j.kind in LOCKABLE else ""
+            fail(self.desc, f"joint {j.name!r}", f"a {j.kind} joint: the paper's chain has revolute joints only{hint}")
+        return True
+
+    def place(self, j: Joint, q) -> None:
+        R, p = self.pose[j.parent]
+        Rj = R * _rpy(*j.rpy)
+        O = p + R * _v(j.xyz)
+        a = _unit(_v(j.axis))
+        if j.kind == "prismatic":
+            self.pose[j.child] = (Rj, O + Rj * (a * mp.mpf(q)))
+        else:
+            self.pose[j.child] = (Rj * _about(a, mp.mpf(q)) if q else Rj, O)
+
+    def cluster(self, head: str) -> tuple[list, list]:
+        """The links rigidly joined to ``head`` (placed), and the chain joints leaving them."""
+        links, out, todo = [], [], [head]
+        while todo:
+            link = todo.pop(0)
+            links.append(link)
+            for j in self.children[link]:
+                if self.moves(j):
+                    out.append(j)
+                else:
+                    self.place(j, self.locks.get(j.name, 0))
+                    todo.append(j.child)
+        return links, out
 
 
 def _below(children, head: str, target: str) -> bool:
@@ -330,7 +342,7 @@ def paper(ch: Chain) -> list[PaperBody]:
     out = []
     for k in range(n):
         u = us[k]
-        a1, a2, a3 = _row(F, 0), _row(F, 1), _row(F, 2)
+        a1, a2 = _row(F, 0), _row(F, 1)
         theta = mp.atan2(_dot(_cross(a1, u), a2), _dot(a1, u))
         G = _frame(u, a2)  # R₂(θ) F: the second axis kept
         want = perpendicular(u, us[k + 1], _row(G, 1)) if k + 1 < n else _row(G, 1)
@@ -343,7 +355,6 @@ def paper(ch: Chain) -> list[PaperBody]:
         s = F * (ch.bodies[k + 1].O - b.O) if k + 1 < n else None
         out.append(PaperBody(theta, delta, b.m, tuple(c), (Ic[0, 0], Ic[1, 1], Ic[2, 2], Ic[0, 1], Ic[0, 2], Ic[1, 2]),
                              tuple(s) if s is not None else None))
-        del a3
     return out
 
 
