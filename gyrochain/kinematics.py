@@ -222,7 +222,7 @@ def derive(spec: ChainSpec, prog: Program | None = None, symbolic_platform: bool
         vel0 = P.vec("v0", [num(x) for x in pm.vel], r"v_{0}")
     for k, body in enumerate(spec.bodies, start=1):
         # the paper's angle is the joint angle plus the joint's offset (zero but for imported robots)
-        turn, tex = phi[k] + body.offset, (rf"\varphi^{{{k}}}" if body.offset == 0 else rf"(\varphi^{{{k}}} + \delta^{{{k}}})")
+        turn, tex = phi[k] + body.offset, (rf"\varphi^{{{k}}}" if body.offset == 0 else rf"\left(\varphi^{{{k}}} + \delta^{{{k}}}\right)")
         cp = P.let_sympy(f"cos_phi{k}", sp.cos(turn), rf"\cos{tex}")
         sph = P.let_sympy(f"sin_phi{k}", sp.sin(turn), rf"\sin{tex}")
         P.alias(sp.cos(turn), cp)

@@ -11,11 +11,13 @@ zero (every joint at 0, a locked one at its value), in the description's world (
 - Links joined by ``fixed`` or locked joints are one body: masses add, centres average, inertias
   add about the common centre (the parallel-axis theorem).  The base link's body is the platform.
 - Body k's frame has ê^k_1 along joint k's axis, as the paper wants; ê^{k−1}_2 is the common
-  perpendicular of axes k−1 and k (for k = 1: of the downward vertical and axis 1).  θᵏ is the angle
-  between the axes, and the offset δᵏ turns body k about its axis from the frame θᵏ alone gives to
+  perpendicular of axes k−1 and k (for k = 1: of the downward vertical and axis 1), in the sense
+  that makes |δᵏ| ≤ π/2.  θᵏ is the angle between the axes, and the offset δᵏ turns body k about its axis from the frame θᵏ alone gives to
   the frame its next axis needs, so that the spec's φᵏ is the description's joint position: same
   zero, same sign.  Where two axes are parallel (or axis 1 vertical) the perpendicular is free, and
   δ = 0 is taken.
+- An angle written as the double nearest a multiple of π/2 (1.5707963267948966) is that multiple
+  (a 1.57079632679, eleven digits, is not: it is taken as written).
 - Numbers are written as the double nearest to the 40-digit value (a decimal that stands as written
   is written as it was); a value within 1e-30 of 0 is 0 and an angle within 1e-30 of a multiple of
   π/2 is written exactly ("pi/2"), so that the generated code folds it.
@@ -33,6 +35,7 @@ from .spec import IDENT
 
 DIGITS = 40
 EXACT = mp.mpf("1e-30")  # below this a computed number is an exact 0 or multiple of pi/2
+QUARTER_TOL = mp.mpf("2.5e-16")  # an angle written within a double's rounding of k·π/2 is k·π/2
 CHAIN_KINDS = ("revolute", "continuous")
 LOCKABLE = ("revolute", "continuous", "prismatic")
 KINDS = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -104,9 +107,17 @@ def _v(xs) -> mp.matrix:
     return mp.matrix([mp.mpf(x) for x in xs])
 
 
+def _quarter(a):
+    """An angle as written, but the double nearest a multiple of π/2 (1.5707963267948966, how a
+    program prints π/2) is that multiple: its cosine is then 0, not 6e-17."""
+    x = mp.mpf(a)
+    k = mp.nint(x / (mp.pi / 2))
+    return k * mp.pi / 2 if abs(x - k * mp.pi / 2) <= QUARTER_TOL * max(abs(x), 1) else x
+
+
 def _rpy(r, p, y) -> mp.matrix:
     """URDF's fixed-axis roll, pitch, yaw: R = Rz(y) Ry(p) Rx(r)."""
-    cr, sr, cp, sp_, cy, sy = (f(mp.mpf(a)) for a in (r, p, y) for f in (mp.cos, mp.sin))
+    cr, sr, cp, sp_, cy, sy = (f(_quarter(a)) for a in (r, p, y) for f in (mp.cos, mp.sin))
     return mp.matrix([[cy * cp, cy * sp_ * sr - sy * cr, cy * sp_ * cr + sy * sr],
                       [sy * cp, sy * sp_ * sr + cy * cr, sy * sp_ * cr - cy * sr],
                       [-sp_, cp * sr, cp * cr]])
@@ -348,6 +359,9 @@ def paper(ch: Chain) -> list[PaperBody]:
         want = perpendicular(u, us[k + 1], _row(G, 1)) if k + 1 < n else _row(G, 1)
         g2, g3 = _row(G, 1), _row(G, 2)
         delta = mp.atan2(_dot(want, g3), _dot(want, g2))
+        if abs(delta) > mp.pi / 2 + EXACT:  # the perpendicular's other sense: the smaller turn (θᵏ⁺¹ < 0 then)
+            want = -want
+            delta = mp.atan2(_dot(want, g3), _dot(want, g2))
         F = _frame(u, want)
         b = ch.bodies[k]
         c = F * (b.com - b.O)

@@ -41,6 +41,9 @@ def document_names(tex: str, n: int) -> dict[str, sp.Symbol]:
             names[t] = sp.Symbol("param_" + name.replace(r"\_", "_"))
     for lhs, _ in recursion(tex):
         names[lhs] = sp.Symbol("rec" + re.sub(r"\W+", "_", lhs))
+    offsets = next((ln for ln in tex.splitlines() if ln.startswith("Joint offsets")), "")
+    for k, value in re.findall(r"\$\\delta\^\{(\d+)\} = ([^$]+)\$", offsets):  # the joints' offsets δᵏ, as printed
+        names[rf"\delta^{{{k}}}"] = parse(value, names)
     return names
 
 

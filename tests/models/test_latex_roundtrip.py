@@ -46,6 +46,8 @@ def _random_cases() -> dict:
     for n in (4, 12):
         rng = np.random.default_rng(2540 + n)
         cases[f"rt_recursion{n}"] = (random_spec_text(rng, n, name=f"rt_recursion{n}", controls=(2,)), None)
+    rng = np.random.default_rng(2512)
+    cases["rt_offsets3"] = (random_spec_text(rng, 3, name="rt_offsets3", controls=(3,), offsets=True), None)  # δᵏ read back
     rng = np.random.default_rng(2510)
     cases["rt_vertical2"] = (random_spec_text(rng, 2, name="rt_vertical2", theta1=0.0), None)
     for i, kw in enumerate([dict(), dict(rotate=False), dict(translate=False, loads=False), dict(springs=False, spin_up=False),

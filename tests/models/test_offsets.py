@@ -106,7 +106,7 @@ def test_the_latex_states_the_offsets_it_uses(make_model):
     model = make_model(GIMBAL_LIKE.format(name="tex_off", offset="offset = 0.25"), latex=True)
     tex = (model.folder / "tex_off.tex").read_text()
     assert r"$\delta^{1} = 0.25$; the other joints have $\delta^k = 0$." in tex
-    assert r"\cos(\varphi^{1} + \delta^{1})" in tex and r"\cos(\varphi^{2} + \delta^{2})" not in tex
+    assert r"\cos\left(\varphi^{1} + \delta^{1}\right)" in tex and r"\delta^{2}" not in tex
     plain = make_model(GIMBAL_LIKE.format(name="tex_plain", offset=""), latex=True)
     assert "Joint offsets" not in (plain.folder / "tex_plain.tex").read_text()
     assert r"\delta^{" not in (plain.folder / "tex_plain.tex").read_text()
