@@ -16,8 +16,9 @@ zero (every joint at 0, a locked one at its value), in the description's world (
   the frame its next axis needs, so that the spec's φᵏ is the description's joint position: same
   zero, same sign.  Where two axes are parallel (or axis 1 vertical) the perpendicular is free, and
   δ = 0 is taken.
-- An angle written as the double nearest a multiple of π/2 (1.5707963267948966) is that multiple
-  (a 1.57079632679, eleven digits, is not: it is taken as written).
+- An angle that is a multiple of π/2 rounded to the nine or more decimals it is written with
+  (1.57079632679, 1.5707963267948966) is that multiple; one written with fewer (1.5708) is taken
+  as written.  Either way the model differs from one built on the decimal by less than 5e-10.
 - Numbers are written as the double nearest to the 40-digit value (a decimal that stands as written
   is written as it was); a value within 1e-30 of 0 is 0 and an angle within 1e-30 of a multiple of
   π/2 is written exactly ("pi/2"), so that the generated code folds it.
@@ -35,7 +36,7 @@ from .spec import IDENT
 
 DIGITS = 40
 EXACT = mp.mpf("1e-30")  # below this a computed number is an exact 0 or multiple of pi/2
-QUARTER_TOL = mp.mpf("2.5e-16")  # an angle written within a double's rounding of k·π/2 is k·π/2
+QUARTER_DIGITS = 9  # an angle that is k·π/2 rounded to this many decimals or more is k·π/2
 CHAIN_KINDS = ("revolute", "continuous")
 LOCKABLE = ("revolute", "continuous", "prismatic")
 KINDS = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -108,11 +109,17 @@ def _v(xs) -> mp.matrix:
 
 
 def _quarter(a):
-    """An angle as written, but the double nearest a multiple of π/2 (1.5707963267948966, how a
-    program prints π/2) is that multiple: its cosine is then 0, not 6e-17."""
+    """An angle as written, but a multiple of π/2 rounded to the nine or more decimals it is written
+    with (1.57079632679, 3.141592653589793) is that multiple: its cosine is then 0, not 5e-12, and
+    the generated code has no terms of that size.  One written with fewer (1.5708) is taken as written."""
     x = mp.mpf(a)
     k = mp.nint(x / (mp.pi / 2))
-    return k * mp.pi / 2 if abs(x - k * mp.pi / 2) <= QUARTER_TOL * max(abs(x), 1) else x
+    text = str(a).lower()
+    mantissa, _, exponent = text.partition("e")
+    decimals = len(mantissa.partition(".")[2]) - int(exponent or 0)
+    if decimals < QUARTER_DIGITS:
+        return x
+    return k * mp.pi / 2 if abs(x - k * mp.pi / 2) <= mp.mpf(10) ** -decimals / 2 else x
 
 
 def _rpy(r, p, y) -> mp.matrix:
