@@ -27,7 +27,7 @@ all: generate
 $(VENV)/.installed: pyproject.toml
 	$(PY) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q -e '.[test,sweep,view,browser,docs]'
+	$(VPY) -m pip install -q -e '.[test,sweep,view,browser,docs,robots]'
 	touch $@
 
 setup: $(VENV)/.installed

@@ -254,24 +254,11 @@ def cmd_animate(args) -> int:
 
 
 def cmd_examples(args) -> int:
-    """The example specs that come with the package: listed, printed, or copied into a folder."""
+    """The example specs and robot descriptions that come with the package."""
     from . import starter
 
-    if args.action == "copy":
-        for path in starter.copy(args.names, Path(args.output), args.force):
-            print(f"wrote {path}")
-        first = args.names[0] if args.names != ["all"] else "gimbal"
-        print(f"next: {_prog()} generate {Path(args.output) / (first.removesuffix('.toml') + '.toml')}")
-    elif args.action == "show":
-        print(starter.example_path(args.name).read_text(encoding="utf-8"), end="")
-    else:
-        rows = starter.shipped()
-        width = max(len(name) for name, _, _ in rows)
-        for name, n, description in rows:
-            print(f"{name:<{width}}  n = {n:<2}  {description}")
-        print(f"copy one into this folder with `{_prog()} examples copy NAME` (or all); print one with "
-              f"`{_prog()} examples show NAME`")
-    return 0
+    return starter.examples_command(args.action, getattr(args, "names", None), getattr(args, "name", None),
+                                    Path(getattr(args, "output", ".")), getattr(args, "force", False), _prog())
 
 
 def cmd_new(args) -> int:
@@ -304,6 +291,24 @@ def cmd_import(args) -> int:
     starter.write_new(path, text, args.force)
     print("\n".join(lines))
     print(f"wrote {path}: `{_prog()} generate {path}` derives its model")
+    return 0
+
+
+def cmd_export(args) -> int:
+    """The spec as a robot description: URDF or MJCF."""
+    from . import exchange, starter
+
+    spec = load_spec(args.spec)
+    text, lines = exchange.export_text(spec, args.spec, args.to, run_values(spec, cliargs.params_of(args.param)))
+    if args.output == "-":
+        print(text, end="")
+        return 0
+    path = Path(args.output) if args.output else Path(spec.name + exchange.FORMATS[args.to][1])
+    if path.resolve() == Path(args.spec).resolve():
+        raise SpecError(f"-o {path}", "is the spec itself")
+    starter.write_new(path, text, args.force)
+    print("\n".join(lines))
+    print(f"wrote {path}")
     return 0
 
 
@@ -492,12 +497,20 @@ def main(argv=None) -> int:
     im.add_argument("--g", type=float, default=9.81, help="gravity along the description's -z (default 9.81)")
     im.add_argument("--no-control", action="store_true", help="no torque inputs (default: one in every joint)")
     im.add_argument("--force", action="store_true", help="replace an existing file")
+    xp = sub.add_parser("export", help="the spec as a robot description (URDF for Pinocchio and ROS, MJCF for MuJoCo)",
+                        description="A chain on a fixed base, without rotors or loads; joint k is the spec's phi k.")
+    xp.add_argument("spec")
+    xp.add_argument("--to", required=True, choices=["urdf", "mjcf"], help="the format")
+    xp.add_argument("-o", "--output", default="", help="the file (default NAME.urdf or NAME.xml here; - for standard output)")
+    xp.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's value (repeatable)")
+    xp.add_argument("--force", action="store_true", help="replace an existing file")
     args, extra = ap.parse_known_args(cliargs.join_negative(words, cliargs.valued_options(ap)))
     if extra:  # said by the command's own parser, with the nearest option it has
         sub.choices[args.cmd].error(cliargs.unrecognized(extra, sub.choices[args.cmd]))
     command = {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
-               "examples": cmd_examples, "new": cmd_new, "import": cmd_import}[args.cmd]
+               "examples": cmd_examples, "new": cmd_new, "import": cmd_import,
+               "export": cmd_export}[args.cmd]
     beat = cliargs.Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate") else None
     stdout = sys.stdout
     if beat is not None and beat.running:

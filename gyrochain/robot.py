@@ -454,3 +454,103 @@ def spec_text(ch: Chain, name: str | None = None, g=GRAVITY, controls: bool = Tr
 
 def _vec(xs) -> str:
     return "[" + ", ".join(number(x) for x in xs) + "]"
+
+
+# --------------------------------------------------------------------------- a spec as links (export)
+# the spec's fixed frame in a description's world (z up, gravity −z): ê⁰₁ = −z, ê⁰₂ = x, ê⁰₃ = −y
+FIXED_IN_WORLD = ((0, 0, -1), (1, 0, 0), (0, -1, 0))
+
+
+@dataclass(frozen=True)
+class Link:
+    """Link k of an exported description: its joint's origin in the parent link's frame (xyz and
+    the rotation R, columns the child's axes), and its body's data in its own frame (ê^k at φᵏ = 0)."""
+
+    xyz: tuple
+    R: object
+    m: object
+    c: tuple
+    Ic: tuple  # (xx, yy, zz, xy, xz, yz) about the centre of mass
+    damping: object
+    spring: object
+    rest: object
+    control: bool
+
+
+def refusals(spec, to: str) -> str | None:
+    """Why the spec cannot be written as ``to`` ("urdf" or "mjcf"), naming the field; None if it can."""
+    import sympy as sp
+
+    if spec.base is not None:
+        return ("base: a moving platform has no element in a robot description (its motion is prescribed, not a "
+                "joint's); export the chain on a fixed base")
+    for k, b in enumerate(spec.bodies, start=1):
+        at = f"body[{k}]"
+        if any(sp.sympify(x) != 0 for x in b.lam):
+            return (f"{at}.lambda: a rotor's relative angular momentum has no element in URDF or MJCF, and a body of "
+                    "its own on a free joint would be one more degree of freedom, whose spin the chain's motion "
+                    "changes: not the gyrostat's constant relative momentum")
+        for key, what in (("torque", b.torque), ("force", b.forces), ("moment", b.moments)):
+            if what:
+                return f"{at}.{key}: a load has no element in a robot description"
+        if b.spring is not None and to == "urdf":
+            return f"{at}.spring: URDF has no joint stiffness (MJCF has: --to mjcf)"
+    return None
+
+
+def links_of(spec, values: dict) -> list[Link]:
+    """The spec's bodies as links, every number with 40 digits (parameters at ``values``)."""
+    import sympy as sp
+
+    mp.mp.dps = DIGITS
+    subs = {p: sp.Float(values[str(p)], 17) for p in spec.params if str(p) in values}
+
+    def num(x):
+        return mp.mpf(str(sp.N(sp.sympify(x).subs(subs), DIGITS)))
+
+    prev_s = mp.matrix([0, 0, 0])
+    out = []
+    for k, b in enumerate(spec.bodies, start=1):
+        th, de = num(b.theta), num(b.offset)
+        ct, st, cd, sd = mp.cos(th), mp.sin(th), mp.cos(de), mp.sin(de)
+        alpha = (mp.matrix([[1, 0, 0], [0, cd, sd], [0, -sd, cd]])  # R₁(δ) R₂(θ): rows ê^k in frame k−1
+                 * mp.matrix([[ct, 0, -st], [0, 1, 0], [st, 0, ct]]))
+        R = alpha.T if k > 1 else mp.matrix(FIXED_IN_WORLD).T * alpha.T
+        m = num(b.m)
+        c = mp.matrix([num(x) for x in b.c])
+        A = mp.matrix([[num(x) for x in row] for row in b.A])
+        Ic = A - m * (_dot(c, c) * mp.eye(3) - c * c.T)
+        out.append(Link(tuple(prev_s), R, m, tuple(c), (Ic[0, 0], Ic[1, 1], Ic[2, 2], Ic[0, 1], Ic[0, 2], Ic[1, 2]),
+                        num(b.damping) if b.damping is not None else 0, num(b.spring) if b.spring is not None else 0,
+                        num(b.rest), b.control))
+        prev_s = mp.matrix([num(x) for x in b.s])
+    return out
+
+
+def rpy_of(R) -> tuple:
+    """URDF's roll, pitch, yaw of a rotation (R = Rz(y) Ry(p) Rx(r)); at p = ±π/2, r = 0."""
+    p = mp.atan2(-R[2, 0], mp.sqrt(R[0, 0] ** 2 + R[1, 0] ** 2))
+    if mp.sqrt(R[0, 0] ** 2 + R[1, 0] ** 2) < EXACT:
+        return (mp.mpf(0), p, mp.atan2(-R[0, 1], R[1, 1]))
+    return (mp.atan2(R[2, 1], R[2, 2]), p, mp.atan2(R[1, 0], R[0, 0]))
+
+
+def quat_of(R) -> tuple:
+    """The unit quaternion (w, x, y, z) of a rotation, w ≥ 0 (MJCF's quat)."""
+    t = R[0, 0] + R[1, 1] + R[2, 2]
+    if t > 0:
+        w = mp.sqrt(1 + t) / 2
+        q = (w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w))
+    else:
+        i = max(range(3), key=lambda j: R[j, j])
+        j, k = (i + 1) % 3, (i + 2) % 3
+        r = mp.sqrt(1 + R[i, i] - R[j, j] - R[k, k])
+        v = [0, 0, 0]
+        v[i], v[j], v[k] = r / 2, (R[j, i] + R[i, j]) / (2 * r), (R[k, i] + R[i, k]) / (2 * r)
+        q = ((R[k, j] - R[j, k]) / (2 * r), *v)
+    return tuple(-x for x in q) if q[0] < 0 else q
+
+
+def numbers(xs) -> str:
+    """Space-separated, as XML attributes want them."""
+    return " ".join("0" if abs(mp.mpf(x)) < EXACT else repr(float(x)) for x in xs)

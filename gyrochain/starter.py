@@ -43,11 +43,15 @@ def shipped() -> list[tuple[str, int, str]]:
 
 
 def example_path(name: str) -> Path:
-    """The shipped spec called ``name`` (with or without .toml); one line naming the choices if none is."""
+    """The shipped spec called ``name`` (with or without .toml), or robot description (NAME.urdf);
+    one line naming the choices if none is."""
+    if name.endswith(".urdf") and name in robot_files():
+        return EXAMPLES / "robots" / name
     names = [n for n, _, _ in shipped()]
     stem = name.removesuffix(".toml")
     if stem not in names:
-        raise SpecError("example", f"no example called {name!r}; {did_you_mean(stem, names)}one of {', '.join(names)}")
+        raise SpecError("example", f"no example called {name!r}; {did_you_mean(stem, names + robot_files())}one of "
+                        f"{', '.join(names)}, or a robot description: {', '.join(robot_files())}")
     return EXAMPLES / f"{stem}.toml"
 
 
@@ -57,7 +61,8 @@ def copy(names: list[str], folder: Path, force: bool = False) -> list[Path]:
     folder = Path(folder)
     if not names:
         raise SpecError("examples copy", "name the examples to copy, or all")
-    sources = [EXAMPLES / f"{n}.toml" for n, _, _ in shipped()] if names == ["all"] else [example_path(n) for n in names]
+    sources = ([EXAMPLES / f"{n}.toml" for n, _, _ in shipped()] + [EXAMPLES / "robots" / f for f in robot_files()]
+               if names == ["all"] else [example_path(n) for n in names])
     if folder.exists() and not folder.is_dir():
         raise SpecError("-o", f"{folder} is not a folder")
     targets = [folder / src.name for src in sources]
@@ -69,6 +74,34 @@ def copy(names: list[str], folder: Path, force: bool = False) -> list[Path]:
     for src, dst in zip(sources, targets):
         write_new(dst, src.read_text(encoding="utf-8"), force)
     return targets
+
+
+def robot_files() -> list[str]:
+    """The robot descriptions that come with the package, to try `gyrochain import` on."""
+    return sorted(p.name for p in (EXAMPLES / "robots").glob("*.urdf"))
+
+
+def examples_command(action: str | None, names, name, output: Path, force: bool, prog: str) -> int:
+    """`gyrochain examples`: list them, print one (``show``), or copy some into a folder (``copy``)."""
+    if action == "copy":
+        for path in copy(names, output, force):
+            print(f"wrote {path}")
+        first = names[0] if names != ["all"] else "gimbal"
+        if first.endswith(".urdf"):
+            print(f"next: {prog} import {output / first}")
+        else:
+            print(f"next: {prog} generate {output / (first.removesuffix('.toml') + '.toml')}")
+    elif action == "show":
+        print(example_path(name).read_text(encoding="utf-8"), end="")
+    else:
+        rows = shipped()
+        width = max(len(n) for n, _, _ in rows)
+        for n_, n, description in rows:
+            print(f"{n_:<{width}}  n = {n:<2}  {description}")
+        print(f"robot descriptions to import (URDF): {', '.join(robot_files())}")
+        print(f"copy one into this folder with `{prog} examples copy NAME` (or all); print one with "
+              f"`{prog} examples show NAME`")
+    return 0
 
 
 def write_new(path: Path, text: str, force: bool = False) -> None:

@@ -99,12 +99,14 @@ def test_the_wheel_and_sdist_carry_everything(dist):
                  "gyrochain/kernels/dop853.c", "gyrochain/examples/gimbal.toml", "gyrochain/examples/cable64.toml",
                  f"gyrochain-{__version__}.dist-info/licenses/LICENSE"):
         assert need in names, need
-    assert len([n for n in names if n.startswith("gyrochain/examples/")]) == len(list((ROOT / "specs").glob("*.toml")))
+    shipped = [p.relative_to(ROOT / "specs") for p in (ROOT / "specs").rglob("*") if p.is_file()]
+    assert sorted(n for n in names if n.startswith("gyrochain/examples/")) == sorted(f"gyrochain/examples/{p}" for p in shipped)
     with tarfile.open(sdist) as t:
         inside = {m.name.split("/", 1)[1] for m in t.getmembers() if "/" in m.name}
     for need in ("LICENSE", "Makefile", "README.md", "README-pypi.md", "pyproject.toml", "tests/conftest.py",
                  "tests/tools/test_install.py", "specs/gimbal.toml", "docs/getting-started.md", "generated/gimbal/gimbal.c",
-                 "gyrochain/examples/gimbal.toml", "gyrochain/templates/model.h.jinja", ".ci/run"):
+                 "gyrochain/examples/gimbal.toml", "gyrochain/templates/model.h.jinja", ".ci/run",
+                 "specs/robots/ur5_robot.urdf", "specs/robots/README.md", "specs/robots/LICENSE-Apache-2.0"):
         assert need in inside, need
     assert not [n for n in inside if "__pycache__" in n or n.endswith((".so", ".pyc"))]
 
