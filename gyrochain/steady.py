@@ -93,6 +93,9 @@ class Analysis:
         self.integral = "Jacobi integral" if ints.jacobi is not None and others else "energy"
         u1 = 1 in spec.controls and self.u[spec.controls.index(1)] != 0.0
         self.cyclic = ints.momentum is not None and not u1 and self._cyclic_numerically()
+        # φ¹ may be absent while p₁ still is not conserved: damping or a torque of φ̇ in joint 1.
+        # Then any φ¹ is an equilibrium, but there are no steady rotations, and δp₁ is not fixed.
+        self.drains = [r for r in ints.momentum_reasons if r != "control torque in joint 1"] if self.cyclic else []
         self.rate = self._reference_rate()
 
     def _reference_rate(self) -> float:
@@ -173,6 +176,13 @@ class Analysis:
         x = np.concatenate([phi, [omega if self.cyclic else 0.0] + [0.0] * (n - 1)])
         _, dq, dv, _ = self.c.qdd_derivatives(x, self.u, self.params)
         M = self.c.mass_matrix(x[:n], self.params)
+        if self.cyclic and self.drains:  # δφ¹ drops out, δφ̇¹ stays a state (p₁ is not conserved)
+            Kq, Kv, Mr = dq[1:, 1:], dv, M[1:, 1:]
+            terms = np.max(np.abs(Kq), initial=0.0)
+            m = n - 1
+            A = np.block([[np.zeros((m, m)), np.zeros((m, 1)), np.eye(m)], [dq[:, 1:], dv]])
+            K, G = -Mr @ Kq, -Mr @ dv[1:, 1:]
+            return self._steady(phi, omega, A, (K + K.T) / 2, G, Mr, terms)
         if self.cyclic:
             l_v = M[0]
             l_q = -l_v @ dv[:, 1:]  # ∂p₁/∂φʳ, r ≥ 2
@@ -188,8 +198,11 @@ class Analysis:
         m = Kq.shape[0]
         A = np.block([[np.zeros((m, m)), np.eye(m)], [Kq, Kv]]) if m else np.zeros((0, 0))
         K, G = -Mr @ Kq, -Mr @ Kv
-        K = (K + K.T) / 2
-        ev = np.linalg.eigvals(A) if m else np.zeros(0)
+        return self._steady(phi, omega, A, (K + K.T) / 2, G, Mr, terms)
+
+    def _steady(self, phi, omega, A, K, G, Mr, terms) -> Steady:
+        m = K.shape[0]
+        ev = np.linalg.eigvals(A) if A.size else np.zeros(0)
         # what zero means for K: round-off of the terms it was computed from, and a floor at
         # 1e-14 of the fastest rate's scale (K exactly zero in exact arithmetic)
         big = np.max(np.abs(Mr)) if m else 1.0
@@ -206,7 +219,7 @@ class Analysis:
         kev = np.linalg.eigvalsh(K)
         neg = int(np.sum(kev < -kzero))
         zero = int(np.sum(np.abs(kev) <= kzero))
-        what = "amended potential" if self.cyclic else ("energy" if self.integral == "energy" else "effective potential (Jacobi integral)")
+        what = "amended potential" if self.cyclic and not self.drains else ("energy" if self.integral == "energy" else "effective potential (Jacobi integral)")
         worst = ev[np.argmax(ev.real)]
         if worst.real > tol:
             why = f"eigenvalue {worst.real:.6g}{worst.imag:+.6g}i has a positive real part"
@@ -232,6 +245,9 @@ class Analysis:
         """Steady rotations φ̇¹ = ω over the grid ``omegas`` (increasing), as branches."""
         if not self.cyclic:
             raise SteadyError("--omega: phi1 is not cyclic (l1 not vertical, or a torque in joint 1): no steady rotations")
+        if self.drains:
+            raise SteadyError(f"--omega: {', '.join(self.drains)} acts in joint 1: a rotation about l1 would lose its "
+                              "momentum, so there are no steady rotations (the equilibria are analysed)")
         omegas = np.asarray(omegas, float)
         branches: list[Branch] = []
         active: list[Branch] = []
@@ -260,7 +276,7 @@ class Analysis:
                 near = [b for b in ended if np.max(np.abs(_wrap(phi - b.points[-1].phi))) < 1.0]
                 if near:  # the branch Newton lost from its last point, found again from a start
                     br = min(near, key=lambda b: np.max(np.abs(_wrap(phi - b.points[-1].phi))))
-                    ended.remove(br)
+                    ended = [b for b in ended if b is not br]  # (by identity: a Branch holds arrays)
                     br.points.append(self.classify(phi, w))
                 else:
                     br = Branch([self.classify(phi, w)])
@@ -416,7 +432,7 @@ def analyze(spec, params=None, u=None, omegas=None, starts=(), rotations: bool =
     an = Analysis(cm, model, params, u)
     eqs = an.equilibria(starts)
     branches = None
-    if an.cyclic and rotations:
+    if an.cyclic and not an.drains and rotations:
         omegas = default_omegas(an, eqs) if omegas is None else omegas
         branches = an.rotations(omegas, starts)
     return an, eqs, branches, omegas
