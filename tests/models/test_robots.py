@@ -30,6 +30,12 @@ EXPORTABLE = ["double_pendulum", "double_pendulum_point", "furuta", "furuta_sym"
 SAMPLES = 100
 
 
+@pytest.fixture(autouse=True)
+def _elsewhere(tmp_path, monkeypatch):
+    """MuJoCo writes its warnings (a URDF's empty joint range) to MUJOCO_LOG.TXT in the working folder."""
+    monkeypatch.chdir(tmp_path)
+
+
 def _states(rng, n):
     for _ in range(SAMPLES):
         yield np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.normal(size=n) * 2.0]), rng.normal(size=n) * 5.0
