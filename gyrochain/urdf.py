@@ -56,6 +56,10 @@ def parse(data: bytes, where: str = "<urdf>") -> Description:
         root = ET.fromstring(data)
     except ET.ParseError as exc:
         raise SpecError(where, f"not well-formed XML ({exc})") from None
+    except LookupError as exc:  # <?xml encoding="…"?> that Python does not know
+        raise SpecError(where, f"cannot read: {exc}") from None
+    except ValueError as exc:  # bytes that are not the declared encoding
+        raise SpecError(where, f"cannot read: {' '.join(str(exc).split())}") from None
     if root.tag != "robot":
         raise SpecError(where, f"the root element is <{root.tag}>, not <robot>: not a URDF")
     name = root.get("name") or Path(where).stem

@@ -219,15 +219,27 @@ OPTIONS.update({
     "new": {"--n": st.sampled_from(["1", "3", "0", "65", "x"]), "--name": st.sampled_from(["x1", "math", "int", "a b", ""]),
             "--rotor": None, "--control": None, "--driven": None, "--mass": NUM, "--length": NUM, "--force": None},
 })
+ROBOTS = SPECS / "robots"
+URDF_ARG = st.sampled_from([ROBOTS / "ur5_robot.urdf", ROBOTS / "panda.urdf", ROBOTS / "double_pendulum.urdf", ROBOTS / "xarm7.urdf",
+                            ROBOTS / "missing.urdf", ROBOTS, SPECS / "gimbal.toml", ROBOTS / "README.md"])
+OPTIONS.update({
+    "import": {"--tip": st.sampled_from(["wrist_3_link", "panda_link7", "panda_lnk7", "link1", "base_link", ""]),
+               "--base": st.sampled_from(["world", "shoulder_link", "nowhere", "panda_link0", ""]),
+               "--lock": st.sampled_from(["panda_finger_joint1=0.02", "panda_finger_joint2=0.02", "joint1=0.3", "elbow_joint=x",
+                                          "nope=1", "=1", "panda_finger_joint1=nan", "shoulder_pan_joint=1e300"]),
+               "--name": st.sampled_from(["arm", "int", "1x", "a b", ""]), "--g": NUM, "--no-control": None, "--force": None},
+    "export": {"--to": st.sampled_from(["urdf", "mjcf", "sdf", ""]), "--param": PARAM, "--force": None},
+})
 OUTPUTS = {"sweep": ["s.zarr", "sub/s.zarr", ""], "animate": ["a.gif", "a.png", "a.html", "a.avi", "sub/a.gif", ""],
-           "plot": ["p.png", "p.jpgg", "sub/p.svg", ""], "generate": ["g", "sub/g", ""], "new": ["n.toml", "-", "sub/n.toml"]}
+           "plot": ["p.png", "p.jpgg", "sub/p.svg", ""], "generate": ["g", "sub/g", ""], "new": ["n.toml", "-", "sub/n.toml"],
+           "import": ["i.toml", "-", "sub/i.toml", ""], "export": ["e.urdf", "e.xml", "-", "sub/e.urdf", ""]}
 NEW_KINDS = st.sampled_from(["pendulum", "double-pendulum", "chain", "spatial-chain", "chian", ""])
 
 
 @st.composite
 def command_line(draw):
     cmd = draw(st.sampled_from(sorted(OPTIONS)))
-    args = [cmd, draw(NEW_KINDS) if cmd == "new" else draw(SPEC_ARG)]
+    args = [cmd, draw(NEW_KINDS) if cmd == "new" else draw(URDF_ARG) if cmd == "import" else draw(SPEC_ARG)]
     opts = OPTIONS[cmd]
     for name in draw(st.lists(st.sampled_from(sorted(opts)), max_size=4)) if opts else []:
         args.append(name)
@@ -300,6 +312,54 @@ def damaged_store_property(how, store: Path, folder: Path):
     assert data["done"].all() and not len(data["damaged"]), (how, data["done"])
 
 
+# --------------------------------------------------------------------------- robot descriptions
+@st.composite
+def mutated_urdf(draw):
+    """A shipped URDF hurt as files are hurt and written wrong: a number replaced, an attribute or
+    an element removed, an element doubled, the file cut short, a joint's type changed."""
+    import re
+
+    text = draw(st.sampled_from(sorted(ROBOTS.glob("*.urdf")))).read_text()
+    how = draw(st.sampled_from(["number", "attribute", "element", "double", "cut", "type"]))
+    if how == "number":
+        spots = [m.span() for m in re.finditer(r"-?\d+\.?\d*(e-?\d+)?", text)]
+        a, b = spots[draw(st.integers(0, len(spots) - 1))]
+        text = text[:a] + draw(st.sampled_from(["nan", "-1", "0", "1e400", "x", "", "1 2", "-0.0", "1e-300"])) + text[b:]
+    elif how == "attribute":
+        spots = [m.span() for m in re.finditer(r'\s\w+="[^"]*"', text)]
+        a, b = spots[draw(st.integers(0, len(spots) - 1))]
+        text = text[:a] + text[b:]
+    elif how in ("element", "double"):
+        spots = [m.span() for m in re.finditer(r"<(inertial|origin|axis|mass|inertia|parent|child|limit|dynamics)\b[^>]*/>", text)]
+        a, b = spots[draw(st.integers(0, len(spots) - 1))]
+        text = text[:a] + (text[a:b] * 2 if how == "double" else "") + text[b:]
+    elif how == "cut":
+        text = text[:draw(st.integers(0, len(text)))]
+    else:
+        spots = [m.span(1) for m in re.finditer(r'type="(revolute|continuous|fixed)"', text)]
+        a, b = spots[draw(st.integers(0, len(spots) - 1))]
+        text = text[:a] + draw(st.sampled_from(["prismatic", "floating", "planar", "fixed", "revolute", "screw"])) + text[b:]
+    return text, draw(st.sampled_from([[], ["panda_finger_joint1=0.02", "panda_finger_joint2=0.02"]]))
+
+
+def urdf_property(data, folder: Path):
+    """import of a damaged description: a spec the other commands accept, or one line naming what."""
+    from gyrochain import exchange
+    from gyrochain.errors import SpecError
+    from gyrochain.spec import parse_spec
+
+    TRIED["spec"] += 1
+    text, locks = data
+    (folder / "r.urdf").write_text(text)
+    try:
+        with time_bound(30):
+            spec_text, _ = exchange.import_text(folder / "r.urdf", locks=locks)
+    except SpecError as exc:
+        assert "\n" not in str(exc) and str(exc), str(exc)
+        return
+    parse_spec(spec_text)
+
+
 # --------------------------------------------------------------------------- the searches
 def fixed(examples: int):
     """A fixed-seed (derandomized) search of ``examples`` inputs: the same inputs on every run."""
@@ -333,6 +393,16 @@ def test_mutated_specs(tmp_path):
     assert TRIED["spec"] > 100  # the search ran (most mutations are valid TOML)
 
 
+def test_mutated_robot_descriptions(tmp_path):
+    count = iter(range(10**9))
+
+    @fixed(150)
+    @given(mutated_urdf())
+    def prop(data):
+        urdf_property(data, _fresh(tmp_path, next(count)))
+    prop()
+
+
 def test_command_lines(tmp_path, store):
     count = iter(range(10**9))
 
@@ -364,6 +434,7 @@ def test_fuzz_for_a_while(tmp_path, store):
     start = dict(TRIED)
     while time.monotonic() < t_end:
         given(mutated_spec())(rounds(lambda data: spec_property(data, _fresh(tmp_path, next(count)))))()
+        given(mutated_urdf())(rounds(lambda data: urdf_property(data, _fresh(tmp_path, next(count)))))()
         given(command_line())(rounds(lambda args: command_property(args, _fresh(tmp_path, next(count)), store)))()
         given(damage())(settings(rounds, max_examples=5)(lambda how: damaged_store_property(how, store, _fresh(tmp_path, next(count)))))()
         given(command_line(), st.floats(0.2, 3.0))(settings(rounds, max_examples=3)(
