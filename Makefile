@@ -11,7 +11,8 @@
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost; ensembles against
 #                                     scipy and MuJoCo's rollout on 1 and 2 cores and a local Dask cluster; the variational
 #                                     equations against scipy (bench/results/)
-# make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo; derivatives against Pinocchio, CasADi, differences (bench/results/)
+# make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo; derivatives against Pinocchio, CasADi, differences;
+#                                     the imported UR5 and Panda against Pinocchio on their URDF (bench/results/)
 SHELL := /bin/bash
 PY ?= python3
 VENV := .venv
@@ -101,6 +102,7 @@ bench: $(VENV)/.plot-installed
 bench-speed: bench-setup
 	$(VPY) bench/speed.py
 	$(VPY) bench/derivatives.py
+	$(VPY) bench/robots.py
 
 pdf: generate
 	@name=$$($(VPY) -c "from gyrochain.spec import load_spec; print(load_spec('$(SPEC)').name)"); \

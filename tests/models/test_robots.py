@@ -26,7 +26,7 @@ ARMS = {  # file: --lock options; the first three are the examples specs/ur5, pa
     "ur5_robot.urdf": [], "panda.urdf": PANDA_LOCKS, "double_pendulum.urdf": [],
     "ur10_robot.urdf": [], "xarm7.urdf": [], "so100.urdf": [],
 }
-EXPORTABLE = ["double_pendulum", "double_pendulum_point", "furuta", "furuta_sym", "ur5", "panda", "planar2dof"]
+EXPORTABLE = ["double_pendulum", "double_pendulum_point", "furuta", "furuta_sym", "ur5", "panda", "planar2dof", "cable64"]
 SAMPLES = 100
 
 
