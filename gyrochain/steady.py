@@ -61,6 +61,15 @@ class Branch:
     changes: list = field(default_factory=list)
 
 
+def _apart(phi, branches) -> np.ndarray:
+    """How far ``phi`` is from each branch's last point (the largest wrapped coordinate difference),
+    for all of them at once: an arm's continuation carries thousands of branches."""
+    if not branches:
+        return np.zeros(0)
+    last = np.array([b.points[-1].phi for b in branches])
+    return np.max(np.abs(_wrap(last - phi)), axis=1)
+
+
 TIME_DEPENDENT = "steady: the model depends on t (a moving platform or a load of t): it has no steady motions in this sense"
 
 
@@ -260,7 +269,7 @@ class Analysis:
                     ended.append(br)  # a fold, or Newton jumped away (steep near a pitchfork)
                     continue
                 phi = _wrap(phi)
-                if any(np.max(np.abs(_wrap(phi - b.points[-1].phi))) < 1e-6 for b in still):
+                if (_apart(phi, still) < 1e-6).any():
                     ended.append(br)  # Newton fell onto a branch already continued (a pitchfork)
                     continue
                 br.points.append(self.classify(phi, w))
@@ -271,12 +280,11 @@ class Analysis:
                 if phi is None:
                     continue
                 phi = _wrap(phi)
-                if any(np.max(np.abs(_wrap(phi - b.points[-1].phi))) < 1e-6 for b in active):
+                if (_apart(phi, active) < 1e-6).any():
                     continue
-                near = [b for b in ended if np.max(np.abs(_wrap(phi - b.points[-1].phi))) < 1.0]
-                if near:  # the branch Newton lost from its last point, found again from a start
-                    br = min(near, key=lambda b: np.max(np.abs(_wrap(phi - b.points[-1].phi))))
-                    ended = [b for b in ended if b is not br]  # (by identity: a Branch holds arrays)
+                gaps = _apart(phi, ended)
+                if (gaps < 1.0).any():  # the branch Newton lost from its last point, found again from a start
+                    br = ended.pop(int(np.argmin(gaps)))  # (by position: a Branch holds arrays, == is ambiguous)
                     br.points.append(self.classify(phi, w))
                 else:
                     br = Branch([self.classify(phi, w)])
