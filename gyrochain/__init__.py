@@ -21,10 +21,17 @@ KERNELS = _Path(__file__).resolve().parent / "kernels"       # the fixed numeric
 EXAMPLES = _Path(__file__).resolve().parent / "examples"     # the example specs (`gyrochain examples`)
 
 
+INTERRUPT = {"requested": False}  # set by the console script's Ctrl-C handler (__main__.py)
+
+
 def caused_by_interrupt(exc: BaseException) -> bool:
-    """Whether a Ctrl-C is behind ``exc``: Python 3.11 turns an exception raised in a descriptor's
-    ``__set_name__`` (a dataclass field while a module loads) into a RuntimeError caused by it.
+    """Whether a Ctrl-C is behind ``exc``: a KeyboardInterrupt in its chain (Python 3.11 turns one
+    raised in a descriptor's ``__set_name__``, a dataclass field while a module loads, into a
+    RuntimeError caused by it), or any error after the user pressed Ctrl-C (a C extension that
+    loads a module, as numpy loads datetime, reports the interrupt as its own ImportError).
     The command line (``__main__``, ``cli``) then ends as interrupted, not with an internal error."""
+    if INTERRUPT["requested"]:
+        return True
     seen = set()
     while exc is not None and id(exc) not in seen:
         if isinstance(exc, KeyboardInterrupt):

@@ -4,21 +4,51 @@ import os
 import signal
 import sys
 import threading
+import time
 
-from . import caused_by_interrupt
+from . import INTERRUPT, caused_by_interrupt
+
+
+_CTRL_C = {"deferred": False, "quiet_until": 0.0}
 
 
 def _on_sigint(signum, frame):
     """Ctrl-C as KeyboardInterrupt, but never inside the import machinery: there Python may run
     the handler in a weak-reference callback, where the exception is printed as "Exception
-    ignored" and lost, and the command runs on.  So the signal is sent again 50 ms later, until it
-    lands in our own code."""
-    if frame is not None and frame.f_code.co_filename.startswith("<frozen importlib"):
-        again = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
-        again.daemon = True  # a command that ends first is not held back by it
-        again.start()
+    ignored" and lost, and the command runs on.  While modules load most of the time is the
+    machinery's, so the interrupt is handed on: it is raised at the start of the next module's
+    body (a trace function that only watches for one), or where a signal that a helper thread
+    sends again every 5 ms lands in our own code, whichever comes first."""
+    INTERRUPT["requested"] = True  # whatever error follows is this Ctrl-C's doing
+    if time.monotonic() < _CTRL_C["quiet_until"]:  # the helper's last signal, just after the delivery
         return
+    if frame is not None and frame.f_code.co_filename.startswith("<frozen importlib"):
+        if not _CTRL_C["deferred"]:
+            _CTRL_C["deferred"] = True
+            sys.settrace(_at_next_module)
+            threading.Thread(target=_again, name="gyrochain-ctrl-c", daemon=True).start()  # daemon: never holds the exit
+        return
+    _deliver()
+
+
+def _deliver():
+    _CTRL_C["deferred"] = False
+    _CTRL_C["quiet_until"] = time.monotonic() + 0.05
+    sys.settrace(None)
     raise KeyboardInterrupt
+
+
+def _at_next_module(frame, event, arg):
+    """A module body starting (never a callback): the deferred Ctrl-C is raised there."""
+    if event == "call" and frame.f_code.co_name == "<module>" and _CTRL_C["deferred"]:
+        _deliver()
+
+
+def _again() -> None:
+    while _CTRL_C["deferred"]:
+        time.sleep(0.005)
+        if _CTRL_C["deferred"]:
+            os.kill(os.getpid(), signal.SIGINT)
 
 
 def run() -> None:
