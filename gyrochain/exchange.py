@@ -7,8 +7,11 @@ parsed again before it is written, so what is written is a spec the other comman
 """
 from __future__ import annotations
 
+import hashlib
 import math
 from pathlib import Path
+
+import numpy as np
 
 from . import robot, urdf
 from .errors import SpecError
@@ -65,8 +68,6 @@ FORMATS = {"urdf": ("model.urdf.jinja", ".urdf"), "mjcf": ("model.mjcf.jinja", "
 
 def export_text(spec, spec_label: str, to: str, values: dict) -> tuple[str, list[str]]:
     """The spec as a robot description (``to``: urdf or mjcf), and lines that say what it holds."""
-    import hashlib
-
     from . import __version__
     from .printers.common import environment
 
@@ -77,8 +78,6 @@ def export_text(spec, spec_label: str, to: str, values: dict) -> tuple[str, list
     if to == "mjcf":
         for k, link in enumerate(links, start=1):
             xx, yy, zz, xy, xz, yz = (float(v) for v in link.Ic)
-            import numpy as np
-
             if np.linalg.eigvalsh(np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]))[0] <= 1e-15 * max(xx, yy, zz, 1e-300):
                 raise SpecError(f"body[{k}].I_c", "MuJoCo's compiler refuses a body whose inertia about its centre of mass "
                                 "has a zero principal moment (a point mass, a thin rod): give it a small one")

@@ -106,12 +106,15 @@ def examples_command(action: str | None, names, name, output: Path, force: bool,
 
 def write_new(path: Path, text: str, force: bool = False) -> None:
     """Write ``text`` to ``path`` whole or not at all (a temporary file beside it, renamed), with
-    the user's umask; an existing file only with ``force``."""
+    the user's umask; an existing file only with ``force``; a missing folder is made."""
     path = Path(path)
     if path.exists() and not force:
         raise SpecError(str(path), "exists; pass --force to replace it")
     if path.is_dir():
         raise SpecError(str(path), "is a folder")
+    if path.parent.exists() and not path.parent.is_dir():
+        raise SpecError(str(path.parent), "is not a folder")
+    path.parent.mkdir(parents=True, exist_ok=True)  # as examples copy and generate make their folder
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     try:
         tmp.write_text(text, encoding="utf-8")

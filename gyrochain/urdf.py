@@ -50,6 +50,10 @@ def read(path) -> Description:
 
 
 def parse(data: bytes, where: str = "<urdf>") -> Description:
+    head = data.lstrip(b"\xef\xbb\xbf \t\r\n")[:1]
+    if head != b"<":
+        what = "a spec (TOML) perhaps, " if where.endswith(".toml") else ""
+        raise SpecError(where, f"not a URDF: {what}not XML (a robot description starts with '<')")
     if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
         raise SpecError(where, "has a document type declaration: entities are not expanded in a robot description")
     try:
