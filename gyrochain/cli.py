@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from . import caused_by_interrupt, cliargs
+from .files import deliver
 from .physical import run_values
 from .simulate import torques
 from .spec import SpecError, load_spec
@@ -267,48 +268,33 @@ def cmd_new(args) -> int:
 
     text = starter.new_spec(args.kind, args.n, args.name, rotor=args.rotor, control=args.control, driven=args.driven,
                             mass=args.mass, length=args.length)
-    if args.output == "-":
-        print(text, end="")
-        return 0
-    name = text.split('name = "', 1)[1].split('"', 1)[0]
-    path = Path(args.output) if args.output else Path(f"{name}.toml")
-    starter.write_new(path, text, args.force)
-    print(f"wrote {path}: edit it, then `{_prog()} check {path}` and `{_prog()} generate {path}`")
+    path = deliver(text, args.output, text.split('name = "', 1)[1].split('"', 1)[0] + ".toml", args.force)
+    if path is not None:
+        print(f"wrote {path}: edit it, then `{_prog()} check {path}` and `{_prog()} generate {path}`")
     return 0
 
 
 def cmd_import(args) -> int:
     """A robot description (URDF) as a spec: the chain from the base to the tip."""
-    from . import exchange, starter
+    from . import exchange
 
     text, lines = exchange.import_text(args.description, args.base, args.tip, args.lock, args.name or None,
                                        controls=not args.no_control, g=args.g)
-    if args.output == "-":
-        print(text, end="")
-        return 0
-    name = text.split('\nname = "', 1)[1].split('"', 1)[0]
-    path = Path(args.output) if args.output else Path(f"{name}.toml")
-    starter.write_new(path, text, args.force)
-    print("\n".join(lines))
-    print(f"wrote {path}: `{_prog()} generate {path}` derives its model")
+    path = deliver(text, args.output, text.split('\nname = "', 1)[1].split('"', 1)[0] + ".toml", args.force, args.description)
+    if path is not None:
+        print("\n".join(lines + [f"wrote {path}: `{_prog()} generate {path}` derives its model"]))
     return 0
 
 
 def cmd_export(args) -> int:
     """The spec as a robot description: URDF or MJCF."""
-    from . import exchange, starter
+    from . import exchange
 
     spec = load_spec(args.spec)
     text, lines = exchange.export_text(spec, args.spec, args.to, run_values(spec, cliargs.params_of(args.param)))
-    if args.output == "-":
-        print(text, end="")
-        return 0
-    path = Path(args.output) if args.output else Path(spec.name + exchange.FORMATS[args.to][1])
-    if path.resolve() == Path(args.spec).resolve():
-        raise SpecError(f"-o {path}", "is the spec itself")
-    starter.write_new(path, text, args.force)
-    print("\n".join(lines))
-    print(f"wrote {path}")
+    path = deliver(text, args.output, spec.name + exchange.FORMATS[args.to][1], args.force, args.spec)
+    if path is not None:
+        print("\n".join(lines + [f"wrote {path}"]))
     return 0
 
 

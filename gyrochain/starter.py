@@ -12,12 +12,12 @@ specs' layout is the template new_spec.toml.jinja, and every number in it is dec
 """
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
 from . import EXAMPLES
 from .errors import SpecError, did_you_mean
+from .files import write_new
 from .printers.common import environment
 from .spec import IDENT, load_spec, parse_spec
 
@@ -102,25 +102,6 @@ def examples_command(action: str | None, names, name, output: Path, force: bool,
         print(f"copy one into this folder with `{prog} examples copy NAME` (or all); print one with "
               f"`{prog} examples show NAME`")
     return 0
-
-
-def write_new(path: Path, text: str, force: bool = False) -> None:
-    """Write ``text`` to ``path`` whole or not at all (a temporary file beside it, renamed), with
-    the user's umask; an existing file only with ``force``; a missing folder is made."""
-    path = Path(path)
-    if path.exists() and not force:
-        raise SpecError(str(path), "exists; pass --force to replace it")
-    if path.is_dir():
-        raise SpecError(str(path), "is a folder")
-    if path.parent.exists() and not path.parent.is_dir():
-        raise SpecError(str(path.parent), "is not a folder")
-    path.parent.mkdir(parents=True, exist_ok=True)  # as examples copy and generate make their folder
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    try:
-        tmp.write_text(text, encoding="utf-8")
-        tmp.replace(path)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 # --------------------------------------------------------------------------- new specs
