@@ -298,6 +298,18 @@ def cmd_export(args) -> int:
     return 0
 
 
+def cmd_fmu(args) -> int:
+    """The model as a Functional Mock-up Unit."""
+    from . import fmu
+
+    spec = load_spec(args.spec)
+    kinds = [k.strip() for k in args.kind.split(",") if k.strip()]
+    data, lines = fmu.make(spec, args.spec, run_values(spec, cliargs.params_of(args.param)), kinds, args.fmi, args.real)
+    path = deliver(data, args.output, spec.name + ".fmu", args.force, args.spec)
+    print("\n".join(lines + [f"wrote {path}"]))
+    return 0
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with one line for a mistake: ``error: <what> (see <prog> --help)``, exit 2."""
 
@@ -490,13 +502,22 @@ def main(argv=None) -> int:
     xp.add_argument("-o", "--output", default="", help="the file (default NAME.urdf or NAME.xml here; - for standard output)")
     xp.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's value (repeatable)")
     xp.add_argument("--force", action="store_true", help="replace an existing file")
+    fm = sub.add_parser("fmu", help="the model as an FMU (FMI 2.0, model exchange and co-simulation) for Modelica tools, "
+                        "Simulink and FMPy")
+    fm.add_argument("spec")
+    fm.add_argument("-o", "--output", default="", help="the file (default NAME.fmu here)")
+    fm.add_argument("--fmi", default="2", choices=["2", "3"], help="the FMI version (2)")
+    fm.add_argument("--kind", default="me,cs", help="me, cs or me,cs (default): model exchange, co-simulation")
+    fm.add_argument("--real", default="double", choices=["double", "float"], help="float is refused: FMI is double")
+    fm.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's start value (repeatable)")
+    fm.add_argument("--force", action="store_true", help="replace an existing file")
     args, extra = ap.parse_known_args(cliargs.join_negative(words, cliargs.valued_options(ap)))
     if extra:  # said by the command's own parser, with the nearest option it has
         sub.choices[args.cmd].error(cliargs.unrecognized(extra, sub.choices[args.cmd]))
     command = {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
                "examples": cmd_examples, "new": cmd_new, "import": cmd_import,
-               "export": cmd_export}[args.cmd]
+               "export": cmd_export, "fmu": cmd_fmu}[args.cmd]
     beat = cliargs.Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate") else None
     stdout = sys.stdout
     if beat is not None and beat.running:
