@@ -64,12 +64,17 @@ def run() -> None:
         print("error: interrupted", file=sys.stderr)
         code = 130
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command has ended: a late Ctrl-C must not interrupt the exit
-    if code == 130:  # interrupted: every clean-up ran while the stack unwound; the interpreter's own
-        # tear-down of sympy's and numpy's objects (0.2 s here, seconds on a busy machine) is skipped
-        sys.stdout.flush()
-        sys.stderr.flush()
-        os._exit(code)
+    if code == 130:
+        _end_now(code)
     sys.exit(code)
+
+
+def _end_now(code: int) -> None:
+    """Interrupted: every clean-up ran while the stack unwound, so the interpreter's own tear-down
+    of sympy's and numpy's objects (0.2 s here, seconds on a busy machine) is skipped."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
 
 
 if __name__ == "__main__":
