@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from . import caused_by_interrupt, cliargs
-from .files import deliver
+from .files import deliver, target
 from .physical import run_values
 from .simulate import torques
 from .spec import SpecError, load_spec
@@ -304,6 +304,8 @@ def cmd_fmu(args) -> int:
 
     spec = load_spec(args.spec)
     kinds = [k.strip() for k in args.kind.split(",") if k.strip()]
+    if args.output != "-":
+        target(args.output, spec.name + ".fmu", args.force, args.spec)  # before the build, not after
     data, lines = fmu.make(spec, args.spec, run_values(spec, cliargs.params_of(args.param)), kinds, args.fmi, args.real)
     path = deliver(data, args.output, spec.name + ".fmu", args.force, args.spec)
     print("\n".join(lines + [f"wrote {path}"]))

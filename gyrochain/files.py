@@ -37,8 +37,17 @@ def deliver(text: str | bytes, output: str, default: str, force: bool = False, s
             raise SpecError("-o -", "a binary file is not printed: name a file")
         print(text, end="")
         return None
+    path = target(output, default, force, source)
+    write_new(path, text, force)
+    return path
+
+
+def target(output: str, default: str, force: bool = False, source: str | None = None) -> Path:
+    """Where a command will write (checked before its work: not the file it reads, not a file of
+    the user's without ``force``)."""
     path = Path(output or default)
     if source is not None and path.resolve() == Path(source).resolve():
         raise SpecError(f"-o {path}", "is the file the command reads")
-    write_new(path, text, force)
+    if path.exists() and not force:
+        raise SpecError(str(path), "exists; pass --force to replace it")
     return path
