@@ -42,7 +42,7 @@ generate-all: setup
 # the suite on JOBS processes (pytest-xdist; a file stays on one worker, so its models are built once)
 JOBS ?= 2
 test: setup
-	$(VPY) -m pytest -q -n $(JOBS) --dist loadfile
+	$(VPY) -m pytest -q -n $(JOBS) --dist loadfile --durations=25
 
 test-fast: setup
 	$(VPY) -m pytest -q -n $(JOBS) tests/unit
