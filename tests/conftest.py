@@ -24,6 +24,11 @@ EXAMPLES = sorted(p.stem for p in (ROOT / "specs").glob("*.toml"))
 # differences of the reference model) run on the short examples and on long random chains of their own
 LONG_EXAMPLES = [e for e in EXAMPLES if len(load_spec(ROOT / "specs" / f"{e}.toml").bodies) >= loopform.LOOP_MIN_N]
 SHORT_EXAMPLES = [e for e in EXAMPLES if e not in LONG_EXAMPLES]
+# The arms imported from URDF (specs/robots): their dynamics are checked against Pinocchio and MuJoCo
+# (tests/models/test_robots.py).  The costliest checks of the generated C's form (sanitizers,
+# cppcheck, the float build, pdflatex, the animation) run on one of them, the UR5: the Panda's and
+# the two-link pendulum's code comes from the same printers and adds minutes, not coverage.
+ONE_ARM = [e for e in EXAMPLES if e not in ("panda", "planar2dof")]
 
 
 def example_script(name: str):

@@ -13,14 +13,14 @@ from gyrochain import animate  # noqa: E402
 from gyrochain.cli import main  # noqa: E402
 from gyrochain.spec import load_spec  # noqa: E402
 
-from conftest import EXAMPLES  # noqa: E402
+from conftest import ONE_ARM  # noqa: E402
 from test_animate import changed, frames_of, param_args  # noqa: E402
 
 SPECS = Path(__file__).resolve().parents[2] / "specs"
 
 
 # --------------------------------------------------------------------------- every example, GIF and HTML
-@pytest.mark.parametrize("name", EXAMPLES)
+@pytest.mark.parametrize("name", ONE_ARM)
 def test_every_example_animates(name, tmp_path, capsys):
     """One command per example: a GIF whose frames move (every example is set moving with φ̇ = 1
     where its spec has no initial state) and a self-contained page."""

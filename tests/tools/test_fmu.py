@@ -22,7 +22,7 @@ from fmpy.fmi2 import FMU2Model, FMU2Slave  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 
 pytestmark = pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler to build the FMU's binary")
-CASES = ["gimbal", "furuta", "furuta_sym", "kapitza", "ur5"]
+CASES = ["gimbal", "furuta", "furuta_sym", "kapitza"]
 T1 = 5.0
 
 
