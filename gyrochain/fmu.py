@@ -157,8 +157,8 @@ def structure(spec, cm, variables_: list[Var], values: dict) -> dict:
     return dict(derivatives=derivs, outputs=outputs, initial_unknowns=initial)
 
 
-def render(spec, spec_label: str, values: dict, kinds=("me", "cs")) -> tuple[dict, object]:
-    """{path in the FMU: text} and the compiled model (for the dependencies)."""
+def render(spec, spec_label: str, values: dict, kinds=("me", "cs")) -> tuple[dict, object, list]:
+    """{path in the FMU: text}, the compiled model (for the dependencies) and the variables."""
     model = pipeline.derive(spec, latex=False)
     files = pipeline.render(model, spec_label, targets=("c",))
     cm = pipeline.compile(files, spec.name)
@@ -178,7 +178,7 @@ def render(spec, spec_label: str, values: dict, kinds=("me", "cs")) -> tuple[dic
            "modelDescription.xml": env.get_template("fmi2_model_description.xml.jinja").render(**facts, guid=guid)}
     for h in HEADERS:
         out[f"sources/{h}"] = (KERNELS / "fmi" / h).read_text()
-    return out, cm
+    return out, cm, vs
 
 
 def _uuid(*parts) -> str:
@@ -230,10 +230,9 @@ def make(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "2"
     check(spec, real, kinds)
     if fmi != "2":
         raise SpecError("--fmi", "FMI 3.0 is not written yet: --fmi 2 writes FMI 2.0, which the tools that read 3.0 read too")
-    files, _ = render(spec, spec_label, values, kinds)
+    files, _, vs = render(spec, spec_label, values, kinds)
     binary = build(files, spec.name)
     data = pack(files, binary, spec.name)
-    vs = variables(spec, pipeline.derive(spec, latex=False), values, kinds)
     said = {c: [v.name for v in vs if v.causality == c] for c in ("input", "parameter", "output")}
     lines = [f"FMI 2.0 {' and '.join({'me': 'model exchange', 'cs': 'co-simulation'}[k] for k in kinds)} FMU of {spec.name}: "
              f"{2 * spec.n} states, inputs {', '.join(said['input']) or 'none'}, outputs {', '.join(said['output']) or 'none'}, "
