@@ -504,11 +504,11 @@ def main(argv=None) -> int:
     xp.add_argument("-o", "--output", default="", help="the file (default NAME.urdf or NAME.xml here; - for standard output)")
     xp.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's value (repeatable)")
     xp.add_argument("--force", action="store_true", help="replace an existing file")
-    fm = sub.add_parser("fmu", help="the model as an FMU (FMI 2.0, model exchange and co-simulation) for Modelica tools, "
-                        "Simulink and FMPy")
+    fm = sub.add_parser("fmu", help="the model as an FMU (FMI 3.0 or 2.0, model exchange and co-simulation) for Modelica "
+                        "tools, Simulink and FMPy")
     fm.add_argument("spec")
     fm.add_argument("-o", "--output", default="", help="the file (default NAME.fmu here)")
-    fm.add_argument("--fmi", default="2", choices=["2", "3"], help="the FMI version (2)")
+    fm.add_argument("--fmi", default="3", choices=["3", "2"], help="the FMI version: 3 (default) or 2")
     fm.add_argument("--kind", default="me,cs", help="me, cs or me,cs (default): model exchange, co-simulation")
     fm.add_argument("--real", default="double", choices=["double", "float"], help="float is refused: FMI is double")
     fm.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's start value (repeatable)")

@@ -38,9 +38,27 @@ from . import KERNELS, __version__, pipeline
 from .errors import SpecError
 from .printers.common import environment
 
-PLATFORM = "linux64"
-HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
-CFLAGS = ("-std=c99", "-O2", "-fPIC", "-shared", "-g0")
+
+
+@dataclass(frozen=True)
+class Version:
+    label: str
+    prefix: str  # fmi2, fmi3: the wrapper's name and the functions' prefix
+    platform: str  # the binaries' folder
+    headers: tuple
+    wrapper: str  # templates
+    description: str
+    build: str = ""
+
+
+VERSIONS = {
+    "2": Version("FMI 2.0", "fmi2", "linux64", ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
+                 "fmi2.c.jinja", "fmi2_model_description.xml.jinja"),
+    "3": Version("FMI 3.0", "fmi3", "x86_64-linux", ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h"),
+                 "fmi3.c.jinja", "fmi3_model_description.xml.jinja", "fmi3_build_description.xml.jinja"),
+}
+ABSENT_FMI3_TYPES = ("Float32", "Int8", "UInt8", "Int16", "UInt16", "UInt32", "Int64", "UInt64", "Boolean", "String")
+CFLAGS = ("-std=c99", "-O2", "-fPIC", "-g0")
 METHODS = {"rk4": 1, "dop853": 2, "gauss2": 3}
 UNITS = {"rad": (("rad", 1),), "rad/s": (("rad", 1), ("s", -1)), "rad/s2": (("rad", 1), ("s", -2)),
          "N.m": (("kg", 1), ("m", 2), ("s", -2)), "J": (("kg", 1), ("m", 2), ("s", -2)), "kg.m2/s": (("kg", 1), ("m", 2), ("s", -1)),
@@ -55,8 +73,8 @@ class Var:
     causality: str
     variability: str
     description: str
-    c: str = ""  # the C lvalue in the instance's data (m->d....)
-    get_c: str = ""  # the C expression of its value
+    c: str = ""  # its place in the instance's data_t d (x[0], p.m1, ...)
+    get_c: str = ""  # the C expression of its value if it is computed (an output), in terms of d
     type: str = "Real"
     unit: str = ""
     initial: str = ""
@@ -71,8 +89,10 @@ class Var:
     max: int = 0
 
 
-def check(spec, real: str, kinds) -> None:
+def check(spec, real: str, kinds, fmi: str = "3") -> None:
     """What FMI cannot hold, one line each."""
+    if fmi not in VERSIONS:
+        raise SpecError("--fmi", f"expected 3 (FMI 3.0) or 2 (FMI 2.0), got {fmi}")
     if real != "double":
         raise SpecError("--real", "FMI's variables are double precision: the float model cannot be an FMU")
     bad = [k for k in kinds if k not in ("me", "cs")]
@@ -93,7 +113,7 @@ def variables(spec, model, values: dict, kinds) -> list[Var]:
             i = (k - 1) if group == "phi" else (n + k - 1)
             start = float((initial.get(group) or [0.0] * n)[k - 1])
             add(name=f"{group}{k}", causality="local", variability="continuous", initial="exact",
-                description=f"{what} of joint {k} (the spec's {group}{k})", c=f"m->d.x[{i}]", get_c=f"m->d.x[{i}]",
+                description=f"{what} of joint {k} (the spec's {group}{k})", c=f"x[{i}]",
                 unit=unit, start=repr(start), start_c=repr(start), settable=True, state_index=i)
     for k in range(1, 2 * n + 1):
         state = out[k - 1]
@@ -101,27 +121,29 @@ def variables(spec, model, values: dict, kinds) -> list[Var]:
             unit="rad/s" if k <= n else "rad/s2", derivative_of=k, derivative_index=k - 1)
     for j, k in enumerate(spec.controls):
         add(name=f"u{j + 1}", causality="input", variability="continuous", description=f"control torque in joint {k}",
-            c=f"m->d.u[{j}]", get_c=f"m->d.u[{j}]", unit="N.m", start="0.0", start_c="0.0", settable=True, input_index=j)
+            c=f"u[{j}]", unit="N.m", start="0.0", start_c="0.0", settable=True, input_index=j)
     for p in spec.params:
         v = float(values[str(p)])
         add(name=str(p), causality="parameter", variability="fixed", initial="exact", description=f"the spec's parameter {p}",
-            c=f"m->d.p.{p}", get_c=f"m->d.p.{p}", start=repr(v), start_c=repr(v), settable=True)
-    t_arg = "m->d.t, " if spec_time_dependent(model) else ""
+            c=f"p.{p}", start=repr(v), start_c=repr(v), settable=True)
+    t_arg = "d->t, " if spec_time_dependent(model) else ""
     for key, unit, what in (("energy", "J", "T - U, the energy (23)"), ("momentum", "kg.m2/s", "the momentum (27) about the axis l1"),
                             ("jacobi", "J", "the Jacobi integral")):
         if key in model.lines:
             add(name=key, causality="output", variability="continuous", initial="calculated", description=what, unit=unit,
-                get_c=f"{spec.name}_{key}({t_arg}m->d.x, &m->d.p)")
+                get_c=f"{spec.name}_{key}({t_arg}d->x, &d->p)")
     if "cs" in kinds:
         add(name="solver.method", type="Integer", causality="parameter", variability="fixed", initial="exact",
             description="co-simulation: 1 RK4 (fixed step h), 2 DOP853 (adaptive, rtol and atol), 3 Gauss (implicit, 4th order, step h)",
-            c="m->d.method", start="2", start_c="2", settable=True, min=1, max=3)
+            c="method", start="2", start_c="2", settable=True, min=1, max=3)
         for name, start, what in (("solver.rtol", 1e-10, "co-simulation: DOP853's relative tolerance"),
                                   ("solver.atol", 1e-10, "co-simulation: DOP853's absolute tolerance"),
                                   ("solver.h", 0.0, "co-simulation: the fixed step of RK4 and Gauss (0: the communication step)")):
             add(name=name, causality="parameter", variability="fixed", initial="exact", description=what,
-                c=f"m->d.{name.split('.')[1]}", get_c=f"m->d.{name.split('.')[1]}", unit="s" if name.endswith(".h") else "",
+                c=name.split('.')[1], unit="s" if name.endswith(".h") else "",
                 start=repr(start), start_c=repr(start), settable=True)
+    for v in out:
+        v.get_c = v.get_c or (f"d->{v.c}" if v.c else "")
     return out
 
 
@@ -132,51 +154,89 @@ def spec_time_dependent(model) -> bool:
 
 
 def structure(spec, cm, variables_: list[Var], values: dict) -> dict:
-    """The ModelStructure's (index, dependencies) lists: the sparsity of the exact A and B at three
-    random states (a structural zero is exactly zero at every one of them)."""
+    """The ModelStructure, in value references (0 is the time): what each state's derivative and each
+    output depends on, from the exact A and B and the model's own functions at three random states
+    and two times.  A structural zero is exactly zero (or exactly unchanged) at every one of them."""
     n, nu = spec.n, len(spec.controls)
-    index = {v.vr: i + 1 for i, v in enumerate(variables_)}
-    states = [index[v.vr] for v in variables_ if v.state_index is not None]
-    inputs = [index[v.vr] for v in variables_ if v.input_index is not None]
+    states = [v.vr for v in variables_ if v.state_index is not None]
+    inputs = [v.vr for v in variables_ if v.input_index is not None]
+    outputs = [v for v in variables_ if v.causality == "output"]
     rng = np.random.default_rng(0)
+    p = values or None
     A_seen, B_seen = np.zeros((2 * n, 2 * n), bool), np.zeros((2 * n, max(nu, 1)), bool)
+    rows_on_t, outputs_on = np.zeros(2 * n, bool), {v.name: np.zeros(2 * n + 1, bool) for v in outputs}
     for _ in range(3):
         x = np.concatenate([rng.uniform(-3, 3, n), rng.normal(size=n)])
-        A, B = cm.linearize(x, rng.normal(size=nu) if nu else None, values or None, t=rng.uniform(0, 1))
+        u = rng.normal(size=nu) if nu else None
+        t = rng.uniform(0, 1)
+        A, B = cm.linearize(x, u, p, t=t)
         A_seen |= A != 0
         if nu:
             B_seen[:, :nu] |= B != 0
+        rows_on_t |= cm.rhs(t, x, u, p) != cm.rhs(t + 0.37, x, u, p)
+        for v in outputs:
+            value = _output(cm, v.name, x, p, t)
+            for c in range(2 * n):
+                dx = np.zeros(2 * n)
+                dx[c] = 0.1 + 0.2 * rng.uniform()
+                outputs_on[v.name][c] |= _output(cm, v.name, x + dx, p, t) != value
+            outputs_on[v.name][2 * n] |= _output(cm, v.name, x, p, t + 0.37) != value
     derivs = []
     for v in variables_:
         if v.derivative_index is not None:
             r = v.derivative_index
-            deps = [states[c] for c in range(2 * n) if A_seen[r, c]] + [inputs[c] for c in range(nu) if B_seen[r, c]]
-            derivs.append((index[v.vr], deps))
-    outputs = [(index[v.vr], states) for v in variables_ if v.causality == "output"]
-    initial = [(index[v.vr], []) for v in variables_ if v.causality == "output" or v.derivative_index is not None]
-    return dict(derivatives=derivs, outputs=outputs, initial_unknowns=initial)
+            deps = ([0] if rows_on_t[r] else []) + [states[c] for c in range(2 * n) if A_seen[r, c]] \
+                + [inputs[c] for c in range(nu) if B_seen[r, c]]
+            derivs.append((v.vr, deps))
+    outs = [(v.vr, ([0] if outputs_on[v.name][2 * n] else []) + [states[c] for c in range(2 * n) if outputs_on[v.name][c]])
+            for v in outputs]
+    initial = [v.vr for v in variables_ if v.causality == "output" or v.derivative_index is not None]
+    return dict(derivatives=derivs, outputs=outs, initial_unknowns=initial)
 
 
-def render(spec, spec_label: str, values: dict, kinds=("me", "cs")) -> tuple[dict, object, list]:
+def _output(cm, key: str, x, p, t: float) -> float:
+    if key == "jacobi":
+        return cm.jacobi(x, p)
+    return getattr(cm, key)(x, p, t=t)
+
+
+def _indices(st: dict, variables_: list[Var]) -> dict:
+    """FMI 2.0 names variables by their place in the list, 1-based, and the time (value reference
+    0) comes first: the index is the value reference + 1."""
+    return dict(index={v.vr: v.vr + 1 for v in variables_},
+                derivatives=[(vr + 1, [d + 1 for d in deps]) for vr, deps in st["derivatives"]],
+                outputs=[(vr + 1, [d + 1 for d in deps]) for vr, deps in st["outputs"]],
+                initial_unknowns=[vr + 1 for vr in st["initial_unknowns"]])
+
+
+def render(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "3") -> tuple[dict, object, list]:
     """{path in the FMU: text}, the compiled model (for the dependencies) and the variables."""
+    version = VERSIONS[fmi]
     model = pipeline.derive(spec, latex=False)
     files = pipeline.render(model, spec_label, targets=("c",))
     cm = pipeline.compile(files, spec.name)
     vs = variables(spec, model, values, kinds)
     st = structure(spec, cm, vs, values)
     name = spec.name
-    sources = [f"{name}.c", f"{name}_fmi2.c"]
+    sources = [f"{name}.c", f"{name}_{version.prefix}.c"]
     facts = dict(name=name, NAME=name.upper(), n=spec.n, nu=len(spec.controls), version=__version__,
                  spec_label=Path(spec_label).name, spec_sha=hashlib.sha256(spec.source.encode("utf-8")).hexdigest()[:16],
-                 regenerate=f"gyrochain fmu {Path(spec_label).name}", variables=vs, sources=sources,
+                 regenerate=f"gyrochain fmu {Path(spec_label).name}" + ("" if fmi == "3" else f" --fmi {fmi}"),
+                 variables=vs, sources=sources, absent_types=ABSENT_FMI3_TYPES,
                  description=_xml(spec.description or name), me="me" in kinds, cs="cs" in kinds, stop_time="5",
-                 units=[dict(name=u, base=[(k, v) for k, v in UNITS[u]]) for u in sorted({v.unit for v in vs if v.unit})], **st)
+                 units=[dict(name=u, base=[(k, v) for k, v in UNITS[u]]) for u in sorted({v.unit for v in vs if v.unit} | {"s"})],
+                 dependency_lists=[dict(vr=vr, on=deps, c_on=", ".join(map(str, deps)) or "0")
+                                   for vr, deps in st["outputs"] + st["derivatives"]],
+                 **(st if fmi == "3" else _indices(st, vs)))
     env = environment()
     c_text = {f"sources/{name}.c": files[f"{name}.c"], f"sources/{name}.h": files[f"{name}.h"]}
-    guid = "{" + str(_uuid(c_text, env.get_template("fmi2_model_description.xml.jinja").render(**facts, guid=""))) + "}"
-    out = {**c_text, f"sources/{name}_fmi2.c": env.get_template("fmi2.c.jinja").render(**facts, guid=guid),
-           "modelDescription.xml": env.get_template("fmi2_model_description.xml.jinja").render(**facts, guid=guid)}
-    for h in HEADERS:
+    description = env.get_template(version.description)
+    guid = "{" + str(_uuid(fmi, c_text, description.render(**facts, guid=""))) + "}"
+    out = {**c_text, f"sources/{name}_{version.prefix}.c": env.get_template(version.wrapper).render(**facts, guid=guid),
+           "modelDescription.xml": description.render(**facts, guid=guid)}
+    if version.build:
+        out["sources/buildDescription.xml"] = env.get_template(version.build).render(**facts)
+    for h in version.headers:
         out[f"sources/{h}"] = (KERNELS / "fmi" / h).read_text()
     return out, cm, vs
 
@@ -193,8 +253,11 @@ def _xml(text: str) -> str:
             .replace("\n", " "))
 
 
-def build(files: dict, name: str) -> bytes:
-    """The shared library from the FMU's sources, with the system's C compiler."""
+def build(files: dict, name: str, fmi: str = "3") -> bytes:
+    """The shared library from the FMU's sources, with the system's C compiler.  The model's object
+    (NAME.c, the most of the time) is kept in the user's private build cache under the hash of its
+    sources, the flags and the compiler, so an FMU of the other version or kind only compiles its
+    wrapper."""
     cc = shutil.which(os.environ.get("CC", "cc")) or shutil.which("gcc")
     if cc is None:
         raise SpecError("fmu", "no C compiler (cc) to build the FMU's binary")
@@ -203,19 +266,42 @@ def build(files: dict, name: str) -> bytes:
         for path, text in files.items():
             if path.startswith("sources/"):
                 (d / Path(path).name).write_text(text)
+        model = _model_object(cc, d, name, files)
         lib = d / f"{name}.so"
-        r = subprocess.run([cc, *CFLAGS, f"-I{d}", str(d / f"{name}.c"), str(d / f"{name}_fmi2.c"), "-lm", "-o", str(lib)],
-                           capture_output=True, text=True)
-        if r.returncode != 0:
-            raise RuntimeError(f"the FMU's C did not compile: {r.stderr.strip()[:2000]}")
+        _cc([cc, *CFLAGS, "-shared", f"-I{d}", str(model), str(d / f"{name}_{VERSIONS[fmi].prefix}.c"), "-lm", "-o", str(lib)])
         return lib.read_bytes()
 
 
-def pack(files: dict, binary: bytes, name: str) -> bytes:
+def _cc(command: list) -> None:
+    r = subprocess.run(command, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise RuntimeError(f"the FMU's C did not compile: {r.stderr.strip()[:2000]}")
+
+
+def _model_object(cc: str, d: Path, name: str, files: dict) -> Path:
+    """NAME.o, from the cache if these sources were compiled before with this compiler and flags."""
+    key = hashlib.sha256("\0".join([os.path.realpath(cc), *CFLAGS, files[f"sources/{name}.c"], files[f"sources/{name}.h"]])
+                         .encode("utf-8")).hexdigest()[:24]
+    cached = pipeline.cache_root() / "fmu-objects" / f"{name}-{key}.o"
+    if cached.is_file():
+        return cached
+    obj = d / f"{name}.o"
+    _cc([cc, *CFLAGS, "-c", f"-I{d}", str(d / f"{name}.c"), "-o", str(obj)])
+    cached.parent.mkdir(mode=0o700, exist_ok=True)
+    partial = cached.with_name(f"{cached.name}.{os.getpid()}.part")
+    try:
+        shutil.copyfile(obj, partial)
+        os.replace(partial, cached)  # whole or not at all: another process may be writing the same one
+    finally:
+        partial.unlink(missing_ok=True)
+    return cached
+
+
+def pack(files: dict, binary: bytes, name: str, fmi: str = "3") -> bytes:
     """The .fmu (a zip), entries in a fixed order with a fixed date."""
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
-        entries = {**files, f"binaries/{PLATFORM}/{name}.so": binary}
+        entries = {**files, f"binaries/{VERSIONS[fmi].platform}/{name}.so": binary}
         for path in sorted(entries):
             info = zipfile.ZipInfo(path, ZIP_TIME)
             info.compress_type = zipfile.ZIP_DEFLATED
@@ -225,16 +311,15 @@ def pack(files: dict, binary: bytes, name: str) -> bytes:
     return buf.getvalue()
 
 
-def make(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "2", real: str = "double") -> tuple[bytes, list[str]]:
+def make(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "3", real: str = "double") -> tuple[bytes, list[str]]:
     """The .fmu's bytes and lines that say what it holds."""
-    check(spec, real, kinds)
-    if fmi != "2":
-        raise SpecError("--fmi", "FMI 3.0 is not written yet: --fmi 2 writes FMI 2.0, which the tools that read 3.0 read too")
-    files, _, vs = render(spec, spec_label, values, kinds)
-    binary = build(files, spec.name)
-    data = pack(files, binary, spec.name)
+    check(spec, real, kinds, fmi)
+    files, _, vs = render(spec, spec_label, values, kinds, fmi)
+    binary = build(files, spec.name, fmi)
+    data = pack(files, binary, spec.name, fmi)
     said = {c: [v.name for v in vs if v.causality == c] for c in ("input", "parameter", "output")}
-    lines = [f"FMI 2.0 {' and '.join({'me': 'model exchange', 'cs': 'co-simulation'}[k] for k in kinds)} FMU of {spec.name}: "
+    version = VERSIONS[fmi]
+    lines = [f"{version.label} {' and '.join({'me': 'model exchange', 'cs': 'co-simulation'}[k] for k in kinds)} FMU of {spec.name}: "
              f"{2 * spec.n} states, inputs {', '.join(said['input']) or 'none'}, outputs {', '.join(said['output']) or 'none'}, "
-             f"parameters {', '.join(said['parameter']) or 'none'}; {len(data) // 1024} KiB ({PLATFORM} binary and the C sources)"]
+             f"parameters {', '.join(said['parameter']) or 'none'}; {len(data) // 1024} KiB ({version.platform} binary and the C sources)"]
     return data, lines
