@@ -1,12 +1,12 @@
-"""`gyrochain fmu`: the model as a Functional Mock-up Unit (FMI 2.0, model exchange and
-co-simulation in one binary) for Modelica tools, Simulink and FMPy.
+"""`gyrochain fmu`: the model as a Functional Mock-up Unit (FMI 3.0, or 2.0 with --fmi 2; model
+exchange and co-simulation in one binary) for Modelica tools, Simulink and FMPy.
 
-    path, lines = fmu.write(spec, "gimbal.toml", Path("gimbal.fmu"), values={})
+    data, lines = fmu.make(spec, "gimbal.toml", values={}, kinds=("me", "cs"), fmi="3")
 
 The FMU holds ``modelDescription.xml``, ``sources/`` (the generated C, the FMI wrapper
-NAME_fmi2.c and the FMI headers, so it rebuilds with a plain C compiler) and
-``binaries/linux64/NAME.so`` compiled here.  Its variables, in this order (value references
-1, 2, … in the same order):
+NAME_fmi3.c or NAME_fmi2.c, the FMI headers and, for FMI 3.0, buildDescription.xml, so it
+rebuilds with a plain C compiler) and ``binaries/<platform>/NAME.so`` compiled here.  Its
+variables, value reference 0 the time and then 1, 2, … in this order:
 
 - the states phi1..phin (rad) and phidot1..phidotn (rad/s), their start values the spec's
   [initial], and their derivatives der(phik) = phidotk and der(phidotk) = φ̈ᵏ;
@@ -16,9 +16,9 @@ NAME_fmi2.c and the FMI headers, so it rebuilds with a plain C compiler) and
   the Jacobi integral;
 - for co-simulation, the integrator (the method of NAME_integrate, rtol, atol, its step h).
 
-The dependencies of the ModelStructure are the true ones: the sparsity of the exact Jacobian of
-the derivatives (NAME_linearize) at random states.  The wrapper's logic is in the template
-fmi2.c.jinja; every fact it lays out is decided here.
+The dependencies of the ModelStructure are the true ones, found on the compiled model (see
+``structure``).  The wrappers' C is in the templates fmi3.c.jinja and fmi2.c.jinja (with what
+they share in fmi_common.c.jinja); every fact they lay out is decided here.
 """
 from __future__ import annotations
 
@@ -89,8 +89,13 @@ class Var:
     max: int = 0
 
 
-def check(spec, real: str, kinds, fmi: str = "3") -> None:
+def check(spec, real: str, kinds, fmi: str = "3", as_inputs=()) -> None:
     """What FMI cannot hold, one line each."""
+    names = [str(p) for p in spec.params]
+    for name in as_inputs:
+        if name not in names:
+            raise SpecError("--input", f"{name} is not a parameter of the spec (its parameters: {', '.join(names) or 'none'}; "
+                                       "the control torques are inputs already)")
     if fmi not in VERSIONS:
         raise SpecError("--fmi", f"expected 3 (FMI 3.0) or 2 (FMI 2.0), got {fmi}")
     if real != "double":
@@ -100,7 +105,7 @@ def check(spec, real: str, kinds, fmi: str = "3") -> None:
         raise SpecError("--kind", f"expected me, cs or me,cs, got {','.join(kinds) or 'nothing'}")
 
 
-def variables(spec, model, values: dict, kinds) -> list[Var]:
+def variables(spec, model, values: dict, kinds, as_inputs=()) -> list[Var]:
     n, out = spec.n, []
 
     def add(**kw) -> Var:
@@ -124,8 +129,13 @@ def variables(spec, model, values: dict, kinds) -> list[Var]:
             c=f"u[{j}]", unit="N.m", start="0.0", start_c="0.0", settable=True, input_index=j)
     for p in spec.params:
         v = float(values[str(p)])
-        add(name=str(p), causality="parameter", variability="fixed", initial="exact", description=f"the spec's parameter {p}",
-            c=f"p.{p}", start=repr(v), start_c=repr(v), settable=True)
+        if str(p) in as_inputs:  # constant between events: the model has no terms in its rate
+            add(name=str(p), causality="input", variability="discrete", description=f"the spec's parameter {p} as an input, "
+                "piecewise constant: it changes at events (model exchange) or communication points (co-simulation)",
+                c=f"p.{p}", start=repr(v), start_c=repr(v), settable=True)
+        else:
+            add(name=str(p), causality="parameter", variability="fixed", initial="exact", description=f"the spec's parameter {p}",
+                c=f"p.{p}", start=repr(v), start_c=repr(v), settable=True)
     t_arg = "d->t, " if spec_time_dependent(model) else ""
     for key, unit, what in (("energy", "J", "T - U, the energy (23)"), ("momentum", "kg.m2/s", "the momentum (27) about the axis l1"),
                             ("jacobi", "J", "the Jacobi integral")):
@@ -209,19 +219,19 @@ def _indices(st: dict, variables_: list[Var]) -> dict:
                 initial_unknowns=[vr + 1 for vr in st["initial_unknowns"]])
 
 
-def render(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "3") -> tuple[dict, object, list]:
+def render(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "3", as_inputs=()) -> tuple[dict, object, list]:
     """{path in the FMU: text}, the compiled model (for the dependencies) and the variables."""
     version = VERSIONS[fmi]
     model = pipeline.derive(spec, latex=False)
     files = pipeline.render(model, spec_label, targets=("c",))
     cm = pipeline.compile(files, spec.name)
-    vs = variables(spec, model, values, kinds)
+    vs = variables(spec, model, values, kinds, as_inputs)
     st = structure(spec, cm, vs, values)
     name = spec.name
     sources = [f"{name}.c", f"{name}_{version.prefix}.c"]
     facts = dict(name=name, NAME=name.upper(), n=spec.n, nu=len(spec.controls), version=__version__,
                  spec_label=Path(spec_label).name, spec_sha=hashlib.sha256(spec.source.encode("utf-8")).hexdigest()[:16],
-                 regenerate=f"gyrochain fmu {Path(spec_label).name}" + ("" if fmi == "3" else f" --fmi {fmi}"),
+                 regenerate=_command(spec, spec_label, values, kinds, fmi, as_inputs),
                  variables=vs, sources=sources, absent_types=ABSENT_FMI3_TYPES,
                  description=_xml(spec.description or name), me="me" in kinds, cs="cs" in kinds, stop_time="5",
                  units=[dict(name=u, base=[(k, v) for k, v in UNITS[u]]) for u in sorted({v.unit for v in vs if v.unit} | {"s"})],
@@ -239,6 +249,16 @@ def render(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "
     for h in version.headers:
         out[f"sources/{h}"] = (KERNELS / "fmi" / h).read_text()
     return out, cm, vs
+
+
+def _command(spec, spec_label: str, values: dict, kinds, fmi: str, as_inputs) -> str:
+    """The command line that makes this FMU again (the start values that differ from the spec's)."""
+    import shlex
+
+    given = {k: v for k, v in values.items() if (spec.values or {}).get(k) != v}
+    return shlex.join(["gyrochain", "fmu", Path(spec_label).name, *(["--fmi", fmi] if fmi != "3" else []),
+                       *(["--kind", ",".join(kinds)] if tuple(kinds) != ("me", "cs") else []),
+                       *(w for a in as_inputs for w in ("--input", a)), *(w for k in sorted(given) for w in ("--param", f"{k}={given[k]!r}"))])
 
 
 def _uuid(*parts) -> str:
@@ -311,10 +331,11 @@ def pack(files: dict, binary: bytes, name: str, fmi: str = "3") -> bytes:
     return buf.getvalue()
 
 
-def make(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "3", real: str = "double") -> tuple[bytes, list[str]]:
+def make(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "3", real: str = "double",
+         as_inputs=()) -> tuple[bytes, list[str]]:
     """The .fmu's bytes and lines that say what it holds."""
-    check(spec, real, kinds, fmi)
-    files, _, vs = render(spec, spec_label, values, kinds, fmi)
+    check(spec, real, kinds, fmi, as_inputs)
+    files, _, vs = render(spec, spec_label, values, kinds, fmi, as_inputs)
     binary = build(files, spec.name, fmi)
     data = pack(files, binary, spec.name, fmi)
     said = {c: [v.name for v in vs if v.causality == c] for c in ("input", "parameter", "output")}
