@@ -303,11 +303,12 @@ def cmd_fmu(args) -> int:
     from . import fmu
 
     spec = load_spec(args.spec)
-    kinds, inputs = [k.strip() for k in args.kind.split(",") if k.strip()], tuple(dict.fromkeys(args.input or ()))
-    fmu.check(spec, args.real, kinds, args.fmi, inputs)  # the options first, then the file, then the build
+    asked = fmu.Asked(tuple(k.strip() for k in args.kind.split(",") if k.strip()), args.fmi, args.real,
+                      tuple(dict.fromkeys(args.input or ())), tuple(dict.fromkeys(args.add_output or ())))
+    fmu.check(spec, asked)  # the options first, then the file, then the build
     if args.output != "-":
         target(args.output, spec.name + ".fmu", args.force, args.spec)
-    data, lines = fmu.make(spec, args.spec, run_values(spec, cliargs.params_of(args.param)), kinds, args.fmi, args.real, inputs)
+    data, lines = fmu.make(spec, args.spec, run_values(spec, cliargs.params_of(args.param)), asked)
     path = deliver(data, args.output, spec.name + ".fmu", args.force, args.spec)
     print("\n".join(lines + [f"wrote {path}"]))
     return 0
@@ -514,6 +515,7 @@ def main(argv=None) -> int:
     fm.add_argument("--real", default="double", choices=["double", "float"], help="float is refused: FMI is double")
     fm.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's start value (repeatable)")
     fm.add_argument("--input", action="append", metavar="NAME", help="a parameter as a piecewise-constant input (repeatable)")
+    fm.add_argument("--add-output", action="append", choices=["tip"], help="an output more: tip (Gⁿ in frame 0; repeatable)")
     fm.add_argument("--force", action="store_true", help="replace an existing file")
     args, extra = ap.parse_known_args(cliargs.join_negative(words, cliargs.valued_options(ap)))
     if extra:  # said by the command's own parser, with the nearest option it has

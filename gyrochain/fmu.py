@@ -1,7 +1,7 @@
 """`gyrochain fmu`: the model as a Functional Mock-up Unit (FMI 3.0, or 2.0 with --fmi 2; model
 exchange and co-simulation in one binary) for Modelica tools, Simulink and FMPy.
 
-    data, lines = fmu.make(spec, "gimbal.toml", values={}, kinds=("me", "cs"), fmi="3")
+    data, lines = fmu.make(spec, "gimbal.toml", values={}, kinds=("me", "cs"), fmi="3", inputs=(), outputs=("tip",))
 
 The FMU holds ``modelDescription.xml``, ``sources/`` (the generated C, the FMI wrapper
 NAME_fmi3.c or NAME_fmi2.c, the FMI headers and, for FMI 3.0, buildDescription.xml, so it
@@ -33,9 +33,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import sympy as sp
 
-from . import KERNELS, __version__, pipeline
+from . import KERNELS, __version__, pipeline, reference
+from .assemble import time_dependent
 from .errors import SpecError
+from .printers.c import CPrinter
 from .printers.common import environment
 
 
@@ -62,7 +65,8 @@ CFLAGS = ("-std=c99", "-O2", "-fPIC", "-g0")
 METHODS = {"rk4": 1, "dop853": 2, "gauss2": 3}
 UNITS = {"rad": (("rad", 1),), "rad/s": (("rad", 1), ("s", -1)), "rad/s2": (("rad", 1), ("s", -2)),
          "N.m": (("kg", 1), ("m", 2), ("s", -2)), "J": (("kg", 1), ("m", 2), ("s", -2)), "kg.m2/s": (("kg", 1), ("m", 2), ("s", -1)),
-         "s": (("s", 1),)}
+         "s": (("s", 1),), "m": (("m", 1),)}
+OUTPUTS = {"tip": "the last body's centre of mass Gⁿ, x, y, z in frame 0 (the base, which moves with a platform) from O¹"}
 ZIP_TIME = (2026, 1, 1, 0, 0, 0)  # every entry's date: the same spec gives the same bytes
 
 
@@ -89,8 +93,22 @@ class Var:
     max: int = 0
 
 
-def check(spec, real: str, kinds, fmi: str = "3", as_inputs=()) -> None:
+@dataclass(frozen=True)
+class Asked:
+    """What the command line asks of the FMU."""
+    kinds: tuple = ("me", "cs")  # model exchange, co-simulation
+    fmi: str = "3"
+    real: str = "double"
+    inputs: tuple = ()  # parameters made (discrete) inputs
+    outputs: tuple = ()  # outputs added from OUTPUTS
+
+
+def check(spec, asked: Asked) -> None:
     """What FMI cannot hold, one line each."""
+    kinds, fmi, real, as_inputs, outputs = asked.kinds, asked.fmi, asked.real, asked.inputs, asked.outputs
+    for name in outputs:
+        if name not in OUTPUTS:
+            raise SpecError("--add-output", f"no output {name!r}; the outputs that can be asked for: {', '.join(OUTPUTS)}")
     names = [str(p) for p in spec.params]
     for name in as_inputs:
         if name not in names:
@@ -105,7 +123,7 @@ def check(spec, real: str, kinds, fmi: str = "3", as_inputs=()) -> None:
         raise SpecError("--kind", f"expected me, cs or me,cs, got {','.join(kinds) or 'nothing'}")
 
 
-def variables(spec, model, values: dict, kinds, as_inputs=()) -> list[Var]:
+def variables(spec, model, values: dict, asked: Asked) -> list[Var]:
     n, out = spec.n, []
 
     def add(**kw) -> Var:
@@ -129,20 +147,26 @@ def variables(spec, model, values: dict, kinds, as_inputs=()) -> list[Var]:
             c=f"u[{j}]", unit="N.m", start="0.0", start_c="0.0", settable=True, input_index=j)
     for p in spec.params:
         v = float(values[str(p)])
-        if str(p) in as_inputs:  # constant between events: the model has no terms in its rate
+        if str(p) in asked.inputs:  # constant between events: the model has no terms in its rate
             add(name=str(p), causality="input", variability="discrete", description=f"the spec's parameter {p} as an input, "
                 "piecewise constant: it changes at events (model exchange) or communication points (co-simulation)",
                 c=f"p.{p}", start=repr(v), start_c=repr(v), settable=True)
         else:
             add(name=str(p), causality="parameter", variability="fixed", initial="exact", description=f"the spec's parameter {p}",
                 c=f"p.{p}", start=repr(v), start_c=repr(v), settable=True)
-    t_arg = "d->t, " if spec_time_dependent(model) else ""
+    t_arg = "d->t, " if time_dependent(model) else ""
     for key, unit, what in (("energy", "J", "T - U, the energy (23)"), ("momentum", "kg.m2/s", "the momentum (27) about the axis l1"),
                             ("jacobi", "J", "the Jacobi integral")):
         if key in model.lines:
             add(name=key, causality="output", variability="continuous", initial="calculated", description=what, unit=unit,
                 get_c=f"{spec.name}_{key}({t_arg}d->x, &d->p)")
-    if "cs" in kinds:
+    if "tip" in asked.outputs:
+        for i, axis in enumerate("xyz"):
+            add(name=f"tip.{axis}", causality="output", variability="continuous", initial="calculated", unit="m",
+                description=f"the tip Gn (the last body's centre of mass), its {axis} in frame 0 (the base, moving with a platform) "
+                "from O1, the first joint",
+                get_c=f"tip_of(d, {i})")
+    if "cs" in asked.kinds:
         add(name="solver.method", type="Integer", causality="parameter", variability="fixed", initial="exact",
             description="co-simulation: 1 RK4 (fixed step h), 2 DOP853 (adaptive, rtol and atol), 3 Gauss (implicit, 4th order, step h)",
             c="method", start="2", start_c="2", settable=True, min=1, max=3)
@@ -157,12 +181,6 @@ def variables(spec, model, values: dict, kinds, as_inputs=()) -> list[Var]:
     return out
 
 
-def spec_time_dependent(model) -> bool:
-    from .assemble import time_dependent
-
-    return time_dependent(model)
-
-
 def structure(spec, cm, variables_: list[Var], values: dict) -> dict:
     """The ModelStructure, in value references (0 is the time): what each state's derivative and each
     output depends on, from the exact A and B and the model's own functions at three random states
@@ -173,6 +191,7 @@ def structure(spec, cm, variables_: list[Var], values: dict) -> dict:
     outputs = [v for v in variables_ if v.causality == "output"]
     rng = np.random.default_rng(0)
     p = values or None
+    of = _output_functions(spec, cm, values, [v.name for v in outputs])
     A_seen, B_seen = np.zeros((2 * n, 2 * n), bool), np.zeros((2 * n, max(nu, 1)), bool)
     rows_on_t, outputs_on = np.zeros(2 * n, bool), {v.name: np.zeros(2 * n + 1, bool) for v in outputs}
     for _ in range(3):
@@ -185,12 +204,12 @@ def structure(spec, cm, variables_: list[Var], values: dict) -> dict:
             B_seen[:, :nu] |= B != 0
         rows_on_t |= cm.rhs(t, x, u, p) != cm.rhs(t + 0.37, x, u, p)
         for v in outputs:
-            value = _output(cm, v.name, x, p, t)
+            value = of[v.name](x, t)
             for c in range(2 * n):
                 dx = np.zeros(2 * n)
                 dx[c] = 0.1 + 0.2 * rng.uniform()
-                outputs_on[v.name][c] |= _output(cm, v.name, x + dx, p, t) != value
-            outputs_on[v.name][2 * n] |= _output(cm, v.name, x, p, t + 0.37) != value
+                outputs_on[v.name][c] |= of[v.name](x + dx, t) != value
+            outputs_on[v.name][2 * n] |= of[v.name](x, t + 0.37) != value
     derivs = []
     for v in variables_:
         if v.derivative_index is not None:
@@ -204,10 +223,36 @@ def structure(spec, cm, variables_: list[Var], values: dict) -> dict:
     return dict(derivatives=derivs, outputs=outs, initial_unknowns=initial)
 
 
-def _output(cm, key: str, x, p, t: float) -> float:
-    if key == "jacobi":
-        return cm.jacobi(x, p)
-    return getattr(cm, key)(x, p, t=t)
+def _output_functions(spec, cm, values: dict, names: list) -> dict:
+    """{output: f(x, t)}: the integrals from the compiled model, the tip from the independent
+    numeric model (reference.py)."""
+    p = values or None
+    fns = {"energy": lambda x, t: cm.energy(x, p, t=t), "momentum": lambda x, t: cm.momentum(x, p, t=t),
+           "jacobi": lambda x, t: cm.jacobi(x, p)}
+    if any(name.startswith("tip.") for name in names):
+        ch = reference.numeric(spec, values)
+        fns.update({f"tip.{a}": (lambda x, t, i=i: tip_position(ch, x[:spec.n])[i]) for i, a in enumerate("xyz")})
+    return {name: fns[name] for name in names}
+
+
+def tip_position(ch, phi) -> np.ndarray:
+    """Gⁿ in frame 0: the sum over k < n of αᵏ'⁰ᵀ sᵏ, plus αⁿ'⁰ᵀ cⁿ (eq. 14: the rows of αᵏ'⁰ are
+    êᵏᵢ in frame 0, and O¹ is frame 0's origin)."""
+    R = reference.frames(ch, phi)
+    return sum(R[k].T @ ch.s[k] for k in range(ch.n - 1)) + R[-1].T @ ch.c[-1]
+
+
+def tip_joints(spec) -> list[dict]:
+    """The C of the tip's recursion, joint by joint: cos θᵏ, sin θᵏ, the offset δᵏ and the vector
+    added after the turn (sᵏ, and cⁿ for the last body), parameters read from the instance."""
+    printer = CPrinter({p: f"d->p.{p}" for p in spec.params})
+    out = []
+    for k, b in enumerate(spec.bodies):
+        ct, st = (printer.doprint(f(b.theta)) for f in (sp.cos, sp.sin))
+        vector = b.s if k < spec.n - 1 else b.c
+        angle = f"d->x[{k}]" + ("" if b.offset == 0 else f" + {printer.doprint(b.offset)}")
+        out.append(dict(ct=ct, st=st, angle=angle, v=[printer.doprint(e) for e in vector]))
+    return out
 
 
 def _indices(st: dict, variables_: list[Var]) -> dict:
@@ -219,21 +264,22 @@ def _indices(st: dict, variables_: list[Var]) -> dict:
                 initial_unknowns=[vr + 1 for vr in st["initial_unknowns"]])
 
 
-def render(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "3", as_inputs=()) -> tuple[dict, object, list]:
-    """{path in the FMU: text}, the compiled model (for the dependencies) and the variables."""
-    version = VERSIONS[fmi]
+def render(spec, spec_label: str, values: dict, asked: Asked) -> tuple[dict, list]:
+    """{path in the FMU: text} and the variables."""
+    fmi, version = asked.fmi, VERSIONS[asked.fmi]
     model = pipeline.derive(spec, latex=False)
     files = pipeline.render(model, spec_label, targets=("c",))
     cm = pipeline.compile(files, spec.name)
-    vs = variables(spec, model, values, kinds, as_inputs)
+    vs = variables(spec, model, values, asked)
     st = structure(spec, cm, vs, values)
     name = spec.name
     sources = [f"{name}.c", f"{name}_{version.prefix}.c"]
     facts = dict(name=name, NAME=name.upper(), n=spec.n, nu=len(spec.controls), version=__version__,
                  spec_label=Path(spec_label).name, spec_sha=hashlib.sha256(spec.source.encode("utf-8")).hexdigest()[:16],
-                 regenerate=_command(spec, spec_label, values, kinds, fmi, as_inputs),
+                 regenerate=_command(spec, spec_label, values, asked),
+                 tip=tip_joints(spec) if "tip" in asked.outputs else [],
                  variables=vs, sources=sources, absent_types=ABSENT_FMI3_TYPES,
-                 description=_xml(spec.description or name), me="me" in kinds, cs="cs" in kinds, stop_time="5",
+                 description=_xml(spec.description or name), me="me" in asked.kinds, cs="cs" in asked.kinds, stop_time="5",
                  units=[dict(name=u, base=[(k, v) for k, v in UNITS[u]]) for u in sorted({v.unit for v in vs if v.unit} | {"s"})],
                  dependency_lists=[dict(vr=vr, on=deps, c_on=", ".join(map(str, deps)) or "0")
                                    for vr, deps in st["outputs"] + st["derivatives"]],
@@ -248,17 +294,18 @@ def render(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "
         out["sources/buildDescription.xml"] = env.get_template(version.build).render(**facts)
     for h in version.headers:
         out[f"sources/{h}"] = (KERNELS / "fmi" / h).read_text()
-    return out, cm, vs
+    return out, vs
 
 
-def _command(spec, spec_label: str, values: dict, kinds, fmi: str, as_inputs) -> str:
+def _command(spec, spec_label: str, values: dict, asked: Asked) -> str:
     """The command line that makes this FMU again (the start values that differ from the spec's)."""
     import shlex
 
     given = {k: v for k, v in values.items() if (spec.values or {}).get(k) != v}
-    return shlex.join(["gyrochain", "fmu", Path(spec_label).name, *(["--fmi", fmi] if fmi != "3" else []),
-                       *(["--kind", ",".join(kinds)] if tuple(kinds) != ("me", "cs") else []),
-                       *(w for a in as_inputs for w in ("--input", a)), *(w for k in sorted(given) for w in ("--param", f"{k}={given[k]!r}"))])
+    return shlex.join(["gyrochain", "fmu", Path(spec_label).name, *(["--fmi", asked.fmi] if asked.fmi != "3" else []),
+                       *(["--kind", ",".join(asked.kinds)] if tuple(asked.kinds) != ("me", "cs") else []),
+                       *(w for a in asked.inputs for w in ("--input", a)), *(w for a in asked.outputs for w in ("--add-output", a)),
+                       *(w for k in sorted(given) for w in ("--param", f"{k}={given[k]!r}"))])
 
 
 def _uuid(*parts) -> str:
@@ -331,16 +378,16 @@ def pack(files: dict, binary: bytes, name: str, fmi: str = "3") -> bytes:
     return buf.getvalue()
 
 
-def make(spec, spec_label: str, values: dict, kinds=("me", "cs"), fmi: str = "3", real: str = "double",
-         as_inputs=()) -> tuple[bytes, list[str]]:
-    """The .fmu's bytes and lines that say what it holds."""
-    check(spec, real, kinds, fmi, as_inputs)
-    files, _, vs = render(spec, spec_label, values, kinds, fmi, as_inputs)
-    binary = build(files, spec.name, fmi)
-    data = pack(files, binary, spec.name, fmi)
+def make(spec, spec_label: str, values: dict, asked: Asked | None = None, **options) -> tuple[bytes, list[str]]:
+    """The .fmu's bytes and lines that say what it holds; ``options`` are Asked's fields."""
+    asked = asked or Asked(**{k: tuple(v) if isinstance(v, (list, tuple)) else v for k, v in options.items()})
+    check(spec, asked)
+    files, vs = render(spec, spec_label, values, asked)
+    binary = build(files, spec.name, asked.fmi)
+    data = pack(files, binary, spec.name, asked.fmi)
     said = {c: [v.name for v in vs if v.causality == c] for c in ("input", "parameter", "output")}
-    version = VERSIONS[fmi]
-    lines = [f"{version.label} {' and '.join({'me': 'model exchange', 'cs': 'co-simulation'}[k] for k in kinds)} FMU of {spec.name}: "
+    version = VERSIONS[asked.fmi]
+    lines = [f"{version.label} {' and '.join({'me': 'model exchange', 'cs': 'co-simulation'}[k] for k in asked.kinds)} FMU of {spec.name}: "
              f"{2 * spec.n} states, inputs {', '.join(said['input']) or 'none'}, outputs {', '.join(said['output']) or 'none'}, "
              f"parameters {', '.join(said['parameter']) or 'none'}; {len(data) // 1024} KiB ({version.platform} binary and the C sources)"]
     return data, lines

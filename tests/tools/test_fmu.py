@@ -6,6 +6,7 @@ Jacobian; a saved, serialised and restored state steps to bit-identical results;
 from its own sources with FMPy's CMake project; what FMI cannot hold is one line."""
 from __future__ import annotations
 
+import io
 import shutil
 import zipfile
 
@@ -268,12 +269,17 @@ def test_the_fmu_rebuilds_from_its_sources(fmi, built, tmp_path):
     assert np.max(np.abs(np.array(got[0]) - np.array(got[1]))) <= 1e-12
 
 
-def test_the_wrappers_compile_without_a_warning(built, tmp_path):
+def test_the_wrappers_compile_without_a_warning(tmp_path):
     """The FMI wrappers are generated C too: C99, -Wall -Wextra -Wpedantic -Werror, and both
     versions' sources link into one program (the model's and the wrappers' names do not clash)."""
+    import subprocess
+
+    spec, values = _spec("kapitza")
     for fmi in VERSIONS:
-        src = built("kapitza", fmi).unzipped / "sources"
-        import subprocess
+        data, _ = fmu.make(spec, "kapitza.toml", values, fmi=fmi, outputs=("tip",))  # the tip's C too
+        with zipfile.ZipFile(io.BytesIO(data)) as z:
+            z.extractall(tmp_path / fmi)
+        src = tmp_path / fmi / "sources"
 
         r = subprocess.run(["cc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c", f"-I{src}",
                             str(src / f"kapitza_fmi{fmi}.c"), "-o", str(tmp_path / f"w{fmi}.o")], capture_output=True, text=True)
@@ -360,7 +366,7 @@ def test_a_parameter_as_an_input(fmi, tmp_path):
     """Kapitza's amplitude a as a discrete input: held up by the vibration until 2.5 s, then let
     fall (a = 0).  FMPy's runs follow the C integrated in two pieces, a = 0.01 then a = 0."""
     spec = load_spec(ROOT / "specs" / "kapitza.toml")
-    data, lines = fmu.make(spec, "kapitza.toml", dict(spec.values), fmi=fmi, as_inputs=("a",))
+    data, lines = fmu.make(spec, "kapitza.toml", dict(spec.values), fmi=fmi, inputs=("a",))
     assert "inputs a," in lines[0] and "parameters w," in lines[0]
     path = tmp_path / "k.fmu"
     path.write_bytes(data)
@@ -385,4 +391,59 @@ def test_an_input_that_is_not_a_parameter_is_one_line(capsys, tmp_path):
     code = main(["fmu", str(ROOT / "specs" / "kapitza.toml"), "--input", "b", "-o", str(tmp_path / "k.fmu")])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and "--input: b is not a parameter of the spec (its parameters: a, w" in err, err
+    assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("name", ["ur5", "kapitza", "chain8"])
+@pytest.mark.parametrize("fmi", VERSIONS)
+def test_the_tip_output_is_the_last_centre_of_mass(name, fmi, tmp_path):
+    """--add-output tip: Gⁿ in frame 0 equals the independent numeric model's Gⁿ = Oⁿ + cⁿ in the
+    fixed frame (reference.world, which adds the platform's motion), turned back to frame 0, at
+    random states and times; it depends on angles only."""
+    from pathlib import Path
+
+    from gyrochain import reference
+
+    spec, values = _spec(name)
+    data, lines = fmu.make(spec, f"{name}.toml", values, fmi=fmi, outputs=("tip",))
+    assert "tip.x, tip.y, tip.z" in lines[0]
+    path = tmp_path / "t.fmu"
+    path.write_bytes(data)
+    assert validate_fmu(str(path)) == []
+    with zipfile.ZipFile(path) as z:
+        z.extractall(tmp_path / "t")
+    b = Built(name, fmi, spec, values, path, Path(tmp_path / "t"), None)
+    model, vr = _instance(b, "me")
+    md = read_model_description(str(path))
+    for u in md.outputs:
+        if u.variable.name.startswith("tip."):
+            assert all(d.name.startswith("phi") and not d.name.startswith("phidot") for d in u.dependencies), u.dependencies
+    ch = reference.numeric(spec, values)
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        phi, t = rng.uniform(-3, 3, spec.n), rng.uniform(0, 2)
+        model.setTime(t)
+        _set(b, model, [vr[f"phi{k}"] for k in range(1, spec.n + 1)], phi)
+        got = np.array(_get(b, model, [vr["tip.x"], vr["tip.y"], vr["tip.z"]]))
+        R0, _w, _e, r0, _v, _a = reference.platform(ch, t)
+        _e, c, _s, _lam, _A, O = reference.world(ch, phi, t)
+        want = R0.T @ (O[-1] + c[-1] - r0)
+        assert np.max(np.abs(got - want)) <= 1e-13 * max(1.0, np.max(np.abs(want))), (got, want)
+    model.terminate()
+    model.freeInstance()
+
+
+def test_an_output_not_on_the_list_is_one_line(capsys, tmp_path):
+    spec = load_spec(ROOT / "specs" / "gimbal.toml")
+    from gyrochain.errors import SpecError
+
+    with pytest.raises(SpecError) as caught:
+        fmu.check(spec, fmu.Asked(outputs=("reaction",)))
+    assert "--add-output: no output 'reaction'; the outputs that can be asked for: tip" in str(caught.value)
+    try:
+        code = main(["fmu", str(ROOT / "specs" / "gimbal.toml"), "--add-output", "reaction", "-o", str(tmp_path / "g.fmu")])
+    except SystemExit as exc:
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "--add-output" in err, err
     assert not list(tmp_path.iterdir())
