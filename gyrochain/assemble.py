@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from . import aba, derivatives, quadratures, world
+from . import aba, baseparams, derivatives, quadratures, regressor, world
 from .algebra import Poly
 from .dynamics import Dynamics
 from .integrals import Integrals
@@ -53,6 +53,9 @@ class Model:
     # the general case's stages again with ω⁰, ε⁰, v̇₀, γ⁰ as symbols (the LaTeX states (8)–(10)
     # with the platform's terms apart); None for a fixed base without loads or when not asked for
     symbolic: Stages | None = None
+    # the regressor u = Y π + τ₀ and the base parameters (generate --regressor), else None
+    reg: regressor.Regressor | None = None
+    base: baseparams.BaseParameters | None = None
 
 
 class FormNotApplicable(ValueError):
@@ -64,7 +67,7 @@ DER_FORMS = ("auto", "forward", "world")  # NAME_qdd_derivatives: forward mode, 
 
 
 def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None,
-                qdd_form: str = "auto", der_form: str = "auto") -> Model:
+                qdd_form: str = "auto", der_form: str = "auto", with_regressor: bool = False) -> Model:
     """The straight-line code of every function, from the program ``prog`` the stages appended
     to (the articulated recursion, the derivatives and Hamilton's variables are appended here).  φ̈ is emitted in whichever form costs fewer
     operations for this spec (``qdd_form="auto"``): composite bodies + LDLᵀ (short chains) or
@@ -140,7 +143,24 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
         say(f"derivatives: world form {w_count} ops" + (f", forward mode {f_count}" if f_count is not None else ""))
     der, store, _, form_d = chosen
     say(f"derivatives: {form_d} form")
-    return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d)
+    reg = base = None
+    if with_regressor:  # after everything else: no other quantity's name depends on it
+        reg, base = _regressor(spec, P, kin, dyn, ints, lines, say)
+    return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d, reg=reg, base=base)
+
+
+def _regressor(spec, P: Program, kin, dyn, ints, lines: dict, say) -> tuple:
+    """The regressor stage, its base parameters and its three straight lines."""
+    say("regressor: Y(phi, phidot, phidd) of the standard parameters, the energy's, the base parameters")
+    reg = regressor.derive(spec, P, kin, dyn, ints)
+    base = baseparams.find(spec, reg.params)
+    n = spec.n
+    lines["regressor"] = straight_line(P, [y for row in reg.Y for y in row] + list(reg.tau0), prefix="wr")
+    lines["base_regressor"] = straight_line(P, [reg.Y[i][j] for i in range(n) for j in base.columns] + list(reg.tau0),
+                                            prefix="wb")
+    lines["energy_regressor"] = straight_line(P, list(reg.h) + [reg.e0], prefix="we")
+    lines["standard_parameters"] = straight_line(P, [P.from_sympy(p.value) for p in reg.params], prefix="ws")
+    return reg, base
 
 
 def _forward(spec, P: Program, kin, art, articulated: StraightLine, skip_generic: bool) -> tuple:

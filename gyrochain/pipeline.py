@@ -37,15 +37,16 @@ _LOADED: dict = {}  # content hash of the sources → CModel (an extension loads
 
 
 def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = True, progress=None,
-           loops: str = "auto") -> Model:
+           loops: str = "auto", regressor: bool = False) -> Model:
     """Everything the printers need, derived once: kinematics (15)/(1)–(3), dynamics (17)–(19) or
     (8)–(10), the integrals (23), (27) and Jacobi's, the forms of φ̈ and of its derivatives chosen
     by op count, the quadratures (30) and Hamilton's variables where they exist, and (``latex``,
     general case only) the stages again with the platform's motion as symbols for the LaTeX.
     The same spec text and options give the same Model object within a process.  ``loops``: the
     loop form of long chains (loopform.py) by the number of joints ("auto"), or forced
-    ("straight", "loops"; tests and benchmarks compare the two)."""
-    key = (spec.source, qdd_form, der_form) + (() if loops == "auto" else (loops,))
+    ("straight", "loops"; tests and benchmarks compare the two).  ``regressor``: also the
+    regressor, the energy's and the base parameters (regressor.py, baseparams.py)."""
+    key = (spec.source, qdd_form, der_form) + (() if loops == "auto" else (loops,)) + (("regressor",) if regressor else ())
     use_loops = loopform.uses_loops(spec.n, loops)
     with _LOCK:
         found = _DERIVED.get(key)
@@ -62,7 +63,8 @@ def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = T
     dyn = dynamics.derive(spec, prog, kin, loops=use_loops)
     say("integrals: energy (23) and, where l1 may be vertical, momentum (27)")
     ints = integrals.derive(spec, prog, kin, dyn)
-    model = assemble.build_model(spec, prog, kin, dyn, ints, progress=say, qdd_form=qdd_form, der_form=der_form)
+    model = assemble.build_model(spec, prog, kin, dyn, ints, progress=say, qdd_form=qdd_form, der_form=der_form,
+                                 with_regressor=regressor)
     if latex and spec.general:
         say("the general case again with the platform's motion as symbols (for the LaTeX)")
         model = _with_symbolic(model)
@@ -136,13 +138,15 @@ def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on
 
 def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_form: str = "auto",
                       der_form: str = "auto", targets=printers.ALL, loops: str = "auto", on_c=None,
-                      real: str = "double") -> tuple[dict[str, str], Model]:
+                      real: str = "double", regressor: bool = False) -> tuple[dict[str, str], Model]:
     """``derive`` then ``render``: the files and the model."""
-    model = derive(spec, qdd_form, der_form, latex="latex" in targets, progress=progress, loops=loops)
+    model = derive(spec, qdd_form, der_form, latex="latex" in targets, progress=progress, loops=loops,
+                   regressor=regressor)
     say = progress or (lambda msg: None)
     say("printing " + ", ".join({"c": "C", "python": "Python", "latex": "LaTeX"}[t] for t in printers.ALL if t in targets))
     options = [*(("--qdd-form", qdd_form) if qdd_form != "auto" else ()),
-               *(("--derivative-form", der_form) if der_form != "auto" else ())]
+               *(("--derivative-form", der_form) if der_form != "auto" else ()),
+               *(("--regressor",) if regressor else ())]
     return render(model, spec_label, targets, on_c, real, options), model
 
 

@@ -411,3 +411,38 @@ def simulate(ch: NumericChain, x0, t_eval, u=None, rtol=1e-12, atol=1e-12):
     if not sol.success:
         raise RuntimeError(f"reference integration failed: {sol.message}")
     return sol.y.T
+
+
+def regressor(ch: NumericChain, params, phi, phidot, phiddot, t: float = 0.0) -> np.ndarray:
+    """Y of τ = Y π (the inverse dynamics' part linear in the standard parameters), column by
+    column from the fixed-frame vectors of ``_motion``: each parameter's unit value gives body k
+    a force and a moment about Oᵏ, and row j is eʲ · (that moment carried to Oʲ).  ``params``:
+    (kind, body, index) of each column (regressor.parameters): kind m, h, A (body-frame
+    components), lam or b."""
+    phi, phidot, phiddot = (np.asarray(v, dtype=float) for v in (phi, phidot, phiddot))
+    mo = _motion(ch, phi, phidot, phiddot, t)
+    R, O, omega, eps, e = mo["R"], mo["O"], mo["omega"], mo["eps"], mo["e"]
+    acc = mo["aO"] - ch.g * np.array([1.0, 0.0, 0.0])  # gravity: the base accelerating up
+    Y = np.zeros((ch.n, len(params)))
+    for col, (kind, k, index) in enumerate(params):
+        p = k - 1
+        F = N = np.zeros(3)
+        if kind == "b":
+            Y[p, col] = phidot[p]
+            continue
+        if kind == "m":
+            F = acc[p]
+        elif kind == "h":
+            u = R[p][index[0]]
+            F = np.cross(eps[p], u) + np.cross(omega[p], np.cross(omega[p], u))
+            N = np.cross(u, acc[p])
+        elif kind == "A":
+            i, j = index
+            E = np.outer(R[p][i], R[p][j])
+            A = E + E.T if i != j else E
+            N = A @ eps[p] + np.cross(omega[p], A @ omega[p])
+        else:
+            N = np.cross(omega[p], R[p][index[0]])
+        for j in range(p + 1):
+            Y[j, col] = e[j] @ (N + np.cross(O[p] - O[j], F))
+    return Y

@@ -86,8 +86,38 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         t_param="double t, " if time_dependent(model) else "",
         t_arg="t, " if time_dependent(model) else "",
         label=spec_label,
+        **regressor_context(model),
         gyrochain_version=__version__,
         sympy_version=sp.__version__,
+    )
+
+
+def _linear(row, array: str) -> str:
+    """Σ c·array[j] as C and Python alike: unit coefficients without a factor, signs as operators."""
+    from .common import literal
+
+    out = []
+    for j, c in row:
+        v = float(c)
+        term = f"{array}[{j}]" if abs(v) == 1.0 else f"{literal(abs(v))} * {array}[{j}]"
+        out.append(("-" if v < 0 else "") + term if not out else (" - " if v < 0 else " + ") + term)
+    return "".join(out)
+
+
+def regressor_context(model: Model) -> dict:
+    """The regressor's facts (generate --regressor): π's and β's names, β = K π's rows."""
+    if model.reg is None:
+        return dict(regressor=False)
+    names = [p.name for p in model.reg.params]
+    base = model.base
+    return dict(
+        regressor=True,
+        npi=len(names),
+        nbase=base.count,
+        pi_names=names,
+        base_names=[names[j] for j in base.columns],
+        base_rows=[_linear(row, "pi") for row in base.K],
+        base_numerical=any(base.numerical),
     )
 
 

@@ -32,6 +32,8 @@ def defines(ctx: dict) -> list[tuple[str, int]]:
         out += [("HAS_JACOBI_INTEGRAL", int(ctx["has_jacobi"])), ("TIME_DEPENDENT", int(ctx["time_dependent"]))]
     out += status[4:] + [(k.upper(), v) for k, v in METHODS.items()] + [("HAS_CANONICAL", int(ctx["canonical"]))]
     out += [("HAS_VARIATIONAL", int(ctx["variational"]))]
+    if ctx["regressor"]:
+        out += [("NPI", ctx["npi"]), ("NBASE", ctx["nbase"])]
     if ctx["quad"]:
         out += [(k, STATUS[k]) for k in QUAD_STATUS] + [(k.upper(), v) for k, v in MOTIONS.items()]
     return out

@@ -205,6 +205,8 @@ def functions(model: Model, printer_cls, style: str, array_printer_cls=None) -> 
         fs["velocity_terms"] = function_of("velocity_terms", model.lines["velocity_terms"],
                                          ([] if model.dyn.loops else lower) + [f"k[{i}]" for i in range(n)], prq)
         fs["pdot"] = function_of("pdot", model.lines["pdot"], [f"pdot[{k}]" for k in range(n)], pr)
+    if model.reg is not None:
+        fs.update(_regressor_functions(model, printer_cls, names, style))
     if "quad_terms" in model.lines:
         # a function of φ = φ² alone (ψ = φ¹ is cyclic); in Python on numpy arrays of φ
         qnames = {**names, model.kin.phi[2]: "phi"}
@@ -212,6 +214,30 @@ def functions(model: Model, printer_cls, style: str, array_printer_cls=None) -> 
         fs["quad_terms"] = function_of("quad_terms", model.lines["quad_terms"], [f"out[{i}]" for i in range(5)], qpr)
     return fs
 
+
+
+def _regressor_functions(model: Model, printer_cls, names: dict, style: str) -> dict[str, Function]:
+    """NAME_regressor, NAME_base_regressor, NAME_energy_regressor and NAME_standard_parameters:
+    φ, φ̇, φ̈ in their own arrays; Y row-major n × len(π) (C) or an n × len(π) array (Python)."""
+    reg, kin, n = model.reg, model.kin, model.spec.n
+    own = dict(names)
+    for k in range(1, n + 1):
+        own[kin.phi[k]], own[kin.phidot[k]], own[reg.phidd[k]] = f"phi[{k - 1}]", f"phidot[{k - 1}]", f"phidd[{k - 1}]"
+    pr = printer_cls(own)
+
+    def matrix(name: str, cols: int) -> list[str]:
+        return [f"{name}[{i * cols + j}]" if style == "c" else f"{name}[{i}, {j}]" for i in range(n) for j in range(cols)]
+
+    npi, nb = len(reg.params), model.base.count
+    tau0 = [f"t0_[{k}]" for k in range(n)]
+    return {
+        "regressor": function_of("regressor", model.lines["regressor"], matrix("Y", npi) + tau0, pr),
+        "base_regressor": function_of("base_regressor", model.lines["base_regressor"], matrix("Yb", nb) + tau0, pr),
+        "energy_regressor": function_of("energy_regressor", model.lines["energy_regressor"],
+                                        [f"h[{j}]" for j in range(npi)] + ["e0_"], pr),
+        "standard_parameters": function_of("standard_parameters", model.lines["standard_parameters"],
+                                           [f"pi[{j}]" for j in range(npi)], pr),
+    }
 
 
 def environment() -> jinja2.Environment:
