@@ -143,9 +143,8 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
         say(f"derivatives: world form {w_count} ops" + (f", forward mode {f_count}" if f_count is not None else ""))
     der, store, _, form_d = chosen
     say(f"derivatives: {form_d} form")
-    reg = base = None
-    if with_regressor:  # after everything else: no other quantity's name depends on it
-        reg, base = _regressor(spec, P, kin, dyn, ints, lines, say)
+    # the regressor after everything else: no other quantity's name depends on it
+    reg, base = _regressor(spec, P, kin, dyn, ints, lines, say) if with_regressor else (None, None)
     return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d, reg=reg, base=base)
 
 

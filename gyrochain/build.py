@@ -324,6 +324,39 @@ class CModel:
         xp, _k = self._arr(x, 2 * self.n)
         return self._fn("jacobi")(xp, self._p(params))
 
+    # ---- the regressor (generate --regressor): u = Y pi + tau0
+    def _outs(self, *shapes):
+        out = [np.empty(shape, self.dtype) for shape in shapes]
+        return out, [self.ffi.cast(self._ptr, self.ffi.from_buffer(a)) for a in out]
+
+    def _checked(self, what, code):
+        if code != 0:
+            raise ModelError(f"{self.name}_{what}", code)
+
+    def regressor(self, phi, phidot, phidd, params=None, t=0.0, base=False):
+        """(Y, tau0): u = Y pi + tau0 (n × NPI), or with ``base`` the base regressor (n × NBASE)."""
+        n, what = self.n, "base_regressor" if base else "regressor"
+        cols = getattr(self.lib, f"{self.name.upper()}_{'NBASE' if base else 'NPI'}")
+        args = [self._arr(v, n) for v in (phi, phidot, phidd)]
+        out, ptrs = self._outs((n, cols), n)
+        self._checked(what, self._fn(what)(*self._t(t), *(a for a, _ in args), self._p(params), *ptrs))
+        return out[0], out[1]
+
+    def energy_regressor(self, phi, phidot, params=None, t=0.0):
+        """(h, e0): T − U = h pi + e0."""
+        args = [self._arr(v, self.n) for v in (phi, phidot)]
+        out, ptrs = self._outs(getattr(self.lib, f"{self.name.upper()}_NPI"), 1)
+        self._checked("energy_regressor", self._fn("energy_regressor")(*self._t(t), *(a for a, _ in args),
+                                                                      self._p(params), *ptrs))
+        return out[0], float(out[1][0])
+
+    def standard_parameters(self, params=None):
+        return self._call("standard_parameters", self._p(params), out_len=getattr(self.lib, f"{self.name.upper()}_NPI"))
+
+    def base_parameters(self, pi):
+        pp, _k = self._arr(pi, getattr(self.lib, f"{self.name.upper()}_NPI"))
+        return self._call("base_parameters", pp, out_len=getattr(self.lib, f"{self.name.upper()}_NBASE"))
+
     # ---- Hamilton's variables (models with NAME_HAS_CANONICAL: fixed base, autonomous)
     def momenta(self, x, params=None):
         """p = ∂ℒ/∂φ̇ = M φ̇ + k(φ) at the state x."""

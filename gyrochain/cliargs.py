@@ -178,3 +178,41 @@ class Heartbeat:
                 sys.stderr.write("\r\033[K")
                 sys.stderr.flush()
                 self.shown = False
+
+
+def add_exchange(sub) -> None:
+    """The parsers of the commands that exchange a model with other tools: import, export, fmu."""
+    im = sub.add_parser("import", help="a robot description (URDF) as a spec: the revolute chain from the base to the tip",
+                        description="The spec's joint angles are the description's joint positions; fixed joints "
+                        "merge their links, and a joint the paper's chain cannot have must be locked.")
+    im.add_argument("description", help="the URDF file")
+    im.add_argument("-o", "--output", default="", help="the spec file (default NAME.toml here; - for standard output)")
+    im.add_argument("--base", default=None, help="the link the chain starts from (default: the root)")
+    im.add_argument("--tip", default=None, help="the link it ends at (needed where the movable joints branch)")
+    im.add_argument("--lock", action="append", metavar="JOINT=VALUE", help="fix a joint at a value (repeatable)")
+    im.add_argument("--name", default="", help="the model's name, a C identifier (default: from the robot's name)")
+    im.add_argument("--g", type=float, default=9.81, help="gravity along the description's -z (default 9.81)")
+    im.add_argument("--no-control", action="store_true", help="no torque inputs (default: one in every joint)")
+    im.add_argument("--force", action="store_true", help="replace an existing file")
+    xp = sub.add_parser("export", help="the spec as a robot description (URDF for Pinocchio and ROS, MJCF for MuJoCo)",
+                        description="A chain on a fixed base, without rotors or loads; joint k is the spec's phi k.")
+    xp.add_argument("spec")
+    xp.add_argument("--to", required=True, choices=["urdf", "mjcf"], help="the format")
+    xp.add_argument("-o", "--output", default="", help="the file (default NAME.urdf or NAME.xml here; - for standard output)")
+    xp.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's value (repeatable)")
+    xp.add_argument("--force", action="store_true", help="replace an existing file")
+    fm = sub.add_parser("fmu", help="the model as an FMU (FMI 3.0 or 2.0, model exchange and co-simulation) for Modelica "
+                        "tools, Simulink and FMPy")
+    fm.add_argument("spec")
+    fm.add_argument("-o", "--output", default="", help="the file (default NAME.fmu here)")
+    fm.add_argument("--fmi", default="3", choices=["3", "2"], help="the FMI version: 3 (default) or 2")
+    fm.add_argument("--kind", default="me,cs", help="me, cs or me,cs (default): model exchange, co-simulation")
+    fm.add_argument("--real", default="double", choices=["double", "float"], help="float is refused: FMI is double")
+    fm.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's start value (repeatable)")
+    fm.add_argument("--input", action="append", metavar="NAME", help="a parameter as a piecewise-constant input (repeatable)")
+    fm.add_argument("--add-output", action="append", choices=["tip"], help="an output more: tip (Gⁿ in frame 0; repeatable)")
+    fm.add_argument("--force", action="store_true", help="replace an existing file")
+
+
+def add_identify(sub) -> None:
+    """The parsers of identify and excite (parameter identification, identify.py)."""

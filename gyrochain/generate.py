@@ -34,7 +34,8 @@ class Result:
 
 
 def run(spec, target: Path, label: str, build: bool = True, force: bool = False, qdd_form: str = "auto",
-        der_form: str = "auto", progress=None, real: str = "double", source: Path | None = None) -> Result:
+        der_form: str = "auto", progress=None, real: str = "double", source: Path | None = None,
+        regressor: bool = False) -> Result:
     """Derive, print and write ``spec`` into ``target`` (built unless ``build`` is False).  A
     folder this generator did not write is written into only with ``force``, and its other files
     are kept; a folder that holds ``source``, the spec file, never."""
@@ -45,7 +46,7 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     try:
         try:
             files, model = pipeline.derive_and_render(spec, label, say, qdd_form=qdd_form, der_form=der_form, on_c=ahead,
-                                                      real=real)
+                                                      real=real, regressor=regressor)
         except pipeline.FormNotApplicable as exc:
             raise SpecError("--derivative-form", str(exc)) from None
         if build:
@@ -93,12 +94,22 @@ def report(result: Result) -> list[str]:
            f"qdd form: {model.qdd_form}" + (" (composite bodies + LDL^T)" if model.qdd_form == "composite" else " (articulated bodies, O(n))"),
            f"derivative form: {model.der_form} (" + DERIVATIVE_FORMS[model.der_form] + ")"]
     out += integral_lines(spec, model)
+    if model.reg is not None:
+        out.append(regressor_line(model))
     if model.quad is not None and spec.initial is not None:
         out.append(motion_line(spec, result.target))
     built = {None: "", "compiled": " + cffi extension",
              "reused": " + cffi extension (not recompiled: the C, the header and the compiler flags are those it was built from)"}[result.build]
     out.append(f"wrote {result.target}/: " + ", ".join(result.files) + built)
     return out
+
+
+def regressor_line(model: Model) -> str:
+    """The regressor's size: standard and base parameters, and which coefficients are numerical."""
+    base = model.base
+    approx = sum(base.numerical)
+    return (f"regressor: {len(model.reg.params)} standard parameters, {base.count} base parameters (identifiable "
+            f"combinations; their formulas in the LaTeX" + (f", {approx} with numerical coefficients" if approx else "") + ")")
 
 
 def _energy_line(spec, ints) -> str:

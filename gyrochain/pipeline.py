@@ -286,9 +286,12 @@ def compile(files: dict[str, str], name: str) -> build.CModel:  # noqa: A001  (t
         return _LOADED.setdefault(memo, model)
 
 
-def compiled(spec, qdd_form: str = "auto", der_form: str = "auto", loops: str = "auto") -> tuple[build.CModel, Model]:
-    """A parsed spec's compiled model and its derivation (without the LaTeX)."""
-    files, model = derive_and_render(spec, targets=("c",), qdd_form=qdd_form, der_form=der_form, loops=loops)
+def compiled(spec, qdd_form: str = "auto", der_form: str = "auto", loops: str = "auto",
+             regressor: bool = False) -> tuple[build.CModel, Model]:
+    """A parsed spec's compiled model and its derivation (without the LaTeX); with ``regressor``,
+    the model with its regressor functions."""
+    files, model = derive_and_render(spec, targets=("c",), qdd_form=qdd_form, der_form=der_form, loops=loops,
+                                     regressor=regressor)
     return compile(files, spec.name), model
 
 

@@ -458,6 +458,50 @@ def _tex(model: Model) -> dict:
         deriv=_derivative_tex(model, stages, doc, eqs["printed_terms"]),
         deriv_generic="d_jvp" in model.lines,
         deriv_world=model.der_form == "world",
+        base=base_parameters(model),
+    )
+
+
+def _coefficient(c) -> str:
+    """An exact coefficient as a reviewer reads it: a decimal when it is one (lengths and their
+    products), else a fraction; a numerical one as its double."""
+    if isinstance(c, sp.Rational):
+        q = int(c.q)
+        while q % 2 == 0:
+            q //= 2
+        while q % 5 == 0:
+            q //= 5
+        if q == 1:
+            text = format(sp.Float(abs(c), 30), "f").rstrip("0").rstrip(".")
+        else:
+            text = rf"\tfrac{{{abs(c.p)}}}{{{c.q}}}"
+    else:
+        text = f"{abs(float(c)):.15g}"
+    return text
+
+
+def base_parameters(model: Model) -> dict | None:
+    """The base parameters' section (generate --regressor): π, and each βᵢ as a formula of it."""
+    if model.reg is None:
+        return None
+    params, base = model.reg.params, model.base
+    rows = []
+    for i, row in enumerate(base.K):
+        terms = []
+        for j, c in row:
+            unit = c == 1 or c == -1
+            body = params[j].tex if unit else rf"{_coefficient(c)}\,{params[j].tex}"
+            neg = float(c) < 0
+            terms.append(("-" if neg else "") + body if not terms else (" - " if neg else " + ") + body)
+        rows.append((rf"\beta_{{{i + 1}}}", "".join(terms)))
+    return dict(
+        pi=r",\allowbreak ".join(p.tex for p in params),
+        count=len(params),
+        nbase=base.count,
+        rows=rows,
+        numerical=[i + 1 for i, flag in enumerate(base.numerical) if flag],
+        damping=any(p.kind == "b" for p in params),
+        rotors=any(p.kind == "lam" for p in params),
     )
 
 
