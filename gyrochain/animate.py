@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import TEMPLATES, __version__
+from . import TEMPLATES, __version__, files
 from .raster import Raster, _rgb  # the painter (animate.Raster, as before)
 from .scene import BODY_COLOURS, FRAME_COLOUR, PLATFORM_COLOUR, TRACE_COLOUR, Camera, Scene
 from .spec import SpecError
@@ -32,7 +32,6 @@ EXTENSIONS = (".gif", ".mp4", ".html", ".png")
 
 
 # --------------------------------------------------------------------------- trajectories
-MAX_TRAJECTORY_BYTES = 512 << 20  # a --trajectory CSV larger than this is refused (a device never ends)
 MAX_FRAMES = 10_000  # frames of one animation past which animate asks for --yes (a GIF of 480 x 480: ~2 GB of pixels)
 
 
@@ -63,29 +62,9 @@ def read_csv(path: str, n: int, fps: float, frame: float | None) -> tuple:
     prints it), at the frame times over the file's span (or at ``frame``): φ linear between the
     rows, φ̇ the file's or 0.  Returns the times, the states, whether φ̇ was given, and the file's
     own times and states (for the trace)."""
-    import stat
-
-    try:
-        mode = os.stat(path).st_mode
-        if not stat.S_ISREG(mode):
-            raise SpecError("--trajectory", f"{path}: not a file (a CSV as simulate writes it)")
-        if os.stat(path).st_size > MAX_TRAJECTORY_BYTES:
-            raise SpecError("--trajectory", f"{path}: larger than {MAX_TRAJECTORY_BYTES >> 20} MiB; thin it out (every k-th row)")
-        with open(path, encoding="utf-8") as f:
-            names = [h.strip() for h in f.readline().strip().split(",")]
-            data = np.loadtxt(f, delimiter=",", ndmin=2)
-    except SpecError:
-        raise
-    except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise SpecError("--trajectory", f"{path}: {getattr(exc, 'strerror', None) or exc}") from None
-    missing = [c for c in ["t"] + [f"phi{k}" for k in range(1, n + 1)] if c not in names]
-    if missing:
-        raise SpecError("--trajectory", f"{path}: no column {missing[0]!r} (expected t, phi1..phi{n}[, phidot1..phidot{n}])")
-    if data.shape[0] < 1 or data.shape[1] != len(names):
-        raise SpecError("--trajectory", f"{path}: expected rows of {len(names)} numbers under the header")
+    names, data = files.read_table(path, "--trajectory", ["t"] + [f"phi{k}" for k in range(1, n + 1)],
+                                   f"t, phi1..phi{n}[, phidot1..phidot{n}], as simulate writes it")
     ft = data[:, names.index("t")]
-    if not np.all(np.isfinite(data)) or np.any(np.diff(ft) <= 0):
-        raise SpecError("--trajectory", f"{path}: the times must increase and every value be finite")
     if frame is not None:
         frame_times(0.0, fps, frame)
         if not ft[0] <= frame <= ft[-1]:

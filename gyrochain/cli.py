@@ -61,6 +61,30 @@ def cmd_generate(args) -> int:
     return 0
 
 
+def cmd_identify(args) -> int:
+    from . import identify
+    from .physical import run_values
+
+    spec = load_spec(args.spec)
+    values = run_values(spec, cliargs.params_of(args.param))
+    identify.run(spec, args.data, values, args.output, args.force, args.validate, args.plot, args.window, args.order,
+                 args.physical)
+    return 0
+
+
+def cmd_excite(args) -> int:
+    from . import excite
+    from .physical import run_values
+
+    spec = load_spec(args.spec)
+    values = run_values(spec, cliargs.params_of(args.param))
+    lim = {k: cliargs.float_list(getattr(args, k), f"--{k.replace('_', '-')}") for k in ("phi_max", "phidot_max", "u_max", "center")}
+    excite.run_excite(spec, args.spec, values, args.output, args.force, lim, period=args.period, harmonics=args.harmonics,
+                        samples=args.samples, evaluations=args.evaluations, seed=args.seed, simulated=args.experiment and
+                        (args.experiment, args.rate, args.noise, args.encoder, args.seed))
+    return 0
+
+
 def cmd_check(args) -> int:
     spec = load_spec(args.spec)
     params = ", ".join(f"{p} = {spec.values[str(p)]:g}" if str(p) in spec.values else f"{p} (no value)"
@@ -497,7 +521,7 @@ def main(argv=None) -> int:
     command = {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
                "examples": cmd_examples, "new": cmd_new, "import": cmd_import,
-               "export": cmd_export, "fmu": cmd_fmu}[args.cmd]
+               "export": cmd_export, "fmu": cmd_fmu, "identify": cmd_identify, "excite": cmd_excite}[args.cmd]
     beat = cliargs.Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate") else None
     stdout = sys.stdout
     if beat is not None and beat.running:

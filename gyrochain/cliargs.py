@@ -216,3 +216,43 @@ def add_exchange(sub) -> None:
 
 def add_identify(sub) -> None:
     """The parsers of identify and excite (parameter identification, identify.py)."""
+    idf = sub.add_parser("identify", help="estimate the base parameters from a measured motion (CSV: t, phi1.., u1..) "
+                         "and write the spec with them", description="The torques u1.. are those of the controlled joints, "
+                         "in chain order; a joint without a control has u = 0.  phi is differentiated by a Savitzky-Golay "
+                         "filter (phidot1.. are used when the file has them).")
+    idf.add_argument("spec")
+    idf.add_argument("data", help="the measured motion: CSV with columns t, phi1..phiN[, phidot1..phidotN], u1..u_nu")
+    idf.add_argument("-o", "--output", default="", help="the identified spec (default NAME_identified.toml here)")
+    idf.add_argument("--validate", default=None, metavar="HELD.csv", help="held-out data: predicted torques and a "
+                     "simulated motion against it")
+    idf.add_argument("--plot", default=None, metavar="FILE.png", help="with --validate: the comparison as a picture")
+    idf.add_argument("--window", type=float, default=0.2, help="the filter's window in seconds (default 0.2)")
+    idf.add_argument("--order", type=int, default=4, help="the filter's polynomial order (default 4)")
+    idf.add_argument("--physical", action="store_true", help="constrain the estimates to physically possible bodies "
+                     "(positive masses, realisable inertias)")
+    idf.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's value (repeatable)")
+    idf.add_argument("--force", action="store_true", help="replace existing output files")
+    exc = sub.add_parser("excite", help="a periodic excitation that makes the base parameters well determined (CSV "
+                         "for the controller to track)", description="Every joint controlled: the joints' trajectories "
+                         "(Fourier series, Swevers et al. 1997) with the torques the spec's parameters need; otherwise "
+                         "the controlled joints' torques, with the motion they give.  Minimises cond of the base regressor.")
+    exc.add_argument("spec")
+    exc.add_argument("-o", "--output", default="", help="the CSV (default NAME_excite.csv here; - for standard output)")
+    exc.add_argument("--period", type=float, default=10.0, help="the period (s; default 10)")
+    exc.add_argument("--harmonics", type=int, default=5, help="harmonics per joint (default 5)")
+    exc.add_argument("--phi-max", default="", help="|phi - centre| limits (rad): one number or one per joint (default 1)")
+    exc.add_argument("--phidot-max", default="", help="|phidot| limits (rad/s; default 2)")
+    exc.add_argument("--u-max", default="", help="|u| limits of a chain with passive joints (N m; default 1)")
+    exc.add_argument("--center", default="", help="the centre of the motion (rad; default 0)")
+    exc.add_argument("--samples", type=int, default=200, help="samples per period (default 200)")
+    exc.add_argument("--evaluations", type=int, default=2000, help="the optimiser's budget (default 2000)")
+    exc.add_argument("--seed", type=int, default=0, help="the start's seed")
+    exc.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's value (repeatable)")
+    exc.add_argument("--force", action="store_true", help="replace an existing file")
+    exc.add_argument("--experiment", type=float, default=None, metavar="SECONDS", help="write instead a simulated "
+                     "measurement of the design on the spec's own model, that long (t, phi, u: what identify reads)")
+    exc.add_argument("--rate", type=float, default=1000.0, help="--experiment: samples per second (default 1000)")
+    exc.add_argument("--noise", type=float, default=0.01, help="--experiment: the torques' noise, a fraction of their RMS "
+                     "(default 0.01)")
+    exc.add_argument("--encoder", type=int, default=4096, help="--experiment: counts per turn of the angles (default "
+                     "4096; 0: exact)")

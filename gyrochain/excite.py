@@ -1,0 +1,224 @@
+"""``excite``: a periodic motion that determines the base parameters well, and a simulated
+measurement of it (docs/identify.md).
+
+With every joint controlled, the joints' trajectories are Swevers' finite Fourier series (Swevers,
+Ganseman, Tükel, De Schutter and Van Brussel 1997), scaled to the joint and speed limits; with
+passive joints (a Furuta pendulum) the controlled joints' torques are such series and the motion
+is what the model makes of them.  The coefficients minimise the condition number of the stacked
+base regressor over one period.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import files
+from .errors import SpecError
+from .measured import columns, compiled
+
+
+@dataclass(frozen=True)
+class Design:
+    """An excitation: samples t over one period, φ, φ̇, φ̈ (samples × n), the controlled joints'
+    torques u (samples × nu), cond(Y_B) of the stacked samples, and what was designed."""
+
+    t: np.ndarray
+    phi: np.ndarray
+    phidot: np.ndarray
+    phidd: np.ndarray
+    u: np.ndarray
+    cond: float
+    cond_start: float
+    mode: str
+    start: np.ndarray  # the state the designed motion starts from (with the torques' design: rest at the centre)
+
+
+def fourier(coef: np.ndarray, t: np.ndarray, wf: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Swevers' finite Fourier series of the rates: q̇ = Σₗ aₗ cos(l ω t) + bₗ sin(l ω t), so q is
+    periodic with zero mean about its centre: q = Σₗ (aₗ sin(l ω t) − bₗ cos(l ω t))/(l ω).
+    ``coef``: (joints, harmonics, 2).  Returns q − centre, q̇, q̈ (samples × joints)."""
+    L = coef.shape[1]
+    lw = wf * np.arange(1, L + 1)
+    s, c = np.sin(np.outer(t, lw)), np.cos(np.outer(t, lw))
+    a, b = coef[..., 0], coef[..., 1]
+    q = s @ (a / lw).T - c @ (b / lw).T
+    qd = c @ a.T + s @ b.T
+    qdd = (-s * lw) @ a.T + (c * lw) @ b.T
+    return q, qd, qdd
+
+
+def _limits(value, n: int, what: str, default: float) -> np.ndarray:
+    v = np.full(n, default) if value is None else np.asarray(value, dtype=float)
+    if v.shape == (1,):
+        v = np.full(n, v[0])
+    if v.shape != (n,) or not np.all(v > 0):
+        raise SpecError(what, f"expected one positive number or {n} of them (one per joint)")
+    return v
+
+
+class _Problem:
+    """One excitation problem: the samples of a period, the limits, and for coefficients x the
+    motion (``motion``) and its cost (log cond(Y_B), plus a penalty beyond the limits)."""
+
+    def __init__(self, spec, cm, period, harmonics, samples, pmax, vmax, umax, centre, params):
+        self.spec, self.cm, self.params, self.harmonics, self.samples = spec, cm, params, harmonics, samples
+        self.pmax, self.vmax, self.umax, self.centre = pmax, vmax, umax, centre
+        self.n, self.wf = spec.n, 2 * np.pi / period
+        self.t = np.arange(samples) * period / samples
+        self.full = len(spec.controls) == spec.n  # every joint controlled: design the trajectories
+        self.ctl = [k - 1 for k in spec.controls]
+
+    def cond(self, q, qd, qdd) -> float:
+        cm, p = self.cm, self.params
+        A = np.vstack([cm.regressor(q[i], qd[i], qdd[i], p, float(self.t[i]), base=True)[0] for i in range(len(self.t))])
+        return float(np.linalg.cond(A))
+
+    def motion(self, x) -> tuple:
+        """(φ, φ̇, φ̈, u) over the period; u: the controlled joints' torques."""
+        n, L = self.n, self.harmonics
+        if self.full:  # Swevers' series scaled to the limits; u what the spec's own parameters need
+            q, qd, qdd = fourier(x.reshape(n, L, 2), self.t, self.wf)
+            k = min(np.min(self.pmax / np.maximum(np.abs(q).max(axis=0), 1e-300)),
+                    np.min(self.vmax / np.maximum(np.abs(qd).max(axis=0), 1e-300)))
+            q, qd, qdd = q * k + self.centre, qd * k, qdd * k
+            pi0 = self.cm.standard_parameters(self.params)
+            u = np.array([Y @ pi0 + tau0 for Y, tau0 in (self.cm.regressor(q[i], qd[i], qdd[i], self.params, float(self.t[i]))
+                                                          for i in range(self.samples))])
+            return q, qd, qdd, u[:, self.ctl]
+        # the torques' series (scaled to |u| ≤ u_max) over two periods from rest; the second is used
+        tt = np.arange(2 * self.samples) * (self.t[1] - self.t[0])
+        lw = self.wf * np.arange(1, L + 1)
+        coef = x.reshape(len(self.ctl), L, 2)
+        u = np.sin(np.outer(tt, lw)) @ coef[..., 0].T + np.cos(np.outer(tt, lw)) @ coef[..., 1].T
+        u = u * np.min(self.umax / np.maximum(np.abs(u).max(axis=0), 1e-300))
+        X = np.empty((len(tt), 2 * n))
+        X[0] = np.concatenate([self.centre, np.zeros(n)])
+        for i in range(1, len(tt)):
+            X[i] = self.cm.integrate([tt[i - 1], tt[i]], X[i - 1], u=u[i - 1], params=self.params, rtol=1e-9, atol=1e-11)[-1]
+        half = slice(self.samples, 2 * self.samples)
+        acc = np.array([self.cm.qdd(X[i], u[i], self.params, float(tt[i])) for i in range(len(tt))[half]])
+        return X[half, :n], X[half, n:], acc, u[half]
+
+    def cost(self, x) -> float:
+        try:
+            q, qd, qdd, _ = self.motion(x)
+        except Exception:  # noqa: BLE001  (a motion the integrator cannot follow is a bad design)
+            return 1e3
+        c = self.cond(q, qd, qdd)
+        over = 0.0 if self.full else np.maximum(np.abs(q - self.centre) / self.pmax, np.abs(qd) / self.vmax).max()
+        return (np.log(c) if np.isfinite(c) else 1e3) + (10.0 * (over - 1.0) ** 2 if over > 1.0 else 0.0)
+
+
+def excite(spec, cm, period: float = 10.0, harmonics: int = 5, phi_max=None, phidot_max=None, u_max=None,
+           samples: int = 200, evaluations: int = 400, seed: int = 0, center=None, params=None) -> Design:
+    """A periodic excitation that minimises cond(Y_B) over ``samples`` samples of a period, within
+    |φ − centre| ≤ phi_max and |φ̇| ≤ phidot_max: for a chain whose every joint has a control, the
+    joints' trajectories as Swevers' Fourier series (scaled to the limits); otherwise the controlled
+    joints' torques as such series (|u| ≤ u_max), the motion simulated from rest at the centre
+    over two periods (the second one is used), the limits a penalty."""
+    from scipy.optimize import minimize
+
+    n = spec.n
+    if period <= 0 or harmonics < 1 or samples < 2 or evaluations < 1:
+        raise SpecError("excite", "--period must be positive and --harmonics, --samples, --evaluations at least 1")
+    if not spec.controls:
+        raise SpecError("excite", "the spec has no control torque: no motion can be imposed (give a joint control = true)")
+    centre = np.zeros(n) if center is None else np.asarray(center, dtype=float)
+    if centre.shape != (n,):
+        raise SpecError("--center", f"expected {n} numbers")
+    pb = _Problem(spec, cm, period, harmonics, samples, _limits(phi_max, n, "--phi-max", 1.0),
+                  _limits(phidot_max, n, "--phidot-max", 2.0), _limits(u_max, len(spec.controls), "--u-max", 1.0), centre,
+                  params)
+    shape = (n if pb.full else len(spec.controls), harmonics, 2)
+    x0 = (np.random.default_rng(seed).normal(size=shape) / np.arange(1, harmonics + 1)[None, :, None]).ravel()
+    start = pb.cost(x0)
+    small = x0.size <= 8
+    best = minimize(pb.cost, x0, method="Nelder-Mead" if small else "Powell",
+                    options=dict(maxfev=evaluations, **({"xatol": 1e-4, "fatol": 1e-4} if small else {"xtol": 1e-4, "ftol": 1e-4})))
+    x = best.x if best.fun <= start else x0
+    q, qd, qdd, u = pb.motion(x)
+    mode = (f"joint trajectories: {harmonics} harmonics of {period:g} s per joint (Swevers et al. 1997)" if pb.full else
+            f"torques of the controlled joints: {harmonics} harmonics of {period:g} s (the chain has passive joints); "
+            "the motion simulated from rest, its second period")
+    first = pb.motion(x0)
+    begin = np.concatenate([q[0], qd[0]]) if pb.full else np.concatenate([centre, np.zeros(n)])
+    return Design(pb.t, q, qd, qdd, u, pb.cond(q, qd, qdd), pb.cond(*first[:3]), mode, begin)
+
+
+def write_design(design: Design, spec) -> str:
+    """The excitation as CSV: t, phi, phidot, phidd and the controlled joints' u (one period)."""
+    n = spec.n
+    head = ["t"] + [f"phi{k}" for k in range(1, n + 1)] + [f"phidot{k}" for k in range(1, n + 1)]
+    head += [f"phidd{k}" for k in range(1, n + 1)] + [f"u{i}" for i in range(1, len(spec.controls) + 1)]
+    rows = np.column_stack([design.t, design.phi, design.phidot, design.phidd, design.u])
+    return ",".join(head) + "\n" + "".join(",".join(f"{v:.17g}" for v in row) + "\n" for row in rows)
+
+
+def experiment(spec, cm, d: Design, duration: float, rate: float, noise: float, counts: int, seed: int,
+               params=None) -> np.ndarray:
+    """A simulated measurement of the design on the spec's own model: the torques held over each
+    sample (1/rate s); with every joint controlled, the design's torques plus a PD loop on its
+    trajectory (as a bench's controller tracks it), else the design's torques alone from rest at
+    the start.  The recorded u has Gaussian noise of ``noise`` times its RMS, φ is quantised to
+    2π/``counts``.  Rows: t, φ (n), u (nu)."""
+    n, ctl = spec.n, [k - 1 for k in spec.controls]
+    if not (duration > 0 and rate > 0 and noise >= 0 and counts >= 0):
+        raise SpecError("--experiment", "the duration, --rate and --encoder must be positive, --noise not negative")
+    steps = int(round(duration * rate))
+    if steps > 2_000_000:
+        raise SpecError("--experiment", f"{steps} samples: more than 2000000 (a shorter duration or a lower --rate)")
+    period = d.t[-1] + d.t[1] - d.t[0]
+    t = np.arange(steps + 1) / rate
+    cyc = lambda y: np.interp(t % period, np.append(d.t, period), np.append(y, y[:1]))  # noqa: E731  (periodic)
+    U = np.column_stack([cyc(d.u[:, i]) for i in range(len(ctl))])
+    full = len(ctl) == n
+    if full:
+        Q = np.column_stack([cyc(d.phi[:, k]) for k in range(n)])
+        V = np.column_stack([cyc(d.phidot[:, k]) for k in range(n)])
+        Md = np.diag(cm.mass_matrix(d.phi[0], params))
+        kp, kd = (2 * np.pi * 5.0) ** 2 * Md, 2 * 0.7 * (2 * np.pi * 5.0) * Md  # a 5 Hz loop, damping 0.7
+    x = d.start.copy()
+    rows = np.empty((steps + 1, 1 + n + len(ctl)))
+    for i in range(steps + 1):
+        u = U[i] + (kp * (Q[i] - x[:n]) + kd * (V[i] - x[n:]) if full else 0.0)
+        rows[i, 0], rows[i, 1:1 + n], rows[i, 1 + n:] = t[i], x[:n], u
+        if i < steps:
+            x = cm.integrate([t[i], t[i + 1]], x, u=u, params=params, rtol=1e-10, atol=1e-12)[-1]
+    rng = np.random.default_rng(seed)
+    applied = rows[:, 1 + n:]
+    rows[:, 1 + n:] = applied + noise * np.sqrt(np.mean(applied ** 2, axis=0)) * rng.standard_normal(applied.shape)
+    if counts:
+        q = 2 * np.pi / counts
+        rows[:, 1:1 + n] = np.round(rows[:, 1:1 + n] / q) * q
+    return rows
+
+
+def run_excite(spec, source: str, values: dict, output: str, force: bool, limits: dict, say=print, simulated=None,
+               **options) -> Design:
+    """``excite``: the design written as CSV (``output`` "-": printed, the report on stderr); with
+    ``simulated`` (duration, rate, noise, counts, seed), a simulated measurement of it instead."""
+    import sys
+
+    default = f"{spec.name}_{'experiment' if simulated else 'excite'}.csv"
+    if output != "-":
+        files.target(output, default, force, source)
+    cm, _model = compiled(spec)
+    d = excite(spec, cm, phi_max=limits["phi_max"], phidot_max=limits["phidot_max"], u_max=limits["u_max"],
+               center=limits["center"], params=values or None, **options)
+    if simulated:
+        rows = experiment(spec, cm, d, *simulated, params=values or None)
+        head = ["t"] + columns(spec)[0] + columns(spec)[2]
+        text = ",".join(head) + "\n" + "".join(",".join(f"{v:.17g}" for v in row) + "\n" for row in rows)
+    else:
+        text = write_design(d, spec)
+    path = files.deliver(text, output, default, force, source)
+    tell = say if path is not None else (lambda line: print(line, file=sys.stderr))
+    tell(f"excite {spec.name}: {d.mode}; cond of the base regressor {d.cond:.4g} over the period")
+    if path is not None and simulated:
+        dur, rate, noise, counts, _ = simulated
+        tell(f"wrote {path}: a simulated measurement of {dur:g} s at {rate:g} Hz (t, phi, u): noise {100 * noise:g}% of "
+             f"u's RMS, phi quantised to {counts} counts per turn" if counts else "")
+    elif path is not None:
+        tell(f"wrote {path}: {len(d.t)} samples of one period (t, phi, phidot, phidd, u)")
+    return d

@@ -1,0 +1,245 @@
+"""``identify``: the base parameters estimated from a measured motion, the spec written with
+them, and a check against held-out data (docs/identify.md).
+
+The regressor of the generated C (generate --regressor) turns a measured motion (measured.py:
+read, filtered, differentiated) into linear equations for the base parameters β: at each sample,
+u − τ₀ = Y_B(φ, φ̇, φ̈) β, one row per joint, a passive joint's row with u = 0.  They are solved by
+weighted least squares: each joint's rows weighted by the inverse of the standard deviation of its
+residual after an ordinary fit, so a joint with a noisy torque or none does not swamp the others;
+the standard errors come from the same weighted fit.  The spec written has each body's parameters
+as symbols with their values in [values]: physically possible bodies (consistency.py) with these
+base parameters, the directions the motion does not determine chosen near the spec's values.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import files
+from .consistency import consistent
+from .errors import SpecError
+from .measured import ORDER, WINDOW_S, Motion, compiled, read, stack
+
+FAR = 3.0  # estimates this many standard errors from any physically possible bodies are not written without --physical
+
+
+@dataclass(frozen=True)
+class Estimate:
+    beta: np.ndarray
+    se: np.ndarray  # standard errors
+    cond: float  # condition number of the weighted, stacked base regressor
+    rms: np.ndarray  # residual RMS per joint (N m)
+    sigma: np.ndarray  # the weights' standard deviations per joint
+    rows: int
+
+
+def estimate(A: np.ndarray, y: np.ndarray, n: int, what: str = "data") -> Estimate:
+    """Weighted least squares: each joint's rows weighted by 1/σₖ, σₖ its residual's standard
+    deviation after an ordinary least-squares fit."""
+    rows, nb = A.shape
+    if rows - nb <= n:
+        raise SpecError(what, f"{rows // n} samples give {rows} equations for {nb} base parameters; record longer")
+    beta0 = np.linalg.lstsq(A, y, rcond=None)[0]
+    r0 = (y - A @ beta0).reshape(-1, n)
+    sigma = np.sqrt(np.sum(r0 ** 2, axis=0) / max(len(r0) - nb / n, 1.0))
+    sigma = np.where(sigma > 0, sigma, max(sigma.max(), 1e-300))
+    w = np.tile(1.0 / sigma, rows // n)
+    Aw, yw = A * w[:, None], y * w
+    rank = np.linalg.matrix_rank(Aw)
+    if rank < nb:
+        raise SpecError(what, f"the motion excites only {rank} of the {nb} base parameters (rank {rank}); "
+                                "move every joint, faster and farther (gyrochain excite designs such a motion)")
+    beta, *_ = np.linalg.lstsq(Aw, yw, rcond=None)
+    res = yw - Aw @ beta
+    s2 = float(res @ res) / (rows - nb)
+    cov = s2 * np.linalg.inv(Aw.T @ Aw)
+    rms = np.sqrt(np.mean((y - A @ beta).reshape(-1, n) ** 2, axis=0))
+    return Estimate(beta, np.sqrt(np.diag(cov)), float(np.linalg.cond(Aw)), rms, sigma, rows)
+
+
+def simulate(cm, model, beta, motion: Motion, params=None, rtol: float = 1e-9) -> np.ndarray:
+    """φ(t) of the model with base parameters β, from the motion's first state under its torques
+    (linear between the samples): φ̈ = M̂⁻¹(u − τ₀ − Ŷ(φ, φ̇, 0) β), M̂'s columns Y_B(φ, φ̇, eⱼ) β − Y_B(φ, φ̇, 0) β."""
+    from scipy.integrate import solve_ivp
+
+    n = motion.phi.shape[1]
+    eye = np.eye(n)
+
+    def rhs(t, x):
+        q, v = x[:n], x[n:]
+        u = np.array([np.interp(t, motion.t, motion.u[:, k]) for k in range(n)])
+        Y0, tau0 = cm.regressor(q, v, np.zeros(n), params, t, base=True)
+        b = Y0 @ beta
+        M = np.column_stack([cm.regressor(q, v, eye[j], params, t, base=True)[0] @ beta - b for j in range(n)])
+        return np.concatenate([v, np.linalg.solve(M, u - tau0 - b)])
+
+    x0 = np.concatenate([motion.phi[0], motion.phidot[0]])
+    sol = solve_ivp(rhs, (motion.t[0], motion.t[-1]), x0, method="DOP853", t_eval=motion.t, rtol=rtol, atol=rtol * 1e-2)
+    if not sol.success:
+        raise SpecError("--validate", f"the identified model could not be integrated over the held-out motion ({sol.message})")
+    return sol.y[:n].T
+
+
+def symbol(p) -> str:
+    """The name of standard parameter ``p`` in a written spec: m_2, hx_2, Axy_2, lamz_2, b_1."""
+    return f"{p.name[:-len(str(p.body))]}_{p.body}"
+
+
+def identified_spec(spec, model, pi: np.ndarray, note: str) -> str:
+    """The spec's text with each body's m, c, A (and λ, damping) as symbols whose [values] are
+    ``pi``; its other fields and values as they were (the comments are not kept).  ``note``: the
+    first comment lines (where the values come from)."""
+    import tomllib
+
+    import tomli_w
+
+    from .spec import parse_spec
+
+    raw = tomllib.loads(spec.source)
+    params = model.reg.params
+    taken = {str(p) for p in spec.params}
+    names = {p.name: symbol(p) for p in params}
+    clash = sorted(taken & set(names.values()))
+    if clash:
+        raise SpecError(f"values.{clash[0]}", "the spec names a parameter as identify names the identified ones; rename it")
+    raw["name"] = f"{spec.name}_identified"
+    for k, body in enumerate(raw["body"], start=1):
+        own = {p.kind + "".join(map(str, p.index)): names[p.name] for p in params if p.body == k}
+        body.pop("I_c", None)
+        body["m"] = own["m"]
+        body["c"] = [f"{own[f'h{i}']}/{own['m']}" for i in range(3)]
+        body["A"] = [[own[f"A{min(i, j)}{max(i, j)}"] for j in range(3)] for i in range(3)]
+        if "lam0" in own:
+            body.pop("rotor", None)
+            body["lambda"] = [own[f"lam{i}"] for i in range(3)]
+        if "b" in own:
+            body["damping"] = own["b"]
+    values = dict(raw.get("values", {}))
+    values.update({names[p.name]: float(v) for p, v in zip(params, pi)})
+    raw["values"] = values
+    used = {str(p) for p in parse_spec(tomli_w.dumps({**raw, "values": {}})).params}
+    raw["values"] = {k: v for k, v in values.items() if k in used}  # parameters only the old inertias read go
+    text = "".join(f"# {line}\n" for line in note.splitlines()) + tomli_w.dumps(raw)
+    parse_spec(text)  # what we write must load
+    return text
+
+
+def formula(model, i: int) -> str:
+    """βᵢ in the standard parameters' names, as the command prints it (Axx1 + 0.04 m2 + 0.4 hx2)."""
+    params, out = model.reg.params, []
+    for j, c in model.base.K[i]:
+        v = float(c)
+        term = params[j].name if abs(v) == 1.0 else f"{abs(v):.15g} {params[j].name}"
+        out.append(("-" if v < 0 else "") + term if not out else (" - " if v < 0 else " + ") + term)
+    return "".join(out)
+
+
+def run(spec, data: str, values: dict, output: str, force: bool, validate: str | None = None, plot: str | None = None,
+        window: float = WINDOW_S, order: int = ORDER, physical: bool = False, say=print) -> dict:
+    """``identify``: read, filter, stack, estimate, write the spec, print the table (and with
+    ``validate``, compare the predicted torques and a simulated motion with held-out data).
+    Returns the figures (the tests read them)."""
+    if not (window > 0 and 2 <= order <= 8):
+        raise SpecError("--window" if not window > 0 else "--order", "the window must be positive and the order 2 to 8")
+    out_path = files.target(output, f"{spec.name}_identified.toml", force, data)
+    if plot:
+        files.target(plot, plot, force)
+    params = values or None
+    motion = read(data, spec, data, window, order)
+    held = read(validate, spec, "--validate", window, order) if validate else None
+    cm, model = compiled(spec)
+    A, y = stack(cm, motion, params)
+    est = estimate(A, y, spec.n, data)
+    n = spec.n
+    passive = [k for k in range(1, n + 1) if k not in spec.controls]
+    say(f"identify {spec.name} from {data}: {len(motion.t)} samples of {n} joints"
+        + (f"; joint{'s' if len(passive) > 1 else ''} {', '.join(map(str, passive))} passive (u = 0 in "
+           f"{'their' if len(passive) > 1 else 'its'} equations)" if passive else ""))
+    say(f"filter: {motion.how}")
+    say(f"weighted least squares: {est.rows} equations, {model.base.count} base parameters, cond {est.cond:.4g}; "
+        "residual RMS " + ", ".join(f"joint {k + 1} {r:.3g}" for k, r in enumerate(est.rms)) + " N m")
+    pi0 = cm.standard_parameters(params)
+    beta0 = cm.base_parameters(pi0)
+    pi, moved = consistent(model, est.beta, est.se, pi0)
+    beta = cm.base_parameters(pi) if physical else est.beta
+    if physical:
+        say(f"physically consistent (--physical): every body possible; the estimates moved by at most {moved:.3g} "
+            "standard errors" + (" (the unconstrained ones were already consistent)" if moved < 1e-3 else ""))
+    _table(model, beta, est.se, beta0, say)
+    if moved > FAR and not physical:
+        raise SpecError(out_path.name, f"not written: the estimates are {moved:.3g} standard errors from any physically "
+                                       "possible bodies (model error, or too little excitation); --physical writes the "
+                                       "nearest, or record a longer or richer motion (gyrochain excite)")
+    note = (f"{spec.name} with the parameters identified by gyrochain identify from {data}\n"
+            f"(physically possible bodies whose base parameters are the estimates' to {moved:.2g} standard errors;\n"
+            f"the parameters the motion does not determine chosen near {spec.name}'s values)")
+    files.write_new(out_path, identified_spec(spec, model, pi, note), force)
+    say(f"wrote {out_path}: physically possible bodies in [values], their base parameters "
+        + ("the estimates'" if moved < 1e-3 or physical else f"within {moved:.2g} standard errors of the estimates"))
+    figures = dict(beta=beta, beta_free=est.beta, moved=moved, se=est.se, cond=est.cond, rms=est.rms, beta_spec=beta0,
+                   path=out_path, pi=pi)
+    if held is not None:
+        figures.update(_validate(cm, model, beta, held, params, validate, plot, say))
+    return figures
+
+
+def _table(model, beta, se, beta0, say) -> None:
+    names = [f"beta{i + 1}" for i in range(model.base.count)]
+    forms = [formula(model, i) for i in range(model.base.count)]
+    wide = max(len(f) for f in forms)
+    say(f"  {'':7}{'= (standard parameters)':<{wide}}  {'estimate':>13}  {'std. error':>10}  {'':>7}  {'spec':>13}")
+    for i in range(model.base.count):
+        rel = se[i] / abs(beta[i]) if beta[i] != 0 else np.inf
+        say(f"  {names[i]:<7}{forms[i]:<{wide}}  {beta[i]:13.6g}  {se[i]:10.3g}  {100 * rel:6.2g}%  {beta0[i]:13.6g}")
+
+
+def _validate(cm, model, beta, held: Motion, params, path: str, plot: str | None, say) -> dict:
+    """Held-out data: the torques the estimates predict, and the motion they give under the
+    measured torques, against what was measured."""
+    A, y = stack(cm, held, params)
+    n = held.phi.shape[1]
+    pred = (A @ beta).reshape(-1, n)
+    meas = y.reshape(-1, n)
+    err = np.sqrt(np.mean((pred - meas) ** 2, axis=0))
+    scale = np.sqrt(np.mean(meas ** 2, axis=0))
+    sim = simulate(cm, model, beta, held, params)
+    drift = np.sqrt(np.mean((sim - held.phi) ** 2, axis=0))
+    span = held.phi.max(axis=0) - held.phi.min(axis=0)
+    say(f"validate on {path} ({held.t[-1] - held.t[0]:.4g} s): torque RMS error "
+        + ", ".join(f"joint {k + 1} {err[k]:.3g} N m ({100 * err[k] / scale[k]:.2g}% of its RMS)" if scale[k] > 0 else
+                    f"joint {k + 1} {err[k]:.3g} N m" for k in range(n)))
+    say("  simulated with the estimates under the measured torques, phi RMS error "
+        + ", ".join(f"joint {k + 1} {drift[k]:.3g} rad ({100 * drift[k] / span[k]:.2g}% of its range)" for k in range(n)))
+    if plot:
+        _plot(held, pred, meas, sim, plot)
+        say(f"wrote {plot}")
+    return dict(torque_rms=err, torque_scale=scale, phi_rms=drift, phi_span=span, simulated=sim, held=held)
+
+
+def _plot(held: Motion, pred, meas, sim, path: str) -> None:
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise SpecError("--plot", "needs matplotlib: pip install 'gyrochain[plot]'") from None
+    n = held.phi.shape[1]
+    fig, ax = plt.subplots(2, n, figsize=(4.2 * n, 5.6), squeeze=False, sharex=True)
+    for k in range(n):
+        ax[0, k].plot(held.t, meas[:, k], lw=1.6, color="0.6", label="measured (filtered)")
+        ax[0, k].plot(held.t, pred[:, k], lw=0.9, color="C0", label="predicted")
+        ax[0, k].set_title(f"joint {k + 1}: torque (N m)", fontsize=10)
+        ax[1, k].plot(held.t, held.phi[:, k], lw=1.6, color="0.6", label="measured")
+        ax[1, k].plot(held.t, sim[:, k], lw=0.9, color="C1", label="simulated")
+        ax[1, k].set_title(f"joint {k + 1}: angle (rad)", fontsize=10)
+        ax[1, k].set_xlabel("t (s)")
+    ax[0, 0].legend(fontsize=8)
+    ax[1, 0].legend(fontsize=8)
+    fig.tight_layout()
+    tmp = f"{path}.tmp.png"
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    os.replace(tmp, path)
