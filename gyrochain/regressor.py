@@ -30,7 +30,7 @@ import sympy as sp
 
 from .algebra import ONE, ZERO
 from .dynamics import Dynamics, joint_torque
-from .integrals import Integrals, _potential, _velocities
+from .integrals import Integrals, _velocities
 from .kinematics import NULL, Kinematics, appends_to
 from .program import Program
 from .errors import SpecError
@@ -165,11 +165,11 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, ints:
     for k, b in enumerate(spec.bodies, start=1):
         known = joint_torque(spec, kin, k) + (num(b.damping) * kin.qd[k] if b.damping is not None else ZERO)
         tau0.append(-known - (dyn.Phi[k - 1] if dyn.Phi else ZERO))
-    h, e0 = _energy(spec, kin, dyn, params)
+    h, e0 = _energy(spec, kin, ints, params)
     return Regressor(params, tuple(tuple(r) for r in Y), tuple(tau0), h, e0, tuple(phidd))
 
 
-def _energy(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, params: tuple) -> tuple:
+def _energy(spec: ChainSpec, kin: Kinematics, ints: Integrals, params: tuple) -> tuple:
     """T − U = h π + e₀: per body ½v² − g (ê⁰₁·Oᵏ) for m, v·(ω × eᵢ) − g γᵏᵢ for hᵢ, ½ ω·Eᵢⱼω for
     Aᵢⱼ (the velocities absolute, frame k); λ and b do not enter."""
     P, J, num = kin.prog, kin.joint, kin.prog.from_sympy
@@ -194,6 +194,6 @@ def _energy(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, params: tuple) -> t
         else:
             h.append(ZERO)
     e0 = ZERO
-    for _, term in _potential(spec, kin, dyn):
+    for _, term in ints.U_extra:  # springs and potential loads, as the energy's U has them
         e0 = e0 - term
     return tuple(h), e0

@@ -1,0 +1,161 @@
+"""The regressor (generate --regressor): u = Y(φ, φ̇, φ̈) π + τ₀ against the inverse dynamics of the
+generated C (M φ̈ − f at u = 0), the energy's h π + e₀ against NAME_energy, the base parameters
+against the numerical rank of the stacked regressor and against Pinocchio's joint-torque
+regressor, and the independent numpy regressor of reference.py against the C."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from conftest import EXAMPLES, LONG_EXAMPLES, ROOT, example_params
+from gyrochain import pipeline, reference
+from gyrochain.randspec import random_general_spec_text, random_spec_text
+from gyrochain.spec import SpecError, load_spec, parse_spec
+
+STATES = 100
+TOL = 1e-12
+# cable64: its regressor (64 × 832) is 5 MB of C and compiles in minutes; every shorter example is here
+SHORT = [e for e in EXAMPLES if e not in LONG_EXAMPLES]
+RANDOM = {  # random chains with platforms, loads, springs, dampers, torque expressions and rotors (constant λ)
+    "rchain3": random_spec_text(np.random.default_rng(31), 3, name="rchain3"),
+    "rchain6": random_spec_text(np.random.default_rng(32), 6, name="rchain6", controls=(1, 3, 6), offsets=True),
+    "gchain3": random_general_spec_text(np.random.default_rng(33), 3, name="gchain3", spin_up=False),
+    "gchain4": random_general_spec_text(np.random.default_rng(34), 4, name="gchain4", spin_up=False, rotate=False),
+    "gchain5": random_general_spec_text(np.random.default_rng(35), 5, name="gchain5", spin_up=False, translate=False),
+}
+
+
+def _spec(name):
+    return parse_spec(RANDOM[name]) if name in RANDOM else load_spec(ROOT / "specs" / f"{name}.toml")
+
+
+def _params(name, spec):
+    return example_params(name) if name not in RANDOM else None
+
+
+def _rank(M) -> int:
+    """The numerical rank of the columns scaled to unit length (a column of round-off is zero)."""
+    norms = np.linalg.norm(M, axis=0)
+    live = norms > 1e-12 * norms.max()
+    sv = np.linalg.svd(M[:, live] / norms[live], compute_uv=False)
+    return int(np.sum(sv > 1e-9 * sv[0]))
+
+
+def _states(rng, n):
+    for _ in range(STATES):
+        yield rng.uniform(-np.pi, np.pi, n), rng.normal(size=n) * 2.0, rng.normal(size=n) * 5.0, float(rng.uniform(0, 5))
+
+
+@pytest.mark.parametrize("name", SHORT + sorted(RANDOM))
+def test_regressor_is_the_inverse_dynamics_of_the_c(name):
+    spec = _spec(name)
+    p = _params(name, spec)
+    cm, model = pipeline.compiled(spec, regressor=True)
+    n = spec.n
+    pi = cm.standard_parameters(p)
+    beta = cm.base_parameters(pi)
+    assert len(beta) == model.base.count and len(pi) == len(model.reg.params)
+    worst = dict(Y=0.0, Yb=0.0, energy=0.0, reference=0.0)
+    cols = [(q.kind, q.body, q.index) for q in model.reg.params]
+    ch = reference.numeric(spec, p)
+    stacked = []
+    for q, v, a, t in _states(np.random.default_rng(5), n):
+        x = np.concatenate([q, v])
+        tau = cm.mass_matrix(q, p) @ a - cm.forces(x, None, p, t)  # the C's inverse dynamics at u = 0 elsewhere
+        scale = max(1.0, np.abs(tau).max())
+        Y, tau0 = cm.regressor(q, v, a, p, t)
+        Yb, tau0b = cm.regressor(q, v, a, p, t, base=True)
+        worst["Y"] = max(worst["Y"], np.abs(Y @ pi + tau0 - tau).max() / scale)
+        worst["Yb"] = max(worst["Yb"], np.abs(Yb @ beta + tau0b - tau).max() / scale)
+        h, e0 = cm.energy_regressor(q, v, p, t)
+        E = cm.energy(x, p, t)
+        worst["energy"] = max(worst["energy"], abs(h @ pi + e0 - E) / max(1.0, abs(E)))
+        Yr = reference.regressor(ch, cols, q, v, a, t)  # the independent numpy regressor
+        worst["reference"] = max(worst["reference"], np.abs(Yr - Y).max() / max(1.0, np.abs(Y).max()))
+        stacked.append(Y)
+    print(f"{name}: {len(pi)} standard, {len(beta)} base parameters; worst " + ", ".join(f"{k} {v:.1e}" for k, v in worst.items()))
+    assert max(worst.values()) <= TOL, worst
+    # the base parameters are as many as the stacked regressor's numerical rank, and Y_B has full rank
+    assert _rank(np.vstack(stacked)) == model.base.count
+    Sb = np.vstack([cm.regressor(q, v, a, p, t, base=True)[0] for q, v, a, t in _states(np.random.default_rng(6), n)])
+    assert np.linalg.matrix_rank(Sb) == model.base.count
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_base_parameters_are_the_numerical_rank_on_random_chains(seed):
+    """3–6-link chains, spatial or planar, with and without rotors: the count is the rank of Y
+    stacked at fresh states (numpy's reference regressor), and β = K π reproduces Y π there."""
+    from gyrochain import baseparams, regressor
+
+    rng = np.random.default_rng(100 + seed)
+    n = 3 + seed % 4
+    spec = parse_spec(random_spec_text(rng, n, planar=seed % 3 == 2, gyro=seed % 2 == 0, theta1=0.0 if seed % 4 == 1 else None))
+    params = regressor.parameters(spec)
+    base = baseparams.find(spec, params)
+    ch = reference.numeric(spec)
+    cols = [(q.kind, q.body, q.index) for q in params]
+    Y = np.vstack([reference.regressor(ch, cols, q, v, a, t) for q, v, a, t in _states(np.random.default_rng(seed), n)][:40])
+    rank = _rank(Y)
+    K = base.matrix(len(params))
+    worst = np.abs(Y[:, list(base.columns)] @ K - Y).max() / np.abs(Y).max()
+    print(f"n = {n}: {len(params)} standard, {base.count} base parameters, rank {rank}, |Y_B K - Y| {worst:.1e}")
+    assert base.count == rank
+    assert worst <= 1e-12
+
+
+def test_a_rotor_spinning_up_has_no_constant_parameter():
+    spec = parse_spec(random_general_spec_text(np.random.default_rng(3), 2, name="spin"))
+    with pytest.raises(SpecError, match=r"body\[1\]\.lambda: depends on t"):
+        pipeline.derive(spec, regressor=True, latex=False)
+
+
+# --------------------------------------------------------------------------- Pinocchio
+pin = pytest.importorskip("pinocchio", reason="Pinocchio (pip install pin; make test installs it) checks the base parameters")
+
+
+@pytest.mark.parametrize("name", ["double_pendulum", "furuta", "ur5", "panda", "arm4", "arm5"])
+def test_base_parameters_match_pinocchio(name, tmp_path):
+    """Fixed-base chains without rotors, exported to URDF: the rank of Pinocchio's
+    computeJointTorqueRegressor stacked at random states is our number of base parameters (with
+    the joints' damping, which Pinocchio's regressor does not have, left out), and Y π (ours)
+    equals Y π (Pinocchio's, its inertias in its link frames)."""
+    from gyrochain import exchange
+
+    texts = {"arm4": random_spec_text(np.random.default_rng(41), 4, name="arm4", gyro=False, controls=(1, 2, 3, 4)),
+             "arm5": random_spec_text(np.random.default_rng(42), 5, name="arm5", gyro=False, offsets=True)}
+    spec = parse_spec(texts[name]) if name in texts else load_spec(ROOT / "specs" / f"{name}.toml")
+    cm, model = pipeline.compiled(spec, regressor=True)
+    text, _ = exchange.export_text(spec, f"{name}.toml", "urdf", {})
+    (tmp_path / "m.urdf").write_text(text)
+    pm = pin.buildModelFromUrdf(str(tmp_path / "m.urdf"))
+    pm.gravity.linear[:] = [0.0, 0.0, -float(spec.g)]
+    data = pm.createData()
+    n = spec.n
+    joints = [pm.joints[pm.getJointId(f"joint{k}")] for k in range(1, n + 1)]
+    pi_pin = np.concatenate([pm.inertias[i].toDynamicParameters() for i in range(1, pm.njoints)])
+    pi = cm.standard_parameters()
+    inertial = [j for j, q in enumerate(model.reg.params) if q.kind != "b"]
+    damped = [j for j, q in enumerate(model.reg.params) if q.kind == "b"]
+    ours, theirs, worst = [], [], 0.0
+    for q, v, a, _t in _states(np.random.default_rng(9), n):
+        qp = pin.neutral(pm)
+        vp, ap = np.zeros(pm.nv), np.zeros(pm.nv)
+        for k, j in enumerate(joints):
+            if j.nq == 2:
+                qp[j.idx_q:j.idx_q + 2] = np.cos(q[k]), np.sin(q[k])
+            else:
+                qp[j.idx_q] = q[k]
+            vp[j.idx_v], ap[j.idx_v] = v[k], a[k]
+        Yp = pin.computeJointTorqueRegressor(pm, data, qp, vp, ap)
+        rows = [j.idx_v for j in joints]
+        Y, tau0 = cm.regressor(q, v, a)
+        tau_ours = Y[:, inertial] @ pi[inertial] + tau0
+        tau_pin = (Yp @ pi_pin)[rows]
+        worst = max(worst, np.abs(tau_ours - tau_pin).max() / max(1.0, np.abs(tau_pin).max()))
+        ours.append(Y[:, inertial])
+        theirs.append(Yp[rows])
+    r_pin, r_ours = _rank(np.vstack(theirs)), _rank(np.vstack(ours))
+    print(f"{name}: base parameters {model.base.count} ({len(damped)} dampers), rank ours {r_ours}, Pinocchio's {r_pin}; "
+          f"|Y pi - Y_pin pi_pin| {worst:.1e}")
+    assert model.base.count - len(damped) == r_ours == r_pin
+    assert worst <= 1e-10
