@@ -67,8 +67,8 @@ def cmd_identify(args) -> int:
 
     spec = load_spec(args.spec)
     values = run_values(spec, cliargs.params_of(args.param))
-    identify.run(spec, args.data, values, args.output, args.force, args.validate, args.plot, args.window, args.order,
-                 args.physical)
+    how = identify.Filter(args.filter, args.cutoff, args.window, args.order)
+    identify.run(spec, args.data, values, args.output, args.force, args.validate, args.plot, how, args.physical)
     return 0
 
 

@@ -226,8 +226,12 @@ def add_identify(sub) -> None:
     idf.add_argument("--validate", default=None, metavar="HELD.csv", help="held-out data: predicted torques and a "
                      "simulated motion against it")
     idf.add_argument("--plot", default=None, metavar="FILE.png", help="with --validate: the comparison as a picture")
-    idf.add_argument("--window", type=float, default=0.2, help="the filter's window in seconds (default 0.2)")
-    idf.add_argument("--order", type=int, default=4, help="the filter's polynomial order (default 4)")
+    idf.add_argument("--filter", default="butter", choices=["butter", "savgol"], help="how phi is smoothed and "
+                     "differentiated (u alike): a zero-phase Butterworth low-pass and central differences (default), or "
+                     "a Savitzky-Golay filter")
+    idf.add_argument("--cutoff", type=float, default=5.0, help="the Butterworth's cutoff in Hz (default 5)")
+    idf.add_argument("--window", type=float, default=0.2, help="the Savitzky-Golay window in seconds (default 0.2)")
+    idf.add_argument("--order", type=int, default=4, help="the Butterworth's order or the polynomial's (default 4)")
     idf.add_argument("--physical", action="store_true", help="constrain the estimates to physically possible bodies "
                      "(positive masses, realisable inertias)")
     idf.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's value (repeatable)")

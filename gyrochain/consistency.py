@@ -39,7 +39,7 @@ def _from_u(x: np.ndarray) -> tuple:
     """(m, h, A) of J = U Uᵀ, U upper triangular with diagonal exp(x[:4]) (log-Cholesky: every x
     is a physically possible body, Rucker and Wensing 2022)."""
     U = np.zeros((4, 4))
-    U[np.diag_indices(4)] = np.exp(x[:4])
+    U[np.diag_indices(4)] = np.exp(np.clip(x[:4], -300.0, 300.0))  # a trial step of the solver may go far
     U[np.triu_indices(4, 1)] = x[4:]
     J = U @ U.T
     S = J[:3, :3]

@@ -186,7 +186,11 @@ def experiment(spec, cm, d: Design, duration: float, rate: float, noise: float, 
         if i < steps:
             x = cm.integrate([t[i], t[i + 1]], x, u=u, params=params, rtol=1e-10, atol=1e-12)[-1]
     rng = np.random.default_rng(seed)
-    applied = rows[:, 1 + n:]
+    # what a torque sensor sampled at tᵢ reads of the held torques: the mean of the two held on
+    # either side (the torque jumps there); the value held after tᵢ alone would lag the motion by
+    # half a sample, which biases the estimates where a loop changes the torque quickly
+    applied = rows[:, 1 + n:].copy()
+    applied[1:] = 0.5 * (applied[1:] + rows[:-1, 1 + n:])
     rows[:, 1 + n:] = applied + noise * np.sqrt(np.mean(applied ** 2, axis=0)) * rng.standard_normal(applied.shape)
     if counts:
         q = 2 * np.pi / counts

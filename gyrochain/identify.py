@@ -20,7 +20,7 @@ import numpy as np
 from . import files
 from .consistency import consistent
 from .errors import SpecError
-from .measured import ORDER, WINDOW_S, Motion, compiled, read, stack
+from .measured import Filter, Motion, compiled, read, stack
 
 FAR = 3.0  # estimates this many standard errors from any physically possible bodies are not written without --physical
 
@@ -137,18 +137,17 @@ def formula(model, i: int) -> str:
 
 
 def run(spec, data: str, values: dict, output: str, force: bool, validate: str | None = None, plot: str | None = None,
-        window: float = WINDOW_S, order: int = ORDER, physical: bool = False, say=print) -> dict:
+        how: Filter = Filter(), physical: bool = False, say=print) -> dict:
     """``identify``: read, filter, stack, estimate, write the spec, print the table (and with
     ``validate``, compare the predicted torques and a simulated motion with held-out data).
     Returns the figures (the tests read them)."""
-    if not (window > 0 and 2 <= order <= 8):
-        raise SpecError("--window" if not window > 0 else "--order", "the window must be positive and the order 2 to 8")
+    how.check()
     out_path = files.target(output, f"{spec.name}_identified.toml", force, data)
     if plot:
         files.target(plot, plot, force)
     params = values or None
-    motion = read(data, spec, data, window, order)
-    held = read(validate, spec, "--validate", window, order) if validate else None
+    motion = read(data, spec, data, how)
+    held = read(validate, spec, "--validate", how) if validate else None
     cm, model = compiled(spec)
     A, y = stack(cm, motion, params)
     est = estimate(A, y, spec.n, data)

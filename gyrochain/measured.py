@@ -16,8 +16,9 @@ import numpy as np
 from . import files, pipeline
 from .errors import SpecError
 
+CUTOFF_HZ = 5.0  # the default cutoff of the Butterworth filter (motions of a few Hz; an encoder's noise in φ̈ grows as its cube)
 WINDOW_S = 0.2  # the default Savitzky–Golay window (s)
-ORDER = 4  # its polynomial order
+ORDER = 4  # the Butterworth's poles, or the Savitzky–Golay polynomial's order
 UNIFORM_TOL = 1e-3  # the sampling step may vary by this fraction of its median
 
 
@@ -42,11 +43,32 @@ def columns(spec) -> tuple[list[str], list[str], list[str]]:
             [f"u{i}" for i in range(1, len(spec.controls) + 1)])
 
 
-def read(path: str, spec, what: str, window_s: float = WINDOW_S, order: int = ORDER) -> Motion:
+@dataclass(frozen=True)
+class Filter:
+    """How φ is smoothed and differentiated (and u smoothed alike): ``butter``, a zero-phase
+    Butterworth low-pass (scipy's sosfiltfilt, ``order`` poles, ``cutoff`` Hz) then central
+    differences, which commute with it, so φ̈ is the filtered φ̈ exactly as u is the filtered u;
+    or ``savgol``, a Savitzky–Golay filter of ``window`` seconds and polynomial ``order``, whose
+    derivative filters are not its smoothing filter (a motion faster than the window is then
+    seen differently in φ̈ and in u)."""
+
+    kind: str = "butter"
+    cutoff: float = CUTOFF_HZ
+    window: float = WINDOW_S
+    order: int = ORDER
+
+    def check(self) -> None:
+        if self.kind not in ("butter", "savgol"):
+            raise SpecError("--filter", f"{self.kind!r}: expected butter or savgol")
+        if not (self.cutoff > 0 and self.window > 0):
+            raise SpecError("--cutoff" if not self.cutoff > 0 else "--window", "must be positive")
+        if not 2 <= self.order <= 8:
+            raise SpecError("--order", f"{self.order}: expected 2 to 8")
+
+
+def read(path: str, spec, what: str, how: Filter = Filter()) -> Motion:
     """A measured motion from a CSV (t, phi1..phin[, phidot1..phidotn], u1..u_nu), filtered and
     differentiated; a file that cannot be one is one line naming ``what`` and the file."""
-    from scipy.signal import savgol_filter
-
     phis, rates, us = columns(spec)
     expected = f"t, {phis[0]}..{phis[-1]}" + (f", {us[0]}..{us[-1]}" if us else "") + " (and optionally phidot1..)"
     names, data = files.read_table(path, what, ["t"] + phis + us, expected)
@@ -56,30 +78,60 @@ def read(path: str, spec, what: str, window_s: float = WINDOW_S, order: int = OR
     if len(dt) and np.max(np.abs(dt - step)) > UNIFORM_TOL * step:
         raise SpecError(what, f"{path}: t is not sampled uniformly (steps from {dt.min():g} to {dt.max():g} s); "
                               "resample it at one rate")
-    w = int(round(window_s / step)) if step > 0 else 0
-    w = max(w + (w % 2 == 0), order + 3 - (order % 2))  # odd, longer than the polynomial
-    if len(t) < 2 * w + 1:
-        raise SpecError(what, f"{path}: {len(t)} samples; the filter's window is {w} samples, so at least {2 * w + 1} "
-                              "are needed (a longer record, or a shorter --window)")
     col = lambda c: data[:, names.index(c)]  # noqa: E731
     phi = np.column_stack([col(c) for c in phis])
-    sg = lambda y, d=0: savgol_filter(y, w, order, deriv=d, delta=step, axis=0)  # noqa: E731
-    if all(c in names for c in rates):
-        rate = np.column_stack([col(c) for c in rates])
-        phidot, phidd, how_rate = sg(rate), sg(rate, 1), "phidot measured (smoothed), phidd its derivative"
-    else:
-        phidot, phidd, how_rate = sg(phi, 1), sg(phi, 2), "phidot and phidd the derivatives of phi's"
     u = np.zeros_like(phi)
     for i, k in enumerate(spec.controls):
-        u[:, k - 1] = sg(col(us[i]))
-    # the edges, where the window is one-sided, dropped; then every (w/4)-th sample kept: the
-    # filter's output is correlated over its window, and samples closer than that would make the
+        u[:, k - 1] = col(us[i])
+    rate = np.column_stack([col(c) for c in rates]) if all(c in names for c in rates) else None
+    edge, keep, derive, said = (_butter if how.kind == "butter" else _savgol)(how, step, len(t), path, what)
+    phi_f, phidot, phidd = derive(phi)
+    if rate is not None:
+        phidot, phidd, _ = derive(rate)
+        how_rate = "phidot measured (filtered), phidd its derivative"
+    else:
+        how_rate = "phidot and phidd the derivatives of the filtered phi"
+    # the edges, where the filter sees one side, dropped; then every keep-th sample kept: the
+    # filter's output is correlated over about keep samples, and closer samples would make the
     # standard errors too small (they assume independent residuals)
-    keep = max(1, w // 4)
-    cut = slice(w // 2, len(t) - w // 2, keep)
-    how = (f"Savitzky-Golay filter: window {w} samples ({w * step:.4g} s), order {order}, zero phase; "
-           f"{how_rate}; u smoothed by the same filter; {w // 2} samples dropped at each end, then every {keep}th kept")
-    return Motion(t[cut], sg(phi)[cut], phidot[cut], phidd[cut], u[cut], how)
+    cut = slice(edge, len(t) - edge, keep)
+    text = f"{said}; {how_rate}; u filtered alike; {edge} samples dropped at each end, then every {keep}th kept"
+    return Motion(t[cut], phi_f[cut], phidot[cut], phidd[cut], derive(u)[0][cut], text)
+
+
+def _butter(how: Filter, step: float, count: int, path, what) -> tuple:
+    from scipy.signal import butter, sosfiltfilt
+
+    fs = 1.0 / step if step > 0 else 0.0
+    if not how.cutoff < 0.5 * fs:
+        raise SpecError("--cutoff", f"{how.cutoff:g} Hz is not below half the sampling rate ({0.5 * fs:g} Hz)")
+    sos = butter(how.order, how.cutoff, fs=fs, output="sos")
+    edge = int(np.ceil(3 * fs / how.cutoff))
+    keep = max(1, int(fs / (2 * how.cutoff)))
+    if count < 2 * edge + 1:
+        raise SpecError(what, f"{path}: {count} samples; the filter's edges take {edge} at each end, so at least "
+                              f"{2 * edge + 1} are needed (a longer record, or a higher --cutoff)")
+    d = lambda y: np.gradient(y, step, axis=0, edge_order=2)  # noqa: E731
+
+    def derive(y):
+        f = sosfiltfilt(sos, y, axis=0)
+        return f, d(f), d(d(f))
+
+    return edge, keep, derive, (f"zero-phase Butterworth low-pass: order {how.order}, cutoff {how.cutoff:g} Hz; "
+                                "derivatives by central differences")
+
+
+def _savgol(how: Filter, step: float, count: int, path, what) -> tuple:
+    from scipy.signal import savgol_filter
+
+    w = int(round(how.window / step)) if step > 0 else 0
+    w = max(w + (w % 2 == 0), how.order + 3 - (how.order % 2))  # odd, longer than the polynomial
+    if count < 2 * w + 1:
+        raise SpecError(what, f"{path}: {count} samples; the filter's window is {w} samples, so at least {2 * w + 1} "
+                              "are needed (a longer record, or a shorter --window)")
+    sg = lambda y, d=0: savgol_filter(y, w, how.order, deriv=d, delta=step, axis=0)  # noqa: E731
+    return (w // 2, max(1, w // 4), lambda y: (sg(y), sg(y, 1), sg(y, 2)),
+            f"Savitzky-Golay filter: window {w} samples ({w * step:.4g} s), order {how.order}, zero phase")
 
 
 def stack(cm, motion: Motion, params=None) -> tuple[np.ndarray, np.ndarray]:
@@ -92,8 +144,6 @@ def stack(cm, motion: Motion, params=None) -> tuple[np.ndarray, np.ndarray]:
         A[i * n:(i + 1) * n] = Yb
         y[i * n:(i + 1) * n] = motion.u[i] - tau0
     return A, y
-
-
 
 
 def compiled(spec):
