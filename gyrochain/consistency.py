@@ -89,12 +89,22 @@ def consistent(model, beta: np.ndarray, se: np.ndarray, pi0: np.ndarray) -> tupl
         return np.concatenate([(K @ pi - beta) / se, 1e-4 * (pi - pi0) / scale])
 
     se = np.maximum(se, 1e-12 * np.maximum(np.abs(beta), 1e-300))
-
-    x0 = []
-    for k, c in sorted(cols.items()):
-        A0 = np.array([[pi0[c[f"A{min(i, j)}{max(i, j)}"]] for j in range(3)] for i in range(3)])
-        x0.append(_to_u(pi0[c["m"]], np.array([pi0[c[f"h{i}"]] for i in range(3)]), A0))
-    x0 = np.concatenate(x0 + [pi0[free]])
-    sol = least_squares(res, x0, method="trf", x_scale="jac", xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=20000)
+    # first the nearest π to π₀ with K π = β exactly (a weighted minimum-norm step): often its
+    # bodies are possible already, and nothing more is needed
+    Ks = K * scale
+    pi = pi0 + scale * (Ks.T @ np.linalg.solve(Ks @ Ks.T, beta - K @ pi0))
+    if all(np.linalg.eigvalsh(_pseudo(*body))[0] > 0 for body in _bodies(pi, cols)):
+        return pi, float(np.max(np.abs(K @ pi - beta) / se))
+    x0 = np.concatenate([_to_u(*body) for body in _bodies(pi0, cols)] + [pi0[free]])
+    sol = least_squares(res, x0, method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=400)
     pi = pi_of(sol.x)
     return pi, float(np.max(np.abs(K @ pi - beta) / se))
+
+
+def _bodies(pi, cols) -> list:
+    """(m, h, A) of every body of π, in the order of the bodies."""
+    out = []
+    for _k, c in sorted(cols.items()):
+        A = np.array([[pi[c[f"A{min(i, j)}{max(i, j)}"]] for j in range(3)] for i in range(3)])
+        out.append((pi[c["m"]], np.array([pi[c[f"h{i}"]] for i in range(3)]), A))
+    return out

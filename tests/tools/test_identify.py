@@ -139,3 +139,25 @@ def test_newcomer_mistakes_are_one_line(tmp_path, capsys):
         code, text = _cli(capsys, *words)
         assert code == 2 and text.count("\n") == 1 and said in text, (words, text)
     assert not (tmp_path / "e.csv").exists()
+
+
+def test_physically_possible_bodies_near_estimates_they_cannot_have():
+    """The Furuta pendulum's rod is thin (A²₃₃ = 1e-5): base parameters with A²₂₂ − A²₃₃ above A²₁₁
+    break its triangle inequality whatever the free directions.  The projection returns possible
+    bodies (J ≻ 0) whose β is within a fraction of a standard error; feasible β come back exactly."""
+    from gyrochain.consistency import _bodies, _body_columns, _pseudo, consistent
+
+    spec = load_spec(FURUTA)
+    cm, model = identify.compiled(spec)
+    pi0 = cm.standard_parameters()
+    true = cm.base_parameters(pi0)
+    se = np.abs(true) * 0.01 + 1e-6
+    pi, moved = consistent(model, true, se, pi0)
+    assert moved < 1e-6 and np.allclose(cm.base_parameters(pi), true, rtol=0, atol=1e-12)
+    bad = true.copy()
+    bad[6] = true[3] + 5e-6  # A22 - A33 > A11: impossible for any A33 >= 0
+    pi, moved = consistent(model, bad, se, pi0)
+    cols = _body_columns(model.reg.params)
+    assert all(np.linalg.eigvalsh(_pseudo(*b))[0] > 0 for b in _bodies(pi, cols))
+    print(f"moved {moved:.3g} standard errors")
+    assert 0 < moved < 1.0
