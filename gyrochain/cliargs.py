@@ -218,8 +218,8 @@ def add_identify(sub) -> None:
     """The parsers of identify and excite (parameter identification, identify.py)."""
     idf = sub.add_parser("identify", help="estimate the base parameters from a measured motion (CSV: t, phi1.., u1..) "
                          "and write the spec with them", description="The torques u1.. are those of the controlled joints, "
-                         "in chain order; a joint without a control has u = 0.  phi is differentiated by a Savitzky-Golay "
-                         "filter (phidot1.. are used when the file has them).")
+                         "in chain order, each the torque at its row's t; a joint without a control has u = 0.  phi is "
+                         "filtered and differentiated, u filtered alike (--filter; phidot1.. are used when the file has them).")
     idf.add_argument("spec")
     idf.add_argument("data", help="the measured motion: CSV with columns t, phi1..phiN[, phidot1..phidotN], u1..u_nu")
     idf.add_argument("-o", "--output", default="", help="the identified spec (default NAME_identified.toml here)")

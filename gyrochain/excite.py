@@ -194,7 +194,7 @@ def experiment(spec, cm, d: Design, duration: float, rate: float, noise: float, 
     rows[:, 1 + n:] = applied + noise * np.sqrt(np.mean(applied ** 2, axis=0)) * rng.standard_normal(applied.shape)
     if counts:
         q = 2 * np.pi / counts
-        rows[:, 1:1 + n] = np.round(rows[:, 1:1 + n] / q) * q
+        rows[:, 1:1 + n] = np.round(rows[:, 1:1 + n] / q) * q + 0.0  # + 0.0: no -0 in the file
     return rows
 
 

@@ -59,24 +59,26 @@ def estimate(A: np.ndarray, y: np.ndarray, n: int, what: str = "data") -> Estima
     return Estimate(beta, np.sqrt(np.diag(cov)), float(np.linalg.cond(Aw)), rms, sigma, rows)
 
 
-def simulate(cm, model, beta, motion: Motion, params=None, rtol: float = 1e-9) -> np.ndarray:
-    """φ(t) of the model with base parameters β, from the motion's first state under its torques
-    (linear between the samples): φ̈ = M̂⁻¹(u − τ₀ − Ŷ(φ, φ̇, 0) β), M̂'s columns Y_B(φ, φ̇, eⱼ) β − Y_B(φ, φ̇, 0) β."""
+def simulate(cm, model, beta, motion: Motion, params=None, rtol: float = 1e-7) -> np.ndarray:
+    """φ at the motion's dense times (every sample but the filter's edges) of the model with base
+    parameters β, from the motion's first state under its filtered torques (linear between the
+    samples): φ̈ = M̂⁻¹(u − τ₀ − Y_B(φ, φ̇, 0) β), M̂'s columns Y_B(φ, φ̇, eⱼ) β − Y_B(φ, φ̇, 0) β."""
     from scipy.integrate import solve_ivp
 
     n = motion.phi.shape[1]
     eye = np.eye(n)
+    td, _, ud = motion.dense
 
     def rhs(t, x):
         q, v = x[:n], x[n:]
-        u = np.array([np.interp(t, motion.t, motion.u[:, k]) for k in range(n)])
+        u = np.array([np.interp(t, td, ud[:, k]) for k in range(n)])
         Y0, tau0 = cm.regressor(q, v, np.zeros(n), params, t, base=True)
         b = Y0 @ beta
         M = np.column_stack([cm.regressor(q, v, eye[j], params, t, base=True)[0] @ beta - b for j in range(n)])
         return np.concatenate([v, np.linalg.solve(M, u - tau0 - b)])
 
     x0 = np.concatenate([motion.phi[0], motion.phidot[0]])
-    sol = solve_ivp(rhs, (motion.t[0], motion.t[-1]), x0, method="DOP853", t_eval=motion.t, rtol=rtol, atol=rtol * 1e-2)
+    sol = solve_ivp(rhs, (motion.t[0], td[-1]), x0, method="DOP853", t_eval=td[td >= motion.t[0]], rtol=rtol, atol=rtol * 1e-2)
     if not sol.success:
         raise SpecError("--validate", f"the identified model could not be integrated over the held-out motion ({sol.message})")
     return sol.y[:n].T
@@ -153,7 +155,7 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     est = estimate(A, y, spec.n, data)
     n = spec.n
     passive = [k for k in range(1, n + 1) if k not in spec.controls]
-    say(f"identify {spec.name} from {data}: {len(motion.t)} samples of {n} joints"
+    say(f"identify {spec.name} from {data}: {motion.rows} samples of {n} joints, {len(motion.t)} used (the filter's)"
         + (f"; joint{'s' if len(passive) > 1 else ''} {', '.join(map(str, passive))} passive (u = 0 in "
            f"{'their' if len(passive) > 1 else 'its'} equations)" if passive else ""))
     say(f"filter: {motion.how}")
@@ -188,7 +190,7 @@ def _table(model, beta, se, beta0, say) -> None:
     names = [f"beta{i + 1}" for i in range(model.base.count)]
     forms = [formula(model, i) for i in range(model.base.count)]
     wide = max(len(f) for f in forms)
-    say(f"  {'':7}{'= (standard parameters)':<{wide}}  {'estimate':>13}  {'std. error':>10}  {'':>7}  {'spec':>13}")
+    say(f"  {'':7}{'= (standard parameters)':<{wide}}  {'estimate':>13}  {'std. error':>10}  {'rel.':>7}  {'spec':>13}")
     for i in range(model.base.count):
         rel = se[i] / abs(beta[i]) if beta[i] != 0 else np.inf
         say(f"  {names[i]:<7}{forms[i]:<{wide}}  {beta[i]:13.6g}  {se[i]:10.3g}  {100 * rel:6.2g}%  {beta0[i]:13.6g}")
@@ -204,17 +206,25 @@ def _validate(cm, model, beta, held: Motion, params, path: str, plot: str | None
     err = np.sqrt(np.mean((pred - meas) ** 2, axis=0))
     scale = np.sqrt(np.mean(meas ** 2, axis=0))
     sim = simulate(cm, model, beta, held, params)
-    drift = np.sqrt(np.mean((sim - held.phi) ** 2, axis=0))
-    span = held.phi.max(axis=0) - held.phi.min(axis=0)
-    say(f"validate on {path} ({held.t[-1] - held.t[0]:.4g} s): torque RMS error "
+    td, phid, _ = held.dense
+    td, phid = td[td >= held.t[0]], phid[td >= held.t[0]]
+    drift = np.sqrt(np.mean((sim - phid) ** 2, axis=0))
+    span = phid.max(axis=0) - phid.min(axis=0)
+    off = np.abs(sim - phid) > 0.05 * span  # where the replay leaves the measured motion by 5 % of its range
+    stays = [float(td[np.argmax(off[:, k])] - td[0]) if off[:, k].any() else float(td[-1] - td[0]) for k in range(n)]
+    say(f"validate on {path} ({td[-1] - td[0]:.4g} s): torque RMS error "
         + ", ".join(f"joint {k + 1} {err[k]:.3g} N m ({100 * err[k] / scale[k]:.2g}% of its RMS)" if scale[k] > 0 else
                     f"joint {k + 1} {err[k]:.3g} N m" for k in range(n)))
     say("  simulated with the estimates under the measured torques, phi RMS error "
-        + ", ".join(f"joint {k + 1} {drift[k]:.3g} rad ({100 * drift[k] / span[k]:.2g}% of its range)" for k in range(n)))
+        + ", ".join(f"joint {k + 1} {drift[k]:.3g} rad ({100 * drift[k] / span[k]:.2g}% of its range, within 5% for "
+                    f"{stays[k]:.3g} s)" for k in range(n)))
+    if min(stays) < 0.5 * (td[-1] - td[0]):
+        say("  (a replay of recorded torques drifts where the motion is unstable or was held by a feedback loop; the "
+            "torques are the check then)")
     if plot:
-        _plot(held, pred, meas, sim, plot)
+        _plot(held, pred, meas, (td, phid, sim), plot)
         say(f"wrote {plot}")
-    return dict(torque_rms=err, torque_scale=scale, phi_rms=drift, phi_span=span, simulated=sim, held=held)
+    return dict(torque_rms=err, torque_scale=scale, phi_rms=drift, phi_span=span, stays=stays, simulated=sim, held=held)
 
 
 def _plot(held: Motion, pred, meas, sim, path: str) -> None:
@@ -231,8 +241,8 @@ def _plot(held: Motion, pred, meas, sim, path: str) -> None:
         ax[0, k].plot(held.t, meas[:, k], lw=1.6, color="0.6", label="measured (filtered)")
         ax[0, k].plot(held.t, pred[:, k], lw=0.9, color="C0", label="predicted")
         ax[0, k].set_title(f"joint {k + 1}: torque (N m)", fontsize=10)
-        ax[1, k].plot(held.t, held.phi[:, k], lw=1.6, color="0.6", label="measured")
-        ax[1, k].plot(held.t, sim[:, k], lw=0.9, color="C1", label="simulated")
+        ax[1, k].plot(sim[0], sim[1][:, k], lw=1.6, color="0.6", label="measured (filtered)")
+        ax[1, k].plot(sim[0], sim[2][:, k], lw=0.9, color="C1", label="simulated")
         ax[1, k].set_title(f"joint {k + 1}: angle (rad)", fontsize=10)
         ax[1, k].set_xlabel("t (s)")
     ax[0, 0].legend(fontsize=8)

@@ -33,6 +33,8 @@ class Motion:
     phidd: np.ndarray
     u: np.ndarray
     how: str
+    rows: int = 0  # the file's samples, before the edges were dropped and the rest thinned
+    dense: tuple = ()  # (t, φ, u) filtered at every sample but the edges (a simulation follows these torques)
 
 
 def columns(spec) -> tuple[list[str], list[str], list[str]]:
@@ -96,7 +98,8 @@ def read(path: str, spec, what: str, how: Filter = Filter()) -> Motion:
     # standard errors too small (they assume independent residuals)
     cut = slice(edge, len(t) - edge, keep)
     text = f"{said}; {how_rate}; u filtered alike; {edge} samples dropped at each end, then every {keep}th kept"
-    return Motion(t[cut], phi_f[cut], phidot[cut], phidd[cut], derive(u)[0][cut], text)
+    u_f, inner = derive(u)[0], slice(edge, len(t) - edge)
+    return Motion(t[cut], phi_f[cut], phidot[cut], phidd[cut], u_f[cut], text, len(t), (t[inner], phi_f[inner], u_f[inner]))
 
 
 def _butter(how: Filter, step: float, count: int, path, what) -> tuple:
@@ -107,7 +110,7 @@ def _butter(how: Filter, step: float, count: int, path, what) -> tuple:
         raise SpecError("--cutoff", f"{how.cutoff:g} Hz is not below half the sampling rate ({0.5 * fs:g} Hz)")
     sos = butter(how.order, how.cutoff, fs=fs, output="sos")
     edge = int(np.ceil(3 * fs / how.cutoff))
-    keep = max(1, int(fs / (2 * how.cutoff)))
+    keep = max(1, int(round(fs / (2 * how.cutoff))))
     if count < 2 * edge + 1:
         raise SpecError(what, f"{path}: {count} samples; the filter's edges take {edge} at each end, so at least "
                               f"{2 * edge + 1} are needed (a longer record, or a higher --cutoff)")
