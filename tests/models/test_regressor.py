@@ -17,10 +17,8 @@ TOL = 1e-12
 # cable64: its regressor (64 × 832) is 5 MB of C and compiles in minutes; every shorter example is here
 SHORT = [e for e in EXAMPLES if e not in LONG_EXAMPLES]
 RANDOM = {  # random chains with platforms, loads, springs, dampers, torque expressions and rotors (constant λ)
-    "rchain3": random_spec_text(np.random.default_rng(31), 3, name="rchain3"),
     "rchain6": random_spec_text(np.random.default_rng(32), 6, name="rchain6", controls=(1, 3, 6), offsets=True),
     "gchain3": random_general_spec_text(np.random.default_rng(33), 3, name="gchain3", spin_up=False),
-    "gchain4": random_general_spec_text(np.random.default_rng(34), 4, name="gchain4", spin_up=False, rotate=False),
     "gchain5": random_general_spec_text(np.random.default_rng(35), 5, name="gchain5", spin_up=False, translate=False),
 }
 
