@@ -56,38 +56,46 @@ def target(output: str, default: str, force: bool = False, source: str | None = 
 MAX_TABLE_BYTES = 512 << 20  # a CSV larger than this is refused (a device never ends)
 
 
-def read_table(path: str, what: str, required: list[str], expected: str) -> tuple[list[str], "np.ndarray"]:
+def read_table(path: str, what: str, required: list[str], expected: str) -> tuple[list[str], object]:
     """A CSV of numbers under a header of column names (as ``simulate`` writes it): the names and
     the rows, every value finite and the column ``t`` (if required) increasing.  Anything else is
     one line naming ``what`` (the option or the argument) and the file; ``expected`` says what
     the columns should be."""
+    if what == path:  # the file is the argument itself: named once
+        return _read_table(path, lambda msg: SpecError(path, msg), required, expected)
+    return _read_table(path, lambda msg: SpecError(what, f"{path}: {msg}"), required, expected)
+
+
+def _read_table(path: str, fail, required: list[str], expected: str) -> tuple[list[str], object]:
     import stat
+    import warnings
 
     import numpy as np
 
     try:
         if not stat.S_ISREG(os.stat(path).st_mode):
-            raise SpecError(what, f"{path}: not a file (a CSV of {expected})")
+            raise fail(f"not a file (a CSV of {expected})")
         if os.stat(path).st_size > MAX_TABLE_BYTES:
-            raise SpecError(what, f"{path}: larger than {MAX_TABLE_BYTES >> 20} MiB; thin it out (every k-th row)")
-        with open(path, encoding="utf-8") as f:
+            raise fail(f"larger than {MAX_TABLE_BYTES >> 20} MiB; thin it out (every k-th row)")
+        with open(path, encoding="utf-8") as f, warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # numpy's "input contained no data": said below as one line
             names = [h.strip() for h in f.readline().strip().split(",")]
             data = np.loadtxt(f, delimiter=",", ndmin=2)
     except SpecError:
         raise
     except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise SpecError(what, f"{path}: {getattr(exc, 'strerror', None) or exc}") from None
+        raise fail(f"{getattr(exc, 'strerror', None) or exc}") from None
     missing = [c for c in required if c not in names]
     if missing:
-        raise SpecError(what, f"{path}: no column {missing[0]!r} (expected {expected})")
+        raise fail(f"no column {missing[0]!r} (expected {expected})")
     if data.shape[0] < 1 or data.shape[1] != len(names):
-        raise SpecError(what, f"{path}: expected rows of {len(names)} numbers under the header")
+        raise fail(f"expected rows of {len(names)} numbers under the header")
     bad = np.argwhere(~np.isfinite(data))
     if len(bad):
         r, c = bad[0]
-        raise SpecError(what, f"{path}: row {r + 2}, column {names[c]!r} is not finite ({data[r, c]})")
+        raise fail(f"row {r + 2}, column {names[c]!r} is not finite ({data[r, c]})")
     if "t" in required:
         dt = np.diff(data[:, names.index("t")])
         if np.any(dt <= 0):
-            raise SpecError(what, f"{path}: t does not increase at row {int(np.argmax(dt <= 0)) + 3}")
+            raise fail(f"t does not increase at row {int(np.argmax(dt <= 0)) + 3}")
     return names, data

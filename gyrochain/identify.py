@@ -144,6 +144,9 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     ``validate``, compare the predicted torques and a simulated motion with held-out data).
     Returns the figures (the tests read them)."""
     how.check()
+    if not spec.controls:
+        raise SpecError(spec.name, "has no control torque: a motion without input determines the parameters only up to a "
+                                   "common factor (mark the driven joints control = true)")
     out_path = files.target(output, f"{spec.name}_identified.toml", force, data)
     if plot:
         files.target(plot, plot, force)

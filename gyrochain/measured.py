@@ -68,6 +68,11 @@ class Filter:
             raise SpecError("--order", f"{self.order}: expected 2 to 8")
 
 
+def _fail(what: str, path: str, message: str) -> SpecError:
+    """The one-line error about the file ``path`` read for ``what`` (the file named once)."""
+    return SpecError(path, message) if what == path else SpecError(what, f"{path}: {message}")
+
+
 def read(path: str, spec, what: str, how: Filter = Filter()) -> Motion:
     """A measured motion from a CSV (t, phi1..phin[, phidot1..phidotn], u1..u_nu), filtered and
     differentiated; a file that cannot be one is one line naming ``what`` and the file."""
@@ -78,7 +83,7 @@ def read(path: str, spec, what: str, how: Filter = Filter()) -> Motion:
     dt = np.diff(t)
     step = float(np.median(dt)) if len(dt) else 0.0
     if len(dt) and np.max(np.abs(dt - step)) > UNIFORM_TOL * step:
-        raise SpecError(what, f"{path}: t is not sampled uniformly (steps from {dt.min():g} to {dt.max():g} s); "
+        raise _fail(what, path, f"t is not sampled uniformly (steps from {dt.min():g} to {dt.max():g} s); "
                               "resample it at one rate")
     col = lambda c: data[:, names.index(c)]  # noqa: E731
     phi = np.column_stack([col(c) for c in phis])
@@ -112,7 +117,7 @@ def _butter(how: Filter, step: float, count: int, path, what) -> tuple:
     edge = int(np.ceil(3 * fs / how.cutoff))
     keep = max(1, int(round(fs / (2 * how.cutoff))))
     if count < 2 * edge + 1:
-        raise SpecError(what, f"{path}: {count} samples; the filter's edges take {edge} at each end, so at least "
+        raise _fail(what, path, f"{count} samples; the filter's edges take {edge} at each end, so at least "
                               f"{2 * edge + 1} are needed (a longer record, or a higher --cutoff)")
     d = lambda y: np.gradient(y, step, axis=0, edge_order=2)  # noqa: E731
 
@@ -130,7 +135,7 @@ def _savgol(how: Filter, step: float, count: int, path, what) -> tuple:
     w = int(round(how.window / step)) if step > 0 else 0
     w = max(w + (w % 2 == 0), how.order + 3 - (how.order % 2))  # odd, longer than the polynomial
     if count < 2 * w + 1:
-        raise SpecError(what, f"{path}: {count} samples; the filter's window is {w} samples, so at least {2 * w + 1} "
+        raise _fail(what, path, f"{count} samples; the filter's window is {w} samples, so at least {2 * w + 1} "
                               "are needed (a longer record, or a shorter --window)")
     sg = lambda y, d=0: savgol_filter(y, w, how.order, deriv=d, delta=step, axis=0)  # noqa: E731
     return (w // 2, max(1, w // 4), lambda y: (sg(y), sg(y, 1), sg(y, 2)),
