@@ -15,10 +15,11 @@ own; so the relations are found numerically, from the regressor itself, whatever
 2.  The other columns D are Y_D = Y_B K (least squares; the residual is round-off), so
     Y π = Y_B β with β = π_B + K π_D.
 3.  Each coefficient of K is recovered as an exact number when it is one: a rational with a
-    denominator up to 10⁴ or a decimal of up to nine places, within 1e-12 of the computed
+    denominator up to 10⁴ or a decimal of up to twelve places, within 1e-12 of the computed
     value (a coefficient is a product of the spec's lengths and the cosines of its angles, so
-    with decimal geometry and right angles it is such a number).  What is not recovered is kept
-    as the computed double and said to be numerical.
+    with decimal geometry and right angles it is such a number), kept only where the regressor
+    at fresh states agrees with the exact column as well as with the computed one.  What is not
+    recovered is kept as the computed double and said to be numerical.
 
 The relations depend on the geometry only (θ, δ, s, g and the platform's motion), not on the
 inertial values; a spec whose geometry has symbolic parameters is taken at their [values].
@@ -36,7 +37,7 @@ from .errors import SpecError
 from .spec import ChainSpec
 
 RANK_TOL = 1e-8  # a scaled column is dependent when its part outside the earlier ones is below this
-EXACT_TOL = 1e-12
+EXACT_TOL = 1e-12  # a candidate exact coefficient is this near the computed one (relative, or absolute below 1)
 
 
 @dataclass(frozen=True)
@@ -94,13 +95,16 @@ def _stack(ch, cols, n, rng, states: int) -> np.ndarray:
 
 
 def _exact(x: float):
-    """x as an exact rational (denominator ≤ 10⁴) or decimal (≤ 9 places) if it is one within
-    EXACT_TOL, else None."""
+    """The simplest exact number near x: 0, a rational with a denominator up to 10⁴, or a decimal of
+    up to twelve places, within EXACT_TOL of it (a candidate: ``find`` keeps it only if the
+    regressor agrees), else None."""
     tol = EXACT_TOL * max(1.0, abs(x))
+    if abs(x) <= tol:
+        return sp.Integer(0)
     r = Fraction(x).limit_denominator(10_000)
     if abs(float(r) - x) <= tol:
         return sp.Rational(r.numerator, r.denominator)
-    for places in range(10):
+    for places in range(13):
         d = round(x, places)
         if abs(d - x) <= tol:
             return sp.Rational(Fraction(repr(d)))
@@ -130,24 +134,28 @@ def find(spec: ChainSpec, params, values: dict | None = None, seed: int = 0) -> 
             Q = np.column_stack([Q, r / np.linalg.norm(r)])
     dep = [j for j in range(npar) if j not in base]
     X = np.linalg.lstsq(Y[:, base], Y[:, dep], rcond=None)[0] if dep and base else np.zeros((len(base), len(dep)))
-    rows, numerical = [], []
-    Kx = np.zeros((len(base), npar))
-    for i, b in enumerate(base):
-        row, approx = [(b, sp.Integer(1))], False
-        Kx[i, b] = 1.0
-        for jj, d in enumerate(dep):
-            x = float(X[i, jj])
-            if abs(x) <= RANK_TOL * 1e-3:
-                continue
-            c = _exact(x)
-            if c is None:
-                c, approx = sp.Float(x, 17), True
-            row.append((d, c))
-            Kx[i, d] = float(c)
-        rows.append(tuple(row))
-        numerical.append(approx)
-    # the check, on fresh states: Y π = Y_B (K π) for every π, i.e. Y = Y_B K
+    # each dependent column's coefficients as exact numbers where the regressor, at fresh states,
+    # agrees with them as well as with the computed ones (a wrong candidate, off by 1e-13 of a
+    # coefficient, leaves a residual a thousand times the round-off's)
     Yc = _stack(ch, cols, n, np.random.default_rng(seed + 1), 4)
+    coef = {}  # (base row, dependent column) -> the coefficient (sympy: exact, or a Float)
+    for jj, d in enumerate(dep):
+        floats = X[:, jj]
+        exact = [_exact(float(x)) for x in floats]
+        r_float = np.linalg.norm(Yc[:, base] @ floats - Yc[:, d])
+        if all(c is not None for c in exact):
+            r_exact = np.linalg.norm(Yc[:, base] @ np.array([float(c) for c in exact]) - Yc[:, d])
+            if r_exact <= 4 * r_float + 1e-14 * np.linalg.norm(Yc[:, d]):
+                coef.update({(i, d): c for i, c in enumerate(exact) if c != 0})
+                continue
+        coef.update({(i, d): sp.Float(float(x), 17) for i, x in enumerate(floats) if abs(x) > RANK_TOL * 1e-3})
+    rows = tuple(((b, sp.Integer(1)),) + tuple((d, coef[i, d]) for d in dep if (i, d) in coef) for i, b in enumerate(base))
+    numerical = tuple(any(not c.is_Rational for _, c in row) for row in rows)
+    Kx = np.zeros((len(base), npar))
+    for i, row in enumerate(rows):
+        for j, c in row:
+            Kx[i, j] = float(c)
+    # the check, on fresh states: Y π = Y_B (K π) for every π, i.e. Y = Y_B K
     scale = max(np.abs(Yc).max(), 1e-300)
     residual = float(np.abs(Yc[:, base] @ Kx - Yc).max() / scale) if base else float(np.abs(Yc).max())
-    return BaseParameters(tuple(base), tuple(rows), tuple(numerical), residual)
+    return BaseParameters(tuple(base), rows, numerical, residual)

@@ -107,10 +107,59 @@ def test_a_rotor_spinning_up_has_no_constant_parameter():
         pipeline.derive(spec, regressor=True, latex=False)
 
 
+@pytest.mark.parametrize("name", ["furuta", "kapitza", "furuta_sym", "gyrostat2"])
+def test_the_python_regressor_is_the_c(name):
+    """The Python module's regressor functions against the C's (the same straight lines, printed twice)."""
+    import importlib.util
+
+    spec = _spec(name)
+    p = _params(name, spec)
+    cm, model = pipeline.compiled(spec, regressor=True)
+    text = pipeline.render(model, targets=("python",))[f"{spec.name}.py"]
+    mod = importlib.util.module_from_spec(importlib.util.spec_from_loader(spec.name, loader=None))
+    exec(compile(text, f"{spec.name}.py", "exec"), mod.__dict__)
+    t_arg = lambda t: (t,) if getattr(mod, "TIME_DEPENDENT", False) else ()  # noqa: E731
+    assert np.array_equal(mod.standard_parameters(p), cm.standard_parameters(p))
+    pi = cm.standard_parameters(p)
+    assert np.allclose(mod.base_parameters(pi), cm.base_parameters(pi), rtol=1e-15, atol=0)
+    for q, v, a, t in list(_states(np.random.default_rng(8), spec.n))[:20]:
+        for base in (False, True):
+            Y, tau0 = (mod.base_regressor if base else mod.regressor)(*t_arg(t), q, v, a, p)
+            Yc, tau0c = cm.regressor(q, v, a, p, t, base=base)
+            assert np.allclose(Y, Yc, rtol=1e-13, atol=1e-13) and np.allclose(tau0, tau0c, rtol=1e-13, atol=1e-13)
+        h, e0 = mod.energy_regressor(*t_arg(t), q, v, p)
+        hc, e0c = cm.energy_regressor(q, v, p, t)
+        assert np.allclose(h, hc, rtol=1e-13, atol=1e-13) and abs(e0 - e0c) <= 1e-13
+
+
+@pytest.mark.parametrize("name", ["furuta", "gimbal", "ur5", "spatial3", "kapitza"])
+def test_the_latex_base_parameters_are_the_code(name):
+    """Each β row of the LaTeX read back (names and coefficients) is the row of K the code uses."""
+    import re
+    from fractions import Fraction
+
+    spec = _spec(name)
+    model = pipeline.derive(spec, regressor=True)
+    tex = pipeline.render(model, targets=("latex",))[f"{spec.name}.tex"]
+    rows = re.findall(r"^\\beta_\{(\d+)\} &= (.*?)(?: \\\\)?$", tex, flags=re.M)
+    assert len(rows) == model.base.count
+    by_tex = {p.tex: j for j, p in enumerate(model.reg.params)}
+    term = re.compile(r"\s*([+-])?\s*(?:(\d+(?:\.\d+)?(?:e[+-]?\d+)?|\\tfrac\{(\d+)\}\{(\d+)\})\\,)?((?:\(mc\)|[mA]|\\lambda|b)\^\{\d+\}(?:_\{\d+\})?)")
+    for (i, text), row in zip(rows, model.base.K):
+        found, pos = {}, 0
+        while pos < len(text):
+            m = term.match(text, pos)
+            assert m, (name, text[pos:])
+            sign = -1 if m.group(1) == "-" else 1
+            c = Fraction(m.group(2)) if m.group(2) else Fraction(int(m.group(3)), int(m.group(4))) if m.group(3) else Fraction(1)
+            found[by_tex[m.group(5)]] = sign * c
+            pos = m.end()
+        assert set(found) == {j for j, _ in row}, (name, i, text)
+        for j, c in row:  # exact coefficients exactly; a numerical one to the 15 digits printed
+            assert found[j] == Fraction(int(c.p), int(c.q)) if c.is_Rational else abs(float(found[j]) - float(c)) <= 1e-14 * abs(float(c)), (name, i, j, text)
+
+
 # --------------------------------------------------------------------------- Pinocchio
-pin = pytest.importorskip("pinocchio", reason="Pinocchio (pip install pin; make test installs it) checks the base parameters")
-
-
 @pytest.mark.parametrize("name", ["double_pendulum", "furuta", "ur5", "panda", "arm4", "arm5"])
 def test_base_parameters_match_pinocchio(name, tmp_path):
     """Fixed-base chains without rotors, exported to URDF: the rank of Pinocchio's
@@ -119,6 +168,7 @@ def test_base_parameters_match_pinocchio(name, tmp_path):
     equals Y π (Pinocchio's, its inertias in its link frames)."""
     from gyrochain import exchange
 
+    pin = pytest.importorskip("pinocchio", reason="Pinocchio (pip install pin; make test installs it) checks the base parameters")
     texts = {"arm4": random_spec_text(np.random.default_rng(41), 4, name="arm4", gyro=False, controls=(1, 2, 3, 4)),
              "arm5": random_spec_text(np.random.default_rng(42), 5, name="arm5", gyro=False, offsets=True)}
     spec = parse_spec(texts[name]) if name in texts else load_spec(ROOT / "specs" / f"{name}.toml")
