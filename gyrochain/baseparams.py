@@ -46,6 +46,7 @@ class BaseParameters:
     K: tuple  # per base parameter: ((index into π, coefficient), ...), its own column first with 1
     numerical: tuple  # per base parameter: whether a coefficient could not be recovered exactly
     residual: float  # max |Y_B K − Y_D| / max |Y| over the fresh states of the check
+    at: tuple = ()  # (name, value) of the geometry's symbolic parameters: K holds at these values
 
     @property
     def count(self) -> int:
@@ -64,23 +65,29 @@ class BaseParameters:
         return sp.Add(*[c * symbols[j] for j, c in self.K[i]])
 
 
+def geometric(spec: ChainSpec) -> list:
+    """The symbolic parameters the regressor reads (angles, offsets, lengths, gravity, the
+    platform's motion), in the spec's order: the base parameters depend on their values."""
+    found = set(sp.sympify(spec.g).free_symbols)
+    for b in spec.bodies:
+        for x in (b.theta, b.offset, *b.s):
+            found |= sp.sympify(x).free_symbols
+    if spec.base is not None:
+        found |= set(spec.params)  # the platform's motion: take every parameter as geometric
+    return [p for p in spec.params if p in found]
+
+
 def geometry_values(spec: ChainSpec, values: dict | None = None) -> dict:
     """Values for every symbolic parameter: the given (or [values]) ones; a parameter without a
     value that the geometry does not read gets 1 (the regressor does not depend on it); one
     the geometry reads is refused."""
     values = dict(spec.values if values is None else values)
-    geometric = set()
-    for b in spec.bodies:
-        for x in (b.theta, b.offset, *b.s):
-            geometric |= sp.sympify(x).free_symbols
-    geometric |= sp.sympify(spec.g).free_symbols
-    if spec.base is not None:
-        geometric |= set(spec.params)  # the platform's motion: take every parameter as geometric
+    reads = geometric(spec)
     for p in spec.params:
         if str(p) not in values:
-            if p in geometric:
-                raise SpecError(f"[values].{p}", "the base parameters depend on it (it sets the geometry); "
-                                                   "give it a value in [values] or with --param")
+            if p in reads:
+                raise SpecError(f"[values].{p}", "the base parameters depend on it (it sets the geometry): give it a "
+                                                   "value in [values]")
             values[str(p)] = 1.0
     return values
 
@@ -113,7 +120,8 @@ def _exact(x: float):
 
 def find(spec: ChainSpec, params, values: dict | None = None, seed: int = 0) -> BaseParameters:
     """The base parameters of ``params`` (regressor.parameters(spec)) for this spec's geometry."""
-    ch = reference.numeric(spec, geometry_values(spec, values))
+    vals = geometry_values(spec, values)
+    ch = reference.numeric(spec, vals)
     cols = [(p.kind, p.body, p.index) for p in params]
     n, npar = spec.n, len(params)
     rng = np.random.default_rng(seed)
@@ -158,4 +166,5 @@ def find(spec: ChainSpec, params, values: dict | None = None, seed: int = 0) -> 
     # the check, on fresh states: Y π = Y_B (K π) for every π, i.e. Y = Y_B K
     scale = max(np.abs(Yc).max(), 1e-300)
     residual = float(np.abs(Yc[:, base] @ Kx - Yc).max() / scale) if base else float(np.abs(Yc).max())
-    return BaseParameters(tuple(base), rows, numerical, residual)
+    at = tuple((str(p), float(vals[str(p)])) for p in geometric(spec))
+    return BaseParameters(tuple(base), rows, numerical, residual, at)

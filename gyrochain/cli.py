@@ -522,7 +522,7 @@ def main(argv=None) -> int:
                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
                "examples": cmd_examples, "new": cmd_new, "import": cmd_import,
                "export": cmd_export, "fmu": cmd_fmu, "identify": cmd_identify, "excite": cmd_excite}[args.cmd]
-    beat = cliargs.Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate") else None
+    beat = cliargs.Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate", "identify", "excite") else None
     stdout = sys.stdout
     if beat is not None and beat.running:
         sys.stdout = cliargs.ClearsFirst(stdout, beat)  # the results' first line ends the heartbeat's

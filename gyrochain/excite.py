@@ -15,7 +15,7 @@ import numpy as np
 
 from . import files
 from .errors import SpecError
-from .measured import columns, compiled
+from .measured import columns, compiled, same_geometry
 
 
 @dataclass(frozen=True)
@@ -207,7 +207,8 @@ def run_excite(spec, source: str, values: dict, output: str, force: bool, limits
     default = f"{spec.name}_{'experiment' if simulated else 'excite'}.csv"
     if output != "-":
         files.target(output, default, force, source)
-    cm, _model = compiled(spec)
+    cm, model = compiled(spec)
+    same_geometry(model, values)
     d = excite(spec, cm, phi_max=limits["phi_max"], phidot_max=limits["phidot_max"], u_max=limits["u_max"],
                center=limits["center"], params=values or None, **options)
     if simulated:

@@ -20,7 +20,7 @@ import numpy as np
 from . import files
 from .consistency import consistent
 from .errors import SpecError
-from .measured import Filter, Motion, compiled, read, stack
+from .measured import Filter, Motion, compiled, read, same_geometry, stack
 
 FAR = 3.0  # estimates this many standard errors from any physically possible bodies are not written without --physical
 
@@ -151,9 +151,10 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     if plot:
         files.target(plot, plot, force)
     params = values or None
+    cm, model = compiled(spec)
+    same_geometry(model, values)
     motion = read(data, spec, data, how)
     held = read(validate, spec, "--validate", how) if validate else None
-    cm, model = compiled(spec)
     A, y = stack(cm, motion, params)
     est = estimate(A, y, spec.n, data)
     n = spec.n

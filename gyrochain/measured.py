@@ -154,6 +154,15 @@ def stack(cm, motion: Motion, params=None) -> tuple[np.ndarray, np.ndarray]:
     return A, y
 
 
+def same_geometry(model, values: dict) -> None:
+    """The run's values of the geometry's parameters must be those the base parameters were found
+    at (the spec's [values]): at others, the same columns may group differently."""
+    for name, value in model.base.at:
+        if name in values and values[name] != value:
+            raise SpecError(f"--param {name}", f"the base parameters were found at the spec's [values] {name} = {value:g}; "
+                                               "set [values] to the geometry of the run")
+
+
 def compiled(spec):
     """The spec's model with its regressor, compiled (once per user), and its derivation."""
     return pipeline.compiled(spec, regressor=True)

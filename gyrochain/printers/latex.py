@@ -501,6 +501,7 @@ def base_parameters(model: Model) -> dict | None:
         rows=rows,
         numerical=[i + 1 for i, flag in enumerate(base.numerical) if flag],
         damping=any(p.kind == "b" for p in params),
+        at=", ".join(f"${param_tex(name)} = {value:g}$" for name, value in base.at),
         rotors=any(p.kind == "lam" for p in params),
     )
 
