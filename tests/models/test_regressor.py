@@ -19,7 +19,6 @@ SHORT = [e for e in EXAMPLES if e not in LONG_EXAMPLES]
 RANDOM = {  # random chains with platforms, loads, springs, dampers, torque expressions and rotors (constant λ)
     "rchain6": random_spec_text(np.random.default_rng(32), 6, name="rchain6", controls=(1, 3, 6), offsets=True),
     "gchain3": random_general_spec_text(np.random.default_rng(33), 3, name="gchain3", spin_up=False),
-    "gchain5": random_general_spec_text(np.random.default_rng(35), 5, name="gchain5", spin_up=False, translate=False),
 }
 
 
@@ -83,7 +82,7 @@ def test_regressor_is_the_inverse_dynamics_of_the_c(name):
     cols = [(q.kind, q.body, q.index) for q in model.reg.params]
     ch = reference.numeric(spec, p)
     stacked, stacked_b = [], []
-    for q, v, a, t in _states(np.random.default_rng(5), n):
+    for i, (q, v, a, t) in enumerate(_states(np.random.default_rng(5), n)):
         x = np.concatenate([q, v])
         tau = cm.mass_matrix(q, p) @ a - cm.forces(x, None, p, t)  # the C's inverse dynamics at u = 0 elsewhere
         scale = max(1.0, np.abs(tau).max())
@@ -94,8 +93,9 @@ def test_regressor_is_the_inverse_dynamics_of_the_c(name):
         h, e0 = mod.energy_regressor(*_t(mod, t), q, v, p)
         E = cm.energy(x, p, t)
         worst["energy"] = max(worst["energy"], abs(h @ pi + e0 - E) / max(1.0, abs(E)))
-        Yr = reference.regressor(ch, cols, q, v, a, t)  # the independent numpy regressor
-        worst["reference"] = max(worst["reference"], np.abs(Yr - Y).max() / max(1.0, np.abs(Y).max()))
+        if i < 10:  # the independent numpy regressor (a Python loop over the columns: ten states)
+            Yr = reference.regressor(ch, cols, q, v, a, t)
+            worst["reference"] = max(worst["reference"], np.abs(Yr - Y).max() / max(1.0, np.abs(Y).max()))
         stacked.append(Y)
         stacked_b.append(Yb)
     print(f"{name}: {len(pi)} standard, {len(beta)} base parameters; worst " + ", ".join(f"{k} {v:.1e}" for k, v in worst.items()))
@@ -132,11 +132,11 @@ def test_a_rotor_spinning_up_has_no_constant_parameter():
         pipeline.derive(spec, regressor=True, latex=False)
 
 
-@pytest.mark.parametrize("name", ["furuta_sym", "kapitza", "ur5", "ziegler", "gchain3"])
+@pytest.mark.parametrize("name", ["furuta_sym", "kapitza", "gchain3"])
 def test_the_c_regressor_is_the_python(name):
     """The C's regressor functions against the Python's (the same straight lines, printed twice) on
-    a symbolic spec, a driven pivot, an arm, a follower load and a random chain on a moving platform,
-    and the C's Y π against its own inverse dynamics."""
+    a symbolic spec, a driven pivot and a random chain on a moving platform with loads, springs,
+    dampers and rotors, and the C's Y π against its own inverse dynamics."""
     spec = _spec(name)
     p = _params(name, spec)
     mod, model, plain = _python(name)
@@ -213,7 +213,7 @@ def test_base_parameters_match_pinocchio(name, tmp_path):
     inertial = [j for j, q in enumerate(model.reg.params) if q.kind != "b"]
     damped = [j for j, q in enumerate(model.reg.params) if q.kind == "b"]
     ours, theirs, worst = [], [], 0.0
-    for q, v, a, _t in _states(np.random.default_rng(9), n):
+    for q, v, a, _t in list(_states(np.random.default_rng(9), n))[:40]:
         qp = pin.neutral(pm)
         vp, ap = np.zeros(pm.nv), np.zeros(pm.nv)
         for k, j in enumerate(joints):

@@ -89,7 +89,7 @@ def test_the_gimbal_rotor_momentum_is_identified(tmp_path):
     tracks them with a PD loop; λ² (its y and z components), the dampers and the inertias come out."""
     spec_path = tmp_path / "gimbal_bench.toml"
     spec_path.write_text(BENCH)
-    for name, seconds, seed in (("data.csv", 40, 0), ("held.csv", 10, 1)):
+    for name, seconds, seed in (("data.csv", 30, 0), ("held.csv", 5, 1)):
         assert cli.main(["excite", str(spec_path), "--period", "8", "--harmonics", "4", "--evaluations", "300",
                          "--phi-max", "1.2", "--phidot-max", "3", "--experiment", str(seconds), "--seed", str(seed),
                          "-o", str(tmp_path / name)]) == 0
