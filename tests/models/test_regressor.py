@@ -57,8 +57,20 @@ def _python(name):
         text = pipeline.render(model, targets=("python",))[f"{spec.name}.py"]
         mod = importlib.util.module_from_spec(importlib.util.spec_from_loader(spec.name, loader=None))
         exec(compile(text, f"{spec.name}.py", "exec"), mod.__dict__)
-        _PY[name] = mod, model, pipeline.compiled(spec)[0]
+        _PY[name] = mod, model, _Plain(spec)
     return _PY[name]
+
+
+class _Plain:
+    """The spec's plain C model, built when first used (the Pinocchio test needs none)."""
+
+    def __init__(self, spec):
+        self.spec, self.cm = spec, None
+
+    def __getattr__(self, what):
+        if self.__dict__["cm"] is None:
+            self.__dict__["cm"] = pipeline.compiled(self.__dict__["spec"])[0]
+        return getattr(self.__dict__["cm"], what)
 
 
 def _t(mod, t):

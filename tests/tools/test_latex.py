@@ -27,6 +27,26 @@ def test_latex_compiles_to_pdf(name, tmp_path):
         ln for ln in log.splitlines() if ln.startswith(("Overfull", "Missing character"))][:5]
 
 
+@pytest.mark.skipif(shutil.which("pdflatex") is None, reason="no TeX engine: install Debian's texlive-latex-base (.ci/run does)")
+@pytest.mark.parametrize("name", ["panda", "spatial3", "furuta_sym"])
+def test_the_base_parameters_section_compiles(name, tmp_path):
+    """generate --regressor: the Panda's 50 base parameters, spatial3's numerical coefficients and
+    furuta_sym's geometry at its [values], typeset without an overfull box."""
+    from gyrochain import pipeline
+    from gyrochain.spec import load_spec
+
+    spec = load_spec(ROOT / "specs" / f"{name}.toml")
+    text = pipeline.render(pipeline.derive(spec, regressor=True), targets=("latex",))[f"{name}.tex"]
+    assert "the base parameters}" in text
+    (tmp_path / f"{name}.tex").write_text(text)
+    res = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", f"{name}.tex"], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stdout[-3000:]
+    log = (tmp_path / f"{name}.log").read_text(errors="replace")
+    assert "Overfull" not in log and "Missing character" not in log and "Undefined control sequence" not in log, [
+        ln for ln in log.splitlines() if ln.startswith(("Overfull", "Missing character"))][:5]
+
+
 def test_latex_has_the_paper_structure():
     text = (ROOT / "generated" / "gimbal" / "gimbal.tex").read_text()
     for part in [r"\alpha^{1,0}", r"\alpha^{2,1}", "M_{11}", "M_{12}", "M_{22}", "Q_{1}", r"\Gamma_{1}", "G_{1}",
