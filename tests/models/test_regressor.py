@@ -247,3 +247,53 @@ def test_base_parameters_match_pinocchio(name, tmp_path):
           f"|Y pi - Y_pin pi_pin| {worst:.1e}")
     assert model.base.count - len(damped) == r_ours == r_pin
     assert worst <= 1e-10
+
+
+def test_the_regressor_c_is_strict_and_clean_under_the_sanitizers(tmp_path):
+    """Kapitza's pendulum (t first, symbolic parameters) with --regressor: warning-free under the
+    strict flags, and every new function, with tau0 and e0 NULL and the error codes, clean under
+    ASan and UBSan."""
+    import shutil
+    import subprocess
+
+    if shutil.which("gcc") is None:
+        pytest.skip("no gcc")
+    spec = _spec("kapitza")
+    files = pipeline.render(pipeline.derive(spec, regressor=True, latex=False), targets=("c",))
+    for k, v in files.items():
+        (tmp_path / k).write_text(v)
+    (tmp_path / "drv.c").write_text("""
+#include <math.h>
+#include "kapitza.h"
+int main(void) {
+    double phi[KAPITZA_N] = {0.3}, phidot[KAPITZA_N] = {1.0}, phidd[KAPITZA_N] = {-2.0};
+    double Y[KAPITZA_N * KAPITZA_NPI], Yb[KAPITZA_N * KAPITZA_NBASE], tau0[KAPITZA_N], h[KAPITZA_NPI], e0;
+    double pi[KAPITZA_NPI], beta[KAPITZA_NBASE];
+    kapitza_params p;
+    int c = 0;
+    p.a = 0.01;
+    p.w = 200.0;
+    c |= kapitza_regressor(0.1, phi, phidot, phidd, &p, Y, tau0);
+    c |= kapitza_regressor(0.1, phi, phidot, phidd, &p, Y, 0);
+    c |= kapitza_base_regressor(0.1, phi, phidot, phidd, &p, Yb, tau0);
+    c |= kapitza_energy_regressor(0.1, phi, phidot, &p, h, &e0);
+    c |= kapitza_energy_regressor(0.1, phi, phidot, &p, h, 0);
+    c |= kapitza_standard_parameters(&p, pi);
+    c |= kapitza_base_parameters(pi, beta);
+    if (c) return 2;
+    if (kapitza_regressor(0.1, phi, phidot, phidd, 0, Y, tau0) != KAPITZA_NO_PARAMS) return 3;
+    if (kapitza_regressor(0.1, 0, phidot, phidd, &p, Y, tau0) != KAPITZA_BAD_ARGUMENT) return 4;
+    if (kapitza_base_parameters(pi, 0) != KAPITZA_BAD_ARGUMENT) return 5;
+    phi[0] = NAN;
+    if (kapitza_regressor(0.1, phi, phidot, phidd, &p, Y, tau0) != KAPITZA_NONFINITE) return 6;
+    return 0;
+}
+""")
+    strict = ["gcc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
+    res = subprocess.run(strict + ["-c", "kapitza.c", "-o", "k.o"], cwd=tmp_path, capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    san = ["-g", "-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer"]
+    res = subprocess.run(strict + san + ["drv.c", "kapitza.c", "-lm", "-o", "drv"], cwd=tmp_path, capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    run = subprocess.run(["./drv"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0 and run.stderr == "", (run.returncode, run.stderr[-2000:])
