@@ -80,8 +80,8 @@ def cmd_excite(args) -> int:
     values = run_values(spec, cliargs.params_of(args.param))
     lim = {k: cliargs.float_list(getattr(args, k), f"--{k.replace('_', '-')}") for k in ("phi_max", "phidot_max", "u_max", "center")}
     excite.run_excite(spec, args.spec, values, args.output, args.force, lim, period=args.period, harmonics=args.harmonics,
-                        samples=args.samples, evaluations=args.evaluations, seed=args.seed, simulated=args.experiment and
-                        (args.experiment, args.rate, args.noise, args.encoder, args.seed))
+                        samples=args.samples, evaluations=args.evaluations, seed=args.seed, experiment=args.experiment,
+                        recording=(args.rate, args.noise, args.encoder))
     return 0
 
 

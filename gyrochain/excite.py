@@ -68,6 +68,7 @@ class _Problem:
         self.t = np.arange(samples) * period / samples
         self.full = len(spec.controls) == spec.n  # every joint controlled: design the trajectories
         self.ctl = [k - 1 for k in spec.controls]
+        self.pi0 = cm.standard_parameters(params)  # the spec's own parameters (the feedforward torques)
 
     def cond(self, q, qd, qdd) -> float:
         cm, p = self.cm, self.params
@@ -82,8 +83,7 @@ class _Problem:
             k = min(np.min(self.pmax / np.maximum(np.abs(q).max(axis=0), 1e-300)),
                     np.min(self.vmax / np.maximum(np.abs(qd).max(axis=0), 1e-300)))
             q, qd, qdd = q * k + self.centre, qd * k, qdd * k
-            pi0 = self.cm.standard_parameters(self.params)
-            u = np.array([Y @ pi0 + tau0 for Y, tau0 in (self.cm.regressor(q[i], qd[i], qdd[i], self.params, float(self.t[i]))
+            u = np.array([Y @ self.pi0 + tau0 for Y, tau0 in (self.cm.regressor(q[i], qd[i], qdd[i], self.params, float(self.t[i]))
                                                           for i in range(self.samples))])
             return q, qd, qdd, u[:, self.ctl]
         # the torques' series (scaled to |u| ≤ u_max) over two periods from rest; the second is used
@@ -120,8 +120,7 @@ def excite(spec, cm, period: float = 10.0, harmonics: int = 5, phi_max=None, phi
     from scipy.optimize import minimize
 
     n = spec.n
-    if period <= 0 or harmonics < 1 or samples < 2 or evaluations < 1:
-        raise SpecError("excite", "--period must be positive and --harmonics, --samples, --evaluations at least 1")
+    check_options(period, harmonics, samples, evaluations)
     if not spec.controls:
         raise SpecError("excite", "the spec has no control torque: no motion can be imposed (give a joint control = true)")
     centre = np.zeros(n) if center is None else np.asarray(center, dtype=float)
@@ -155,7 +154,7 @@ def write_design(design: Design, spec) -> str:
     return ",".join(head) + "\n" + "".join(",".join(f"{v:.17g}" for v in row) + "\n" for row in rows)
 
 
-def experiment(spec, cm, d: Design, duration: float, rate: float, noise: float, counts: int, seed: int,
+def simulate_recording(spec, cm, d: Design, duration: float, rate: float, noise: float, counts: int, seed: int,
                params=None) -> np.ndarray:
     """A simulated measurement of the design on the spec's own model: the torques held over each
     sample (1/rate s); with every joint controlled, the design's torques plus a PD loop on its
@@ -163,11 +162,8 @@ def experiment(spec, cm, d: Design, duration: float, rate: float, noise: float, 
     the start.  The recorded u has Gaussian noise of ``noise`` times its RMS, φ is quantised to
     2π/``counts``.  Rows: t, φ (n), u (nu)."""
     n, ctl = spec.n, [k - 1 for k in spec.controls]
-    if not (duration > 0 and rate > 0 and noise >= 0 and counts >= 0):
-        raise SpecError("--experiment", "the duration, --rate and --encoder must be positive, --noise not negative")
+    check_options(experiment=duration, recording=(rate, noise, counts))
     steps = int(round(duration * rate))
-    if steps > 2_000_000:
-        raise SpecError("--experiment", f"{steps} samples: more than 2000000 (a shorter duration or a lower --rate)")
     period = d.t[-1] + d.t[1] - d.t[0]
     t = np.arange(steps + 1) / rate
     cyc = lambda y: np.interp(t % period, np.append(d.t, period), np.append(y, y[:1]))  # noqa: E731  (periodic)
@@ -198,21 +194,48 @@ def experiment(spec, cm, d: Design, duration: float, rate: float, noise: float, 
     return rows
 
 
-def run_excite(spec, source: str, values: dict, output: str, force: bool, limits: dict, say=print, simulated=None,
-               **options) -> Design:
+MAX_SAMPLES = 2_000_000  # a simulated recording longer than this is refused
+
+
+def check_options(period: float = 10.0, harmonics: int = 5, samples: int = 200, evaluations: int = 1,
+                  experiment: float | None = None, recording: tuple = (1000.0, 0.01, 4096)) -> None:
+    """Every option of excite checked before any work: one line naming the first that cannot be."""
+    rate, noise, counts = recording
+    for what, value, ok, want in (
+            ("--period", period, period > 0, "a positive number of seconds"),
+            ("--harmonics", harmonics, harmonics >= 1, "at least 1"),
+            ("--samples", samples, samples >= 2, "at least 2"),
+            ("--evaluations", evaluations, evaluations >= 1, "at least 1"),
+            ("--experiment", experiment, experiment is None or experiment > 0, "a positive number of seconds"),
+            ("--rate", rate, rate > 0, "a positive number of samples per second"),
+            ("--noise", noise, noise >= 0, "a fraction of the torques' RMS, not negative"),
+            ("--encoder", counts, counts >= 0, "counts per turn, not negative (0: exact angles)")):
+        if not ok:
+            raise SpecError(what, f"{value:g}: expected {want}")
+    if experiment is not None and experiment * rate > MAX_SAMPLES:
+        raise SpecError("--experiment", f"{experiment * rate:.0f} samples: more than {MAX_SAMPLES} (a shorter duration "
+                                        "or a lower --rate)")
+
+
+def run_excite(spec, source: str, values: dict, output: str, force: bool, limits: dict, say=print,
+               experiment: float | None = None, recording: tuple = (1000.0, 0.01, 4096), **options) -> Design:
     """``excite``: the design written as CSV (``output`` "-": printed, the report on stderr); with
-    ``simulated`` (duration, rate, noise, counts, seed), a simulated measurement of it instead."""
+    ``experiment`` (seconds), a simulated measurement of it instead, ``recording`` = (rate, noise,
+    encoder counts)."""
     import sys
 
-    default = f"{spec.name}_{'experiment' if simulated else 'excite'}.csv"
+    check_options(options.get("period", 10.0), options.get("harmonics", 5), options.get("samples", 200),
+                  options.get("evaluations", 1), experiment, recording)
+    default = f"{spec.name}_{'experiment' if experiment is not None else 'excite'}.csv"
     if output != "-":
         files.target(output, default, force, source)
     cm, model = compiled(spec)
     same_geometry(model, values)
     d = excite(spec, cm, phi_max=limits["phi_max"], phidot_max=limits["phidot_max"], u_max=limits["u_max"],
                center=limits["center"], params=values or None, **options)
-    if simulated:
-        rows = experiment(spec, cm, d, *simulated, params=values or None)
+    rows = None
+    if experiment is not None:
+        rows = simulate_recording(spec, cm, d, experiment, *recording, options.get("seed", 0), params=values or None)
         head = ["t"] + columns(spec)[0] + columns(spec)[2]
         text = ",".join(head) + "\n" + "".join(",".join(f"{v:.17g}" for v in row) + "\n" for row in rows)
     else:
@@ -220,10 +243,10 @@ def run_excite(spec, source: str, values: dict, output: str, force: bool, limits
     path = files.deliver(text, output, default, force, source)
     tell = say if path is not None else (lambda line: print(line, file=sys.stderr))
     tell(f"excite {spec.name}: {d.mode}; cond of the base regressor {d.cond:.4g} over the period")
-    if path is not None and simulated:
-        dur, rate, noise, counts, _ = simulated
-        tell(f"wrote {path}: a simulated measurement of {dur:g} s at {rate:g} Hz (t, phi, u): noise {100 * noise:g}% of "
-             f"u's RMS, phi quantised to {counts} counts per turn" if counts else "")
+    if path is not None and rows is not None:
+        rate, noise, counts = recording
+        tell(f"wrote {path}: a simulated measurement of {experiment:g} s at {rate:g} Hz (t, phi, u): noise {100 * noise:g}% "
+             "of u's RMS, " + (f"phi quantised to {counts} counts per turn" if counts else "phi exact"))
     elif path is not None:
         tell(f"wrote {path}: {len(d.t)} samples of one period (t, phi, phidot, phidd, u)")
     return d

@@ -20,6 +20,7 @@ import numpy as np
 from . import files
 from .consistency import consistent
 from .errors import SpecError
+from .printers.common import signed_sum
 from .measured import Filter, Motion, compiled, read, same_geometry, stack
 
 FAR = 3.0  # estimates this many standard errors from any physically possible bodies are not written without --physical
@@ -120,7 +121,6 @@ def identified_spec(spec, model, pi: np.ndarray, note: str) -> str:
             body["damping"] = own["b"]
     values = dict(raw.get("values", {}))
     values.update({names[p.name]: float(v) for p, v in zip(params, pi)})
-    raw["values"] = values
     used = {str(p) for p in parse_spec(tomli_w.dumps({**raw, "values": {}})).params}
     raw["values"] = {k: v for k, v in values.items() if k in used}  # parameters only the old inertias read go
     text = "".join(f"# {line}\n" for line in note.splitlines()) + tomli_w.dumps(raw)
@@ -130,12 +130,8 @@ def identified_spec(spec, model, pi: np.ndarray, note: str) -> str:
 
 def formula(model, i: int) -> str:
     """βᵢ in the standard parameters' names, as the command prints it (Axx1 + 0.04 m2 + 0.4 hx2)."""
-    params, out = model.reg.params, []
-    for j, c in model.base.K[i]:
-        v = float(c)
-        term = params[j].name if abs(v) == 1.0 else f"{abs(v):.15g} {params[j].name}"
-        out.append(("-" if v < 0 else "") + term if not out else (" - " if v < 0 else " + ") + term)
-    return "".join(out)
+    names = [p.name for p in model.reg.params]
+    return signed_sum(model.base.K[i], lambda j, c: names[j] if float(c) == 1.0 else f"{float(c):.15g} {names[j]}")
 
 
 def run(spec, data: str, values: dict, output: str, force: bool, validate: str | None = None, plot: str | None = None,

@@ -93,15 +93,10 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
 
 
 def _linear(row, array: str) -> str:
-    """Σ c·array[j] as C and Python alike: unit coefficients without a factor, signs as operators."""
-    from .common import literal
+    """Σ c·array[j] as C and Python alike: unit coefficients without a factor."""
+    from .common import literal, signed_sum
 
-    out = []
-    for j, c in row:
-        v = float(c)
-        term = f"{array}[{j}]" if abs(v) == 1.0 else f"{literal(abs(v))} * {array}[{j}]"
-        out.append(("-" if v < 0 else "") + term if not out else (" - " if v < 0 else " + ") + term)
-    return "".join(out)
+    return signed_sum(row, lambda j, c: f"{array}[{j}]" if float(c) == 1.0 else f"{literal(float(c))} * {array}[{j}]")
 
 
 def regressor_context(model: Model) -> dict:

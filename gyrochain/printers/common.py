@@ -86,6 +86,17 @@ def poly_code(p: Poly, spell) -> str:
     return "".join(out) or "0.0"
 
 
+def signed_sum(row, term) -> str:
+    """Σ cⱼ xⱼ over ``row`` = ((j, cⱼ), ...) with the signs written as operators: ``term(j, c)``
+    spells c xⱼ for c > 0 (C, Python, the LaTeX and the command's table alike)."""
+    out = []
+    for j, c in row:
+        neg = float(c) < 0
+        text = term(j, -c if neg else c)
+        out.append(("-" if neg else "") + text if not out else (" - " if neg else " + ") + text)
+    return "".join(out)
+
+
 @dataclass(frozen=True)
 class Function:
     """One emitted function: temporaries and output assignments, already printed."""

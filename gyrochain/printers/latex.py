@@ -18,7 +18,7 @@ from ..exact import Fraction, is_negative, is_unit, to_float
 from ..kinematics import Kinematics, platform_symbols
 from ..spec import T as TIME
 from . import texscene
-from .common import one_line, tex_escape
+from .common import one_line, signed_sum, tex_escape
 from .texterms import TexWriter, breaks, join, number_text
 
 
@@ -487,13 +487,8 @@ def base_parameters(model: Model) -> dict | None:
     params, base = model.reg.params, model.base
     rows = []
     for i, row in enumerate(base.K):
-        terms = []
-        for j, c in row:
-            unit = c == 1 or c == -1
-            body = params[j].tex if unit else rf"{_coefficient(c)}\,{params[j].tex}"
-            neg = float(c) < 0
-            terms.append(("-" if neg else "") + body if not terms else (" - " if neg else " + ") + body)
-        rows.append((rf"\beta_{{{i + 1}}}", "".join(terms)))
+        text = signed_sum(row, lambda j, c: params[j].tex if c == 1 else rf"{_coefficient(c)}\,{params[j].tex}")
+        rows.append((rf"\beta_{{{i + 1}}}", text))
     return dict(
         pi=r",\allowbreak ".join(p.tex for p in params),
         count=len(params),

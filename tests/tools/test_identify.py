@@ -135,10 +135,30 @@ def test_newcomer_mistakes_are_one_line(tmp_path, capsys):
         (("excite", gimbal, "-o", tmp_path / "e.csv"), "no control torque"),
         (("excite", FURUTA, "--phi-max", "1,2,3", "-o", tmp_path / "e.csv"), "--phi-max"),
         (("excite", FURUTA, "--period", "-1", "-o", tmp_path / "e.csv"), "--period"),
+        (("excite", FURUTA, "--harmonics", "0", "-o", tmp_path / "e.csv"), "--harmonics"),
+        (("excite", FURUTA, "--experiment", "0", "-o", tmp_path / "e.csv"), "--experiment"),
+        (("excite", FURUTA, "--noise", "-1", "-o", tmp_path / "e.csv"), "--noise"),
+        (("excite", FURUTA, "--encoder", "-3", "-o", tmp_path / "e.csv"), "--encoder"),
+        (("excite", FURUTA, "--experiment", "10000", "-o", tmp_path / "e.csv"), "more than 2000000"),
+        (("excite", FURUTA, "--u-max", "0", "-o", tmp_path / "e.csv"), "--u-max"),
+        (("identify", FURUTA, "x.csv", "--cutoff", "0"), "--cutoff"),
+        (("identify", FURUTA, "x.csv", "--order", "12"), "--order"),
+        (("identify", FURUTA, "x.csv", "--filter", "bogus"), "--filter"),
+        (("identify", FURUTA, "x.csv", "--param", "r=2"), "--param r"),
     ):
         code, text = _cli(capsys, *words)
         assert code == 2 and text.count("\n") == 1 and said in text, (words, text)
     assert not (tmp_path / "e.csv").exists()
+
+
+def test_generate_regressor_refuses_a_rotor_spinning_up(tmp_path, capsys):
+    from gyrochain.randspec import random_general_spec_text
+
+    spin = tmp_path / "spin.toml"
+    spin.write_text(random_general_spec_text(np.random.default_rng(3), 2, name="spin"))
+    code, text = _cli(capsys, "generate", spin, "--regressor", "-o", tmp_path / "out", "-q")
+    assert code == 2 and text.count("\n") == 1 and "body[1].lambda: depends on t" in text, text
+    assert not (tmp_path / "out").exists()
 
 
 def test_physically_possible_bodies_near_estimates_they_cannot_have():
