@@ -432,6 +432,8 @@ def sweep_point(store: str | Path, at: str) -> dict:
     args["vary"] = [tuple(v) for v in args["vary"]]
     plan = sweep.Plan(sweep.Sweep(spec_text=attrs["spec"], **args))
     names = plan.names
+    if not at and not names:  # a sweep of one trajectory: its only point
+        at = "0"
     if not at:
         raise SpecError("--at", f"which point of the sweep? give {'an index 0..' + str(plan.shape[0] - 1) if plan.points is not None else ','.join(f'{nm}=VALUE' for nm in names)}")
     if plan.points is not None:

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import caused_by_interrupt, cliargs
+from . import caused_by_interrupt, cliargs, parsers
 from .files import deliver, target
 from .physical import run_values
 from .simulate import torques
@@ -110,8 +110,14 @@ def cmd_simulate(args) -> int:
                         method=args.method, h=h, rtol=rtol, atol=atol, use_reference=args.reference, yes=args.yes)
     print(",".join(simulate.columns(spec.n)))
     for row in rows:
-        print(",".join(f"{v:.17g}" for v in row))
+        print(",".join(_shortest(v) for v in row))
     return 0
+
+
+def _shortest(v) -> str:
+    """The shortest text that reads back as the same double (0.3, not 0.29999999999999999; 2, not 2.0)."""
+    text = repr(float(v))
+    return text[:-2] if text.endswith(".0") else text
 
 
 def cmd_steady(args) -> int:
@@ -124,8 +130,16 @@ def cmd_steady(args) -> int:
     u = torques(spec, cliargs.float_list(args.u, "--u"))
     starts = [cliargs.floats(s, "--start", spec.n) for s in args.start or []]
     cliargs.one("--vary", args.vary, "steady continues its equilibria over one parameter")
+    for option, value in (("--omega", args.omega), ("--no-rotations", args.no_rotations), ("--start", args.start),
+                          ("--vary", args.vary)):
+        if args.at and value:
+            raise SpecError(option, "--at asks for the one equilibrium Newton finds from there; drop one of them")
     if args.omega and args.no_rotations:
         raise SpecError("--omega", "is the grid of the steady rotations, which --no-rotations leaves out; give one of them")
+    for option, value, least in (("--max-equilibria", args.max_equilibria, 1), ("--digits", args.digits, 1)):
+        if value is not None and not least <= value <= 17:
+            raise SpecError(option, f"{value}: expected {least} to 17")
+    at = cliargs.at_phi(args.at, spec.n) if args.at else None
     args.vary = (args.vary or [""])[0]
     try:
         omegas = steady.parse_range(args.omega) if args.omega else None
@@ -133,12 +147,14 @@ def cmd_steady(args) -> int:
         if vary:
             steady.check_vary_values(spec, given, vary)
         an, eqs, branches, omegas = steady.analyze(spec, params or None, u, omegas, starts, rotations=not args.no_rotations,
-                                                   period=args.period, vary=vary)
+                                                   period=args.period, vary=vary, at=at)
     except steady.SteadyError as exc:
         what, _, why = str(exc).partition(": ")
         raise SpecError(what, why) from None
-    print(f"{spec.name}: n = {spec.n}" + (f", u = {u}" if u else "") + (f", {params}" if params else ""))
-    print(steady.report(an, eqs, branches, omegas))
+    said = ", ".join(f"{k} = {v:.12g}" for k, v in params.items())
+    print(f"{spec.name}: n = {spec.n}" + (f", u = [{', '.join(f'{v:.12g}' for v in u)}]" if u else "")
+          + (f", {said}" if said else ""))
+    print(steady.report(an, eqs, branches, omegas, digits=args.digits, most=args.max_equilibria, at=at))
     return 0
 
 
@@ -171,7 +187,7 @@ def cmd_orbits(args) -> int:
             except ValueError as exc:
                 if isinstance(exc, (SpecError, steady.SteadyError)):
                     raise
-                raise SpecError("--omega", "expected a rate W or a grid a:b:N, for example 1:10:10") from None
+                raise SpecError("--omega", "expected a rate W or a grid lo:hi:N, for example 1:10:10") from None
     except steady.SteadyError as exc:
         what, _, why = str(exc).partition(": ")
         raise SpecError(what, why) from None
@@ -190,7 +206,8 @@ def cmd_sweep(args) -> int:
     measures = args.measure or ["final"]
     for option, value, belongs in (("--flip", args.flip, ("flip_time",)), ("--angles", args.angles, ("flip_time",)),
                                    ("--samples", args.samples, ("flip_time", "energy_error")),
-                                   ("--lyap-interval", args.lyap_interval, ("lyapunov", "lyapunov_spectrum"))):
+                                   ("--lyap-interval", args.lyap_interval, ("lyapunov", "lyapunov_spectrum")),
+                                   ("--lyap-d0", args.lyap_d0, ("lyapunov",))):
         if value is not None and not set(belongs) & set(measures):
             raise SpecError(option, f"belongs to --measure {' or '.join(belongs)}, which this sweep does not ask for")
     if args.chunk < 1:
@@ -206,10 +223,14 @@ def cmd_sweep(args) -> int:
         if args.t1 / lyap > MAX_RENORMALISATIONS:
             raise SpecError("--lyap-interval", f"{lyap:g} s over --t1 {args.t1:g} s is {args.t1 / lyap:.3g} renormalisations "
                                                f"per trajectory (at most {MAX_RENORMALISATIONS:.0e}); a longer interval")
+    d0 = 1e-8 if args.lyap_d0 is None else args.lyap_d0
+    if not (math.isfinite(d0) and 0 < d0 < 1):
+        raise SpecError("--lyap-d0", f"{d0:g}: the separation must be in (0, 1)")
+    rtol, atol, note = sw.tolerances(measures, args.rtol, args.atol, d0)
     vary = [sw.parse_vary(v, args.random > 0) for v in args.vary or []]
     sweep = sw.Sweep(
         spec_text=spec.source, vary=vary, t1=args.t1, measures=measures, random=args.random, seed=args.seed,
-        method=args.method, h=args.h, rtol=args.rtol, atol=args.atol, samples=1000 if args.samples is None else args.samples,
+        method=args.method, h=args.h, rtol=rtol, atol=atol, lyap_d0=d0, samples=1000 if args.samples is None else args.samples,
         flip=args.flip or "", angles=args.angles or "auto",
         lyap_interval=lyap, phi=cliargs.floats(args.phi, "--phi", spec.n) if args.phi else [],
         phidot=cliargs.floats(args.phidot, "--phidot", spec.n) if args.phidot else [],
@@ -229,15 +250,19 @@ def cmd_sweep(args) -> int:
     sw.check_store(Path(args.output), plan)
     if args.scheduler:
         sw.reachable(args.scheduler)  # before the store is made: a wrong address leaves nothing behind
+    if note:  # once the sweep is known to run
+        print(note, file=sys.stderr)
     t0 = time.perf_counter()
     where = (f"the Dask scheduler {args.scheduler}" if args.scheduler else f"a local Dask cluster of {args.workers} worker processes"
              if args.workers else f"{args.threads or os.cpu_count()} thread(s)")
-    print(f"sweep of {plan.spec.name}: {int(np.prod(plan.shape))} points in {plan.n_chunks} chunks on {where} -> {args.output}",
-          file=sys.stderr)
+    points = int(np.prod(plan.shape))
+    print(f"sweep of {plan.spec.name}: {points} point{'s' * (points != 1)} in {plan.n_chunks} chunk{'s' * (plan.n_chunks != 1)} "
+          f"on {where} -> {args.output}", file=sys.stderr)
     counts = sw.run(sweep, args.output, threads=args.threads, workers=args.workers or 0, scheduler=args.scheduler,
                     progress=not args.quiet, plan=plan)
-    print(f"{counts['written']} chunks computed, {counts['skipped']} already done, in {time.perf_counter() - t0:.1f} s",
-          file=sys.stderr)
+    done = counts["written"]
+    print(f"{done} chunk{'s' if done != 1 else ''} computed, {counts['skipped']} already done, in "
+          f"{time.perf_counter() - t0:.1f} s", file=sys.stderr)
     if "lyapunov_spectrum" in sweep.measures:
         print(sw.spectrum_summary(args.output, plan), file=sys.stderr)
     return 0
@@ -338,14 +363,6 @@ def cmd_fmu(args) -> int:
     return 0
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse with one line for a mistake: ``error: <what> (see <prog> --help)``, exit 2."""
-
-    def error(self, message):
-        print(f"error: {cliargs.plain(message)} (see {self.prog} --help)", file=sys.stderr)
-        raise SystemExit(EXIT_BAD_INPUT)
-
-
 def _prog() -> str:
     """The command as the user typed it: the console script, or python -m gyrochain."""
     from . import DISTRIBUTION
@@ -356,165 +373,13 @@ def _prog() -> str:
 def main(argv=None) -> int:
     from . import DISTRIBUTION, __version__
 
-    ap = _Parser(prog=_prog(), description=__doc__.splitlines()[0])
-    ap.add_argument("--version", action="version", version=f"{DISTRIBUTION} {__version__}")
-    ap.add_argument("--debug", action="store_true", help="on an internal error, print the traceback (anywhere on the line)")
-    sub = ap.add_subparsers(dest="cmd", required=True)
-    g = sub.add_parser("generate", help="derive and emit C, Python and LaTeX for a spec")
-    g.add_argument("spec")
-    g.add_argument("-o", "--output", help="output folder (default generated/<name>)")
-    g.add_argument("--no-build", action="store_true", help="do not compile the cffi extension")
-    g.add_argument("--force", action="store_true", help="write into an output folder gyrochain did not write (its "
-                   "other files are kept; files of the same names are replaced)")
-    g.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
-    g.add_argument(
-        "--qdd-form", choices=("auto", "composite", "articulated"), default="auto",
-        help="how NAME_qdd solves for phi'': auto (fewer operations, the default), composite bodies + LDL^T, or articulated bodies",
-    )
-    g.add_argument(
-        "--derivative-form", choices=("auto", "forward", "world"), default="auto",
-        help="how NAME_qdd_derivatives is computed: auto (fewer operations, the default), forward mode over the "
-             "articulated recursion, or inverse dynamics differentiated in frame 0 (fixed base, constant rotors, no body loads)",
-    )
-    g.add_argument("--real", choices=("double", "float"), default="double",
-                   help="the floating type of the C: double (the default) or float, for a single-precision FPU "
-                        "(the Python mirror stays in double)")
-    g.add_argument("--regressor", action="store_true", help="also NAME_regressor (u = Y pi + tau0), the energy's, "
-                   "the base parameters and NAME_base_regressor (parameter identification)")
-    c = sub.add_parser("check", help="validate a spec without generating")
-    c.add_argument("spec")
-    s = sub.add_parser("simulate", help="integrate a spec with the emitted C (CSV to stdout: t, phi, phidot, energy)")
-    s.add_argument("spec")
-    s.add_argument("--t1", type=float, default=1.0, help="end time (s)")
-    s.add_argument("--steps", type=int, default=100, help="output intervals over [0, t1]")
-    s.add_argument("--phi", default="", help="initial angles (default: the spec's [initial] or 0)")
-    s.add_argument("--phidot", default="", help="initial rates")
-    s.add_argument("--u", default="", help="constant torques of the controlled joints (default 0)")
-    s.add_argument("--param", action="append", help="name=value for a symbolic parameter (default: the spec's [values])")
-    s.add_argument("--method", default="dop853", help="dop853 (adaptive, dense output; the default) | rk4 | gauss2 | "
-                   "gauss2_symplectic (fixed step --h)")
-    s.add_argument("--h", type=float, default=None, help="step of rk4/gauss2 (default: a tenth of an output interval)")
-    s.add_argument("--rtol", type=float, default=None, help="relative tolerance of dop853 (default 1e-10)")
-    s.add_argument("--atol", type=float, default=None, help="absolute tolerance of dop853 (default 1e-12)")
-    s.add_argument("--yes", action="store_true", help="run past the limits (200 MiB of CSV, 1e8 fixed steps, an RK4 "
-                   "step beyond stability) instead of stopping")
-    s.add_argument("--reference", action="store_true", help="integrate the independent numpy model with scipy's DOP853 "
-                   "instead (slow; a cross-check)")
-    st = sub.add_parser("steady", help="equilibria and steady rotations, with their stability (of a model driven "
-                        "periodically in t: its equilibria for all t, by Floquet multipliers)")
-    st.add_argument("spec")
-    st.add_argument("--u", default="", help="constant torques of the controlled joints (default 0)")
-    st.add_argument("--param", action="append", help="name=value for a symbolic parameter")
-    st.add_argument("--omega", default="", help="a:b:N grid of the rotation rate phidot1 (default: from the equilibria)")
-    st.add_argument("--start", action="append", help="an extra Newton start phi1,...,phin")
-    st.add_argument("--no-rotations", action="store_true", help="equilibria only")
-    st.add_argument("--period", type=float, default=None, help="the period of a model that depends on t "
-                    "(default: from the spec's sines and cosines of t)")
-    st.add_argument("--vary", action="append", help="name=a:b:N: a model that depends on t, its equilibria continued over a "
-                    "parameter, where the Floquet verdict changes (one parameter)")
-    ob = sub.add_parser("orbits", help="periodic orbits of an autonomous spec (nonlinear normal modes, steady rotations) "
-                        "by shooting, with their Floquet multipliers")
-    ob.add_argument("spec")
-    ob.add_argument("--at", default="", help="the stable equilibrium phi1,...,phin (default: the one of least energy)")
-    ob.add_argument("--energy", default="", help="a:b:N energies above the equilibrium's (J; default: 20 up to half the "
-                    "lowest barrier)")
-    ob.add_argument("--mode", action="append", type=int, help="the linear mode to continue, 1 = the slowest (repeatable; "
-                    "default all)")
-    ob.add_argument("--vary", action="append", help="name=a:b:N: continue over a parameter at the first energy instead "
-                    "(one parameter)")
-    ob.add_argument("--omega", default="", help="W or a:b:N: the steady rotations phidot1 = W as periodic orbits "
-                    "(phi1 cyclic)")
-    ob.add_argument("--u", default="", help="constant torques of the controlled joints (default 0)")
-    ob.add_argument("--param", action="append", help="name=value for a symbolic parameter")
-    sw = sub.add_parser("sweep", help="integrate a grid or random samples of initial states/parameters into a Zarr store")
-    sw.add_argument("spec")
-    sw.add_argument("--vary", action="append", help="name=lo:hi:count (grid; name phiK, phidotK or a parameter) or name=lo:hi with --random")
-    sw.add_argument("--random", type=int, default=0, help="that many uniform random samples in the box of the --vary ranges")
-    sw.add_argument("--seed", type=int, default=0, help="seed of --random")
-    sw.add_argument("--t1", type=float, default=10.0, help="end time of every trajectory (s)")
-    sw.add_argument("--measure", action="append", help="final | flip_time | energy_error | lyapunov | lyapunov_spectrum | "
-                    "floquet (repeatable; default final)")
-    sw.add_argument("--method", default="dop853", help="rk4 | dop853 | gauss2")
-    sw.add_argument("--h", type=float, default=0.0, help="step of rk4/gauss2 (first step of dop853, 0: automatic)")
-    sw.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance of dop853")
-    sw.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance of dop853")
-    sw.add_argument("--samples", type=int, default=None, help="output intervals over [0, t1] for flip_time and energy_error "
-                    "(default 1000)")
-    sw.add_argument("--flip", default=None, help="the angle of flip_time (phiK: link or joint K; default: the first of any)")
-    sw.add_argument("--angles", default=None, help="flip_time watches the links' absolute angles phi1+..+phiK (absolute; "
-                                                     "planar chains), the joint angles (relative), or auto: absolute where "
-                                                     "the chain is planar")
-    sw.add_argument("--lyap-interval", type=float, default=None, help="renormalisation interval of the Lyapunov exponent "
-                    "and of lyapunov_spectrum's QR (s; default 0.1)")
-    sw.add_argument("--phi", default="", help="the coordinates that are not varied (default: the spec's initial or 0)")
-    sw.add_argument("--phidot", default="", help="the rates that are not varied")
-    sw.add_argument("--u", default="", help="constant torques of the controlled joints")
-    sw.add_argument("--param", action="append", help="name=value for a symbolic parameter that is not varied")
-    sw.add_argument("--chunk", type=int, default=1024, help="points per chunk (whole rows of the grid)")
-    sw.add_argument("--threads", type=int, default=None, help="threads on this machine (default: one per core)")
-    sw.add_argument("--workers", type=int, default=None, help="start a local Dask cluster of N worker processes")
-    sw.add_argument("--scheduler", default="", help="address of an existing Dask scheduler (tcp://host:8786)")
-    sw.add_argument("-o", "--output", required=True, help="the Zarr store (created, or resumed if it is this sweep's)")
-    sw.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    pl = sub.add_parser("plot", help="a heat map or a curve of a sweep store")
-    pl.add_argument("store")
-    pl.add_argument("-o", "--output", required=True, help="the image (png, pdf, svg)")
-    pl.add_argument("--measure", default="", help="which array (default: the sweep's first measure)")
-    pl.add_argument("--component", default="0", help="the state component of 'final': phiK, phidotK or its 0-based index")
-    pl.add_argument("--cmap", default="", help="the colour map of a map (default viridis; points without a value are grey)")
-    pl.add_argument("--log", action="store_true", help="a logarithmic scale: of the colours of a map, of the values of a curve")
-    pl.add_argument("--dpi", type=int, default=150, help="resolution of a PNG (dots per inch)")
-    an = sub.add_parser("animate", help="the motion as a GIF, MP4, PNG still (--frame) or an offline HTML viewer")
-    an.add_argument("spec", help="a spec file, or a sweep's store (with --at)")
-    an.add_argument("-o", "--output", required=True, help="FILE.gif, FILE.mp4 (needs ffmpeg), FILE.html or FILE.png (with --frame)")
-    an.add_argument("--phi", default="", help="initial angles (default: the spec's [initial] or 0)")
-    an.add_argument("--phidot", default="", help="initial rates")
-    an.add_argument("--u", default="", help="constant torques of the controlled joints (default 0)")
-    an.add_argument("--param", action="append", help="name=value for a symbolic parameter")
-    an.add_argument("--t1", type=float, default=None, help="end time (s; default 10, or the sweep's)")
-    an.add_argument("--fps", type=float, default=25.0, help="frames per second of the animation and of its time")
-    an.add_argument("--frame", type=float, default=None, help="one still at this time (s)")
-    an.add_argument("--at", default="", help="the point of a sweep store: name=value,... (grid) or an index (--random)")
-    an.add_argument("--trajectory", default="", help="a saved trajectory (CSV: t, phi1.., [phidot1..]) instead of integrating")
-    an.add_argument("--size", default="480x480", help="WIDTHxHEIGHT of a GIF, MP4 or PNG")
-    an.add_argument("--view", default="", help="azimuth,elevation of the camera in degrees (default: fitted to the motion)")
-    an.add_argument("--trace", type=float, default=2.0, help="seconds of the tip's trace")
-    an.add_argument("--follow", action=argparse.BooleanOptionalAction, default=None,
-                    help="keep the platform's O1 in the middle of the view (default: where O1 moves farther than the "
-                         "chain reaches; --no-follow for the world view)")
-    an.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of DOP853")
-    an.add_argument("--force", action="store_true", help="replace an existing file animate did not write")
-    an.add_argument("--yes", action="store_true", help=f"draw more than {10_000} frames instead of stopping")
-    an.add_argument("-q", "--quiet", action="store_true")
+    from .starter import KINDS
+
+    ap = parsers.build(_prog(), __doc__.splitlines()[0], f"{DISTRIBUTION} {__version__}", KINDS)
+    sub = next(a for a in ap._actions if isinstance(a, argparse._SubParsersAction))
     words = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in words or bool(os.environ.get(f"{DISTRIBUTION.upper()}_TRACEBACK"))
     words = [w for w in words if w != "--debug"]  # anywhere on the line: the traceback of an internal error
-    ex = sub.add_parser("examples", help="list the example specs that come with the package, print one, or copy them "
-                        "into a folder to start from",
-                        description="Without an action: list the example specs (name, number of bodies, what it is).")
-    exs = ex.add_subparsers(dest="action")
-    exc = exs.add_parser("copy", help="copy example specs into a folder (NAME.toml; an existing file only with --force)")
-    exc.add_argument("names", nargs="+", metavar="NAME", help="example names (see gyrochain examples), or all")
-    exc.add_argument("-o", "--output", default=".", help="the folder (default: this one)")
-    exc.add_argument("--force", action="store_true", help="replace files of the same name")
-    exw = exs.add_parser("show", help="print an example spec")
-    exw.add_argument("name")
-    nw = sub.add_parser("new", help="write a new commented spec to start from: a pendulum, a planar or spatial chain, "
-                        "with rotors, motors or a vibrating pivot")
-    from .starter import KINDS
-
-    nw.add_argument("kind", choices=list(KINDS), help="; ".join(f"{k}: {v[1]}" for k, v in KINDS.items()))
-    nw.add_argument("--n", type=int, default=None, help="number of links of a chain")
-    nw.add_argument("--name", default="", help="the model's name, a C identifier (default: from the kind)")
-    nw.add_argument("--rotor", action="store_true", help="a spinning wheel in the last link (a gyrostat)")
-    nw.add_argument("--control", action="store_true", help="a motor torque in every joint (inputs u)")
-    nw.add_argument("--driven", action="store_true", help="the pivot vibrates vertically, a cos(w t) (parameters a, w)")
-    nw.add_argument("--mass", type=float, default=1.0, help="mass of each rod (kg)")
-    nw.add_argument("--length", type=float, default=1.0, help="length of each rod (m)")
-    nw.add_argument("-o", "--output", default="", help="the file (default NAME.toml here; - for standard output)")
-    nw.add_argument("--force", action="store_true", help="replace an existing file")
-    cliargs.add_exchange(sub)
-    cliargs.add_identify(sub)
     args, extra = ap.parse_known_args(cliargs.join_negative(words, cliargs.valued_options(ap)))
     if extra:  # said by the command's own parser, with the nearest option it has
         sub.choices[args.cmd].error(cliargs.unrecognized(extra, sub.choices[args.cmd]))

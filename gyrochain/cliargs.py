@@ -41,6 +41,19 @@ def finite(vals: list[float], what: str) -> list[float]:
     return vals
 
 
+def at_phi(text: str, n: int) -> list[float]:
+    """``--at phi=A`` (one angle for every joint) or ``phi=A1,..,An`` (or the list alone)."""
+    name, eq, rest = text.partition("=")
+    if eq and name.strip() != "phi":
+        raise SpecError("--at", f"{text!r}: expected phi=A (every joint) or phi=A1,..,A{n}")
+    vals = float_list(rest if eq else text, "--at") or []
+    if len(vals) == 1:
+        return vals * n
+    if len(vals) != n:
+        raise SpecError("--at", f"expected one angle or {n}, got {len(vals)}")
+    return vals
+
+
 def one(what: str, given: list | None, why: str) -> None:
     """An option that may be given once: a second one is refused, not silently taken for the first."""
     if given and len(given) > 1:
@@ -95,7 +108,7 @@ def plain(message: str) -> str:
     m = _CHOICE.match(message)
     if m:
         among = [c.strip(" '") for c in m["among"].split(",")]
-        what = "command" if m["what"] == "cmd" else m["what"]
+        what = {"cmd": "command", "COMMAND": "command", "ACTION": "action"}.get(m["what"], m["what"])
         hint = did_you_mean(m["got"], among)
         return f"{what}: no such {'command' if what == 'command' else 'choice'} '{m['got']}'; {hint}one of {', '.join(among)}"
     return message.removeprefix("argument ")
@@ -178,85 +191,3 @@ class Heartbeat:
                 sys.stderr.write("\r\033[K")
                 sys.stderr.flush()
                 self.shown = False
-
-
-def add_exchange(sub) -> None:
-    """The parsers of the commands that exchange a model with other tools: import, export, fmu."""
-    im = sub.add_parser("import", help="a robot description (URDF) as a spec: the revolute chain from the base to the tip",
-                        description="The spec's joint angles are the description's joint positions; fixed joints "
-                        "merge their links, and a joint the paper's chain cannot have must be locked.")
-    im.add_argument("description", help="the URDF file")
-    im.add_argument("-o", "--output", default="", help="the spec file (default NAME.toml here; - for standard output)")
-    im.add_argument("--base", default=None, help="the link the chain starts from (default: the root)")
-    im.add_argument("--tip", default=None, help="the link it ends at (needed where the movable joints branch)")
-    im.add_argument("--lock", action="append", metavar="JOINT=VALUE", help="fix a joint at a value (repeatable)")
-    im.add_argument("--name", default="", help="the model's name, a C identifier (default: from the robot's name)")
-    im.add_argument("--g", type=float, default=9.81, help="gravity along the description's -z (default 9.81)")
-    im.add_argument("--no-control", action="store_true", help="no torque inputs (default: one in every joint)")
-    im.add_argument("--force", action="store_true", help="replace an existing file")
-    xp = sub.add_parser("export", help="the spec as a robot description (URDF for Pinocchio and ROS, MJCF for MuJoCo)",
-                        description="A chain on a fixed base, without rotors or loads; joint k is the spec's phi k.")
-    xp.add_argument("spec")
-    xp.add_argument("--to", required=True, choices=["urdf", "mjcf"], help="the format")
-    xp.add_argument("-o", "--output", default="", help="the file (default NAME.urdf or NAME.xml here; - for standard output)")
-    xp.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's value (repeatable)")
-    xp.add_argument("--force", action="store_true", help="replace an existing file")
-    fm = sub.add_parser("fmu", help="the model as an FMU (FMI 3.0 or 2.0, model exchange and co-simulation) for Modelica "
-                        "tools, Simulink and FMPy")
-    fm.add_argument("spec")
-    fm.add_argument("-o", "--output", default="", help="the file (default NAME.fmu here)")
-    fm.add_argument("--fmi", default="3", choices=["3", "2"], help="the FMI version: 3 (default) or 2")
-    fm.add_argument("--kind", default="me,cs", help="me, cs or me,cs (default): model exchange, co-simulation")
-    fm.add_argument("--real", default="double", choices=["double", "float"], help="float is refused: FMI is double")
-    fm.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's start value (repeatable)")
-    fm.add_argument("--input", action="append", metavar="NAME", help="a parameter as a piecewise-constant input (repeatable)")
-    fm.add_argument("--add-output", action="append", choices=["tip"], help="an output more: tip (Gⁿ in frame 0; repeatable)")
-    fm.add_argument("--force", action="store_true", help="replace an existing file")
-
-
-def add_identify(sub) -> None:
-    """The parsers of identify and excite (parameter identification, identify.py)."""
-    idf = sub.add_parser("identify", help="estimate the base parameters from a measured motion (CSV: t, phi1.., u1..) "
-                         "and write the spec with them", description="The torques u1.. are those of the controlled joints, "
-                         "in chain order, each the torque at its row's t; a joint without a control has u = 0.  phi is "
-                         "filtered and differentiated, u filtered alike (--filter; phidot1.. are used when the file has them).")
-    idf.add_argument("spec")
-    idf.add_argument("data", help="the measured motion: CSV with columns t, phi1..phiN[, phidot1..phidotN], u1..u_nu")
-    idf.add_argument("-o", "--output", default="", help="the identified spec (default NAME_identified.toml here)")
-    idf.add_argument("--validate", default=None, metavar="HELD.csv", help="held-out data: predicted torques and a "
-                     "simulated motion against it")
-    idf.add_argument("--plot", default=None, metavar="FILE.png", help="with --validate: the comparison as a picture")
-    idf.add_argument("--filter", default="butter", choices=["butter", "savgol"], help="how phi is smoothed and "
-                     "differentiated (u alike): a zero-phase Butterworth low-pass and central differences (default), or "
-                     "a Savitzky-Golay filter")
-    idf.add_argument("--cutoff", type=float, default=5.0, help="the Butterworth's cutoff in Hz (default 5)")
-    idf.add_argument("--window", type=float, default=0.2, help="the Savitzky-Golay window in seconds (default 0.2)")
-    idf.add_argument("--order", type=int, default=4, help="the Butterworth's order or the polynomial's (default 4)")
-    idf.add_argument("--physical", action="store_true", help="constrain the estimates to physically possible bodies "
-                     "(positive masses, realisable inertias)")
-    idf.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's value (repeatable)")
-    idf.add_argument("--force", action="store_true", help="replace existing output files")
-    exc = sub.add_parser("excite", help="a periodic excitation that makes the base parameters well determined (CSV "
-                         "for the controller to track)", description="Every joint controlled: the joints' trajectories "
-                         "(Fourier series, Swevers et al. 1997) with the torques the spec's parameters need; otherwise "
-                         "the controlled joints' torques, with the motion they give.  Minimises cond of the base regressor.")
-    exc.add_argument("spec")
-    exc.add_argument("-o", "--output", default="", help="the CSV (default NAME_excite.csv here; - for standard output)")
-    exc.add_argument("--period", type=float, default=10.0, help="the period (s; default 10)")
-    exc.add_argument("--harmonics", type=int, default=5, help="harmonics per joint (default 5)")
-    exc.add_argument("--phi-max", default="", help="|phi - centre| limits (rad): one number or one per joint (default 1)")
-    exc.add_argument("--phidot-max", default="", help="|phidot| limits (rad/s; default 2)")
-    exc.add_argument("--u-max", default="", help="|u| limits of a chain with passive joints (N m; default 1)")
-    exc.add_argument("--center", default="", help="the centre of the motion (rad; default 0)")
-    exc.add_argument("--samples", type=int, default=200, help="samples per period (default 200)")
-    exc.add_argument("--evaluations", type=int, default=2000, help="the optimiser's budget (default 2000)")
-    exc.add_argument("--seed", type=int, default=0, help="the start's seed")
-    exc.add_argument("--param", action="append", metavar="NAME=VALUE", help="a parameter's value (repeatable)")
-    exc.add_argument("--force", action="store_true", help="replace an existing file")
-    exc.add_argument("--experiment", type=float, default=None, metavar="SECONDS", help="write instead a simulated "
-                     "measurement of the design on the spec's own model, that long (t, phi, u: what identify reads)")
-    exc.add_argument("--rate", type=float, default=1000.0, help="--experiment: samples per second (default 1000)")
-    exc.add_argument("--noise", type=float, default=0.01, help="--experiment: the torques' noise, a fraction of their RMS "
-                     "(default 0.01)")
-    exc.add_argument("--encoder", type=int, default=4096, help="--experiment: counts per turn of the angles (default "
-                     "4096; 0: exact)")

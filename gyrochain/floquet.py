@@ -279,16 +279,16 @@ def _fmt_complex(z: complex, digits: int = 6) -> str:
     return f"{re_:.{digits}g}{im:+.{digits}g}i" if im else f"{re_:.{digits}g}"
 
 
-def fmt_multipliers(mu: np.ndarray, T: float) -> str:
+def fmt_multipliers(mu: np.ndarray, T: float, digits: int = 4) -> str:
     """The multipliers and the exponents log μ / T (the imaginary parts in (−π/T, π/T]), as printed:
     parts below 1e-9 of the scale print as 0, so the line is the same on every machine."""
     def clean(z, scale):
         tiny = 1e-9 * scale
         return complex(z.real if abs(z.real) > tiny else 0.0, z.imag if abs(z.imag) > tiny else 0.0)
 
-    ms = ", ".join(_fmt_complex(clean(z, 1.0), 4) for z in mu)
+    ms = ", ".join(_fmt_complex(clean(z, 1.0), digits) for z in mu)
     ex = [clean(complex(np.log(abs(z)), np.angle(z)) / T, 1.0 / T) if z != 0 else complex(-np.inf) for z in mu]
-    return f"multipliers: {ms}; exponents (1/s): " + ", ".join(_fmt_complex(z, 4) for z in ex)
+    return f"multipliers: {ms}; exponents (1/s): " + ", ".join(_fmt_complex(z, digits) for z in ex)
 
 
 class DrivenAnalysis:
@@ -453,14 +453,23 @@ def verdict_segments(points, name: str) -> list[str]:
             for p, end in runs]
 
 
-def report(an: DrivenAnalysis, eqs: list[Driven], continued: list[Continued] | None = None, values=None) -> str:
+def found_line(eqs, most, at, starts: str, how: str = "") -> str:
+    """How many equilibria were found, from what, and how many are printed."""
+    if at is not None:
+        return f"{len(eqs)} found by Newton{how} from phi = {fmt_phi(at)} (--at)"
+    shown = f"; the first {most} printed (--max-equilibria)" if most is not None and most < len(eqs) else ""
+    return f"{len(eqs)} found by Newton{how} from {starts}{shown}"
+
+
+def report(an: DrivenAnalysis, eqs: list[Driven], continued: list[Continued] | None = None, values=None,
+           digits: int = 4, most: int | None = None, at=None) -> str:
     out = [f"periodic in t: period {an.period:.10g} s ({an.period_how})"]
     cyc = " (phi1 is cyclic: any phi1; phi1 = 0 shown, its multiplier 1 dropped)" if an.cyclic else ""
-    out.append(f"equilibria for all t{cyc}: {len(eqs)} found by Newton on phi'' = 0 at {SAMPLES} times of a period "
-               f"(checked at {CHECKS} more) from {STARTS}")
-    for e in eqs:
+    how = f" on phi'' = 0 at {SAMPLES} times of a period (checked at {CHECKS} more)"
+    out.append(f"equilibria for all t{cyc}: {found_line(eqs, most, at, STARTS, how)}")
+    for e in eqs[:most]:
         out.append(f"  phi = {fmt_phi(e.phi)}: {e.verdict}: {e.reason}")
-        out.append(f"    {fmt_multipliers(e.multipliers, e.period)}")
+        out.append(f"    {fmt_multipliers(e.multipliers, e.period, digits)}")
     for c in continued or []:
         out.append(f"along {c.name} in [{values[0]:.6g}, {values[-1]:.6g}] ({len(values)} values), "
                    f"phi = {fmt_phi(c.points[0][1].phi) if c.points else '?'}:")

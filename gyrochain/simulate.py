@@ -150,7 +150,8 @@ def run(spec, x0, t1: float, steps: int, u=None, params: dict | None = None, met
     check_options(t1, steps, method, h, rtol, atol)
     values = run_values(spec, params)
     u = torques(spec, u)
-    t = np.linspace(0.0, t1, steps + 1)
+    # the output times k t1/steps rounded to 15 digits: 0.1, not 0.09999999999999999, where that is what was meant
+    t = np.array([float(f"{k * t1 / steps:.15g}") for k in range(steps + 1)])
     if use_reference:
         if method != "dop853":
             raise SpecError("--method", "the reference model integrates with scipy's DOP853 only")

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import floquet
-from .floquet import STARTS, distinct, fmt_phi, start_grid, verdict_segments
+from .floquet import STARTS, distinct, fmt_phi, found_line, start_grid, verdict_segments
 from .floquet import wrap as _wrap
 
 
@@ -314,29 +314,31 @@ class Analysis:
 
 
 # --------------------------------------------------------------------------- report
-def _fmt_ev(ev) -> str:
+def _fmt_ev(ev, digits: int = 10) -> str:
     """The eigenvalues as printed: a part below 1e-12 of the largest modulus is the eigensolver's
     round-off and prints as 0 (as does one below 1e-12 /s; the verdicts are decided on the unrounded values, with their own
     tolerance), so the same spec prints the same line on every machine."""
     tiny = 1e-12 * max(max((abs(z) for z in ev), default=0.0), 1.0)  # 1/s: a rate of 1e-12/s is zero
     ev = [complex(z.real if abs(z.real) > tiny else 0.0, z.imag if abs(z.imag) > tiny else 0.0) for z in ev]
     ev = sorted(ev, key=lambda z: (-z.real, -z.imag))
-    return ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" if abs(z.imag) > 0 else f"{z.real:.4g}" for z in ev)
+    return ", ".join(f"{z.real:.{digits}g}{z.imag:+.{digits}g}i" if abs(z.imag) > 0 else f"{z.real:.{digits}g}" for z in ev)
 
 
-def report(an, eqs, branches=None, omegas=None) -> str:
+def report(an, eqs, branches=None, omegas=None, digits: int | None = None, most: int | None = None, at=None) -> str:
     """The printed analysis: of an autonomous model (Analysis: equilibria, steady rotations), or of
     a time-periodic one (floquet.DrivenAnalysis: ``branches`` are then its continuations along
-    ``--vary`` and ``omegas`` their values)."""
+    ``--vary`` and ``omegas`` their values).  ``digits``: of the eigenvalues (default 10) or the
+    multipliers (default 4); ``most``: the equilibria printed (all by default); ``at``: the one
+    Newton start the equilibrium was found from (--at)."""
     if isinstance(an, floquet.DrivenAnalysis):
-        return floquet.report(an, eqs, branches, omegas)
+        return floquet.report(an, eqs, branches, omegas, digits=digits or 4, most=most, at=at)
     out = []
     n = an.n
     cyc = " (phi1 is cyclic: any phi1; phi1 = 0 shown)" if an.cyclic else ""
-    out.append(f"equilibria{cyc}: {len(eqs)} found by Newton from {STARTS}")
-    for e in eqs:
+    out.append(f"equilibria{cyc}: {found_line(eqs, most, at, STARTS)}")
+    for e in eqs[:most]:
         out.append(f"  phi = {fmt_phi(e.phi)}: {e.verdict}: {e.reason}")
-        out.append(f"    eigenvalues: {_fmt_ev(e.eigenvalues)}")
+        out.append(f"    eigenvalues: {_fmt_ev(e.eigenvalues, digits or 10)}")
     if branches is not None:
         out.append(f"steady rotations phidot1 = omega, phi2..{n} at rest, omega in [{omegas[0]:.6g}, {omegas[-1]:.6g}] ({len(omegas)} values): {len(branches)} branch{'es' if len(branches) != 1 else ''}")
         for i, br in enumerate(branches, 1):
@@ -356,18 +358,18 @@ def default_omegas(an: Analysis, eqs) -> np.ndarray:
     return np.linspace(-top, top, 161)
 
 
-MAX_GRID = 1000  # points of an a:b:N grid of steady or orbits: each is a Newton solve (or a Floquet continuation step)
+MAX_GRID = 1000  # points of an lo:hi:N grid of steady or orbits: each is a Newton solve (or a Floquet continuation step)
 
 
 def parse_range(text: str, what: str = "--omega", example: str = "-20:20:81") -> np.ndarray:
-    """``a:b:N`` (N values from a to b, 2 ≤ N ≤ MAX_GRID, a < b)."""
+    """``lo:hi:N`` (N values from lo to hi, 2 ≤ N ≤ MAX_GRID, lo < hi)."""
     try:
         a, b, count = text.split(":")
         a, b, count = float(a), float(b), int(count)
     except ValueError:
-        raise SteadyError(f"{what}: expected a:b:N, for example {example}") from None
+        raise SteadyError(f"{what}: expected lo:hi:N, for example {example}") from None
     if not (np.isfinite(a) and np.isfinite(b) and a < b and count >= 2):
-        raise SteadyError(f"{what}: expected finite a < b and N >= 2")
+        raise SteadyError(f"{what}: expected finite lo < hi and N >= 2")
     if count > MAX_GRID:
         raise SteadyError(f"{what}: {count} points; at most {MAX_GRID} (each is a Newton solve), for example {a:g}:{b:g}:{MAX_GRID}")
     return np.linspace(a, b, count)
@@ -390,11 +392,11 @@ def check_vary_values(spec, given: dict, vary: tuple, what: str = "--vary") -> N
 
 
 def parse_vary(text: str, spec) -> tuple[str, np.ndarray]:
-    """``--vary name=a:b:N``: a symbolic parameter of the spec and its grid."""
+    """``--vary name=lo:hi:N``: a symbolic parameter of the spec and its grid."""
     name, eq, rng = text.partition("=")
     name = name.strip()
     if not eq or not name:
-        raise SteadyError("--vary: expected name=a:b:N, for example a=0:0.03:61")
+        raise SteadyError("--vary: expected name=lo:hi:N, for example a=0:0.03:61")
     names = [str(p) for p in spec.params]
     if name not in names:
         from .errors import did_you_mean
@@ -417,11 +419,12 @@ def compile_spec(spec, driven_ok: bool = False):
 
 
 def analyze(spec, params=None, u=None, omegas=None, starts=(), rotations: bool = True, period: float | None = None,
-            vary: tuple | None = None):
+            vary: tuple | None = None, at=None):
     """Find and classify the spec's steady motions: (Analysis, equilibria, branches or None,
     ω grid or None).  A model that depends on t periodically gets its equilibria for all t and
     their Floquet verdicts instead (floquet.DrivenAnalysis, equilibria, the continuations along
-    ``vary`` = (name, values) or None, the values); ``period`` replaces the spec's period."""
+    ``vary`` = (name, values) or None, the values); ``period`` replaces the spec's period.  ``at``:
+    only the equilibrium Newton finds from there (no search, no rotations)."""
     from .assemble import time_dependent
 
     for s in starts:
@@ -432,12 +435,18 @@ def analyze(spec, params=None, u=None, omegas=None, starts=(), rotations: bool =
     if time_dependent(model):
         if omegas is not None:
             raise SteadyError("--omega: the model depends on t: it has no steady rotations (its equilibria for all t are analysed)")
-        return _analyze_driven(cm, model, params, u, starts, period, vary)
+        return _analyze_driven(cm, model, params, u, starts, period, vary, at)
     if period is not None:
         raise SteadyError("--period: the model does not depend on t")
     if vary is not None:
         raise SteadyError("--vary: only for a model that depends on t (steady rotations take --omega)")
     an = Analysis(cm, model, params, u)
+    if at is not None:
+        start = np.array([0.0, *at[1:]]) if an.cyclic else np.asarray(at, float)
+        phi = an.solve(start, 0.0)
+        if phi is None:
+            raise SteadyError(f"--at: Newton found no equilibrium from phi = {fmt_phi(start)}")
+        return an, [an.classify(_wrap(phi), 0.0)], None, None
     eqs = an.equilibria(starts)
     branches = None
     if an.cyclic and not an.drains and rotations:
@@ -446,13 +455,18 @@ def analyze(spec, params=None, u=None, omegas=None, starts=(), rotations: bool =
     return an, eqs, branches, omegas
 
 
-def _analyze_driven(cm, model, params, u, starts, period, vary):
+def _analyze_driven(cm, model, params, u, starts, period, vary, at=None):
     from .errors import SpecError
 
     if u is None and model.spec.controls:
         u = np.zeros(len(model.spec.controls))
     try:
         an = floquet.DrivenAnalysis(cm, model, params, u, period)
+        if at is not None:
+            phi = an.solve(np.array([0.0, *at[1:]]) if an.cyclic else np.asarray(at, float))
+            if phi is None:
+                raise SteadyError(f"--at: Newton found no equilibrium that persists for all t from phi = {fmt_phi(at)}")
+            return an, [an.classify(_wrap(phi))], None, None
         eqs = an.equilibria()
         for s in starts:  # a start the user gives must lead to an equilibrium that persists
             phi = an.solve(s)

@@ -79,29 +79,54 @@ MAX_POINTS = 10**9  # points in one sweep
 MAX_CHUNKS = 10**6  # chunks in one store
 
 
+LYAPUNOV_MEASURES = ("lyapunov", "lyapunov_spectrum")
+
+
+def tolerances(measures, rtol: float | None, atol: float | None, d0: float) -> tuple[float, float, str]:
+    """DOP853's tolerances of a sweep, and the line that says why when a Lyapunov measure chose them.
+
+    A Lyapunov exponent compares two trajectories d0 apart (or the tangent map): the integrator's
+    error over an interval must stay far below d0, or the exponent measures the integrator.  With a
+    Lyapunov measure the defaults are rtol 1e-11 and atol 1e-5 d0 (at most 1e-13) instead of 1e-8 and
+    1e-10; what the user gives is kept."""
+    lyap = any(m in LYAPUNOV_MEASURES for m in measures)
+    if not lyap:
+        return (1e-8 if rtol is None else rtol), (1e-10 if atol is None else atol), ""
+    r = 1e-11 if rtol is None else rtol
+    a = min(1e-13, 1e-5 * d0) if atol is None else atol
+    if rtol is not None and atol is not None:
+        return r, a, ""
+    asked = [m for m in LYAPUNOV_MEASURES if m in measures]
+    why = (f"far below the separation d0 = {d0:g} (--rtol, --atol, --lyap-d0 change them)" if "lyapunov" in asked
+           else "small beside the stretching it measures (--rtol, --atol change them)")
+    return r, a, (f"{' and '.join(asked)}: dop853 at rtol {r:g}, atol {a:g}, so that its error stays {why}; over a finite "
+                  "--t1 a chaotic motion's exponent still varies by some percent with any change of its trajectory "
+                  "(a longer --t1 narrows it)")
+
+
 def parse_vary(text: str, random_mode: bool) -> tuple:
-    """``name=lo:hi:count`` (grid) or ``name=lo:hi`` (random samples)."""
+    """``name=lo:hi:N`` (grid) or ``name=lo:hi`` (random samples)."""
     name, eq, rng = text.partition("=")
     name = name.strip()
     if not eq or not name:
-        raise SpecError("--vary", f"{text!r}: expected name=lo:hi:count")
+        raise SpecError("--vary", f"{text!r}: expected name=lo:hi:N")
     parts = rng.split(":")
     if len(parts) not in (2, 3) or (not random_mode and len(parts) != 3):
-        raise SpecError(f"--vary {name}", f"{rng!r}: expected lo:hi:count" + (" (or lo:hi with --random)" if not random_mode else ""))
+        raise SpecError(f"--vary {name}", f"{rng!r}: expected lo:hi:N" + (" (or lo:hi with --random)" if not random_mode else ""))
     try:
         lo, hi = float(parts[0]), float(parts[1])
         count = int(parts[2]) if len(parts) == 3 else 0
     except ValueError:
-        raise SpecError(f"--vary {name}", f"{rng!r}: lo and hi must be numbers, count an integer") from None
+        raise SpecError(f"--vary {name}", f"{rng!r}: lo and hi must be numbers, N an integer") from None
     if not (math.isfinite(lo) and math.isfinite(hi)):
         raise SpecError(f"--vary {name}", "the range must be finite")
     if random_mode:
         if len(parts) == 3:
-            raise SpecError(f"--vary {name}", "give lo:hi without a count with --random (the count is --random's)")
+            raise SpecError(f"--vary {name}", "give lo:hi without N with --random (the number is --random's)")
         if not lo < hi:
             raise SpecError(f"--vary {name}", f"empty range {lo:g}:{hi:g} (need lo < hi)")
     elif count < 1 or (count > 1 and lo == hi):
-        raise SpecError(f"--vary {name}", f"empty range {rng!r} (need count >= 1 and lo != hi when count > 1)")
+        raise SpecError(f"--vary {name}", f"empty range {rng!r} (need N >= 1 and lo != hi when N > 1)")
     return (name, lo, hi, count)
 
 
@@ -118,8 +143,8 @@ class Plan:
         self.state_names = [f"phi{k}" for k in range(1, n + 1)] + [f"phidot{k}" for k in range(1, n + 1)]
         self.param_names = [str(p) for p in spec.params]
         names = [v[0] for v in sweep.vary]
-        if not names:
-            raise SpecError("--vary", "nothing to vary")
+        if not names and sweep.random > 0:
+            raise SpecError("--random", "samples the box of the --vary ranges; give at least one --vary NAME=lo:hi")
         self.link_signs = link_signs(spec)  # linkK, the absolute angle of link K, exists where the chain is planar
         self.link_names = [f"link{k}" for k in range(1, n + 1)] if self.link_signs else []
         for name in names:
@@ -146,7 +171,10 @@ class Plan:
             raise SpecError("--phi", f"expected {n} values for --phi and for --phidot")
         self._check_size()
         # the points
-        if sweep.random > 0:
+        if not names:  # one trajectory: a sample of one point, nothing varied
+            self.points = np.zeros((1, 0))
+            self.shape, self.dims, self.coords = (1,), ["sample"], {}
+        elif sweep.random > 0:
             rng = np.random.default_rng(sweep.seed)
             lo = np.array([v[1] for v in sweep.vary])
             hi = np.array([v[2] for v in sweep.vary])
@@ -223,7 +251,7 @@ class Plan:
         if points > MAX_POINTS:
             raise SpecError("--random" if sweep.random > 0 else "--vary",
                             f"{points:.3g} points; one sweep holds at most {MAX_POINTS:.0e} (split the range)")
-        shape = (sweep.random,) if sweep.random > 0 else tuple(v[3] for v in sweep.vary)
+        shape = (sweep.random,) if sweep.random > 0 else (tuple(v[3] for v in sweep.vary) or (1,))
         row = math.prod(shape[1:])
         chunks = -(-shape[0] // max(1, sweep.chunk // row))
         if chunks > MAX_CHUNKS:

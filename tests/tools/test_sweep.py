@@ -280,6 +280,9 @@ def test_relative_angles_flip_when_a_joint_angle_passes_pi(tmp_path):
     (["--vary", "phi1=0:1"], "--vary phi1"),
     (["--vary", "phi1=0:1:4", "--measure", "speed"], "--measure"),
     (["--vary", "phi1=0:1:4", "--method", "rk4"], "--h"),
+    (["--random", "3"], "--random"),
+    (["--measure", "lyapunov", "--lyap-d0", "0"], "--lyap-d0"),
+    (["--measure", "final", "--lyap-d0", "1e-6"], "--lyap-d0"),
 ])
 def test_bad_arguments(extra, field, tmp_path, capsys):
     out = tmp_path / "s.zarr"
@@ -287,6 +290,29 @@ def test_bad_arguments(extra, field, tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and field in err[0], err
     assert not out.exists()
+
+
+def test_one_trajectory_without_vary_and_lyapunov_tolerances_said(tmp_path, capsys):
+    """No --vary: one trajectory, the same as the reference model's; a Lyapunov measure tightens the
+    tolerances (stored, and said on stderr), --lyap-d0 sets the separation; given ones are kept."""
+    out = tmp_path / "one.zarr"
+    assert main(["sweep", str(DP), "--t1", "2", "--phi", "2,0", "--measure", "final", "--measure", "lyapunov",
+                 "--lyap-d0", "1e-7", "-o", str(out), "-q"]) == 0
+    err = capsys.readouterr().err
+    assert "1 point in 1 chunk on" in err and "1 chunk computed" in err
+    assert "lyapunov: dop853 at rtol 1e-11, atol 1e-13" in err and err.index("lyapunov:") < err.index("sweep of") and "d0 = 1e-07" in err
+    got = sweep.read(out)
+    args = got["attrs"]["args"]
+    assert (args["rtol"], args["atol"], args["lyap_d0"], args["vary"]) == (1e-11, 1e-13, 1e-7, [])
+    ch = reference.numeric(load_spec(DP), {})
+    want = reference.simulate(ch, [2.0, 0.0, 0.0, 0.0], np.array([0.0, 2.0]), rtol=1e-12, atol=1e-14)[-1]
+    assert got["final"].shape == (1, 4) and np.max(np.abs(got["final"][0] - want)) < 1e-7
+    assert np.isfinite(got["lyapunov"][0]) and got["lyapunov"][0] > 0
+    assert main(["animate", str(out), "--frame", "1", "-o", str(tmp_path / "one.png"), "-q"]) == 0  # no --at: its point
+    assert main(["sweep", str(DP), "--t1", "1", "--measure", "lyapunov", "--rtol", "1e-9", "--atol", "1e-11",
+                 "-o", str(tmp_path / "two.zarr"), "-q"]) == 0
+    assert "lyapunov: dop853" not in capsys.readouterr().err
+    assert sweep.read(tmp_path / "two.zarr")["attrs"]["args"]["rtol"] == 1e-9
 
 
 def test_a_store_of_another_sweep_is_left_untouched(tmp_path, capsys):

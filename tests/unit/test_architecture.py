@@ -15,7 +15,7 @@ from conftest import ROOT
 LINT = Path(sys.executable).parent / "lint-imports"
 MAX_MODULE_LINES = 600
 MAX_FUNCTION_LINES = 80
-ARGUMENT_TABLES = {("cli.py", "main")}  # argparse tables: long by nature, no logic
+ARGUMENT_TABLES: set = set()  # argparse tables long by nature and without logic (none now: parsers.py splits them)
 
 
 def lint(cwd: Path) -> subprocess.CompletedProcess:
@@ -71,9 +71,10 @@ def test_no_function_is_too_long():
 
 
 def test_no_library_module_touches_the_command_line():
-    """Only cli.py, its small parsers (cliargs.py) and __main__ parse arguments or import cli."""
+    """Only cli.py, its grammar (parsers.py), its small parsers (cliargs.py) and __main__ parse
+    arguments or import cli."""
     for p in _modules():
-        if p.name in ("cli.py", "cliargs.py", "__main__.py"):
+        if p.name in ("cli.py", "parsers.py", "cliargs.py", "__main__.py"):
             continue
         text = p.read_text()
         assert "argparse" not in text and "from .cli" not in text and "import cli" not in text, p
