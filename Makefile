@@ -6,7 +6,7 @@
 # make plot                           the frames figure, the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map,
 #                                     Kapitza's stability chart, the double pendulum's nonlinear normal modes (docs/img/)
 # make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
-# make docs                           the documentation site from docs/ into site/ (MkDocs, warnings are errors, offline)
+# make docs                           the documentation site from docs/ into site/ (MkDocs, warnings are errors; works from file://, offline)
 # make fuzz                           the commands fuzzed with fresh random inputs for FUZZ_SECONDS (default 600)
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost; ensembles against
 #                                     scipy and MuJoCo's rollout on 1 and 2 cores and a local Dask cluster; the variational
@@ -51,8 +51,8 @@ test-install: setup
 	$(VPY) -m pytest -q tests/tools/test_install.py
 
 docs: setup
-	$(VPY) -m mkdocs build --strict -q -d site
-	@echo "site/index.html"
+	NO_MKDOCS_2_WARNING=1 $(VPY) -m mkdocs build --strict -q -d site
+	@echo "site/index.html: open it in a browser (from the file, offline: navigation, search and formulas work)"
 
 FUZZ_SECONDS ?= 600
 fuzz: setup

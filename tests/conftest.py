@@ -236,3 +236,29 @@ def perturbed_c(model: Generated, folder: Path, block: str = "dqdd_dphi", factor
     for ext in (".h", ".cdef"):
         shutil.copy2(model.folder / f"{name}{ext}", folder / f"{name}{ext}")
     return build.CModel(build.compile_model(folder, name), name)
+
+
+def _chromium() -> str | None:
+    import shutil
+
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+@pytest.fixture(scope="module")
+def browser():
+    """Debian's Chromium driven by Playwright (headless, no sandbox: tests may run as root), closed
+    at the end of the module."""
+    sync_api = pytest.importorskip("playwright.sync_api", reason="Playwright for Python is not installed (make test installs it)")
+    exe = _chromium()
+    if exe is None:
+        pytest.skip("no Chromium on PATH (apt-get install chromium; .ci/run installs it)")
+    with sync_api.sync_playwright() as pw:
+        b = pw.chromium.launch(executable_path=exe, args=["--no-sandbox"], timeout=60_000)
+        try:
+            yield b
+        finally:
+            b.close()

@@ -239,30 +239,6 @@ def test_sweep_point_and_saved_trajectory(tmp_path, capsys):
 
 
 # --------------------------------------------------------------------------- the page in a browser
-def _chromium() -> str | None:
-    for name in ("chromium", "chromium-browser", "google-chrome"):
-        path = shutil.which(name)
-        if path:
-            return path
-    return None
-
-
-@pytest.fixture(scope="module")
-def browser():
-    """Debian's Chromium driven by Playwright (headless, no sandbox: tests may run as root), closed
-    at the end of the module."""
-    sync_api = pytest.importorskip("playwright.sync_api", reason="Playwright for Python is not installed (make test installs it)")
-    exe = _chromium()
-    if exe is None:
-        pytest.skip("no Chromium on PATH (apt-get install chromium; .ci/run installs it)")
-    with sync_api.sync_playwright() as pw:
-        b = pw.chromium.launch(executable_path=exe, args=["--no-sandbox"], timeout=60_000)
-        try:
-            yield b
-        finally:
-            b.close()
-
-
 def _open(browser, page_file: Path, viewport=(800, 900)):
     errors, requests = [], []
     page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]})

@@ -2,6 +2,7 @@
 and the site builds with warnings as errors."""
 from __future__ import annotations
 
+import os
 import re
 import subprocess
 import sys
@@ -105,13 +106,113 @@ def test_output_patterns():
 
 
 # --------------------------------------------------------------------------- the site
-def test_the_site_builds_with_warnings_as_errors(tmp_path):
+@pytest.fixture(scope="module")
+def site(tmp_path_factory) -> Path:
+    """The site as `make docs` builds it (warnings are errors), once for the module."""
     pytest.importorskip("mkdocs", reason="the docs extra (make docs installs it)")
     pytest.importorskip("mkdocstrings", reason="the docs extra (make docs installs it)")
-    r = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-q", "-d", str(tmp_path / "site")],
-                       cwd=ROOT, capture_output=True, text=True, timeout=600)
+    pytest.importorskip("material", reason="the docs extra (make docs installs it)")
+    out = tmp_path_factory.mktemp("site") / "site"
+    r = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-q", "-d", str(out)], cwd=ROOT,
+                       capture_output=True, text=True, timeout=600, env=dict(os.environ, NO_MKDOCS_2_WARNING="1"))
     assert r.returncode == 0, r.stdout + r.stderr
-    site = tmp_path / "site"
-    assert (site / "index.html").exists() and (site / "reference" / "api" / "index.html").exists()
-    api = (site / "reference" / "api" / "index.html").read_text()
+    return out
+
+
+def test_the_site_builds_with_warnings_as_errors(site):
+    assert (site / "index.html").exists() and (site / "reference" / "api.html").exists()
+    api = (site / "reference" / "api.html").read_text()
     assert "derive_and_render" in api and "load_spec" in api  # the docstrings made it in
+    conventions = (site / "conventions.html").read_text()
+    assert conventions.count("<math") > 40 and "\\hat" not in conventions  # the formulas typeset, as MathML
+
+
+def _offline(browser, viewport=(1280, 800)):
+    """A page of a browser that lets nothing leave the file system (every other request aborted
+    and recorded) and records the console's errors."""
+    left, errors = [], []
+    ctx = browser.new_context(viewport={"width": viewport[0], "height": viewport[1]})
+    ctx.route("**/*", lambda route: route.continue_() if route.request.url.startswith("file://")
+              else (left.append(route.request.url), route.abort()))
+    page = ctx.new_page()
+    page.set_default_timeout(20_000)
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    return ctx, page, left, errors
+
+
+_RAW_TEX = """() => {
+    const out = [], walk = document.createTreeWalker(document.querySelector('article'), NodeFilter.SHOW_TEXT);
+    while (walk.nextNode()) {
+        const node = walk.currentNode, text = node.textContent;
+        if (node.parentElement.closest('code, pre, math, script, style')) continue;
+        const i = text.search(/[\\^_]\\{|\\$[^\\s$]|\\\\[a-z]+\\{/);
+        if (i >= 0) out.push(text.slice(Math.max(0, i - 30), i + 30));
+    }
+    return out;
+}"""
+
+
+def test_the_site_from_a_file_offline(site, browser):
+    """Opened from file:// with the network blocked: every navigation link and a search lead to
+    content, nothing leaves the file system, no console error, no raw TeX outside code."""
+    ctx, page, left, errors = _offline(browser)
+    try:
+        page.goto((site / "index.html").as_uri())
+        links = page.eval_on_selector_all("nav.md-nav--primary a.md-nav__link[href]", "els => els.map(e => e.href)")
+        pages = sorted({u.split("#")[0] for u in links})
+        in_nav = len(re.findall(r":\s*[\w/.-]+\.md\s*$", (ROOT / "mkdocs.yml").read_text(), re.M))
+        assert len(pages) == in_nav and all(u.startswith("file://") and u.endswith(".html") for u in pages), pages
+        raw = {}
+        for url in pages:
+            page.goto(url)
+            assert page.locator("article h1").count() == 1, url  # a page, not a folder listing
+            found = page.evaluate(_RAW_TEX)
+            if found:
+                raw[url.rsplit("/", 1)[1]] = found
+        assert not raw, raw
+        page.goto((site / "index.html").as_uri())
+        page.fill("input.md-search__input", "gimbal")
+        page.wait_for_selector(".md-search-result__item a", timeout=20_000)
+        hits = page.eval_on_selector_all(".md-search-result__item a", "els => els.map(e => e.href)")
+        assert len(hits) >= 5
+        page.goto(hits[0])
+        assert "gimbal" in page.inner_text("article").lower()
+        page.goto((site / "spec.html").as_uri())
+        assert page.locator(".highlight .k, .highlight .s, .highlight .n").count() > 20  # highlighted at build time
+        assert not left, left
+        assert not errors, errors
+    finally:
+        ctx.close()
+
+
+_TABLES = """() => [...document.querySelectorAll('article table')].map(t => {
+    const wrap = t.closest('.md-typeset__scrollwrap'), r = wrap.getBoundingClientRect();
+    const hint = wrap.previousElementSibling, heads = [...t.rows[0].cells];
+    return {wide: t.getBoundingClientRect().width > r.width + 1, scrolls: getComputedStyle(wrap).overflowX,
+            cue: !!(hint && hint.classList.contains('gc-scroll-hint') && hint.getBoundingClientRect().height > 0
+                    && wrap.classList.contains('gc-scrolls')),
+            heads: heads.map(c => [c.innerText.trim(), c.getBoundingClientRect().right <= r.right + 1])};
+})"""
+
+
+def test_tables_fit_or_say_they_scroll(site, browser):
+    """At 1280 px no table is wider than the text column without a scroll cue, and the ratio
+    column of the forward-dynamics benchmark is in sight."""
+    ctx, page, left, errors = _offline(browser)
+    try:
+        hidden, wide = [], 0
+        for f in sorted(site.rglob("*.html")):
+            page.goto(f.as_uri())
+            for t in page.evaluate(_TABLES):
+                if t["wide"]:
+                    wide += 1
+                    if not (t["cue"] and t["scrolls"] in ("auto", "scroll")):
+                        hidden.append((f.name, t["heads"][:3]))
+        assert not hidden, hidden
+        page.goto((site / "benchmarks.html").as_uri())
+        heads = dict(page.evaluate(_TABLES)[0]["heads"])
+        assert heads["best peer / ours"] and heads["generated C (ns)"]
+        assert wide >= 1  # the check has met a wide table
+    finally:
+        ctx.close()

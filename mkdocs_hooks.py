@@ -1,0 +1,44 @@
+"""Build-time steps of the documentation site (MkDocs hooks, named in mkdocs.yml).
+
+Formulas: the pages write the paper's notation as TeX between dollars (``$\\alpha^{kl}_{ij}$``,
+``$$...$$`` for a display), which GitHub typesets as it shows the Markdown; pymdownx.arithmatex
+marks them, and here each becomes MathML, which browsers typeset themselves.  Nothing is fetched
+when a page is opened (no KaTeX or MathJax from a CDN, no script at all), and the site works from
+``file://``.  MathML Core has no ``mathvariant="bold"``, so bold letters become the Unicode
+mathematical bold letters, which every math font has.
+"""
+from __future__ import annotations
+
+import html
+import re
+
+from latex2mathml.converter import convert
+
+_MATH = re.compile(r'<(span|div) class="arithmatex">\s*\\[(\[](.*?)\\[)\]]\s*</\1>', re.S)
+_BOLD = re.compile(r'<mi mathvariant="(bold|bold-italic)">([^<]+)</mi>')
+_LATIN_BOLD, _LATIN_BOLD_ITALIC = 0x1D400, 0x1D468  # A..Z then a..z
+_GREEK_BOLD, _GREEK_BOLD_ITALIC = 0x1D6C2, 0x1D736  # α..ω
+
+
+def _bold(letters: str, italic: bool) -> str:
+    out = []
+    for ch in html.unescape(letters):
+        o = ord(ch)
+        if "A" <= ch <= "Z" or "a" <= ch <= "z":
+            base = _LATIN_BOLD_ITALIC if italic else _LATIN_BOLD
+            out.append(chr(base + (o - 65 if ch <= "Z" else 26 + o - 97)))
+        elif 0x3B1 <= o <= 0x3C9:  # α..ω
+            out.append(chr((_GREEK_BOLD_ITALIC if italic else _GREEK_BOLD) + o - 0x3B1))
+        else:
+            out.append(ch)
+    return "<mi>" + "".join(out) + "</mi>"
+
+
+def mathml(tex: str, display: bool) -> str:
+    """One formula as MathML (bold letters as Unicode bold)."""
+    ml = convert(html.unescape(tex).strip(), display="block" if display else "inline")
+    return _BOLD.sub(lambda m: _bold(m[2], m[1] == "bold-italic"), ml)
+
+
+def on_page_content(content: str, **_) -> str:
+    return _MATH.sub(lambda m: mathml(m[2], m[1] == "div"), content)
