@@ -5,7 +5,7 @@ Formulas: the pages write the paper's notation as TeX between dollars (``$\\alph
 marks them, and here each becomes MathML, which browsers typeset themselves.  Nothing is fetched
 when a page is opened (no KaTeX or MathJax from a CDN, no script at all), and the site works from
 ``file://``.  MathML Core has no ``mathvariant="bold"``, so bold letters become the Unicode
-mathematical bold letters, which every math font has.
+mathematical bold letters, which every math font has, and sin, cos, … get TeX's thin spaces.
 """
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ import re
 from latex2mathml.converter import convert
 
 _MATH = re.compile(r'<(span|div) class="arithmatex">\s*\\[(\[](.*?)\\[)\]]\s*</\1>', re.S)
+_FUNCTION = re.compile(r"<mi>(sin|cos|tan|log|exp|det)</mi>")
 _BOLD = re.compile(r'<mi mathvariant="(bold|bold-italic)">([^<]+)</mi>')
 _LATIN_BOLD, _LATIN_BOLD_ITALIC = 0x1D400, 0x1D468  # A..Z then a..z
 _GREEK_BOLD, _GREEK_BOLD_ITALIC = 0x1D6C2, 0x1D736  # α..ω
@@ -37,7 +38,9 @@ def _bold(letters: str, italic: bool) -> str:
 def mathml(tex: str, display: bool) -> str:
     """One formula as MathML (bold letters as Unicode bold)."""
     ml = convert(html.unescape(tex).strip(), display="block" if display else "inline")
-    return _BOLD.sub(lambda m: _bold(m[2], m[1] == "bold-italic"), ml)
+    ml = _BOLD.sub(lambda m: _bold(m[2], m[1] == "bold-italic"), ml)
+    # a thin space on either side of sin, cos, …, as TeX sets them (sin θ cos φ, not sinθcosφ)
+    return _FUNCTION.sub(r'<mspace width="0.167em"></mspace><mi>\1</mi><mspace width="0.167em"></mspace>', ml)
 
 
 def on_page_content(content: str, **_) -> str:

@@ -24,7 +24,7 @@ import numpy as np
 
 from . import TEMPLATES, __version__, files
 from .raster import Raster, _rgb  # the painter (animate.Raster, as before)
-from .scene import BODY_COLOURS, FRAME_COLOUR, PLATFORM_COLOUR, TRACE_COLOUR, Camera, Scene
+from .scene import FRAME_COLOUR, PLATFORM_COLOUR, TRACE_COLOUR, Camera, Scene
 from .spec import SpecError
 
 MARKER = "gyrochain animate"
@@ -162,7 +162,7 @@ def write_gif(raster: Raster, path: Path, fps: float) -> None:
     for j, f in enumerate(sample):
         strip.paste(f, (0, raster.H * j))
     # a median cut averages colours: the scene's own colours are added exactly (white stays white)
-    own = [Raster.BACKGROUND, (30, 30, 30), (40, 40, 40), (60, 60, 60), (85, 85, 85)] + [_rgb(c) for c in BODY_COLOURS + [FRAME_COLOUR, TRACE_COLOUR, PLATFORM_COLOUR]]
+    own = [Raster.BACKGROUND, (30, 30, 30), (40, 40, 40), (60, 60, 60), (85, 85, 85)] + [_rgb(c) for c in dict.fromkeys(raster.scene.colours + [FRAME_COLOUR, TRACE_COLOUR, PLATFORM_COLOUR])]
     cut = strip.quantize(colors=256 - len(own), method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
     got = cut.getpalette() or []  # fewer entries than asked where the frames have few colours
     entries = [tuple(c) for c in own] + [tuple(got[3 * i:3 * i + 3]) for i in range(min(len(got) // 3, 256 - len(own)))]
@@ -253,7 +253,7 @@ def scene_json(scene: Scene, camera: Camera) -> str:
         "traceColour": TRACE_COLOUR,
         "frameColour": FRAME_COLOUR,
         "platformColour": PLATFORM_COLOUR,
-        "bodyColours": BODY_COLOURS,
+        "bodyColours": scene.colours,
         "gravity": scene.gravity,
         "centre": [_num(v) for v in centre],
         "radius": _num(float(np.max(np.linalg.norm(P - centre, axis=1))) or 1.0),
@@ -394,7 +394,8 @@ def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=Non
     if fast and follow is None:  # drawn relative to the pivot, the integral sampled finely enough
         follow = True
         note = "\n".join(filter(None, [note, f"the platform moves at {fast:.3g} Hz, faster than half the frame rate "
-                                              f"({fps / 2:g} Hz): drawn relative to its O1, held still (--no-follow: as sampled)"]))
+                                              f"({fps / 2:g} Hz): drawn relative to its O1, held still (--no-follow: as sampled; "
+                                              f"--fps {25 * math.ceil(4 * fast / 25):g} draws the drive itself, four frames a cycle)"]))
     if has_rate and fast:
         t_int = np.linspace(times[0], times[-1], (len(times) - 1) * max(4, math.ceil(10 * fast / fps)) + 1)
         X_int = motion(model, t_int, x0, u=u, params=params or None, rtol=rtol, atol=rtol * 1e-2)
@@ -409,6 +410,7 @@ def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=Non
     if fast and follow:
         sc.caption = f"platform at {fast:.3g} Hz (> {fps / 2:g} Hz): O1 held still"
     camera = scene.Camera(math.radians(view[0]), math.radians(view[1])) if view else scene.default_camera(sc.points)
+    raster = None
     with out:
         if out.ext == ".html":
             write_html(sc, camera, out.tmp, description)
@@ -416,7 +418,9 @@ def render(source, output, *, phi=None, phidot=None, u=None, params=None, t1=Non
             raster = Raster(sc, size[0], size[1], camera)
             {".gif": lambda: write_gif(raster, out.tmp, fps), ".png": lambda: write_png(raster, out.tmp),
              ".mp4": lambda: write_mp4(raster, out.tmp, fps)}[out.ext]()
-    return dict(path=out.path, times=times, bytes=out.path.stat().st_size, note=note)
+    # what the last frame drew, in its pixels (kind, x0, y0, x1, y1), and where the scene may go
+    drawn = dict(boxes=raster.boxes, area=(raster.top, raster.H - raster.band), size=(raster.W, raster.H)) if raster else {}
+    return dict(path=out.path, times=times, bytes=out.path.stat().st_size, note=note, **drawn)
 
 
 def sweep_point(store: str | Path, at: str) -> dict:

@@ -60,6 +60,7 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
         ax.plot(x[order], values[order], ".-" if len(x) < 200 else "-")
         if log:
             ax.set_yscale("log")
+            _plain_log(ax.yaxis)
         ax.set_xlabel(_axis_label(names[0]))
         ax.set_ylabel(label)
     title = f"{data['attrs']['spec_name']}: {label.split(' (')[0]}"
@@ -132,7 +133,6 @@ def _map(fig, ax, data: dict, names: list, values: np.ndarray, colormap, log: bo
     logarithmic one) and a legend entry for the points without a value."""
     from matplotlib.colors import LogNorm
     from matplotlib.patches import Patch
-    from matplotlib.ticker import FuncFormatter, LogLocator
 
     norm = LogNorm() if log else None
     if "Floquet" in label:
@@ -146,9 +146,7 @@ def _map(fig, ax, data: dict, names: list, values: np.ndarray, colormap, log: bo
                             shading="nearest", cmap=colormap, norm=norm)
     bar = fig.colorbar(art, ax=ax, label=label)
     if log:
-        bar.ax.yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
-        bar.ax.yaxis.set_minor_locator(LogLocator(subs="all"))
-        bar.ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+        _plain_log(bar.ax.yaxis)
     ax.set_xlabel(_axis_label(names[0]))
     ax.set_ylabel(_axis_label(names[1]))
     computed = np.ones(values.shape, bool) if computed is None else computed
@@ -199,7 +197,7 @@ def _stable_region(fig, ax, data: dict, names: list, values: np.ndarray, colorma
         if stable.any() and (~stable).any():
             ax.contour(x, y, stable.T.astype(float), levels=[0.5], colors="k", linewidths=0.8)
     if np.any(np.isfinite(unstable)):
-        fig.colorbar(art, ax=ax, label=label)
+        _plain_log(fig.colorbar(art, ax=ax, label=label).ax.yaxis)
     missing = int(np.sum(~np.isfinite(values)))
     if missing and not data["attrs"]["args"]["random"]:
         ax.pcolormesh(x, y, np.ma.masked_where(np.isfinite(values.T), np.ones_like(values.T)), shading="nearest",
@@ -209,6 +207,17 @@ def _stable_region(fig, ax, data: dict, names: list, values: np.ndarray, colorma
     ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
     ax.set_xlabel(_axis_label(names[0]))
     ax.set_ylabel(_axis_label(names[1]))
+
+
+def _plain_log(axis) -> None:
+    """A logarithmic axis numbered 1, 2, 5 per decade in plain notation (0.2, 6, 500; not 6 × 10⁰),
+    without the unlabelled minor numbers matplotlib adds on a short range."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    axis.set_minor_locator(LogLocator(subs="all"))
+    axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+    axis.set_minor_formatter(NullFormatter())
 
 
 def _flip_definition(attrs: dict) -> str:

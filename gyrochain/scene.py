@@ -10,8 +10,8 @@ platform's attitude R(t), position r₀(t)).  For every frame time:
     rotor              where λᵏ ≠ 0: a disc normal to λᵏ centred at Gᵏ, its axle, and a spoke turning
                        about λᵏ in the sense of λᵏ (at a nominal rate: the spec gives the rotor's
                        momentum, not its inertia, so the true spin rate is not known)
-    platform           where the spec has a base: a round deck through O¹ across the platform's ê⁰₁,
-                       with the platform's triad
+    platform           where the spec has a base: a square translucent deck through O¹ across the
+                       platform's ê⁰₁, larger than the chain, with the platform's triad
     fixed frame        the triad ê⁰₁ ê⁰₂ ê⁰₃ at the origin (labelled 1 2 3); gravity is drawn by the
                        renderers as an arrow "g" along ê⁰₁ in a corner
     trace              the last body's tip over the last ``trace`` seconds, fading
@@ -22,7 +22,10 @@ its ê ⁿ₃ bar.  A primitive is a tuple in fixed-frame coordinates:
     ("seg", p, q, colour, width)        width in pixels of a 480-pixel-high picture
     ("dot", p, radius, colour)          radius in metres
     ("disc", c, u, v, radius, colour)   the circle c + radius (u cos a + v sin a), u ⟂ v unit vectors
-    ("label", p, text, colour)
+    ("ring", c, u, v, radius, colour)   the same circle, not filled (a Cardan ring)
+    ("plate", c, u, v, half, colour)    the square c ± half u ± half v, translucent (the platform)
+    ("label", p, text, colour, o)       text at p, the end of an axis from o (a renderer moves it outwards from o
+                                        where it would cover another label)
 
 Both renderers (the raster one in ``animate`` and the browser's in templates/viewer.js) draw the
 same primitives: they only project them with ``Camera`` (orthographic, orbiting about the vertical
@@ -37,8 +40,11 @@ import numpy as np
 
 from . import reference
 
-# body colours (colour-blind-safe order of Okabe & Ito), then greys
-BODY_COLOURS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442", "#000000"]
+# body colours of a short chain (colour-blind-safe, after Okabe & Ito; without their yellow, faint on
+# white, and black, the colour of the legend's symbols); a longer chain is coloured by its index
+# along a colour map (viridis up to 0.8: no yellow), which the legend names
+BODY_COLOURS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9"]
+COLOUR_MAP = ("viridis", ["#440154", "#414487", "#2A788E", "#22A884", "#7AD151"])
 FRAME_COLOUR = "#888888"
 PLATFORM_COLOUR = "#8C7B6B"
 TRACE_COLOUR = "#C0392B"
@@ -46,8 +52,19 @@ SPOKE_RATE = 2 * math.pi * 0.75  # rad/s of the rotor's spoke (nominal, see abov
 
 
 def body_colour(k: int) -> str:
-    """Body k's colour (k from 1)."""
+    """Body k's colour (k from 1) in a chain of at most len(BODY_COLOURS) bodies."""
     return BODY_COLOURS[(k - 1) % len(BODY_COLOURS)]
+
+
+def body_colours(n: int) -> list[str]:
+    """The colours of the n bodies: BODY_COLOURS for a short chain, else the colour map by index."""
+    if n <= len(BODY_COLOURS):
+        return BODY_COLOURS[:n]
+    anchors = np.array([[int(c[i:i + 2], 16) for i in (1, 3, 5)] for c in COLOUR_MAP[1]], float)
+    x = np.linspace(0.0, len(anchors) - 1.0, n)
+    lo = np.minimum(np.floor(x).astype(int), len(anchors) - 2)
+    rgb = anchors[lo] + (x - lo)[:, None] * (anchors[lo + 1] - anchors[lo])
+    return ["#%02X%02X%02X" % tuple(int(round(v)) for v in c) for c in rgb]
 
 
 # --------------------------------------------------------------------------- the camera
@@ -105,6 +122,7 @@ class Scene:
     states: np.ndarray | None = None  # (F, 2n) φ, φ̇ at the frames (the page's readout), None if φ̇ is unknown
     legend: list = field(default_factory=list)  # [(symbol, text)]: what the picture's marks are (legend())
     caption: str = ""  # a line the picture carries about how it was drawn (a fast platform drawn about its mean)
+    colours: list = field(default_factory=list)  # the bodies' colours, body 1 first
 
 
 def _unit(v):
@@ -144,6 +162,9 @@ class Geometry:
         mmax = float(ch.m.max()) if ch.m.max() > 0 else 1.0
         self.dot = np.maximum(0.05 * scale * np.cbrt(np.maximum(ch.m, 0) / mmax), 0.02 * scale)
         self.disc = np.maximum(0.7 * self.rg, 0.12 * scale)
+        self.colours = body_colours(n)
+        # the platform's deck: beyond every ring and rotor drawn about O¹, so that nothing merges with it
+        self.deck = 1.15 * max(0.6 * self.size, float(np.max(self.ring, initial=0.0)), float(np.max(self.disc)))
 
 
 def pose(ch: reference.NumericChain, phi, t: float) -> dict:
@@ -162,16 +183,16 @@ def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list
     if base:
         R0, r0 = P["R0"], P["r0"]
         ey, ez = R0[:, 1], R0[:, 2]  # the platform's axes 2, 3 in ê⁰
-        a = 0.6 * geo.size
-        prims.append(("disc", r0, ey, ez, a, PLATFORM_COLOUR))  # the deck, across the platform's ê⁰₁
+        a = geo.deck
+        prims.append(("plate", r0, ey, ez, a, PLATFORM_COLOUR))  # the deck, across the platform's ê⁰₁
         turns = ch.general is not None and bool(ch.general.rotations)
         for j, lab in enumerate("123" if turns else ""):  # a deck that only translates keeps the fixed axes' directions
-            q = r0 + 0.3 * geo.size * R0[:, j]
+            q = r0 + 0.5 * a * R0[:, j]
             prims.append(("seg", r0, q, PLATFORM_COLOUR, 1.2))
-            prims.append(("label", q, lab, PLATFORM_COLOUR))
-        keys += [r0 + a * ey, r0 - a * ey, r0 + a * ez, r0 - a * ez]
+            prims.append(("label", q, lab, PLATFORM_COLOUR, r0))
+        keys += [r0 + a * (i * ey + j * ez) for i in (-1, 1) for j in (-1, 1)]
     for k in range(n):
-        col = body_colour(k + 1)
+        col = geo.colours[k]
         O, e, G = P["O"][k], P["e"][k], P["G"][k]
         b = geo.bar[k]
         prims.append(("seg", O - b * e, O + b * e, col, 5.0))
@@ -180,7 +201,7 @@ def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list
         if ring is not None:
             u, v, r = ring
             prims.append(("ring", O, u, v, r, col))
-            keys += [O + r * u, O - r * u, O + r * v, O - r * v]
+            keys += _around(O, u, v, r)
         lam = P["lam"][k]
         rotor = np.linalg.norm(lam) > 0
         end, link = link_end(geo, P, k)
@@ -210,22 +231,32 @@ def frame_primitives(geo: Geometry, P: dict, t: float, base: bool) -> tuple[list
             prims.append(("disc", G, u, v, r, col))
             prims.append(("seg", G, G + r * u, "#FFFFFF", 2.0))
             prims.append(("seg", G - 1.3 * r * nrm, G + 1.3 * r * nrm, col, 1.5))
-            keys += [G + r * u, G - r * u, G + r * v, G - r * v, G + 1.3 * r * nrm, G - 1.3 * r * nrm]
+            keys += _around(G, u, v, r) + [G + 1.3 * r * nrm, G - 1.3 * r * nrm]
     return prims, keys
 
 
+def _around(c, u, v, r, count: int = 16) -> list:
+    """Points on the circle c + r (u cos a + v sin a): whatever the view, the picture of the circle
+    lies within a few per cent of theirs (the view is fitted to key points)."""
+    a = np.linspace(0.0, 2 * math.pi, count, endpoint=False)
+    return list(np.asarray(c) + r * (np.cos(a)[:, None] * np.asarray(u) + np.sin(a)[:, None] * np.asarray(v)))
+
+
 def _ring_radius(ch: reference.NumericChain, k: int) -> float:
-    """A body centred on its own joint axis (c = 0 and, but for the last, s = 0: a ring of a Cardan
-    suspension) is drawn as a ring through the bearings it carries, in the plane of its axis eᵏ
-    and the next axis (the last body's: its rotor's axle; none where that is along eᵏ), of the
-    radius of a thin ring with its inertia about eᵏ: r = √(2 eᵏ·Aᵏ·eᵏ / mᵏ).  0 where none."""
+    """A ring of a Cardan suspension — a body that carries the next axis (or, the last, its rotor's
+    axle) across its own through the same point (s = 0 but for the last) — is drawn as a ring
+    through the bearings it carries, in the plane of its axis eᵏ and the next axis, of the radius
+    of a thin ring with its inertia about eᵏ: r = √(2 eᵏ·Aᵏ·eᵏ / mᵏ), whatever its centre of mass
+    as long as that lies inside the ring (|cᵏ| < r/2; a heavier offset is a pendulum, drawn as a
+    link).  0 where none."""
     n = ch.n
-    if np.linalg.norm(ch.c[k]) > 0 or (k < n - 1 and np.linalg.norm(ch.s[k]) > 0) or ch.m[k] <= 0:
+    if (k < n - 1 and np.linalg.norm(ch.s[k]) > 0) or ch.m[k] <= 0:
         return 0.0
     # the next axis in body k's frame is ê^k_1 turned by θ^{k+1} about ê^k_2; the rotor's axle is λᵏ
     across = abs(math.sin(ch.theta[k + 1])) if k < n - 1 else float(np.hypot(ch.lam[k][1], ch.lam[k][2]))
     inertia = float(ch.A[k][0, 0])  # about ê^k_1 = eᵏ
-    return math.sqrt(2.0 * inertia / ch.m[k]) if across > 1e-9 and inertia > 0 else 0.0
+    r = math.sqrt(2.0 * inertia / ch.m[k]) if across > 1e-9 and inertia > 0 else 0.0
+    return r if np.linalg.norm(ch.c[k]) < 0.5 * r else 0.0
 
 
 def cardan_ring(geo: Geometry, P: dict, k: int):
@@ -260,11 +291,11 @@ def static_primitives(geo: Geometry) -> list:
     for j, lab in enumerate("123"):
         q = np.eye(3)[j] * a
         out.append(("seg", np.zeros(3), q, FRAME_COLOUR, 1.2))
-        out.append(("label", q * 1.12, lab, FRAME_COLOUR))
+        out.append(("label", q * 1.12, lab, FRAME_COLOUR, np.zeros(3)))
     return out
 
 
-_POINTS = {"seg": (1, 2), "dot": (1,), "disc": (1,), "ring": (1,), "label": (1,)}  # the arguments that are points
+_POINTS = {"seg": (1, 2), "dot": (1,), "disc": (1,), "ring": (1,), "plate": (1,), "label": (1, 4)}  # the arguments that are points
 
 
 def shifted(prim: tuple, d: np.ndarray) -> tuple:
@@ -272,31 +303,34 @@ def shifted(prim: tuple, d: np.ndarray) -> tuple:
     return tuple(a + d if i in _POINTS[prim[0]] else a for i, a in enumerate(prim))
 
 
-def legend(frames: list, static: list, trace: float) -> list[tuple[str, str]]:
+def legend(frames: list, static: list, trace: float, n: int) -> list[tuple[str, str]]:
     """The legend of a scene, read off the primitives it draws: one entry per kind of mark in
-    any frame (symbols: bar, link, dot, disc, deck, triad, trace)."""
-    marks, bodies = set(), set()
+    any frame (symbols: bar, link, dot, disc, deck, triad, trace), after the bodies' colours
+    ("bodies": each number in its colour; "bodymap": the colour map of a long chain, named)."""
+    marks = set()
     for prim in static + [p for f in frames for p in f]:
         if prim[0] == "seg" and prim[4] == 5.0:
             marks.add("bar")
-            bodies.add(prim[3])
         elif prim[0] == "seg" and prim[4] == 3.5:
             marks.add("link")
         elif prim[0] == "ring":
             marks.add("ring")
+        elif prim[0] == "plate":
+            marks.add("deck" if any(p[0] == "label" and p[3] == PLATFORM_COLOUR for f in frames[:1] for p in f)
+                      else "deck_only")
         elif prim[0] in ("dot", "disc"):
-            marks.add(("deck" if any(p[0] == "label" and p[3] == PLATFORM_COLOUR for f in frames[:1] for p in f)
-                       else "deck_only") if prim[-1] == PLATFORM_COLOUR else prim[0])
+            marks.add(prim[0])
         elif prim[0] == "label" and prim[3] == FRAME_COLOUR:
             marks.add("triad")
     if trace > 0:
         marks.add("trace")
-    words = {"bar": "joint axis", "link": "link", "ring": "Cardan ring (a body centred on its axis)",
+    words = {"bar": "joint axis", "link": "link", "ring": "Cardan ring",
              "dot": "centre of mass (size: mass)",
              "disc": "rotor (white spoke: its sense)", "deck": "platform, its axes 1 2 3", "deck_only": "platform (it only translates)",
              "triad": "fixed axes 1 2 3 (1 down)", "trace": f"path of the tip, last {trace:g} s"}
-    n = sum(body_colour(k) in bodies for k in range(1, len(bodies) + 1))
-    return [("bodies", "body " + " ".join(str(k) for k in range(1, n + 1)))] + [(k, words[k]) for k in words if k in marks]
+    bodies = (("bodies", "body " + " ".join(str(k) for k in range(1, n + 1))) if n <= len(BODY_COLOURS)
+              else ("bodymap", f"bodies 1…{n} (colour = index, {COLOUR_MAP[0]})"))
+    return [bodies] + [(k, words[k]) for k in words if k in marks]
 
 
 def build(spec, ch: reference.NumericChain, times, X, trace: float = 2.0, integral: dict | None = None,
@@ -320,12 +354,16 @@ def build(spec, ch: reference.NumericChain, times, X, trace: float = 2.0, integr
         if follow:
             prims = [shifted(p, d) for p in static + prims]
         frames.append(prims)
-        keys += [p + d for p in k] + ([] if follow else [p[2] for p in static if p[0] == "seg"])
+        keys += [p + d for p in k] + [q + d for p in static if p[0] == "seg" for q in (p[1], p[2])]
     if tip_times is None:
         tip_times, tip_X = times, X
     tips = np.array([link_end(geo, pose(ch, np.asarray(x[:n], float), float(t)), n - 1)[0] + offset(t)
                      for t, x in zip(tip_times, tip_X)])
+    tip_times = np.asarray(tip_times, float)
+    shown = (tip_times >= float(times[0]) - trace - 1e-12) & (tip_times <= float(times[-1]) + 1e-12)
+    if trace > 0:
+        keys += list(tips[shown])  # the picture is framed to the path it draws, too
     return Scene(name=spec.name, times=np.asarray(times, float), frames=frames, static=[] if follow else static,
                  tip_times=np.asarray(tip_times, float), tips=tips, trace=trace, size=geo.size, gravity=ch.g != 0,
                  integral=integral, points=np.array(keys), states=np.asarray(X, float)[:, :2 * n] if rates else None,
-                 legend=legend(frames, [] if follow else static, trace))
+                 legend=legend(frames, [] if follow else static, trace, n), colours=geo.colours)

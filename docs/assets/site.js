@@ -1,7 +1,11 @@
-// A table wider than the text column scrolls sideways: say so above it, with how many columns
+// Short cells stay on one line.  A table wider than the text column scrolls sideways: say so above it, with how many columns
 // are out of sight, and shade its edge (site.css).  Run at load and when the window is resized.
 (function () {
   function mark() {
+    // a short cell (a number with its unit: "0.1 s", "1,325") is never broken over two lines
+    document.querySelectorAll(".md-typeset table:not([class]) td").forEach(function (td) {
+      if (td.textContent.trim().length <= 12) td.style.whiteSpace = "nowrap";
+    });
     document.querySelectorAll(".md-typeset__scrollwrap").forEach(function (wrap) {
       var table = wrap.querySelector("table");
       var wide = table && wrap.scrollWidth > wrap.clientWidth + 1;

@@ -62,6 +62,9 @@
     return [W / 2 + (q[0] - fitCentre[0]) * s, TOP + (H - TOP) / 2 - (q[1] - fitCentre[1]) * s, q[2], s];
   }
 
+  // the clock: enough decimals to change from one frame to the next
+  const STEP = D.times.slice(1).reduce((m, t, i) => Math.min(m, t - D.times[i] > 0 ? t - D.times[i] : m), Infinity);
+  const DECIMALS = Number.isFinite(STEP) ? Math.max(2, Math.ceil(-Math.log10(STEP) - 1e-9)) : 2;
   // ---- painting one frame
   function rgba(hex, a) {
     const v = [1, 3, 5].map(i => parseInt(hex.slice(i, i + 2), 16));
@@ -98,6 +101,16 @@
         ctx.closePath(); ctx.fill(); ctx.stroke();
       }];
     }
+    if (kind === "plate") {  // the platform's deck: a translucent square c ± a u ± a v
+      const c = prim[1], u = prim[2], v = prim[3], a = prim[4];
+      const pts = [[-1, -1], [1, -1], [1, 1], [-1, 1]].map(([i, j]) => project([0, 1, 2].map(k => c[k] + a * (i * u[k] + j * v[k]))));
+      const z = pts.reduce((s, p) => s + p[2], 0) / 4;
+      return [z, order, () => {
+        ctx.fillStyle = rgba(prim[5], 0.11); ctx.strokeStyle = rgba(prim[5], 0.6); ctx.lineWidth = 1;
+        ctx.beginPath(); pts.forEach((p, j) => j ? ctx.lineTo(p[0], p[1]) : ctx.moveTo(p[0], p[1]));
+        ctx.closePath(); ctx.fill(); ctx.stroke();
+      }];
+    }
     if (kind === "ring") {
       const c = prim[1], u = prim[2], v = prim[3], r = prim[4];
       const pts = [];
@@ -113,11 +126,19 @@
         ctx.closePath(); ctx.stroke();
       }];
     }
-    if (kind === "label") {
-      const a = project(prim[1]);
+    if (kind === "label") {  // moved outwards from its axes' origin prim[4] until it covers no other label
+      const a = project(prim[1]), o = project(prim[4] || [0, 0, 0]);
       return [a[2], order, () => {
         ctx.fillStyle = prim[3]; ctx.font = "12px sans-serif"; ctx.textAlign = "center"; ctx.textBaseline = "middle";
-        ctx.fillText(prim[2], a[0], a[1]);
+        const w = ctx.measureText(prim[2]).width + 4, h = 14;
+        let dx = a[0] - o[0], dy = a[1] - o[1];
+        const len = Math.hypot(dx, dy) || 1;
+        [dx, dy] = len > 1e-6 ? [dx / len, dy / len] : [0.7071, -0.7071];
+        let x = a[0], y = a[1];
+        const hits = () => placed.some(b => Math.abs(b[0] - x) < (b[2] + w) / 2 && Math.abs(b[1] - y) < (b[3] + h) / 2);
+        for (let j = 0; j < 40 && hits(); j++) { x += 6 * dx; y += 6 * dy; }
+        placed.push([x, y, w, h]);
+        ctx.fillText(prim[2], x, y);
       }];
     }
     throw new Error("unknown primitive " + kind);
@@ -152,7 +173,9 @@
     return out;
   }
 
+  let placed = [];  // the labels painted in this frame: [x, y, width, height]
   function draw() {
+    placed = [];
     camera();
     fitView();
     const i = state.frame, t = D.times[i];
@@ -198,7 +221,7 @@
       ctx.fillText("g", cx + 14, cy - 22);
     }
     slider.value = String(i);
-    clock.textContent = `t = ${t.toFixed(2)} s`;
+    clock.textContent = `t = ${t.toFixed(DECIMALS)} s`;
     if (D.states) {
       const x = D.states[i], n = x.length / 2, f = v => (v >= 0 ? " " : "") + v.toFixed(4);
       readout.textContent = `φ  = (${x.slice(0, n).map(f).join(", ")}) rad\nφ̇  = (${x.slice(n).map(f).join(", ")}) rad/s`;
@@ -231,7 +254,8 @@
     let lo = Math.min(ref, ...d), hi = Math.max(ref, ...d);
     const half = Math.max((hi - lo) / 2, 1e-16 * Math.max(1, Math.abs(ref))), mid = (lo + hi) / 2;
     lo = mid - 1.15 * half; hi = mid + 1.15 * half;
-    const e = x => (x === 0 ? "0" : x.toExponential(1));
+    // plain numbers where they fit (0.62, -9, 6), powers of ten only beyond (3.1e-12)
+    const e = x => (x === 0 ? "0" : Math.abs(x) >= 1e-3 && Math.abs(x) < 1e5 ? String(Number(x.toPrecision(2))) : x.toExponential(1));
     const wide = w - 8;
     fitText(`${D.integral.label}: ${v0.toPrecision(8)} ${unit} at t = ${t0.toFixed(2)} s`, 4, 4, wide);
     fitText(conserved
@@ -322,6 +346,13 @@
   if (D.caption) { const c = document.createElement("em"); c.textContent = D.caption + ". "; legend.append(c); }
   D.legend.forEach(([sym, text], j) => {
     if (j) legend.append(" · ");
+    if (sym === "bodymap") {  // the colour map from body 1 to body n, then its words
+      const s = document.createElement("span");
+      s.className = "sym"; s.style.display = "inline-block"; s.style.width = "3em"; s.style.height = "0.8em";
+      s.style.background = `linear-gradient(to right, ${D.bodyColours.filter((_, i) => i % 4 === 0 || i === D.bodyColours.length - 1).join(", ")})`;
+      legend.append(s, " " + text);
+      return;
+    }
     if (sym === "bodies") {
       text.split(" ").forEach((word, i) => {
         const s = document.createElement("span");
