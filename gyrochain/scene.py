@@ -40,10 +40,10 @@ import numpy as np
 
 from . import reference
 
-# body colours of a short chain (colour-blind-safe, after Okabe & Ito; without their yellow, faint on
-# white, and black, the colour of the legend's symbols); a longer chain is coloured by its index
-# along a colour map (viridis up to 0.8: no yellow), which the legend names
-BODY_COLOURS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9"]
+# body colours of a short chain (colour-blind-safe, after Okabe & Ito; their yellow, faint on white,
+# and black, the colour of the legend's symbols, replaced by Tol's wine and olive); a longer chain is
+# coloured by its index along a colour map (viridis up to 0.8: no yellow), which the legend names
+BODY_COLOURS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#882255", "#999933"]
 COLOUR_MAP = ("viridis", ["#440154", "#414487", "#2A788E", "#22A884", "#7AD151"])
 FRAME_COLOUR = "#888888"
 PLATFORM_COLOUR = "#8C7B6B"
