@@ -166,7 +166,7 @@ class Raster:
         if kind == "disc":
             _, c, u, v, r, col = prim
             poly, z = self._circle(c, u, v, r, 48)
-            return (z.mean(), order, lambda: draw.polygon(poly, fill=_rgb(col) + (60,), outline=_rgb(col), width=max(1, round(1.5 * k))))
+            return (z.mean(), order, lambda: draw.polygon(poly, fill=_rgb(col) + (76,), outline=_rgb(col), width=max(1, round(1.5 * k))))
         if kind == "ring":
             _, c, u, v, r, col = prim
             ring, z = self._circle(c, u, v, r, 64)
@@ -296,7 +296,7 @@ class Raster:
         elif sym == "ring":
             draw.ellipse((x, y - 6 * k, x + 24 * k, y + 6 * k), outline=grey, width=max(1, round(2 * k)))
         elif sym == "disc":
-            draw.ellipse((x, y - 5 * k, x + 24 * k, y + 5 * k), fill=grey + (60,), outline=grey, width=w)
+            draw.ellipse((x, y - 5 * k, x + 24 * k, y + 5 * k), fill=grey + (76,), outline=grey, width=w)
             draw.line((x + 12 * k, y, x + 22 * k, y), fill=(255, 255, 255), width=max(1, round(2 * k)))
         elif sym in ("deck", "deck_only"):
             col = _rgb(PLATFORM_COLOUR)

@@ -96,7 +96,7 @@
         pts.push(p); z += p[2] / 48;
       }
       return [z, order, () => {
-        ctx.fillStyle = rgba(prim[5], 0.24); ctx.strokeStyle = prim[5]; ctx.lineWidth = 1.5;
+        ctx.fillStyle = rgba(prim[5], 0.3); ctx.strokeStyle = prim[5]; ctx.lineWidth = 1.5;
         ctx.beginPath(); pts.forEach((p, j) => j ? ctx.lineTo(p[0], p[1]) : ctx.moveTo(p[0], p[1]));
         ctx.closePath(); ctx.fill(); ctx.stroke();
       }];
