@@ -106,7 +106,8 @@ bench-speed: bench-setup
 
 pdf: generate
 	@name=$$($(VPY) -c "from gyrochain.spec import load_spec; print(load_spec('$(SPEC)').name)"); \
-	cd generated/$$name && pdflatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null && echo "generated/$$name/$$name.pdf"
+	cd generated/$$name && pdflatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null \
+		&& pdflatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null && echo "generated/$$name/$$name.pdf"
 
 clean:
 	rm -rf $(VENV) .pytest_cache build dist site *.egg-info

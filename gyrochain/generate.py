@@ -113,9 +113,11 @@ def regressor_line(model: Model) -> str:
 
 
 def _energy_line(spec, ints) -> str:
+    if not ints.has_energy_integral and all(r.startswith("control torques") for r in ints.energy_reasons):
+        return ("energy T - U (23): not conserved for every input: conserved when the control torques are 0, in general "
+                f"dE/dt = sum L^k phidot^k (joints {', '.join(map(str, spec.controls))})")
     if not spec.general:
-        return "energy T - U (23): " + ("conserved (fixed base, no control torque)" if ints.has_energy_integral
-                                        else "not conserved (control torques act)")
+        return "energy T - U (23): conserved (fixed base, no control torque)"
     if ints.has_energy_integral:
         why = "U includes " + ", ".join(w for w, _ in ints.U_extra) if ints.U_extra else "no load but gravity does work"
         return f"energy T - U (23): conserved ({why})"

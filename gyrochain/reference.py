@@ -353,6 +353,19 @@ def energy(ch: NumericChain, x, t: float = 0.0) -> float:
         0.5 * ch.m[k] * vO[k] @ vO[k] + ch.m[k] * vO[k] @ np.cross(omega[k], c[k]) + 0.5 * omega[k] @ A[k] @ omega[k]
         for k in range(n)
     )
+    return float(T - _force_function(ch, x, t, mo))
+
+
+def potential(ch: NumericChain, x, t: float = 0.0) -> float:
+    """The force function U of energy(): T − U is the energy, −U the potential energy."""
+    n = ch.n
+    x = np.asarray(x, dtype=float)
+    return _force_function(ch, x, t, _motion(ch, x[:n], x[n:], np.zeros(n), t))
+
+
+def _force_function(ch: NumericChain, x, t: float, mo: dict) -> float:
+    n = ch.n
+    c, O = mo["c"], mo["O"]
     U = ch.g * sum(ch.m[k] * (O[k][0] + c[k][0]) for k in range(n))
     gen = ch.general
     if gen is not None:
@@ -361,7 +374,7 @@ def energy(ch: NumericChain, x, t: float = 0.0) -> float:
             for point, fn, frame, potential in gen.forces[k]:
                 if potential:
                     U += fn(t, x[:n], x[n:]) @ (O[k] + mo["R"][k].T @ point)
-    return float(T - U)
+    return float(U)
 
 
 def powers(ch: NumericChain, t, x, u=None) -> dict:

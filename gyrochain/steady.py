@@ -99,6 +99,7 @@ class Analysis:
         ints = model.integrals
         others = [r for r in ints.energy_reasons if not r.startswith("control torques")]
         self.conservative = not others or ints.jacobi is not None
+        self.others = others
         self.integral = "Jacobi integral" if ints.jacobi is not None and others else "energy"
         u1 = 1 in spec.controls and self.u[spec.controls.index(1)] != 0.0
         self.cyclic = ints.momentum is not None and not u1 and self._cyclic_numerically()
@@ -242,8 +243,15 @@ class Analysis:
         if zero:
             return "degenerate", f"the Hessian of the {what} is singular ({zero} zero eigenvalue{'s' if zero > 1 else ''}): a family of steady motions or higher-order terms decide"
         if neg:
-            return "linearly stable", (f"gyroscopic stabilisation: the Hessian of the {what} has {neg} negative eigenvalues, the gyroscopic "
-                                       "terms make every eigenvalue imaginary (stable to first order, not proved)")
+            plural = "s" if neg > 1 else ""
+            gyroscopic = np.max(np.abs(G - G.T), initial=0.0) > 1e-9 * max(1.0, np.max(np.abs(K), initial=0.0))
+            if not gyroscopic and not self.conservative:  # Ziegler's column: the follower load, not Γ, does it
+                return "linearly stable", (f"every eigenvalue is on the imaginary axis although the Hessian of the {what} has "
+                                           f"{neg} negative eigenvalue{plural}: not by gyroscopic terms (there are none) but "
+                                           f"by the non-conservative loads ({', '.join(self.others)}); stable to first order, "
+                                           "not proved")
+            return "linearly stable", (f"gyroscopic stabilisation: the Hessian of the {what} has {neg} negative eigenvalue{plural}, the "
+                                       "gyroscopic terms make every eigenvalue imaginary (stable to first order, not proved)")
         return "linearly stable", "every eigenvalue is on the imaginary axis"
 
     # ---- the searches

@@ -222,3 +222,36 @@ def equations(tex: str) -> dict[str, str]:
         for name in re.findall(r"\$([^$]+)\$", line):
             out[name] = "0"
     return out
+
+
+def pmatrix(text: str, names: dict) -> list[list[sp.Expr]]:
+    r"""``\begin{pmatrix}a & b \\ c & d\end{pmatrix}`` as rows of expressions (a column: one per row)."""
+    text = text.strip()
+    head, tail = r"\begin{pmatrix}", r"\end{pmatrix}"
+    if not (text.startswith(head) and text.endswith(tail)):
+        raise TexSyntaxError(f"not a pmatrix: {text[:40]!r}")
+    body = text[len(head):-len(tail)]
+    return [[parse(cell, names) for cell in row.split("&")] for row in body.split(r"\\")]
+
+
+def body_table(tex: str, names: dict) -> list[dict]:
+    r"""The scene's table of the bodies, a row per body: θ, m, c, s (None for the last), λ, A as
+    the document prints them (expressions) and the control flag."""
+    head = r"$k$ & $\theta^k$ & $m^k$ & $\mathbf c^k$ & $\mathbf s^k$ & $\boldsymbol\lambda^k$ & $\mathbf A^k$ & control"
+    start = tex.index(head) + len(head)
+    rows = []
+    for line in tex[start:tex.index(r"\end{longtable}", start)].splitlines():
+        cells = re.findall(r"\$(.*?)\$", line)
+        if len(cells) != 7:
+            continue
+        k, theta, m, c, s, lam, A = cells
+        rows.append(dict(k=int(k), theta=parse(theta, names), m=parse(m, names), c=pmatrix(c, names),
+                         s=None if s.startswith(r"\text") else pmatrix(s, names), lam=pmatrix(lam, names),
+                         A=pmatrix(A, names), control=line.rstrip(" \\").rsplit("&", 1)[1].strip()))
+    return rows
+
+
+def direction_cosines(tex: str, names: dict) -> dict[int, list[list[sp.Expr]]]:
+    r"""α^{k,k−1} of the direction cosines' section, by k."""
+    found = re.findall(r"\\alpha\^\{(\d+),(\d+)\} &= (\\begin\{pmatrix\}.*?\\end\{pmatrix\})", tex, flags=re.S)
+    return {int(k): pmatrix(m, names) for k, j, m in found if int(j) == int(k) - 1}

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 from .. import trigform
-from ..algebra import Poly
+from ..algebra import ZERO, Poly
 from ..assemble import Model
 from ..exact import Fraction, is_negative, is_unit, to_float
 from ..kinematics import Kinematics, platform_symbols
@@ -208,6 +208,7 @@ def block(eqs: list[TexEquation]) -> dict:
     return dict(rows=rows, zero=", ".join(f"${z}$" for z in zero))
 
 
+T10_MAX_TERMS = 20  # T₁ + T₀ is written out up to this many terms of the program's algebra (ship_gimbal: 15)
 CLOSED_FORM_MAX_N_GENERAL = 2  # the same for a spec with platform motion or loads (more symbols)
 
 
@@ -238,6 +239,12 @@ def _values(spec, kin, dyn, ints, closed: bool) -> dict:
                G=get(dyn.G), U=get([ints.U])[0], K=get([ints.momentum])[0] if ints.momentum is not None else None,
                Pi=None, Lamdot=get(dyn.Lamdot), Phi=get(dyn.Phi),
                joint=[(k, v) for k, v in enumerate(get(dyn.joint)) if not dyn.joint[k].is_zero()])
+    if spec.base is not None and spec.base.moves and closed:  # T = T2 + T1 + T0: the part beyond (21)
+        qd = kin.qd[1:]  # in the program's algebra, where T − T₂ cancels exactly and cheaply
+        T2 = sum((dyn.M[k][r] * qd[k] * qd[r] * (0.5 if k == r else 1.0) for k in range(n) for r in range(k, n)), ZERO)
+        T10 = ints.T - T2
+        if len(T10.terms) <= T10_MAX_TERMS:  # a platform turning about skew axes gives thousands of terms: not shown
+            (out["T10"],) = kin.prog.inline([T10], symbolic=True)
     if spec.general and kin.platform is not None and closed:
         sy = platform_symbols()
         platform = set(sy["omega"] + sy["epsilon"] + sy["vdot"])
@@ -339,9 +346,10 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
                        (("M", "M"), ("Q", "Q"), (r"\Gamma", "Gamma"), ("G", "G")))
     blocks = {key: block(eqs) if eqs else None for key, eqs in out.items()}
     U = TexEquation("U", lines(vals["U"]))
+    T10 = TexEquation("T_{1} + T_{0}", lines(vals["T10"])) if vals.get("T10") is not None else None
     K = TexEquation("k", grouped(vals["K"])) if vals["K"] is not None else None
     printed = sum(eq.lines.terms or 0 for key in ("M", "Q", "Gamma", "G") for eq in out[key]) if closed else None
-    return dict(blocks, U=U, K=K, term_counts=counts, printed_terms=printed)
+    return dict(blocks, U=U, T10=T10, K=K, term_counts=counts, printed_terms=printed)
 
 
 def _recursion(kin, doc: Doc, targets: list) -> list:
@@ -393,6 +401,10 @@ def integral_statements(model: Model) -> dict:
                + (", no joint has a damper or a torque expression, and no load but gravity, springs and constant "
                   "forces fixed in space does work" if spec.general else ", and gravity is the only load"))
         energy = extra + f"The energy (23) is an integral of this model: {why}."
+    elif all(r.startswith("control torques") for r in facts.energy_reasons):
+        joints = ", ".join(str(k) for k in spec.controls)
+        energy = extra + (r"The energy (23) is not an integral of this model for every input: it is conserved when the "
+                          rf"control torques vanish ($L^k = 0$), and in general $dE/dt = \sum_k L^k\dot\varphi^k$ (joints {joints}).")
     else:
         energy = extra + f"The energy (23) is not an integral of this model: work is done by {_joined(facts.energy_reasons)}."
     K = r"$\hat{\mathbf e}^1_1\cdot\mathbf K_{O^1}$"
@@ -437,7 +449,7 @@ def _tex(model: Model) -> dict:
     facts = model.integrals
     return dict(
         general=spec.general,
-        moving=kin.platform is not None,
+        moving=spec.base is not None and spec.base.moves,
         jacobi=_jacobi(model, doc, closed),
         **integral_statements(model),
         **eqs,

@@ -41,6 +41,12 @@ def _formula_token(tok: str) -> bool:
     return bool(re.fullmatch(r"\d+(\.\d+)?|[A-Za-z]\w{0,2}", bare)) and bare.lower() not in _WORDS
 
 
+def _tt(escaped: str) -> str:
+    """Escaped text for typewriter type, whose OT1 font has < > | at their ASCII places (the
+    text-font names would borrow them from the math font, with a font warning)."""
+    return escaped.replace(r"\textgreater{}", r"\char62{}").replace(r"\textless{}", r"\char60{}").replace(r"\textbar{}", r"\char124{}")
+
+
 def description_tex(text: str) -> str:
     """The description as text; runs of words that form an ASCII formula ("a^2 w^2 > 2 g A11 /
     (m l)", "phi = pi") in typewriter type, escaped, as the user typed them."""
@@ -55,7 +61,7 @@ def description_tex(text: str) -> str:
             tail = ""
             if run[-1][-1] in ",;." and run[-1][-1:] not in ")":
                 run[-1], tail = run[-1][:-1], run[-1][-1]
-            out.append(r"\texttt{" + tex_escape(" ".join(run)) + "}" + tex_escape(tail))
+            out.append(r"\texttt{" + _tt(tex_escape(" ".join(run))) + "}" + tex_escape(tail))
             i = j
         else:
             out.append(tex_escape(words[i]))

@@ -178,3 +178,15 @@ def test_damping_in_joint_one_leaves_equilibria_and_no_steady_rotations(compiled
         assert np.allclose(np.sort_complex(full), np.sort_complex(e.eigenvalues), rtol=1e-9, atol=1e-12)
     hanging = [e for e in eqs if e.verdict == "asymptotically stable"]
     assert len(hanging) == 1 and abs(np.cos(hanging[0].phi[1]) + 1) < 1e-9, [(e.phi, e.verdict) for e in eqs]  # φ² = π: c below O
+
+
+def test_a_follower_load_is_named_not_gyroscopic_terms():
+    """Ziegler's column at P = 8.33 (issue 49): stable to first order although the energy's Hessian
+    is indefinite, and Γ ≡ 0 there: the reason names the follower load, not gyroscopic stabilisation."""
+    from gyrochain.physical import run_values
+
+    spec = load_spec(ROOT / "specs" / "ziegler.toml")
+    an, eqs, _, _ = steady.analyze(spec, run_values(spec, {"P": 8.33}))
+    (e,) = [e for e in eqs if np.allclose(e.phi, 0.0)]
+    assert e.verdict == "linearly stable" and "gyroscopic" not in e.reason.replace("not by gyroscopic", "")
+    assert "non-conservative loads (body[2].force[1] (a follower force))" in e.reason and "1 negative eigenvalue:" in e.reason
