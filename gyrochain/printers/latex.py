@@ -422,7 +422,8 @@ def integral_statements(model: Model) -> dict:
                  + rf"), so {K} $= k$ with")
         momentum = "The momentum (27) is an integral of this model."
     else:
-        intro = rf"Momentum (27), {K} (the axis $l^1$ is vertical in the platform, $\sin\theta^1 = 0$):"
+        where = " in the platform" if spec.base is not None else ""
+        intro = rf"Momentum (27), {K} (the axis $l^1$ is vertical{where}, $\sin\theta^1 = 0$):"
         momentum = f"The momentum (27) is not an integral of this model: {_joined(facts.momentum_reasons)}."
     return dict(energy_statement=energy, momentum_intro=intro, momentum_statement=momentum)
 
@@ -450,6 +451,7 @@ def _tex(model: Model) -> dict:
     return dict(
         general=spec.general,
         moving=spec.base is not None and spec.base.moves,
+        gravity=spec.g != 0,
         jacobi=_jacobi(model, doc, closed),
         **integral_statements(model),
         **eqs,
