@@ -135,7 +135,6 @@ class Raster:
         discs = occluders(prims, self.cam)
         self.boxes = [("path", *self._bbox(tr))] if len(tr) else []
         labels = [p for p in prims if p[0] == "label"]
-        self._prims = prims
         for prim in prims:
             if prim[0] == "label":
                 continue
@@ -144,7 +143,7 @@ class Raster:
                 items += [self._item(draw, piece, len(items), depth) for piece, depth in seg_pieces(prim, discs, self.cam)]
             else:
                 items.append(self._item(draw, prim, len(items)))
-        items += self._labels(draw, labels, len(items))
+        items += self._labels(draw, labels, [p for p in prims if p[0] == "disc"], len(items))
         for _, _, paint in sorted(items, key=lambda it: (it[0], it[1])):
             paint()
         self._overlay(draw, t)
@@ -217,14 +216,14 @@ class Raster:
         x, y, _ = self._px(np.asarray(pts, float))
         return (float(x.min()) / self.ss, float(y.min()) / self.ss, float(x.max()) / self.ss, float(y.max()) / self.ss)
 
-    def _labels(self, draw, labels: list, order: int) -> list:
+    def _labels(self, draw, labels: list, discs: list, order: int) -> list:
         """The labels (the axes' 1 2 3) placed so that none covers another, a centre of mass, the
         text lines or the legend: each starts where its axis ends and steps outwards (away from
         the middle of its axes) until it is clear; their boxes join ``self.boxes``."""
         ss, pad = self.ss, 2.0
         hard = [b[1:] for b in self.boxes if b[0] == "dot"]
         hard += [(0, 0, self.W, self.top), (0, self.H - self.band, self.W, self.H)]
-        discs = [np.array(self._px(self._outline(p))[:2]).T / ss for p in self._prims if p[0] == "disc"]
+        discs = [np.array(self._px(self._outline(p))[:2]).T / ss for p in discs]
         items = []
         for prim in labels:
             _, p, text, col, o = prim
