@@ -69,36 +69,83 @@ def description_tex(text: str) -> str:
     return " ".join(out)
 
 
-def verbatim_text(text: str) -> str:
-    """The spec text for a verbatim block: Latin-1 kept (T1, UTF-8 input); super- and subscript
-    digits and Greek letters spelled in ASCII (^0, _3, lambda); anything else as '?'."""
-    out = []
-    for ch in text:
-        if ord(ch) < 256 and (ch.isprintable() or ch in "\n\t"):
+_GREEK = {"lamda": "lambda", "omicron": "o", "final sigma": "varsigma", "phi": "varphi", "epsilon": "varepsilon",
+          "theta symbol": "vartheta", "phi symbol": "phi", "lunate epsilon symbol": "epsilon", "rho symbol": "varrho"}
+_CAPITAL_COMMANDS = {"Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Upsilon", "Phi", "Psi", "Omega"}
+_SYMBOLS = {"\u2248": r"\approx", "\u2264": r"\le", "\u2265": r"\ge", "\u2260": r"\ne", "\u00b1": r"\pm", "\u00d7": r"\times",
+            "\u00b7": r"\cdot", "\u22c5": r"\cdot", "\u00b0": r"^\circ", "\u00b5": r"\mu", "\u2212": "-", "\u2192": r"\to",
+            "\u2190": r"\leftarrow", "\u221e": r"\infty", "\u2202": r"\partial", "\u2022": r"\bullet", "\u00f7": r"\div",
+            "\u2026": r"\ldots", "\u2013": r"\text{-}", "\u2014": r"\text{-}", "\u2018": r"\text{`}", "\u2019": r"\text{'}",
+            "\u201c": r"\text{``}", "\u201d": r"\text{''}", "\u00ac": r"\neg", "\u221a": r"\surd"}
+_LATIN_LOOKALIKE = dict(Alpha="A", Beta="B", Epsilon="E", Zeta="Z", Eta="H", Iota="I", Kappa="K", Mu="M", Nu="N", O="O", Rho="P",
+                       Tau="T", Chi="X")
+_ACCENTS = {"GRAVE": "`", "ACUTE": "'", "CIRCUMFLEX": "^", "DIAERESIS": '"', "TILDE": "~", "MACRON": "=", "DOT ABOVE": ".",
+            "CEDILLA": "c", "RING ABOVE": "r", "CARON": "v", "BREVE": "u", "DOUBLE ACUTE": "H"}
+_LETTERS = {"\u00df": r"\ss", "\u00e6": r"\ae", "\u00c6": r"\AE", "\u00f8": r"\o", "\u00d8": r"\O", "\u0153": r"\oe",
+            "\u0152": r"\OE", "\u0142": r"\l", "\u0141": r"\L", "\u00e5": r"\aa", "\u00c5": r"\AA"}
+TAB = 8  # a tab is shown as the spaces to the next multiple of 8 columns, with an arrow in the first
+
+
+def _glyph(ch: str) -> str:
+    """How a character outside ASCII is drawn in the listing: TeX for its own glyph where the
+    fonts of texlive-latex-base have one, else a boxed '?' (its text stays the character)."""
+    name = unicodedata.name(ch, "")
+    if ch in _SYMBOLS:
+        return r"\ensuremath{" + _SYMBOLS[ch] + "}"
+    if ch in _LETTERS:
+        return "{" + _LETTERS[ch] + "}"
+    if name.startswith(("SUPERSCRIPT ", "SUBSCRIPT ")) or re.match(r"MODIFIER LETTER SMALL [A-Z]$", name):
+        base = unicodedata.normalize("NFKC", ch)
+        if base.isascii() and base.isalnum() or base in "+-=()":
+            return (r"\textsubscript{" if name.startswith("SUBSCRIPT") else r"\textsuperscript{") + base + "}"
+    if name.startswith("GREEK "):
+        m = re.match(r"GREEK (SMALL|CAPITAL) LETTER (.*)$", name) or re.match(r"GREEK (.*)()$", name)
+        word = (m.group(2) or m.group(1)).lower()
+        word = _GREEK.get(word, word)
+        if m.group(1) == "CAPITAL":
+            word = word.capitalize()
+            return "\\ensuremath{\\" + word + "}" if word in _CAPITAL_COMMANDS else r"\ensuremath{\mathrm{" + _LATIN_LOOKALIKE.get(word, "?") + "}}"
+        if word.isalpha() and word.isascii():
+            return "\\ensuremath{\\" + word + "}"
+    decomposed = unicodedata.normalize("NFD", ch)
+    if len(decomposed) == 2 and decomposed[0].isascii() and decomposed[0].isalpha():
+        accent = unicodedata.name(decomposed[1], "").replace("COMBINING ", "").replace(" ACCENT", "")
+        if accent in _ACCENTS:
+            return "\\" + _ACCENTS[accent] + "{" + decomposed[0] + "}"
+    return r"\fbox{\kern-2.5pt?\kern-2.5pt}"
+
+
+def verbatim_listing(text: str) -> dict:
+    """The spec file as Appendix B prints it, character for character.  ASCII goes into a verbatim
+    block as it is; every other character (and a tab, and the backslash of an ``\\end{verbatim}``
+    in the text) is an active character of the document, drawn one column wide by ``_glyph`` inside
+    a span whose ActualText is the character itself, so that the PDF's text (copy, search, a
+    text extractor) is the file's.  Returns the block's text, the declarations, the width in
+    columns of the longest line and whether there are tabs."""
+    chars: dict[str, tuple[str, str, int]] = {}  # code point of the block -> (UTF-16 of the text, glyph, columns)
+    lines, width = [], 0
+    for line in text.split("\n"):
+        out, col = [], 0
+        line = line.replace("\\end{verbatim}", "\ue000end{verbatim}")
+        for ch in line:
+            if ch == "\t":
+                span = TAB - col % TAB
+                key = chr(0xE000 + span)
+                chars[key] = ("0009", r"\ensuremath{\scriptscriptstyle\rightarrow}", span)
+                out.append(key)
+                col += span
+                continue
+            if ch == "\ue000":
+                chars[ch] = ("005C", r"\char92{}", 1)
+            elif not (ch.isascii() and ch.isprintable()) and ch not in chars:
+                utf16 = ch.encode("utf-16-be").hex().upper()
+                chars[ch] = (utf16, _glyph(ch), 1)
             out.append(ch)
-            continue
-        name = unicodedata.name(ch, "")
-        digit = unicodedata.numeric(ch, None)
-        if name.startswith(("SUPERSCRIPT ", "SUBSCRIPT ")):
-            out.append(("^" if name.startswith("SUPER") else "_") + (str(int(digit)) if digit is not None else "?"))
-        elif name.startswith("GREEK "):
-            out.append(name.split()[-1].lower().replace("lamda", "lambda"))
-        elif name.startswith("COMBINING "):
-            continue
-        else:
-            out.append("?")
-    lines = []
-    for line in "".join(out).replace(r"\end{verbatim}", r"\end {verbatim}").split("\n"):
-        while len(line) > VERBATIM_WIDTH:  # a long line goes on, indented, on the next (the page has no more room)
-            cut = line.rfind(" ", 40, VERBATIM_WIDTH)
-            cut = cut if cut > 0 else VERBATIM_WIDTH
-            lines.append(line[:cut])
-            line = "        " + line[cut:].lstrip()
-        lines.append(line)
-    return "\n".join(lines)
-
-
-VERBATIM_WIDTH = 180  # characters of \scriptsize typewriter type across the landscape page
+            col += 1
+        lines.append("".join(out))
+        width = max(width, col)
+    decls = [("%04X" % ord(key), utf16, glyph, span) for key, (utf16, glyph, span) in sorted(chars.items())]
+    return dict(text="\n".join(lines), chars=decls, columns=width, tab=TAB, tabs=any(u == "0009" for _, u, _, _ in decls))
 
 
 def angle_text(theta: sp.Expr, w, fold) -> str:
@@ -139,7 +186,7 @@ def scene(spec, w, fold) -> dict:
     params = [dict(tex=w.name(p), name=tex_escape(p.name),
                    value=number_text(sp.Rational(repr(spec.values[p.name]))) if p.name in spec.values else "")
               for p in spec.params]
-    return dict(joints=joints, loads=loads, base=base, params=params, spec_text=verbatim_text(spec.source.rstrip("\n")))
+    return dict(joints=joints, loads=loads, base=base, params=params, spec_listing=verbatim_listing(spec.source.rstrip("\n")))
 
 
 def notation(model: Model, closed: bool, param_names: list[str]) -> list[tuple[str, str]]:
