@@ -111,7 +111,7 @@ def _momentum_reasons(spec: ChainSpec, pm) -> list[str]:
         elif not (zero(pm.omega[1]) and zero(pm.omega[2])):
             out.append("base.rotation (the platform turns about another axis than l1)")
         if not all(zero(v) for v in pm.vel[1:]):
-            out.append("base.position (O1 moves off the axis l1)")
+            out.append("base.position (O1 moves across the axis l1, not only along it)")
     b1 = spec.bodies[0]
     if b1.control:
         out.append("control torque in joint 1")

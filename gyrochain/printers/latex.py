@@ -33,29 +33,19 @@ def fold_numbers(expr: sp.Expr) -> sp.Expr:
     return expr.func(*args) if any(a is not b for a, b in zip(args, expr.args)) else expr
 
 
-GREEK = {"alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa", "lambda", "mu",
-         "nu", "xi", "pi", "rho", "sigma", "tau", "upsilon", "phi", "chi", "psi", "omega",
-         "Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Upsilon", "Phi", "Psi", "Omega"}
-# letters the document uses by themselves (the momentum constant k, E, U, T, t, the quadratures'
-# J, C, K, the residual R, Jacobi's h): a parameter of that name prints in sans serif
-RESERVED = {"k", "E", "U", "T", "t", "J", "C", "K", "R", "h", "W"}
 
 
 def param_tex(name: str) -> str:
-    r"""A spec parameter's name in the document: a letter head and a subscript tail (m2 → m_{2},
-    J1z → J_{1z}, A11 → A_{11}, k_spring → k_{\mathrm{spring}}), Greek names as Greek letters,
-    other words upright; a name that is one of the document's own letters in sans serif."""
+    r"""A spec parameter's name in the document, in sans serif (the document's own symbols are in
+    serif type, so no parameter reads as one of them): a letter head and a subscript tail (m2 →
+    m_{2}, J1z → J_{\mathrm{1z}}, A11 → A_{11}, k_spring → k_{\mathrm{spring}}); a longer head, Greek
+    names included, as the word."""
     m = re.fullmatch(r"([A-Za-z]+?)_?([0-9].*|(?<=_).+)?", name)
     head, tail = (m.group(1), m.group(2)) if m else (name, None)
-    if head in GREEK:
-        head = "\\" + head
-    elif head in RESERVED and not tail:
-        head = rf"\mathsf{{{head}}}"
-    elif len(head) > 1:
-        head = rf"\mathrm{{{tex_escape(head)}}}"
+    head = rf"\mathsf{{{tex_escape(head)}}}"
     if not tail:
         return head
-    tail = tail if re.fullmatch(r"[0-9]+[A-Za-z]?", tail) else rf"\mathrm{{{tex_escape(tail)}}}"
+    tail = tail if tail.isdigit() else rf"\mathrm{{{tex_escape(tail)}}}"
     return f"{head}_{{{tail}}}"
 
 
@@ -329,7 +319,7 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
     else:
         lines = grouped = doc.poly_lines
     if pair_form:  # per joint S^k then z^k (six components each), as _mass_targets lists them
-        names = [f"{v}^{{{k + 1}}}_{{{i + 1}}}" for k in range(n) for v in ("S", "z") for i in range(6)]
+        names = [f"{v}^{{{k + 1}}}_{{{i + 1}}}" for k in range(n) for v in (r"\xi", "z") for i in range(6)]
     else:
         names = [f"M_{{{k + 1}{r + 1}}}" for k in range(n) for r in range(k, n)]
     out = dict(
@@ -347,7 +337,7 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
     blocks = {key: block(eqs) if eqs else None for key, eqs in out.items()}
     U = TexEquation("U", lines(vals["U"]))
     T10 = TexEquation("T_{1} + T_{0}", lines(vals["T10"])) if vals.get("T10") is not None else None
-    K = TexEquation("k", grouped(vals["K"])) if vals["K"] is not None else None
+    K = TexEquation(r"\ell", grouped(vals["K"])) if vals["K"] is not None else None
     printed = sum(eq.lines.terms or 0 for key in ("M", "Q", "Gamma", "G") for eq in out[key]) if closed else None
     return dict(blocks, U=U, T10=T10, K=K, term_counts=counts, printed_terms=printed)
 
@@ -372,18 +362,19 @@ def _quadratures(model: Model, doc: Doc) -> dict | None:
 
 
 def _jacobi(model: Model, doc: Doc, closed: bool):
-    """Jacobi's integral h written out (closed forms), None where it is not an integral."""
+    """Jacobi's integral H written out (closed forms), None where it is not an integral."""
     h = model.integrals.jacobi
     if h is None:
         return None
     if not closed:
         return dict(K=None)
     (value,) = model.kin.prog.inline([h], symbolic=True)
-    return dict(K=TexEquation("h", doc.grouped(value, model.kin.phidot[1:])))
+    return dict(K=TexEquation("H", doc.grouped(value, model.kin.phidot[1:])))
 
 
 def _joined(reasons) -> str:
-    return tex_escape("; ".join(reasons))
+    """The facts' reasons (plain text, as the CLI prints them) in the document: O1, l1 as $O^1$, $l^1$."""
+    return re.sub(r"\b([Ol])(\d+)\b", r"$\1^{\2}$", tex_escape("; ".join(reasons)))
 
 
 def integral_statements(model: Model) -> dict:
@@ -394,8 +385,12 @@ def integral_statements(model: Model) -> dict:
     spec, facts = model.spec, model.integrals
     extra = ""
     if facts.U_extra:
+        springs = any("spring" in w for w, _ in facts.U_extra)
+        kinds = ([r"for a spring $-\tfrac12\kappa^k(\varphi^k-\varphi^k_{\mathrm{rest}})^2$"] if springs else []) + (
+            ["for a constant force fixed in space the force dotted with the position of its point from $O^1$"]
+            if not all("spring" in w for w, _ in facts.U_extra) else [])
         extra = (r"$U$ includes the force function of " + ", ".join(tex_escape(w) for w, _ in facts.U_extra)
-                 + r" (springs: $-\tfrac12 k(\varphi-\varphi_0)^2$; constant fixed forces: $\mathbf F\cdot\mathbf r_P$).  ")
+                 + " (" + "; ".join(kinds) + ").  ")
     if facts.has_energy_integral:
         why = (r"the base is fixed, every $\boldsymbol\lambda^k$ is constant, no control torque acts"
                + (", no joint has a damper or a torque expression, and no load but gravity, springs and constant "
@@ -404,7 +399,8 @@ def integral_statements(model: Model) -> dict:
     elif all(r.startswith("control torques") for r in facts.energy_reasons):
         joints = ", ".join(str(k) for k in spec.controls)
         energy = extra + (r"The energy (23) is not an integral of this model for every input: it is conserved when the "
-                          rf"control torques vanish ($L^k = 0$), and in general $dE/dt = \sum_k L^k\dot\varphi^k$ (joints {joints}).")
+                          rf"control torques vanish ($L^k = 0$), and in general $dE/dt = \sum_k L^k\dot\varphi^k$, over the controlled "
+                          rf"joint{'s' if len(spec.controls) > 1 else ''} {joints}.")
     else:
         energy = extra + f"The energy (23) is not an integral of this model: work is done by {_joined(facts.energy_reasons)}."
     K = r"$\hat{\mathbf e}^1_1\cdot\mathbf K_{O^1}$"
@@ -412,14 +408,14 @@ def integral_statements(model: Model) -> dict:
         intro = None
         momentum = r"The momentum (27) is not an integral of this model: $\theta^1 \ne 0$, the axis $l^1$ is not vertical."
     elif facts.momentum_condition:
-        intro = (rf"Momentum (27), $\partial\mathcal L/\partial\dot\varphi^1 = $ {K}; it is conserved, $= k$, only when "
+        intro = (rf"Momentum (27), {K}; it is conserved, $= \ell$, only when "
                  rf"the axis $l^1$ is vertical, (25): {tex_escape(facts.momentum_condition)}. The function is")
         momentum = "The momentum (27) is not an integral of this model for every value of its parameters."
     elif facts.has_momentum_integral:
         intro = (r"Momentum (27): the axis $l^1$ is vertical ($\sin\theta^1 = 0$, (25)) and nothing turns the chain "
                  r"about it (no torque, spring or damper in joint 1, no load with a moment about $l^1$"
                  + (", the platform turning about $l^1$ only" if spec.base is not None and spec.base.moves else "")
-                 + rf"), so {K} $= k$ with")
+                 + rf"), so {K} $= \ell$ with")
         momentum = "The momentum (27) is an integral of this model."
     else:
         where = " in the platform" if spec.base is not None else ""
@@ -447,8 +443,7 @@ def _tex(model: Model) -> dict:
         targets += [ints.U] + ([ints.momentum] if ints.momentum is not None else [])
         targets += list(dyn.Lamdot) + list(dyn.Phi) + [j for j in dyn.joint if not j.is_zero()]
         recursion = _recursion(kin, doc, targets)
-    facts = model.integrals
-    return dict(
+    out = dict(
         general=spec.general,
         moving=spec.base is not None and spec.base.moves,
         gravity=spec.g != 0,
@@ -462,7 +457,6 @@ def _tex(model: Model) -> dict:
         offsets=[(k, texscene.angle_text(b.offset, doc.w, fold_numbers)) for k, b in enumerate(spec.bodies, start=1)
                  if b.offset != 0],
         scene=texscene.scene(spec, doc.w, fold_numbers),
-        notation=texscene.notation(model, closed, [doc.w.name(p) for p in spec.params]),
         form_text=texscene.FORM_TEXT.get(doc.form),
         form_counts=texscene.form_counts(doc.form, doc.counts),
         g=doc.w.sum_text(fold_numbers(spec.g)),
@@ -473,7 +467,10 @@ def _tex(model: Model) -> dict:
         deriv_generic="d_jvp" in model.lines,
         deriv_world=model.der_form == "world",
         base=base_parameters(model),
+        references=[REFERENCES[k] for k in references(model)],
     )
+    out["notation"] = texscene.notation(model, out, [doc.w.name(p) for p in spec.params])
+    return out
 
 
 def _coefficient(c) -> str:
@@ -515,18 +512,40 @@ def base_parameters(model: Model) -> dict | None:
     )
 
 
+# the works a document cites: the paper and the one it builds on always, the others where the
+# document uses them (Nikolai's quadratures) or the spec's description names them
+REFERENCES = {
+    "paper": r"\emph{Sostavnoi prostranstvennyi mayatnik} [The compound spatial pendulum], in a Donetsk collection on rigid-body dynamics.",
+    "kharlamov": r"P.~V.~Kharlamov, \emph{On the equations of motion of a system of rigid bodies}, in the same collection as [1].",
+    "nikolai": r"E.~L.~Nikolai, \emph{On the motion of a balanced gyroscope in a Cardan suspension}, Prikladnaya Matematika i Mekhanika (PMM) 3(4), 1939.",
+    "kapitza": r"P.~L.~Kapitza, \emph{Dynamic stability of a pendulum when its point of suspension vibrates}, Zh. Eksp. Teor. Fiz. 21 (1951) 588--597.",
+    "floquet": r"G.~Floquet, \emph{Sur les \'equations diff\'erentielles lin\'eaires \`a coefficients p\'eriodiques}, Ann. Sci. \'Ec. Norm. Sup. 12 (1883) 47--88.",
+    "mathieu": r"\'E.~Mathieu, \emph{M\'emoire sur le mouvement vibratoire d'une membrane de forme elliptique}, J. Math. Pures Appl. 13 (1868) 137--203.",
+    "ziegler": r"H.~Ziegler, \emph{Die Stabilit\"atskriterien der Elastomechanik}, Ingenieur-Archiv 20 (1952) 49--56.",
+}
+
+
+def references(model: Model) -> list[str]:
+    """The keys of REFERENCES this document cites, in the order of their numbers."""
+    keys = ["paper", "kharlamov"]
+    if model.quad is not None and model.quad.nikolai or "nikolai" in model.spec.description.lower():
+        keys.append("nikolai")
+    keys += [k for k in ("kapitza", "floquet", "mathieu", "ziegler") if k in model.spec.description.lower()]
+    return keys
+
+
 def source_text(model: Model, context: dict) -> str:
     """Where the document comes from: the paper and the works it builds on, the spec and its
     sha256, the generator's and sympy's versions (the same facts as MANIFEST.json)."""
-    spec = model.spec
-    nikolai = model.quad is not None and model.quad.nikolai
+    spec, cited = model.spec, references(model)
+    named = [k for k in cited[2:] if k != "nikolai" or model.quad is None or not model.quad.nikolai]
+    nikolai = "nikolai" in cited and model.quad is not None and model.quad.nikolai
     return (rf"Derived from the spec \texttt{{{tex_escape(one_line(context['label']))}}} "
             rf"(sha256 \texttt{{{hashlib.sha256(spec.source.encode('utf-8')).hexdigest()[:16]}}}\dots) by gyrochain "
             rf"{tex_escape(context['gyrochain_version'])} with sympy {tex_escape(context['sympy_version'])}, following the paper "
-            r"\emph{The compound spatial pendulum} (a Donetsk collection on rigid-body dynamics), whose equations of motion "
-            r"build on P.~V.~Kharlamov, \emph{On the equations of motion of a system of rigid bodies}"
-            + (r"; the quadratures of the balanced gyroscope follow E.~L.~Nikolai, \emph{On the motion of a balanced "
-               r"gyroscope in a Cardan suspension}, PMM 3(4), 1939" if nikolai else "") + ".")
+            r"\emph{The compound spatial pendulum} [1], whose equations of motion build on Kharlamov's [2]"
+            + (rf"; the quadratures of the balanced gyroscope follow Nikolai [{cited.index('nikolai') + 1}]" if nikolai else "")
+            + (r". The description names " + ", ".join(f"[{cited.index(k) + 1}]" for k in named) if named else "") + ".")
 
 
 def initial_text(spec) -> str:

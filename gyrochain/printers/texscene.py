@@ -15,7 +15,7 @@ from .texterms import number_text
 FORM_TEXT = {
     "c": r"products of $\cos\varphi^k$ and $\sin\varphi^k$ with no $\sin^2\varphi^k$ ($\sin^2\varphi^k = 1 - \cos^2\varphi^k$ used)",
     "s": r"products of $\cos\varphi^k$ and $\sin\varphi^k$ with no $\cos^2\varphi^k$ ($\cos^2\varphi^k = 1 - \sin^2\varphi^k$ used)",
-    "f": r"cosines and sines of multiple angles $m_1\varphi^1 + m_2\varphi^2 + \dots$ (no products of them)",
+    "f": r"cosines and sines of integer combinations of the angles, such as $\cos(\varphi^1 - 2\varphi^2)$, each written with its first angle's multiple positive (no products of them)",
 }
 
 FORM_NAMES = {"c": r"with no $\sin^2$", "s": r"with no $\cos^2$", "f": "in multiple angles"}
@@ -169,10 +169,11 @@ def scene(spec, w, fold) -> dict:
     joints = []
     for k, b in enumerate(spec.bodies, start=1):
         if b.spring is not None or b.damping is not None or b.torque is not None:
-            joints.append(dict(k=k, spring=show(b.spring) if b.spring is not None else "",
-                               rest=show(b.rest) if b.spring is not None else "",
-                               damping=show(b.damping) if b.damping is not None else "",
-                               torque=show(b.torque) if b.torque is not None else ""))
+            none = r"\text{--}"  # the joint has no such element
+            joints.append(dict(k=k, spring=show(b.spring) if b.spring is not None else none,
+                               rest=show(b.rest) if b.spring is not None else none,
+                               damping=show(b.damping) if b.damping is not None else none,
+                               torque=show(b.torque) if b.torque is not None else none))
     loads = []
     for k, b in enumerate(spec.bodies, start=1):
         for ld in b.forces:
@@ -189,44 +190,92 @@ def scene(spec, w, fold) -> dict:
     return dict(joints=joints, loads=loads, base=base, params=params, spec_listing=verbatim_listing(spec.source.rstrip("\n")))
 
 
-def notation(model: Model, closed: bool, param_names: list[str]) -> list[tuple[str, str]]:
-    """Every symbol the document uses, with its meaning: the paper's, then this document's own."""
-    spec, facts = model.spec, model.integrals
+def notation(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str, str, str]]:
+    """Every symbol the document uses, once, with its unit and its meaning: the paper's, then this
+    document's own; ``doc`` is the document's context (which sections it has)."""
+    spec = model.spec
+    general, recursion, moving = spec.general, bool(doc["recursion"]), doc["moving"]
     rows = [
-        (r"$S^k$, $O^k$, $l^k$", r"body $k$, its joint's point on the axis, the joint axis ($k = 1,\dots,n$; $S^0$ the base)"),
-        (r"$\hat{\mathbf e}^k_i$, $\mathbf e^k$", r"the frame of body $k$; $\mathbf e^k = \hat{\mathbf e}^k_1$ along $l^k$"),
-        (r"$\varphi^k$, $\dot\varphi^k$, $\ddot\varphi^k$", r"the angle of joint $k$ (body $k$ relative to body $k-1$), its rates"),
-        (r"$\theta^k$", r"the angle between $l^{k-1}$ and $l^k$ (the structure)"),
-        (r"$m^k$, $\mathbf c^k$, $\mathbf s^k$", r"mass, centre of mass from $O^k$, the vector $O^kO^{k+1}$"),
-        (r"$\mathbf A^k$, $\boldsymbol\lambda^k$", r"inertia tensor about $O^k$, gyrostatic moment of the rotors"),
-        (r"$\alpha^{k,k-1}$", r"direction cosines of frame $k$ in frame $k-1$"),
-        (r"$M_{kr}$, $Q_k$, $\Gamma_k$, $G_k$", r"mass matrix, velocity-quadratic, gyroscopic and gravity terms of (17)--(19)"),
-        (r"$L^k$", r"the control torque of joint $k$"),
-        (r"$T$, $U$, $E$", r"kinetic energy, force function, the energy constant (23)"),
-        (r"$g$", r"gravity, along $\hat{\mathbf e}^0_1$ (down)"),
+        (r"$n$, $k$, $r$, $p$, $q$", "", r"the number of bodies; indices of bodies and joints, $1,\dots,n$ (an upper index labels a body and is never summed)"),
+        (r"$i$, $j$", "", r"components $1, 2, 3$ in a body's frame; a component index repeated in a product is summed over $1, 2, 3$"),
+        (r"$t$", "s", r"time ($t_0$ its initial value)"),
+        (r"$S^k$, $O^k$, $l^k$", "", r"body $k$, its joint's point on the axis, the joint axis ($S^0$ the base)"),
+        (r"$\hat{\mathbf e}^k_i$, $\mathbf e^k$", "1", r"the frame of body $k$; $\mathbf e^k = \hat{\mathbf e}^k_1$ along $l^k$"),
+        (r"$\varphi^k$, $\dot\varphi^k$, $\ddot\varphi^k$", r"rad, rad/s, rad/s$^2$",
+         r"the angle of joint $k$ (body $k$ relative to body $k-1$), its rates"),
+        (r"$\theta^k$", "rad", r"the angle between $l^{k-1}$ and $l^k$ (the structure)"),
+        (r"$m^k$" + (r", $m_c^k$" if recursion else ""), "kg", "mass" + (r"; $m_c^k$ that of the sub-chain $k,\dots,n$" if recursion else "")),
+        (r"$\mathbf c^k$, $c^k_i$, $\mathbf s^k$, $s^k_i$", "m", r"centre of mass from $O^k$, the vector $O^kO^{k+1}$, and their components"),
+        (r"$\mathbf A^k$, $A^k_{ij}$", r"kg\,m$^2$", r"inertia tensor about $O^k$, its components"),
+        (r"$\boldsymbol\lambda^k$, $\lambda^k_i$", r"kg\,m$^2$/s", r"gyrostatic moment of the rotors (constant in the body), its components"),
+        (r"$\alpha^{kr}_{ij}$, $\alpha^{k,k-1}$, $\alpha^k$, $\alpha^{prkk}_{i132}$", "1",
+         r"$\hat{\mathbf e}^k_i\cdot\hat{\mathbf e}^r_j$, the direction cosines of frame $k$ in frame $r$; $\alpha^k = \alpha^{k0}$; "
+         r"$\alpha^{prkk}_{i132} = \hat{\mathbf e}^p_i\cdot(\mathbf e^k\times\mathbf e^r)$"),
+        (r"$\boldsymbol\omega^k$, $\omega^k_i$, $\boldsymbol\varepsilon^k$, $\varepsilon^k_i$", r"rad/s, rad/s$^2$",
+         r"the angular velocity and acceleration of body $k$ ($k = 0$: the platform), components in its frame"
+         + (r" (in the recursion $\varepsilon^k$ is taken at $\ddot\varphi = 0$)" if recursion else "")),
+        (r"$M_{kr}$", r"kg\,m$^2$", r"the mass matrix: the coefficient of $\ddot\varphi^r$ in the equation of joint $k$"),
+        (r"$Q_k$, $\Gamma_k$, $G_k$", r"N\,m", r"velocity-quadratic, gyroscopic and gravity terms of (17)--(19)"
+         + (r" (in the recursion $\Gamma^k$ is the sub-chain's gyroscopic moment)" if recursion else "")),
+        (r"$L^k$", r"N\,m", r"the control torque of joint $k$"),
+        (r"$f_k$, $R_k$", r"N\,m", r"the right side less the left side's terms without $\ddot\varphi$; the residual $\sum_r M_{kr}\ddot\varphi^r - f_k$"),
+        (r"$x$, $\Delta$", r"rad, rad/s", r"the state $(\varphi, \dot\varphi)$; $\Delta x$, $\Delta L$ small deviations of the state and the controls"),
+        (r"$\mathcal A$, $\mathcal B$", "", r"the matrices of the linearisation"),
+        (r"$T$" + (r", $T_2$, $T_1$, $T_0$" if moving else ""), "J",
+         "kinetic energy" + (r" (absolute); $T_2$, $T_1$, $T_0$ its parts quadratic, linear and free of $\dot\varphi$" if moving else "")),
+        (r"$U$, $E$", "J", r"force function ($-U$ the potential energy), the energy constant (23)"),
+        (r"$g$", r"m/s$^2$", r"gravity, along $\hat{\mathbf e}^0_1$ (down)"),
+        (r"$\mathbf h^k$, $h^k_i$, $\mathbf I^k$, $I^k_{ij}$", r"kg\,m, kg\,m$^2$",
+         r"first moment of mass and inertia tensor of the sub-chain $k,\dots,n$ about $O^k$ (Appendix A)"),
     ]
-    if spec.general:
-        rows.append((r"$\Pi_k$, $\mathring\Lambda_k$, $W_k$, $\tau_k$",
+    return rows + _own_rows(model, doc, param_names)
+
+
+def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str, str, str]]:
+    """The notation of what this document has beyond the paper's fixed-base chain."""
+    general, recursion, rows = model.spec.general, bool(doc["recursion"]), []
+    if general:
+        rows.append((r"$\Pi_k$, $\mathring\Lambda_k$, $W_k$, $\tau_k$", r"N\,m",
                      r"platform terms, rotors spinning up, generalized forces of the loads, joint torques of springs, "
                      r"dampers and torque expressions (this document's names for the groups of (8)--(10))"))
+    if doc["scene"]["joints"] or any(w.startswith("spring") or "spring" in w for w, _ in model.integrals.U_extra):
+        rows.append((r"$\kappa^k$, $b^k$", r"N\,m/rad, N\,m\,s/rad",
+                     r"stiffness and damping of joint $k$ (rest angle $\varphi^k_{\mathrm{rest}}$)"))
+    if doc["scene"]["loads"]:
+        rows.append((r"$\mathbf P^q$, $\boldsymbol\mu^q$", r"N, N\,m", r"a force applied at a point of body $q$, a moment applied to it"))
     if model.kin.platform is not None:
-        rows.append((r"$\boldsymbol\omega^0$, $\boldsymbol\varepsilon^0$, $\dot{\mathbf v}_0$",
-                     r"the platform's angular velocity and acceleration, the acceleration of $O^1$ (platform frame)"))
-        rows.append((r"$\boldsymbol\gamma^0$", r"the downward vertical in the platform's frame (the Poisson vector; "
-                     r"not in the paper, whose base does not turn)"))
-    if facts.momentum is not None:
-        rows.append((r"$k$", r"the momentum $\hat{\mathbf e}^1_1\cdot\mathbf K_{O^1}$ of (27), its constant value"))
-    if facts.jacobi is not None:
-        rows.append((r"$h$, $T_2$, $T_0$", r"Jacobi's integral, the kinetic energy quadratic in $\dot\varphi$, "
-                     r"that of the chain carried by the platform"))
-    if model.quad is not None:
-        rows.append((r"$\psi$, $\varphi$", r"$\varphi^1$ and $\varphi^2$ in the quadratures (28)--(30)"))
-        rows.append((r"$J$, $C$, $K(\varphi)$, $E(\varphi)$, $\Phi$", r"the coefficients of (28), (29) and the integrand of (30)"))
-        rows.append((r"$\varphi_0$, $\psi_0$, $\varphi_-$, $\varphi_+$", r"initial angles; turning points (simple roots of $E(\varphi)J - K^2$)"))
-    if not closed:
-        rows.append((r"$\mathrm{name}$", r"a quantity of the recursion, defined in its section"))
-    rows.append((r"$R_k$", r"the residual $\sum_r M_{kr}\ddot\varphi^r - f_k$ of the derivatives' section"))
-    if spec.params:
-        rows.append((", ".join(f"${w}$" for w in param_names), r"symbolic parameters (table below; a name that is one of this "
-                     r"document's own letters is set in sans serif)"))
+        rows.append((r"$\mathbf r_0$, $\dot{\mathbf v}_0$, $\dot v_{0,i}$", r"m, m/s$^2$",
+                     r"the position of $O^1$ in the fixed frame; its acceleration, in the platform's frame"))
+    if general or recursion:
+        parts = recursion or model.kin.platform is not None  # components printed: γ⁰ᵢ of the platform rows, γᵏᵢ of the recursion
+        rows.append((r"$\boldsymbol\gamma^0$" + (r", $\gamma^k_i$" if parts else ""), "1", r"the downward vertical, $\hat{\mathbf e}^0_1$ of the fixed frame, in the "
+                     r"platform's frame (the Poisson vector; not in the paper, whose base does not turn)"
+                     + (r"; $\gamma^k_i$ its components in frame $k$" if parts else "")))
+    if recursion:
+        rows.append((r"$a^k$, $F^k$, $N^k$", r"m/s$^2$, N, N\,m",
+                     r"the acceleration of $O^k$; the sub-chain's inertial force and its moment about $O^k$"))
+    if doc["pair_form"]:
+        rows.append((r"$\xi^k$, $z^k$, $\mathcal I^k$", "", r"the axis of joint $k$ as a twist, its momentum $\mathcal I^k\xi^k$, "
+                     r"the spatial inertia of the sub-chain about $O^1$"))
+    if doc["offsets"]:
+        rows.append((r"$\delta^k$", "rad", r"the offset of joint $k$"))
+    if doc["jacobi"] is not None:
+        rows.append((r"$H$", "J", r"Jacobi's integral"))
+    if doc["momentum_intro"] is not None:
+        rows.append((r"$\mathbf K_{O^1}$, $\ell$", r"kg\,m$^2$/s", r"the angular momentum about $O^1$; the value of the momentum (27)"))
+    if doc["quad"] is not None:
+        rows.append((r"$\psi$, $\psi_0$", "rad", r"$\psi = \varphi^1$ and $\varphi = \varphi^2$ in the quadratures (28)--(30); "
+                     r"$\varphi_0$, $\psi_0$ initial angles; $\varphi_-$, $\varphi_+$ turning points (simple roots of $\mathcal E(\varphi)J - K^2$)"))
+        rows.append((r"$J$, $C$", r"kg\,m$^2$", r"the coefficients of (28), (29)"))
+        rows.append((r"$\mathcal E(\varphi)$", "J", r"$2(E + U)$, the right side of (28)"))
+        rows.append((r"$K(\varphi)$", r"kg\,m$^2$/s", r"the right side of (29)"))
+        rows.append((r"$\Phi$", "s/rad", r"the integrand of (30), $dt/d\varphi$"))
+    if recursion:
+        rows.append((r"$\mathrm{name}$", "", r"an intermediate quantity of the code, defined by its line in the order printed"))
+    if doc["base"] is not None:
+        rows.append((r"$Y$, $Y_B$, $\boldsymbol\pi$, $\boldsymbol\beta$, $\beta_i$, $u$, $u_0$", "",
+                     r"the regressor and its base columns, the standard and the base parameters, the joint torques and the spec's known part of them"))
+    if param_names:
+        rows.append((", ".join(f"${w}$" for w in param_names), "as the spec",
+                     r"symbolic parameters (table below; set in sans serif)"))
     return rows

@@ -110,8 +110,18 @@ class TexWriter:
             return self.name(arg)
         return None
 
+    def _turned(self, base) -> bool:
+        """cos or sin of a combination of angles whose first angle (lowest index) has a negative
+        multiple: printed of the negated combination, so that cos(φ¹ − φ² − φ³) is not cos(−φ¹ + φ² + φ³)."""
+        if not isinstance(base, (sp.cos, sp.sin)) or not isinstance(base.args[0], sp.Add):
+            return False
+        lead = [(self.angles[s], t) for t in sp.Add.make_args(base.args[0]) for s in t.free_symbols if s in self.angles]
+        return bool(lead) and min(lead, key=lambda kt: kt[0])[1].could_extract_minus_sign()
+
     def factor(self, base, e: int) -> str:
         pw = "" if e == 1 else f"^{{{e}}}"
+        if self._turned(base):
+            return rf"{FUNCTIONS[type(base)]}{pw}\left({self.sum_text(-base.args[0])}\right)"
         if isinstance(base, sp.Symbol):
             text = self.name(base)
             if not pw:
@@ -148,6 +158,8 @@ class TexWriter:
                 else:
                     raise ValueError(f"the LaTeX cannot print the power {f!r}")
             (num if e > 0 else den).append((base, abs(int(e))))
+            if isinstance(base, sp.sin) and self._turned(base) and int(e) % 2:
+                neg = not neg  # sin(−θ) = −sin θ
         num.sort(key=lambda be: self._key(be[0]))
         den.sort(key=lambda be: self._key(be[0]))
         body = " ".join(self.factor(b, e) for b, e in num)
