@@ -15,6 +15,7 @@ from pathlib import Path
 
 from . import pipeline
 from .assemble import Model, op_counts, time_dependent
+from .integrals import energy_verdict, momentum_verdict
 from .spec import SpecError
 
 DERIVATIVE_FORMS = {
@@ -112,30 +113,6 @@ def regressor_line(model: Model) -> str:
             f"combinations; their formulas in the LaTeX" + (f", {approx} with numerical coefficients" if approx else "") + ")")
 
 
-def _energy_line(spec, ints) -> str:
-    if not ints.has_energy_integral and all(r.startswith("control torques") for r in ints.energy_reasons):
-        return ("energy T - U (23): not conserved for every input: conserved when the control torques are 0, in general "
-                f"dE/dt = sum L^k phidot^k (joints {', '.join(map(str, spec.controls))})")
-    if not spec.general:
-        return "energy T - U (23): conserved (fixed base, no control torque)"
-    if ints.has_energy_integral:
-        why = "U includes " + ", ".join(w for w, _ in ints.U_extra) if ints.U_extra else "no load but gravity does work"
-        return f"energy T - U (23): conserved ({why})"
-    return "energy T - U (23): not conserved: " + "; ".join(ints.energy_reasons) + " removed it"
-
-
-def _momentum_line(ints) -> str:
-    if ints.momentum_condition:
-        return f"momentum (27): conserved only if {ints.momentum_condition}"
-    if ints.momentum is None:
-        return "momentum (27): not an integral (theta1 is not 0 or pi: the axis l1 is not vertical)"
-    if ints.has_momentum_integral:
-        return "momentum (27): conserved (axis l1 vertical, no torque in joint 1)"
-    if ints.momentum_reasons:
-        return "momentum (27): not conserved: " + "; ".join(ints.momentum_reasons)
-    return "momentum (27): not conserved (a control torque acts in joint 1)"
-
-
 def integral_lines(spec, model: Model) -> list[str]:
     """What ``generate`` says about the integrals and the quadratures of a spec."""
     from .quadratures import why_not
@@ -144,7 +121,7 @@ def integral_lines(spec, model: Model) -> list[str]:
     reason = why_not(spec)
     quad = ("quadratures (30): emitted (" + ("Nikolai's balanced gyroscope, " if model.quad.nikolai else "")
             + "NAME_quad_period, NAME_quad_state)" if reason is None else f"quadratures (30): not emitted: {reason}")
-    out = ["integrals: " + _energy_line(spec, ints), "           " + _momentum_line(ints)]
+    out = ["integrals: " + energy_verdict(spec, ints), "           " + momentum_verdict(ints)]
     if spec.general and spec.base is not None and spec.base.moves:
         out.append("           Jacobi integral T2 - T0 - U - sum lambda.omega0: " + (
             "conserved (the platform turns uniformly, gravity fixed in it; NAME_jacobi)" if ints.jacobi is not None

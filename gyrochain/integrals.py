@@ -290,3 +290,30 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> In
         U_extra=tuple(extra),
         subchain=subchain,
     )
+
+
+def energy_verdict(spec: ChainSpec, ints: Integrals) -> str:
+    """What generate's report and the header say of the energy (23), from the facts (the LaTeX
+    states the same in its words: printers/latex.py integral_statements)."""
+    if not ints.has_energy_integral and all(r.startswith("control torques") for r in ints.energy_reasons):
+        return ("energy T - U (23): not conserved for every input: conserved when the control torques are 0, in general "
+                f"dE/dt = sum L^k phidot^k over the controlled joint{'s' if len(spec.controls) > 1 else ''} {', '.join(map(str, spec.controls))}")
+    if not spec.general:
+        return "energy T - U (23): conserved (fixed base, no control torque)"
+    if ints.has_energy_integral:
+        why = "U includes " + ", ".join(w for w, _ in ints.U_extra) if ints.U_extra else "no load but gravity does work"
+        return f"energy T - U (23): conserved ({why})"
+    return "energy T - U (23): not conserved: " + "; ".join(ints.energy_reasons) + " removed it"
+
+
+def momentum_verdict(ints: Integrals) -> str:
+    """What generate's report and the header say of the momentum (27)."""
+    if ints.momentum_condition:
+        return f"momentum (27): conserved only if {ints.momentum_condition}"
+    if ints.momentum is None:
+        return "momentum (27): not an integral (theta1 is not 0 or pi: the axis l1 is not vertical)"
+    if ints.has_momentum_integral:
+        return "momentum (27): conserved (axis l1 vertical, no torque in joint 1)"
+    if ints.momentum_reasons:
+        return "momentum (27): not conserved: " + "; ".join(ints.momentum_reasons)
+    return "momentum (27): not conserved (a control torque acts in joint 1)"

@@ -62,7 +62,9 @@ extern "C" {
 #define CABLE64_SINGULAR 1
 #define CABLE64_NONFINITE 2
 #define CABLE64_NO_PARAMS 3
+/* energy T - U (23): conserved (fixed base, no control torque) */
 #define CABLE64_HAS_ENERGY_INTEGRAL 1
+/* momentum (27): not an integral (theta1 is not 0 or pi: the axis l1 is not vertical) */
 #define CABLE64_HAS_MOMENTUM_INTEGRAL 0
 #define CABLE64_HAS_QUADRATURES 0
 #define CABLE64_STEP_UNDERFLOW 7

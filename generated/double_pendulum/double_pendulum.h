@@ -66,7 +66,9 @@ extern "C" {
 #define DOUBLE_PENDULUM_SINGULAR 1
 #define DOUBLE_PENDULUM_NONFINITE 2
 #define DOUBLE_PENDULUM_NO_PARAMS 3
+/* energy T - U (23): conserved (fixed base, no control torque) */
 #define DOUBLE_PENDULUM_HAS_ENERGY_INTEGRAL 1
+/* momentum (27): not an integral (theta1 is not 0 or pi: the axis l1 is not vertical) */
 #define DOUBLE_PENDULUM_HAS_MOMENTUM_INTEGRAL 0
 #define DOUBLE_PENDULUM_HAS_QUADRATURES 0
 #define DOUBLE_PENDULUM_STEP_UNDERFLOW 7

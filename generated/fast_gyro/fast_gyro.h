@@ -66,7 +66,9 @@ extern "C" {
 #define FAST_GYRO_SINGULAR 1
 #define FAST_GYRO_NONFINITE 2
 #define FAST_GYRO_NO_PARAMS 3
+/* energy T - U (23): conserved (fixed base, no control torque) */
 #define FAST_GYRO_HAS_ENERGY_INTEGRAL 1
+/* momentum (27): conserved (axis l1 vertical, no torque in joint 1) */
 #define FAST_GYRO_HAS_MOMENTUM_INTEGRAL 1
 #define FAST_GYRO_HAS_QUADRATURES 1
 #define FAST_GYRO_STEP_UNDERFLOW 7

@@ -66,7 +66,9 @@ extern "C" {
 #define FURUTA_SINGULAR 1
 #define FURUTA_NONFINITE 2
 #define FURUTA_NO_PARAMS 3
+/* energy T - U (23): not conserved for every input: conserved when the control torques are 0, in general dE/dt = sum L^k phidot^k over the controlled joint 1 */
 #define FURUTA_HAS_ENERGY_INTEGRAL 0
+/* momentum (27): not conserved: control torque in joint 1 */
 #define FURUTA_HAS_MOMENTUM_INTEGRAL 0
 #define FURUTA_HAS_QUADRATURES 0
 #define FURUTA_STEP_UNDERFLOW 7

@@ -66,7 +66,9 @@ extern "C" {
 #define GIMBAL_SINGULAR 1
 #define GIMBAL_NONFINITE 2
 #define GIMBAL_NO_PARAMS 3
+/* energy T - U (23): conserved (fixed base, no control torque) */
 #define GIMBAL_HAS_ENERGY_INTEGRAL 1
+/* momentum (27): conserved (axis l1 vertical, no torque in joint 1) */
 #define GIMBAL_HAS_MOMENTUM_INTEGRAL 1
 #define GIMBAL_HAS_QUADRATURES 1
 #define GIMBAL_STEP_UNDERFLOW 7

@@ -66,7 +66,9 @@ extern "C" {
 #define GYROSTAT2_SINGULAR 1
 #define GYROSTAT2_NONFINITE 2
 #define GYROSTAT2_NO_PARAMS 3
+/* energy T - U (23): conserved (fixed base, no control torque) */
 #define GYROSTAT2_HAS_ENERGY_INTEGRAL 1
+/* momentum (27): conserved (axis l1 vertical, no torque in joint 1) */
 #define GYROSTAT2_HAS_MOMENTUM_INTEGRAL 1
 #define GYROSTAT2_HAS_QUADRATURES 1
 #define GYROSTAT2_STEP_UNDERFLOW 7

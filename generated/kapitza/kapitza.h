@@ -65,7 +65,9 @@ extern "C" {
 #define KAPITZA_SINGULAR 1
 #define KAPITZA_NONFINITE 2
 #define KAPITZA_NO_PARAMS 3
+/* energy T - U (23): not conserved: base (the platform moves) removed it */
 #define KAPITZA_HAS_ENERGY_INTEGRAL 0
+/* momentum (27): not an integral (theta1 is not 0 or pi: the axis l1 is not vertical) */
 #define KAPITZA_HAS_MOMENTUM_INTEGRAL 0
 #define KAPITZA_HAS_QUADRATURES 0
 #define KAPITZA_HAS_JACOBI_INTEGRAL 0

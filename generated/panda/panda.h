@@ -71,7 +71,9 @@ extern "C" {
 #define PANDA_SINGULAR 1
 #define PANDA_NONFINITE 2
 #define PANDA_NO_PARAMS 3
+/* energy T - U (23): not conserved: control torques (joints 1, 2, 3, 4, 5, 6, 7); body[1].damping; body[2].damping; body[3].damping; body[4].damping; body[5].damping; body[6].damping; body[7].damping removed it */
 #define PANDA_HAS_ENERGY_INTEGRAL 0
+/* momentum (27): not conserved: control torque in joint 1; body[1].damping */
 #define PANDA_HAS_MOMENTUM_INTEGRAL 0
 #define PANDA_HAS_QUADRATURES 0
 #define PANDA_HAS_JACOBI_INTEGRAL 0

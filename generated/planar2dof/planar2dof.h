@@ -71,7 +71,9 @@ extern "C" {
 #define PLANAR2DOF_SINGULAR 1
 #define PLANAR2DOF_NONFINITE 2
 #define PLANAR2DOF_NO_PARAMS 3
+/* energy T - U (23): not conserved: control torques (joints 1, 2); body[1].damping; body[2].damping removed it */
 #define PLANAR2DOF_HAS_ENERGY_INTEGRAL 0
+/* momentum (27): not an integral (theta1 is not 0 or pi: the axis l1 is not vertical) */
 #define PLANAR2DOF_HAS_MOMENTUM_INTEGRAL 0
 #define PLANAR2DOF_HAS_QUADRATURES 0
 #define PLANAR2DOF_HAS_JACOBI_INTEGRAL 0

@@ -65,7 +65,9 @@ extern "C" {
 #define SHIP_GIMBAL_SINGULAR 1
 #define SHIP_GIMBAL_NONFINITE 2
 #define SHIP_GIMBAL_NO_PARAMS 3
+/* energy T - U (23): not conserved: base (the platform moves) removed it */
 #define SHIP_GIMBAL_HAS_ENERGY_INTEGRAL 0
+/* momentum (27): not conserved: base.rotation (l1 does not stay vertical); base.position (O1 moves across the axis l1, not only along it) */
 #define SHIP_GIMBAL_HAS_MOMENTUM_INTEGRAL 0
 #define SHIP_GIMBAL_HAS_QUADRATURES 0
 #define SHIP_GIMBAL_HAS_JACOBI_INTEGRAL 0

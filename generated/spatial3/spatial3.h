@@ -66,7 +66,9 @@ extern "C" {
 #define SPATIAL3_SINGULAR 1
 #define SPATIAL3_NONFINITE 2
 #define SPATIAL3_NO_PARAMS 3
+/* energy T - U (23): not conserved for every input: conserved when the control torques are 0, in general dE/dt = sum L^k phidot^k over the controlled joint 3 */
 #define SPATIAL3_HAS_ENERGY_INTEGRAL 0
+/* momentum (27): not an integral (theta1 is not 0 or pi: the axis l1 is not vertical) */
 #define SPATIAL3_HAS_MOMENTUM_INTEGRAL 0
 #define SPATIAL3_HAS_QUADRATURES 0
 #define SPATIAL3_STEP_UNDERFLOW 7

@@ -66,7 +66,9 @@ extern "C" {
 #define UR5_SINGULAR 1
 #define UR5_NONFINITE 2
 #define UR5_NO_PARAMS 3
+/* energy T - U (23): not conserved for every input: conserved when the control torques are 0, in general dE/dt = sum L^k phidot^k over the controlled joints 1, 2, 3, 4, 5, 6 */
 #define UR5_HAS_ENERGY_INTEGRAL 0
+/* momentum (27): not conserved: control torque in joint 1 */
 #define UR5_HAS_MOMENTUM_INTEGRAL 0
 #define UR5_HAS_QUADRATURES 0
 #define UR5_STEP_UNDERFLOW 7

@@ -71,7 +71,9 @@ extern "C" {
 #define ZIEGLER_SINGULAR 1
 #define ZIEGLER_NONFINITE 2
 #define ZIEGLER_NO_PARAMS 3
+/* energy T - U (23): not conserved: body[2].force[1] (a follower force) removed it */
 #define ZIEGLER_HAS_ENERGY_INTEGRAL 0
+/* momentum (27): not conserved: body[1].spring; body[2].force[1] (a moment about the vertical) */
 #define ZIEGLER_HAS_MOMENTUM_INTEGRAL 0
 #define ZIEGLER_HAS_QUADRATURES 0
 #define ZIEGLER_HAS_JACOBI_INTEGRAL 0

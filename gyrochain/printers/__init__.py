@@ -13,7 +13,7 @@ import shlex
 
 import sympy as sp
 
-from .. import __version__, world
+from .. import __version__, integrals, world
 from ..assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
                         time_dependent, variational_stack_bytes)
 from .c import CTarget
@@ -65,6 +65,8 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         articulated=model.qdd_form == "articulated",
         loops=model.dyn.loops is not None,  # a long chain: M from S and z1 by the template's loops (loopform.py)
         has_energy_integral=int(ints.has_energy_integral),
+        energy_verdict=c_comment(integrals.energy_verdict(spec, ints)),
+        momentum_verdict=c_comment(integrals.momentum_verdict(ints)),
         has_momentum_integral=int(ints.has_momentum_integral),
         momentum_condition=ints.momentum_condition and c_comment(ints.momentum_condition).replace('"', "'"),
         quad=model.quad is not None,

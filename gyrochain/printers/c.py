@@ -20,14 +20,14 @@ class CPrinter(NumbersAsDoubles, C99CodePrinter):
         return self._pow(expr, "sqrt", "1.0") or super()._print_Pow(expr)
 
 
-def defines(ctx: dict) -> list[tuple[str, int]]:
+def defines(ctx: dict) -> list[tuple]:
     """The header's #defines NAME_<key> <value>, in the header's order: sizes, return codes and
     method numbers (codes.py), and the facts of this model (which integrals, forms and
-    functions it has)."""
+    functions it has); an integral's define comes with generate's sentence about it."""
     status = [(k, v) for k, v in STATUS.items() if k not in QUAD_STATUS]
     out = [("N", ctx["n"]), ("NU", len(ctx["controls"])), ("NPARAMS", len(ctx["params"]))] + status[:4]
-    out += [("HAS_ENERGY_INTEGRAL", ctx["has_energy_integral"]), ("HAS_MOMENTUM_INTEGRAL", ctx["has_momentum_integral"]),
-            ("HAS_QUADRATURES", int(ctx["quad"]))]
+    out += [("HAS_ENERGY_INTEGRAL", ctx["has_energy_integral"], ctx["energy_verdict"]),
+            ("HAS_MOMENTUM_INTEGRAL", ctx["has_momentum_integral"], ctx["momentum_verdict"]), ("HAS_QUADRATURES", int(ctx["quad"]))]
     if ctx["general"]:
         out += [("HAS_JACOBI_INTEGRAL", int(ctx["has_jacobi"])), ("TIME_DEPENDENT", int(ctx["time_dependent"]))]
     out += status[4:] + [(k.upper(), v) for k, v in METHODS.items()] + [("HAS_CANONICAL", int(ctx["canonical"]))]
@@ -36,7 +36,7 @@ def defines(ctx: dict) -> list[tuple[str, int]]:
         out += [("NPI", ctx["npi"]), ("NBASE", ctx["nbase"])]
     if ctx["quad"]:
         out += [(k, STATUS[k]) for k in QUAD_STATUS] + [(k.upper(), v) for k, v in MOTIONS.items()]
-    return out
+    return [d if len(d) == 3 else (*d, "") for d in out]
 
 
 def ldlt_factor_lines(A: str, n: int, NAME: str) -> list[str]:
