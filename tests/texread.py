@@ -255,3 +255,55 @@ def direction_cosines(tex: str, names: dict) -> dict[int, list[list[sp.Expr]]]:
     r"""α^{k,k−1} of the direction cosines' section, by k."""
     found = re.findall(r"\\alpha\^\{(\d+),(\d+)\} &= (\\begin\{pmatrix\}.*?\\end\{pmatrix\})", tex, flags=re.S)
     return {int(k): pmatrix(m, names) for k, j, m in found if int(j) == int(k) - 1}
+
+
+def _table_rows(tex: str, head: str) -> list[list[str]]:
+    """The rows of the longtable whose header line starts with ``head``: each row's cells as text."""
+    if head not in tex:
+        return []
+    start = tex.index(r"\endhead", tex.index(head)) + len(r"\endhead")
+    body = tex[start:tex.index(r"\end{longtable}", start)]
+    return [[c.strip() for c in line.rstrip().removesuffix(r"\\").split(" & ")] for line in body.splitlines() if " & " in line]
+
+
+def _cell(text: str, names: dict):
+    """A table cell: None for '--' (no such element), else the expression or the column vector."""
+    text = text.strip().strip("$")
+    if text == r"\text{--}":
+        return None
+    if text.startswith(r"\begin{pmatrix}"):
+        return [row[0] for row in pmatrix(text, names)]
+    return parse(text, names)
+
+
+def joint_table(tex: str, names: dict) -> dict[int, dict]:
+    """The joints' table by k: stiffness, rest angle, damping, torque expression (None where '--')."""
+    rows = _table_rows(tex, r"$k$ & stiffness $\kappa^k$")
+    return {int(r[0].strip("$")): dict(zip(("spring", "rest", "damping", "torque"), (_cell(c, names) for c in r[1:5])))
+            for r in rows}
+
+
+def load_table(tex: str, names: dict) -> list[dict]:
+    """The loads' table, in order: k, kind, components, frame, point (None for a moment)."""
+    rows = _table_rows(tex, r"$k$ & load & components & frame & point")
+    return [dict(k=int(r[0].strip("$")), kind=r[1], vec=_cell(r[2], names), frame=r[3],
+                 point=None if r[4] == "(a moment)" else _cell(r[4], names)) for r in rows]
+
+
+def platform_motion(tex: str, names: dict) -> dict | None:
+    """The platform's motion as the scene states it: r₀(t) and the rotations (angle, axis) in order."""
+    m = re.search(r"\$O\^1\$ at \$\\mathbf r_0\(t\) = (\\begin\{pmatrix\}.*?\\end\{pmatrix\})\$(.*?)\n\n", tex, flags=re.S)
+    if m is None:
+        return None
+    rotations = re.findall(r"by \$(.*?)\$ about \$(\\begin\{pmatrix\}.*?\\end\{pmatrix\})\$", m.group(2), flags=re.S)
+    return dict(position=[row[0] for row in pmatrix(m.group(1), names)],
+                rotations=[(parse(a, names), [row[0] for row in pmatrix(ax, names)]) for a, ax in rotations])
+
+
+def initial_state(tex: str) -> tuple[list[float], list[float]] | None:
+    r"""The scene's initial state, φ and φ̇, as printed; None where the spec gives none."""
+    m = re.search(r"Initial state \(\\texttt\{\[initial\]\}\): \$\\varphi = \((.*?)\)\$, \$\\dot\\varphi = \((.*?)\)\$", tex)
+    if m is None:
+        return None
+    read = lambda s: [float(v) for v in s.replace(r"\allowbreak", "").split(",")]  # noqa: E731
+    return read(m.group(1)), read(m.group(2))

@@ -577,6 +577,7 @@ class LatexTarget:
             initial_tex=initial_text(spec),
             articulated=model.qdd_form == "articulated",
             n=spec.n,
+            k_range=r"$k = 1$" if spec.n == 1 else rf"$k = 1,\dots,{spec.n}$",
             # the first lines, a TeX comment: the same words as the C's and Python's
             version=context["version"], spec_label=context["spec_label"], spec_sha=context["spec_sha"],
             regenerate=context["regenerate"],

@@ -16,9 +16,11 @@ import numpy as np
 import pytest
 import sympy as sp
 
+import groups
 import texnotation
 import texread
 from gyrochain import reference
+from gyrochain.spec import T, phi_symbol, phidot_symbol
 from gyrochain.randspec import random_general_spec_text, random_spec_text
 from conftest import EXAMPLES, ROOT, example_params
 
@@ -129,7 +131,8 @@ class Doc:
         if ("fn", lhs) not in self._parsed:
             e = self.expr(lhs)
             syms = sorted(e.free_symbols, key=lambda s: s.name)
-            self._parsed[("fn", lhs)] = (syms, sp.lambdify(syms, list(sp.Add.make_args(e)), "math"))
+            # the terms of the expanded formula: a grouped product (a + b t) cos φ rounds like its terms
+            self._parsed[("fn", lhs)] = (syms, sp.lambdify(syms, list(sp.Add.make_args(sp.expand(e))), "math"))
         syms, fn = self._parsed[("fn", lhs)]
         missing = [s for s in syms if s not in env]
         assert not missing, f"{lhs}: the document's formula has symbols it does not define: {missing}"
@@ -140,7 +143,7 @@ class Doc:
         return math.fsum(terms), math.fsum(abs(v) for v in mags)
 
 
-def mismatches(doc: Doc, model, params, rng, points: int = 3) -> list[str]:
+def mismatches(doc: Doc, model, params, rng, points: int = 20) -> list[str]:
     """Every place where the document and the C disagree (empty: they agree)."""
     c, n = model.c, doc.n
     out = []
@@ -148,6 +151,7 @@ def mismatches(doc: Doc, model, params, rng, points: int = 3) -> list[str]:
     ch = reference.numeric(model.spec, params or {})
     doc.spec = model.spec
     out += scene_mismatches(doc, ch, np.random.default_rng(49))  # its own draws: the points below stay those of rng
+    out += inputs_mismatches(doc, model.spec, params, np.random.default_rng(50))
 
     def check(what, got, scale, want):
         if not abs(got - want) <= TOL * max(scale, abs(want)) + 1e-13:
@@ -177,6 +181,9 @@ def mismatches(doc: Doc, model, params, rng, points: int = 3) -> list[str]:
                 else:
                     assert not required, f"{lhs} is neither printed nor said to be zero"
             check(f"f_{k} (G + L + W + tau - Q - Gamma - Pi - Lamdot)", total, scale, f[k - 1])
+        out += _group_mismatches(doc, ch, x, t, check)
+        if doc.has(r"\gamma^{0}_{1}"):
+            _platform_mismatches(doc, ch, t, env, check)
         U, Us = doc.value("U", env)
         check("U (against the independent model)", U, Us, reference.potential(ch, x, t))
         T2 = 0.5 * x[n:] @ M @ x[n:]
@@ -196,6 +203,26 @@ def mismatches(doc: Doc, model, params, rng, points: int = 3) -> list[str]:
         if doc.has(r"\frac{\partial R_{1}}{\partial \varphi^{1}}"):
             _check_derivatives(doc, c, params, x, uc, t, env, M, check)
     return out
+
+
+GROUPS = (("Q", "Q"), (r"\Gamma", "Gamma"), ("G", "G"), (r"\Pi", "Pi"), (r"\mathring\Lambda", "Lamdot"), ("W", "W"),
+          (r"\tau", "tau"))
+
+
+def _group_mismatches(doc: Doc, ch, x, t, check) -> list[str]:
+    """Each of Q, Γ, G, Π, Λ̊, W, τ as printed against the same group of the independent model with
+    every other input switched off (tests/groups.py); a group not printed must be zero there."""
+    want = groups.groups(ch, x, t)
+    env = doc.at(t, x, None)
+    for tex, key in GROUPS:
+        for k in range(1, doc.n + 1):
+            lhs = f"{tex}_{{{k}}}"
+            got, scale = doc.value(lhs, env) if doc.has(lhs) else (0.0, 0.0)
+            if key in want:
+                check(f"{lhs} alone (the independent model's {key})", got, scale, want[key][k - 1])
+            elif doc.has(lhs):
+                check(f"{lhs} (a group a fixed-base chain does not have)", got, scale, 0.0)
+    return []
 
 
 def scene_mismatches(doc: Doc, ch, rng, points: int = 20) -> list[str]:
@@ -241,6 +268,90 @@ def scene_mismatches(doc: Doc, ch, rng, points: int = 20) -> list[str]:
                 out.append(f"alpha^{{{k},{k - 1}}}: document {got.tolist()}, spec {want.tolist()}")
                 return out
     return out
+
+
+def inputs_mismatches(doc: Doc, spec, params, rng, points: int = 20) -> list[str]:
+    """The scene's other inputs against the spec: the initial state, the joints' table (stiffness,
+    rest angle, damping, torque expression), the loads' table (kind, frame, components, point) and
+    the platform's r₀(t) and rotations, each expression at ``points`` random (t, φ, φ̇)."""
+    out, n = [], doc.n
+    init = texread.initial_state(doc.tex)
+    if spec.initial is None:
+        assert init is None and "The spec gives no initial state" in doc.tex
+    else:
+        for what, got, want in (("phi", init[0], spec.initial["phi"]), ("phidot", init[1], spec.initial["phidot"])):
+            if len(got) != n or not np.allclose(got, [float(v) for v in want], rtol=1e-9, atol=0):
+                out.append(f"initial {what}: document {got}, spec {list(want)}")
+    draws = []
+    for _ in range(points):
+        t, x = float(rng.uniform(0, 3)), np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n)])
+        at_spec = {T: t, **{phi_symbol(k): x[k - 1] for k in range(1, n + 1)},
+                   **{phidot_symbol(k): x[n + k - 1] for k in range(1, n + 1)}, **{p: (params or {})[p.name] for p in spec.params}}
+        at_doc = {sp.Symbol("t"): t, **{sp.Symbol(f"phi{k}"): x[k - 1] for k in range(1, n + 1)},
+                  **{sp.Symbol(f"phidot{k}"): x[n + k - 1] for k in range(1, n + 1)}, **doc.params}
+        draws.append((at_spec, at_doc))
+
+    def same(what, got, want):
+        if (got is None) != (want is None):
+            out.append(f"{what}: document {got}, spec {want}")
+            return
+        if got is None:
+            return
+        for at_spec, at_doc in draws:
+            g, w = float(sp.sympify(got).subs(at_doc)), float(sp.sympify(want).subs(at_spec))
+            if not abs(g - w) <= 1e-9 * max(1.0, abs(w)):
+                out.append(f"{what}: document {g!r}, spec {w!r}")
+                return
+
+    joints = texread.joint_table(doc.tex, doc.names)
+    for k, b in enumerate(spec.bodies, start=1):
+        if b.spring is None and b.damping is None and b.torque is None:
+            if k in joints:
+                out.append(f"joint {k}: a row in the joints' table for a joint without spring, damper or torque")
+            continue
+        row = joints.get(k, {})
+        same(f"joint {k} stiffness", row.get("spring"), b.spring)
+        same(f"joint {k} rest angle", row.get("rest"), b.rest if b.spring is not None else None)
+        same(f"joint {k} damping", row.get("damping"), b.damping)
+        same(f"joint {k} torque", row.get("torque"), b.torque)
+    loads = texread.load_table(doc.tex, doc.names)
+    given = [(k, "force", ld) for k, b in enumerate(spec.bodies, start=1) for ld in b.forces]
+    given += [(k, "moment", ld) for k, b in enumerate(spec.bodies, start=1) for ld in b.moments]
+    given.sort(key=lambda g: (g[0], g[1] == "moment"))
+    if len(loads) != len(given):
+        out.append(f"{len(loads)} loads in the document, {len(given)} in the spec")
+    for row, (k, kind, ld) in zip(loads, given):
+        if (row["k"], row["kind"], row["frame"]) != (k, kind, ld.frame):
+            out.append(f"load of body {k}: document {row['k']}, {row['kind']}, {row['frame']}; spec {k}, {kind}, {ld.frame}")
+        for i in range(3):
+            same(f"load of body {k}, component {i + 1}", row["vec"][i], ld.vec[i])
+            same(f"load of body {k}, point {i + 1}", row["point"][i] if row["point"] else None, ld.point[i] if ld.point else None)
+    motion = texread.platform_motion(doc.tex, doc.names)
+    if spec.base is None:
+        assert motion is None, "a platform's motion in a document of a fixed base"
+        return out
+    for i in range(3):
+        same(f"r0_{i + 1}(t)", motion["position"][i], spec.base.position[i])
+    if len(motion["rotations"]) != len(spec.base.angles):
+        return out + [f"{len(motion['rotations'])} platform rotations in the document, {len(spec.base.angles)} in the spec"]
+    for j, ((angle, axis), a, ax) in enumerate(zip(motion["rotations"], spec.base.angles, spec.base.axes)):
+        same(f"platform rotation {j + 1}: angle", angle, a)
+        for i in range(3):
+            same(f"platform rotation {j + 1}: axis {i + 1}", axis[i], ax[i])
+    return out
+
+
+def _platform_mismatches(doc: Doc, ch, t: float, env: dict, check) -> None:
+    """ω⁰, ε⁰, v̇₀ and γ⁰ as printed (platform frame) against the independent model's motion of
+    the spec's rotations and r₀(t): Rᵀω⁰, Rᵀε⁰, Rᵀr̈₀ and Rᵀê⁰₁."""
+    R, omega0, eps0, _, _, a0 = reference.platform(ch, t)
+    for tex, key, vec in ((r"\omega^{0}", "omega", omega0), (r"\varepsilon^{0}", "epsilon", eps0),
+                          (r"\dot v_{0", "vdot", a0), (r"\gamma^{0}", "gamma", np.array([1.0, 0.0, 0.0]))):
+        want = R.T @ vec
+        for i in range(1, 4):
+            lhs = f"{tex},{i}}}" if key == "vdot" else f"{tex}_{{{i}}}"
+            got, scale = doc.value(lhs, env) if doc.has(lhs) else (0.0, 0.0)
+            check(f"{lhs} (the platform's motion)", got, scale, want[i - 1])
 
 
 def _mass_entry(doc: Doc, env: dict, k: int, r: int) -> tuple[float, float]:
@@ -384,6 +495,12 @@ PLANTED = [
     ("gimbal", r"0 & 0.006 & 0 \\ 0 & 0 & 0.009\end{pmatrix}$ & no", r"0 & 0.006 & 0 \\ 0 & 0 & 0.0009\end{pmatrix}$ & no"),
     ("gimbal", r"\sqrt{\frac{A^2_{11}J - C^2}{\mathcal E(\varphi)J - K^2}}", r"\sqrt{\frac{\mathcal E(\varphi)J - K^2}{A^2_{11}J - C^2}}"),
     ("rt_nikolai", r"$K = \ell - \lambda^1_1", r"$K = \ell + \lambda^1_1"),  # gimbal's λ¹ is 0: a sign there changes nothing
+    # the scene's inputs against the spec, and the platform's motion against the spec's
+    ("ziegler", r"$1$ & $2$ & $0$ & $\text{--}$ & $\text{--}$", r"$1$ & $3$ & $0$ & $\text{--}$ & $\text{--}$"),
+    ("ziegler", r"& body & $\begin{pmatrix}0 \\ 0 \\ 0.5\end{pmatrix}$", r"& body & $\begin{pmatrix}0 \\ 0 \\ 0.6\end{pmatrix}$"),
+    ("ship_gimbal", r"by $0.2 \sin\left(0.5 t\right)$ about", r"by $0.2 \sin\left(0.6 t\right)$ about"),
+    ("ship_gimbal", r"\omega^{0}_{2} &= 0.056 \cos", r"\omega^{0}_{2} &= 0.065 \cos"),
+    ("kapitza", r"$\varphi = (3.041592654)$", r"$\varphi = (3.141592654)$"),
 ]
 
 
@@ -394,6 +511,17 @@ def test_a_planted_error_fails(name, right, wrong, make_model):
     assert tex.count(right) == 1, f"the text to plant the error in is not in the document: {right}"
     bad = Doc(tex.replace(right, wrong), model.spec.n, model.params)
     assert mismatches(bad, model, model.params, np.random.default_rng(28)), f"{name}: {wrong} went unnoticed"
+
+
+def test_a_term_in_the_wrong_group_fails(make_model):
+    """Q₂ and Γ₂ of the gimbal swapped: the sum f is the same, each group is not."""
+    model = _example("gimbal", make_model)
+    tex = (model.folder / "gimbal.tex").read_text()
+    q, gamma = r"Q_{2} &= 0.003 \cos\varphi^{2} \sin\varphi^{2} \, \left(\dot\varphi^{1}\right)^{2}", r"\Gamma_{2} &= 0.5 \sin\varphi^{2} \, \dot\varphi^{1}"
+    assert tex.count(q) == tex.count(gamma) == 1
+    swapped = tex.replace(q, "@Q").replace(gamma, q.replace("Q_{2}", r"\Gamma_{2}")).replace("@Q", gamma.replace(r"\Gamma_{2}", "Q_{2}"))
+    found = mismatches(Doc(swapped, 2, None), model, None, np.random.default_rng(31))
+    assert found and all("alone" in f for f in found), found
 
 
 def test_an_edit_of_a_committed_document_fails(make_model):
