@@ -124,7 +124,7 @@ def test_a_condition_on_a_parameter_is_stated_not_guessed(tmp_path):
     header = (tmp_path / "t" / "tilted.h").read_text()
     assert "#define TILTED_HAS_MOMENTUM_INTEGRAL 0" in header and "#define TILTED_MOMENTUM_CONDITION" in header
     assert "tilted_momentum(" in header and "#define TILTED_HAS_QUADRATURES 0" in header
-    assert "conserved, $= k$, only when the axis $l^1$ is vertical" in (tmp_path / "t" / "tilted.tex").read_text()
+    assert r"conserved, $= \ell$, only when the axis $l^1$ is vertical" in (tmp_path / "t" / "tilted.tex").read_text()
     # and the condition is right: conserved at th1 = 0 and at pi, not at 0.4
     from gyrochain.build import load
     from scipy.integrate import solve_ivp
