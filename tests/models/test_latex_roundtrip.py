@@ -26,6 +26,16 @@ from conftest import EXAMPLES, ROOT, example_params
 
 TOL = 1e-9
 
+# what the document prints and this test does not evaluate, and why (docs/latex.md says the same)
+NOT_CHECKED = {
+    "the paper's general formulas in the text (the sums defining Gamma_k, G_k, W_k, Lamdot_k, T, H)":
+        "they are the definitions; their expansions for this spec are what is checked",
+    "the linearisation's calA and calB": "blocks of dphidd/dx and M^-1, checked through dR/dx and M",
+    "Appendix A's operation counts": "facts of the emitted code (the header states the same), not formulas",
+    "the base parameters beta (generate --regressor)": "checked in tests/models/test_regressor.py",
+    "Appendix B": "the spec file itself, checked as the PDF's text in tests/tools/test_latex.py",
+}
+
 
 def _with_params(text: str) -> tuple[str, dict]:
     """A random spec with symbolic parameters: gravity g0, the first body's mass m1, and (to
