@@ -25519,13 +25519,47 @@ static void cable64_world_accel_(const double *qdd, const double *S, const doubl
 }
 
 /* X = A^-1 X for the row-major 64 x 64 array X, with A factored by ldlt_factor_.  Row by row,
- * eight columns at a time: the products of the rows already solved are summed in eight locals,
- * which stay in registers (eight independent sums keep the adder busy; one sum per column, in the
- * order of k, as a plain loop would add them). */
+ * each column's products of the rows already solved summed in the order of k, so both forms below
+ * give the same bits.  With 256-bit vectors (AVX) the sums of a row are kept in one local row that
+ * the contiguous, constant-trip loops over the columns fill a vector at a time; without them, eight
+ * columns at a time in eight scalar locals that stay in registers.
+ * Measured (docs/benchmarks.md): each form is up to 2-4x slower than the other where it is not used. */
 static void cable64_ldlt_columns_(const double *A, double *X)
 {
-    double s0, s1, s2, s3, s4, s5, s6, s7;
     int i, k, c;
+#if defined(__AVX__)
+    double acc[64];
+    for (i = 1; i < 64; ++i) {
+        for (c = 0; c < 64; ++c) {
+            acc[c] = 0.0;
+        }
+        for (k = 0; k < i; ++k) {
+            const double l = A[i * 64 + k];
+            for (c = 0; c < 64; ++c) {
+                acc[c] += l * X[k * 64 + c];
+            }
+        }
+        for (c = 0; c < 64; ++c) {
+            X[i * 64 + c] -= acc[c];
+        }
+    }
+    for (i = 63; i >= 0; --i) {
+        const double r = 1.0 / A[i * 64 + i];
+        for (c = 0; c < 64; ++c) {
+            acc[c] = 0.0;
+        }
+        for (k = i + 1; k < 64; ++k) {
+            const double l = A[k * 64 + i];
+            for (c = 0; c < 64; ++c) {
+                acc[c] += l * X[k * 64 + c];
+            }
+        }
+        for (c = 0; c < 64; ++c) {
+            X[i * 64 + c] = X[i * 64 + c] * r - acc[c];
+        }
+    }
+#else
+    double s0, s1, s2, s3, s4, s5, s6, s7;
     for (i = 1; i < 64; ++i) {
         for (c = 0; c < 64; c += 8) {
             s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0;
@@ -25577,6 +25611,7 @@ static void cable64_ldlt_columns_(const double *A, double *X)
             X[i * 64 + c + 7] = X[i * 64 + c + 7] * r - s7;
         }
     }
+#endif
 }
 
 int cable64_qdd_derivatives(const double *x, const double *u, const cable64_params *p,
