@@ -121,10 +121,9 @@ class Doc:
             return can
         return trigform.canonical(expr, _angles(expr), self.form)
 
-    def lines(self, expr: sp.Expr, width: int = 230, expand: bool = True) -> Shown:
+    def lines(self, expr: sp.Expr, width: int = 230, expand: bool = True, count: int | None = None) -> Shown:
         """A sum printed term by term and broken into lines: expanded into the document's
-        trigonometric form, or as it is (``expand=False``)."""
-        count = None
+        trigonometric form, or as it is (``expand=False``: already in it, ``count`` its terms)."""
         if expand:
             can = self.canonical(expr)
             expr, count = can.expr, can.terms
@@ -279,17 +278,19 @@ def _derivative_tex(model: Model, stages, doc: Doc, printed_terms: int | None) -
     vals = kin.prog.inline([dyn.M[i][j] for i in range(n) for j in range(n)] + list(dyn.f), symbolic=True)
     M = [vals[i * n:(i + 1) * n] for i in range(n)]
     R = [sum((M[i][j] * acc[j] for j in range(n)), sp.Integer(0)) - vals[n * n + i] for i in range(n)]
-    eqs = []
+    entries, terms = [], 0
     for syms, tex in ((kin.phi, r"\varphi"), (kin.phidot, r"\dot\varphi")):
         for j in range(1, n + 1):
             for i in range(n):
                 lhs = rf"\frac{{\partial R_{{{i + 1}}}}}{{\partial {tex}^{{{j}}}}}"
-                eqs.append(TexEquation(lhs, doc.lines(sp.diff(R[i], syms[j]))))
-    terms = sum(e.lines.terms or 0 for e in eqs)
-    if terms > DERIVATIVE_TEX_MAX_TERMS:
-        return dict(rows=None, reason=f"their {len(eqs)} closed-form entries have {terms} terms in all, "
-                    f"more than the {DERIVATIVE_TEX_MAX_TERMS} this document prints")
-    return dict(block(eqs), reason=None)
+                can = doc.canonical(sp.diff(R[i], syms[j]))
+                entries.append((lhs, can))
+                terms += can.terms
+                if terms > DERIVATIVE_TEX_MAX_TERMS:  # too long to print: the rest need not be reduced
+                    return dict(rows=None, reason=f"the first {len(entries)} of their {2 * n * n} closed-form entries "
+                                f"already have {terms} terms, more than the {DERIVATIVE_TEX_MAX_TERMS} this document prints")
+    return dict(block([TexEquation(lhs, doc.lines(can.expr, expand=False, count=can.terms)) for lhs, can in entries]),
+                reason=None)
 
 
 def _bodies(spec, kin, doc: Doc) -> list[dict]:
