@@ -25521,8 +25521,8 @@ static void cable64_world_accel_(const double *qdd, const double *S, const doubl
 /* X = A^-1 X for the row-major 64 x 64 array X, with A factored by ldlt_factor_.  Row by row,
  * each column's products of the rows already solved summed in the order of k, so both forms below
  * give the same bits.  With 256-bit vectors (AVX) the sums of a row are kept in one local row that
- * the contiguous, constant-trip loops over the columns fill a vector at a time; without them, eight
- * columns at a time in eight scalar locals that stay in registers.
+ * the contiguous, constant-trip loops over the columns fill a vector at a time (from eight columns on);
+ * without them, eight columns at a time in eight scalar locals that stay in registers.
  * Measured (docs/benchmarks.md): each form is up to 2-4x slower than the other where it is not used. */
 static void cable64_ldlt_columns_(const double *A, double *X)
 {
