@@ -386,10 +386,10 @@ def integral_statements(model: Model) -> dict:
     spec, facts = model.spec, model.integrals
     extra = ""
     if facts.U_extra:
-        springs = any("spring" in w for w, _ in facts.U_extra)
+        springs = [w for w, _ in facts.U_extra if "spring" in w]
         kinds = ([r"for a spring $-\tfrac12\kappa^k(\varphi^k-\varphi^k_{\mathrm{rest}})^2$"] if springs else []) + (
             ["for a constant force fixed in space the force dotted with the position of its point from $O^1$"]
-            if not all("spring" in w for w, _ in facts.U_extra) else [])
+            if len(springs) < len(facts.U_extra) else [])
         extra = (r"$U$ includes the force function of " + ", ".join(tex_escape(w) for w, _ in facts.U_extra)
                  + " (" + "; ".join(kinds) + ").  ")
     if facts.has_energy_integral:

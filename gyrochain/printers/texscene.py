@@ -238,7 +238,7 @@ def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str
         rows.append((r"$\Pi_k$, $\mathring\Lambda_k$, $W_k$, $\tau_k$", r"N\,m",
                      r"platform terms, rotors spinning up, generalized forces of the loads, joint torques of springs, "
                      r"dampers and torque expressions (this document's names for the groups of (8)--(10))"))
-    if doc["scene"]["joints"] or any(w.startswith("spring") or "spring" in w for w, _ in model.integrals.U_extra):
+    if doc["scene"]["joints"] or any("spring" in w for w, _ in model.integrals.U_extra):
         rows.append((r"$\kappa^k$, $b^k$", r"N\,m/rad, N\,m\,s/rad",
                      r"stiffness and damping of joint $k$ (rest angle $\varphi^k_{\mathrm{rest}}$)"))
     if doc["scene"]["loads"]:
