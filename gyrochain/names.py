@@ -33,6 +33,9 @@ GENERATED_PATTERN = re.compile(r"^(w\d+|phi_?\d+|phidot_?\d+|phiddot_?\d+|L_?\d+
 # the include path of its own build and on sys.path of whoever imports NAME.py: a name that is a
 # system header (math.h, stdint.h, Python.h; compared without case, as macOS's file system does)
 # or a Python module the model or its callers import would be found in its place.
+# <unistd.h>'s access modes R_OK, W_OK, X_OK, F_OK: a model named w would define W_OK (its return code
+# NAME_OK) and the cffi build, which includes Python.h and so unistd.h, warns that it is redefined.
+ACCESS_MODES = frozenset({"R", "W", "X", "F"})
 C_HEADERS = frozenset(
     """assert complex ctype errno fenv float inttypes iso646 limits locale math setjmp signal stdalign stdarg
     stdatomic stdbool stddef stdint stdio stdlib stdnoreturn string tgmath threads time uchar wchar wctype
@@ -50,6 +53,8 @@ def model_name_clash(name: str) -> str:
     low = name.lower()
     if low in C_HEADERS:
         return f"make its {name}.h shadow the system header <{low if low != 'python' else 'Python'}.h>"
+    if name.upper() in ACCESS_MODES:
+        return f"make its header's {name.upper()}_OK the macro {name.upper()}_OK of <unistd.h> (access modes)"
     if keyword.iskeyword(name):
         return f"make {name}.py impossible to import ({name} is a Python keyword)"
     if low in {m.lower() for m in sys.stdlib_module_names} | {"numpy", "scipy", "cffi", "sympy", "jinja2", "gyrochain",

@@ -97,7 +97,7 @@ def test_outputs_follow_the_users_umask(tmp_path, umask):
 
 # --------------------------------------------------------------------------- names that cannot collide
 @pytest.mark.parametrize("name", ["math", "stdint", "stddef", "limits", "Python", "stdlib", "assert", "Math", "lambda",
-                                  "random", "numpy", "string"])
+                                  "random", "numpy", "string", "W", "x"])
 def test_a_name_that_would_shadow_a_header_or_module_is_refused(tmp_path, name):
     spec = tmp_path / "s.toml"
     spec.write_text((SPECS / "gimbal.toml").read_text().replace('name = "gimbal"', f'name = "{name}"'))
