@@ -72,7 +72,7 @@ STALE = {
     "a make target that is gone": "```console\n$ make benchmark\n```\n",
     "a prototype that changed": "```c\nint NAME_qdd(const double *x, const double *u, double *qdd);\n```\n",
     "a Python call that changed": "```console\n$ gyrochain generate -q specs/gimbal.toml\n```\n\n```python\nfrom gyrochain.build import load\nload('generated/gimbal').qdd_fast([0, 0, 0, 0])\n```\n",
-    "a spec field that is gone": "```toml\nname = \"x\"\ng = 9.81\n[[body]]\ntheta = 0\nmass = 1\n```\n",
+    "a spec field that is gone": "```toml\nname = \"xa\"\ng = 9.81\n[[body]]\ntheta = 0\nmass = 1\n```\n",
     "a command hidden in a text block": "```text\n$ gyrochain check specs/gimbal.toml\n```\n",
     "a block without a kind": "```\ngyrochain check specs/gimbal.toml\n```\n",
 }
@@ -92,7 +92,7 @@ def test_the_same_examples_written_right_pass(tmp_path):
             "$ gyrochain check specs/gimbals.toml\nerror: ...\n$ gyrochain generate -q specs/gimbal.toml\n```\n\n"
             "```c\nint NAME_qdd(const double *x, const double *u, const NAME_params *p, double *qdd);\n```\n\n"
             "```python\nfrom gyrochain.build import load\nload('generated/gimbal').qdd([0, 0, 0, 0])\n```\n\n"
-            "```toml\nname = \"x\"\ng = 9.81\n[[body]]\ntheta = 0\nm = 1\nc = [0, 0, 0.1]\n"
+            "```toml\nname = \"xa\"\ng = 9.81\n[[body]]\ntheta = 0\nm = 1\nc = [0, 0, 0.1]\n"
             "I_c = [0.01, 0.01, 0.01, 0, 0, 0]\n```\n")
     counts = docrun.run_page(page, tmp_path / "work", text=text)
     assert counts["commands"] == 3 and counts["c"] == counts["python"] == counts["toml"] == 1
