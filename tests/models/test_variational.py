@@ -98,13 +98,26 @@ def test_liouville(example, rng, name, t1):
 
 
 def _momentum_jacobian(spec):
-    """(φ, φ̇) ↦ ∂p/∂(φ, φ̇) with p = ∂ℒ/∂φ̇ of the independent sympy Lagrangian, as numpy."""
+    """(φ, φ̇) ↦ (p, ∂p/∂(φ, φ̇)) with p = ∂ℒ/∂φ̇ of the independent sympy Lagrangian: p lambdified,
+    its Jacobian by complex steps (Im p(x + i h eⱼ)/h, h = 1e-30: no difference is taken, so it is
+    exact to round-off; sympy's own Jacobian of spatial3's p took 20 s to form and lambdify)."""
     n = spec.n
     phi = [phi_symbol(k) for k in range(1, n + 1)]
     phidot = [phidot_symbol(k) for k in range(1, n + 1)]
     L = lagrangian(spec, phi, phidot)
-    p = sp.Matrix([sp.diff(L, v) for v in phidot])
-    return sp.lambdify([phi, phidot], [p, p.jacobian(phi + phidot)], "numpy")
+    p = sp.lambdify([phi, phidot], [sp.diff(L, v) for v in phidot], "numpy")
+    h = 1e-30
+
+    def momenta_and_jacobian(q, v):
+        x = np.concatenate([q, v]).astype(complex)
+        J = np.empty((n, 2 * n))
+        for j in range(2 * n):
+            xj = x.copy()
+            xj[j] += 1j * h
+            J[:, j] = np.imag(np.asarray(p(xj[:n], xj[n:]), dtype=complex)) / h
+        return np.real(np.asarray(p(x[:n], x[n:]), dtype=complex)), J
+
+    return momenta_and_jacobian
 
 
 @pytest.mark.parametrize("name,t1", [("double_pendulum", 30.0), ("spatial3", 15.0)])
