@@ -12,7 +12,8 @@
 #                                     scipy and MuJoCo's rollout on 1 and 2 cores and a local Dask cluster; the variational
 #                                     equations against scipy (bench/results/)
 # make bench-speed                    generated C against Pinocchio, CasADi, MuJoCo; derivatives against Pinocchio, CasADi, differences;
-#                                     the imported UR5 and Panda against Pinocchio on their URDF (bench/results/)
+#                                     the imported UR5 and Panda against Pinocchio on their URDF; every emitted function of this
+#                                     release against the previous release's, n = 2...128 (bench/results/)
 SHELL := /bin/bash
 PY ?= python3
 VENV := .venv
@@ -103,6 +104,7 @@ bench-speed: bench-setup
 	$(VPY) bench/speed.py
 	$(VPY) bench/derivatives.py
 	$(VPY) bench/robots.py
+	$(VPY) bench/releases.py
 
 pdf: generate
 	@name=$$($(VPY) -c "from gyrochain.spec import load_spec; print(load_spec('$(SPEC)').name)"); \
