@@ -17,7 +17,6 @@ bench/results/releases.csv.  Usage: bench/releases.py [--previous COMMIT] [--n 2
 from __future__ import annotations
 
 import argparse
-import csv
 import os
 import subprocess
 import sys
@@ -28,7 +27,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from speed import chain_text  # noqa: E402
+from speed import chain_text, write_csv  # noqa: E402
 
 BUILD = ROOT / "bench" / "build" / "releases"
 RESULTS = ROOT / "bench" / "results"
@@ -176,10 +175,7 @@ def main() -> int:
                 flag = "  <- slower" if p / t < 0.95 else ""
                 print(f"    {fn:16s} previous {p:12.1f}  this {t:12.1f}  previous/this {p / t:5.2f}{flag}")
     RESULTS.mkdir(parents=True, exist_ok=True)
-    with open(RESULTS / "releases.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_csv(RESULTS / "releases.csv", rows)
     print(f"wrote {RESULTS / 'releases.csv'}")
     return 0
 
