@@ -25,6 +25,20 @@ import sympy as sp
 from .spec import T, ChainSpec, phi_symbol, phidot_symbol
 
 
+def cross(a, b) -> np.ndarray:
+    """a × b over the last axis of 3-vectors (broadcast as np.cross): numpy's own formula, term for
+    term, so the same bits, without np.cross's generic axis handling, which took half of this
+    model's time on its small arrays."""
+    a, b = np.asarray(a), np.asarray(b)
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape), dtype=np.result_type(a, b))
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
+
+
 @dataclass(frozen=True)
 class NumericChain:
     g: float
@@ -209,20 +223,28 @@ def _lam(ch: NumericChain, t: float):
     return (np.array([f[0](t) for f in ch.general.lam]), np.array([f[1](t) for f in ch.general.lam]))
 
 
+def _before(a: np.ndarray) -> np.ndarray:
+    """Row k: the sum of the rows < k (over the bodies' axis, the last but one)."""
+    sums = np.cumsum(a, axis=-2)
+    return np.concatenate([np.zeros_like(sums[..., :1, :]), sums[..., :-1, :]], axis=-2)
+
+
 def _motion(ch: NumericChain, phi, phidot, phiddot, t: float) -> dict:
-    """Every fixed-frame vector of the chain's motion at (φ, φ̇, φ̈, t): eqs. (1), (5), (6)."""
+    """Every fixed-frame vector of the chain's motion at (φ, φ̇, φ̈, t): eqs. (1), (5), (6).
+    φ̈ may hold several rows (m, n): then the accelerations carry that axis first (the mass
+    matrix's columns at once); the rest depends on (φ, φ̇, t) only."""
     R0, omega0, eps0, r0, v0, a0 = platform(ch, t)
-    R = frames(ch, phi) @ R0.T
     e, c, s, lam, A, O = world(ch, phi, t)
+    R = frames(ch, phi) @ R0.T
     omega = omega0 + np.cumsum(e * phidot[:, None], axis=0)  # eq. (1)
     # eq. (5): ε^k = ε⁰ + Σ_{p≤k} (e^p φ̈^p + ω^{p-1} × e^p φ̇^p)
     omega_prev = np.vstack([omega0, omega[:-1]])
-    eps = eps0 + np.cumsum(e * phiddot[:, None] + np.cross(omega_prev, e) * phidot[:, None], axis=0)
+    eps = eps0 + np.cumsum(e * phiddot[..., None] + cross(omega_prev, e) * phidot[:, None], axis=-2)
     # acceleration of O^p: r̈₀ + Σ_{l<p} (ε^l × s^l + ω^l × (ω^l × s^l)), eq. (6)
-    terms = np.cross(eps, s) + np.cross(omega, np.cross(omega, s))
-    aO = a0 + np.vstack([np.zeros(3), np.cumsum(terms, axis=0)[:-1]])
-    vO = v0 + np.vstack([np.zeros(3), np.cumsum(np.cross(omega, s), axis=0)[:-1]])
-    aG = aO + np.cross(eps, c) + np.cross(omega, np.cross(omega, c))
+    terms = cross(eps, s) + cross(omega, cross(omega, s))
+    aO = a0 + _before(terms)
+    vO = v0 + _before(cross(omega, s))
+    aG = aO + cross(eps, c) + cross(omega, cross(omega, c))
     _, lamdot_b = _lam(ch, t)
     lamdot = np.einsum("kij,ki->kj", R, lamdot_b)
     return dict(R=R, e=e, c=c, s=s, lam=lam, lamdot=lamdot, A=A, O=O, omega=omega, eps=eps, aO=aO, vO=vO, aG=aG,
@@ -244,9 +266,9 @@ def _loads(ch: NumericChain, mo: dict, t, phi, phidot):
             Fk = Rk.T @ v if frame == "body" else v
             r = Rk.T @ point
             F[k] += Fk
-            N[k] += np.cross(r, Fk)
+            N[k] += cross(r, Fk)
             if not potential:
-                power += Fk @ (mo["vO"][k] + np.cross(mo["omega"][k], r))
+                power += Fk @ (mo["vO"][k] + cross(mo["omega"][k], r))
         for fn, frame in gen.moments[k]:
             v = fn(t, phi, phidot)
             Mk = Rk.T @ v if frame == "body" else v
@@ -277,18 +299,18 @@ def _wrenches(ch: NumericChain, phi, phidot, phiddot, t: float):
     c, A, O, omega, eps, lam = mo["c"], mo["A"], mo["O"], mo["omega"], mo["eps"], mo["lam"]
     down = np.array([1.0, 0.0, 0.0])
     Aw = np.einsum("kab,kb->ka", A, omega)
-    dH = np.einsum("kab,kb->ka", A, eps) + np.cross(omega, Aw + lam) + mo["lamdot"]  # eq. (7)
-    Mg = np.cross(c, ch.g * ch.m[:, None] * down)  # moment of gravity about O^p
+    dH = np.einsum("kab,...kb->...ka", A, eps) + cross(omega, Aw + lam) + mo["lamdot"]  # eq. (7)
+    Mg = cross(c, ch.g * ch.m[:, None] * down)  # moment of gravity about O^p
     Fg = ch.g * ch.m[:, None] * down
     Fx, Nx, _ = _loads(ch, mo, t, phi, phidot)
     # Σ_{p≥k} X_p + Σ_{q>k} (O^q − O^k) × Y_q, as suffix sums from the tip (O(n), not O(n²)):
     # Σ_{p≥k} X_p + Σ_{q>k} O^q × Y_q − O^k × Σ_{q>k} Y_q
-    X = dH + ch.m[:, None] * np.cross(c, mo["aO"]) - Mg - Nx
+    X = dH + ch.m[:, None] * cross(c, mo["aO"]) - Mg - Nx
     Y = ch.m[:, None] * mo["aG"] - Fg - Fx
-    tip = lambda a: np.cumsum(a[::-1], axis=0)[::-1]  # noqa: E731  (row k: the sum over rows ≥ k)
-    after = lambda a: np.vstack([tip(a)[1:], np.zeros((1, 3))])  # noqa: E731  (rows > k)
-    totals = tip(X) + after(np.cross(O, Y)) - np.cross(O, after(Y))
-    force = np.sum(ch.m[:, None] * mo["aG"] - Fg - Fx, axis=0)
+    tip = lambda a: np.flip(np.cumsum(np.flip(a, -2), axis=-2), -2)  # noqa: E731  (row k: the sum over rows ≥ k)
+    after = lambda a: np.concatenate([tip(a)[..., 1:, :], np.zeros_like(a[..., :1, :])], axis=-2)  # noqa: E731  (rows > k)
+    totals = tip(X) + after(cross(O, Y)) - cross(O, after(Y))
+    force = np.sum(ch.m[:, None] * mo["aG"] - Fg - Fx, axis=-2)
     return totals, force, mo
 
 
@@ -296,7 +318,7 @@ def inverse_dynamics(ch: NumericChain, phi, phidot, phiddot, torque=None, t: flo
     """Residual of eq. (3) per joint: LHS − (external moments) − Lᵏ; zero on a motion.  ``torque``
     are the control torques; springs, dampers and torque expressions of the spec are added here."""
     totals, _, mo = _wrenches(ch, np.asarray(phi, float), np.asarray(phidot, float), np.asarray(phiddot, float), t)
-    tau = np.einsum("ki,ki->k", mo["e"], totals)
+    tau = np.einsum("ki,...ki->...k", mo["e"], totals)
     spring, other = joint_torque_terms(ch, t, np.asarray(phi, float), np.asarray(phidot, float))
     tau = tau - spring - other
     if torque is not None:
@@ -321,8 +343,8 @@ def mass_matrix(ch: NumericChain, phi) -> np.ndarray:
     n = ch.n
     zero = np.zeros(n)
     ch = dataclasses.replace(ch, g=0.0)
-    b = inverse_dynamics(ch, phi, zero, zero)
-    return np.column_stack([inverse_dynamics(ch, phi, zero, np.eye(n)[r]) - b for r in range(n)])
+    tau = inverse_dynamics(ch, phi, zero, np.vstack([zero, np.eye(n)]))  # rows: φ̈ = 0, then each unit φ̈
+    return (tau[1:] - tau[0]).T
 
 
 def forces(ch: NumericChain, x, u=None, t: float = 0.0) -> np.ndarray:
@@ -350,7 +372,7 @@ def energy(ch: NumericChain, x, t: float = 0.0) -> float:
     mo = _motion(ch, x[:n], x[n:], np.zeros(n), t)
     omega, vO, c, A, O = mo["omega"], mo["vO"], mo["c"], mo["A"], mo["O"]
     T = sum(
-        0.5 * ch.m[k] * vO[k] @ vO[k] + ch.m[k] * vO[k] @ np.cross(omega[k], c[k]) + 0.5 * omega[k] @ A[k] @ omega[k]
+        0.5 * ch.m[k] * vO[k] @ vO[k] + ch.m[k] * vO[k] @ cross(omega[k], c[k]) + 0.5 * omega[k] @ A[k] @ omega[k]
         for k in range(n)
     )
     return float(T - _force_function(ch, x, t, mo))
@@ -407,8 +429,8 @@ def momentum(ch: NumericChain, x, t: float = 0.0) -> float:
     omega, vO, c, A, O, lam, e = mo["omega"], mo["vO"], mo["c"], mo["A"], mo["O"], mo["lam"], mo["e"]
     K = np.zeros(3)
     for p in range(n):
-        vG = vO[p] + np.cross(omega[p], c[p])
-        K += A[p] @ omega[p] + lam[p] + ch.m[p] * np.cross(O[p] - O[0], vG) + ch.m[p] * np.cross(c[p], vO[p])
+        vG = vO[p] + cross(omega[p], c[p])
+        K += A[p] @ omega[p] + lam[p] + ch.m[p] * cross(O[p] - O[0], vG) + ch.m[p] * cross(c[p], vO[p])
     return float(e[0] @ K)
 
 
@@ -447,15 +469,15 @@ def regressor(ch: NumericChain, params, phi, phidot, phiddot, t: float = 0.0) ->
             F = acc[p]
         elif kind == "h":
             u = R[p][index[0]]
-            F = np.cross(eps[p], u) + np.cross(omega[p], np.cross(omega[p], u))
-            N = np.cross(u, acc[p])
+            F = cross(eps[p], u) + cross(omega[p], cross(omega[p], u))
+            N = cross(u, acc[p])
         elif kind == "A":
             i, j = index
             E = np.outer(R[p][i], R[p][j])
             A = E + E.T if i != j else E
-            N = A @ eps[p] + np.cross(omega[p], A @ omega[p])
+            N = A @ eps[p] + cross(omega[p], A @ omega[p])
         else:
-            N = np.cross(omega[p], R[p][index[0]])
+            N = cross(omega[p], R[p][index[0]])
         for j in range(p + 1):
-            Y[j, col] = e[j] @ (N + np.cross(O[p] - O[j], F))
+            Y[j, col] = e[j] @ (N + cross(O[p] - O[j], F))
     return Y
