@@ -204,7 +204,7 @@ def build_pinocchio(ch, n: int, d: Path, program: str = "pinocchio") -> Path | N
     pre = _pin_prefix()
     if pre is None or not Path("/usr/include/eigen3").exists() or shutil.which("g++") is None:
         return None
-    exe = BUILD / program
+    exe = BUILD / (program + "".join(CFLAGS).replace("=", "_"))  # one per flag set (BENCH_CFLAGS)
     src = ROOT / "bench" / f"{program}.cpp"
     # harness.h too: its BENCH_NMAX is the largest chain the program takes
     newest = max((ROOT / "bench" / f).stat().st_mtime for f in (f"{program}.cpp", "pinocchio_chain.h", "harness.h"))
