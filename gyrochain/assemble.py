@@ -50,6 +50,9 @@ class Model:
     der: derivatives.Derivatives | derivatives.Tangent | world.World | None = None  # ∂φ̈/∂(φ, φ̇, u)
     der_store: tuple = ()  # the recursion's quantities the columns of ∂φ̈ read (C: the array b)
     der_form: str = "specialised"  # "specialised", "generic" (forward mode) or "world" (world.py)
+    # the world form's products with M⁻¹: "solve" (LDLᵀ applied to every column of ∂ID) or "inverse"
+    # (M⁻¹ formed, its products with ∂ID's low-rank pairs by prefix sums); "" in the other forms
+    world_columns: str = ""
     # the general case's stages again with ω⁰, ε⁰, v̇₀, γ⁰ as symbols (the LaTeX states (8)–(10)
     # with the platform's terms apart); None for a fixed base without loads or when not asked for
     symbolic: Stages | None = None
@@ -63,7 +66,9 @@ class FormNotApplicable(ValueError):
 
 
 QDD_FORMS = ("auto", "composite", "articulated")
-DER_FORMS = ("auto", "forward", "world")  # NAME_qdd_derivatives: forward mode, or world.py's inverse dynamics
+# NAME_qdd_derivatives: forward mode, or world.py's inverse dynamics (its products with M⁻¹ chosen by
+# op count, or forced: "world-solve", "world-inverse")
+DER_FORMS = ("auto", "forward", "world", "world-solve", "world-inverse")
 
 
 def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None,
@@ -78,7 +83,7 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
         raise ValueError(f"qdd_form must be one of {', '.join(QDD_FORMS)}, not {qdd_form!r}")
     if der_form not in DER_FORMS:
         raise ValueError(f"der_form must be one of {', '.join(DER_FORMS)}, not {der_form!r}")
-    if der_form == "world" and not world.applies(spec, kin, dyn):
+    if der_form.startswith("world") and not world.applies(spec, kin, dyn):
         raise FormNotApplicable("the world form needs a fixed base, constant rotors and no body loads; this spec has "
                                 + ("a moving platform" if kin.platform is not None else "rotors that change" if dyn.Lamdot else "body loads"))
     n = spec.n
@@ -117,7 +122,7 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
     # the rest (where it applies and is not chosen, the other names stay what they were)
     say("straight-line code: derivatives of qdd")
     use_world = der_form != "forward" and world.applies(spec, kin, dyn)
-    forward = None if der_form == "world" else _forward(spec, P, kin, art, articulated, skip_generic=use_world)
+    forward = None if der_form.startswith("world") else _forward(spec, P, kin, art, articulated, skip_generic=use_world)
     if forward is not None:
         der_lines = forward[2]
         lines.update(der_lines)
@@ -128,24 +133,35 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
         # the loop form's velocities take M from the mass matrix's S and z1 (the C's mass_pairs_)
         lines["velocity_terms"] = straight_line(P, ([] if loops else lower) + list(can.k))
         lines["pdot"] = straight_line(P, list(can.pdot))
-    chosen = forward
+    chosen, columns = forward, ""
     if use_world:
-        w = _world(spec, P, kin, dyn)
-        ndir = 2 * n + len(spec.controls)
-        line_ops = w[2]["qdd_derivatives"].op_count()
-        w_count = world_op_count(n, ndir, line_ops)
-        f_count = sum(line.op_count() for line in forward[2].values()) if forward is not None else None
-        if f_count is None or line_ops + WORLD_LOOP_WEIGHT * (w_count - line_ops) < f_count:
-            for key in forward[2] if forward is not None else ():
-                del lines[key]
-            lines.update(w[2])
-            chosen = w
-        say(f"derivatives: world form {w_count} ops" + (f", forward mode {f_count}" if f_count is not None else ""))
+        chosen, columns = _choose_world(spec, P, kin, dyn, der_form, forward, lines, say)
     der, store, _, form_d = chosen
     say(f"derivatives: {form_d} form")
     # the regressor after everything else: no other quantity's name depends on it
     reg, base = _regressor(spec, P, kin, dyn, ints, lines, say) if with_regressor else (None, None)
-    return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d, reg=reg, base=base)
+    return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d, reg=reg, base=base,
+                 world_columns=columns if form_d == "world" else "")
+
+
+def _choose_world(spec, P: Program, kin, dyn, der_form: str, forward, lines: dict, say) -> tuple:
+    """The world form and its products with M⁻¹ ("solve" or "inverse", by op count unless
+    forced), in place of ``forward`` in ``lines`` where it costs less or is forced; (chosen, columns)."""
+    n = spec.n
+    w = _world(spec, P, kin, dyn)
+    line_ops = w[2]["qdd_derivatives"].op_count()
+    w_counts = world_op_counts(n, 2 * n + len(spec.controls), line_ops, len(w[0].ext))
+    columns = der_form[len("world-"):] if der_form in ("world-solve", "world-inverse") else min(w_counts, key=w_counts.get)
+    w_count = w_counts[columns]
+    f_count = sum(line.op_count() for line in forward[2].values()) if forward is not None else None
+    say(f"derivatives: world form {w_count} ops (M^-1 by {columns}: solve {w_counts['solve']}, inverse {w_counts['inverse']})"
+        + (f", forward mode {f_count}" if f_count is not None else ""))
+    if f_count is not None and line_ops + WORLD_LOOP_WEIGHT * (w_count - line_ops) >= f_count:
+        return forward, columns
+    for key in forward[2] if forward is not None else ():
+        del lines[key]
+    lines.update(w[2])
+    return w, columns
 
 
 def _regressor(spec, P: Program, kin, dyn, ints, lines: dict, say) -> tuple:
@@ -210,16 +226,29 @@ WORLD_LOOP_WEIGHT = 2
 WORLD_ACCEL_OPS = 192
 
 
-def world_op_count(n: int, ndir: int, line_ops: int) -> int:
-    """Operations of the world form: its straight line, then in loops the 6-dots of M's lower
-    triangle and of ∂ID (two per pair below the diagonal, one on and above it, for φ and φ̇),
-    the LDLᵀ factorization, the solve for φ̈, φ̈'s share of β and G, and the solve with every
-    column."""
+# world_products_ per pair (j, r), both blocks: the sums P_j (a, b) for φ (23) and φ̇ (24), P's update
+# (24), Q's update (12) and Q_j c for φ and φ̇ (2 × 12)
+WORLD_PRODUCT_OPS = 107
+
+
+def minv_op_count(n: int) -> int:
+    """Operations of the template's minv_: the reciprocals of D, W = L⁻¹ and M⁻¹ = Wᵀ D⁻¹ W."""
+    w = sum(2 * k for r in range(1, n) for k in range(1, r))
+    return n + w + sum(a + (n - 1 - a) * (1 + 2 * (a + 1)) for a in range(n))
+
+
+def world_op_counts(n: int, ndir: int, line_ops: int, n_ext: int) -> dict[str, int]:
+    """Operations of the world form with either product with M⁻¹: its straight line, then in loops
+    the 6-dots of M's lower triangle, the LDLᵀ factorization, the solve for φ̈ and φ̈'s share of β
+    and G; then "solve": the 6-dots of ∂ID (two per pair below the diagonal, one on and above it,
+    for φ and φ̇) and the solve with every column; "inverse": M⁻¹ formed, its products with ∂ID's
+    pairs by prefix sums and one column of M⁻¹ per entry of ∂τ/∂x."""
     below, upper = n * (n - 1) // 2, n * (n + 1) // 2
-    pairs = 11 * upper + 2 * (24 * below + 11 * upper)
     factor = sum(2 * j * (n - j) + 2 * j for j in range(n))
-    solve = (ndir + 1) * (2 * n * (n - 1) + n)
-    return line_ops + pairs + factor + solve + WORLD_ACCEL_OPS * n
+    one_solve = 2 * n * (n - 1) + n
+    common = line_ops + 11 * upper + factor + one_solve + WORLD_ACCEL_OPS * n
+    return {"solve": common + 2 * (24 * below + 11 * upper) + ndir * one_solve,
+            "inverse": common + minv_op_count(n) + WORLD_PRODUCT_OPS * n * n + 2 * n * n_ext}
 
 
 def canonical_applies(spec: ChainSpec, kin: Kinematics, dyn: Dynamics, lines: dict) -> bool:
@@ -318,7 +347,8 @@ def op_counts(model: Model) -> dict[str, int]:
         # φ̈ by the articulated recursion, then every block of derivatives
         if model.der_form == "world":  # the straight line, then the loops
             ndir = 2 * n + len(model.spec.controls)
-            counts["qdd_derivatives"] = world_op_count(n, ndir, model.lines["qdd_derivatives"].op_count())
+            counts["qdd_derivatives"] = world_op_counts(n, ndir, model.lines["qdd_derivatives"].op_count(),
+                                                        len(model.der.ext))[model.world_columns]
         elif "d_jvp" in model.lines:  # run-time count: the tangent once per column
             cols = len(model.der.labels) * model.lines["d_jvp"].op_count()
             counts["qdd_derivatives"] = model.lines["qdd_derivatives"].op_count() + cols

@@ -21,7 +21,11 @@ from .spec import SpecError
 DERIVATIVE_FORMS = {
     "specialised": "forward mode over the articulated recursion, one function per column",
     "generic": "forward mode over the articulated recursion, one tangent called per column",
-    "world": "inverse dynamics differentiated in frame 0, M^-1 by LDL^T, O(n^2) pairs",
+    "world": "inverse dynamics differentiated in frame 0, O(n^2) pairs",
+}
+WORLD_COLUMNS = {  # the world form's products with M^-1 (assemble.world_op_counts chooses)
+    "solve": "M^-1 applied by LDL^T to every column",
+    "inverse": "M^-1 formed from LDL^T, its products by prefix sums",
 }
 
 
@@ -75,7 +79,7 @@ def check(spec, target: Path, force: bool = False, source: Path | None = None, d
         raise SpecError("-o", f"{target} exists and was not written by gyrochain; choose another folder or pass --force "
                               "(its other files are kept)")
     pipeline.check_mass_matrix(spec)
-    if der_form == "world":  # said before the first progress line, from the spec (assemble checks it again)
+    if der_form.startswith("world"):  # said before the first progress line, from the spec (assemble checks it again)
         why = ("a moving platform" if spec.base is not None and spec.base.moves
                else "rotors that change" if any(any(c != 0 for c in b.lam_dot) for b in spec.bodies)
                else "body loads" if any(b.loaded for b in spec.bodies) else "")
@@ -93,7 +97,8 @@ def report(result: Result) -> list[str]:
            + (", moving platform" if spec.base is not None and spec.base.moves else ""),
            "op counts: " + ", ".join(f"{spec.name}_{k} {v}" for k, v in counts.items()),
            f"qdd form: {model.qdd_form}" + (" (composite bodies + LDL^T)" if model.qdd_form == "composite" else " (articulated bodies, O(n))"),
-           f"derivative form: {model.der_form} (" + DERIVATIVE_FORMS[model.der_form] + ")"]
+           f"derivative form: {model.der_form} (" + DERIVATIVE_FORMS[model.der_form]
+           + (", " + WORLD_COLUMNS[model.world_columns] if model.world_columns else "") + ")"]
     out += integral_lines(spec, model)
     if model.reg is not None:
         out.append(regressor_line(model))

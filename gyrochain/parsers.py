@@ -65,10 +65,11 @@ def _derive(sub) -> None:
     g.add_argument("--qdd-form", choices=("auto", "composite", "articulated"), default="auto",
                    help="how NAME_qdd solves for phi'': auto (fewer operations; the default), composite bodies + "
                         "LDL^T, or articulated bodies")
-    g.add_argument("--derivative-form", choices=("auto", "forward", "world"), default="auto",
+    g.add_argument("--derivative-form", choices=("auto", "forward", "world", "world-solve", "world-inverse"), default="auto",
                    help="how NAME_qdd_derivatives is computed: auto (fewer operations; the default), forward mode over "
                         "the articulated recursion, or inverse dynamics differentiated in frame 0 (fixed base, constant "
-                        "rotors, no body loads)")
+                        "rotors, no body loads), its products with M^-1 by fewer operations, by LDL^T solves or by M^-1 "
+                        "formed")
     g.add_argument("--real", choices=("double", "float"), default="double",
                    help="the floating type of the C: double (the default) or float, for a single-precision FPU "
                         "(the Python mirror stays in double)")

@@ -25411,11 +25411,13 @@ int cable64_qdd(const double *x, const double *u, const cable64_params *p, doubl
 
 
 /* In-place LDL^T of the symmetric 64 x 64 array A (lower triangle read; L below the diagonal,
- * D on it).  NONFINITE when an entry it meets is not finite; SINGULAR when a pivot is not above
- * PIVOT_TOL times the largest |diagonal entry| (M not numerically positive definite). */
+ * D on it; the upper triangle is overwritten: row j holds L_ij D_j for i > j).  Column by column:
+ * column j's sums s_ij = A_ij - sum_k L_ik D_k L_jk are contiguous updates of row j over the rows
+ * i > j, four k at a time, each sum in the order of k (the same bits as the row-by-row form).
+ * NONFINITE when an entry it meets is not finite; SINGULAR when a pivot is not above PIVOT_TOL
+ * times the largest |diagonal entry| (M not numerically positive definite). */
 static int cable64_ldlt_factor_(double *A)
 {
-    double v[64];
     double tol = 0.0;
     int i, j, k;
     for (i = 0; i < 64; ++i) {
@@ -25427,24 +25429,37 @@ static int cable64_ldlt_factor_(double *A)
         }
     }
     tol *= CABLE64_PIVOT_TOL;
-    for (i = 0; i < 64; ++i) {
-        double d = A[i * 64 + i];
-        for (j = 0; j < i; ++j) {
-            double s = A[i * 64 + j];
-            for (k = 0; k < j; ++k) {
-                s -= v[k] * A[j * 64 + k];  /* L_ik D_k L_jk */
-            }
-            v[j] = s;  /* L_ij D_j */
-            A[i * 64 + j] = s / A[j * 64 + j];
-            d -= A[i * 64 + j] * s;
-        }
+    for (j = 0; j < 64; ++j) {
+        double *s = A + j * 64;
+        const double d = s[j];
         if (!isfinite(d)) {
             return CABLE64_NONFINITE;
         }
         if (!(d > tol)) {
             return CABLE64_SINGULAR;
         }
-        A[i * 64 + i] = d;
+        for (i = j + 1; i < 64; ++i) {
+            s[i] = A[i * 64 + j];
+        }
+        for (k = 0; k + 4 <= j; k += 4) {
+            const double l0 = s[k], l1 = s[k + 1], l2 = s[k + 2], l3 = s[k + 3];  /* L_jk, row j's lower part */
+            const double *v0 = A + k * 64, *v1 = v0 + 64, *v2 = v1 + 64, *v3 = v2 + 64;
+            for (i = j + 1; i < 64; ++i) {
+                s[i] = s[i] - v0[i] * l0 - v1[i] * l1 - v2[i] * l2 - v3[i] * l3;
+            }
+        }
+        for (; k < j; ++k) {
+            const double l = s[k];
+            const double *v = A + k * 64;
+            for (i = j + 1; i < 64; ++i) {
+                s[i] -= v[i] * l;
+            }
+        }
+        for (i = j + 1; i < 64; ++i) {
+            const double lij = s[i] / d;
+            A[i * 64 + j] = lij;
+            A[i * 65] -= lij * s[i];  /* D_i = M_ii - sum_j L_ij (L_ij D_j), in the order of j */
+        }
     }
     return CABLE64_OK;
 }
@@ -25518,100 +25533,151 @@ static void cable64_world_accel_(const double *qdd, const double *S, const doubl
     }
 }
 
-/* X = A^-1 X for the row-major 64 x 64 array X, with A factored by ldlt_factor_.  Row by row,
- * each column's products of the rows already solved summed in the order of k, so both forms below
- * give the same bits.  With 256-bit vectors (AVX) the sums of a row are kept in one local row that
- * the contiguous, constant-trip loops over the columns fill a vector at a time (from eight columns on);
- * without them, eight columns at a time in eight scalar locals that stay in registers.
- * Measured (docs/benchmarks.md): each form is up to 2-4x slower than the other where it is not used. */
-static void cable64_ldlt_columns_(const double *A, double *X)
+/* M^-1 in place (full, symmetric) from the factors of ldlt_factor_: W = L^-1 over L (row r of W as
+ * contiguous updates by the rows above it), then M^-1 = W^T D^-1 W row by row into the upper
+ * triangle (four rows of W at a time), then copied onto the lower one. */
+static void cable64_minv_(double *A)
 {
-    int i, k, c;
-#if defined(__AVX__)
-    double acc[64];
+    double rD[64], t[64];
+    int a, b, k, r;
+    for (k = 0; k < 64; ++k) {
+        rD[k] = 1.0 / A[k * 65];
+    }
+    for (r = 1; r < 64; ++r) {
+        double *row = A + r * 64;
+        for (b = 0; b < r; ++b) {
+            t[b] = -row[b];
+        }
+        for (k = r - 1; k >= 4; k -= 4) {
+            const double l0 = row[k], l1 = row[k - 1], l2 = row[k - 2], l3 = row[k - 3];
+            const double *w0 = A + k * 64, *w1 = w0 - 64, *w2 = w1 - 64, *w3 = w2 - 64;
+            t[k - 1] -= l0 * w0[k - 1];
+            t[k - 2] = t[k - 2] - l0 * w0[k - 2] - l1 * w1[k - 2];
+            t[k - 3] = t[k - 3] - l0 * w0[k - 3] - l1 * w1[k - 3] - l2 * w2[k - 3];
+            for (b = 0; b < k - 3; ++b) {
+                t[b] = t[b] - l0 * w0[b] - l1 * w1[b] - l2 * w2[b] - l3 * w3[b];
+            }
+        }
+        for (; k >= 1; --k) {
+            const double l = row[k];
+            const double *w = A + k * 64;
+            for (b = 0; b < k; ++b) {
+                t[b] -= l * w[b];
+            }
+        }
+        for (b = 0; b < r; ++b) {
+            row[b] = t[b];
+        }
+    }
+    for (a = 0; a < 64; ++a) {
+        const double *wa = A + a * 64;
+        for (b = 0; b < a; ++b) {
+            t[b] = rD[a] * wa[b];
+        }
+        t[a] = rD[a];
+        for (k = a + 1; k + 4 <= 64; k += 4) {
+            const double *w0 = A + k * 64, *w1 = w0 + 64, *w2 = w1 + 64, *w3 = w2 + 64;
+            const double c0 = w0[a] * rD[k], c1 = w1[a] * rD[k + 1], c2 = w2[a] * rD[k + 2], c3 = w3[a] * rD[k + 3];
+            for (b = 0; b <= a; ++b) {
+                t[b] = t[b] + c0 * w0[b] + c1 * w1[b] + c2 * w2[b] + c3 * w3[b];
+            }
+        }
+        for (; k < 64; ++k) {
+            const double *w = A + k * 64;
+            const double c = w[a] * rD[k];
+            for (b = 0; b <= a; ++b) {
+                t[b] += c * w[b];
+            }
+        }
+        for (b = 0; b <= a; ++b) {
+            A[b * 64 + a] = t[b];
+        }
+    }
+    for (a = 1; a < 64; ++a) {
+        for (b = 0; b < a; ++b) {
+            A[a * 64 + b] = A[b * 64 + a];
+        }
+    }
+}
+
+/* The transposes of M^-1 (-d ID/dphi) and M^-1 (-d ID/dphidot) (either may be NULL), row j of each
+ * from the low-rank pairs of d ID: below the diagonal (i > j) z1^i . a + z2^i . b, on and above it
+ * S^i . c, so column j of M^-1 d ID is P_j (a, b) + Q_j c with the sums P_j = sum_{i>j} M^-1_i (z1^i, z2^i)
+ * (j downward) and Q_j = sum_{i<=j} M^-1_i S^i (j upward): O(n^2) in place of a solve per column. */
+static void cable64_world_products_(const double *Mi, const double *S, const double *z1, const double *z2,
+                                      const double *beta, const double *w, const double *G, const double *K,
+                                      double *dqT, double *dvT)
+{
+    double P[768];
+    int j, r, c;
+    for (r = 0; r < 768; ++r) {
+        P[r] = 0.0;
+    }
+    for (j = 63; j >= 0; --j) {
+        const double *m = Mi + j * 64;
+        if (dqT) {
+            const double *a = beta + 6 * j, *b = w + 6 * j;
+            double *o = dqT + j * 64;
+            for (r = 0; r < 64; ++r) {
+                o[r] = -(P[0 + r] * a[0] + P[64 + r] * a[1] + P[128 + r] * a[2] + P[192 + r] * a[3] + P[256 + r] * a[4] + P[320 + r] * a[5]
+                       + P[384 + r] * b[0] + P[448 + r] * b[1] + P[512 + r] * b[2] + P[576 + r] * b[3] + P[640 + r] * b[4] + P[704 + r] * b[5]);
+            }
+        }
+        if (dvT) {
+            const double *a = w + 6 * j, *b = S + 6 * j;
+            double *o = dvT + j * 64;
+            for (r = 0; r < 64; ++r) {
+                o[r] = 2.0 * (P[0 + r] * a[0] + P[64 + r] * a[1] + P[128 + r] * a[2] + P[192 + r] * a[3] + P[256 + r] * a[4] + P[320 + r] * a[5])
+                       + P[384 + r] * b[0] + P[448 + r] * b[1] + P[512 + r] * b[2] + P[576 + r] * b[3] + P[640 + r] * b[4] + P[704 + r] * b[5];
+            }
+        }
+        for (c = 0; c < 6; ++c) {
+            const double a = z1[6 * j + c], b = z2[6 * j + c];
+            for (r = 0; r < 64; ++r) {
+                P[c * 64 + r] += m[r] * a;
+                P[(6 + c) * 64 + r] += m[r] * b;
+            }
+        }
+    }
+    for (r = 0; r < 384; ++r) {
+        P[r] = 0.0;
+    }
+    for (j = 0; j < 64; ++j) {
+        const double *m = Mi + j * 64;
+        for (c = 0; c < 6; ++c) {
+            const double a = S[6 * j + c];
+            for (r = 0; r < 64; ++r) {
+                P[c * 64 + r] += m[r] * a;
+            }
+        }
+        if (dqT) {
+            const double *a = G + 6 * j;
+            double *o = dqT + j * 64;
+            for (r = 0; r < 64; ++r) {
+                o[r] -= P[0 + r] * a[0] + P[64 + r] * a[1] + P[128 + r] * a[2] + P[192 + r] * a[3] + P[256 + r] * a[4] + P[320 + r] * a[5];
+            }
+        }
+        if (dvT) {
+            const double *a = K + 6 * j;
+            double *o = dvT + j * 64;
+            for (r = 0; r < 64; ++r) {
+                o[r] -= P[0 + r] * a[0] + P[64 + r] * a[1] + P[128 + r] * a[2] + P[192 + r] * a[3] + P[256 + r] * a[4] + P[320 + r] * a[5];
+            }
+        }
+    }
+}
+
+/* The 64 x 64 row-major array X transposed in place. */
+static void cable64_transpose_(double *X)
+{
+    int i, j;
     for (i = 1; i < 64; ++i) {
-        for (c = 0; c < 64; ++c) {
-            acc[c] = 0.0;
-        }
-        for (k = 0; k < i; ++k) {
-            const double l = A[i * 64 + k];
-            for (c = 0; c < 64; ++c) {
-                acc[c] += l * X[k * 64 + c];
-            }
-        }
-        for (c = 0; c < 64; ++c) {
-            X[i * 64 + c] -= acc[c];
+        for (j = 0; j < i; ++j) {
+            const double v = X[i * 64 + j];
+            X[i * 64 + j] = X[j * 64 + i];
+            X[j * 64 + i] = v;
         }
     }
-    for (i = 63; i >= 0; --i) {
-        const double r = 1.0 / A[i * 64 + i];
-        for (c = 0; c < 64; ++c) {
-            acc[c] = 0.0;
-        }
-        for (k = i + 1; k < 64; ++k) {
-            const double l = A[k * 64 + i];
-            for (c = 0; c < 64; ++c) {
-                acc[c] += l * X[k * 64 + c];
-            }
-        }
-        for (c = 0; c < 64; ++c) {
-            X[i * 64 + c] = X[i * 64 + c] * r - acc[c];
-        }
-    }
-#else
-    double s0, s1, s2, s3, s4, s5, s6, s7;
-    for (i = 1; i < 64; ++i) {
-        for (c = 0; c < 64; c += 8) {
-            s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0;
-            for (k = 0; k < i; ++k) {
-                const double l = A[i * 64 + k];
-                const double *x = X + k * 64 + c;
-                s0 += l * x[0];
-                s1 += l * x[1];
-                s2 += l * x[2];
-                s3 += l * x[3];
-                s4 += l * x[4];
-                s5 += l * x[5];
-                s6 += l * x[6];
-                s7 += l * x[7];
-            }
-            X[i * 64 + c + 0] -= s0;
-            X[i * 64 + c + 1] -= s1;
-            X[i * 64 + c + 2] -= s2;
-            X[i * 64 + c + 3] -= s3;
-            X[i * 64 + c + 4] -= s4;
-            X[i * 64 + c + 5] -= s5;
-            X[i * 64 + c + 6] -= s6;
-            X[i * 64 + c + 7] -= s7;
-        }
-    }
-    for (i = 63; i >= 0; --i) {
-        const double r = 1.0 / A[i * 64 + i];
-        for (c = 0; c < 64; c += 8) {
-            s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0;
-            for (k = i + 1; k < 64; ++k) {
-                const double l = A[k * 64 + i];
-                const double *x = X + k * 64 + c;
-                s0 += l * x[0];
-                s1 += l * x[1];
-                s2 += l * x[2];
-                s3 += l * x[3];
-                s4 += l * x[4];
-                s5 += l * x[5];
-                s6 += l * x[6];
-                s7 += l * x[7];
-            }
-            X[i * 64 + c + 0] = X[i * 64 + c + 0] * r - s0;
-            X[i * 64 + c + 1] = X[i * 64 + c + 1] * r - s1;
-            X[i * 64 + c + 2] = X[i * 64 + c + 2] * r - s2;
-            X[i * 64 + c + 3] = X[i * 64 + c + 3] * r - s3;
-            X[i * 64 + c + 4] = X[i * 64 + c + 4] * r - s4;
-            X[i * 64 + c + 5] = X[i * 64 + c + 5] * r - s5;
-            X[i * 64 + c + 6] = X[i * 64 + c + 6] * r - s6;
-            X[i * 64 + c + 7] = X[i * 64 + c + 7] * r - s7;
-        }
-    }
-#endif
 }
 
 int cable64_qdd_derivatives(const double *x, const double *u, const cable64_params *p,
@@ -25620,8 +25686,8 @@ int cable64_qdd_derivatives(const double *x, const double *u, const cable64_para
     /* The inverse dynamics ID(phi, phidot, phi'') in closed form in frame 0 (gyrochain/world.py):
      * per joint the 6-vectors S, z1, z2, beta, w, G, K at phi'' = 0 and I^c; M = (z1^k . S^j) by
      * LDL^T; phi'' = M^-1 (tau - ID(phi, phidot, 0)); the share of phi'' in beta and G; then
-     * d phi''/dx = M^-1 (d tau/dx - d ID/dx) by two 6-dots per pair of joints and the same
-     * factors.  Row-major n x n, n x n, n x nu; a block whose pointer is NULL is not computed. */
+     * d phi''/dx = M^-1 (d tau/dx - d ID/dx) with M^-1 formed and the sums of world_products_
+     * over the pairs of d ID.  Row-major n x n, n x n, n x nu; a block whose pointer is NULL is not computed. */
     double acc[64];
     double S_[384];
     double z1_[384];
@@ -25714,38 +25780,23 @@ int cable64_qdd_derivatives(const double *x, const double *u, const cable64_para
     if (!dqdd_dphi && !dqdd_dphidot) {
         return CABLE64_OK;
     }
-    /* each block asked for: -d ID/dx + d tau/dx at phi'', then M^-1 of it in place */
+    /* each block asked for: M^-1 formed once, then M^-1 (d tau/dx - d ID/dx) from the low-rank pairs of
+     * d ID (world_products_, transposed) and M^-1's columns for the entries of d tau/dx */
     cable64_world_accel_(acc, S_, z1_, IC_, beta_, G_);
+    cable64_minv_(M);
+    cable64_world_products_(M, S_, z1_, z2_, beta_, w_, G_, K_, dqdd_dphi, dqdd_dphidot);
     if (dqdd_dphi) {
-        for (i = 0; i < 64; ++i) {
-            for (j = 0; j < 64; ++j) {
-                dqdd_dphi[i * 64 + j] = i > j ? -(cable64_dot6_(z1_ + 6 * i, beta_ + 6 * j) + cable64_dot6_(z2_ + 6 * i, w_ + 6 * j))
-                                           : -cable64_dot6_(S_ + 6 * i, G_ + 6 * j);
-            }
-        }
-    }
-    if (dqdd_dphidot) {
-        for (i = 0; i < 64; ++i) {
-            for (j = 0; j < 64; ++j) {
-                dqdd_dphidot[i * 64 + j] = i > j ? 2.0 * cable64_dot6_(z1_ + 6 * i, w_ + 6 * j) + cable64_dot6_(z2_ + 6 * i, S_ + 6 * j)
-                                              : -cable64_dot6_(S_ + 6 * i, K_ + 6 * j);
-            }
-        }
-    }
-    if (dqdd_dphi) {
-        cable64_ldlt_columns_(M, dqdd_dphi);
+        cable64_transpose_(dqdd_dphi);
         if (!cable64_all_finite_(dqdd_dphi, 4096)) {
             return CABLE64_NONFINITE;
         }
     }
-
     if (dqdd_dphidot) {
-        cable64_ldlt_columns_(M, dqdd_dphidot);
+        cable64_transpose_(dqdd_dphidot);
         if (!cable64_all_finite_(dqdd_dphidot, 4096)) {
             return CABLE64_NONFINITE;
         }
     }
-
     (void)dqdd_du;  /* no control inputs: an n x 0 block */
     return cable64_all_finite_(acc, 64) ? CABLE64_OK : CABLE64_NONFINITE;
 }

@@ -43,7 +43,7 @@
  * Hamilton's variables (CABLE64_HAS_CANONICAL): cable64_momenta(x, p, pm) gives p = dL/dphidot =
  * M phidot + k(phi) (k_j = e^j . sum of lambda^k, k >= j), cable64_velocities(q, pm, p, qd) the inverse,
  * cable64_pdot(x, u, p, pdot) the rate dp/dt = dL/dphi + the torques without a force function.
- * Op counts: energy 2141, forces 1768, linearize 1328458, mass_matrix 25837, momenta 2193, pdot 3069, qdd 5742, qdd_derivatives 1328458, rhs 5742, velocities 123469.
+ * Op counts: energy 2141, forces 1768, linearize 758602, mass_matrix 25837, momenta 2193, pdot 3069, qdd 5742, qdd_derivatives 758602, rhs 5742, velocities 123469.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */

@@ -74,6 +74,7 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         der_dirs=[(lab, lab[0], int(lab[1:]) - 1, j) for j, lab in enumerate(model.der.labels)] if model.der else [],
         der_generic="d_jvp" in model.lines,
         der_world=model.der_form == "world",
+        world_inverse=model.world_columns == "inverse",
         world_vectors=world.VECTORS,
         ic_parts=world.IC_PARTS,
         world_ext=[(k, c, i) for i, (k, c, _) in enumerate(model.der.ext)] if model.der_form == "world" else [],

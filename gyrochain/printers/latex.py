@@ -467,6 +467,7 @@ def _tex(model: Model) -> dict:
         deriv=_derivative_tex(model, stages, doc, eqs["printed_terms"]),
         deriv_generic="d_jvp" in model.lines,
         deriv_world=model.der_form == "world",
+        deriv_world_inverse=model.world_columns == "inverse",
         base=base_parameters(model),
         references=[REFERENCES[k] for k in references(model)],
     )

@@ -148,6 +148,13 @@ def world_model(make_model):
 
 
 @pytest.fixture(scope="module")
+def world_inverse_model(make_model):
+    """spatial3 with the world form's products with M⁻¹ by M⁻¹ formed (long chains choose it)."""
+    text = (ROOT / "specs" / "spatial3.toml").read_text().replace('name = "spatial3"', 'name = "spatial3i"')
+    return make_model(text, der_form="world-inverse")
+
+
+@pytest.fixture(scope="module")
 def loop_models(make_model):
     """The loop form of long chains (gyrochain/loopform.py) forced on spatial3 (fixed base: Hamilton's
     variables too) and on ship_gimbal (a moving platform: no canonical functions), with the world
@@ -159,20 +166,22 @@ def loop_models(make_model):
 
 
 @pytest.mark.parametrize("cc,flags", COMPILERS, ids=[c for c, _ in COMPILERS])
-@pytest.mark.parametrize("form", ["world", "loops", "loops, moving base"])
-def test_world_and_loop_forms_compile_warning_free(world_model, loop_models, form, cc, flags, tmp_path):
+@pytest.mark.parametrize("form", ["world", "world-inverse", "loops", "loops, moving base"])
+def test_world_and_loop_forms_compile_warning_free(world_model, world_inverse_model, loop_models, form, cc, flags, tmp_path):
     if not shutil.which(cc):
         pytest.skip(f"{cc} is not installed")
-    model = {"world": world_model, "loops": loop_models[0], "loops, moving base": loop_models[1]}[form]
+    model = {"world": world_model, "world-inverse": world_inverse_model, "loops": loop_models[0],
+             "loops, moving base": loop_models[1]}[form]
     src = model.folder / f"{model.spec.name}.c"
-    assert ("ldlt_factor_" if form == "world" else "ldlt_checked_") in src.read_text()
+    assert {"world": "ldlt_columns_", "world-inverse": "world_products_"}.get(form, "ldlt_checked_") in src.read_text()
     res = _run([cc, *flags, *STRICT, "-O2", "-c", str(src), "-o", str(tmp_path / "m.o")])
     assert res.returncode == 0 and not res.stderr, res.stderr
 
 
-@pytest.mark.parametrize("form", ["world", "loops", "loops, moving base"])
-def test_world_and_loop_forms_sanitizers_clean(world_model, loop_models, form, tmp_path):
-    model = {"world": world_model, "loops": loop_models[0], "loops, moving base": loop_models[1]}[form]
+@pytest.mark.parametrize("form", ["world", "world-inverse", "loops", "loops, moving base"])
+def test_world_and_loop_forms_sanitizers_clean(world_model, world_inverse_model, loop_models, form, tmp_path):
+    model = {"world": world_model, "world-inverse": world_inverse_model, "loops": loop_models[0],
+             "loops, moving base": loop_models[1]}[form]
     _sanitized_driver(model.folder, model.spec, model.params, tmp_path)
 
 
