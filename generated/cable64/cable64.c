@@ -69,8 +69,8 @@ static void cable64_pairs_(const double *S, const double *z1, double *M, int upp
     }
 }
 
-/* LDL^T of the row-major 64 x 64 array M (lower triangle read) into A (lower triangle written;
- * A may be M): L below the diagonal, D on it.  SINGULAR when a pivot is not above PIVOT_TOL times the
+/* LDL^T of the row-major 64 x 64 array M (lower triangle read) into A (lower triangle written,
+ * and L transposed above it; A may be M): L below the diagonal, D on it.  SINGULAR when a pivot is not above PIVOT_TOL times the
  * largest |diagonal entry| (M not numerically positive definite); the loops of the unrolled form of
  * shorter chains.  Reading M in place of a copy keeps gcc from calling memcpy (not libm). */
 static int cable64_ldlt_checked_(const double *M, double *A)
@@ -93,14 +93,34 @@ static int cable64_ldlt_checked_(const double *M, double *A)
         if (!(d > tol)) {
             return CABLE64_SINGULAR;
         }
-        A[j * 65] = d;
-        r = 1.0 / d;
-        for (i = j + 1; i < 64; ++i) {
-            s = M[i * 64 + j];
-            for (k = 0; k < j; ++k) {
-                s -= A[i * 64 + k] * v[k];
+        /* column j's sums as contiguous updates over the rows i > j, four k at a time, in the order of k
+         * (the same bits as a sum per entry): L is kept transposed in the upper triangle too, row k
+         * holding L_ik for i > k (A's upper triangle is overwritten) */
+        {
+            double *c = A + j * 64;
+            for (i = j + 1; i < 64; ++i) {
+                c[i] = M[i * 64 + j];
             }
-            A[i * 64 + j] = s * r;
+            for (k = 0; k + 4 <= j; k += 4) {
+                const double *l0 = A + k * 64, *l1 = l0 + 64, *l2 = l1 + 64, *l3 = l2 + 64;
+                const double v0 = v[k], v1 = v[k + 1], v2 = v[k + 2], v3 = v[k + 3];
+                for (i = j + 1; i < 64; ++i) {
+                    c[i] = c[i] - l0[i] * v0 - l1[i] * v1 - l2[i] * v2 - l3[i] * v3;
+                }
+            }
+            for (; k < j; ++k) {
+                const double *l = A + k * 64;
+                for (i = j + 1; i < 64; ++i) {
+                    c[i] -= l[i] * v[k];
+                }
+            }
+            A[j * 65] = d;
+            r = 1.0 / d;
+            for (i = j + 1; i < 64; ++i) {
+                s = c[i] * r;
+                c[i] = s;
+                A[i * 64 + j] = s;
+            }
         }
     }
     return CABLE64_OK;

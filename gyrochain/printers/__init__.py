@@ -13,7 +13,7 @@ import shlex
 
 import sympy as sp
 
-from .. import __version__, integrals, world
+from .. import __version__, integrals, loopform, world
 from ..assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
                         time_dependent, variational_stack_bytes)
 from .c import CTarget
@@ -64,6 +64,7 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         canonical="momenta" in model.lines,
         articulated=model.qdd_form == "articulated",
         loops=model.dyn.loops is not None,  # a long chain: M from S and z1 by the template's loops (loopform.py)
+        ldlt_by_columns=n >= loopform.LDLT_COLUMNS_MIN_N,
         has_energy_integral=int(ints.has_energy_integral),
         energy_verdict=c_comment(integrals.energy_verdict(spec, ints)),
         momentum_verdict=c_comment(integrals.momentum_verdict(ints)),

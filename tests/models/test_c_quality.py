@@ -225,6 +225,61 @@ def _sanitized_driver(folder, spec, params, tmp_path):
     assert run.returncode == 0 and run.stdout.strip() == "0" and not run.stderr, (run.stdout, run.stderr)
 
 
+def test_both_loop_ldlt_forms_give_the_same_bits_under_the_sanitizers(monkeypatch, tmp_path):
+    """The loop form's LDLᵀ (ldlt_checked_: the pivots of mass_matrix, the factors of velocities)
+    one sum per entry (short chains) or by columns (from loopform.LDLT_COLUMNS_MIN_N joints on): the
+    same random 12-joint chain emitted in both (columns 4 to 11 take the four-k steps and the
+    rest), compiled with ASan and UBSan, gives the same bits for M, its pivot
+    verdict and φ̇ from the momenta at random states."""
+    from gyrochain import loopform, pipeline
+    from gyrochain.randspec import random_spec_text
+    from gyrochain.spec import parse_spec
+
+    spec = parse_spec(random_spec_text(np.random.default_rng(1212), 12, name="ldl12", planar=False, gyro=True, controls=()))
+    outs = {}
+    for label, threshold in (("entries", 10**6), ("columns", 12)):
+        monkeypatch.setattr(loopform, "LDLT_COLUMNS_MIN_N", threshold)
+        files, model = pipeline.derive_and_render(spec, targets=("c",), loops="loops")
+        assert model.dyn.loops is not None
+        src = files["ldl12.c"]
+        assert ("L transposed above it" in src) == (label == "columns")
+        d = tmp_path / label
+        d.mkdir()
+        for k in ("ldl12.c", "ldl12.h"):
+            (d / k).write_text(files[k])
+        (d / "main.c").write_text("""#include <stdio.h>
+#include <stdlib.h>
+#include "ldl12.h"
+int main(void)
+{
+    double q[12], pm[12], qd[12], M[144];
+    int s, i, c1, c2;
+    srand(7);
+    for (s = 0; s < 40; ++s) {
+        for (i = 0; i < 12; ++i) {
+            q[i] = 6.0 * rand() / RAND_MAX - 3.0;
+            pm[i] = 2.0 * rand() / RAND_MAX - 1.0;
+        }
+        c1 = ldl12_mass_matrix(q, 0, M);
+        c2 = ldl12_velocities(q, pm, 0, qd);
+        printf("%d %d", c1, c2);
+        for (i = 0; i < 144; ++i) printf(" %a", M[i]);
+        for (i = 0; i < 12; ++i) printf(" %a", qd[i]);
+        printf("\\n");
+    }
+    return 0;
+}
+""")
+        exe = d / "main"
+        res = _run(["gcc", "-std=c99", "-O0", "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
+                    "-fno-omit-frame-pointer", *STRICT, "-I", str(d), str(d / "main.c"), str(d / "ldl12.c"), "-lm", "-o", str(exe)])
+        assert res.returncode == 0, res.stderr
+        run = _run([str(exe)], env={"ASAN_OPTIONS": "detect_leaks=1", "UBSAN_OPTIONS": "print_stacktrace=1"})
+        assert run.returncode == 0 and not run.stderr, run.stderr
+        outs[label] = run.stdout
+    assert outs["entries"].count("\n") == 40 and outs["entries"] == outs["columns"]
+
+
 def test_error_codes_instead_of_nan(example):
     m = example("furuta_sym")
     x = np.array([0.1, 0.2, 0.3, 0.4])
