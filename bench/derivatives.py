@@ -258,8 +258,10 @@ def main() -> int:
               f"  CasADi jacobian {f(row['casadi_ns']):>8}  Pinocchio (λ=0) {f(row['pinocchio_ns']):>8}"
               f"  best peer / ours {f(row['best_peer_over_ours'], '.2f')}", flush=True)
     if rows:
-        write_csv(RESULTS / "derivatives.csv", rows)
-        print(f"wrote {(RESULTS / 'derivatives.csv').relative_to(ROOT)}")
+        # one file per flag set: derivatives.csv at the default -O2, derivatives_O3_march_native.csv ...
+        out = RESULTS / ("derivatives" + ("" if CFLAGS == ["-O2"] else "_" + "_".join(f.lstrip("-").replace("=", "_") for f in CFLAGS)) + ".csv")
+        write_csv(out, rows)
+        print(f"wrote {out.relative_to(ROOT)}")
     if args.symbolic:
         write_csv(RESULTS / "derivatives_symbolic.csv", symbolic_check([(2, False), (3, False)]))
     return 0
