@@ -76,6 +76,7 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         der_generic="d_jvp" in model.lines,
         der_world=model.der_form == "world",
         world_inverse=model.world_columns == "inverse",
+        factor_by_columns=n >= world.FACTOR_COLUMNS_MIN_N,
         world_vectors=world.VECTORS,
         ic_parts=world.IC_PARTS,
         world_ext=[(k, c, i) for i, (k, c, _) in enumerate(model.der.ext)] if model.der_form == "world" else [],

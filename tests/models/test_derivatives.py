@@ -291,3 +291,37 @@ def test_both_forms_of_the_column_solve_give_the_same_bits(make_model, tmp_path)
                        check=True, capture_output=True)
         outs.append(subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout)
     assert outs[0].startswith("0") and outs[0] == outs[1]
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_both_forms_of_the_factor_give_the_same_bits(make_model, monkeypatch, tmp_path):
+    """The world form's LDLᵀ of M row by row (short chains) and column by column (from
+    world.FACTOR_COLUMNS_MIN_N joints on: contiguous updates, four k at a time) sums each entry in
+    the same order: the n = 10 chain emitted both ways gives the same bits (φ̈ and every block, the
+    factor's verdict on a singular M too)."""
+    from gyrochain import pipeline, world
+
+    _, wld, rng = _world_pair(make_model, 10, False, True, (3,), False)
+    name = wld.spec.name
+    xs = [_state(rng, 10) for _ in range(4)] + [np.zeros(20)]
+    main = tmp_path / "main.c"
+    main.write_text(f'#include <stdio.h>\n#include "{name}.h"\nint main(void) {{\n'
+                    f"    static const double xs[5][20] = {{{', '.join('{' + ', '.join(repr(float(v)) for v in x) + '}' for x in xs)}}};\n"
+                    "    double u[1] = {0.25}, q[10], dq[100], dv[100], du[10];\n    int s, i;\n"
+                    f"    for (s = 0; s < 5; ++s) {{\n        printf(\"%d\", {name}_qdd_derivatives(xs[s], u, 0, q, dq, dv, du));\n"
+                    "        for (i = 0; i < 100; ++i) printf(\" %a %a\", dq[i], dv[i]);\n"
+                    "        for (i = 0; i < 10; ++i) printf(\" %a %a\", q[i], du[i]);\n        printf(\"\\n\");\n    }\n    return 0;\n}\n")
+    outs = {}
+    for label, threshold in (("rows", 10**6), ("columns", 10)):
+        monkeypatch.setattr(world, "FACTOR_COLUMNS_MIN_N", threshold)
+        files, _ = pipeline.derive_and_render(wld.spec, targets=("c",), der_form="world")
+        assert ("four k at a time, each sum" in files[f"{name}.c"]) == (label == "columns")
+        d = tmp_path / label
+        d.mkdir()
+        for k in (f"{name}.c", f"{name}.h"):
+            (d / k).write_text(files[k])
+        exe = d / "main"
+        subprocess.run(["gcc", "-std=c99", "-O2", f"-I{d}", str(main), str(d / f"{name}.c"), "-lm", "-o", str(exe)],
+                       check=True, capture_output=True)
+        outs[label] = subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout
+    assert outs["rows"].count("\n") == 5 and outs["rows"].startswith("0") and outs["rows"] == outs["columns"]
