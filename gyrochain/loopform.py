@@ -35,11 +35,13 @@ from .vec3 import cross, dot, dot6, inertia_apply
 # docs/benchmarks.md, "Long chains").
 LOOP_MIN_N = 12
 
-# From this many joints on, the loop form's LDLᵀ (the template's ldlt_checked_: the pivots of
-# mass_matrix, the factors of velocities) updates each column's sums row-contiguously, four k at a
-# time, with L kept transposed above the diagonal; below, one sum per entry.  Both give the same
-# bits.  Measured alone (µs, gcc -O2 / -O3 -march=native, 2026-11-26): n = 24 per entry 1.5 against
-# 2.0 by columns; n = 32 5.7 / 1.8 against 3.6 / 1.7; n = 64 45 against 20; n = 128 174 / 145 against 99 / 58.
+# From this many joints on, the LDLᵀ of velocities (the template's ldlt_checked_columns_) updates
+# each column's sums row-contiguously, four k at a time, with L kept transposed above the diagonal;
+# below, and always in mass_matrix, one sum per entry (ldlt_checked_).  Both give the same bits.
+# Measured alone (µs, gcc -O2 / -O3 -march=native, 2026-11-26): n = 24 per entry 1.5 against 2.0 by
+# columns; n = 32 5.7 / 1.8 against 3.6 / 1.7; n = 64 45 against 20; n = 128 174 / 145 against 99 / 58.
+# In mass_matrix, where the factors go to a local array, gcc -O3 vectorises the per-entry form
+# across the rows (n = 128: 26 µs against 29 µs by columns), so it keeps that form.
 LDLT_COLUMNS_MIN_N = 32
 
 LOOP_FORMS = ("auto", "straight", "loops")

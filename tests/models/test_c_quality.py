@@ -226,8 +226,8 @@ def _sanitized_driver(folder, spec, params, tmp_path):
 
 
 def test_both_loop_ldlt_forms_give_the_same_bits_under_the_sanitizers(monkeypatch, tmp_path):
-    """The loop form's LDLᵀ (ldlt_checked_: the pivots of mass_matrix, the factors of velocities)
-    one sum per entry (short chains) or by columns (from loopform.LDLT_COLUMNS_MIN_N joints on): the
+    """The loop form's LDLᵀ in velocities one sum per entry (short chains, and mass_matrix's pivot
+    test always) or by columns (from loopform.LDLT_COLUMNS_MIN_N joints on): the
     same random 12-joint chain emitted in both (columns 4 to 11 take the four-k steps and the
     rest), compiled with ASan and UBSan, gives the same bits for M, its pivot
     verdict and φ̇ from the momenta at random states."""
