@@ -249,14 +249,16 @@ def test_world_form_singular_and_not_applicable(make_model, tmp_path):
         m.c.qdd_derivatives(x, None, {k: 0.0 for k in m.params})
     assert err.value.code == 1
     check_derivatives(m, x, np.array([0.3]))
-    # a spec the world form does not cover: a one-line error naming the option, nothing written
-    out = tmp_path / "turn"
-    res = subprocess.run([sys.executable, "-m", "gyrochain", "generate", str(ROOT / "specs" / "turntable.toml"), "-o", str(out),
-                          "--derivative-form", "world", "--no-build", "-q"], capture_output=True, text=True, cwd=ROOT)
-    assert res.returncode != 0
-    assert "--derivative-form" in res.stderr and "moving platform" in res.stderr
-    assert "Traceback" not in res.stderr
-    assert not out.exists()
+    # a spec the world form does not cover, in either product with M⁻¹: a one-line error naming the
+    # option, nothing written
+    for form in ("world", "world-inverse"):
+        out = tmp_path / f"turn-{form}"
+        res = subprocess.run([sys.executable, "-m", "gyrochain", "generate", str(ROOT / "specs" / "turntable.toml"), "-o", str(out),
+                              "--derivative-form", form, "--no-build", "-q"], capture_output=True, text=True, cwd=ROOT)
+        assert res.returncode != 0
+        assert "--derivative-form" in res.stderr and "moving platform" in res.stderr
+        assert "Traceback" not in res.stderr and len(res.stderr.strip().splitlines()) == 1
+        assert not out.exists()
 
 
 def _avx() -> bool:
@@ -264,6 +266,21 @@ def _avx() -> bool:
         return " avx " in f" {Path('/proc/cpuinfo').read_text()} ".replace("\n", " ")
     except OSError:
         return False
+
+
+def _printed_derivatives(folder, name: str, xs, exe, flags=("-O2",)) -> str:
+    """Every output of NAME_qdd_derivatives of the n = 10 chain with one control (u = 0.25) at the
+    states ``xs``, printed exactly (%a) by a C driver built with gcc ``flags`` as ``exe``."""
+    main = exe.parent / f"{exe.name}_main.c"
+    main.write_text(f'#include <stdio.h>\n#include "{name}.h"\nint main(void) {{\n'
+                    f"    static const double xs[{len(xs)}][20] = {{{', '.join('{' + ', '.join(repr(float(v)) for v in x) + '}' for x in xs)}}};\n"
+                    "    double u[1] = {0.25}, q[10], dq[100], dv[100], du[10];\n    int s, i;\n"
+                    f"    for (s = 0; s < {len(xs)}; ++s) {{\n        printf(\"%d\", {name}_qdd_derivatives(xs[s], u, 0, q, dq, dv, du));\n"
+                    "        for (i = 0; i < 100; ++i) printf(\" %a %a\", dq[i], dv[i]);\n"
+                    "        for (i = 0; i < 10; ++i) printf(\" %a %a\", q[i], du[i]);\n        printf(\"\\n\");\n    }\n    return 0;\n}\n")
+    subprocess.run(["gcc", "-std=c99", *flags, f"-I{folder}", str(main), str(folder / f"{name}.c"), "-lm", "-o", str(exe)],
+                   check=True, capture_output=True)
+    return subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout
 
 
 @pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
@@ -276,20 +293,9 @@ def test_both_forms_of_the_column_solve_give_the_same_bits(make_model, tmp_path)
     _, wld, rng = _world_pair(make_model, 10, False, True, (3,), False)
     name = wld.spec.name
     assert "#if defined(__GNUC__) && defined(__AVX__)" in (wld.folder / f"{name}.c").read_text()
-    main = tmp_path / "main.c"
     xs = [_state(rng, 10) for _ in range(4)]
-    main.write_text(f'#include <stdio.h>\n#include "{name}.h"\nint main(void) {{\n'
-                    f"    static const double xs[4][20] = {{{', '.join('{' + ', '.join(repr(float(v)) for v in x) + '}' for x in xs)}}};\n"
-                    "    double u[1] = {0.25}, q[10], dq[100], dv[100], du[10];\n    int s, i;\n"
-                    f"    for (s = 0; s < 4; ++s) {{\n        printf(\"%d\", {name}_qdd_derivatives(xs[s], u, 0, q, dq, dv, du));\n"
-                    "        for (i = 0; i < 100; ++i) printf(\" %a %a\", dq[i], dv[i]);\n"
-                    "        for (i = 0; i < 10; ++i) printf(\" %a %a\", q[i], du[i]);\n        printf(\"\\n\");\n    }\n    return 0;\n}\n")
-    outs = []
-    for flags in (["-O2"], ["-O2", "-mavx"]):
-        exe = tmp_path / ("avx" if "-mavx" in flags else "plain")
-        subprocess.run(["gcc", "-std=c99", *flags, f"-I{wld.folder}", str(main), str(wld.folder / f"{name}.c"), "-lm", "-o", str(exe)],
-                       check=True, capture_output=True)
-        outs.append(subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout)
+    outs = [_printed_derivatives(wld.folder, name, xs, tmp_path / "plain"),
+            _printed_derivatives(wld.folder, name, xs, tmp_path / "avx", ("-O2", "-mavx"))]
     assert outs[0].startswith("0") and outs[0] == outs[1]
 
 
@@ -304,13 +310,6 @@ def test_both_forms_of_the_factor_give_the_same_bits(make_model, monkeypatch, tm
     _, wld, rng = _world_pair(make_model, 10, False, True, (3,), False)
     name = wld.spec.name
     xs = [_state(rng, 10) for _ in range(4)] + [np.zeros(20)]
-    main = tmp_path / "main.c"
-    main.write_text(f'#include <stdio.h>\n#include "{name}.h"\nint main(void) {{\n'
-                    f"    static const double xs[5][20] = {{{', '.join('{' + ', '.join(repr(float(v)) for v in x) + '}' for x in xs)}}};\n"
-                    "    double u[1] = {0.25}, q[10], dq[100], dv[100], du[10];\n    int s, i;\n"
-                    f"    for (s = 0; s < 5; ++s) {{\n        printf(\"%d\", {name}_qdd_derivatives(xs[s], u, 0, q, dq, dv, du));\n"
-                    "        for (i = 0; i < 100; ++i) printf(\" %a %a\", dq[i], dv[i]);\n"
-                    "        for (i = 0; i < 10; ++i) printf(\" %a %a\", q[i], du[i]);\n        printf(\"\\n\");\n    }\n    return 0;\n}\n")
     outs = {}
     for label, threshold in (("rows", 10**6), ("columns", 10)):
         monkeypatch.setattr(world, "FACTOR_COLUMNS_MIN_N", threshold)
@@ -320,8 +319,5 @@ def test_both_forms_of_the_factor_give_the_same_bits(make_model, monkeypatch, tm
         d.mkdir()
         for k in (f"{name}.c", f"{name}.h"):
             (d / k).write_text(files[k])
-        exe = d / "main"
-        subprocess.run(["gcc", "-std=c99", "-O2", f"-I{d}", str(main), str(d / f"{name}.c"), "-lm", "-o", str(exe)],
-                       check=True, capture_output=True)
-        outs[label] = subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout
+        outs[label] = _printed_derivatives(d, name, xs, d / "main")
     assert outs["rows"].count("\n") == 5 and outs["rows"].startswith("0") and outs["rows"] == outs["columns"]
