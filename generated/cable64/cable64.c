@@ -26662,13 +26662,13 @@ static int cable64_fixed_(int method, int nt, const double *tt, double h, long m
     return code;
 }
 
-int cable64_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const cable64_params *p,
-                              double *X, cable64_integrate_stats *stats)
+/* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
+ * and the others NaN, *max_steps the budget.  CABLE64_OK when the integration can start. */
+static int cable64_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                  long *max_steps, const double *x0, const cable64_params *p, double *X,
+                                  cable64_integrate_stats *st)
 {
-    cable64_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
-    cable64_integrate_stats *st = stats ? stats : &local;
-    int i, j, code;
+    int i, j;
     st->t = 0.0;
     st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = st->n_newton = 0;
     for (i = 0; i < 128; ++i) {
@@ -26705,15 +26705,26 @@ int cable64_integrate_grid(int method, int nt, const double *t, double h, double
     cable64_copy_(X, x0);
     cable64_copy_(st->x, x0);
     st->t = t[0];
-    if (max_steps <= 0) {
-        max_steps = CABLE64_INTEGRATE_MAX_STEPS;
+    if (*max_steps <= 0) {
+        *max_steps = CABLE64_INTEGRATE_MAX_STEPS;
+    }
+    return CABLE64_OK;
+}
+
+int cable64_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const cable64_params *p,
+                              double *X, cable64_integrate_stats *stats)
+{
+    cable64_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
+    cable64_integrate_stats *st = stats ? stats : &local;
+    int code = cable64_grid_start_(method, nt, t, h, rtol, atol, &max_steps, x0, p, X, st);
+    if (code != CABLE64_OK) {
+        return code;
     }
     if (method == CABLE64_DOP853) {
-        code = cable64_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
-    } else {
-        code = cable64_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+        return cable64_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
     }
-    return code;
+    return cable64_fixed_(method, nt, t, h, max_steps, u, p, X, st);
 }
 
 int cable64_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,

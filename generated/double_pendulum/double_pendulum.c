@@ -7,6 +7,7 @@
  */
 #include "double_pendulum.h"
 
+#include <float.h>
 #include <math.h>
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
@@ -551,6 +552,257 @@ int double_pendulum_pdot(const double *x, const double *u, const double_pendulum
     }
     return double_pendulum_all_finite_(pdot, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
 }
+#if FLT_EVAL_METHOD == 0
+#define DOUBLE_PENDULUM_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
+
+/* sin a[i] and cos a[i] for i < 4, the reduction and polynomials above (|a| < 1e6). */
+static void double_pendulum_sincos4_(const double *restrict a, double *restrict s, double *restrict c)
+{
+    int i;
+    for (i = 0; i < 4; ++i) {
+        const double j = (a[i] * 0.63661977236758134 + DOUBLE_PENDULUM_ROUND_) - DOUBLE_PENDULUM_ROUND_;
+        const double f = (j * 0.25 - 0.375 + DOUBLE_PENDULUM_ROUND_) - DOUBLE_PENDULUM_ROUND_;  /* floor(j / 4) */
+        const double y1 = a[i] - j * 1.5707963267341256;                       /* exact */
+        const double w2 = j * 6.077100506303966e-11;                            /* exact */
+        const double y2 = y1 - w2;
+        const double b2 = y2 - y1;
+        const double e2 = (y1 - (y2 - b2)) - (w2 + b2);                         /* y1 - w2 = y2 + e2 */
+        const double w3 = j * 2.0222662487111665e-21;
+        const double y3 = y2 - w3;
+        const double b3 = y3 - y2;
+        const double e3 = (y2 - (y3 - b3)) - (w3 + b3);                         /* y2 - w3 = y3 + e3 */
+        const double lo = (e2 + e3) - j * 8.4784276603689e-32;
+        const double rh = y3 + lo;
+        const double rl = lo - (rh - y3);
+        const double q = j - 4.0 * f;                                           /* j mod 4 */
+        const double z = rh * rh;
+        const double ps = -0.16666666666666666 + z * (0.008333333333333333 + z * (-0.0001984126984126984
+                        + z * (2.7557319223985893e-06 + z * (-2.505210838544172e-08 + z * (1.6059043836821613e-10
+                        + z * (-7.647163731819816e-13 + z * 2.8114572543455206e-15))))));
+        const double pc = 0.041666666666666664 + z * (-0.001388888888888889 + z * (2.48015873015873e-05
+                        + z * (-2.755731922398589e-07 + z * (2.08767569878681e-09 + z * (-1.1470745597729725e-11
+                        + z * 4.779477332387385e-14)))));
+        const double hz = 0.5 * z;
+        const double w = 1.0 - hz;
+        const double sr = rh + (rh * z * ps + rl * (1.0 - hz));
+        const double cr = w + (((1.0 - w) - hz) + (z * z * pc - rh * rl));
+        const double odd = (q == 1.0 || q == 3.0) ? 1.0 : 0.0;
+        const double ss = odd != 0.0 ? cr : sr;
+        const double cc = odd != 0.0 ? sr : cr;
+        const double sa = q >= 2.0 ? -ss : ss;
+        s[i] = a[i] == 0.0 ? a[i] : sa;  /* sin(-0) = -0 */
+        c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
+    }
+}
+#endif
+
+/* s[i] = sin a[i], c[i] = cos a[i] for i < count, a multiple of 4. */
+static void double_pendulum_sincos_(const double *a, double *s, double *c, int count)
+{
+    int i, far = 0;
+#if FLT_EVAL_METHOD == 0
+    for (i = 0; i < count; i += 4) {
+        double_pendulum_sincos4_(a + i, s + i, c + i);
+    }
+    for (i = 0; i < count; ++i) {
+        far |= !(fabs(a[i]) < 1e6);
+    }
+    for (i = 0; far && i < count; ++i) {
+        if (!(fabs(a[i]) < 1e6)) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+    }
+#else
+    (void)far;
+    for (i = 0; i < count; ++i) {
+        s[i] = sin(a[i]);
+        c[i] = cos(a[i]);
+    }
+#endif
+}
+
+
+/* The right side x' = (phidot, phi'') of 1 state(s) at once, for RK4's lanes (the integrators'
+ * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 1 + l),
+ * code[l] what double_pendulum_rhs returns for lane l.  double_pendulum_qdd's operations, each statement for
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
+ * double_pendulum_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
+static void double_pendulum_rhs_lane_(const double *restrict X, const double *u, const double_pendulum_params *p,
+                                double *restrict XD, int *code)
+{
+    double piv_[2], ok_[1];
+    double A_[4], S_[4], C_[4];
+    int i, l;
+    (void)p;
+    (void)u;
+
+    for (l = 0; l < 1; ++l) {
+        A_[l] = X[l];
+        A_[1 + l] = X[1 + l];
+    }
+    for (i = 2; i < 4; ++i) {
+        A_[i] = 0.0;
+    }
+    double_pendulum_sincos_(A_, S_, C_, 4);
+    for (l = 0; l < 1; ++l) {
+        const double cos_phi1 = C_[l];
+        const double sin_phi1 = S_[l];
+        const double cos_phi2 = C_[1 + l];
+        const double sin_phi2 = S_[1 + l];
+        const double om2_1 = X[2 + l] + X[3 + l];
+        const double aOrel2in1_3 = -X[2 + l]*X[2 + l];
+        const double j2r5 = -9.81*cos_phi1 + aOrel2in1_3;
+        const double aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2;
+        const double pF2_3 = aOg2_3 - 0.5*om2_1*om2_1;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double Jm2rdr_22 = 0.6251874062968515 - 0.3748125937031484*c2phi2;
+        const double pc2f_2 = 0.25037481259370314*cos_phi2*aOg2_2 - sin_phi2*pF2_3;
+        const double IA1_11 = 0.3335 + Jm2rdr_22;
+        const double pA1_1 = 4.905*sin_phi1 - pc2f_2;
+        const double rD1 = 1.0/IA1_11;
+        const double qdd1 = -pA1_1*rD1;
+        const double dv2_2 = -cos_phi2*qdd1;
+        const double qdd2 = 1.4992503748125936*aOg2_2 - qdd1 + 1.4992503748125936*dv2_2;
+
+        XD[2 + l] = qdd1;
+        XD[3 + l] = qdd2;
+        piv_[l] = IA1_11;
+        piv_[1 + l] = 0.3335;
+
+    }
+    for (i = 0; i < 2; ++i) {
+        XD[i] = X[2 + i];
+    }
+    for (l = 0; l < 1; ++l) {
+        const double fin = (X[l] - X[l]) + (X[1 + l] - X[1 + l]) + (X[2 + l] - X[2 + l]) + (X[3 + l] - X[3 + l]) + (XD[2 + l] - XD[2 + l]) + (XD[3 + l] - XD[3 + l]) + (piv_[l] - piv_[l]) + (piv_[1 + l] - piv_[1 + l]);
+        double lo = piv_[l];
+        lo = piv_[1 + l] < lo ? piv_[1 + l] : lo;
+        double hi = fabs(piv_[l]);
+        hi = fabs(piv_[1 + l]) > hi ? fabs(piv_[1 + l]) : hi;
+        ok_[l] = (lo - hi * DOUBLE_PENDULUM_PIVOT_TOL) + fin;
+    }
+    for (l = 0; l < 1; ++l) {
+        double x[4];
+        if (ok_[l] > 0.0) {
+            code[l] = DOUBLE_PENDULUM_OK;
+            continue;
+        }
+        /* the code double_pendulum_rhs returns, its tests in its order */
+        for (i = 0; i < 4; ++i) {
+            x[i] = X[i * 1 + l];
+        }
+        code[l] = DOUBLE_PENDULUM_NONFINITE;
+        if (!double_pendulum_all_finite_(x, 4)) {
+            continue;
+        }
+        {
+            double piv[2];
+            for (i = 0; i < 2; ++i) {
+                piv[i] = piv_[i * 1 + l];
+            }
+            if ((code[l] = double_pendulum_pivots_(piv)) != DOUBLE_PENDULUM_OK) {
+                continue;
+            }
+        }
+        for (i = 0; i < 2; ++i) {
+            if (!isfinite(XD[(2 + i) * 1 + l])) {
+                break;
+            }
+        }
+        code[l] = i < 2 ? DOUBLE_PENDULUM_NONFINITE : DOUBLE_PENDULUM_OK;
+    }
+}
+
+/* The right side x' = (phidot, phi'') of 8 state(s) at once, for RK4's lanes (the integrators'
+ * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 8 + l),
+ * code[l] what double_pendulum_rhs returns for lane l.  double_pendulum_qdd's operations, each statement for
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
+ * double_pendulum_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
+static void double_pendulum_rhs_lanes_(const double *restrict X, const double *u, const double_pendulum_params *p,
+                                double *restrict XD, int *code)
+{
+    double piv_[16], ok_[8];
+    double A_[16], S_[16], C_[16];
+    int i, l;
+    (void)p;
+    (void)u;
+
+    for (l = 0; l < 8; ++l) {
+        A_[l] = X[l];
+        A_[8 + l] = X[8 + l];
+    }
+    double_pendulum_sincos_(A_, S_, C_, 16);
+    for (l = 0; l < 8; ++l) {
+        const double cos_phi1 = C_[l];
+        const double sin_phi1 = S_[l];
+        const double cos_phi2 = C_[8 + l];
+        const double sin_phi2 = S_[8 + l];
+        const double om2_1 = X[16 + l] + X[24 + l];
+        const double aOrel2in1_3 = -X[16 + l]*X[16 + l];
+        const double j2r5 = -9.81*cos_phi1 + aOrel2in1_3;
+        const double aOg2_2 = -9.81*sin_phi1*cos_phi2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 9.81*sin_phi1*sin_phi2;
+        const double pF2_3 = aOg2_3 - 0.5*om2_1*om2_1;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double Jm2rdr_22 = 0.6251874062968515 - 0.3748125937031484*c2phi2;
+        const double pc2f_2 = 0.25037481259370314*cos_phi2*aOg2_2 - sin_phi2*pF2_3;
+        const double IA1_11 = 0.3335 + Jm2rdr_22;
+        const double pA1_1 = 4.905*sin_phi1 - pc2f_2;
+        const double rD1 = 1.0/IA1_11;
+        const double qdd1 = -pA1_1*rD1;
+        const double dv2_2 = -cos_phi2*qdd1;
+        const double qdd2 = 1.4992503748125936*aOg2_2 - qdd1 + 1.4992503748125936*dv2_2;
+
+        XD[16 + l] = qdd1;
+        XD[24 + l] = qdd2;
+        piv_[l] = IA1_11;
+        piv_[8 + l] = 0.3335;
+
+    }
+    for (i = 0; i < 16; ++i) {
+        XD[i] = X[16 + i];
+    }
+    for (l = 0; l < 8; ++l) {
+        const double fin = (X[l] - X[l]) + (X[8 + l] - X[8 + l]) + (X[16 + l] - X[16 + l]) + (X[24 + l] - X[24 + l]) + (XD[16 + l] - XD[16 + l]) + (XD[24 + l] - XD[24 + l]) + (piv_[l] - piv_[l]) + (piv_[8 + l] - piv_[8 + l]);
+        double lo = piv_[l];
+        lo = piv_[8 + l] < lo ? piv_[8 + l] : lo;
+        double hi = fabs(piv_[l]);
+        hi = fabs(piv_[8 + l]) > hi ? fabs(piv_[8 + l]) : hi;
+        ok_[l] = (lo - hi * DOUBLE_PENDULUM_PIVOT_TOL) + fin;
+    }
+    for (l = 0; l < 8; ++l) {
+        double x[4];
+        if (ok_[l] > 0.0) {
+            code[l] = DOUBLE_PENDULUM_OK;
+            continue;
+        }
+        /* the code double_pendulum_rhs returns, its tests in its order */
+        for (i = 0; i < 4; ++i) {
+            x[i] = X[i * 8 + l];
+        }
+        code[l] = DOUBLE_PENDULUM_NONFINITE;
+        if (!double_pendulum_all_finite_(x, 4)) {
+            continue;
+        }
+        {
+            double piv[2];
+            for (i = 0; i < 2; ++i) {
+                piv[i] = piv_[i * 8 + l];
+            }
+            if ((code[l] = double_pendulum_pivots_(piv)) != DOUBLE_PENDULUM_OK) {
+                continue;
+            }
+        }
+        for (i = 0; i < 2; ++i) {
+            if (!isfinite(XD[(2 + i) * 8 + l])) {
+                break;
+            }
+        }
+        code[l] = i < 2 ? DOUBLE_PENDULUM_NONFINITE : DOUBLE_PENDULUM_OK;
+    }
+}
 
 /* ---------------------------------------------------------------------------------------
  * Integrators: NAME_integrate and NAME_integrate_grid, written once over double_pendulum_rhs.
@@ -868,6 +1120,242 @@ static long double_pendulum_nsteps_(double ta, double tb, double h)
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
     return m < 1.0 ? 1L : (long)m;
+}
+
+/* RK4 in lanes (kernels/rk4_lanes.c): one lane for a single trajectory, 8 for a batch's;
+ * the model's right side for lanes is printed before this file (double_pendulum_rhs_lane_, _lanes_). */
+/* RK4 over the output times tt[0..nt-1] (steps as double_pendulum_fixed_ takes them) for 1
+ * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
+ * result, st[l] its statistics (and last finite state) when st is not NULL. */
+static void double_pendulum_rk4_lane_(int nt, const double *tt, double h, long max_steps, const double *u, const double_pendulum_params *p,
+                           double *const *X, double_pendulum_integrate_stats *const *st, int *code)
+{
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    double x[4 * 1], cmp[4 * 1], y[4 * 1], k[4][4 * 1], fin[1];
+    int fail[1], sc[1], nev[1], live[1];
+    int i, j, l, s, bad, nlive = 1;
+    long kk, m, steps = 0;
+    for (l = 0; l < 1; ++l) {
+        for (i = 0; i < 4; ++i) {
+            x[i * 1 + l] = X[l][i];
+            cmp[i * 1 + l] = 0.0;
+        }
+        code[l] = DOUBLE_PENDULUM_OK;
+        live[l] = 1;
+    }
+    for (j = 1; j < nt && nlive > 0; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = double_pendulum_nsteps_(ta, tt[j], h));
+        for (kk = 0; kk < m && nlive > 0; ++kk) {
+            if (steps >= max_steps) {
+                for (l = 0; l < 1; ++l) {
+                    code[l] = live[l] ? DOUBLE_PENDULUM_TOO_MANY_STEPS : code[l];
+                    live[l] = 0;
+                }
+                nlive = 0;
+                break;
+            }
+            /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
+             * evaluations it made, as one trajectory alone stops at that stage) */
+            double_pendulum_rhs_lane_(x, u, p, k[0], fail);
+            for (l = 0; l < 1; ++l) {
+                nev[l] = 1;
+            }
+            for (s = 1; s < 4; ++s) {
+                for (i = 0; i < 4 * 1; ++i) {
+                    y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
+                }
+                double_pendulum_rhs_lane_(y, u, p, k[s], sc);
+                for (l = 0; l < 1; ++l) {
+                    if (fail[l] == DOUBLE_PENDULUM_OK) {
+                        fail[l] = sc[l];
+                        nev[l] = s + 1;
+                    }
+                }
+            }
+            /* x + dx compensated (double_pendulum_add_'s operations) into y and k[0] until each lane is
+             * known to go on */
+            for (i = 0; i < 4 * 1; ++i) {
+                const double dx = hs / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                const double yy = dx + cmp[i];
+                const double sum = x[i] + yy;
+                y[i] = (x[i] - sum) + yy;
+                k[0][i] = sum;
+            }
+            ++steps;
+            /* every lane live, no stage failed, the new state finite: the common step */
+            for (l = 0; l < 1; ++l) {
+                fin[l] = 0.0;  /* 0 when lane l's new state is finite, NaN otherwise */
+            }
+            for (i = 0; i < 4; ++i) {
+                for (l = 0; l < 1; ++l) {
+                    fin[l] += k[0][i * 1 + l] - k[0][i * 1 + l];
+                }
+            }
+            bad = nlive != 1;
+            for (l = 0; l < 1; ++l) {
+                bad |= fail[l] != DOUBLE_PENDULUM_OK || !(fin[l] == 0.0);
+            }
+            if (!bad) {
+                for (i = 0; i < 4 * 1; ++i) {
+                    x[i] = k[0][i];
+                    cmp[i] = y[i];
+                }
+            }
+            for (l = 0; l < 1 && (st || bad); ++l) {
+                int ok = !bad || fail[l] == DOUBLE_PENDULUM_OK;
+                if (!live[l]) {
+                    continue;
+                }
+                if (st) {
+                    st[l]->n_rhs += nev[l];
+                }
+                for (i = 0; bad && ok && i < 4; ++i) {
+                    ok = isfinite(k[0][i * 1 + l]);
+                }
+                if (ok) {
+                    for (i = 0; bad && i < 4; ++i) {
+                        x[i * 1 + l] = k[0][i * 1 + l];
+                        cmp[i * 1 + l] = y[i * 1 + l];
+                    }
+                    if (st) {
+                        st[l]->n_steps++;
+                        st[l]->t = kk + 1 == m ? tt[j] : ta + (double)(kk + 1) * hs;
+                        for (i = 0; i < 4; ++i) {
+                            st[l]->x[i] = x[i * 1 + l];
+                        }
+                    }
+                } else {
+                    code[l] = fail[l] != DOUBLE_PENDULUM_OK ? fail[l] : DOUBLE_PENDULUM_NONFINITE;  /* st keeps the last finite state */
+                    live[l] = 0;
+                    --nlive;
+                }
+            }
+        }
+        for (l = 0; l < 1; ++l) {
+            if (live[l]) {
+                for (i = 0; i < 4; ++i) {
+                    X[l][j * 4 + i] = x[i * 1 + l];
+                }
+            }
+        }
+    }
+}
+
+/* RK4 over the output times tt[0..nt-1] (steps as double_pendulum_fixed_ takes them) for 8
+ * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
+ * result, st[l] its statistics (and last finite state) when st is not NULL. */
+static void double_pendulum_rk4_lanes_(int nt, const double *tt, double h, long max_steps, const double *u, const double_pendulum_params *p,
+                           double *const *X, double_pendulum_integrate_stats *const *st, int *code)
+{
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    double x[4 * 8], cmp[4 * 8], y[4 * 8], k[4][4 * 8], fin[8];
+    int fail[8], sc[8], nev[8], live[8];
+    int i, j, l, s, bad, nlive = 8;
+    long kk, m, steps = 0;
+    for (l = 0; l < 8; ++l) {
+        for (i = 0; i < 4; ++i) {
+            x[i * 8 + l] = X[l][i];
+            cmp[i * 8 + l] = 0.0;
+        }
+        code[l] = DOUBLE_PENDULUM_OK;
+        live[l] = 1;
+    }
+    for (j = 1; j < nt && nlive > 0; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = double_pendulum_nsteps_(ta, tt[j], h));
+        for (kk = 0; kk < m && nlive > 0; ++kk) {
+            if (steps >= max_steps) {
+                for (l = 0; l < 8; ++l) {
+                    code[l] = live[l] ? DOUBLE_PENDULUM_TOO_MANY_STEPS : code[l];
+                    live[l] = 0;
+                }
+                nlive = 0;
+                break;
+            }
+            /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
+             * evaluations it made, as one trajectory alone stops at that stage) */
+            double_pendulum_rhs_lanes_(x, u, p, k[0], fail);
+            for (l = 0; l < 8; ++l) {
+                nev[l] = 1;
+            }
+            for (s = 1; s < 4; ++s) {
+                for (i = 0; i < 4 * 8; ++i) {
+                    y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
+                }
+                double_pendulum_rhs_lanes_(y, u, p, k[s], sc);
+                for (l = 0; l < 8; ++l) {
+                    if (fail[l] == DOUBLE_PENDULUM_OK) {
+                        fail[l] = sc[l];
+                        nev[l] = s + 1;
+                    }
+                }
+            }
+            /* x + dx compensated (double_pendulum_add_'s operations) into y and k[0] until each lane is
+             * known to go on */
+            for (i = 0; i < 4 * 8; ++i) {
+                const double dx = hs / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                const double yy = dx + cmp[i];
+                const double sum = x[i] + yy;
+                y[i] = (x[i] - sum) + yy;
+                k[0][i] = sum;
+            }
+            ++steps;
+            /* every lane live, no stage failed, the new state finite: the common step */
+            for (l = 0; l < 8; ++l) {
+                fin[l] = 0.0;  /* 0 when lane l's new state is finite, NaN otherwise */
+            }
+            for (i = 0; i < 4; ++i) {
+                for (l = 0; l < 8; ++l) {
+                    fin[l] += k[0][i * 8 + l] - k[0][i * 8 + l];
+                }
+            }
+            bad = nlive != 8;
+            for (l = 0; l < 8; ++l) {
+                bad |= fail[l] != DOUBLE_PENDULUM_OK || !(fin[l] == 0.0);
+            }
+            if (!bad) {
+                for (i = 0; i < 4 * 8; ++i) {
+                    x[i] = k[0][i];
+                    cmp[i] = y[i];
+                }
+            }
+            for (l = 0; l < 8 && (st || bad); ++l) {
+                int ok = !bad || fail[l] == DOUBLE_PENDULUM_OK;
+                if (!live[l]) {
+                    continue;
+                }
+                if (st) {
+                    st[l]->n_rhs += nev[l];
+                }
+                for (i = 0; bad && ok && i < 4; ++i) {
+                    ok = isfinite(k[0][i * 8 + l]);
+                }
+                if (ok) {
+                    for (i = 0; bad && i < 4; ++i) {
+                        x[i * 8 + l] = k[0][i * 8 + l];
+                        cmp[i * 8 + l] = y[i * 8 + l];
+                    }
+                    if (st) {
+                        st[l]->n_steps++;
+                        st[l]->t = kk + 1 == m ? tt[j] : ta + (double)(kk + 1) * hs;
+                        for (i = 0; i < 4; ++i) {
+                            st[l]->x[i] = x[i * 8 + l];
+                        }
+                    }
+                } else {
+                    code[l] = fail[l] != DOUBLE_PENDULUM_OK ? fail[l] : DOUBLE_PENDULUM_NONFINITE;  /* st keeps the last finite state */
+                    live[l] = 0;
+                    --nlive;
+                }
+            }
+        }
+        for (l = 0; l < 8; ++l) {
+            if (live[l]) {
+                for (i = 0; i < 4; ++i) {
+                    X[l][j * 4 + i] = x[i * 8 + l];
+                }
+            }
+        }
+    }
 }
 
 /* One classical RK4 step of size h from x: dx = the increment. */
@@ -1265,13 +1753,13 @@ static int double_pendulum_fixed_(int method, int nt, const double *tt, double h
     return code;
 }
 
-int double_pendulum_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const double_pendulum_params *p,
-                              double *X, double_pendulum_integrate_stats *stats)
+/* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
+ * and the others NaN, *max_steps the budget.  DOUBLE_PENDULUM_OK when the integration can start. */
+static int double_pendulum_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                  long *max_steps, const double *x0, const double_pendulum_params *p, double *X,
+                                  double_pendulum_integrate_stats *st)
 {
-    double_pendulum_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
-    double_pendulum_integrate_stats *st = stats ? stats : &local;
-    int i, j, code;
+    int i, j;
     st->t = 0.0;
     st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = st->n_newton = 0;
     for (i = 0; i < 4; ++i) {
@@ -1308,15 +1796,69 @@ int double_pendulum_integrate_grid(int method, int nt, const double *t, double h
     double_pendulum_copy_(X, x0);
     double_pendulum_copy_(st->x, x0);
     st->t = t[0];
-    if (max_steps <= 0) {
-        max_steps = DOUBLE_PENDULUM_INTEGRATE_MAX_STEPS;
+    if (*max_steps <= 0) {
+        *max_steps = DOUBLE_PENDULUM_INTEGRATE_MAX_STEPS;
+    }
+    return DOUBLE_PENDULUM_OK;
+}
+
+int double_pendulum_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const double_pendulum_params *p,
+                              double *X, double_pendulum_integrate_stats *stats)
+{
+    double_pendulum_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
+    double_pendulum_integrate_stats *st = stats ? stats : &local;
+    int code = double_pendulum_grid_start_(method, nt, t, h, rtol, atol, &max_steps, x0, p, X, st);
+    if (code != DOUBLE_PENDULUM_OK) {
+        return code;
     }
     if (method == DOUBLE_PENDULUM_DOP853) {
-        code = double_pendulum_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
-    } else {
-        code = double_pendulum_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+        return double_pendulum_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
     }
-    return code;
+    if (method == DOUBLE_PENDULUM_RK4) {
+        double *Xl[1];
+        double_pendulum_integrate_stats *sl[1];
+        Xl[0] = X;
+        sl[0] = st;
+        double_pendulum_rk4_lane_(nt, t, h, max_steps, u, p, Xl, sl, &code);
+        return code;
+    }
+    return double_pendulum_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+}
+
+/* NAME_integrate_batch's RK4 when every trajectory has the same u and p: 8 trajectories
+ * at a time in lanes, the last ones alone, each the single call's bits. */
+static int double_pendulum_rk4_batch_(int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+                                 const double *u, const double_pendulum_params *p, double *X, int *codes)
+{
+    double_pendulum_integrate_stats st;
+    double *Xl[8];
+    int lane[8], lc[8], b, i, g = 0, failed = 0;
+    long budget = max_steps;
+    for (b = 0; b < nb; ++b) {
+        double *Xb = X + (long)b * (nt > 0 ? nt : 0) * 4;
+        budget = max_steps;
+        codes[b] = double_pendulum_grid_start_(DOUBLE_PENDULUM_RK4, nt, t, h, 0.0, 0.0, &budget, x0 + (long)b * 4, p, Xb, &st);
+        if (codes[b] != DOUBLE_PENDULUM_OK) {
+            continue;
+        }
+        lane[g] = b;
+        Xl[g++] = Xb;
+        if (g == 8) {
+            double_pendulum_rk4_lanes_(nt, t, h, budget, u, p, Xl, 0, lc);
+            for (i = 0; i < 8; ++i) {
+                codes[lane[i]] = lc[i];
+            }
+            g = 0;
+        }
+    }
+    for (i = 0; i < g; ++i) {
+        double_pendulum_rk4_lane_(nt, t, h, budget, u, p, Xl + i, 0, codes + lane[i]);
+    }
+    for (b = 0; b < nb; ++b) {
+        failed += codes[b] != DOUBLE_PENDULUM_OK;
+    }
+    return failed;
 }
 
 int double_pendulum_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
@@ -1326,6 +1868,9 @@ int double_pendulum_integrate_batch(int method, int nb, int nt, const double *t,
     int b, failed = 0;
     if (nb < 0 || !x0 || !X || !codes) {
         return -DOUBLE_PENDULUM_BAD_ARGUMENT;
+    }
+    if (method == DOUBLE_PENDULUM_RK4 && (!u || u_stride == 0) && (!p || p_stride == 0)) {
+        return double_pendulum_rk4_batch_(nb, nt, t, h, max_steps, x0, u, p, X, codes);
     }
     for (b = 0; b < nb; ++b) {
         codes[b] = double_pendulum_integrate_grid(method, nt, t, h, rtol, atol, max_steps, x0 + (long)b * 4,

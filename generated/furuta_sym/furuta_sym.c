@@ -7,6 +7,7 @@
  */
 #include "furuta_sym.h"
 
+#include <float.h>
 #include <math.h>
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
@@ -820,6 +821,333 @@ int furuta_sym_pdot(const double *x, const double *u, const furuta_sym_params *p
     }
     return furuta_sym_all_finite_(pdot, 2) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
 }
+#if FLT_EVAL_METHOD == 0
+#define FURUTA_SYM_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
+
+/* sin a[i] and cos a[i] for i < 4, the reduction and polynomials above (|a| < 1e6). */
+static void furuta_sym_sincos4_(const double *restrict a, double *restrict s, double *restrict c)
+{
+    int i;
+    for (i = 0; i < 4; ++i) {
+        const double j = (a[i] * 0.63661977236758134 + FURUTA_SYM_ROUND_) - FURUTA_SYM_ROUND_;
+        const double f = (j * 0.25 - 0.375 + FURUTA_SYM_ROUND_) - FURUTA_SYM_ROUND_;  /* floor(j / 4) */
+        const double y1 = a[i] - j * 1.5707963267341256;                       /* exact */
+        const double w2 = j * 6.077100506303966e-11;                            /* exact */
+        const double y2 = y1 - w2;
+        const double b2 = y2 - y1;
+        const double e2 = (y1 - (y2 - b2)) - (w2 + b2);                         /* y1 - w2 = y2 + e2 */
+        const double w3 = j * 2.0222662487111665e-21;
+        const double y3 = y2 - w3;
+        const double b3 = y3 - y2;
+        const double e3 = (y2 - (y3 - b3)) - (w3 + b3);                         /* y2 - w3 = y3 + e3 */
+        const double lo = (e2 + e3) - j * 8.4784276603689e-32;
+        const double rh = y3 + lo;
+        const double rl = lo - (rh - y3);
+        const double q = j - 4.0 * f;                                           /* j mod 4 */
+        const double z = rh * rh;
+        const double ps = -0.16666666666666666 + z * (0.008333333333333333 + z * (-0.0001984126984126984
+                        + z * (2.7557319223985893e-06 + z * (-2.505210838544172e-08 + z * (1.6059043836821613e-10
+                        + z * (-7.647163731819816e-13 + z * 2.8114572543455206e-15))))));
+        const double pc = 0.041666666666666664 + z * (-0.001388888888888889 + z * (2.48015873015873e-05
+                        + z * (-2.755731922398589e-07 + z * (2.08767569878681e-09 + z * (-1.1470745597729725e-11
+                        + z * 4.779477332387385e-14)))));
+        const double hz = 0.5 * z;
+        const double w = 1.0 - hz;
+        const double sr = rh + (rh * z * ps + rl * (1.0 - hz));
+        const double cr = w + (((1.0 - w) - hz) + (z * z * pc - rh * rl));
+        const double odd = (q == 1.0 || q == 3.0) ? 1.0 : 0.0;
+        const double ss = odd != 0.0 ? cr : sr;
+        const double cc = odd != 0.0 ? sr : cr;
+        const double sa = q >= 2.0 ? -ss : ss;
+        s[i] = a[i] == 0.0 ? a[i] : sa;  /* sin(-0) = -0 */
+        c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
+    }
+}
+#endif
+
+/* s[i] = sin a[i], c[i] = cos a[i] for i < count, a multiple of 4. */
+static void furuta_sym_sincos_(const double *a, double *s, double *c, int count)
+{
+    int i, far = 0;
+#if FLT_EVAL_METHOD == 0
+    for (i = 0; i < count; i += 4) {
+        furuta_sym_sincos4_(a + i, s + i, c + i);
+    }
+    for (i = 0; i < count; ++i) {
+        far |= !(fabs(a[i]) < 1e6);
+    }
+    for (i = 0; far && i < count; ++i) {
+        if (!(fabs(a[i]) < 1e6)) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+    }
+#else
+    (void)far;
+    for (i = 0; i < count; ++i) {
+        s[i] = sin(a[i]);
+        c[i] = cos(a[i]);
+    }
+#endif
+}
+
+
+/* The right side x' = (phidot, phi'') of 1 state(s) at once, for RK4's lanes (the integrators'
+ * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 1 + l),
+ * code[l] what furuta_sym_rhs returns for lane l.  furuta_sym_qdd's operations, each statement for
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
+ * furuta_sym_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
+static void furuta_sym_rhs_lane_(const double *restrict X, const double *u, const furuta_sym_params *p,
+                                double *restrict XD, int *code)
+{
+    double M_[4], f_[2], piv_[2], tol_[1], ok_[1];
+    double A_[4], S_[4], C_[4];
+    int i, l;
+    const double tau_1 = u ? u[0] : 0.0;
+
+    for (l = 0; l < 1; ++l) {
+        A_[l] = X[1 + l];
+    }
+    for (i = 1; i < 4; ++i) {
+        A_[i] = 0.0;
+    }
+    furuta_sym_sincos_(A_, S_, C_, 4);
+    for (l = 0; l < 1; ++l) {
+        const double cos_phi2 = C_[l];
+        const double sin_phi2 = S_[l];
+        const double om2_2 = X[2 + l]*sin_phi2;
+        const double om2_3 = X[2 + l]*cos_phi2;
+        const double eps2_2 = X[3 + l]*om2_3;
+        const double eps2_3 = -X[3 + l]*om2_2;
+        const double ws1_2 = X[2 + l]*p->r;
+        const double aOrel2in1_3 = X[2 + l]*ws1_2;
+        const double aOg2_2 = -sin_phi2*p->g0;
+        const double aOg2_3 = -cos_phi2*p->g0;
+        const double wc2_1 = om2_2*p->l;
+        const double wc2_2 = -X[3 + l]*p->l;
+        const double Aw2_1 = X[3 + l]*p->J2 + X[3 + l]*p->m2*p->l*p->l;
+        const double Aw2_2 = om2_2*p->J2 + om2_2*p->m2*p->l*p->l;
+        const double Aw2_3 = om2_3*p->J2z;
+        const double pF2_2 = p->m2*aOg2_2 + om2_3*p->m2*wc2_1;
+        const double pF2_3 = p->m2*aOg2_3 + X[3 + l]*p->m2*wc2_2 - om2_2*p->m2*wc2_1;
+        const double pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p->m2*p->l*aOg2_2;
+        const double pN2_2 = p->J2*eps2_2 + p->m2*p->l*p->l*eps2_2 + om2_3*Aw2_1 - X[3 + l]*Aw2_3 - p->m2*p->l*aOrel2in1_3;
+        const double pN2_3 = p->J2z*eps2_3 + X[3 + l]*Aw2_2 - om2_2*Aw2_1;
+        const double h2_3 = p->m2*p->l;
+        const double w0 = p->m2*p->l*p->l;
+        const double I2_11 = p->J2 + w0;
+        const double I2_22 = p->J2 + w0;
+        const double I2in1ra_23 = sin_phi2*I2_22;
+        const double I2in1ra_33 = cos_phi2*p->J2z;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3;
+        const double j2r12 = sin_phi2*pN2_2 + cos_phi2*pN2_3;
+        const double Nb1_1 = j2r12 + p->r*Fb2in1_2;
+        const double I1_11 = p->J1 + I2in1r_33 + p->m2*p->r*p->r;
+        const double f2in1_2 = -cos_phi2*h2_3;
+        const double n2in1_1 = p->r*f2in1_2;
+
+        M_[l] = I1_11;
+        M_[2 + l] = n2in1_1;
+        M_[3 + l] = I2_11;
+        f_[l] = tau_1 - Nb1_1;
+        f_[1 + l] = -pN2_1;
+
+        double tl_ = 0.0;
+        tl_ = fabs(M_[l]) > tl_ ? fabs(M_[l]) : tl_;
+        tl_ = fabs(M_[3 + l]) > tl_ ? fabs(M_[3 + l]) : tl_;
+        tol_[l] = tl_ * FURUTA_SYM_PIVOT_TOL;
+        const double d0_ = M_[l];
+        const double r0_ = 1.0 / d0_;
+        const double L1_0_ = (M_[2 + l]) * r0_;
+        const double v1_0_ = L1_0_ * d0_;
+        const double d1_ = M_[3 + l] - L1_0_ * v1_0_;
+        piv_[l] = d0_;
+        piv_[1 + l] = d1_;
+        const double y0_ = f_[l];
+        const double y1_ = f_[1 + l] - (L1_0_ * y0_);
+        const double z0_ = y0_ / d0_;
+        const double z1_ = y1_ / d1_;
+        const double w1_ = z1_;
+        const double w0_ = z0_ - (L1_0_ * w1_);
+        XD[2 + l] = w0_;
+        XD[3 + l] = w1_;
+    }
+    for (i = 0; i < 2; ++i) {
+        XD[i] = X[2 + i];
+    }
+    for (l = 0; l < 1; ++l) {
+        const double fin = (X[l] - X[l]) + (X[1 + l] - X[1 + l]) + (X[2 + l] - X[2 + l]) + (X[3 + l] - X[3 + l]) + (M_[l] - M_[l]) + (M_[3 + l] - M_[3 + l]) + (f_[l] - f_[l]) + (f_[1 + l] - f_[1 + l]) + (XD[2 + l] - XD[2 + l]) + (XD[3 + l] - XD[3 + l]) + (piv_[l] - piv_[l]) + (piv_[1 + l] - piv_[1 + l]);
+        double lo = piv_[l];
+        lo = piv_[1 + l] < lo ? piv_[1 + l] : lo;
+        ok_[l] = (lo - tol_[l]) + fin;
+    }
+    for (l = 0; l < 1; ++l) {
+        double x[4];
+        if (ok_[l] > 0.0 && !(u && !furuta_sym_all_finite_(u, 1))) {
+            code[l] = FURUTA_SYM_OK;
+            continue;
+        }
+        /* the code furuta_sym_rhs returns, its tests in its order */
+        for (i = 0; i < 4; ++i) {
+            x[i] = X[i * 1 + l];
+        }
+        code[l] = FURUTA_SYM_NONFINITE;
+        if (!furuta_sym_all_finite_(x, 4) || (u && !furuta_sym_all_finite_(u, 1))) {
+            continue;
+        }
+        for (i = 0; i < 2; ++i) {
+            if (!isfinite(M_[i * 3 + l]) || !isfinite(f_[i * 1 + l])) {
+                break;
+            }
+        }
+        if (i < 2) {
+            continue;
+        }
+        for (i = 0; i < 2; ++i) {
+            if (!(piv_[i * 1 + l] > tol_[l])) {
+                code[l] = FURUTA_SYM_SINGULAR;
+                break;
+            }
+        }
+        if (i < 2) {
+            continue;
+        }
+        for (i = 0; i < 2; ++i) {
+            if (!isfinite(XD[(2 + i) * 1 + l])) {
+                break;
+            }
+        }
+        code[l] = i < 2 ? FURUTA_SYM_NONFINITE : FURUTA_SYM_OK;
+    }
+}
+
+/* The right side x' = (phidot, phi'') of 8 state(s) at once, for RK4's lanes (the integrators'
+ * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 8 + l),
+ * code[l] what furuta_sym_rhs returns for lane l.  furuta_sym_qdd's operations, each statement for
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
+ * furuta_sym_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
+static void furuta_sym_rhs_lanes_(const double *restrict X, const double *u, const furuta_sym_params *p,
+                                double *restrict XD, int *code)
+{
+    double M_[32], f_[16], piv_[16], tol_[8], ok_[8];
+    double A_[8], S_[8], C_[8];
+    int i, l;
+    const double tau_1 = u ? u[0] : 0.0;
+
+    for (l = 0; l < 8; ++l) {
+        A_[l] = X[8 + l];
+    }
+    furuta_sym_sincos_(A_, S_, C_, 8);
+    for (l = 0; l < 8; ++l) {
+        const double cos_phi2 = C_[l];
+        const double sin_phi2 = S_[l];
+        const double om2_2 = X[16 + l]*sin_phi2;
+        const double om2_3 = X[16 + l]*cos_phi2;
+        const double eps2_2 = X[24 + l]*om2_3;
+        const double eps2_3 = -X[24 + l]*om2_2;
+        const double ws1_2 = X[16 + l]*p->r;
+        const double aOrel2in1_3 = X[16 + l]*ws1_2;
+        const double aOg2_2 = -sin_phi2*p->g0;
+        const double aOg2_3 = -cos_phi2*p->g0;
+        const double wc2_1 = om2_2*p->l;
+        const double wc2_2 = -X[24 + l]*p->l;
+        const double Aw2_1 = X[24 + l]*p->J2 + X[24 + l]*p->m2*p->l*p->l;
+        const double Aw2_2 = om2_2*p->J2 + om2_2*p->m2*p->l*p->l;
+        const double Aw2_3 = om2_3*p->J2z;
+        const double pF2_2 = p->m2*aOg2_2 + om2_3*p->m2*wc2_1;
+        const double pF2_3 = p->m2*aOg2_3 + X[24 + l]*p->m2*wc2_2 - om2_2*p->m2*wc2_1;
+        const double pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p->m2*p->l*aOg2_2;
+        const double pN2_2 = p->J2*eps2_2 + p->m2*p->l*p->l*eps2_2 + om2_3*Aw2_1 - X[24 + l]*Aw2_3 - p->m2*p->l*aOrel2in1_3;
+        const double pN2_3 = p->J2z*eps2_3 + X[24 + l]*Aw2_2 - om2_2*Aw2_1;
+        const double h2_3 = p->m2*p->l;
+        const double w0 = p->m2*p->l*p->l;
+        const double I2_11 = p->J2 + w0;
+        const double I2_22 = p->J2 + w0;
+        const double I2in1ra_23 = sin_phi2*I2_22;
+        const double I2in1ra_33 = cos_phi2*p->J2z;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double Fb2in1_2 = cos_phi2*pF2_2 - sin_phi2*pF2_3;
+        const double j2r12 = sin_phi2*pN2_2 + cos_phi2*pN2_3;
+        const double Nb1_1 = j2r12 + p->r*Fb2in1_2;
+        const double I1_11 = p->J1 + I2in1r_33 + p->m2*p->r*p->r;
+        const double f2in1_2 = -cos_phi2*h2_3;
+        const double n2in1_1 = p->r*f2in1_2;
+
+        M_[l] = I1_11;
+        M_[16 + l] = n2in1_1;
+        M_[24 + l] = I2_11;
+        f_[l] = tau_1 - Nb1_1;
+        f_[8 + l] = -pN2_1;
+
+        double tl_ = 0.0;
+        tl_ = fabs(M_[l]) > tl_ ? fabs(M_[l]) : tl_;
+        tl_ = fabs(M_[24 + l]) > tl_ ? fabs(M_[24 + l]) : tl_;
+        tol_[l] = tl_ * FURUTA_SYM_PIVOT_TOL;
+        const double d0_ = M_[l];
+        const double r0_ = 1.0 / d0_;
+        const double L1_0_ = (M_[16 + l]) * r0_;
+        const double v1_0_ = L1_0_ * d0_;
+        const double d1_ = M_[24 + l] - L1_0_ * v1_0_;
+        piv_[l] = d0_;
+        piv_[8 + l] = d1_;
+        const double y0_ = f_[l];
+        const double y1_ = f_[8 + l] - (L1_0_ * y0_);
+        const double z0_ = y0_ / d0_;
+        const double z1_ = y1_ / d1_;
+        const double w1_ = z1_;
+        const double w0_ = z0_ - (L1_0_ * w1_);
+        XD[16 + l] = w0_;
+        XD[24 + l] = w1_;
+    }
+    for (i = 0; i < 16; ++i) {
+        XD[i] = X[16 + i];
+    }
+    for (l = 0; l < 8; ++l) {
+        const double fin = (X[l] - X[l]) + (X[8 + l] - X[8 + l]) + (X[16 + l] - X[16 + l]) + (X[24 + l] - X[24 + l]) + (M_[l] - M_[l]) + (M_[24 + l] - M_[24 + l]) + (f_[l] - f_[l]) + (f_[8 + l] - f_[8 + l]) + (XD[16 + l] - XD[16 + l]) + (XD[24 + l] - XD[24 + l]) + (piv_[l] - piv_[l]) + (piv_[8 + l] - piv_[8 + l]);
+        double lo = piv_[l];
+        lo = piv_[8 + l] < lo ? piv_[8 + l] : lo;
+        ok_[l] = (lo - tol_[l]) + fin;
+    }
+    for (l = 0; l < 8; ++l) {
+        double x[4];
+        if (ok_[l] > 0.0 && !(u && !furuta_sym_all_finite_(u, 1))) {
+            code[l] = FURUTA_SYM_OK;
+            continue;
+        }
+        /* the code furuta_sym_rhs returns, its tests in its order */
+        for (i = 0; i < 4; ++i) {
+            x[i] = X[i * 8 + l];
+        }
+        code[l] = FURUTA_SYM_NONFINITE;
+        if (!furuta_sym_all_finite_(x, 4) || (u && !furuta_sym_all_finite_(u, 1))) {
+            continue;
+        }
+        for (i = 0; i < 2; ++i) {
+            if (!isfinite(M_[i * 24 + l]) || !isfinite(f_[i * 8 + l])) {
+                break;
+            }
+        }
+        if (i < 2) {
+            continue;
+        }
+        for (i = 0; i < 2; ++i) {
+            if (!(piv_[i * 8 + l] > tol_[l])) {
+                code[l] = FURUTA_SYM_SINGULAR;
+                break;
+            }
+        }
+        if (i < 2) {
+            continue;
+        }
+        for (i = 0; i < 2; ++i) {
+            if (!isfinite(XD[(2 + i) * 8 + l])) {
+                break;
+            }
+        }
+        code[l] = i < 2 ? FURUTA_SYM_NONFINITE : FURUTA_SYM_OK;
+    }
+}
 
 /* ---------------------------------------------------------------------------------------
  * Integrators: NAME_integrate and NAME_integrate_grid, written once over furuta_sym_rhs.
@@ -1137,6 +1465,242 @@ static long furuta_sym_nsteps_(double ta, double tb, double h)
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
     return m < 1.0 ? 1L : (long)m;
+}
+
+/* RK4 in lanes (kernels/rk4_lanes.c): one lane for a single trajectory, 8 for a batch's;
+ * the model's right side for lanes is printed before this file (furuta_sym_rhs_lane_, _lanes_). */
+/* RK4 over the output times tt[0..nt-1] (steps as furuta_sym_fixed_ takes them) for 1
+ * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
+ * result, st[l] its statistics (and last finite state) when st is not NULL. */
+static void furuta_sym_rk4_lane_(int nt, const double *tt, double h, long max_steps, const double *u, const furuta_sym_params *p,
+                           double *const *X, furuta_sym_integrate_stats *const *st, int *code)
+{
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    double x[4 * 1], cmp[4 * 1], y[4 * 1], k[4][4 * 1], fin[1];
+    int fail[1], sc[1], nev[1], live[1];
+    int i, j, l, s, bad, nlive = 1;
+    long kk, m, steps = 0;
+    for (l = 0; l < 1; ++l) {
+        for (i = 0; i < 4; ++i) {
+            x[i * 1 + l] = X[l][i];
+            cmp[i * 1 + l] = 0.0;
+        }
+        code[l] = FURUTA_SYM_OK;
+        live[l] = 1;
+    }
+    for (j = 1; j < nt && nlive > 0; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = furuta_sym_nsteps_(ta, tt[j], h));
+        for (kk = 0; kk < m && nlive > 0; ++kk) {
+            if (steps >= max_steps) {
+                for (l = 0; l < 1; ++l) {
+                    code[l] = live[l] ? FURUTA_SYM_TOO_MANY_STEPS : code[l];
+                    live[l] = 0;
+                }
+                nlive = 0;
+                break;
+            }
+            /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
+             * evaluations it made, as one trajectory alone stops at that stage) */
+            furuta_sym_rhs_lane_(x, u, p, k[0], fail);
+            for (l = 0; l < 1; ++l) {
+                nev[l] = 1;
+            }
+            for (s = 1; s < 4; ++s) {
+                for (i = 0; i < 4 * 1; ++i) {
+                    y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
+                }
+                furuta_sym_rhs_lane_(y, u, p, k[s], sc);
+                for (l = 0; l < 1; ++l) {
+                    if (fail[l] == FURUTA_SYM_OK) {
+                        fail[l] = sc[l];
+                        nev[l] = s + 1;
+                    }
+                }
+            }
+            /* x + dx compensated (furuta_sym_add_'s operations) into y and k[0] until each lane is
+             * known to go on */
+            for (i = 0; i < 4 * 1; ++i) {
+                const double dx = hs / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                const double yy = dx + cmp[i];
+                const double sum = x[i] + yy;
+                y[i] = (x[i] - sum) + yy;
+                k[0][i] = sum;
+            }
+            ++steps;
+            /* every lane live, no stage failed, the new state finite: the common step */
+            for (l = 0; l < 1; ++l) {
+                fin[l] = 0.0;  /* 0 when lane l's new state is finite, NaN otherwise */
+            }
+            for (i = 0; i < 4; ++i) {
+                for (l = 0; l < 1; ++l) {
+                    fin[l] += k[0][i * 1 + l] - k[0][i * 1 + l];
+                }
+            }
+            bad = nlive != 1;
+            for (l = 0; l < 1; ++l) {
+                bad |= fail[l] != FURUTA_SYM_OK || !(fin[l] == 0.0);
+            }
+            if (!bad) {
+                for (i = 0; i < 4 * 1; ++i) {
+                    x[i] = k[0][i];
+                    cmp[i] = y[i];
+                }
+            }
+            for (l = 0; l < 1 && (st || bad); ++l) {
+                int ok = !bad || fail[l] == FURUTA_SYM_OK;
+                if (!live[l]) {
+                    continue;
+                }
+                if (st) {
+                    st[l]->n_rhs += nev[l];
+                }
+                for (i = 0; bad && ok && i < 4; ++i) {
+                    ok = isfinite(k[0][i * 1 + l]);
+                }
+                if (ok) {
+                    for (i = 0; bad && i < 4; ++i) {
+                        x[i * 1 + l] = k[0][i * 1 + l];
+                        cmp[i * 1 + l] = y[i * 1 + l];
+                    }
+                    if (st) {
+                        st[l]->n_steps++;
+                        st[l]->t = kk + 1 == m ? tt[j] : ta + (double)(kk + 1) * hs;
+                        for (i = 0; i < 4; ++i) {
+                            st[l]->x[i] = x[i * 1 + l];
+                        }
+                    }
+                } else {
+                    code[l] = fail[l] != FURUTA_SYM_OK ? fail[l] : FURUTA_SYM_NONFINITE;  /* st keeps the last finite state */
+                    live[l] = 0;
+                    --nlive;
+                }
+            }
+        }
+        for (l = 0; l < 1; ++l) {
+            if (live[l]) {
+                for (i = 0; i < 4; ++i) {
+                    X[l][j * 4 + i] = x[i * 1 + l];
+                }
+            }
+        }
+    }
+}
+
+/* RK4 over the output times tt[0..nt-1] (steps as furuta_sym_fixed_ takes them) for 8
+ * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
+ * result, st[l] its statistics (and last finite state) when st is not NULL. */
+static void furuta_sym_rk4_lanes_(int nt, const double *tt, double h, long max_steps, const double *u, const furuta_sym_params *p,
+                           double *const *X, furuta_sym_integrate_stats *const *st, int *code)
+{
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    double x[4 * 8], cmp[4 * 8], y[4 * 8], k[4][4 * 8], fin[8];
+    int fail[8], sc[8], nev[8], live[8];
+    int i, j, l, s, bad, nlive = 8;
+    long kk, m, steps = 0;
+    for (l = 0; l < 8; ++l) {
+        for (i = 0; i < 4; ++i) {
+            x[i * 8 + l] = X[l][i];
+            cmp[i * 8 + l] = 0.0;
+        }
+        code[l] = FURUTA_SYM_OK;
+        live[l] = 1;
+    }
+    for (j = 1; j < nt && nlive > 0; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = furuta_sym_nsteps_(ta, tt[j], h));
+        for (kk = 0; kk < m && nlive > 0; ++kk) {
+            if (steps >= max_steps) {
+                for (l = 0; l < 8; ++l) {
+                    code[l] = live[l] ? FURUTA_SYM_TOO_MANY_STEPS : code[l];
+                    live[l] = 0;
+                }
+                nlive = 0;
+                break;
+            }
+            /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
+             * evaluations it made, as one trajectory alone stops at that stage) */
+            furuta_sym_rhs_lanes_(x, u, p, k[0], fail);
+            for (l = 0; l < 8; ++l) {
+                nev[l] = 1;
+            }
+            for (s = 1; s < 4; ++s) {
+                for (i = 0; i < 4 * 8; ++i) {
+                    y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
+                }
+                furuta_sym_rhs_lanes_(y, u, p, k[s], sc);
+                for (l = 0; l < 8; ++l) {
+                    if (fail[l] == FURUTA_SYM_OK) {
+                        fail[l] = sc[l];
+                        nev[l] = s + 1;
+                    }
+                }
+            }
+            /* x + dx compensated (furuta_sym_add_'s operations) into y and k[0] until each lane is
+             * known to go on */
+            for (i = 0; i < 4 * 8; ++i) {
+                const double dx = hs / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                const double yy = dx + cmp[i];
+                const double sum = x[i] + yy;
+                y[i] = (x[i] - sum) + yy;
+                k[0][i] = sum;
+            }
+            ++steps;
+            /* every lane live, no stage failed, the new state finite: the common step */
+            for (l = 0; l < 8; ++l) {
+                fin[l] = 0.0;  /* 0 when lane l's new state is finite, NaN otherwise */
+            }
+            for (i = 0; i < 4; ++i) {
+                for (l = 0; l < 8; ++l) {
+                    fin[l] += k[0][i * 8 + l] - k[0][i * 8 + l];
+                }
+            }
+            bad = nlive != 8;
+            for (l = 0; l < 8; ++l) {
+                bad |= fail[l] != FURUTA_SYM_OK || !(fin[l] == 0.0);
+            }
+            if (!bad) {
+                for (i = 0; i < 4 * 8; ++i) {
+                    x[i] = k[0][i];
+                    cmp[i] = y[i];
+                }
+            }
+            for (l = 0; l < 8 && (st || bad); ++l) {
+                int ok = !bad || fail[l] == FURUTA_SYM_OK;
+                if (!live[l]) {
+                    continue;
+                }
+                if (st) {
+                    st[l]->n_rhs += nev[l];
+                }
+                for (i = 0; bad && ok && i < 4; ++i) {
+                    ok = isfinite(k[0][i * 8 + l]);
+                }
+                if (ok) {
+                    for (i = 0; bad && i < 4; ++i) {
+                        x[i * 8 + l] = k[0][i * 8 + l];
+                        cmp[i * 8 + l] = y[i * 8 + l];
+                    }
+                    if (st) {
+                        st[l]->n_steps++;
+                        st[l]->t = kk + 1 == m ? tt[j] : ta + (double)(kk + 1) * hs;
+                        for (i = 0; i < 4; ++i) {
+                            st[l]->x[i] = x[i * 8 + l];
+                        }
+                    }
+                } else {
+                    code[l] = fail[l] != FURUTA_SYM_OK ? fail[l] : FURUTA_SYM_NONFINITE;  /* st keeps the last finite state */
+                    live[l] = 0;
+                    --nlive;
+                }
+            }
+        }
+        for (l = 0; l < 8; ++l) {
+            if (live[l]) {
+                for (i = 0; i < 4; ++i) {
+                    X[l][j * 4 + i] = x[i * 8 + l];
+                }
+            }
+        }
+    }
 }
 
 /* One classical RK4 step of size h from x: dx = the increment. */
@@ -1534,13 +2098,13 @@ static int furuta_sym_fixed_(int method, int nt, const double *tt, double h, lon
     return code;
 }
 
-int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const furuta_sym_params *p,
-                              double *X, furuta_sym_integrate_stats *stats)
+/* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
+ * and the others NaN, *max_steps the budget.  FURUTA_SYM_OK when the integration can start. */
+static int furuta_sym_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                  long *max_steps, const double *x0, const furuta_sym_params *p, double *X,
+                                  furuta_sym_integrate_stats *st)
 {
-    furuta_sym_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
-    furuta_sym_integrate_stats *st = stats ? stats : &local;
-    int i, j, code;
+    int i, j;
     st->t = 0.0;
     st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = st->n_newton = 0;
     for (i = 0; i < 4; ++i) {
@@ -1579,15 +2143,69 @@ int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, dou
     furuta_sym_copy_(X, x0);
     furuta_sym_copy_(st->x, x0);
     st->t = t[0];
-    if (max_steps <= 0) {
-        max_steps = FURUTA_SYM_INTEGRATE_MAX_STEPS;
+    if (*max_steps <= 0) {
+        *max_steps = FURUTA_SYM_INTEGRATE_MAX_STEPS;
+    }
+    return FURUTA_SYM_OK;
+}
+
+int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const furuta_sym_params *p,
+                              double *X, furuta_sym_integrate_stats *stats)
+{
+    furuta_sym_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
+    furuta_sym_integrate_stats *st = stats ? stats : &local;
+    int code = furuta_sym_grid_start_(method, nt, t, h, rtol, atol, &max_steps, x0, p, X, st);
+    if (code != FURUTA_SYM_OK) {
+        return code;
     }
     if (method == FURUTA_SYM_DOP853) {
-        code = furuta_sym_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
-    } else {
-        code = furuta_sym_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+        return furuta_sym_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
     }
-    return code;
+    if (method == FURUTA_SYM_RK4) {
+        double *Xl[1];
+        furuta_sym_integrate_stats *sl[1];
+        Xl[0] = X;
+        sl[0] = st;
+        furuta_sym_rk4_lane_(nt, t, h, max_steps, u, p, Xl, sl, &code);
+        return code;
+    }
+    return furuta_sym_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+}
+
+/* NAME_integrate_batch's RK4 when every trajectory has the same u and p: 8 trajectories
+ * at a time in lanes, the last ones alone, each the single call's bits. */
+static int furuta_sym_rk4_batch_(int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+                                 const double *u, const furuta_sym_params *p, double *X, int *codes)
+{
+    furuta_sym_integrate_stats st;
+    double *Xl[8];
+    int lane[8], lc[8], b, i, g = 0, failed = 0;
+    long budget = max_steps;
+    for (b = 0; b < nb; ++b) {
+        double *Xb = X + (long)b * (nt > 0 ? nt : 0) * 4;
+        budget = max_steps;
+        codes[b] = furuta_sym_grid_start_(FURUTA_SYM_RK4, nt, t, h, 0.0, 0.0, &budget, x0 + (long)b * 4, p, Xb, &st);
+        if (codes[b] != FURUTA_SYM_OK) {
+            continue;
+        }
+        lane[g] = b;
+        Xl[g++] = Xb;
+        if (g == 8) {
+            furuta_sym_rk4_lanes_(nt, t, h, budget, u, p, Xl, 0, lc);
+            for (i = 0; i < 8; ++i) {
+                codes[lane[i]] = lc[i];
+            }
+            g = 0;
+        }
+    }
+    for (i = 0; i < g; ++i) {
+        furuta_sym_rk4_lane_(nt, t, h, budget, u, p, Xl + i, 0, codes + lane[i]);
+    }
+    for (b = 0; b < nb; ++b) {
+        failed += codes[b] != FURUTA_SYM_OK;
+    }
+    return failed;
 }
 
 int furuta_sym_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
@@ -1597,6 +2215,9 @@ int furuta_sym_integrate_batch(int method, int nb, int nt, const double *t, doub
     int b, failed = 0;
     if (nb < 0 || !x0 || !X || !codes) {
         return -FURUTA_SYM_BAD_ARGUMENT;
+    }
+    if (method == FURUTA_SYM_RK4 && (!u || u_stride == 0) && (!p || p_stride == 0)) {
+        return furuta_sym_rk4_batch_(nb, nt, t, h, max_steps, x0, u, p, X, codes);
     }
     for (b = 0; b < nb; ++b) {
         codes[b] = furuta_sym_integrate_grid(method, nt, t, h, rtol, atol, max_steps, x0 + (long)b * 4,

@@ -7,6 +7,7 @@
  */
 #include "kapitza.h"
 
+#include <float.h>
 #include <math.h>
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
@@ -320,6 +321,221 @@ double kapitza_energy(double t, const double *x, const kapitza_params *p)
     }
     return result;
 }
+#if FLT_EVAL_METHOD == 0
+#define KAPITZA_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
+
+/* sin a[i] and cos a[i] for i < 4, the reduction and polynomials above (|a| < 1e6). */
+static void kapitza_sincos4_(const double *restrict a, double *restrict s, double *restrict c)
+{
+    int i;
+    for (i = 0; i < 4; ++i) {
+        const double j = (a[i] * 0.63661977236758134 + KAPITZA_ROUND_) - KAPITZA_ROUND_;
+        const double f = (j * 0.25 - 0.375 + KAPITZA_ROUND_) - KAPITZA_ROUND_;  /* floor(j / 4) */
+        const double y1 = a[i] - j * 1.5707963267341256;                       /* exact */
+        const double w2 = j * 6.077100506303966e-11;                            /* exact */
+        const double y2 = y1 - w2;
+        const double b2 = y2 - y1;
+        const double e2 = (y1 - (y2 - b2)) - (w2 + b2);                         /* y1 - w2 = y2 + e2 */
+        const double w3 = j * 2.0222662487111665e-21;
+        const double y3 = y2 - w3;
+        const double b3 = y3 - y2;
+        const double e3 = (y2 - (y3 - b3)) - (w3 + b3);                         /* y2 - w3 = y3 + e3 */
+        const double lo = (e2 + e3) - j * 8.4784276603689e-32;
+        const double rh = y3 + lo;
+        const double rl = lo - (rh - y3);
+        const double q = j - 4.0 * f;                                           /* j mod 4 */
+        const double z = rh * rh;
+        const double ps = -0.16666666666666666 + z * (0.008333333333333333 + z * (-0.0001984126984126984
+                        + z * (2.7557319223985893e-06 + z * (-2.505210838544172e-08 + z * (1.6059043836821613e-10
+                        + z * (-7.647163731819816e-13 + z * 2.8114572543455206e-15))))));
+        const double pc = 0.041666666666666664 + z * (-0.001388888888888889 + z * (2.48015873015873e-05
+                        + z * (-2.755731922398589e-07 + z * (2.08767569878681e-09 + z * (-1.1470745597729725e-11
+                        + z * 4.779477332387385e-14)))));
+        const double hz = 0.5 * z;
+        const double w = 1.0 - hz;
+        const double sr = rh + (rh * z * ps + rl * (1.0 - hz));
+        const double cr = w + (((1.0 - w) - hz) + (z * z * pc - rh * rl));
+        const double odd = (q == 1.0 || q == 3.0) ? 1.0 : 0.0;
+        const double ss = odd != 0.0 ? cr : sr;
+        const double cc = odd != 0.0 ? sr : cr;
+        const double sa = q >= 2.0 ? -ss : ss;
+        s[i] = a[i] == 0.0 ? a[i] : sa;  /* sin(-0) = -0 */
+        c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
+    }
+}
+#endif
+
+/* s[i] = sin a[i], c[i] = cos a[i] for i < count, a multiple of 4. */
+static void kapitza_sincos_(const double *a, double *s, double *c, int count)
+{
+    int i, far = 0;
+#if FLT_EVAL_METHOD == 0
+    for (i = 0; i < count; i += 4) {
+        kapitza_sincos4_(a + i, s + i, c + i);
+    }
+    for (i = 0; i < count; ++i) {
+        far |= !(fabs(a[i]) < 1e6);
+    }
+    for (i = 0; far && i < count; ++i) {
+        if (!(fabs(a[i]) < 1e6)) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+    }
+#else
+    (void)far;
+    for (i = 0; i < count; ++i) {
+        s[i] = sin(a[i]);
+        c[i] = cos(a[i]);
+    }
+#endif
+}
+
+
+/* The right side x' = (phidot, phi'') of 1 state(s) at once, for RK4's lanes (the integrators'
+ * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 1 + l),
+ * code[l] what kapitza_rhs returns for lane l.  kapitza_qdd's operations, each statement for
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
+ * kapitza_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
+static void kapitza_rhs_lane_(double t, const double *restrict X, const double *u, const kapitza_params *p,
+                                double *restrict XD, int *code)
+{
+    double piv_[1], ok_[1];
+    double A_[4], S_[4], C_[4];
+    int i, l;
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
+    (void)u;
+
+    for (l = 0; l < 1; ++l) {
+        A_[l] = t*p->w;
+        A_[1 + l] = X[l];
+    }
+    for (i = 2; i < 4; ++i) {
+        A_[i] = 0.0;
+    }
+    kapitza_sincos_(A_, S_, C_, 4);
+    for (l = 0; l < 1; ++l) {
+        const double pe1 = C_[l];
+        const double a0_1 = -p->a*p->w*p->w*pe1;
+        const double sin_phi1 = S_[1 + l];
+        const double aO1_2 = a0_1*sin_phi1;
+        const double aOg1_2 = aO1_2 - 9.81*sin_phi1;
+
+        XD[1 + l] = 5.0*aOg1_2;
+        piv_[l] = 0.004;
+
+    }
+    for (i = 0; i < 1; ++i) {
+        XD[i] = X[1 + i];
+    }
+    for (l = 0; l < 1; ++l) {
+        const double fin = (X[l] - X[l]) + (X[1 + l] - X[1 + l]) + (XD[1 + l] - XD[1 + l]) + (piv_[l] - piv_[l]);
+        double lo = piv_[l];
+        double hi = fabs(piv_[l]);
+        ok_[l] = (lo - hi * KAPITZA_PIVOT_TOL) + fin;
+    }
+    for (l = 0; l < 1; ++l) {
+        double x[2];
+        if (ok_[l] > 0.0) {
+            code[l] = KAPITZA_OK;
+            continue;
+        }
+        /* the code kapitza_rhs returns, its tests in its order */
+        for (i = 0; i < 2; ++i) {
+            x[i] = X[i * 1 + l];
+        }
+        code[l] = KAPITZA_NONFINITE;
+        if (!kapitza_all_finite_(x, 2)) {
+            continue;
+        }
+        {
+            double piv[1];
+            for (i = 0; i < 1; ++i) {
+                piv[i] = piv_[i * 1 + l];
+            }
+            if ((code[l] = kapitza_pivots_(piv)) != KAPITZA_OK) {
+                continue;
+            }
+        }
+        for (i = 0; i < 1; ++i) {
+            if (!isfinite(XD[(1 + i) * 1 + l])) {
+                break;
+            }
+        }
+        code[l] = i < 1 ? KAPITZA_NONFINITE : KAPITZA_OK;
+    }
+}
+
+/* The right side x' = (phidot, phi'') of 8 state(s) at once, for RK4's lanes (the integrators'
+ * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 8 + l),
+ * code[l] what kapitza_rhs returns for lane l.  kapitza_qdd's operations, each statement for
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
+ * kapitza_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
+static void kapitza_rhs_lanes_(double t, const double *restrict X, const double *u, const kapitza_params *p,
+                                double *restrict XD, int *code)
+{
+    double piv_[8], ok_[8];
+    double A_[16], S_[16], C_[16];
+    int i, l;
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
+    (void)u;
+
+    for (l = 0; l < 8; ++l) {
+        A_[l] = t*p->w;
+        A_[8 + l] = X[l];
+    }
+    kapitza_sincos_(A_, S_, C_, 16);
+    for (l = 0; l < 8; ++l) {
+        const double pe1 = C_[l];
+        const double a0_1 = -p->a*p->w*p->w*pe1;
+        const double sin_phi1 = S_[8 + l];
+        const double aO1_2 = a0_1*sin_phi1;
+        const double aOg1_2 = aO1_2 - 9.81*sin_phi1;
+
+        XD[8 + l] = 5.0*aOg1_2;
+        piv_[l] = 0.004;
+
+    }
+    for (i = 0; i < 8; ++i) {
+        XD[i] = X[8 + i];
+    }
+    for (l = 0; l < 8; ++l) {
+        const double fin = (X[l] - X[l]) + (X[8 + l] - X[8 + l]) + (XD[8 + l] - XD[8 + l]) + (piv_[l] - piv_[l]);
+        double lo = piv_[l];
+        double hi = fabs(piv_[l]);
+        ok_[l] = (lo - hi * KAPITZA_PIVOT_TOL) + fin;
+    }
+    for (l = 0; l < 8; ++l) {
+        double x[2];
+        if (ok_[l] > 0.0) {
+            code[l] = KAPITZA_OK;
+            continue;
+        }
+        /* the code kapitza_rhs returns, its tests in its order */
+        for (i = 0; i < 2; ++i) {
+            x[i] = X[i * 8 + l];
+        }
+        code[l] = KAPITZA_NONFINITE;
+        if (!kapitza_all_finite_(x, 2)) {
+            continue;
+        }
+        {
+            double piv[1];
+            for (i = 0; i < 1; ++i) {
+                piv[i] = piv_[i * 8 + l];
+            }
+            if ((code[l] = kapitza_pivots_(piv)) != KAPITZA_OK) {
+                continue;
+            }
+        }
+        for (i = 0; i < 1; ++i) {
+            if (!isfinite(XD[(1 + i) * 8 + l])) {
+                break;
+            }
+        }
+        code[l] = i < 1 ? KAPITZA_NONFINITE : KAPITZA_OK;
+    }
+}
 
 /* ---------------------------------------------------------------------------------------
  * Integrators: NAME_integrate and NAME_integrate_grid, written once over kapitza_rhs.
@@ -599,6 +815,244 @@ static long kapitza_nsteps_(double ta, double tb, double h)
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
     return m < 1.0 ? 1L : (long)m;
+}
+
+/* RK4 in lanes (kernels/rk4_lanes.c): one lane for a single trajectory, 8 for a batch's;
+ * the model's right side for lanes is printed before this file (kapitza_rhs_lane_, _lanes_). */
+/* RK4 over the output times tt[0..nt-1] (steps as kapitza_fixed_ takes them) for 1
+ * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
+ * result, st[l] its statistics (and last finite state) when st is not NULL. */
+static void kapitza_rk4_lane_(int nt, const double *tt, double h, long max_steps, const double *u, const kapitza_params *p,
+                           double *const *X, kapitza_integrate_stats *const *st, int *code)
+{
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    double x[2 * 1], cmp[2 * 1], y[2 * 1], k[4][2 * 1], fin[1];
+    int fail[1], sc[1], nev[1], live[1];
+    int i, j, l, s, bad, nlive = 1;
+    long kk, m, steps = 0;
+    for (l = 0; l < 1; ++l) {
+        for (i = 0; i < 2; ++i) {
+            x[i * 1 + l] = X[l][i];
+            cmp[i * 1 + l] = 0.0;
+        }
+        code[l] = KAPITZA_OK;
+        live[l] = 1;
+    }
+    for (j = 1; j < nt && nlive > 0; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = kapitza_nsteps_(ta, tt[j], h));
+        for (kk = 0; kk < m && nlive > 0; ++kk) {
+            const double tk = ta + (double)kk * hs;
+            if (steps >= max_steps) {
+                for (l = 0; l < 1; ++l) {
+                    code[l] = live[l] ? KAPITZA_TOO_MANY_STEPS : code[l];
+                    live[l] = 0;
+                }
+                nlive = 0;
+                break;
+            }
+            /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
+             * evaluations it made, as one trajectory alone stops at that stage) */
+            kapitza_rhs_lane_(tk, x, u, p, k[0], fail);
+            for (l = 0; l < 1; ++l) {
+                nev[l] = 1;
+            }
+            for (s = 1; s < 4; ++s) {
+                for (i = 0; i < 2 * 1; ++i) {
+                    y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
+                }
+                kapitza_rhs_lane_(tk + cs[s - 1] * hs, y, u, p, k[s], sc);
+                for (l = 0; l < 1; ++l) {
+                    if (fail[l] == KAPITZA_OK) {
+                        fail[l] = sc[l];
+                        nev[l] = s + 1;
+                    }
+                }
+            }
+            /* x + dx compensated (kapitza_add_'s operations) into y and k[0] until each lane is
+             * known to go on */
+            for (i = 0; i < 2 * 1; ++i) {
+                const double dx = hs / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                const double yy = dx + cmp[i];
+                const double sum = x[i] + yy;
+                y[i] = (x[i] - sum) + yy;
+                k[0][i] = sum;
+            }
+            ++steps;
+            /* every lane live, no stage failed, the new state finite: the common step */
+            for (l = 0; l < 1; ++l) {
+                fin[l] = 0.0;  /* 0 when lane l's new state is finite, NaN otherwise */
+            }
+            for (i = 0; i < 2; ++i) {
+                for (l = 0; l < 1; ++l) {
+                    fin[l] += k[0][i * 1 + l] - k[0][i * 1 + l];
+                }
+            }
+            bad = nlive != 1;
+            for (l = 0; l < 1; ++l) {
+                bad |= fail[l] != KAPITZA_OK || !(fin[l] == 0.0);
+            }
+            if (!bad) {
+                for (i = 0; i < 2 * 1; ++i) {
+                    x[i] = k[0][i];
+                    cmp[i] = y[i];
+                }
+            }
+            for (l = 0; l < 1 && (st || bad); ++l) {
+                int ok = !bad || fail[l] == KAPITZA_OK;
+                if (!live[l]) {
+                    continue;
+                }
+                if (st) {
+                    st[l]->n_rhs += nev[l];
+                }
+                for (i = 0; bad && ok && i < 2; ++i) {
+                    ok = isfinite(k[0][i * 1 + l]);
+                }
+                if (ok) {
+                    for (i = 0; bad && i < 2; ++i) {
+                        x[i * 1 + l] = k[0][i * 1 + l];
+                        cmp[i * 1 + l] = y[i * 1 + l];
+                    }
+                    if (st) {
+                        st[l]->n_steps++;
+                        st[l]->t = kk + 1 == m ? tt[j] : ta + (double)(kk + 1) * hs;
+                        for (i = 0; i < 2; ++i) {
+                            st[l]->x[i] = x[i * 1 + l];
+                        }
+                    }
+                } else {
+                    code[l] = fail[l] != KAPITZA_OK ? fail[l] : KAPITZA_NONFINITE;  /* st keeps the last finite state */
+                    live[l] = 0;
+                    --nlive;
+                }
+            }
+        }
+        for (l = 0; l < 1; ++l) {
+            if (live[l]) {
+                for (i = 0; i < 2; ++i) {
+                    X[l][j * 2 + i] = x[i * 1 + l];
+                }
+            }
+        }
+    }
+}
+
+/* RK4 over the output times tt[0..nt-1] (steps as kapitza_fixed_ takes them) for 8
+ * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
+ * result, st[l] its statistics (and last finite state) when st is not NULL. */
+static void kapitza_rk4_lanes_(int nt, const double *tt, double h, long max_steps, const double *u, const kapitza_params *p,
+                           double *const *X, kapitza_integrate_stats *const *st, int *code)
+{
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    double x[2 * 8], cmp[2 * 8], y[2 * 8], k[4][2 * 8], fin[8];
+    int fail[8], sc[8], nev[8], live[8];
+    int i, j, l, s, bad, nlive = 8;
+    long kk, m, steps = 0;
+    for (l = 0; l < 8; ++l) {
+        for (i = 0; i < 2; ++i) {
+            x[i * 8 + l] = X[l][i];
+            cmp[i * 8 + l] = 0.0;
+        }
+        code[l] = KAPITZA_OK;
+        live[l] = 1;
+    }
+    for (j = 1; j < nt && nlive > 0; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = kapitza_nsteps_(ta, tt[j], h));
+        for (kk = 0; kk < m && nlive > 0; ++kk) {
+            const double tk = ta + (double)kk * hs;
+            if (steps >= max_steps) {
+                for (l = 0; l < 8; ++l) {
+                    code[l] = live[l] ? KAPITZA_TOO_MANY_STEPS : code[l];
+                    live[l] = 0;
+                }
+                nlive = 0;
+                break;
+            }
+            /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
+             * evaluations it made, as one trajectory alone stops at that stage) */
+            kapitza_rhs_lanes_(tk, x, u, p, k[0], fail);
+            for (l = 0; l < 8; ++l) {
+                nev[l] = 1;
+            }
+            for (s = 1; s < 4; ++s) {
+                for (i = 0; i < 2 * 8; ++i) {
+                    y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
+                }
+                kapitza_rhs_lanes_(tk + cs[s - 1] * hs, y, u, p, k[s], sc);
+                for (l = 0; l < 8; ++l) {
+                    if (fail[l] == KAPITZA_OK) {
+                        fail[l] = sc[l];
+                        nev[l] = s + 1;
+                    }
+                }
+            }
+            /* x + dx compensated (kapitza_add_'s operations) into y and k[0] until each lane is
+             * known to go on */
+            for (i = 0; i < 2 * 8; ++i) {
+                const double dx = hs / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                const double yy = dx + cmp[i];
+                const double sum = x[i] + yy;
+                y[i] = (x[i] - sum) + yy;
+                k[0][i] = sum;
+            }
+            ++steps;
+            /* every lane live, no stage failed, the new state finite: the common step */
+            for (l = 0; l < 8; ++l) {
+                fin[l] = 0.0;  /* 0 when lane l's new state is finite, NaN otherwise */
+            }
+            for (i = 0; i < 2; ++i) {
+                for (l = 0; l < 8; ++l) {
+                    fin[l] += k[0][i * 8 + l] - k[0][i * 8 + l];
+                }
+            }
+            bad = nlive != 8;
+            for (l = 0; l < 8; ++l) {
+                bad |= fail[l] != KAPITZA_OK || !(fin[l] == 0.0);
+            }
+            if (!bad) {
+                for (i = 0; i < 2 * 8; ++i) {
+                    x[i] = k[0][i];
+                    cmp[i] = y[i];
+                }
+            }
+            for (l = 0; l < 8 && (st || bad); ++l) {
+                int ok = !bad || fail[l] == KAPITZA_OK;
+                if (!live[l]) {
+                    continue;
+                }
+                if (st) {
+                    st[l]->n_rhs += nev[l];
+                }
+                for (i = 0; bad && ok && i < 2; ++i) {
+                    ok = isfinite(k[0][i * 8 + l]);
+                }
+                if (ok) {
+                    for (i = 0; bad && i < 2; ++i) {
+                        x[i * 8 + l] = k[0][i * 8 + l];
+                        cmp[i * 8 + l] = y[i * 8 + l];
+                    }
+                    if (st) {
+                        st[l]->n_steps++;
+                        st[l]->t = kk + 1 == m ? tt[j] : ta + (double)(kk + 1) * hs;
+                        for (i = 0; i < 2; ++i) {
+                            st[l]->x[i] = x[i * 8 + l];
+                        }
+                    }
+                } else {
+                    code[l] = fail[l] != KAPITZA_OK ? fail[l] : KAPITZA_NONFINITE;  /* st keeps the last finite state */
+                    live[l] = 0;
+                    --nlive;
+                }
+            }
+        }
+        for (l = 0; l < 8; ++l) {
+            if (live[l]) {
+                for (i = 0; i < 2; ++i) {
+                    X[l][j * 2 + i] = x[i * 8 + l];
+                }
+            }
+        }
+    }
 }
 
 /* One classical RK4 step of size h from x: dx = the increment. */
@@ -898,13 +1352,13 @@ static int kapitza_fixed_(int method, int nt, const double *tt, double h, long m
     return code;
 }
 
-int kapitza_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const kapitza_params *p,
-                              double *X, kapitza_integrate_stats *stats)
+/* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
+ * and the others NaN, *max_steps the budget.  KAPITZA_OK when the integration can start. */
+static int kapitza_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                  long *max_steps, const double *x0, const kapitza_params *p, double *X,
+                                  kapitza_integrate_stats *st)
 {
-    kapitza_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
-    kapitza_integrate_stats *st = stats ? stats : &local;
-    int i, j, code;
+    int i, j;
     st->t = 0.0;
     st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = st->n_newton = 0;
     for (i = 0; i < 2; ++i) {
@@ -943,15 +1397,69 @@ int kapitza_integrate_grid(int method, int nt, const double *t, double h, double
     kapitza_copy_(X, x0);
     kapitza_copy_(st->x, x0);
     st->t = t[0];
-    if (max_steps <= 0) {
-        max_steps = KAPITZA_INTEGRATE_MAX_STEPS;
+    if (*max_steps <= 0) {
+        *max_steps = KAPITZA_INTEGRATE_MAX_STEPS;
+    }
+    return KAPITZA_OK;
+}
+
+int kapitza_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const kapitza_params *p,
+                              double *X, kapitza_integrate_stats *stats)
+{
+    kapitza_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
+    kapitza_integrate_stats *st = stats ? stats : &local;
+    int code = kapitza_grid_start_(method, nt, t, h, rtol, atol, &max_steps, x0, p, X, st);
+    if (code != KAPITZA_OK) {
+        return code;
     }
     if (method == KAPITZA_DOP853) {
-        code = kapitza_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
-    } else {
-        code = kapitza_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+        return kapitza_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
     }
-    return code;
+    if (method == KAPITZA_RK4) {
+        double *Xl[1];
+        kapitza_integrate_stats *sl[1];
+        Xl[0] = X;
+        sl[0] = st;
+        kapitza_rk4_lane_(nt, t, h, max_steps, u, p, Xl, sl, &code);
+        return code;
+    }
+    return kapitza_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+}
+
+/* NAME_integrate_batch's RK4 when every trajectory has the same u and p: 8 trajectories
+ * at a time in lanes, the last ones alone, each the single call's bits. */
+static int kapitza_rk4_batch_(int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+                                 const double *u, const kapitza_params *p, double *X, int *codes)
+{
+    kapitza_integrate_stats st;
+    double *Xl[8];
+    int lane[8], lc[8], b, i, g = 0, failed = 0;
+    long budget = max_steps;
+    for (b = 0; b < nb; ++b) {
+        double *Xb = X + (long)b * (nt > 0 ? nt : 0) * 2;
+        budget = max_steps;
+        codes[b] = kapitza_grid_start_(KAPITZA_RK4, nt, t, h, 0.0, 0.0, &budget, x0 + (long)b * 2, p, Xb, &st);
+        if (codes[b] != KAPITZA_OK) {
+            continue;
+        }
+        lane[g] = b;
+        Xl[g++] = Xb;
+        if (g == 8) {
+            kapitza_rk4_lanes_(nt, t, h, budget, u, p, Xl, 0, lc);
+            for (i = 0; i < 8; ++i) {
+                codes[lane[i]] = lc[i];
+            }
+            g = 0;
+        }
+    }
+    for (i = 0; i < g; ++i) {
+        kapitza_rk4_lane_(nt, t, h, budget, u, p, Xl + i, 0, codes + lane[i]);
+    }
+    for (b = 0; b < nb; ++b) {
+        failed += codes[b] != KAPITZA_OK;
+    }
+    return failed;
 }
 
 int kapitza_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
@@ -961,6 +1469,9 @@ int kapitza_integrate_batch(int method, int nb, int nt, const double *t, double 
     int b, failed = 0;
     if (nb < 0 || !x0 || !X || !codes) {
         return -KAPITZA_BAD_ARGUMENT;
+    }
+    if (method == KAPITZA_RK4 && (!u || u_stride == 0) && (!p || p_stride == 0)) {
+        return kapitza_rk4_batch_(nb, nt, t, h, max_steps, x0, u, p, X, codes);
     }
     for (b = 0; b < nb; ++b) {
         codes[b] = kapitza_integrate_grid(method, nt, t, h, rtol, atol, max_steps, x0 + (long)b * 2,

@@ -10521,13 +10521,13 @@ static int panda_fixed_(int method, int nt, const double *tt, double h, long max
     return code;
 }
 
-int panda_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const panda_params *p,
-                              double *X, panda_integrate_stats *stats)
+/* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
+ * and the others NaN, *max_steps the budget.  PANDA_OK when the integration can start. */
+static int panda_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                  long *max_steps, const double *x0, const panda_params *p, double *X,
+                                  panda_integrate_stats *st)
 {
-    panda_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
-    panda_integrate_stats *st = stats ? stats : &local;
-    int i, j, code;
+    int i, j;
     st->t = 0.0;
     st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = st->n_newton = 0;
     for (i = 0; i < 14; ++i) {
@@ -10564,15 +10564,26 @@ int panda_integrate_grid(int method, int nt, const double *t, double h, double r
     panda_copy_(X, x0);
     panda_copy_(st->x, x0);
     st->t = t[0];
-    if (max_steps <= 0) {
-        max_steps = PANDA_INTEGRATE_MAX_STEPS;
+    if (*max_steps <= 0) {
+        *max_steps = PANDA_INTEGRATE_MAX_STEPS;
+    }
+    return PANDA_OK;
+}
+
+int panda_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const panda_params *p,
+                              double *X, panda_integrate_stats *stats)
+{
+    panda_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
+    panda_integrate_stats *st = stats ? stats : &local;
+    int code = panda_grid_start_(method, nt, t, h, rtol, atol, &max_steps, x0, p, X, st);
+    if (code != PANDA_OK) {
+        return code;
     }
     if (method == PANDA_DOP853) {
-        code = panda_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
-    } else {
-        code = panda_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+        return panda_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
     }
-    return code;
+    return panda_fixed_(method, nt, t, h, max_steps, u, p, X, st);
 }
 
 int panda_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,

@@ -7,6 +7,7 @@
  */
 #include "spatial3.h"
 
+#include <float.h>
 #include <math.h>
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
@@ -2143,6 +2144,595 @@ int spatial3_pdot(const double *x, const double *u, const spatial3_params *p, do
     }
     return spatial3_all_finite_(pdot, 3) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
 }
+#if FLT_EVAL_METHOD == 0
+#define SPATIAL3_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
+
+/* sin a[i] and cos a[i] for i < 4, the reduction and polynomials above (|a| < 1e6). */
+static void spatial3_sincos4_(const double *restrict a, double *restrict s, double *restrict c)
+{
+    int i;
+    for (i = 0; i < 4; ++i) {
+        const double j = (a[i] * 0.63661977236758134 + SPATIAL3_ROUND_) - SPATIAL3_ROUND_;
+        const double f = (j * 0.25 - 0.375 + SPATIAL3_ROUND_) - SPATIAL3_ROUND_;  /* floor(j / 4) */
+        const double y1 = a[i] - j * 1.5707963267341256;                       /* exact */
+        const double w2 = j * 6.077100506303966e-11;                            /* exact */
+        const double y2 = y1 - w2;
+        const double b2 = y2 - y1;
+        const double e2 = (y1 - (y2 - b2)) - (w2 + b2);                         /* y1 - w2 = y2 + e2 */
+        const double w3 = j * 2.0222662487111665e-21;
+        const double y3 = y2 - w3;
+        const double b3 = y3 - y2;
+        const double e3 = (y2 - (y3 - b3)) - (w3 + b3);                         /* y2 - w3 = y3 + e3 */
+        const double lo = (e2 + e3) - j * 8.4784276603689e-32;
+        const double rh = y3 + lo;
+        const double rl = lo - (rh - y3);
+        const double q = j - 4.0 * f;                                           /* j mod 4 */
+        const double z = rh * rh;
+        const double ps = -0.16666666666666666 + z * (0.008333333333333333 + z * (-0.0001984126984126984
+                        + z * (2.7557319223985893e-06 + z * (-2.505210838544172e-08 + z * (1.6059043836821613e-10
+                        + z * (-7.647163731819816e-13 + z * 2.8114572543455206e-15))))));
+        const double pc = 0.041666666666666664 + z * (-0.001388888888888889 + z * (2.48015873015873e-05
+                        + z * (-2.755731922398589e-07 + z * (2.08767569878681e-09 + z * (-1.1470745597729725e-11
+                        + z * 4.779477332387385e-14)))));
+        const double hz = 0.5 * z;
+        const double w = 1.0 - hz;
+        const double sr = rh + (rh * z * ps + rl * (1.0 - hz));
+        const double cr = w + (((1.0 - w) - hz) + (z * z * pc - rh * rl));
+        const double odd = (q == 1.0 || q == 3.0) ? 1.0 : 0.0;
+        const double ss = odd != 0.0 ? cr : sr;
+        const double cc = odd != 0.0 ? sr : cr;
+        const double sa = q >= 2.0 ? -ss : ss;
+        s[i] = a[i] == 0.0 ? a[i] : sa;  /* sin(-0) = -0 */
+        c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
+    }
+}
+#endif
+
+/* s[i] = sin a[i], c[i] = cos a[i] for i < count, a multiple of 4. */
+static void spatial3_sincos_(const double *a, double *s, double *c, int count)
+{
+    int i, far = 0;
+#if FLT_EVAL_METHOD == 0
+    for (i = 0; i < count; i += 4) {
+        spatial3_sincos4_(a + i, s + i, c + i);
+    }
+    for (i = 0; i < count; ++i) {
+        far |= !(fabs(a[i]) < 1e6);
+    }
+    for (i = 0; far && i < count; ++i) {
+        if (!(fabs(a[i]) < 1e6)) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+    }
+#else
+    (void)far;
+    for (i = 0; i < count; ++i) {
+        s[i] = sin(a[i]);
+        c[i] = cos(a[i]);
+    }
+#endif
+}
+
+
+/* The right side x' = (phidot, phi'') of 1 state(s) at once, for RK4's lanes (the integrators'
+ * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 1 + l),
+ * code[l] what spatial3_rhs returns for lane l.  spatial3_qdd's operations, each statement for
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
+ * spatial3_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
+static void spatial3_rhs_lane_(const double *restrict X, const double *u, const spatial3_params *p,
+                                double *restrict XD, int *code)
+{
+    double M_[9], f_[3], piv_[3], tol_[1], ok_[1];
+    double A_[4], S_[4], C_[4];
+    int i, l;
+    (void)p;
+    const double tau_3 = u ? u[0] : 0.0;
+
+    for (l = 0; l < 1; ++l) {
+        A_[l] = X[l];
+        A_[1 + l] = X[1 + l];
+        A_[2 + l] = X[2 + l];
+    }
+    for (i = 3; i < 4; ++i) {
+        A_[i] = 0.0;
+    }
+    spatial3_sincos_(A_, S_, C_, 4);
+    for (l = 0; l < 1; ++l) {
+        const double cos_phi1 = C_[l];
+        const double sin_phi1 = S_[l];
+        const double cos_phi2 = C_[1 + l];
+        const double sin_phi2 = S_[1 + l];
+        const double om2_1 = 0.45359612142557737*X[3 + l] + X[4 + l];
+        const double om2_2 = 0.8912073600614353*X[3 + l]*sin_phi2;
+        const double om2_3 = 0.8912073600614353*X[3 + l]*cos_phi2;
+        const double cos_phi3 = C_[2 + l];
+        const double sin_phi3 = S_[2 + l];
+        const double j3r2 = 0.9092974268256817*om2_1 - 0.4161468365471424*om2_3;
+        const double om3_1 = -0.4161468365471424*om2_1 - 0.9092974268256817*om2_3 + X[5 + l];
+        const double om3_2 = om2_2*cos_phi3 + sin_phi3*j3r2;
+        const double om3_3 = cos_phi3*j3r2 - om2_2*sin_phi3;
+        const double eps2_2 = X[4 + l]*om2_3;
+        const double eps2_3 = -X[4 + l]*om2_2;
+        const double w0 = X[3 + l]*X[3 + l];
+        const double aOrel2in1_2 = -0.25*w0;
+        const double aOrel2in1_3 = -0.05*w0;
+        const double j2r5 = -8.052600665193761 - 1.7328251533920123*cos_phi1 + 0.45359612142557737*aOrel2in1_3;
+        const double aOg2_1 = -4.098516902810498 + 3.404584954450333*cos_phi1 - 0.8912073600614353*aOrel2in1_3;
+        const double aOg2_2 = -3.8201939380478613*sin_phi1*cos_phi2 + cos_phi2*aOrel2in1_2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 3.8201939380478613*sin_phi1*sin_phi2 - sin_phi2*aOrel2in1_2;
+        const double eps3_2 = cos_phi3*eps2_2 - 0.4161468365471424*sin_phi3*eps2_3 + X[5 + l]*om3_3;
+        const double eps3_3 = -0.4161468365471424*cos_phi3*eps2_3 - sin_phi3*eps2_2 - X[5 + l]*om3_2;
+        const double ws2_1 = -0.08*om2_2 - 0.2*om2_3;
+        const double ws2_2 = 0.05*om2_3 + 0.08*om2_1;
+        const double ws2_3 = 0.2*om2_1 - 0.05*om2_2;
+        const double aOrel3in2_1 = -0.08*eps2_2 - 0.2*eps2_3 + om2_2*ws2_3 - om2_3*ws2_2;
+        const double aOrel3in2_2 = 0.05*eps2_3 + om2_3*ws2_1 - om2_1*ws2_3;
+        const double aOrel3in2_3 = -0.05*eps2_2 + om2_1*ws2_2 - om2_2*ws2_1;
+        const double j3r5 = 0.9092974268256817*aOg2_1 + 0.9092974268256817*aOrel3in2_1 - 0.4161468365471424*aOg2_3 - 0.4161468365471424*aOrel3in2_3;
+        const double aOg3_1 = -0.4161468365471424*aOg2_1 - 0.4161468365471424*aOrel3in2_1 - 0.9092974268256817*aOg2_3 - 0.9092974268256817*aOrel3in2_3;
+        const double aOg3_2 = cos_phi3*aOg2_2 + cos_phi3*aOrel3in2_2 + sin_phi3*j3r5;
+        const double aOg3_3 = cos_phi3*j3r5 - sin_phi3*aOg2_2 - sin_phi3*aOrel3in2_2;
+        const double wc3_1 = 0.11*om3_2 + 0.05*om3_3;
+        const double wc3_2 = 0.06*om3_3 - 0.11*om3_1;
+        const double wc3_3 = -0.05*om3_1 - 0.06*om3_2;
+        const double Aw3_1 = 0.00784*om3_1 + 0.0013*om3_2 - 0.00244*om3_3;
+        const double Aw3_2 = 0.0013*om3_1 + 0.00868*om3_2 + 0.002*om3_3;
+        const double Aw3_3 = -0.00244*om3_1 + 0.002*om3_2 + 0.00424*om3_3;
+        const double pF3_1 = 0.4*aOg3_1 + 0.044*eps3_2 + 0.02*eps3_3 + 0.4*om3_2*wc3_3 - 0.4*om3_3*wc3_2;
+        const double pF3_2 = 0.4*aOg3_2 + 0.024*eps3_3 + 0.040009086780329994*eps2_3 + 0.4*om3_3*wc3_1 - 0.4*om3_1*wc3_3;
+        const double pF3_3 = 0.4*aOg3_3 + 0.018185948536513633*eps2_3 - 0.024*eps3_2 + 0.4*om3_1*wc3_2 - 0.4*om3_2*wc3_1;
+        const double pN3_1 = -0.007128891826313344*eps2_3 + 0.0013*eps3_2 - 0.00244*eps3_3 + om3_2*Aw3_3 + 0.012*om3_2 - om3_3*Aw3_2 - 0.02*aOg3_3 - 0.044*aOg3_2;
+        const double pN3_2 = -0.0011820866548733861*eps2_3 + 0.00868*eps3_2 + 0.002*eps3_3 + om3_3*Aw3_1 + 0.02*om3_3 - om3_1*Aw3_3 - 0.012*om3_1 + 0.044*aOg3_1 - 0.024*aOg3_3;
+        const double pN3_3 = 0.002218685721454663*eps2_3 + 0.002*eps3_2 + 0.00424*eps3_3 + om3_1*Aw3_2 - om3_2*Aw3_1 - 0.02*om3_2 + 0.024*aOg3_2 + 0.02*aOg3_1;
+        const double j3r10 = -0.02*sin_phi3 + 0.044*cos_phi3;
+        const double h3in2_1 = -0.009987524077131417 + 0.9092974268256817*j3r10;
+        const double h3in2_2 = -0.02*cos_phi3 - 0.044*sin_phi3;
+        const double h3in2_3 = -0.4161468365471424*j3r10 - 0.021823138243816362;
+        const double c2phi3 = cos_phi3*cos_phi3 - sin_phi3*sin_phi3;
+        const double s2phi3 = 2.0*cos_phi3*sin_phi3;
+        const double I3in2drt = 0.00222*c2phi3 - 0.002*s2phi3;
+        const double I3in2dr_22 = 0.00646 + I3in2drt;
+        const double I3in2dr_33 = 0.00646 - I3in2drt;
+        const double I3in2dr_32 = 0.00222*s2phi3 + 0.002*c2phi3;
+        const double I3in2dr_21 = 0.0013*cos_phi3 + 0.00244*sin_phi3;
+        const double I3in2dr_31 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double I3in2dsig = 0.00392 + 0.5*I3in2dr_33;
+        const double I3in2ddlt = 0.00392 - 0.5*I3in2dr_33;
+        const double I3in2dt = -0.6536436208636119*I3in2ddlt - 0.7568024953079282*I3in2dr_31;
+        const double I3in2d_11 = I3in2dsig + I3in2dt;
+        const double I3in2d_33 = I3in2dsig - I3in2dt;
+        const double I3in2d_31 = 0.7568024953079282*I3in2ddlt - 0.6536436208636119*I3in2dr_31;
+        const double I3in2d_21 = -0.4161468365471424*I3in2dr_21 + 0.9092974268256817*I3in2dr_32;
+        const double I3in2d_32 = -0.9092974268256817*I3in2dr_21 - 0.4161468365471424*I3in2dr_32;
+        const double j3r11 = sin_phi3*pF3_2 + cos_phi3*pF3_3;
+        const double Fb3in2_1 = -0.4161468365471424*pF3_1 + 0.9092974268256817*j3r11;
+        const double Fb3in2_2 = cos_phi3*pF3_2 - sin_phi3*pF3_3;
+        const double Fb3in2_3 = -0.4161468365471424*j3r11 - 0.9092974268256817*pF3_1;
+        const double j3r12 = sin_phi3*pN3_2 + cos_phi3*pN3_3;
+        const double Nb3in2_1 = -0.4161468365471424*pN3_1 + 0.9092974268256817*j3r12;
+        const double Nb3in2_2 = cos_phi3*pN3_2 - sin_phi3*pN3_3;
+        const double Nb3in2_3 = -0.4161468365471424*j3r12 - 0.9092974268256817*pN3_1;
+        const double wc2_1 = 0.07*om2_2 - 0.1*om2_3;
+        const double wc2_2 = -0.04*om2_3 - 0.07*om2_1;
+        const double wc2_3 = 0.1*om2_1 + 0.04*om2_2;
+        const double Aw2_1 = 0.01194*om2_1 + 0.0021*om2_2 + 0.00188*om2_3;
+        const double Aw2_2 = 0.0021*om2_1 + 0.0074*om2_2 - 0.0041*om2_3;
+        const double Aw2_3 = 0.00188*om2_1 - 0.0041*om2_2 + 0.00976*om2_3;
+        const double pF2_1 = 0.6*aOg2_1 + 0.042*eps2_2 - 0.06*eps2_3 + 0.6*om2_2*wc2_3 - 0.6*om2_3*wc2_2;
+        const double pF2_2 = 0.6*aOg2_2 - 0.024*eps2_3 + 0.6*om2_3*wc2_1 - 0.6*om2_1*wc2_3;
+        const double pF2_3 = 0.6*aOg2_3 + 0.024*eps2_2 + 0.6*om2_1*wc2_2 - 0.6*om2_2*wc2_1;
+        const double pN2_1 = 0.0021*eps2_2 + 0.00188*eps2_3 + om2_2*Aw2_3 - 0.01*om2_2 - om2_3*Aw2_2 - 0.015*om2_3 + 0.06*aOg2_3 - 0.042*aOg2_2;
+        const double pN2_2 = 0.0074*eps2_2 - 0.0041*eps2_3 + om2_3*Aw2_1 - om2_1*Aw2_3 + 0.01*om2_1 + 0.042*aOg2_1 + 0.024*aOg2_3;
+        const double pN2_3 = -0.0041*eps2_2 + 0.00976*eps2_3 + om2_1*Aw2_2 + 0.015*om2_1 - om2_2*Aw2_1 - 0.024*aOg2_2 - 0.06*aOg2_1;
+        const double Fb2_1 = pF2_1 + Fb3in2_1;
+        const double Fb2_2 = pF2_2 + Fb3in2_2;
+        const double Fb2_3 = pF2_3 + Fb3in2_3;
+        const double Nb2_1 = pN2_1 + Nb3in2_1 + 0.2*Fb3in2_3 + 0.08*Fb3in2_2;
+        const double Nb2_2 = pN2_2 + Nb3in2_2 - 0.08*Fb3in2_1 - 0.05*Fb3in2_3;
+        const double Nb2_3 = pN2_3 + Nb3in2_3 + 0.05*Fb3in2_2 - 0.2*Fb3in2_1;
+        const double h2_1 = -0.004 + h3in2_1;
+        const double h2_2 = 0.14 + h3in2_2;
+        const double h2_3 = 0.01 + h3in2_3;
+        const double I2_11 = 0.0305 + I3in2d_11 + 0.4*h3in2_2 - 0.16*h3in2_3;
+        const double I2_21 = -0.0019 + I3in2d_21 - 0.2*h3in2_1 - 0.05*h3in2_2;
+        const double I2_22 = 0.01096 + I3in2dr_22 + 0.1*h3in2_1 - 0.16*h3in2_3;
+        const double I2_31 = 0.00348 + I3in2d_31 + 0.08*h3in2_1 - 0.05*h3in2_3;
+        const double I2_32 = 0.0023 + I3in2d_32 + 0.08*h3in2_2 - 0.2*h3in2_3;
+        const double I2_33 = 0.02676 + I3in2d_33 + 0.1*h3in2_1 + 0.4*h3in2_2;
+        const double w1 = sin_phi2*h2_2;
+        const double w2 = cos_phi2*h2_3;
+        const double j2r10 = w1 + w2;
+        const double w3 = cos_phi2*h2_2;
+        const double w4 = sin_phi2*h2_3;
+        const double h2in1_2 = w3 - w4;
+        const double h2in1_3 = 0.45359612142557737*j2r10 - 0.8912073600614353*h2_1;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double s2phi2 = 2.0*cos_phi2*sin_phi2;
+        const double I2in1drsig = 0.5*I2_22 + 0.5*I2_33;
+        const double I2in1drdlt = 0.5*I2_22 - 0.5*I2_33;
+        const double I2in1drt = c2phi2*I2in1drdlt - I2_32*s2phi2;
+        const double I2in1dr_33 = I2in1drsig - I2in1drt;
+        const double w5 = sin_phi2*I2_21;
+        const double w6 = cos_phi2*I2_31;
+        const double I2in1dr_31 = w5 + w6;
+        const double I2in1dsig = 0.5*I2_11 + 0.5*I2in1dr_33;
+        const double I2in1ddlt = 0.5*I2_11 - 0.5*I2in1dr_33;
+        const double I2in1dt = -0.5885011172553457*I2in1ddlt + 0.8084964038195902*I2in1dr_31;
+        const double I2in1d_11 = I2in1dsig + I2in1dt;
+        const double j2r11 = sin_phi2*Fb2_2 + cos_phi2*Fb2_3;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double Fb2in1_3 = 0.45359612142557737*j2r11 - 0.8912073600614353*Fb2_1;
+        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double Nb2in1_1 = 0.45359612142557737*Nb2_1 + 0.8912073600614353*j2r12;
+        const double pN1_1 = -0.36673861805259467*cos_phi1 - 0.09168465451314867*sin_phi1;
+        const double Nb1_1 = pN1_1 + Nb2in1_1 + 0.25*Fb2in1_3 - 0.05*Fb2in1_2;
+        const double I1_11 = 0.08324 + I2in1d_11 + 0.5*h2in1_2 + 0.1*h2in1_3;
+        const double j3r13 = -0.044*sin_phi3 - 0.02*cos_phi3;
+        const double f3in2_2 = -0.044*cos_phi3 + 0.02*sin_phi3;
+        const double j3r14 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double n3in2_1 = -0.0032625911985295964 + 0.9092974268256817*j3r14 - 0.08322936730942848*j3r13 + 0.08*f3in2_2;
+        const double n3in2_2 = 0.0013*cos_phi3 + 0.00244*sin_phi3 - 0.05193645231869742*j3r13;
+        const double n3in2_3 = -0.4161468365471424*j3r14 - 0.007128891826313344 + 0.05*f3in2_2 - 0.18185948536513633*j3r13;
+        const double j2r13 = sin_phi2*f3in2_2 - 0.4161468365471424*cos_phi2*j3r13;
+        const double f3in1_2 = cos_phi2*f3in2_2 + 0.4161468365471424*sin_phi2*j3r13;
+        const double f3in1_3 = 0.45359612142557737*j2r13 - 0.8103725592719719*j3r13;
+        const double j2r14 = sin_phi2*n3in2_2 + cos_phi2*n3in2_3;
+        const double n3in1_1 = 0.45359612142557737*n3in2_1 + 0.8912073600614353*j2r14 + 0.25*f3in1_3 - 0.05*f3in1_2;
+        const double j2r15 = -w4 + w3;
+        const double f2in1_2 = -w2 - w1;
+        const double j2r16 = w5 + w6;
+        const double n2in1_1 = 0.45359612142557737*I2_11 + 0.8912073600614353*j2r16 + 0.11339903035639434*j2r15 - 0.05*f2in1_2;
+
+        M_[l] = I1_11;
+        M_[3 + l] = n2in1_1;
+        M_[4 + l] = I2_11;
+        M_[6 + l] = n3in1_1;
+        M_[7 + l] = n3in2_1;
+        M_[8 + l] = 0.00784;
+        f_[l] = -Nb1_1;
+        f_[1 + l] = -Nb2_1;
+        f_[2 + l] = tau_3 - pN3_1;
+
+        double tl_ = 0.0;
+        tl_ = fabs(M_[l]) > tl_ ? fabs(M_[l]) : tl_;
+        tl_ = fabs(M_[4 + l]) > tl_ ? fabs(M_[4 + l]) : tl_;
+        tl_ = fabs(M_[8 + l]) > tl_ ? fabs(M_[8 + l]) : tl_;
+        tol_[l] = tl_ * SPATIAL3_PIVOT_TOL;
+        const double d0_ = M_[l];
+        const double r0_ = 1.0 / d0_;
+        const double L1_0_ = (M_[3 + l]) * r0_;
+        const double L2_0_ = (M_[6 + l]) * r0_;
+        const double v1_0_ = L1_0_ * d0_;
+        const double d1_ = M_[4 + l] - L1_0_ * v1_0_;
+        const double r1_ = 1.0 / d1_;
+        const double L2_1_ = (M_[7 + l] - L2_0_ * v1_0_) * r1_;
+        const double v2_0_ = L2_0_ * d0_;
+        const double v2_1_ = L2_1_ * d1_;
+        const double d2_ = M_[8 + l] - L2_0_ * v2_0_ - L2_1_ * v2_1_;
+        piv_[l] = d0_;
+        piv_[1 + l] = d1_;
+        piv_[2 + l] = d2_;
+        const double y0_ = f_[l];
+        const double y1_ = f_[1 + l] - (L1_0_ * y0_);
+        const double y2_ = f_[2 + l] - (L2_0_ * y0_ + L2_1_ * y1_);
+        const double z0_ = y0_ / d0_;
+        const double z1_ = y1_ / d1_;
+        const double z2_ = y2_ / d2_;
+        const double w2_ = z2_;
+        const double w1_ = z1_ - (L2_1_ * w2_);
+        const double w0_ = z0_ - (L1_0_ * w1_ + L2_0_ * w2_);
+        XD[3 + l] = w0_;
+        XD[4 + l] = w1_;
+        XD[5 + l] = w2_;
+    }
+    for (i = 0; i < 3; ++i) {
+        XD[i] = X[3 + i];
+    }
+    for (l = 0; l < 1; ++l) {
+        const double fin = (X[l] - X[l]) + (X[1 + l] - X[1 + l]) + (X[2 + l] - X[2 + l]) + (X[3 + l] - X[3 + l]) + (X[4 + l] - X[4 + l]) + (X[5 + l] - X[5 + l]) + (M_[l] - M_[l]) + (M_[4 + l] - M_[4 + l]) + (M_[8 + l] - M_[8 + l]) + (f_[l] - f_[l]) + (f_[1 + l] - f_[1 + l]) + (f_[2 + l] - f_[2 + l]) + (XD[3 + l] - XD[3 + l]) + (XD[4 + l] - XD[4 + l]) + (XD[5 + l] - XD[5 + l]) + (piv_[l] - piv_[l]) + (piv_[1 + l] - piv_[1 + l]) + (piv_[2 + l] - piv_[2 + l]);
+        double lo = piv_[l];
+        lo = piv_[1 + l] < lo ? piv_[1 + l] : lo;
+        lo = piv_[2 + l] < lo ? piv_[2 + l] : lo;
+        ok_[l] = (lo - tol_[l]) + fin;
+    }
+    for (l = 0; l < 1; ++l) {
+        double x[6];
+        if (ok_[l] > 0.0 && !(u && !spatial3_all_finite_(u, 1))) {
+            code[l] = SPATIAL3_OK;
+            continue;
+        }
+        /* the code spatial3_rhs returns, its tests in its order */
+        for (i = 0; i < 6; ++i) {
+            x[i] = X[i * 1 + l];
+        }
+        code[l] = SPATIAL3_NONFINITE;
+        if (!spatial3_all_finite_(x, 6) || (u && !spatial3_all_finite_(u, 1))) {
+            continue;
+        }
+        for (i = 0; i < 3; ++i) {
+            if (!isfinite(M_[i * 4 + l]) || !isfinite(f_[i * 1 + l])) {
+                break;
+            }
+        }
+        if (i < 3) {
+            continue;
+        }
+        for (i = 0; i < 3; ++i) {
+            if (!(piv_[i * 1 + l] > tol_[l])) {
+                code[l] = SPATIAL3_SINGULAR;
+                break;
+            }
+        }
+        if (i < 3) {
+            continue;
+        }
+        for (i = 0; i < 3; ++i) {
+            if (!isfinite(XD[(3 + i) * 1 + l])) {
+                break;
+            }
+        }
+        code[l] = i < 3 ? SPATIAL3_NONFINITE : SPATIAL3_OK;
+    }
+}
+
+/* The right side x' = (phidot, phi'') of 8 state(s) at once, for RK4's lanes (the integrators'
+ * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 8 + l),
+ * code[l] what spatial3_rhs returns for lane l.  spatial3_qdd's operations, each statement for
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
+ * spatial3_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
+static void spatial3_rhs_lanes_(const double *restrict X, const double *u, const spatial3_params *p,
+                                double *restrict XD, int *code)
+{
+    double M_[72], f_[24], piv_[24], tol_[8], ok_[8];
+    double A_[24], S_[24], C_[24];
+    int i, l;
+    (void)p;
+    const double tau_3 = u ? u[0] : 0.0;
+
+    for (l = 0; l < 8; ++l) {
+        A_[l] = X[l];
+        A_[8 + l] = X[8 + l];
+        A_[16 + l] = X[16 + l];
+    }
+    spatial3_sincos_(A_, S_, C_, 24);
+    for (l = 0; l < 8; ++l) {
+        const double cos_phi1 = C_[l];
+        const double sin_phi1 = S_[l];
+        const double cos_phi2 = C_[8 + l];
+        const double sin_phi2 = S_[8 + l];
+        const double om2_1 = 0.45359612142557737*X[24 + l] + X[32 + l];
+        const double om2_2 = 0.8912073600614353*X[24 + l]*sin_phi2;
+        const double om2_3 = 0.8912073600614353*X[24 + l]*cos_phi2;
+        const double cos_phi3 = C_[16 + l];
+        const double sin_phi3 = S_[16 + l];
+        const double j3r2 = 0.9092974268256817*om2_1 - 0.4161468365471424*om2_3;
+        const double om3_1 = -0.4161468365471424*om2_1 - 0.9092974268256817*om2_3 + X[40 + l];
+        const double om3_2 = om2_2*cos_phi3 + sin_phi3*j3r2;
+        const double om3_3 = cos_phi3*j3r2 - om2_2*sin_phi3;
+        const double eps2_2 = X[32 + l]*om2_3;
+        const double eps2_3 = -X[32 + l]*om2_2;
+        const double w0 = X[24 + l]*X[24 + l];
+        const double aOrel2in1_2 = -0.25*w0;
+        const double aOrel2in1_3 = -0.05*w0;
+        const double j2r5 = -8.052600665193761 - 1.7328251533920123*cos_phi1 + 0.45359612142557737*aOrel2in1_3;
+        const double aOg2_1 = -4.098516902810498 + 3.404584954450333*cos_phi1 - 0.8912073600614353*aOrel2in1_3;
+        const double aOg2_2 = -3.8201939380478613*sin_phi1*cos_phi2 + cos_phi2*aOrel2in1_2 + sin_phi2*j2r5;
+        const double aOg2_3 = cos_phi2*j2r5 + 3.8201939380478613*sin_phi1*sin_phi2 - sin_phi2*aOrel2in1_2;
+        const double eps3_2 = cos_phi3*eps2_2 - 0.4161468365471424*sin_phi3*eps2_3 + X[40 + l]*om3_3;
+        const double eps3_3 = -0.4161468365471424*cos_phi3*eps2_3 - sin_phi3*eps2_2 - X[40 + l]*om3_2;
+        const double ws2_1 = -0.08*om2_2 - 0.2*om2_3;
+        const double ws2_2 = 0.05*om2_3 + 0.08*om2_1;
+        const double ws2_3 = 0.2*om2_1 - 0.05*om2_2;
+        const double aOrel3in2_1 = -0.08*eps2_2 - 0.2*eps2_3 + om2_2*ws2_3 - om2_3*ws2_2;
+        const double aOrel3in2_2 = 0.05*eps2_3 + om2_3*ws2_1 - om2_1*ws2_3;
+        const double aOrel3in2_3 = -0.05*eps2_2 + om2_1*ws2_2 - om2_2*ws2_1;
+        const double j3r5 = 0.9092974268256817*aOg2_1 + 0.9092974268256817*aOrel3in2_1 - 0.4161468365471424*aOg2_3 - 0.4161468365471424*aOrel3in2_3;
+        const double aOg3_1 = -0.4161468365471424*aOg2_1 - 0.4161468365471424*aOrel3in2_1 - 0.9092974268256817*aOg2_3 - 0.9092974268256817*aOrel3in2_3;
+        const double aOg3_2 = cos_phi3*aOg2_2 + cos_phi3*aOrel3in2_2 + sin_phi3*j3r5;
+        const double aOg3_3 = cos_phi3*j3r5 - sin_phi3*aOg2_2 - sin_phi3*aOrel3in2_2;
+        const double wc3_1 = 0.11*om3_2 + 0.05*om3_3;
+        const double wc3_2 = 0.06*om3_3 - 0.11*om3_1;
+        const double wc3_3 = -0.05*om3_1 - 0.06*om3_2;
+        const double Aw3_1 = 0.00784*om3_1 + 0.0013*om3_2 - 0.00244*om3_3;
+        const double Aw3_2 = 0.0013*om3_1 + 0.00868*om3_2 + 0.002*om3_3;
+        const double Aw3_3 = -0.00244*om3_1 + 0.002*om3_2 + 0.00424*om3_3;
+        const double pF3_1 = 0.4*aOg3_1 + 0.044*eps3_2 + 0.02*eps3_3 + 0.4*om3_2*wc3_3 - 0.4*om3_3*wc3_2;
+        const double pF3_2 = 0.4*aOg3_2 + 0.024*eps3_3 + 0.040009086780329994*eps2_3 + 0.4*om3_3*wc3_1 - 0.4*om3_1*wc3_3;
+        const double pF3_3 = 0.4*aOg3_3 + 0.018185948536513633*eps2_3 - 0.024*eps3_2 + 0.4*om3_1*wc3_2 - 0.4*om3_2*wc3_1;
+        const double pN3_1 = -0.007128891826313344*eps2_3 + 0.0013*eps3_2 - 0.00244*eps3_3 + om3_2*Aw3_3 + 0.012*om3_2 - om3_3*Aw3_2 - 0.02*aOg3_3 - 0.044*aOg3_2;
+        const double pN3_2 = -0.0011820866548733861*eps2_3 + 0.00868*eps3_2 + 0.002*eps3_3 + om3_3*Aw3_1 + 0.02*om3_3 - om3_1*Aw3_3 - 0.012*om3_1 + 0.044*aOg3_1 - 0.024*aOg3_3;
+        const double pN3_3 = 0.002218685721454663*eps2_3 + 0.002*eps3_2 + 0.00424*eps3_3 + om3_1*Aw3_2 - om3_2*Aw3_1 - 0.02*om3_2 + 0.024*aOg3_2 + 0.02*aOg3_1;
+        const double j3r10 = -0.02*sin_phi3 + 0.044*cos_phi3;
+        const double h3in2_1 = -0.009987524077131417 + 0.9092974268256817*j3r10;
+        const double h3in2_2 = -0.02*cos_phi3 - 0.044*sin_phi3;
+        const double h3in2_3 = -0.4161468365471424*j3r10 - 0.021823138243816362;
+        const double c2phi3 = cos_phi3*cos_phi3 - sin_phi3*sin_phi3;
+        const double s2phi3 = 2.0*cos_phi3*sin_phi3;
+        const double I3in2drt = 0.00222*c2phi3 - 0.002*s2phi3;
+        const double I3in2dr_22 = 0.00646 + I3in2drt;
+        const double I3in2dr_33 = 0.00646 - I3in2drt;
+        const double I3in2dr_32 = 0.00222*s2phi3 + 0.002*c2phi3;
+        const double I3in2dr_21 = 0.0013*cos_phi3 + 0.00244*sin_phi3;
+        const double I3in2dr_31 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double I3in2dsig = 0.00392 + 0.5*I3in2dr_33;
+        const double I3in2ddlt = 0.00392 - 0.5*I3in2dr_33;
+        const double I3in2dt = -0.6536436208636119*I3in2ddlt - 0.7568024953079282*I3in2dr_31;
+        const double I3in2d_11 = I3in2dsig + I3in2dt;
+        const double I3in2d_33 = I3in2dsig - I3in2dt;
+        const double I3in2d_31 = 0.7568024953079282*I3in2ddlt - 0.6536436208636119*I3in2dr_31;
+        const double I3in2d_21 = -0.4161468365471424*I3in2dr_21 + 0.9092974268256817*I3in2dr_32;
+        const double I3in2d_32 = -0.9092974268256817*I3in2dr_21 - 0.4161468365471424*I3in2dr_32;
+        const double j3r11 = sin_phi3*pF3_2 + cos_phi3*pF3_3;
+        const double Fb3in2_1 = -0.4161468365471424*pF3_1 + 0.9092974268256817*j3r11;
+        const double Fb3in2_2 = cos_phi3*pF3_2 - sin_phi3*pF3_3;
+        const double Fb3in2_3 = -0.4161468365471424*j3r11 - 0.9092974268256817*pF3_1;
+        const double j3r12 = sin_phi3*pN3_2 + cos_phi3*pN3_3;
+        const double Nb3in2_1 = -0.4161468365471424*pN3_1 + 0.9092974268256817*j3r12;
+        const double Nb3in2_2 = cos_phi3*pN3_2 - sin_phi3*pN3_3;
+        const double Nb3in2_3 = -0.4161468365471424*j3r12 - 0.9092974268256817*pN3_1;
+        const double wc2_1 = 0.07*om2_2 - 0.1*om2_3;
+        const double wc2_2 = -0.04*om2_3 - 0.07*om2_1;
+        const double wc2_3 = 0.1*om2_1 + 0.04*om2_2;
+        const double Aw2_1 = 0.01194*om2_1 + 0.0021*om2_2 + 0.00188*om2_3;
+        const double Aw2_2 = 0.0021*om2_1 + 0.0074*om2_2 - 0.0041*om2_3;
+        const double Aw2_3 = 0.00188*om2_1 - 0.0041*om2_2 + 0.00976*om2_3;
+        const double pF2_1 = 0.6*aOg2_1 + 0.042*eps2_2 - 0.06*eps2_3 + 0.6*om2_2*wc2_3 - 0.6*om2_3*wc2_2;
+        const double pF2_2 = 0.6*aOg2_2 - 0.024*eps2_3 + 0.6*om2_3*wc2_1 - 0.6*om2_1*wc2_3;
+        const double pF2_3 = 0.6*aOg2_3 + 0.024*eps2_2 + 0.6*om2_1*wc2_2 - 0.6*om2_2*wc2_1;
+        const double pN2_1 = 0.0021*eps2_2 + 0.00188*eps2_3 + om2_2*Aw2_3 - 0.01*om2_2 - om2_3*Aw2_2 - 0.015*om2_3 + 0.06*aOg2_3 - 0.042*aOg2_2;
+        const double pN2_2 = 0.0074*eps2_2 - 0.0041*eps2_3 + om2_3*Aw2_1 - om2_1*Aw2_3 + 0.01*om2_1 + 0.042*aOg2_1 + 0.024*aOg2_3;
+        const double pN2_3 = -0.0041*eps2_2 + 0.00976*eps2_3 + om2_1*Aw2_2 + 0.015*om2_1 - om2_2*Aw2_1 - 0.024*aOg2_2 - 0.06*aOg2_1;
+        const double Fb2_1 = pF2_1 + Fb3in2_1;
+        const double Fb2_2 = pF2_2 + Fb3in2_2;
+        const double Fb2_3 = pF2_3 + Fb3in2_3;
+        const double Nb2_1 = pN2_1 + Nb3in2_1 + 0.2*Fb3in2_3 + 0.08*Fb3in2_2;
+        const double Nb2_2 = pN2_2 + Nb3in2_2 - 0.08*Fb3in2_1 - 0.05*Fb3in2_3;
+        const double Nb2_3 = pN2_3 + Nb3in2_3 + 0.05*Fb3in2_2 - 0.2*Fb3in2_1;
+        const double h2_1 = -0.004 + h3in2_1;
+        const double h2_2 = 0.14 + h3in2_2;
+        const double h2_3 = 0.01 + h3in2_3;
+        const double I2_11 = 0.0305 + I3in2d_11 + 0.4*h3in2_2 - 0.16*h3in2_3;
+        const double I2_21 = -0.0019 + I3in2d_21 - 0.2*h3in2_1 - 0.05*h3in2_2;
+        const double I2_22 = 0.01096 + I3in2dr_22 + 0.1*h3in2_1 - 0.16*h3in2_3;
+        const double I2_31 = 0.00348 + I3in2d_31 + 0.08*h3in2_1 - 0.05*h3in2_3;
+        const double I2_32 = 0.0023 + I3in2d_32 + 0.08*h3in2_2 - 0.2*h3in2_3;
+        const double I2_33 = 0.02676 + I3in2d_33 + 0.1*h3in2_1 + 0.4*h3in2_2;
+        const double w1 = sin_phi2*h2_2;
+        const double w2 = cos_phi2*h2_3;
+        const double j2r10 = w1 + w2;
+        const double w3 = cos_phi2*h2_2;
+        const double w4 = sin_phi2*h2_3;
+        const double h2in1_2 = w3 - w4;
+        const double h2in1_3 = 0.45359612142557737*j2r10 - 0.8912073600614353*h2_1;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double s2phi2 = 2.0*cos_phi2*sin_phi2;
+        const double I2in1drsig = 0.5*I2_22 + 0.5*I2_33;
+        const double I2in1drdlt = 0.5*I2_22 - 0.5*I2_33;
+        const double I2in1drt = c2phi2*I2in1drdlt - I2_32*s2phi2;
+        const double I2in1dr_33 = I2in1drsig - I2in1drt;
+        const double w5 = sin_phi2*I2_21;
+        const double w6 = cos_phi2*I2_31;
+        const double I2in1dr_31 = w5 + w6;
+        const double I2in1dsig = 0.5*I2_11 + 0.5*I2in1dr_33;
+        const double I2in1ddlt = 0.5*I2_11 - 0.5*I2in1dr_33;
+        const double I2in1dt = -0.5885011172553457*I2in1ddlt + 0.8084964038195902*I2in1dr_31;
+        const double I2in1d_11 = I2in1dsig + I2in1dt;
+        const double j2r11 = sin_phi2*Fb2_2 + cos_phi2*Fb2_3;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double Fb2in1_3 = 0.45359612142557737*j2r11 - 0.8912073600614353*Fb2_1;
+        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double Nb2in1_1 = 0.45359612142557737*Nb2_1 + 0.8912073600614353*j2r12;
+        const double pN1_1 = -0.36673861805259467*cos_phi1 - 0.09168465451314867*sin_phi1;
+        const double Nb1_1 = pN1_1 + Nb2in1_1 + 0.25*Fb2in1_3 - 0.05*Fb2in1_2;
+        const double I1_11 = 0.08324 + I2in1d_11 + 0.5*h2in1_2 + 0.1*h2in1_3;
+        const double j3r13 = -0.044*sin_phi3 - 0.02*cos_phi3;
+        const double f3in2_2 = -0.044*cos_phi3 + 0.02*sin_phi3;
+        const double j3r14 = 0.0013*sin_phi3 - 0.00244*cos_phi3;
+        const double n3in2_1 = -0.0032625911985295964 + 0.9092974268256817*j3r14 - 0.08322936730942848*j3r13 + 0.08*f3in2_2;
+        const double n3in2_2 = 0.0013*cos_phi3 + 0.00244*sin_phi3 - 0.05193645231869742*j3r13;
+        const double n3in2_3 = -0.4161468365471424*j3r14 - 0.007128891826313344 + 0.05*f3in2_2 - 0.18185948536513633*j3r13;
+        const double j2r13 = sin_phi2*f3in2_2 - 0.4161468365471424*cos_phi2*j3r13;
+        const double f3in1_2 = cos_phi2*f3in2_2 + 0.4161468365471424*sin_phi2*j3r13;
+        const double f3in1_3 = 0.45359612142557737*j2r13 - 0.8103725592719719*j3r13;
+        const double j2r14 = sin_phi2*n3in2_2 + cos_phi2*n3in2_3;
+        const double n3in1_1 = 0.45359612142557737*n3in2_1 + 0.8912073600614353*j2r14 + 0.25*f3in1_3 - 0.05*f3in1_2;
+        const double j2r15 = -w4 + w3;
+        const double f2in1_2 = -w2 - w1;
+        const double j2r16 = w5 + w6;
+        const double n2in1_1 = 0.45359612142557737*I2_11 + 0.8912073600614353*j2r16 + 0.11339903035639434*j2r15 - 0.05*f2in1_2;
+
+        M_[l] = I1_11;
+        M_[24 + l] = n2in1_1;
+        M_[32 + l] = I2_11;
+        M_[48 + l] = n3in1_1;
+        M_[56 + l] = n3in2_1;
+        M_[64 + l] = 0.00784;
+        f_[l] = -Nb1_1;
+        f_[8 + l] = -Nb2_1;
+        f_[16 + l] = tau_3 - pN3_1;
+
+        double tl_ = 0.0;
+        tl_ = fabs(M_[l]) > tl_ ? fabs(M_[l]) : tl_;
+        tl_ = fabs(M_[32 + l]) > tl_ ? fabs(M_[32 + l]) : tl_;
+        tl_ = fabs(M_[64 + l]) > tl_ ? fabs(M_[64 + l]) : tl_;
+        tol_[l] = tl_ * SPATIAL3_PIVOT_TOL;
+        const double d0_ = M_[l];
+        const double r0_ = 1.0 / d0_;
+        const double L1_0_ = (M_[24 + l]) * r0_;
+        const double L2_0_ = (M_[48 + l]) * r0_;
+        const double v1_0_ = L1_0_ * d0_;
+        const double d1_ = M_[32 + l] - L1_0_ * v1_0_;
+        const double r1_ = 1.0 / d1_;
+        const double L2_1_ = (M_[56 + l] - L2_0_ * v1_0_) * r1_;
+        const double v2_0_ = L2_0_ * d0_;
+        const double v2_1_ = L2_1_ * d1_;
+        const double d2_ = M_[64 + l] - L2_0_ * v2_0_ - L2_1_ * v2_1_;
+        piv_[l] = d0_;
+        piv_[8 + l] = d1_;
+        piv_[16 + l] = d2_;
+        const double y0_ = f_[l];
+        const double y1_ = f_[8 + l] - (L1_0_ * y0_);
+        const double y2_ = f_[16 + l] - (L2_0_ * y0_ + L2_1_ * y1_);
+        const double z0_ = y0_ / d0_;
+        const double z1_ = y1_ / d1_;
+        const double z2_ = y2_ / d2_;
+        const double w2_ = z2_;
+        const double w1_ = z1_ - (L2_1_ * w2_);
+        const double w0_ = z0_ - (L1_0_ * w1_ + L2_0_ * w2_);
+        XD[24 + l] = w0_;
+        XD[32 + l] = w1_;
+        XD[40 + l] = w2_;
+    }
+    for (i = 0; i < 24; ++i) {
+        XD[i] = X[24 + i];
+    }
+    for (l = 0; l < 8; ++l) {
+        const double fin = (X[l] - X[l]) + (X[8 + l] - X[8 + l]) + (X[16 + l] - X[16 + l]) + (X[24 + l] - X[24 + l]) + (X[32 + l] - X[32 + l]) + (X[40 + l] - X[40 + l]) + (M_[l] - M_[l]) + (M_[32 + l] - M_[32 + l]) + (M_[64 + l] - M_[64 + l]) + (f_[l] - f_[l]) + (f_[8 + l] - f_[8 + l]) + (f_[16 + l] - f_[16 + l]) + (XD[24 + l] - XD[24 + l]) + (XD[32 + l] - XD[32 + l]) + (XD[40 + l] - XD[40 + l]) + (piv_[l] - piv_[l]) + (piv_[8 + l] - piv_[8 + l]) + (piv_[16 + l] - piv_[16 + l]);
+        double lo = piv_[l];
+        lo = piv_[8 + l] < lo ? piv_[8 + l] : lo;
+        lo = piv_[16 + l] < lo ? piv_[16 + l] : lo;
+        ok_[l] = (lo - tol_[l]) + fin;
+    }
+    for (l = 0; l < 8; ++l) {
+        double x[6];
+        if (ok_[l] > 0.0 && !(u && !spatial3_all_finite_(u, 1))) {
+            code[l] = SPATIAL3_OK;
+            continue;
+        }
+        /* the code spatial3_rhs returns, its tests in its order */
+        for (i = 0; i < 6; ++i) {
+            x[i] = X[i * 8 + l];
+        }
+        code[l] = SPATIAL3_NONFINITE;
+        if (!spatial3_all_finite_(x, 6) || (u && !spatial3_all_finite_(u, 1))) {
+            continue;
+        }
+        for (i = 0; i < 3; ++i) {
+            if (!isfinite(M_[i * 32 + l]) || !isfinite(f_[i * 8 + l])) {
+                break;
+            }
+        }
+        if (i < 3) {
+            continue;
+        }
+        for (i = 0; i < 3; ++i) {
+            if (!(piv_[i * 8 + l] > tol_[l])) {
+                code[l] = SPATIAL3_SINGULAR;
+                break;
+            }
+        }
+        if (i < 3) {
+            continue;
+        }
+        for (i = 0; i < 3; ++i) {
+            if (!isfinite(XD[(3 + i) * 8 + l])) {
+                break;
+            }
+        }
+        code[l] = i < 3 ? SPATIAL3_NONFINITE : SPATIAL3_OK;
+    }
+}
 
 /* ---------------------------------------------------------------------------------------
  * Integrators: NAME_integrate and NAME_integrate_grid, written once over spatial3_rhs.
@@ -2460,6 +3050,242 @@ static long spatial3_nsteps_(double ta, double tb, double h)
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
     return m < 1.0 ? 1L : (long)m;
+}
+
+/* RK4 in lanes (kernels/rk4_lanes.c): one lane for a single trajectory, 8 for a batch's;
+ * the model's right side for lanes is printed before this file (spatial3_rhs_lane_, _lanes_). */
+/* RK4 over the output times tt[0..nt-1] (steps as spatial3_fixed_ takes them) for 1
+ * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
+ * result, st[l] its statistics (and last finite state) when st is not NULL. */
+static void spatial3_rk4_lane_(int nt, const double *tt, double h, long max_steps, const double *u, const spatial3_params *p,
+                           double *const *X, spatial3_integrate_stats *const *st, int *code)
+{
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    double x[6 * 1], cmp[6 * 1], y[6 * 1], k[4][6 * 1], fin[1];
+    int fail[1], sc[1], nev[1], live[1];
+    int i, j, l, s, bad, nlive = 1;
+    long kk, m, steps = 0;
+    for (l = 0; l < 1; ++l) {
+        for (i = 0; i < 6; ++i) {
+            x[i * 1 + l] = X[l][i];
+            cmp[i * 1 + l] = 0.0;
+        }
+        code[l] = SPATIAL3_OK;
+        live[l] = 1;
+    }
+    for (j = 1; j < nt && nlive > 0; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = spatial3_nsteps_(ta, tt[j], h));
+        for (kk = 0; kk < m && nlive > 0; ++kk) {
+            if (steps >= max_steps) {
+                for (l = 0; l < 1; ++l) {
+                    code[l] = live[l] ? SPATIAL3_TOO_MANY_STEPS : code[l];
+                    live[l] = 0;
+                }
+                nlive = 0;
+                break;
+            }
+            /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
+             * evaluations it made, as one trajectory alone stops at that stage) */
+            spatial3_rhs_lane_(x, u, p, k[0], fail);
+            for (l = 0; l < 1; ++l) {
+                nev[l] = 1;
+            }
+            for (s = 1; s < 4; ++s) {
+                for (i = 0; i < 6 * 1; ++i) {
+                    y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
+                }
+                spatial3_rhs_lane_(y, u, p, k[s], sc);
+                for (l = 0; l < 1; ++l) {
+                    if (fail[l] == SPATIAL3_OK) {
+                        fail[l] = sc[l];
+                        nev[l] = s + 1;
+                    }
+                }
+            }
+            /* x + dx compensated (spatial3_add_'s operations) into y and k[0] until each lane is
+             * known to go on */
+            for (i = 0; i < 6 * 1; ++i) {
+                const double dx = hs / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                const double yy = dx + cmp[i];
+                const double sum = x[i] + yy;
+                y[i] = (x[i] - sum) + yy;
+                k[0][i] = sum;
+            }
+            ++steps;
+            /* every lane live, no stage failed, the new state finite: the common step */
+            for (l = 0; l < 1; ++l) {
+                fin[l] = 0.0;  /* 0 when lane l's new state is finite, NaN otherwise */
+            }
+            for (i = 0; i < 6; ++i) {
+                for (l = 0; l < 1; ++l) {
+                    fin[l] += k[0][i * 1 + l] - k[0][i * 1 + l];
+                }
+            }
+            bad = nlive != 1;
+            for (l = 0; l < 1; ++l) {
+                bad |= fail[l] != SPATIAL3_OK || !(fin[l] == 0.0);
+            }
+            if (!bad) {
+                for (i = 0; i < 6 * 1; ++i) {
+                    x[i] = k[0][i];
+                    cmp[i] = y[i];
+                }
+            }
+            for (l = 0; l < 1 && (st || bad); ++l) {
+                int ok = !bad || fail[l] == SPATIAL3_OK;
+                if (!live[l]) {
+                    continue;
+                }
+                if (st) {
+                    st[l]->n_rhs += nev[l];
+                }
+                for (i = 0; bad && ok && i < 6; ++i) {
+                    ok = isfinite(k[0][i * 1 + l]);
+                }
+                if (ok) {
+                    for (i = 0; bad && i < 6; ++i) {
+                        x[i * 1 + l] = k[0][i * 1 + l];
+                        cmp[i * 1 + l] = y[i * 1 + l];
+                    }
+                    if (st) {
+                        st[l]->n_steps++;
+                        st[l]->t = kk + 1 == m ? tt[j] : ta + (double)(kk + 1) * hs;
+                        for (i = 0; i < 6; ++i) {
+                            st[l]->x[i] = x[i * 1 + l];
+                        }
+                    }
+                } else {
+                    code[l] = fail[l] != SPATIAL3_OK ? fail[l] : SPATIAL3_NONFINITE;  /* st keeps the last finite state */
+                    live[l] = 0;
+                    --nlive;
+                }
+            }
+        }
+        for (l = 0; l < 1; ++l) {
+            if (live[l]) {
+                for (i = 0; i < 6; ++i) {
+                    X[l][j * 6 + i] = x[i * 1 + l];
+                }
+            }
+        }
+    }
+}
+
+/* RK4 over the output times tt[0..nt-1] (steps as spatial3_fixed_ takes them) for 8
+ * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
+ * result, st[l] its statistics (and last finite state) when st is not NULL. */
+static void spatial3_rk4_lanes_(int nt, const double *tt, double h, long max_steps, const double *u, const spatial3_params *p,
+                           double *const *X, spatial3_integrate_stats *const *st, int *code)
+{
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    double x[6 * 8], cmp[6 * 8], y[6 * 8], k[4][6 * 8], fin[8];
+    int fail[8], sc[8], nev[8], live[8];
+    int i, j, l, s, bad, nlive = 8;
+    long kk, m, steps = 0;
+    for (l = 0; l < 8; ++l) {
+        for (i = 0; i < 6; ++i) {
+            x[i * 8 + l] = X[l][i];
+            cmp[i * 8 + l] = 0.0;
+        }
+        code[l] = SPATIAL3_OK;
+        live[l] = 1;
+    }
+    for (j = 1; j < nt && nlive > 0; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = spatial3_nsteps_(ta, tt[j], h));
+        for (kk = 0; kk < m && nlive > 0; ++kk) {
+            if (steps >= max_steps) {
+                for (l = 0; l < 8; ++l) {
+                    code[l] = live[l] ? SPATIAL3_TOO_MANY_STEPS : code[l];
+                    live[l] = 0;
+                }
+                nlive = 0;
+                break;
+            }
+            /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
+             * evaluations it made, as one trajectory alone stops at that stage) */
+            spatial3_rhs_lanes_(x, u, p, k[0], fail);
+            for (l = 0; l < 8; ++l) {
+                nev[l] = 1;
+            }
+            for (s = 1; s < 4; ++s) {
+                for (i = 0; i < 6 * 8; ++i) {
+                    y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
+                }
+                spatial3_rhs_lanes_(y, u, p, k[s], sc);
+                for (l = 0; l < 8; ++l) {
+                    if (fail[l] == SPATIAL3_OK) {
+                        fail[l] = sc[l];
+                        nev[l] = s + 1;
+                    }
+                }
+            }
+            /* x + dx compensated (spatial3_add_'s operations) into y and k[0] until each lane is
+             * known to go on */
+            for (i = 0; i < 6 * 8; ++i) {
+                const double dx = hs / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                const double yy = dx + cmp[i];
+                const double sum = x[i] + yy;
+                y[i] = (x[i] - sum) + yy;
+                k[0][i] = sum;
+            }
+            ++steps;
+            /* every lane live, no stage failed, the new state finite: the common step */
+            for (l = 0; l < 8; ++l) {
+                fin[l] = 0.0;  /* 0 when lane l's new state is finite, NaN otherwise */
+            }
+            for (i = 0; i < 6; ++i) {
+                for (l = 0; l < 8; ++l) {
+                    fin[l] += k[0][i * 8 + l] - k[0][i * 8 + l];
+                }
+            }
+            bad = nlive != 8;
+            for (l = 0; l < 8; ++l) {
+                bad |= fail[l] != SPATIAL3_OK || !(fin[l] == 0.0);
+            }
+            if (!bad) {
+                for (i = 0; i < 6 * 8; ++i) {
+                    x[i] = k[0][i];
+                    cmp[i] = y[i];
+                }
+            }
+            for (l = 0; l < 8 && (st || bad); ++l) {
+                int ok = !bad || fail[l] == SPATIAL3_OK;
+                if (!live[l]) {
+                    continue;
+                }
+                if (st) {
+                    st[l]->n_rhs += nev[l];
+                }
+                for (i = 0; bad && ok && i < 6; ++i) {
+                    ok = isfinite(k[0][i * 8 + l]);
+                }
+                if (ok) {
+                    for (i = 0; bad && i < 6; ++i) {
+                        x[i * 8 + l] = k[0][i * 8 + l];
+                        cmp[i * 8 + l] = y[i * 8 + l];
+                    }
+                    if (st) {
+                        st[l]->n_steps++;
+                        st[l]->t = kk + 1 == m ? tt[j] : ta + (double)(kk + 1) * hs;
+                        for (i = 0; i < 6; ++i) {
+                            st[l]->x[i] = x[i * 8 + l];
+                        }
+                    }
+                } else {
+                    code[l] = fail[l] != SPATIAL3_OK ? fail[l] : SPATIAL3_NONFINITE;  /* st keeps the last finite state */
+                    live[l] = 0;
+                    --nlive;
+                }
+            }
+        }
+        for (l = 0; l < 8; ++l) {
+            if (live[l]) {
+                for (i = 0; i < 6; ++i) {
+                    X[l][j * 6 + i] = x[i * 8 + l];
+                }
+            }
+        }
+    }
 }
 
 /* One classical RK4 step of size h from x: dx = the increment. */
@@ -2857,13 +3683,13 @@ static int spatial3_fixed_(int method, int nt, const double *tt, double h, long 
     return code;
 }
 
-int spatial3_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const spatial3_params *p,
-                              double *X, spatial3_integrate_stats *stats)
+/* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
+ * and the others NaN, *max_steps the budget.  SPATIAL3_OK when the integration can start. */
+static int spatial3_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                  long *max_steps, const double *x0, const spatial3_params *p, double *X,
+                                  spatial3_integrate_stats *st)
 {
-    spatial3_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
-    spatial3_integrate_stats *st = stats ? stats : &local;
-    int i, j, code;
+    int i, j;
     st->t = 0.0;
     st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = st->n_newton = 0;
     for (i = 0; i < 6; ++i) {
@@ -2900,15 +3726,69 @@ int spatial3_integrate_grid(int method, int nt, const double *t, double h, doubl
     spatial3_copy_(X, x0);
     spatial3_copy_(st->x, x0);
     st->t = t[0];
-    if (max_steps <= 0) {
-        max_steps = SPATIAL3_INTEGRATE_MAX_STEPS;
+    if (*max_steps <= 0) {
+        *max_steps = SPATIAL3_INTEGRATE_MAX_STEPS;
+    }
+    return SPATIAL3_OK;
+}
+
+int spatial3_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const spatial3_params *p,
+                              double *X, spatial3_integrate_stats *stats)
+{
+    spatial3_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
+    spatial3_integrate_stats *st = stats ? stats : &local;
+    int code = spatial3_grid_start_(method, nt, t, h, rtol, atol, &max_steps, x0, p, X, st);
+    if (code != SPATIAL3_OK) {
+        return code;
     }
     if (method == SPATIAL3_DOP853) {
-        code = spatial3_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
-    } else {
-        code = spatial3_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+        return spatial3_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
     }
-    return code;
+    if (method == SPATIAL3_RK4) {
+        double *Xl[1];
+        spatial3_integrate_stats *sl[1];
+        Xl[0] = X;
+        sl[0] = st;
+        spatial3_rk4_lane_(nt, t, h, max_steps, u, p, Xl, sl, &code);
+        return code;
+    }
+    return spatial3_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+}
+
+/* NAME_integrate_batch's RK4 when every trajectory has the same u and p: 8 trajectories
+ * at a time in lanes, the last ones alone, each the single call's bits. */
+static int spatial3_rk4_batch_(int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+                                 const double *u, const spatial3_params *p, double *X, int *codes)
+{
+    spatial3_integrate_stats st;
+    double *Xl[8];
+    int lane[8], lc[8], b, i, g = 0, failed = 0;
+    long budget = max_steps;
+    for (b = 0; b < nb; ++b) {
+        double *Xb = X + (long)b * (nt > 0 ? nt : 0) * 6;
+        budget = max_steps;
+        codes[b] = spatial3_grid_start_(SPATIAL3_RK4, nt, t, h, 0.0, 0.0, &budget, x0 + (long)b * 6, p, Xb, &st);
+        if (codes[b] != SPATIAL3_OK) {
+            continue;
+        }
+        lane[g] = b;
+        Xl[g++] = Xb;
+        if (g == 8) {
+            spatial3_rk4_lanes_(nt, t, h, budget, u, p, Xl, 0, lc);
+            for (i = 0; i < 8; ++i) {
+                codes[lane[i]] = lc[i];
+            }
+            g = 0;
+        }
+    }
+    for (i = 0; i < g; ++i) {
+        spatial3_rk4_lane_(nt, t, h, budget, u, p, Xl + i, 0, codes + lane[i]);
+    }
+    for (b = 0; b < nb; ++b) {
+        failed += codes[b] != SPATIAL3_OK;
+    }
+    return failed;
 }
 
 int spatial3_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
@@ -2918,6 +3798,9 @@ int spatial3_integrate_batch(int method, int nb, int nt, const double *t, double
     int b, failed = 0;
     if (nb < 0 || !x0 || !X || !codes) {
         return -SPATIAL3_BAD_ARGUMENT;
+    }
+    if (method == SPATIAL3_RK4 && (!u || u_stride == 0) && (!p || p_stride == 0)) {
+        return spatial3_rk4_batch_(nb, nt, t, h, max_steps, x0, u, p, X, codes);
     }
     for (b = 0; b < nb; ++b) {
         codes[b] = spatial3_integrate_grid(method, nt, t, h, rtol, atol, max_steps, x0 + (long)b * 6,

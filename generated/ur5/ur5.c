@@ -7,6 +7,7 @@
  */
 #include "ur5.h"
 
+#include <float.h>
 #include <math.h>
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
@@ -4849,6 +4850,937 @@ int ur5_pdot(const double *x, const double *u, const ur5_params *p, double *pdot
     }
     return ur5_all_finite_(pdot, 6) ? UR5_OK : UR5_NONFINITE;
 }
+#if FLT_EVAL_METHOD == 0
+#define UR5_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
+
+/* sin a[i] and cos a[i] for i < 4, the reduction and polynomials above (|a| < 1e6). */
+static void ur5_sincos4_(const double *restrict a, double *restrict s, double *restrict c)
+{
+    int i;
+    for (i = 0; i < 4; ++i) {
+        const double j = (a[i] * 0.63661977236758134 + UR5_ROUND_) - UR5_ROUND_;
+        const double f = (j * 0.25 - 0.375 + UR5_ROUND_) - UR5_ROUND_;  /* floor(j / 4) */
+        const double y1 = a[i] - j * 1.5707963267341256;                       /* exact */
+        const double w2 = j * 6.077100506303966e-11;                            /* exact */
+        const double y2 = y1 - w2;
+        const double b2 = y2 - y1;
+        const double e2 = (y1 - (y2 - b2)) - (w2 + b2);                         /* y1 - w2 = y2 + e2 */
+        const double w3 = j * 2.0222662487111665e-21;
+        const double y3 = y2 - w3;
+        const double b3 = y3 - y2;
+        const double e3 = (y2 - (y3 - b3)) - (w3 + b3);                         /* y2 - w3 = y3 + e3 */
+        const double lo = (e2 + e3) - j * 8.4784276603689e-32;
+        const double rh = y3 + lo;
+        const double rl = lo - (rh - y3);
+        const double q = j - 4.0 * f;                                           /* j mod 4 */
+        const double z = rh * rh;
+        const double ps = -0.16666666666666666 + z * (0.008333333333333333 + z * (-0.0001984126984126984
+                        + z * (2.7557319223985893e-06 + z * (-2.505210838544172e-08 + z * (1.6059043836821613e-10
+                        + z * (-7.647163731819816e-13 + z * 2.8114572543455206e-15))))));
+        const double pc = 0.041666666666666664 + z * (-0.001388888888888889 + z * (2.48015873015873e-05
+                        + z * (-2.755731922398589e-07 + z * (2.08767569878681e-09 + z * (-1.1470745597729725e-11
+                        + z * 4.779477332387385e-14)))));
+        const double hz = 0.5 * z;
+        const double w = 1.0 - hz;
+        const double sr = rh + (rh * z * ps + rl * (1.0 - hz));
+        const double cr = w + (((1.0 - w) - hz) + (z * z * pc - rh * rl));
+        const double odd = (q == 1.0 || q == 3.0) ? 1.0 : 0.0;
+        const double ss = odd != 0.0 ? cr : sr;
+        const double cc = odd != 0.0 ? sr : cr;
+        const double sa = q >= 2.0 ? -ss : ss;
+        s[i] = a[i] == 0.0 ? a[i] : sa;  /* sin(-0) = -0 */
+        c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
+    }
+}
+#endif
+
+/* s[i] = sin a[i], c[i] = cos a[i] for i < count, a multiple of 4. */
+static void ur5_sincos_(const double *a, double *s, double *c, int count)
+{
+    int i, far = 0;
+#if FLT_EVAL_METHOD == 0
+    for (i = 0; i < count; i += 4) {
+        ur5_sincos4_(a + i, s + i, c + i);
+    }
+    for (i = 0; i < count; ++i) {
+        far |= !(fabs(a[i]) < 1e6);
+    }
+    for (i = 0; far && i < count; ++i) {
+        if (!(fabs(a[i]) < 1e6)) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+    }
+#else
+    (void)far;
+    for (i = 0; i < count; ++i) {
+        s[i] = sin(a[i]);
+        c[i] = cos(a[i]);
+    }
+#endif
+}
+
+
+/* The right side x' = (phidot, phi'') of 1 state(s) at once, for RK4's lanes (the integrators'
+ * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 1 + l),
+ * code[l] what ur5_rhs returns for lane l.  ur5_qdd's operations, each statement for
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
+ * ur5_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
+static void ur5_rhs_lane_(const double *restrict X, const double *u, const ur5_params *p,
+                                double *restrict XD, int *code)
+{
+    double M_[36], f_[6], piv_[6], tol_[1], ok_[1];
+    double A_[8], S_[8], C_[8];
+    int i, l;
+    (void)p;
+    const double tau_1 = u ? u[0] : 0.0;
+    const double tau_2 = u ? u[1] : 0.0;
+    const double tau_3 = u ? u[2] : 0.0;
+    const double tau_4 = u ? u[3] : 0.0;
+    const double tau_5 = u ? u[4] : 0.0;
+    const double tau_6 = u ? u[5] : 0.0;
+
+    for (l = 0; l < 1; ++l) {
+        A_[l] = X[1 + l];
+        A_[1 + l] = X[2 + l];
+        A_[2 + l] = X[3 + l];
+        A_[3 + l] = X[4 + l];
+        A_[4 + l] = X[5 + l];
+    }
+    for (i = 5; i < 8; ++i) {
+        A_[i] = 0.0;
+    }
+    ur5_sincos_(A_, S_, C_, 8);
+    for (l = 0; l < 1; ++l) {
+        const double cos_phi2 = C_[l];
+        const double sin_phi2 = S_[l];
+        const double om2_2 = X[6 + l]*sin_phi2;
+        const double om2_3 = X[6 + l]*cos_phi2;
+        const double cos_phi3 = C_[1 + l];
+        const double sin_phi3 = S_[1 + l];
+        const double om3_1 = X[7 + l] + X[8 + l];
+        const double om3_2 = om2_2*cos_phi3 + om2_3*sin_phi3;
+        const double om3_3 = om2_3*cos_phi3 - om2_2*sin_phi3;
+        const double cos_phi4 = C_[2 + l];
+        const double sin_phi4 = S_[2 + l];
+        const double om4_1 = om3_1 + X[9 + l];
+        const double om4_2 = om3_2*cos_phi4 + om3_3*sin_phi4;
+        const double om4_3 = om3_3*cos_phi4 - om3_2*sin_phi4;
+        const double cos_phi5 = C_[3 + l];
+        const double sin_phi5 = S_[3 + l];
+        const double om5_1 = -om4_3 + X[10 + l];
+        const double om5_2 = om4_2*cos_phi5 + om4_1*sin_phi5;
+        const double om5_3 = om4_1*cos_phi5 - om4_2*sin_phi5;
+        const double cos_phi6 = C_[4 + l];
+        const double sin_phi6 = S_[4 + l];
+        const double om6_1 = om5_3 + X[11 + l];
+        const double om6_2 = om5_2*cos_phi6 - om5_1*sin_phi6;
+        const double om6_3 = -om5_1*cos_phi6 - om5_2*sin_phi6;
+        const double w0 = X[7 + l]*om2_3;
+        const double eps2_2 = w0;
+        const double w1 = X[7 + l]*om2_2;
+        const double eps2_3 = -w1;
+        const double aOrel2in1_3 = 0.13585*X[6 + l]*X[6 + l];
+        const double eps3_2 = cos_phi3*eps2_2 + sin_phi3*eps2_3 + X[8 + l]*om3_3;
+        const double eps3_3 = cos_phi3*eps2_3 - sin_phi3*eps2_2 - X[8 + l]*om3_2;
+        const double ws2_3 = -0.425*X[7 + l] + 0.1197*om2_2;
+        const double w2 = om2_3*om2_3;
+        const double aOrel3in2_1 = 0.425*eps2_3 + om2_2*ws2_3 + 0.1197*w2;
+        const double aOrel3in2_2 = -0.1197*eps2_3 + 0.425*w2 - X[7 + l]*ws2_3;
+        const double w3 = om2_2*om2_3;
+        const double aOrel3in2_3 = 0.1197*eps2_2 - 0.1197*w0 - 0.425*w3;
+        const double j3r5 = 9.81*cos_phi2 + aOrel3in2_3;
+        const double aOg3_1 = -aOrel2in1_3 + aOrel3in2_1;
+        const double aOg3_2 = 9.81*sin_phi2*cos_phi3 + cos_phi3*aOrel3in2_2 + sin_phi3*j3r5;
+        const double aOg3_3 = cos_phi3*j3r5 - 9.81*sin_phi2*sin_phi3 - sin_phi3*aOrel3in2_2;
+        const double eps4_2 = cos_phi4*eps3_2 + sin_phi4*eps3_3 + X[9 + l]*om4_3;
+        const double eps4_3 = cos_phi4*eps3_3 - sin_phi4*eps3_2 - X[9 + l]*om4_2;
+        const double w4 = om3_1*om3_2;
+        const double aOrel4in3_1 = 0.39225*eps3_3 - 0.39225*w4;
+        const double w5 = om3_3*om3_3;
+        const double w6 = om3_1*om3_1;
+        const double aOrel4in3_2 = 0.39225*w5 + 0.39225*w6;
+        const double w7 = om3_2*om3_3;
+        const double aOrel4in3_3 = -0.39225*w7;
+        const double j4r5 = aOg3_3 + aOrel4in3_3;
+        const double aOg4_1 = aOg3_1 + aOrel4in3_1;
+        const double aOg4_2 = cos_phi4*aOg3_2 + cos_phi4*aOrel4in3_2 + sin_phi4*j4r5;
+        const double aOg4_3 = cos_phi4*j4r5 - sin_phi4*aOg3_2 - sin_phi4*aOrel4in3_2;
+        const double eps5_2 = cos_phi5*eps4_2 + X[10 + l]*om5_3;
+        const double eps5_3 = -sin_phi5*eps4_2 - X[10 + l]*om5_2;
+        const double aOrel5in4_1 = -0.093*om4_2*om4_2 - 0.093*om4_3*om4_3;
+        const double aOrel5in4_2 = 0.093*eps4_3 + 0.093*om4_1*om4_2;
+        const double w8 = om4_1*om4_3;
+        const double aOrel5in4_3 = -0.093*eps4_2 + 0.093*w8;
+        const double j5r5 = aOg4_1 + aOrel5in4_1;
+        const double aOg5_1 = -aOg4_3 - aOrel5in4_3;
+        const double aOg5_2 = cos_phi5*aOg4_2 + cos_phi5*aOrel5in4_2 + sin_phi5*j5r5;
+        const double aOg5_3 = cos_phi5*j5r5 - sin_phi5*aOg4_2 - sin_phi5*aOrel5in4_2;
+        const double eps6_2 = cos_phi6*eps5_2 + sin_phi6*eps4_3 + X[11 + l]*om6_3;
+        const double eps6_3 = cos_phi6*eps4_3 - sin_phi6*eps5_2 - X[11 + l]*om6_2;
+        const double aOrel6in5_1 = -0.09465*om5_2*om5_2 - 0.09465*om5_3*om5_3;
+        const double w9 = om5_1*om5_2;
+        const double aOrel6in5_2 = 0.09465*eps5_3 + 0.09465*w9;
+        const double w10 = om5_1*om5_3;
+        const double aOrel6in5_3 = -0.09465*eps5_2 + 0.09465*w10;
+        const double j6r5 = -aOg5_1 - aOrel6in5_1;
+        const double aOg6_1 = aOg5_3 + aOrel6in5_3;
+        const double aOg6_2 = cos_phi6*aOg5_2 + cos_phi6*aOrel6in5_2 + sin_phi6*j6r5;
+        const double aOg6_3 = cos_phi6*j6r5 - sin_phi6*aOg5_2 - sin_phi6*aOrel6in5_2;
+        const double pN6_1 = 0.0171364731454*eps5_3 + 0.0166855268546*om6_2*om6_3;
+        const double pN6_2 = 0.0171364731454*eps6_2 - 0.0166855268546*om6_1*om6_3;
+        const double w11 = cos_phi6*cos_phi6;
+        const double w12 = sin_phi6*sin_phi6;
+        const double I6in5r_22 = 0.0171364731454*w11 + 0.033822*w12;
+        const double I6in5r_32 = -0.0166855268546*cos_phi6*sin_phi6;
+        const double I6in5r_33 = 0.0171364731454*w12 + 0.033822*w11;
+        const double j6r11 = 0.1879*sin_phi6*aOg6_2 + 0.1879*cos_phi6*aOg6_3;
+        const double Fb6in5_2 = 0.1879*cos_phi6*aOg6_2 - 0.1879*sin_phi6*aOg6_3;
+        const double j6r12 = sin_phi6*pN6_2 + 0.033822*cos_phi6*eps6_3;
+        const double Nb6in5_2 = cos_phi6*pN6_2 - 0.033822*sin_phi6*eps6_3;
+        const double pN5_2 = 0.111172755531*eps5_2 + 0.108247244469*w10;
+        const double pN5_3 = 0.111172755531*eps5_3 - 0.108247244469*w9;
+        const double Fb5_1 = 1.219*aOg5_1 - j6r11;
+        const double Fb5_2 = 1.219*aOg5_2 + Fb6in5_2;
+        const double Fb5_3 = 1.219*aOg5_3 + 0.1879*aOg6_1;
+        const double Nb5_1 = -0.21942*eps4_3 - j6r12;
+        const double Nb5_2 = pN5_2 + Nb6in5_2 - 0.017784735*aOg6_1;
+        const double Nb5_3 = pN5_3 + pN6_1 + 0.09465*Fb6in5_2;
+        const double I5_11 = 0.21942 + I6in5r_33;
+        const double I5_22 = 0.11285608069875 + I6in5r_22;
+        const double I5in4ra_22 = cos_phi5*I5_22;
+        const double I5in4ra_23 = sin_phi5*I5_22;
+        const double w13 = cos_phi5*I6in5r_32;
+        const double I5in4r_21 = -w13;
+        const double I5in4r_22 = cos_phi5*I5in4ra_22 + 0.12999255384415*sin_phi5*sin_phi5;
+        const double w14 = sin_phi5*I6in5r_32;
+        const double I5in4r_31 = -w14;
+        const double I5in4r_32 = sin_phi5*I5in4ra_22 - 0.12999255384415*cos_phi5*sin_phi5;
+        const double I5in4r_33 = sin_phi5*I5in4ra_23 + 0.12999255384415*cos_phi5*cos_phi5;
+        const double j5r11 = sin_phi5*Fb5_2 + cos_phi5*Fb5_3;
+        const double Fb5in4_2 = cos_phi5*Fb5_2 - sin_phi5*Fb5_3;
+        const double j5r12 = sin_phi5*Nb5_2 + cos_phi5*Nb5_3;
+        const double Nb5in4_2 = cos_phi5*Nb5_2 - sin_phi5*Nb5_3;
+        const double pN4_1 = 0.108247244469*om4_2*om4_3;
+        const double pN4_2 = 0.111172755531*eps4_2 - 0.108247244469*w8;
+        const double Fb4_1 = 1.219*aOg4_1 + j5r11;
+        const double Fb4_2 = 1.219*aOg4_2 + Fb5in4_2;
+        const double Fb4_3 = 1.219*aOg4_3 - Fb5_1;
+        const double Nb4_1 = pN4_1 + j5r12;
+        const double Nb4_2 = pN4_2 + Nb5in4_2 + 0.093*Fb5_1;
+        const double Nb4_3 = 0.21942*eps4_3 - Nb5_1 + 0.093*Fb5in4_2;
+        const double I4_11 = 0.111172755531 + I5in4r_33;
+        const double I4_22 = 0.123341033631 + I5in4r_22;
+        const double I4_31 = -I5in4r_31 + 0.001653980355;
+        const double I4_33 = 0.2315882781 + I5_11;
+        const double c2phi4 = cos_phi4*cos_phi4 - sin_phi4*sin_phi4;
+        const double s2phi4 = 2.0*cos_phi4*sin_phi4;
+        const double I4in3drsig = 0.5*I4_22 + 0.5*I4_33;
+        const double I4in3drdlt = 0.5*I4_22 - 0.5*I4_33;
+        const double I4in3drt = c2phi4*I4in3drdlt + I5in4r_21*s2phi4;
+        const double I4in3dr_22 = I4in3drsig + I4in3drt;
+        const double I4in3dr_33 = I4in3drsig - I4in3drt;
+        const double I4in3dr_32 = s2phi4*I4in3drdlt - I5in4r_21*c2phi4;
+        const double w15 = cos_phi4*I5in4r_32;
+        const double w16 = sin_phi4*I4_31;
+        const double I4in3dr_21 = w15 - w16;
+        const double w17 = sin_phi4*I5in4r_32;
+        const double w18 = cos_phi4*I4_31;
+        const double I4in3dr_31 = w17 + w18;
+        const double j4r11 = sin_phi4*Fb4_2 + cos_phi4*Fb4_3;
+        const double Fb4in3_2 = cos_phi4*Fb4_2 - sin_phi4*Fb4_3;
+        const double j4r12 = sin_phi4*Nb4_2 + cos_phi4*Nb4_3;
+        const double Nb4in3_2 = cos_phi4*Nb4_2 - sin_phi4*Nb4_3;
+        const double pF3_1 = 2.275*aOg3_1 + 0.56875*eps3_3 - 0.56875*w4;
+        const double pF3_2 = 2.275*aOg3_2 + 0.56875*w5 + 0.56875*w6;
+        const double pF3_3 = 2.275*aOg3_3 - 0.56875*w7;
+        const double pN3_1 = 0.187535813556*w7 - 0.56875*aOg3_3;
+        const double pN3_3 = 0.191630813556*eps3_3 - 0.187535813556*w4 + 0.56875*aOg3_1;
+        const double Fb3_1 = pF3_1 + Fb4_1;
+        const double Fb3_2 = pF3_2 + Fb4in3_2;
+        const double Fb3_3 = pF3_3 + j4r11;
+        const double Nb3_1 = pN3_1 + Nb4_1 - 0.39225*j4r11;
+        const double Nb3_2 = 0.004095*eps3_2 + Nb4in3_2;
+        const double Nb3_3 = pN3_3 + j4r12 + 0.39225*Fb4_1;
+        const double h3_2 = -1.598759275 + 0.017784735*sin_phi4;
+        const double I3_11 = 0.59565195167475 + I4_11 - 0.0139521246075*sin_phi4;
+        const double I3_21 = I4in3dr_21 + 0.051322656825;
+        const double I3_22 = 0.004095 + I4in3dr_22;
+        const double I3_32 = I4in3dr_32 - 0.00697606230375*cos_phi4;
+        const double I3_33 = 0.59565195167475 + I4in3dr_33 - 0.0139521246075*sin_phi4;
+        const double w19 = sin_phi3*h3_2;
+        const double w20 = cos_phi3*cos_phi4;
+        const double j3r10 = w19 - 0.017784735*w20;
+        const double w21 = cos_phi3*h3_2;
+        const double w22 = sin_phi3*cos_phi4;
+        const double h3in2_2 = w21 + 0.017784735*w22;
+        const double c2phi3 = cos_phi3*cos_phi3 - sin_phi3*sin_phi3;
+        const double s2phi3 = 2.0*cos_phi3*sin_phi3;
+        const double I3in2drsig = 0.5*I3_22 + 0.5*I3_33;
+        const double I3in2drdlt = 0.5*I3_22 - 0.5*I3_33;
+        const double I3in2drt = c2phi3*I3in2drdlt - I3_32*s2phi3;
+        const double I3in2dr_22 = I3in2drsig + I3in2drt;
+        const double I3in2dr_33 = I3in2drsig - I3in2drt;
+        const double I3in2dr_32 = s2phi3*I3in2drdlt + I3_32*c2phi3;
+        const double w23 = cos_phi3*I3_21;
+        const double w24 = sin_phi3*I4in3dr_31;
+        const double I3in2dr_21 = w23 - w24;
+        const double w25 = sin_phi3*I3_21;
+        const double w26 = cos_phi3*I4in3dr_31;
+        const double I3in2dr_31 = w25 + w26;
+        const double j3r11 = sin_phi3*Fb3_2 + cos_phi3*Fb3_3;
+        const double Fb3in2_2 = cos_phi3*Fb3_2 - sin_phi3*Fb3_3;
+        const double j3r12 = sin_phi3*Nb3_2 + cos_phi3*Nb3_3;
+        const double Nb3in2_2 = cos_phi3*Nb3_2 - sin_phi3*Nb3_3;
+        const double pF2_2 = 82.33533*sin_phi2 + 2.35004*w2 + 2.35004*X[7 + l]*X[7 + l];
+        const double pF2_3 = 82.33533*cos_phi2 - 2.35004*w3;
+        const double pN2_1 = 0.86979447591*w3 - 23.0538924*cos_phi2;
+        const double pN2_3 = 0.88490187591*eps2_3 - 0.86979447591*w1 - 2.35004*aOrel2in1_3;
+        const double Fb2_2 = pF2_2 + Fb3in2_2;
+        const double Fb2_3 = pF2_3 + j3r11;
+        const double Nb2_1 = pN2_1 + Nb3_1 - 0.425*j3r11;
+        const double Nb2_2 = 0.0151074*eps2_2 + Nb3in2_2 + 0.1197*j3r11;
+        const double Nb2_3 = pN2_3 + j3r12 - 0.1197*Fb3in2_2 + 0.425*Fb3_1;
+        const double h2_2 = -4.4329225 + h3in2_2;
+        const double I2_11 = 1.77012693841 + I3_11 - 0.85*h3in2_2;
+        const double I2_21 = I3in2dr_21 - 0.19371331275 + 0.1197*h3in2_2;
+        const double I2_22 = 0.054004433301 + I3in2dr_22;
+        const double I2_31 = I3in2dr_31 + 0.1197*j3r10;
+        const double I2_32 = I3in2dr_32 + 0.425*j3r10;
+        const double I2_33 = 1.809023971711 + I3in2dr_33 - 0.85*h3in2_2;
+        const double I2in1ra_23 = sin_phi2*I2_22 + cos_phi2*I2_32;
+        const double I2in1ra_33 = sin_phi2*I2_32 + cos_phi2*I2_33;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double Nb1_1 = j2r12 + 0.13585*Fb2in1_2;
+        const double I1_11 = 0.12816210104175 + I2in1r_33;
+        const double j4r14 = -0.0171364731454*sin_phi4*sin_phi5;
+        const double n6in3_2 = -0.0171364731454*cos_phi4*sin_phi5;
+        const double j3r14 = sin_phi3*n6in3_2 + cos_phi3*j4r14;
+        const double n6in2_2 = cos_phi3*n6in3_2 - sin_phi3*j4r14;
+        const double j2r14 = sin_phi2*n6in2_2 + cos_phi2*j3r14;
+        const double j5r16 = -w14;
+        const double n5in4_2 = -w13;
+        const double j4r16 = sin_phi4*n5in4_2 - cos_phi4*I5_11;
+        const double n5in3_2 = cos_phi4*n5in4_2 + sin_phi4*I5_11;
+        const double j3r16 = sin_phi3*n5in3_2 + cos_phi3*j4r16;
+        const double n5in2_2 = cos_phi3*n5in3_2 - sin_phi3*j4r16;
+        const double j2r16 = sin_phi2*n5in2_2 + cos_phi2*j3r16;
+        const double j4r18 = w17 + w18;
+        const double n4in3_1 = I4_11 - 0.00697606230375*sin_phi4;
+        const double n4in3_2 = w15 - w16;
+        const double j3r17 = 0.017784735*w22 + 0.017784735*cos_phi3*sin_phi4;
+        const double f4in2_2 = 0.017784735*w20 - 0.017784735*sin_phi3*sin_phi4;
+        const double j3r18 = sin_phi3*n4in3_2 + cos_phi3*j4r18;
+        const double n4in2_1 = n4in3_1 - 0.425*j3r17;
+        const double n4in2_2 = cos_phi3*n4in3_2 - sin_phi3*j4r18 + 0.1197*j3r17;
+        const double n4in2_3 = j3r18 - 0.1197*f4in2_2;
+        const double f4in1_2 = cos_phi2*f4in2_2 - sin_phi2*j3r17;
+        const double j2r18 = sin_phi2*n4in2_2 + cos_phi2*n4in2_3;
+        const double n4in1_1 = j2r18 + 0.13585*f4in1_2;
+        const double j3r19 = 0.017784735*w22 + w21;
+        const double f3in2_2 = 0.017784735*w20 - w19;
+        const double j3r20 = w25 + w26;
+        const double n3in2_1 = I3_11 - 0.425*j3r19;
+        const double n3in2_2 = w23 - w24 + 0.1197*j3r19;
+        const double n3in2_3 = j3r20 - 0.1197*f3in2_2;
+        const double f3in1_2 = cos_phi2*f3in2_2 - sin_phi2*j3r19;
+        const double j2r20 = sin_phi2*n3in2_2 + cos_phi2*n3in2_3;
+        const double n3in1_1 = j2r20 + 0.13585*f3in1_2;
+        const double f2in1_2 = -cos_phi2*j3r10 - sin_phi2*h2_2;
+        const double j2r22 = sin_phi2*I2_21 + cos_phi2*I2_31;
+        const double n2in1_1 = j2r22 + 0.13585*f2in1_2;
+
+        M_[l] = I1_11;
+        M_[6 + l] = n2in1_1;
+        M_[7 + l] = I2_11;
+        M_[12 + l] = n3in1_1;
+        M_[13 + l] = n3in2_1;
+        M_[14 + l] = I3_11;
+        M_[18 + l] = n4in1_1;
+        M_[19 + l] = n4in2_1;
+        M_[20 + l] = n4in3_1;
+        M_[21 + l] = I4_11;
+        M_[24 + l] = j2r16;
+        M_[25 + l] = j5r16;
+        M_[26 + l] = j5r16;
+        M_[27 + l] = j5r16;
+        M_[28 + l] = I5_11;
+        M_[30 + l] = j2r14;
+        M_[31 + l] = 0.0171364731454*cos_phi5;
+        M_[32 + l] = 0.0171364731454*cos_phi5;
+        M_[33 + l] = 0.0171364731454*cos_phi5;
+        M_[34 + l] = 0.0;
+        M_[35 + l] = 0.0171364731454;
+        f_[l] = tau_1 - Nb1_1;
+        f_[1 + l] = tau_2 - Nb2_1;
+        f_[2 + l] = tau_3 - Nb3_1;
+        f_[3 + l] = tau_4 - Nb4_1;
+        f_[4 + l] = tau_5 - Nb5_1;
+        f_[5 + l] = tau_6 - pN6_1;
+
+        double tl_ = 0.0;
+        tl_ = fabs(M_[l]) > tl_ ? fabs(M_[l]) : tl_;
+        tl_ = fabs(M_[7 + l]) > tl_ ? fabs(M_[7 + l]) : tl_;
+        tl_ = fabs(M_[14 + l]) > tl_ ? fabs(M_[14 + l]) : tl_;
+        tl_ = fabs(M_[21 + l]) > tl_ ? fabs(M_[21 + l]) : tl_;
+        tl_ = fabs(M_[28 + l]) > tl_ ? fabs(M_[28 + l]) : tl_;
+        tl_ = fabs(M_[35 + l]) > tl_ ? fabs(M_[35 + l]) : tl_;
+        tol_[l] = tl_ * UR5_PIVOT_TOL;
+        const double d0_ = M_[l];
+        const double r0_ = 1.0 / d0_;
+        const double L1_0_ = (M_[6 + l]) * r0_;
+        const double L2_0_ = (M_[12 + l]) * r0_;
+        const double L3_0_ = (M_[18 + l]) * r0_;
+        const double L4_0_ = (M_[24 + l]) * r0_;
+        const double L5_0_ = (M_[30 + l]) * r0_;
+        const double v1_0_ = L1_0_ * d0_;
+        const double d1_ = M_[7 + l] - L1_0_ * v1_0_;
+        const double r1_ = 1.0 / d1_;
+        const double L2_1_ = (M_[13 + l] - L2_0_ * v1_0_) * r1_;
+        const double L3_1_ = (M_[19 + l] - L3_0_ * v1_0_) * r1_;
+        const double L4_1_ = (M_[25 + l] - L4_0_ * v1_0_) * r1_;
+        const double L5_1_ = (M_[31 + l] - L5_0_ * v1_0_) * r1_;
+        const double v2_0_ = L2_0_ * d0_;
+        const double v2_1_ = L2_1_ * d1_;
+        const double d2_ = M_[14 + l] - L2_0_ * v2_0_ - L2_1_ * v2_1_;
+        const double r2_ = 1.0 / d2_;
+        const double L3_2_ = (M_[20 + l] - L3_0_ * v2_0_ - L3_1_ * v2_1_) * r2_;
+        const double L4_2_ = (M_[26 + l] - L4_0_ * v2_0_ - L4_1_ * v2_1_) * r2_;
+        const double L5_2_ = (M_[32 + l] - L5_0_ * v2_0_ - L5_1_ * v2_1_) * r2_;
+        const double v3_0_ = L3_0_ * d0_;
+        const double v3_1_ = L3_1_ * d1_;
+        const double v3_2_ = L3_2_ * d2_;
+        const double d3_ = M_[21 + l] - L3_0_ * v3_0_ - L3_1_ * v3_1_ - L3_2_ * v3_2_;
+        const double r3_ = 1.0 / d3_;
+        const double L4_3_ = (M_[27 + l] - L4_0_ * v3_0_ - L4_1_ * v3_1_ - L4_2_ * v3_2_) * r3_;
+        const double L5_3_ = (M_[33 + l] - L5_0_ * v3_0_ - L5_1_ * v3_1_ - L5_2_ * v3_2_) * r3_;
+        const double v4_0_ = L4_0_ * d0_;
+        const double v4_1_ = L4_1_ * d1_;
+        const double v4_2_ = L4_2_ * d2_;
+        const double v4_3_ = L4_3_ * d3_;
+        const double d4_ = M_[28 + l] - L4_0_ * v4_0_ - L4_1_ * v4_1_ - L4_2_ * v4_2_ - L4_3_ * v4_3_;
+        const double r4_ = 1.0 / d4_;
+        const double L5_4_ = (M_[34 + l] - L5_0_ * v4_0_ - L5_1_ * v4_1_ - L5_2_ * v4_2_ - L5_3_ * v4_3_) * r4_;
+        const double v5_0_ = L5_0_ * d0_;
+        const double v5_1_ = L5_1_ * d1_;
+        const double v5_2_ = L5_2_ * d2_;
+        const double v5_3_ = L5_3_ * d3_;
+        const double v5_4_ = L5_4_ * d4_;
+        const double d5_ = M_[35 + l] - L5_0_ * v5_0_ - L5_1_ * v5_1_ - L5_2_ * v5_2_ - L5_3_ * v5_3_ - L5_4_ * v5_4_;
+        piv_[l] = d0_;
+        piv_[1 + l] = d1_;
+        piv_[2 + l] = d2_;
+        piv_[3 + l] = d3_;
+        piv_[4 + l] = d4_;
+        piv_[5 + l] = d5_;
+        const double y0_ = f_[l];
+        const double y1_ = f_[1 + l] - (L1_0_ * y0_);
+        const double y2_ = f_[2 + l] - (L2_0_ * y0_ + L2_1_ * y1_);
+        const double y3_ = f_[3 + l] - (L3_0_ * y0_ + L3_1_ * y1_ + L3_2_ * y2_);
+        const double y4_ = f_[4 + l] - (L4_0_ * y0_ + L4_1_ * y1_ + L4_2_ * y2_ + L4_3_ * y3_);
+        const double y5_ = f_[5 + l] - (L5_0_ * y0_ + L5_1_ * y1_ + L5_2_ * y2_ + L5_3_ * y3_ + L5_4_ * y4_);
+        const double z0_ = y0_ / d0_;
+        const double z1_ = y1_ / d1_;
+        const double z2_ = y2_ / d2_;
+        const double z3_ = y3_ / d3_;
+        const double z4_ = y4_ / d4_;
+        const double z5_ = y5_ / d5_;
+        const double w5_ = z5_;
+        const double w4_ = z4_ - (L5_4_ * w5_);
+        const double w3_ = z3_ - (L4_3_ * w4_ + L5_3_ * w5_);
+        const double w2_ = z2_ - (L3_2_ * w3_ + L4_2_ * w4_ + L5_2_ * w5_);
+        const double w1_ = z1_ - (L2_1_ * w2_ + L3_1_ * w3_ + L4_1_ * w4_ + L5_1_ * w5_);
+        const double w0_ = z0_ - (L1_0_ * w1_ + L2_0_ * w2_ + L3_0_ * w3_ + L4_0_ * w4_ + L5_0_ * w5_);
+        XD[6 + l] = w0_;
+        XD[7 + l] = w1_;
+        XD[8 + l] = w2_;
+        XD[9 + l] = w3_;
+        XD[10 + l] = w4_;
+        XD[11 + l] = w5_;
+    }
+    for (i = 0; i < 6; ++i) {
+        XD[i] = X[6 + i];
+    }
+    for (l = 0; l < 1; ++l) {
+        const double fin = (X[l] - X[l]) + (X[1 + l] - X[1 + l]) + (X[2 + l] - X[2 + l]) + (X[3 + l] - X[3 + l]) + (X[4 + l] - X[4 + l]) + (X[5 + l] - X[5 + l]) + (X[6 + l] - X[6 + l]) + (X[7 + l] - X[7 + l]) + (X[8 + l] - X[8 + l]) + (X[9 + l] - X[9 + l]) + (X[10 + l] - X[10 + l]) + (X[11 + l] - X[11 + l]) + (M_[l] - M_[l]) + (M_[7 + l] - M_[7 + l]) + (M_[14 + l] - M_[14 + l]) + (M_[21 + l] - M_[21 + l]) + (M_[28 + l] - M_[28 + l]) + (M_[35 + l] - M_[35 + l]) + (f_[l] - f_[l]) + (f_[1 + l] - f_[1 + l]) + (f_[2 + l] - f_[2 + l]) + (f_[3 + l] - f_[3 + l]) + (f_[4 + l] - f_[4 + l]) + (f_[5 + l] - f_[5 + l]) + (XD[6 + l] - XD[6 + l]) + (XD[7 + l] - XD[7 + l]) + (XD[8 + l] - XD[8 + l]) + (XD[9 + l] - XD[9 + l]) + (XD[10 + l] - XD[10 + l]) + (XD[11 + l] - XD[11 + l]) + (piv_[l] - piv_[l]) + (piv_[1 + l] - piv_[1 + l]) + (piv_[2 + l] - piv_[2 + l]) + (piv_[3 + l] - piv_[3 + l]) + (piv_[4 + l] - piv_[4 + l]) + (piv_[5 + l] - piv_[5 + l]);
+        double lo = piv_[l];
+        lo = piv_[1 + l] < lo ? piv_[1 + l] : lo;
+        lo = piv_[2 + l] < lo ? piv_[2 + l] : lo;
+        lo = piv_[3 + l] < lo ? piv_[3 + l] : lo;
+        lo = piv_[4 + l] < lo ? piv_[4 + l] : lo;
+        lo = piv_[5 + l] < lo ? piv_[5 + l] : lo;
+        ok_[l] = (lo - tol_[l]) + fin;
+    }
+    for (l = 0; l < 1; ++l) {
+        double x[12];
+        if (ok_[l] > 0.0 && !(u && !ur5_all_finite_(u, 6))) {
+            code[l] = UR5_OK;
+            continue;
+        }
+        /* the code ur5_rhs returns, its tests in its order */
+        for (i = 0; i < 12; ++i) {
+            x[i] = X[i * 1 + l];
+        }
+        code[l] = UR5_NONFINITE;
+        if (!ur5_all_finite_(x, 12) || (u && !ur5_all_finite_(u, 6))) {
+            continue;
+        }
+        for (i = 0; i < 6; ++i) {
+            if (!isfinite(M_[i * 7 + l]) || !isfinite(f_[i * 1 + l])) {
+                break;
+            }
+        }
+        if (i < 6) {
+            continue;
+        }
+        for (i = 0; i < 6; ++i) {
+            if (!(piv_[i * 1 + l] > tol_[l])) {
+                code[l] = UR5_SINGULAR;
+                break;
+            }
+        }
+        if (i < 6) {
+            continue;
+        }
+        for (i = 0; i < 6; ++i) {
+            if (!isfinite(XD[(6 + i) * 1 + l])) {
+                break;
+            }
+        }
+        code[l] = i < 6 ? UR5_NONFINITE : UR5_OK;
+    }
+}
+
+/* The right side x' = (phidot, phi'') of 8 state(s) at once, for RK4's lanes (the integrators'
+ * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 8 + l),
+ * code[l] what ur5_rhs returns for lane l.  ur5_qdd's operations, each statement for
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
+ * ur5_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
+static void ur5_rhs_lanes_(const double *restrict X, const double *u, const ur5_params *p,
+                                double *restrict XD, int *code)
+{
+    double M_[288], f_[48], piv_[48], tol_[8], ok_[8];
+    double A_[40], S_[40], C_[40];
+    int i, l;
+    (void)p;
+    const double tau_1 = u ? u[0] : 0.0;
+    const double tau_2 = u ? u[1] : 0.0;
+    const double tau_3 = u ? u[2] : 0.0;
+    const double tau_4 = u ? u[3] : 0.0;
+    const double tau_5 = u ? u[4] : 0.0;
+    const double tau_6 = u ? u[5] : 0.0;
+
+    for (l = 0; l < 8; ++l) {
+        A_[l] = X[8 + l];
+        A_[8 + l] = X[16 + l];
+        A_[16 + l] = X[24 + l];
+        A_[24 + l] = X[32 + l];
+        A_[32 + l] = X[40 + l];
+    }
+    ur5_sincos_(A_, S_, C_, 40);
+    for (l = 0; l < 8; ++l) {
+        const double cos_phi2 = C_[l];
+        const double sin_phi2 = S_[l];
+        const double om2_2 = X[48 + l]*sin_phi2;
+        const double om2_3 = X[48 + l]*cos_phi2;
+        const double cos_phi3 = C_[8 + l];
+        const double sin_phi3 = S_[8 + l];
+        const double om3_1 = X[56 + l] + X[64 + l];
+        const double om3_2 = om2_2*cos_phi3 + om2_3*sin_phi3;
+        const double om3_3 = om2_3*cos_phi3 - om2_2*sin_phi3;
+        const double cos_phi4 = C_[16 + l];
+        const double sin_phi4 = S_[16 + l];
+        const double om4_1 = om3_1 + X[72 + l];
+        const double om4_2 = om3_2*cos_phi4 + om3_3*sin_phi4;
+        const double om4_3 = om3_3*cos_phi4 - om3_2*sin_phi4;
+        const double cos_phi5 = C_[24 + l];
+        const double sin_phi5 = S_[24 + l];
+        const double om5_1 = -om4_3 + X[80 + l];
+        const double om5_2 = om4_2*cos_phi5 + om4_1*sin_phi5;
+        const double om5_3 = om4_1*cos_phi5 - om4_2*sin_phi5;
+        const double cos_phi6 = C_[32 + l];
+        const double sin_phi6 = S_[32 + l];
+        const double om6_1 = om5_3 + X[88 + l];
+        const double om6_2 = om5_2*cos_phi6 - om5_1*sin_phi6;
+        const double om6_3 = -om5_1*cos_phi6 - om5_2*sin_phi6;
+        const double w0 = X[56 + l]*om2_3;
+        const double eps2_2 = w0;
+        const double w1 = X[56 + l]*om2_2;
+        const double eps2_3 = -w1;
+        const double aOrel2in1_3 = 0.13585*X[48 + l]*X[48 + l];
+        const double eps3_2 = cos_phi3*eps2_2 + sin_phi3*eps2_3 + X[64 + l]*om3_3;
+        const double eps3_3 = cos_phi3*eps2_3 - sin_phi3*eps2_2 - X[64 + l]*om3_2;
+        const double ws2_3 = -0.425*X[56 + l] + 0.1197*om2_2;
+        const double w2 = om2_3*om2_3;
+        const double aOrel3in2_1 = 0.425*eps2_3 + om2_2*ws2_3 + 0.1197*w2;
+        const double aOrel3in2_2 = -0.1197*eps2_3 + 0.425*w2 - X[56 + l]*ws2_3;
+        const double w3 = om2_2*om2_3;
+        const double aOrel3in2_3 = 0.1197*eps2_2 - 0.1197*w0 - 0.425*w3;
+        const double j3r5 = 9.81*cos_phi2 + aOrel3in2_3;
+        const double aOg3_1 = -aOrel2in1_3 + aOrel3in2_1;
+        const double aOg3_2 = 9.81*sin_phi2*cos_phi3 + cos_phi3*aOrel3in2_2 + sin_phi3*j3r5;
+        const double aOg3_3 = cos_phi3*j3r5 - 9.81*sin_phi2*sin_phi3 - sin_phi3*aOrel3in2_2;
+        const double eps4_2 = cos_phi4*eps3_2 + sin_phi4*eps3_3 + X[72 + l]*om4_3;
+        const double eps4_3 = cos_phi4*eps3_3 - sin_phi4*eps3_2 - X[72 + l]*om4_2;
+        const double w4 = om3_1*om3_2;
+        const double aOrel4in3_1 = 0.39225*eps3_3 - 0.39225*w4;
+        const double w5 = om3_3*om3_3;
+        const double w6 = om3_1*om3_1;
+        const double aOrel4in3_2 = 0.39225*w5 + 0.39225*w6;
+        const double w7 = om3_2*om3_3;
+        const double aOrel4in3_3 = -0.39225*w7;
+        const double j4r5 = aOg3_3 + aOrel4in3_3;
+        const double aOg4_1 = aOg3_1 + aOrel4in3_1;
+        const double aOg4_2 = cos_phi4*aOg3_2 + cos_phi4*aOrel4in3_2 + sin_phi4*j4r5;
+        const double aOg4_3 = cos_phi4*j4r5 - sin_phi4*aOg3_2 - sin_phi4*aOrel4in3_2;
+        const double eps5_2 = cos_phi5*eps4_2 + X[80 + l]*om5_3;
+        const double eps5_3 = -sin_phi5*eps4_2 - X[80 + l]*om5_2;
+        const double aOrel5in4_1 = -0.093*om4_2*om4_2 - 0.093*om4_3*om4_3;
+        const double aOrel5in4_2 = 0.093*eps4_3 + 0.093*om4_1*om4_2;
+        const double w8 = om4_1*om4_3;
+        const double aOrel5in4_3 = -0.093*eps4_2 + 0.093*w8;
+        const double j5r5 = aOg4_1 + aOrel5in4_1;
+        const double aOg5_1 = -aOg4_3 - aOrel5in4_3;
+        const double aOg5_2 = cos_phi5*aOg4_2 + cos_phi5*aOrel5in4_2 + sin_phi5*j5r5;
+        const double aOg5_3 = cos_phi5*j5r5 - sin_phi5*aOg4_2 - sin_phi5*aOrel5in4_2;
+        const double eps6_2 = cos_phi6*eps5_2 + sin_phi6*eps4_3 + X[88 + l]*om6_3;
+        const double eps6_3 = cos_phi6*eps4_3 - sin_phi6*eps5_2 - X[88 + l]*om6_2;
+        const double aOrel6in5_1 = -0.09465*om5_2*om5_2 - 0.09465*om5_3*om5_3;
+        const double w9 = om5_1*om5_2;
+        const double aOrel6in5_2 = 0.09465*eps5_3 + 0.09465*w9;
+        const double w10 = om5_1*om5_3;
+        const double aOrel6in5_3 = -0.09465*eps5_2 + 0.09465*w10;
+        const double j6r5 = -aOg5_1 - aOrel6in5_1;
+        const double aOg6_1 = aOg5_3 + aOrel6in5_3;
+        const double aOg6_2 = cos_phi6*aOg5_2 + cos_phi6*aOrel6in5_2 + sin_phi6*j6r5;
+        const double aOg6_3 = cos_phi6*j6r5 - sin_phi6*aOg5_2 - sin_phi6*aOrel6in5_2;
+        const double pN6_1 = 0.0171364731454*eps5_3 + 0.0166855268546*om6_2*om6_3;
+        const double pN6_2 = 0.0171364731454*eps6_2 - 0.0166855268546*om6_1*om6_3;
+        const double w11 = cos_phi6*cos_phi6;
+        const double w12 = sin_phi6*sin_phi6;
+        const double I6in5r_22 = 0.0171364731454*w11 + 0.033822*w12;
+        const double I6in5r_32 = -0.0166855268546*cos_phi6*sin_phi6;
+        const double I6in5r_33 = 0.0171364731454*w12 + 0.033822*w11;
+        const double j6r11 = 0.1879*sin_phi6*aOg6_2 + 0.1879*cos_phi6*aOg6_3;
+        const double Fb6in5_2 = 0.1879*cos_phi6*aOg6_2 - 0.1879*sin_phi6*aOg6_3;
+        const double j6r12 = sin_phi6*pN6_2 + 0.033822*cos_phi6*eps6_3;
+        const double Nb6in5_2 = cos_phi6*pN6_2 - 0.033822*sin_phi6*eps6_3;
+        const double pN5_2 = 0.111172755531*eps5_2 + 0.108247244469*w10;
+        const double pN5_3 = 0.111172755531*eps5_3 - 0.108247244469*w9;
+        const double Fb5_1 = 1.219*aOg5_1 - j6r11;
+        const double Fb5_2 = 1.219*aOg5_2 + Fb6in5_2;
+        const double Fb5_3 = 1.219*aOg5_3 + 0.1879*aOg6_1;
+        const double Nb5_1 = -0.21942*eps4_3 - j6r12;
+        const double Nb5_2 = pN5_2 + Nb6in5_2 - 0.017784735*aOg6_1;
+        const double Nb5_3 = pN5_3 + pN6_1 + 0.09465*Fb6in5_2;
+        const double I5_11 = 0.21942 + I6in5r_33;
+        const double I5_22 = 0.11285608069875 + I6in5r_22;
+        const double I5in4ra_22 = cos_phi5*I5_22;
+        const double I5in4ra_23 = sin_phi5*I5_22;
+        const double w13 = cos_phi5*I6in5r_32;
+        const double I5in4r_21 = -w13;
+        const double I5in4r_22 = cos_phi5*I5in4ra_22 + 0.12999255384415*sin_phi5*sin_phi5;
+        const double w14 = sin_phi5*I6in5r_32;
+        const double I5in4r_31 = -w14;
+        const double I5in4r_32 = sin_phi5*I5in4ra_22 - 0.12999255384415*cos_phi5*sin_phi5;
+        const double I5in4r_33 = sin_phi5*I5in4ra_23 + 0.12999255384415*cos_phi5*cos_phi5;
+        const double j5r11 = sin_phi5*Fb5_2 + cos_phi5*Fb5_3;
+        const double Fb5in4_2 = cos_phi5*Fb5_2 - sin_phi5*Fb5_3;
+        const double j5r12 = sin_phi5*Nb5_2 + cos_phi5*Nb5_3;
+        const double Nb5in4_2 = cos_phi5*Nb5_2 - sin_phi5*Nb5_3;
+        const double pN4_1 = 0.108247244469*om4_2*om4_3;
+        const double pN4_2 = 0.111172755531*eps4_2 - 0.108247244469*w8;
+        const double Fb4_1 = 1.219*aOg4_1 + j5r11;
+        const double Fb4_2 = 1.219*aOg4_2 + Fb5in4_2;
+        const double Fb4_3 = 1.219*aOg4_3 - Fb5_1;
+        const double Nb4_1 = pN4_1 + j5r12;
+        const double Nb4_2 = pN4_2 + Nb5in4_2 + 0.093*Fb5_1;
+        const double Nb4_3 = 0.21942*eps4_3 - Nb5_1 + 0.093*Fb5in4_2;
+        const double I4_11 = 0.111172755531 + I5in4r_33;
+        const double I4_22 = 0.123341033631 + I5in4r_22;
+        const double I4_31 = -I5in4r_31 + 0.001653980355;
+        const double I4_33 = 0.2315882781 + I5_11;
+        const double c2phi4 = cos_phi4*cos_phi4 - sin_phi4*sin_phi4;
+        const double s2phi4 = 2.0*cos_phi4*sin_phi4;
+        const double I4in3drsig = 0.5*I4_22 + 0.5*I4_33;
+        const double I4in3drdlt = 0.5*I4_22 - 0.5*I4_33;
+        const double I4in3drt = c2phi4*I4in3drdlt + I5in4r_21*s2phi4;
+        const double I4in3dr_22 = I4in3drsig + I4in3drt;
+        const double I4in3dr_33 = I4in3drsig - I4in3drt;
+        const double I4in3dr_32 = s2phi4*I4in3drdlt - I5in4r_21*c2phi4;
+        const double w15 = cos_phi4*I5in4r_32;
+        const double w16 = sin_phi4*I4_31;
+        const double I4in3dr_21 = w15 - w16;
+        const double w17 = sin_phi4*I5in4r_32;
+        const double w18 = cos_phi4*I4_31;
+        const double I4in3dr_31 = w17 + w18;
+        const double j4r11 = sin_phi4*Fb4_2 + cos_phi4*Fb4_3;
+        const double Fb4in3_2 = cos_phi4*Fb4_2 - sin_phi4*Fb4_3;
+        const double j4r12 = sin_phi4*Nb4_2 + cos_phi4*Nb4_3;
+        const double Nb4in3_2 = cos_phi4*Nb4_2 - sin_phi4*Nb4_3;
+        const double pF3_1 = 2.275*aOg3_1 + 0.56875*eps3_3 - 0.56875*w4;
+        const double pF3_2 = 2.275*aOg3_2 + 0.56875*w5 + 0.56875*w6;
+        const double pF3_3 = 2.275*aOg3_3 - 0.56875*w7;
+        const double pN3_1 = 0.187535813556*w7 - 0.56875*aOg3_3;
+        const double pN3_3 = 0.191630813556*eps3_3 - 0.187535813556*w4 + 0.56875*aOg3_1;
+        const double Fb3_1 = pF3_1 + Fb4_1;
+        const double Fb3_2 = pF3_2 + Fb4in3_2;
+        const double Fb3_3 = pF3_3 + j4r11;
+        const double Nb3_1 = pN3_1 + Nb4_1 - 0.39225*j4r11;
+        const double Nb3_2 = 0.004095*eps3_2 + Nb4in3_2;
+        const double Nb3_3 = pN3_3 + j4r12 + 0.39225*Fb4_1;
+        const double h3_2 = -1.598759275 + 0.017784735*sin_phi4;
+        const double I3_11 = 0.59565195167475 + I4_11 - 0.0139521246075*sin_phi4;
+        const double I3_21 = I4in3dr_21 + 0.051322656825;
+        const double I3_22 = 0.004095 + I4in3dr_22;
+        const double I3_32 = I4in3dr_32 - 0.00697606230375*cos_phi4;
+        const double I3_33 = 0.59565195167475 + I4in3dr_33 - 0.0139521246075*sin_phi4;
+        const double w19 = sin_phi3*h3_2;
+        const double w20 = cos_phi3*cos_phi4;
+        const double j3r10 = w19 - 0.017784735*w20;
+        const double w21 = cos_phi3*h3_2;
+        const double w22 = sin_phi3*cos_phi4;
+        const double h3in2_2 = w21 + 0.017784735*w22;
+        const double c2phi3 = cos_phi3*cos_phi3 - sin_phi3*sin_phi3;
+        const double s2phi3 = 2.0*cos_phi3*sin_phi3;
+        const double I3in2drsig = 0.5*I3_22 + 0.5*I3_33;
+        const double I3in2drdlt = 0.5*I3_22 - 0.5*I3_33;
+        const double I3in2drt = c2phi3*I3in2drdlt - I3_32*s2phi3;
+        const double I3in2dr_22 = I3in2drsig + I3in2drt;
+        const double I3in2dr_33 = I3in2drsig - I3in2drt;
+        const double I3in2dr_32 = s2phi3*I3in2drdlt + I3_32*c2phi3;
+        const double w23 = cos_phi3*I3_21;
+        const double w24 = sin_phi3*I4in3dr_31;
+        const double I3in2dr_21 = w23 - w24;
+        const double w25 = sin_phi3*I3_21;
+        const double w26 = cos_phi3*I4in3dr_31;
+        const double I3in2dr_31 = w25 + w26;
+        const double j3r11 = sin_phi3*Fb3_2 + cos_phi3*Fb3_3;
+        const double Fb3in2_2 = cos_phi3*Fb3_2 - sin_phi3*Fb3_3;
+        const double j3r12 = sin_phi3*Nb3_2 + cos_phi3*Nb3_3;
+        const double Nb3in2_2 = cos_phi3*Nb3_2 - sin_phi3*Nb3_3;
+        const double pF2_2 = 82.33533*sin_phi2 + 2.35004*w2 + 2.35004*X[56 + l]*X[56 + l];
+        const double pF2_3 = 82.33533*cos_phi2 - 2.35004*w3;
+        const double pN2_1 = 0.86979447591*w3 - 23.0538924*cos_phi2;
+        const double pN2_3 = 0.88490187591*eps2_3 - 0.86979447591*w1 - 2.35004*aOrel2in1_3;
+        const double Fb2_2 = pF2_2 + Fb3in2_2;
+        const double Fb2_3 = pF2_3 + j3r11;
+        const double Nb2_1 = pN2_1 + Nb3_1 - 0.425*j3r11;
+        const double Nb2_2 = 0.0151074*eps2_2 + Nb3in2_2 + 0.1197*j3r11;
+        const double Nb2_3 = pN2_3 + j3r12 - 0.1197*Fb3in2_2 + 0.425*Fb3_1;
+        const double h2_2 = -4.4329225 + h3in2_2;
+        const double I2_11 = 1.77012693841 + I3_11 - 0.85*h3in2_2;
+        const double I2_21 = I3in2dr_21 - 0.19371331275 + 0.1197*h3in2_2;
+        const double I2_22 = 0.054004433301 + I3in2dr_22;
+        const double I2_31 = I3in2dr_31 + 0.1197*j3r10;
+        const double I2_32 = I3in2dr_32 + 0.425*j3r10;
+        const double I2_33 = 1.809023971711 + I3in2dr_33 - 0.85*h3in2_2;
+        const double I2in1ra_23 = sin_phi2*I2_22 + cos_phi2*I2_32;
+        const double I2in1ra_33 = sin_phi2*I2_32 + cos_phi2*I2_33;
+        const double I2in1r_33 = sin_phi2*I2in1ra_23 + cos_phi2*I2in1ra_33;
+        const double Fb2in1_2 = cos_phi2*Fb2_2 - sin_phi2*Fb2_3;
+        const double j2r12 = sin_phi2*Nb2_2 + cos_phi2*Nb2_3;
+        const double Nb1_1 = j2r12 + 0.13585*Fb2in1_2;
+        const double I1_11 = 0.12816210104175 + I2in1r_33;
+        const double j4r14 = -0.0171364731454*sin_phi4*sin_phi5;
+        const double n6in3_2 = -0.0171364731454*cos_phi4*sin_phi5;
+        const double j3r14 = sin_phi3*n6in3_2 + cos_phi3*j4r14;
+        const double n6in2_2 = cos_phi3*n6in3_2 - sin_phi3*j4r14;
+        const double j2r14 = sin_phi2*n6in2_2 + cos_phi2*j3r14;
+        const double j5r16 = -w14;
+        const double n5in4_2 = -w13;
+        const double j4r16 = sin_phi4*n5in4_2 - cos_phi4*I5_11;
+        const double n5in3_2 = cos_phi4*n5in4_2 + sin_phi4*I5_11;
+        const double j3r16 = sin_phi3*n5in3_2 + cos_phi3*j4r16;
+        const double n5in2_2 = cos_phi3*n5in3_2 - sin_phi3*j4r16;
+        const double j2r16 = sin_phi2*n5in2_2 + cos_phi2*j3r16;
+        const double j4r18 = w17 + w18;
+        const double n4in3_1 = I4_11 - 0.00697606230375*sin_phi4;
+        const double n4in3_2 = w15 - w16;
+        const double j3r17 = 0.017784735*w22 + 0.017784735*cos_phi3*sin_phi4;
+        const double f4in2_2 = 0.017784735*w20 - 0.017784735*sin_phi3*sin_phi4;
+        const double j3r18 = sin_phi3*n4in3_2 + cos_phi3*j4r18;
+        const double n4in2_1 = n4in3_1 - 0.425*j3r17;
+        const double n4in2_2 = cos_phi3*n4in3_2 - sin_phi3*j4r18 + 0.1197*j3r17;
+        const double n4in2_3 = j3r18 - 0.1197*f4in2_2;
+        const double f4in1_2 = cos_phi2*f4in2_2 - sin_phi2*j3r17;
+        const double j2r18 = sin_phi2*n4in2_2 + cos_phi2*n4in2_3;
+        const double n4in1_1 = j2r18 + 0.13585*f4in1_2;
+        const double j3r19 = 0.017784735*w22 + w21;
+        const double f3in2_2 = 0.017784735*w20 - w19;
+        const double j3r20 = w25 + w26;
+        const double n3in2_1 = I3_11 - 0.425*j3r19;
+        const double n3in2_2 = w23 - w24 + 0.1197*j3r19;
+        const double n3in2_3 = j3r20 - 0.1197*f3in2_2;
+        const double f3in1_2 = cos_phi2*f3in2_2 - sin_phi2*j3r19;
+        const double j2r20 = sin_phi2*n3in2_2 + cos_phi2*n3in2_3;
+        const double n3in1_1 = j2r20 + 0.13585*f3in1_2;
+        const double f2in1_2 = -cos_phi2*j3r10 - sin_phi2*h2_2;
+        const double j2r22 = sin_phi2*I2_21 + cos_phi2*I2_31;
+        const double n2in1_1 = j2r22 + 0.13585*f2in1_2;
+
+        M_[l] = I1_11;
+        M_[48 + l] = n2in1_1;
+        M_[56 + l] = I2_11;
+        M_[96 + l] = n3in1_1;
+        M_[104 + l] = n3in2_1;
+        M_[112 + l] = I3_11;
+        M_[144 + l] = n4in1_1;
+        M_[152 + l] = n4in2_1;
+        M_[160 + l] = n4in3_1;
+        M_[168 + l] = I4_11;
+        M_[192 + l] = j2r16;
+        M_[200 + l] = j5r16;
+        M_[208 + l] = j5r16;
+        M_[216 + l] = j5r16;
+        M_[224 + l] = I5_11;
+        M_[240 + l] = j2r14;
+        M_[248 + l] = 0.0171364731454*cos_phi5;
+        M_[256 + l] = 0.0171364731454*cos_phi5;
+        M_[264 + l] = 0.0171364731454*cos_phi5;
+        M_[272 + l] = 0.0;
+        M_[280 + l] = 0.0171364731454;
+        f_[l] = tau_1 - Nb1_1;
+        f_[8 + l] = tau_2 - Nb2_1;
+        f_[16 + l] = tau_3 - Nb3_1;
+        f_[24 + l] = tau_4 - Nb4_1;
+        f_[32 + l] = tau_5 - Nb5_1;
+        f_[40 + l] = tau_6 - pN6_1;
+
+        double tl_ = 0.0;
+        tl_ = fabs(M_[l]) > tl_ ? fabs(M_[l]) : tl_;
+        tl_ = fabs(M_[56 + l]) > tl_ ? fabs(M_[56 + l]) : tl_;
+        tl_ = fabs(M_[112 + l]) > tl_ ? fabs(M_[112 + l]) : tl_;
+        tl_ = fabs(M_[168 + l]) > tl_ ? fabs(M_[168 + l]) : tl_;
+        tl_ = fabs(M_[224 + l]) > tl_ ? fabs(M_[224 + l]) : tl_;
+        tl_ = fabs(M_[280 + l]) > tl_ ? fabs(M_[280 + l]) : tl_;
+        tol_[l] = tl_ * UR5_PIVOT_TOL;
+        const double d0_ = M_[l];
+        const double r0_ = 1.0 / d0_;
+        const double L1_0_ = (M_[48 + l]) * r0_;
+        const double L2_0_ = (M_[96 + l]) * r0_;
+        const double L3_0_ = (M_[144 + l]) * r0_;
+        const double L4_0_ = (M_[192 + l]) * r0_;
+        const double L5_0_ = (M_[240 + l]) * r0_;
+        const double v1_0_ = L1_0_ * d0_;
+        const double d1_ = M_[56 + l] - L1_0_ * v1_0_;
+        const double r1_ = 1.0 / d1_;
+        const double L2_1_ = (M_[104 + l] - L2_0_ * v1_0_) * r1_;
+        const double L3_1_ = (M_[152 + l] - L3_0_ * v1_0_) * r1_;
+        const double L4_1_ = (M_[200 + l] - L4_0_ * v1_0_) * r1_;
+        const double L5_1_ = (M_[248 + l] - L5_0_ * v1_0_) * r1_;
+        const double v2_0_ = L2_0_ * d0_;
+        const double v2_1_ = L2_1_ * d1_;
+        const double d2_ = M_[112 + l] - L2_0_ * v2_0_ - L2_1_ * v2_1_;
+        const double r2_ = 1.0 / d2_;
+        const double L3_2_ = (M_[160 + l] - L3_0_ * v2_0_ - L3_1_ * v2_1_) * r2_;
+        const double L4_2_ = (M_[208 + l] - L4_0_ * v2_0_ - L4_1_ * v2_1_) * r2_;
+        const double L5_2_ = (M_[256 + l] - L5_0_ * v2_0_ - L5_1_ * v2_1_) * r2_;
+        const double v3_0_ = L3_0_ * d0_;
+        const double v3_1_ = L3_1_ * d1_;
+        const double v3_2_ = L3_2_ * d2_;
+        const double d3_ = M_[168 + l] - L3_0_ * v3_0_ - L3_1_ * v3_1_ - L3_2_ * v3_2_;
+        const double r3_ = 1.0 / d3_;
+        const double L4_3_ = (M_[216 + l] - L4_0_ * v3_0_ - L4_1_ * v3_1_ - L4_2_ * v3_2_) * r3_;
+        const double L5_3_ = (M_[264 + l] - L5_0_ * v3_0_ - L5_1_ * v3_1_ - L5_2_ * v3_2_) * r3_;
+        const double v4_0_ = L4_0_ * d0_;
+        const double v4_1_ = L4_1_ * d1_;
+        const double v4_2_ = L4_2_ * d2_;
+        const double v4_3_ = L4_3_ * d3_;
+        const double d4_ = M_[224 + l] - L4_0_ * v4_0_ - L4_1_ * v4_1_ - L4_2_ * v4_2_ - L4_3_ * v4_3_;
+        const double r4_ = 1.0 / d4_;
+        const double L5_4_ = (M_[272 + l] - L5_0_ * v4_0_ - L5_1_ * v4_1_ - L5_2_ * v4_2_ - L5_3_ * v4_3_) * r4_;
+        const double v5_0_ = L5_0_ * d0_;
+        const double v5_1_ = L5_1_ * d1_;
+        const double v5_2_ = L5_2_ * d2_;
+        const double v5_3_ = L5_3_ * d3_;
+        const double v5_4_ = L5_4_ * d4_;
+        const double d5_ = M_[280 + l] - L5_0_ * v5_0_ - L5_1_ * v5_1_ - L5_2_ * v5_2_ - L5_3_ * v5_3_ - L5_4_ * v5_4_;
+        piv_[l] = d0_;
+        piv_[8 + l] = d1_;
+        piv_[16 + l] = d2_;
+        piv_[24 + l] = d3_;
+        piv_[32 + l] = d4_;
+        piv_[40 + l] = d5_;
+        const double y0_ = f_[l];
+        const double y1_ = f_[8 + l] - (L1_0_ * y0_);
+        const double y2_ = f_[16 + l] - (L2_0_ * y0_ + L2_1_ * y1_);
+        const double y3_ = f_[24 + l] - (L3_0_ * y0_ + L3_1_ * y1_ + L3_2_ * y2_);
+        const double y4_ = f_[32 + l] - (L4_0_ * y0_ + L4_1_ * y1_ + L4_2_ * y2_ + L4_3_ * y3_);
+        const double y5_ = f_[40 + l] - (L5_0_ * y0_ + L5_1_ * y1_ + L5_2_ * y2_ + L5_3_ * y3_ + L5_4_ * y4_);
+        const double z0_ = y0_ / d0_;
+        const double z1_ = y1_ / d1_;
+        const double z2_ = y2_ / d2_;
+        const double z3_ = y3_ / d3_;
+        const double z4_ = y4_ / d4_;
+        const double z5_ = y5_ / d5_;
+        const double w5_ = z5_;
+        const double w4_ = z4_ - (L5_4_ * w5_);
+        const double w3_ = z3_ - (L4_3_ * w4_ + L5_3_ * w5_);
+        const double w2_ = z2_ - (L3_2_ * w3_ + L4_2_ * w4_ + L5_2_ * w5_);
+        const double w1_ = z1_ - (L2_1_ * w2_ + L3_1_ * w3_ + L4_1_ * w4_ + L5_1_ * w5_);
+        const double w0_ = z0_ - (L1_0_ * w1_ + L2_0_ * w2_ + L3_0_ * w3_ + L4_0_ * w4_ + L5_0_ * w5_);
+        XD[48 + l] = w0_;
+        XD[56 + l] = w1_;
+        XD[64 + l] = w2_;
+        XD[72 + l] = w3_;
+        XD[80 + l] = w4_;
+        XD[88 + l] = w5_;
+    }
+    for (i = 0; i < 48; ++i) {
+        XD[i] = X[48 + i];
+    }
+    for (l = 0; l < 8; ++l) {
+        const double fin = (X[l] - X[l]) + (X[8 + l] - X[8 + l]) + (X[16 + l] - X[16 + l]) + (X[24 + l] - X[24 + l]) + (X[32 + l] - X[32 + l]) + (X[40 + l] - X[40 + l]) + (X[48 + l] - X[48 + l]) + (X[56 + l] - X[56 + l]) + (X[64 + l] - X[64 + l]) + (X[72 + l] - X[72 + l]) + (X[80 + l] - X[80 + l]) + (X[88 + l] - X[88 + l]) + (M_[l] - M_[l]) + (M_[56 + l] - M_[56 + l]) + (M_[112 + l] - M_[112 + l]) + (M_[168 + l] - M_[168 + l]) + (M_[224 + l] - M_[224 + l]) + (M_[280 + l] - M_[280 + l]) + (f_[l] - f_[l]) + (f_[8 + l] - f_[8 + l]) + (f_[16 + l] - f_[16 + l]) + (f_[24 + l] - f_[24 + l]) + (f_[32 + l] - f_[32 + l]) + (f_[40 + l] - f_[40 + l]) + (XD[48 + l] - XD[48 + l]) + (XD[56 + l] - XD[56 + l]) + (XD[64 + l] - XD[64 + l]) + (XD[72 + l] - XD[72 + l]) + (XD[80 + l] - XD[80 + l]) + (XD[88 + l] - XD[88 + l]) + (piv_[l] - piv_[l]) + (piv_[8 + l] - piv_[8 + l]) + (piv_[16 + l] - piv_[16 + l]) + (piv_[24 + l] - piv_[24 + l]) + (piv_[32 + l] - piv_[32 + l]) + (piv_[40 + l] - piv_[40 + l]);
+        double lo = piv_[l];
+        lo = piv_[8 + l] < lo ? piv_[8 + l] : lo;
+        lo = piv_[16 + l] < lo ? piv_[16 + l] : lo;
+        lo = piv_[24 + l] < lo ? piv_[24 + l] : lo;
+        lo = piv_[32 + l] < lo ? piv_[32 + l] : lo;
+        lo = piv_[40 + l] < lo ? piv_[40 + l] : lo;
+        ok_[l] = (lo - tol_[l]) + fin;
+    }
+    for (l = 0; l < 8; ++l) {
+        double x[12];
+        if (ok_[l] > 0.0 && !(u && !ur5_all_finite_(u, 6))) {
+            code[l] = UR5_OK;
+            continue;
+        }
+        /* the code ur5_rhs returns, its tests in its order */
+        for (i = 0; i < 12; ++i) {
+            x[i] = X[i * 8 + l];
+        }
+        code[l] = UR5_NONFINITE;
+        if (!ur5_all_finite_(x, 12) || (u && !ur5_all_finite_(u, 6))) {
+            continue;
+        }
+        for (i = 0; i < 6; ++i) {
+            if (!isfinite(M_[i * 56 + l]) || !isfinite(f_[i * 8 + l])) {
+                break;
+            }
+        }
+        if (i < 6) {
+            continue;
+        }
+        for (i = 0; i < 6; ++i) {
+            if (!(piv_[i * 8 + l] > tol_[l])) {
+                code[l] = UR5_SINGULAR;
+                break;
+            }
+        }
+        if (i < 6) {
+            continue;
+        }
+        for (i = 0; i < 6; ++i) {
+            if (!isfinite(XD[(6 + i) * 8 + l])) {
+                break;
+            }
+        }
+        code[l] = i < 6 ? UR5_NONFINITE : UR5_OK;
+    }
+}
 
 /* ---------------------------------------------------------------------------------------
  * Integrators: NAME_integrate and NAME_integrate_grid, written once over ur5_rhs.
@@ -5166,6 +6098,242 @@ static long ur5_nsteps_(double ta, double tb, double h)
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
     return m < 1.0 ? 1L : (long)m;
+}
+
+/* RK4 in lanes (kernels/rk4_lanes.c): one lane for a single trajectory, 8 for a batch's;
+ * the model's right side for lanes is printed before this file (ur5_rhs_lane_, _lanes_). */
+/* RK4 over the output times tt[0..nt-1] (steps as ur5_fixed_ takes them) for 1
+ * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
+ * result, st[l] its statistics (and last finite state) when st is not NULL. */
+static void ur5_rk4_lane_(int nt, const double *tt, double h, long max_steps, const double *u, const ur5_params *p,
+                           double *const *X, ur5_integrate_stats *const *st, int *code)
+{
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    double x[12 * 1], cmp[12 * 1], y[12 * 1], k[4][12 * 1], fin[1];
+    int fail[1], sc[1], nev[1], live[1];
+    int i, j, l, s, bad, nlive = 1;
+    long kk, m, steps = 0;
+    for (l = 0; l < 1; ++l) {
+        for (i = 0; i < 12; ++i) {
+            x[i * 1 + l] = X[l][i];
+            cmp[i * 1 + l] = 0.0;
+        }
+        code[l] = UR5_OK;
+        live[l] = 1;
+    }
+    for (j = 1; j < nt && nlive > 0; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = ur5_nsteps_(ta, tt[j], h));
+        for (kk = 0; kk < m && nlive > 0; ++kk) {
+            if (steps >= max_steps) {
+                for (l = 0; l < 1; ++l) {
+                    code[l] = live[l] ? UR5_TOO_MANY_STEPS : code[l];
+                    live[l] = 0;
+                }
+                nlive = 0;
+                break;
+            }
+            /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
+             * evaluations it made, as one trajectory alone stops at that stage) */
+            ur5_rhs_lane_(x, u, p, k[0], fail);
+            for (l = 0; l < 1; ++l) {
+                nev[l] = 1;
+            }
+            for (s = 1; s < 4; ++s) {
+                for (i = 0; i < 12 * 1; ++i) {
+                    y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
+                }
+                ur5_rhs_lane_(y, u, p, k[s], sc);
+                for (l = 0; l < 1; ++l) {
+                    if (fail[l] == UR5_OK) {
+                        fail[l] = sc[l];
+                        nev[l] = s + 1;
+                    }
+                }
+            }
+            /* x + dx compensated (ur5_add_'s operations) into y and k[0] until each lane is
+             * known to go on */
+            for (i = 0; i < 12 * 1; ++i) {
+                const double dx = hs / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                const double yy = dx + cmp[i];
+                const double sum = x[i] + yy;
+                y[i] = (x[i] - sum) + yy;
+                k[0][i] = sum;
+            }
+            ++steps;
+            /* every lane live, no stage failed, the new state finite: the common step */
+            for (l = 0; l < 1; ++l) {
+                fin[l] = 0.0;  /* 0 when lane l's new state is finite, NaN otherwise */
+            }
+            for (i = 0; i < 12; ++i) {
+                for (l = 0; l < 1; ++l) {
+                    fin[l] += k[0][i * 1 + l] - k[0][i * 1 + l];
+                }
+            }
+            bad = nlive != 1;
+            for (l = 0; l < 1; ++l) {
+                bad |= fail[l] != UR5_OK || !(fin[l] == 0.0);
+            }
+            if (!bad) {
+                for (i = 0; i < 12 * 1; ++i) {
+                    x[i] = k[0][i];
+                    cmp[i] = y[i];
+                }
+            }
+            for (l = 0; l < 1 && (st || bad); ++l) {
+                int ok = !bad || fail[l] == UR5_OK;
+                if (!live[l]) {
+                    continue;
+                }
+                if (st) {
+                    st[l]->n_rhs += nev[l];
+                }
+                for (i = 0; bad && ok && i < 12; ++i) {
+                    ok = isfinite(k[0][i * 1 + l]);
+                }
+                if (ok) {
+                    for (i = 0; bad && i < 12; ++i) {
+                        x[i * 1 + l] = k[0][i * 1 + l];
+                        cmp[i * 1 + l] = y[i * 1 + l];
+                    }
+                    if (st) {
+                        st[l]->n_steps++;
+                        st[l]->t = kk + 1 == m ? tt[j] : ta + (double)(kk + 1) * hs;
+                        for (i = 0; i < 12; ++i) {
+                            st[l]->x[i] = x[i * 1 + l];
+                        }
+                    }
+                } else {
+                    code[l] = fail[l] != UR5_OK ? fail[l] : UR5_NONFINITE;  /* st keeps the last finite state */
+                    live[l] = 0;
+                    --nlive;
+                }
+            }
+        }
+        for (l = 0; l < 1; ++l) {
+            if (live[l]) {
+                for (i = 0; i < 12; ++i) {
+                    X[l][j * 12 + i] = x[i * 1 + l];
+                }
+            }
+        }
+    }
+}
+
+/* RK4 over the output times tt[0..nt-1] (steps as ur5_fixed_ takes them) for 8
+ * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
+ * result, st[l] its statistics (and last finite state) when st is not NULL. */
+static void ur5_rk4_lanes_(int nt, const double *tt, double h, long max_steps, const double *u, const ur5_params *p,
+                           double *const *X, ur5_integrate_stats *const *st, int *code)
+{
+    static const double cs[3] = {0.5, 0.5, 1.0};
+    double x[12 * 8], cmp[12 * 8], y[12 * 8], k[4][12 * 8], fin[8];
+    int fail[8], sc[8], nev[8], live[8];
+    int i, j, l, s, bad, nlive = 8;
+    long kk, m, steps = 0;
+    for (l = 0; l < 8; ++l) {
+        for (i = 0; i < 12; ++i) {
+            x[i * 8 + l] = X[l][i];
+            cmp[i * 8 + l] = 0.0;
+        }
+        code[l] = UR5_OK;
+        live[l] = 1;
+    }
+    for (j = 1; j < nt && nlive > 0; ++j) {
+        const double ta = tt[j - 1], hs = (tt[j] - ta) / (double)(m = ur5_nsteps_(ta, tt[j], h));
+        for (kk = 0; kk < m && nlive > 0; ++kk) {
+            if (steps >= max_steps) {
+                for (l = 0; l < 8; ++l) {
+                    code[l] = live[l] ? UR5_TOO_MANY_STEPS : code[l];
+                    live[l] = 0;
+                }
+                nlive = 0;
+                break;
+            }
+            /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
+             * evaluations it made, as one trajectory alone stops at that stage) */
+            ur5_rhs_lanes_(x, u, p, k[0], fail);
+            for (l = 0; l < 8; ++l) {
+                nev[l] = 1;
+            }
+            for (s = 1; s < 4; ++s) {
+                for (i = 0; i < 12 * 8; ++i) {
+                    y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
+                }
+                ur5_rhs_lanes_(y, u, p, k[s], sc);
+                for (l = 0; l < 8; ++l) {
+                    if (fail[l] == UR5_OK) {
+                        fail[l] = sc[l];
+                        nev[l] = s + 1;
+                    }
+                }
+            }
+            /* x + dx compensated (ur5_add_'s operations) into y and k[0] until each lane is
+             * known to go on */
+            for (i = 0; i < 12 * 8; ++i) {
+                const double dx = hs / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                const double yy = dx + cmp[i];
+                const double sum = x[i] + yy;
+                y[i] = (x[i] - sum) + yy;
+                k[0][i] = sum;
+            }
+            ++steps;
+            /* every lane live, no stage failed, the new state finite: the common step */
+            for (l = 0; l < 8; ++l) {
+                fin[l] = 0.0;  /* 0 when lane l's new state is finite, NaN otherwise */
+            }
+            for (i = 0; i < 12; ++i) {
+                for (l = 0; l < 8; ++l) {
+                    fin[l] += k[0][i * 8 + l] - k[0][i * 8 + l];
+                }
+            }
+            bad = nlive != 8;
+            for (l = 0; l < 8; ++l) {
+                bad |= fail[l] != UR5_OK || !(fin[l] == 0.0);
+            }
+            if (!bad) {
+                for (i = 0; i < 12 * 8; ++i) {
+                    x[i] = k[0][i];
+                    cmp[i] = y[i];
+                }
+            }
+            for (l = 0; l < 8 && (st || bad); ++l) {
+                int ok = !bad || fail[l] == UR5_OK;
+                if (!live[l]) {
+                    continue;
+                }
+                if (st) {
+                    st[l]->n_rhs += nev[l];
+                }
+                for (i = 0; bad && ok && i < 12; ++i) {
+                    ok = isfinite(k[0][i * 8 + l]);
+                }
+                if (ok) {
+                    for (i = 0; bad && i < 12; ++i) {
+                        x[i * 8 + l] = k[0][i * 8 + l];
+                        cmp[i * 8 + l] = y[i * 8 + l];
+                    }
+                    if (st) {
+                        st[l]->n_steps++;
+                        st[l]->t = kk + 1 == m ? tt[j] : ta + (double)(kk + 1) * hs;
+                        for (i = 0; i < 12; ++i) {
+                            st[l]->x[i] = x[i * 8 + l];
+                        }
+                    }
+                } else {
+                    code[l] = fail[l] != UR5_OK ? fail[l] : UR5_NONFINITE;  /* st keeps the last finite state */
+                    live[l] = 0;
+                    --nlive;
+                }
+            }
+        }
+        for (l = 0; l < 8; ++l) {
+            if (live[l]) {
+                for (i = 0; i < 12; ++i) {
+                    X[l][j * 12 + i] = x[i * 8 + l];
+                }
+            }
+        }
+    }
 }
 
 /* One classical RK4 step of size h from x: dx = the increment. */
@@ -5563,13 +6731,13 @@ static int ur5_fixed_(int method, int nt, const double *tt, double h, long max_s
     return code;
 }
 
-int ur5_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const ur5_params *p,
-                              double *X, ur5_integrate_stats *stats)
+/* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
+ * and the others NaN, *max_steps the budget.  UR5_OK when the integration can start. */
+static int ur5_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                  long *max_steps, const double *x0, const ur5_params *p, double *X,
+                                  ur5_integrate_stats *st)
 {
-    ur5_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
-    ur5_integrate_stats *st = stats ? stats : &local;
-    int i, j, code;
+    int i, j;
     st->t = 0.0;
     st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = st->n_newton = 0;
     for (i = 0; i < 12; ++i) {
@@ -5606,15 +6774,69 @@ int ur5_integrate_grid(int method, int nt, const double *t, double h, double rto
     ur5_copy_(X, x0);
     ur5_copy_(st->x, x0);
     st->t = t[0];
-    if (max_steps <= 0) {
-        max_steps = UR5_INTEGRATE_MAX_STEPS;
+    if (*max_steps <= 0) {
+        *max_steps = UR5_INTEGRATE_MAX_STEPS;
+    }
+    return UR5_OK;
+}
+
+int ur5_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const ur5_params *p,
+                              double *X, ur5_integrate_stats *stats)
+{
+    ur5_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
+    ur5_integrate_stats *st = stats ? stats : &local;
+    int code = ur5_grid_start_(method, nt, t, h, rtol, atol, &max_steps, x0, p, X, st);
+    if (code != UR5_OK) {
+        return code;
     }
     if (method == UR5_DOP853) {
-        code = ur5_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
-    } else {
-        code = ur5_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+        return ur5_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
     }
-    return code;
+    if (method == UR5_RK4) {
+        double *Xl[1];
+        ur5_integrate_stats *sl[1];
+        Xl[0] = X;
+        sl[0] = st;
+        ur5_rk4_lane_(nt, t, h, max_steps, u, p, Xl, sl, &code);
+        return code;
+    }
+    return ur5_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+}
+
+/* NAME_integrate_batch's RK4 when every trajectory has the same u and p: 8 trajectories
+ * at a time in lanes, the last ones alone, each the single call's bits. */
+static int ur5_rk4_batch_(int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+                                 const double *u, const ur5_params *p, double *X, int *codes)
+{
+    ur5_integrate_stats st;
+    double *Xl[8];
+    int lane[8], lc[8], b, i, g = 0, failed = 0;
+    long budget = max_steps;
+    for (b = 0; b < nb; ++b) {
+        double *Xb = X + (long)b * (nt > 0 ? nt : 0) * 12;
+        budget = max_steps;
+        codes[b] = ur5_grid_start_(UR5_RK4, nt, t, h, 0.0, 0.0, &budget, x0 + (long)b * 12, p, Xb, &st);
+        if (codes[b] != UR5_OK) {
+            continue;
+        }
+        lane[g] = b;
+        Xl[g++] = Xb;
+        if (g == 8) {
+            ur5_rk4_lanes_(nt, t, h, budget, u, p, Xl, 0, lc);
+            for (i = 0; i < 8; ++i) {
+                codes[lane[i]] = lc[i];
+            }
+            g = 0;
+        }
+    }
+    for (i = 0; i < g; ++i) {
+        ur5_rk4_lane_(nt, t, h, budget, u, p, Xl + i, 0, codes + lane[i]);
+    }
+    for (b = 0; b < nb; ++b) {
+        failed += codes[b] != UR5_OK;
+    }
+    return failed;
 }
 
 int ur5_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
@@ -5624,6 +6846,9 @@ int ur5_integrate_batch(int method, int nb, int nt, const double *t, double h, d
     int b, failed = 0;
     if (nb < 0 || !x0 || !X || !codes) {
         return -UR5_BAD_ARGUMENT;
+    }
+    if (method == UR5_RK4 && (!u || u_stride == 0) && (!p || p_stride == 0)) {
+        return ur5_rk4_batch_(nb, nt, t, h, max_steps, x0, u, p, X, codes);
     }
     for (b = 0; b < nb; ++b) {
         codes[b] = ur5_integrate_grid(method, nt, t, h, rtol, atol, max_steps, x0 + (long)b * 12,

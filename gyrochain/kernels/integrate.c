@@ -147,6 +147,26 @@ static long model_nsteps_(double ta, double tb, double h)
     return m < 1.0 ? 1L : (long)m;
 }
 
+#if MODEL_LANES
+/* RK4 in lanes (kernels/rk4_lanes.c): one lane for a single trajectory, MODEL_V_LANES for a batch's;
+ * the model's right side for lanes is printed before this file (model_rhs_lane_, _lanes_). */
+#define SYS_L 1
+#define sys_rk4_lanes_ model_rk4_lane_
+#define sys_rhs_lanes_ model_rhs_lane_
+#include "rk4_lanes.c"
+#undef SYS_L
+#undef sys_rk4_lanes_
+#undef sys_rhs_lanes_
+
+#define SYS_L MODEL_V_LANES
+#define sys_rk4_lanes_ model_rk4_lanes_
+#define sys_rhs_lanes_ model_rhs_lanes_
+#include "rk4_lanes.c"
+#undef SYS_L
+#undef sys_rk4_lanes_
+#undef sys_rhs_lanes_
+
+#endif
 /* One classical RK4 step of size h from x: dx = the increment. */
 static int model_rk4_step_(MODEL_T(double t0, )const double *x, double h, const double *u, const model_params *p,
                                 double *dx, model_integrate_stats *st)
@@ -594,13 +614,13 @@ static int model_fixed_(int method, int nt, const double *tt, double h, long max
     return code;
 }
 
-int model_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const model_params *p,
-                              double *X, model_integrate_stats *stats)
+/* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
+ * and the others NaN, *max_steps the budget.  MODEL_OK when the integration can start. */
+static int model_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                  long *max_steps, const double *x0, const model_params *p, double *X,
+                                  model_integrate_stats *st)
 {
-    model_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
-    model_integrate_stats *st = stats ? stats : &local;
-    int i, j, code;
+    int i, j;
     st->t = 0.0;
     st->n_rhs = st->n_steps = st->n_rejected = st->n_iter = st->n_newton = 0;
     for (i = 0; i < MODEL_V_DIM; ++i) {
@@ -647,17 +667,75 @@ int model_integrate_grid(int method, int nt, const double *t, double h, double r
     model_copy_(X, x0);
     model_copy_(st->x, x0);
     st->t = t[0];
-    if (max_steps <= 0) {
-        max_steps = MODEL_INTEGRATE_MAX_STEPS;
+    if (*max_steps <= 0) {
+        *max_steps = MODEL_INTEGRATE_MAX_STEPS;
     }
-    if (method == MODEL_DOP853) {
-        code = model_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
-    } else {
-        code = model_fixed_(method, nt, t, h, max_steps, u, p, X, st);
-    }
-    return code;
+    return MODEL_OK;
 }
 
+int model_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const model_params *p,
+                              double *X, model_integrate_stats *stats)
+{
+    model_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
+    model_integrate_stats *st = stats ? stats : &local;
+    int code = model_grid_start_(method, nt, t, h, rtol, atol, &max_steps, x0, p, X, st);
+    if (code != MODEL_OK) {
+        return code;
+    }
+    if (method == MODEL_DOP853) {
+        return model_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
+    }
+#if MODEL_LANES
+    if (method == MODEL_RK4) {
+        double *Xl[1];
+        model_integrate_stats *sl[1];
+        Xl[0] = X;
+        sl[0] = st;
+        model_rk4_lane_(nt, t, h, max_steps, u, p, Xl, sl, &code);
+        return code;
+    }
+#endif
+    return model_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+}
+
+#if MODEL_LANES
+/* NAME_integrate_batch's RK4 when every trajectory has the same u and p: MODEL_V_LANES trajectories
+ * at a time in lanes, the last ones alone, each the single call's bits. */
+static int model_rk4_batch_(int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+                                 const double *u, const model_params *p, double *X, int *codes)
+{
+    model_integrate_stats st;
+    double *Xl[MODEL_V_LANES];
+    int lane[MODEL_V_LANES], lc[MODEL_V_LANES], b, i, g = 0, failed = 0;
+    long budget = max_steps;
+    for (b = 0; b < nb; ++b) {
+        double *Xb = X + (long)b * (nt > 0 ? nt : 0) * MODEL_V_DIM;
+        budget = max_steps;
+        codes[b] = model_grid_start_(MODEL_RK4, nt, t, h, 0.0, 0.0, &budget, x0 + (long)b * MODEL_V_DIM, p, Xb, &st);
+        if (codes[b] != MODEL_OK) {
+            continue;
+        }
+        lane[g] = b;
+        Xl[g++] = Xb;
+        if (g == MODEL_V_LANES) {
+            model_rk4_lanes_(nt, t, h, budget, u, p, Xl, 0, lc);
+            for (i = 0; i < MODEL_V_LANES; ++i) {
+                codes[lane[i]] = lc[i];
+            }
+            g = 0;
+        }
+    }
+    for (i = 0; i < g; ++i) {
+        model_rk4_lane_(nt, t, h, budget, u, p, Xl + i, 0, codes + lane[i]);
+    }
+    for (b = 0; b < nb; ++b) {
+        failed += codes[b] != MODEL_OK;
+    }
+    return failed;
+}
+
+#endif
 int model_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const model_params *p, long p_stride, double *X, int *codes)
@@ -666,6 +744,11 @@ int model_integrate_batch(int method, int nb, int nt, const double *t, double h,
     if (nb < 0 || !x0 || !X || !codes) {
         return -MODEL_BAD_ARGUMENT;
     }
+#if MODEL_LANES
+    if (method == MODEL_RK4 && (!u || u_stride == 0) && (!p || p_stride == 0)) {
+        return model_rk4_batch_(nb, nt, t, h, max_steps, x0, u, p, X, codes);
+    }
+#endif
     for (b = 0; b < nb; ++b) {
         codes[b] = model_integrate_grid(method, nt, t, h, rtol, atol, max_steps, x0 + (long)b * MODEL_V_DIM,
                                              u ? u + (long)b * u_stride : 0, p ? p + (long)b * p_stride : 0,

@@ -19,6 +19,9 @@
 #ifndef MODEL_VARIATIONAL
 #define MODEL_VARIATIONAL 1
 #endif
+#ifndef MODEL_LANES
+#define MODEL_LANES 1
+#endif
 #ifndef MODEL_TIME_DEPENDENT
 #define MODEL_TIME_DEPENDENT 0
 #endif
@@ -48,6 +51,7 @@
 #define MODEL_V_OPS_CANONICAL 60
 #define MODEL_V_NEWTON_SWEEPS 20
 #define MODEL_V_NEWTON_SWEEPS_CANONICAL 30
+#define MODEL_V_LANES 8
 
 /* the header's codes (codes.py) */
 #define MODEL_OK 0
@@ -117,6 +121,9 @@ int model_integrate_batch(int method, int nb, int nt, const double *t, double h,
 int model_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const model_params *p,
                                 double *x1, double *Phi, model_integrate_stats *stats);
+/* the right side for RK4's lanes (the template prints them static, before kernels/integrate.c) */
+void model_rhs_lane_(MODEL_T(double t, )const double *X, const double *u, const model_params *p, double *XD, int *code);
+void model_rhs_lanes_(MODEL_T(double t, )const double *X, const double *u, const model_params *p, double *XD, int *code);
 double model_energy(const double *x, const model_params *p);
 double model_momentum(const double *x, const model_params *p);
 static int model_all_finite_(const double *v, int count)

@@ -35,7 +35,7 @@ def regenerate_command(spec_label: str, options=(), real: str = "double") -> str
     return "gyrochain generate " + " ".join(shlex.quote(w) for w in words)
 
 
-def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | None = None) -> dict:
+def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | None = None, real: str = "double") -> dict:
     """The facts the C and Python templates lay out (names, sizes, which functions exist)."""
     spec, ints = model.spec, model.integrals
     name, n = spec.name, spec.n
@@ -91,6 +91,7 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         t_param="double t, " if time_dependent(model) else "",
         t_arg="t, " if time_dependent(model) else "",
         label=spec_label,
+        real=real,
         **regressor_context(model),
         gyrochain_version=__version__,
         sympy_version=sp.__version__,
@@ -133,7 +134,7 @@ def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "d
     if unknown:
         raise ValueError(f"unknown target {unknown[0]!r} (one of {', '.join(TARGETS)})")
     counts = op_counts(model)
-    context = code_context(model, spec_label, counts, regenerate_command(spec_label, options, real))
+    context = code_context(model, spec_label, counts, regenerate_command(spec_label, options, real), real)
     env = environment()
     files: dict[str, str] = {}
     for key in ALL:  # in one order, whatever the order asked

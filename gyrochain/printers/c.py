@@ -7,6 +7,7 @@ from ..codes import METHODS, MOTIONS, QUAD_STATUS, STATUS
 from .. import __version__
 from . import chunks, kernels
 from .common import NumbersAsDoubles, build_text, functions
+from .lanes import LANES, lane_functions
 
 
 class CPrinter(NumbersAsDoubles, C99CodePrinter):
@@ -72,9 +73,10 @@ def integrators(ctx: dict) -> str:
                   OPS_QDD=counts["qdd"], OPS_QDD_DERIVATIVES=counts.get("qdd_derivatives", 0),
                   OPS_VELOCITIES=counts.get("velocities", 0), OPS_PDOT=counts.get("pdot", 0),
                   OPS_CANONICAL=counts.get("velocities", 0) + counts.get("pdot", 0),
-                  NEWTON_SWEEPS=ctx["newton_sweeps"], NEWTON_SWEEPS_CANONICAL=ctx["newton_sweeps_canonical"])
+                  NEWTON_SWEEPS=ctx["newton_sweeps"], NEWTON_SWEEPS_CANONICAL=ctx["newton_sweeps_canonical"], LANES=LANES)
     flags = dict(NEWTON=ctx["newton"], CANONICAL=ctx["canonical"], CANONICAL_NEWTON=ctx["canonical"] and ctx["newton"],
-                 TIME_DEPENDENT=ctx["time_dependent"], HAS_PARAMS=ctx["has_params"], VARIATIONAL=ctx["variational"])
+                 TIME_DEPENDENT=ctx["time_dependent"], HAS_PARAMS=ctx["has_params"], VARIATIONAL=ctx["variational"],
+                 LANES=bool(ctx["lanes"]))
     text = kernels.specialise("integrate.c", ctx["name"], flags, {}, values, ctx["time_dependent"])
     return text[:-1] if text.endswith("\n") else text
 
@@ -96,6 +98,7 @@ def layout_data(ctx: dict, env) -> dict:
         ldlt_factor={A: ldlt_factor_lines(A, n, NAME) for A in ("LD", "M") if not ctx["loops"] or A == "M" and not ctx["articulated"]},
         ldlt_solve_code={f"M,{b}": ldlt_solve_lines("M", b, n) for b in ("f", "qd") if not ctx["loops"] or b == "f" and not ctx["articulated"]},
         integrate_c=integrators(ctx),
+        trig_c=kernels.specialise("trig.c", name, {}, {}) if ctx["lanes"] else "",
     )
     if ctx["quad"]:
         body = env.from_string('{% import "_c.jinja" as c %}{{ c.body(f) }}\n{{ c.outputs(f) }}\n')
@@ -113,6 +116,7 @@ class CTarget:
         name = model.spec.name
         ctx = dict(context)
         ctx["fn"], ctx["parts_c"] = chunks.cut_all(functions(model, CPrinter, "c"), ctx)
+        ctx["lanes"] = lane_functions(model, ctx["fn"]["qdd"], ctx["real"], CPrinter)
         ctx.update(layout_data(ctx, env))
         ctx["decls"] = env.get_template("_decls.jinja").render(ctx)
         # the package files for C and C++ builds: a CMake library NAME::NAME and a pkg-config file

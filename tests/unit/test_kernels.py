@@ -34,11 +34,11 @@ def test_an_unknown_flag_or_part_is_an_error():
         kernels.specialise("quad.c", "arm", {"HAS_PARAMS": True}, {})
 
 
-def _integrators(time_dependent: bool, canonical: bool, variational: bool = True) -> str:
+def _integrators(time_dependent: bool, canonical: bool, variational: bool = True, lanes: bool = False) -> str:
     values = dict(N=3, DIM=6, NN=9, DIM2=36, VDIM=42, OPS_QDD=11, OPS_QDD_DERIVATIVES=12, OPS_VELOCITIES=13, OPS_PDOT=14,
-                  OPS_CANONICAL=27, NEWTON_SWEEPS=5, NEWTON_SWEEPS_CANONICAL=6, **{"2DIM": 12, "4DIM2": 144})
+                  OPS_CANONICAL=27, NEWTON_SWEEPS=5, NEWTON_SWEEPS_CANONICAL=6, LANES=8, **{"2DIM": 12, "4DIM2": 144})
     flags = dict(NEWTON=True, CANONICAL=canonical, CANONICAL_NEWTON=canonical, TIME_DEPENDENT=time_dependent, HAS_PARAMS=False,
-                 VARIATIONAL=variational)
+                 VARIATIONAL=variational, LANES=lanes)
     return kernels.specialise("integrate.c", "arm", flags, {}, values, time_dependent)
 
 
@@ -67,3 +67,16 @@ def test_dop853_is_printed_once_per_system():
     assert "variational" not in one
     with pytest.raises(ValueError):
         kernels._instances(['#include "dop853.c"\n'])
+
+
+def test_rk4_lanes_are_printed_for_one_lane_and_for_a_batch():
+    """kernels/rk4_lanes.c is instantiated twice where the model has RK4's lanes: one lane (the
+    single call) and LANES of them (a batch), each reading the right side printed for its count;
+    without lanes neither is printed and RK4 is the scalar step."""
+    with_lanes, without = _integrators(True, False, lanes=True), _integrators(True, False)
+    assert "static void arm_rk4_lane_(int nt," in with_lanes and "static void arm_rk4_lanes_(int nt," in with_lanes
+    assert "double x[6 * 1]" in with_lanes and "double x[6 * 8]" in with_lanes
+    assert "arm_rhs_lane_(tk, x, u, p, k[0], fail);" in with_lanes and "arm_rhs_lanes_(tk, x, u, p, k[0], fail);" in with_lanes
+    assert "arm_rk4_lanes_(nt, t, h, budget, u, p, Xl, 0, lc);" in with_lanes
+    assert "SYS_" not in with_lanes and "sys_" not in with_lanes and "#include" not in with_lanes
+    assert "rk4_lane" not in without and "rhs_lane" not in without
