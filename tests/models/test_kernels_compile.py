@@ -14,7 +14,8 @@ STRICT = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-Wno-unused-
 
 
 # the flags a model sets (printers/c.py); Hamilton's variables exist only for an autonomous model
-FLAGS = [dict(HAS_PARAMS=hp, TIME_DEPENDENT=td, CANONICAL=c, NEWTON=nw, VARIATIONAL=v)
+# (RK4's lanes on and off in turn, so that each value meets both of every other flag's)
+FLAGS = [dict(HAS_PARAMS=hp, TIME_DEPENDENT=td, CANONICAL=c, NEWTON=nw, VARIATIONAL=v, LANES=(hp + td + c + nw + v) % 2)
          for hp in (0, 1) for td in (0, 1) for c in (0, 1) for nw in (0, 1) for v in (0, 1) if not (td and c)]
 
 
