@@ -6,7 +6,8 @@ In one run, on the same random initial angles:
 - MuJoCo's rollout with its RK4 at the same fixed step, one MjData per thread (1 and 2 threads);
 - ours, NAME_integrate_batch with RK4 at that step and with DOP853 at rtol 1e-8: one thread, both
   cores (two threads, each half of the batch; cffi releases the GIL) and a local Dask cluster of
-  two worker processes (started before the clock, the model built in each worker before it).
+  two worker processes (started before the clock, the model built in each worker before it); RK4
+  also with the same C compiled at -O3 -march=native.
 Each is first checked against ours (the final state after 1 s of a few trajectories).  Prints a
 table and writes bench/results/ensemble.csv; the README's 4000 x 4000 estimate comes from it.
 """
@@ -77,6 +78,18 @@ def ours_threads(model, X0, nthreads: int, **kw):
         return model.integrate_batch(t, X0, **kw)
     with ThreadPoolExecutor(max_workers=nthreads) as pool:
         return list(pool.map(lambda part: model.integrate_batch(t, part, **kw), parts))
+
+
+def native_model(files: dict):
+    """The model's C compiled at -O3 -march=native (a bench-only build beside the product's)."""
+    import tempfile
+
+    folder = Path(tempfile.mkdtemp(prefix="ensemble_native_"))
+    for name, text in files.items():
+        if name.startswith("double_pendulum."):
+            (folder / name).write_text(text)
+    so = build.compile_model(folder, "double_pendulum", extra_cflags=["-O3", "-march=native"])
+    return build.CModel(so, "double_pendulum")
 
 
 def _dask_part(files, part, kw):
@@ -178,12 +191,23 @@ def main() -> int:
                 ours[(integ, "dask")] = r
                 add("ours, NAME_integrate_batch", integ, "local Dask cluster, 2 workers", r)
     rk = f"RK4 h = {H:g}"
+    # the same C at -O3 -march=native (the vector width of this machine: 256 or 512 bits)
+    native = native_model(files)
+    for nthreads in (1, 2):
+        r = rate(lambda: ours_threads(native, X0, nthreads, method="rk4", h=H), len(X0))
+        ours[(rk + " native", nthreads)] = r
+        add("ours, -O3 -march=native", rk, f"{nthreads} thread(s)", r)
+    # a batch's trajectory is the single call's (the same lanes, one at a time)
+    Xb = model.integrate_batch([0.0, T1], X0[:9], method="rk4", h=H)[0][:, -1]
+    single = np.array([model.integrate([0.0, T1], x, "rk4", h=H)[-1] for x in X0[:9]])
+    print(f"batch against single calls, 9 trajectories over {T1:g} s: largest difference {np.max(np.abs(Xb - single)):.1e}")
     eff = ours[(rk, 2)] / (2 * ours[(rk, 1)])
     eff_d = ours[("DOP853 rtol 1e-8", 2)] / (2 * ours[("DOP853 rtol 1e-8", 1)])
     print(f"\nparallel efficiency on 2 cores (threads): RK4 {eff:.0%}, DOP853 {eff_d:.0%}")
     if mj_rate:
         print(f"ours RK4 / MuJoCo rollout RK4 at h = {H:g}: 1 thread {ours[(rk, 1)] / mj_rate[1]:.1f}x, "
-              f"both cores {ours[(rk, 2)] / mj_rate[2]:.1f}x")
+              f"both cores {ours[(rk, 2)] / mj_rate[2]:.1f}x; at -O3 -march=native "
+              f"{ours[(rk + ' native', 1)] / mj_rate[1]:.1f}x, {ours[(rk + ' native', 2)] / mj_rate[2]:.1f}x")
     per = 1.0 / ours[("DOP853 rtol 1e-8", 1)]
     print("a 4000 x 4000 flip map (DOP853 1e-8, 10 s each, final state only), from the one-thread cost and the 2-core efficiency:")
     for cores in (1, 64, 1024):

@@ -1,17 +1,18 @@
-"""Does evaluating the rhs of several trajectories in lock-step pay?  (issue 15, make bench)
+"""RK4's lanes (issue 50, make bench): NAME_integrate_batch with RK4 against the previous release's.
 
-The emitted φ̈ of the double pendulum (NAME_qdd's straight-line body) is rewritten with a lane
-dimension: every temporary becomes an array of L lanes and every statement a loop over them, so
-that gcc can vectorise across trajectories; RK4 then advances L trajectories at once.  Timed
-against the same body one trajectory at a time (without the emitted code's input and pivot
-checks, so that only the lanes differ) and against the product's NAME_integrate_batch, all at the
-product's flags (-std=c99 -O2) and, for reference, at -O3 -march=native.  Prints ns per RK4 step
-per trajectory and writes bench/results/lanes.csv.
+This release advances a batch LANES trajectories at a time in lock-step (the model's right side
+printed for lanes, its sines and cosines from kernels/trig.c, gcc vectorising across the lanes);
+the previous release integrated one trajectory after another with libm's sin and cos.  For a few
+example models, the generated C of both (this tree's generated/ and the previous release's, from
+git) is compiled into one C program per flag set, which times RK4 over 256 trajectories of 2000
+steps: the previous release's batch, this release's batch, and this release one trajectory at a
+time (NAME_integrate_grid, the one-lane instance).  Prints ns per RK4 step per trajectory and
+writes bench/results/lanes.csv.  Usage: bench/lanes.py [--previous COMMIT] [--models ...]
 """
 from __future__ import annotations
 
+import argparse
 import csv
-import re
 import subprocess
 import sys
 import tempfile
@@ -19,141 +20,122 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "bench" / "results"
-NAME = "double_pendulum"
+PREVIOUS = "b3877bb"
+MODELS = ["double_pendulum", "furuta", "spatial3", "ur5"]
+FLAGS = (["-std=c99", "-O2", "-fno-tree-slp-vectorize"], ["-std=c99", "-O3", "-march=native"])
 
-
-def qdd_body(c_text: str) -> tuple[list[tuple[str, str]], list[str]]:
-    """The temporaries (name, expression) of NAME_qdd and the expressions of acc[0..n-1]."""
-    body = c_text.split(f"int {NAME}_qdd(")[1].split("piv[0]")[0]
-    temps = re.findall(r"const double (\w+) = (.*);", body)
-    acc = re.findall(r"acc\[\d+\] = (.*);", body)
-    return temps, acc
-
-
-def lane_expr(expr: str, temps: set) -> str:
-    expr = re.sub(r"\bx\[(\d+)\]", lambda m: f"x[{m.group(1)}*L + l]", expr)
-    return re.sub(r"\b([A-Za-z_]\w*)\b(?!\s*\()", lambda m: f"{m.group(1)}[l]" if m.group(1) in temps else m.group(1), expr)
-
-
-def c_program(temps, acc) -> str:
-    names = {t for t, _ in temps}
-    scalar = "\n".join(f"    const double {t} = {e};" for t, e in temps)
-    scalar += "\n" + "\n".join(f"    qdd[{i}] = {e};" for i, e in enumerate(acc))
-    lanes = "\n".join(f"    double {t}[L];\n    for (l = 0; l < L; ++l) {t}[l] = {lane_expr(e, names)};" for t, e in temps)
-    lanes += "\n" + "\n".join(f"    for (l = 0; l < L; ++l) qdd[{i}*L + l] = {lane_expr(e, names)};" for i, e in enumerate(acc))
-    return f"""
+PROGRAM = r"""
 #define _POSIX_C_SOURCE 199309L
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
-#define N 2
-#define D 4
-#ifndef L
-#define L 4
-#endif
-static void qdd1(const double *x, double *qdd) {{
-{scalar}
+#include "{name}.h"
+#define NB 256
+#define STEPS 2000
+#define D (2 * {NAME}_N)
+static double now(void)
+{{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
 }}
-static void qddL(const double *x, double *qdd) {{
-    int l;
-{lanes}
-}}
-static void rhs1(const double *x, double *f) {{ f[0] = x[2]; f[1] = x[3]; qdd1(x, f + 2); }}
-static void rhsL(const double *x, double *f) {{
-    int i;
-    for (i = 0; i < N * L; ++i) f[i] = x[N * L + i];
-    qddL(x, f + N * L);
-}}
-static void rk4_1(double *x, double h, long steps) {{
-    double k1[D], k2[D], k3[D], k4[D], y[D];
-    long s; int i;
-    for (s = 0; s < steps; ++s) {{
-        rhs1(x, k1); for (i = 0; i < D; ++i) y[i] = x[i] + 0.5 * h * k1[i];
-        rhs1(y, k2); for (i = 0; i < D; ++i) y[i] = x[i] + 0.5 * h * k2[i];
-        rhs1(y, k3); for (i = 0; i < D; ++i) y[i] = x[i] + h * k3[i];
-        rhs1(y, k4);
-        for (i = 0; i < D; ++i) x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+int main(int argc, char **argv)
+{{
+    static double x0[NB * D], X[NB * 2 * D], u[{NAME}_NU + 1];
+    {params}
+    const double t[2] = {{0.0, STEPS * 1e-3}};
+    int codes[NB], b, i, rep;
+    const int single = argc > 1 && argv[1][0] == 's', method = argc > 2 ? atoi(argv[2]) : {NAME}_RK4;
+    double best = 1e30;
+    srand(7);
+    for (b = 0; b < NB * D; ++b) {{
+        x0[b] = (b % D < {NAME}_N ? 3.0 : 0.5) * (2.0 * rand() / RAND_MAX - 1.0);
     }}
-}}
-static void rk4_L(double *x, double h, long steps) {{  /* x[i*L + l] */
-    double k1[D * L], k2[D * L], k3[D * L], k4[D * L], y[D * L];
-    long s; int i;
-    for (s = 0; s < steps; ++s) {{
-        rhsL(x, k1); for (i = 0; i < D * L; ++i) y[i] = x[i] + 0.5 * h * k1[i];
-        rhsL(y, k2); for (i = 0; i < D * L; ++i) y[i] = x[i] + 0.5 * h * k2[i];
-        rhsL(y, k3); for (i = 0; i < D * L; ++i) y[i] = x[i] + h * k3[i];
-        rhsL(y, k4);
-        for (i = 0; i < D * L; ++i) x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    for (i = 0; i <= {NAME}_NU; ++i) {{
+        u[i] = 0.0;
     }}
-}}
-static double now(void) {{ struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec + 1e-9 * t.tv_nsec; }}
-int main(void) {{
-    const int nb = 256; const long steps = 2000; const double h = 1e-3;
-    double *X = malloc(sizeof(double) * nb * D), *Y = malloc(sizeof(double) * nb * D), g[D * L];
-    int b, i, l, rep; double best1 = 1e30, bestL = 1e30, diff = 0.0;
-    for (rep = 0; rep < 5; ++rep) {{
-        double t0;
-        for (b = 0; b < nb; ++b) {{ X[b * D] = -3.0 + 6.0 * b / nb; X[b * D + 1] = 3.0 - 5.0 * b / nb; X[b * D + 2] = X[b * D + 3] = 0.0; }}
-        for (i = 0; i < nb * D; ++i) Y[i] = X[i];
-        t0 = now();
-        for (b = 0; b < nb; ++b) rk4_1(X + b * D, h, steps);
-        if (now() - t0 < best1) best1 = now() - t0;
-        t0 = now();
-        for (b = 0; b < nb; b += L) {{
-            for (l = 0; l < L; ++l) for (i = 0; i < D; ++i) g[i * L + l] = Y[(b + l) * D + i];
-            rk4_L(g, h, steps);
-            for (l = 0; l < L; ++l) for (i = 0; i < D; ++i) Y[(b + l) * D + i] = g[i * L + l];
+    for (rep = 0; rep < 7; ++rep) {{
+        const double t0 = now();
+        if (single) {{
+            for (b = 0; b < NB; ++b) {{
+                codes[b] = {name}_integrate_grid(method, 2, t, 1e-3, 0.0, 0.0, 0, x0 + b * D, u, p, X + 2 * b * D, 0);
+            }}
+        }} else {{
+            {name}_integrate_batch(method, NB, 2, t, 1e-3, 0.0, 0.0, 0, x0, u, 0, p, 0, X, codes);
         }}
-        if (now() - t0 < bestL) bestL = now() - t0;
+        if (now() - t0 < best) {{
+            best = now() - t0;
+        }}
     }}
-    for (i = 0; i < nb * D; ++i) if (fabs(X[i] - Y[i]) > diff) diff = fabs(X[i] - Y[i]);
-    printf("%.3f %.3f %.3g\\n", 1e9 * best1 / (nb * steps), 1e9 * bestL / (nb * steps), diff);
-    free(X); free(Y);
+    for (b = 0; b < NB; ++b) {{
+        if (codes[b] != 0) {{
+            fprintf(stderr, "trajectory %d failed with %d\n", b, codes[b]);
+            return 1;
+        }}
+    }}
+    printf("%.2f %.17g\n", 1e9 * best / ((double)NB * STEPS), X[D]);
     return 0;
 }}
 """
 
 
+def _params(name: str) -> str:
+    sys.path.insert(0, str(ROOT / "tests"))
+    from conftest import example_params  # the parameter values the examples are tested with
+
+    from gyrochain.spec import load_spec
+
+    values = example_params(name)
+    if not values:
+        return f"const {name}_params *p = 0;"
+    spec = load_spec(ROOT / "specs" / f"{name}.toml")
+    return f"const {name}_params prm = {{{', '.join(repr(values[str(q)]) for q in spec.params)}}}, *p = &prm;"
+
+
+def _time(folder: Path, name: str, flags: list[str], params: str, *args: str) -> tuple[float, float]:
+    (folder / "main.c").write_text(PROGRAM.format(name=name, NAME=name.upper(), params=params))
+    exe = folder / "main"
+    subprocess.run(["gcc", *flags, f"-I{folder}", str(folder / "main.c"), str(folder / f"{name}.c"), "-o", str(exe), "-lm"],
+                   check=True)
+    ns, x = subprocess.run([str(exe), *args], capture_output=True, text=True, check=True).stdout.split()
+    return float(ns), float(x)
+
+
 def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--previous", default=PREVIOUS, help=f"the previous release's commit (default {PREVIOUS})")
+    ap.add_argument("--models", nargs="+", default=MODELS)
+    args = ap.parse_args()
     sys.path.insert(0, str(ROOT))
-    import numpy as np
-
-    from gyrochain import pipeline
-    from gyrochain.spec import parse_spec
-
-    text = (ROOT / "specs" / f"{NAME}.toml").read_text()
-    files, _ = pipeline.derive_and_render(parse_spec(text), targets=("c",))
-    temps, acc = qdd_body(files[f"{NAME}.c"])
-    model = pipeline.compile(files, NAME)
-    X0 = np.array([[-3.0 + 6.0 * b / 256, 3.0 - 5.0 * b / 256, 0.0, 0.0] for b in range(256)])
-    import time
-
-    best = np.inf
-    for _ in range(5):
-        t0 = time.perf_counter()
-        model.integrate_batch([0.0, 2.0], X0, method="rk4", h=1e-3)
-        best = min(best, time.perf_counter() - t0)
-    product = 1e9 * best / (256 * 2000)
     rows = []
-    print(f"ns per RK4 step per trajectory (double pendulum, 256 trajectories x 2000 steps); product NAME_integrate_batch: {product:.1f}")
+    print("ns per RK4 step per trajectory (256 trajectories x 2000 steps of 1 ms, u = 0)")
     with tempfile.TemporaryDirectory() as tmp:
-        src = Path(tmp) / "lanes.c"
-        src.write_text(c_program(temps, acc))
-        for flags in (["-std=c99", "-O2"], ["-std=c99", "-O3", "-march=native"]):
-            for lanes in (2, 4, 8):
-                exe = Path(tmp) / "lanes"
-                subprocess.run(["gcc", *flags, f"-DL={lanes}", str(src), "-o", str(exe), "-lm"], check=True)
-                one, lane, diff = (float(v) for v in subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout.split())
-                rows.append(dict(flags=" ".join(flags), lanes=lanes, one_at_a_time_ns=one, lanes_ns=lane, gain=round(one / lane, 2),
-                                 product_ns=round(product, 1), max_difference=diff))
-                print(f"  {' '.join(flags):28s} L = {lanes}: one at a time {one:6.1f}, in lanes {lane:6.1f}  (gain {one / lane:4.2f}x; "
-                      f"states differ by {diff:.1g})")
+        for name in args.models:
+            params = _params(name)
+            dirs = {"previous": Path(tmp) / f"prev-{name}", "this": Path(tmp) / f"this-{name}"}
+            for d in dirs.values():
+                d.mkdir()
+            for suffix in (".c", ".h"):
+                old = subprocess.run(["git", "show", f"{args.previous}:generated/{name}/{name}{suffix}"], cwd=ROOT,
+                                     capture_output=True, text=True, check=True).stdout
+                (dirs["previous"] / f"{name}{suffix}").write_text(old)
+                (dirs["this"] / f"{name}{suffix}").write_text((ROOT / "generated" / name / f"{name}{suffix}").read_text())
+            for flags in FLAGS:
+                prev, x_prev = _time(dirs["previous"], name, flags, params)
+                this, x_this = _time(dirs["this"], name, flags, params)
+                one, x_one = _time(dirs["this"], name, flags, params, "single")
+                assert x_one == x_this, f"{name}: a batch's trajectory is not the single call's"
+                rows.append(dict(model=name, flags=" ".join(flags), previous_ns=prev, batch_ns=this, one_at_a_time_ns=one,
+                                 gain=round(prev / this, 2), lanes_gain=round(one / this, 2)))
+                print(f"  {name:16s} {' '.join(flags):36s} previous {prev:7.1f}  this batch {this:7.1f}  "
+                      f"this one at a time {one:7.1f}   {prev / this:4.2f}x the previous  (state after 2 s: "
+                      f"{abs(x_this - x_prev):.1e} apart)")
     RESULTS.mkdir(parents=True, exist_ok=True)
     with open(RESULTS / "lanes.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    print(f"wrote {RESULTS / 'lanes.csv'}")
     return 0
 
 

@@ -381,7 +381,8 @@ class CModel:
         """The trajectory at the times t (monotone; t[0] is the start, x0 the state there), as an
         array (len(t), 2N), by the C integrator `method` (rk4, gauss2: fixed step h; dop853:
         adaptive, h the first step or 0; gauss2_fixed: GAUSS2 by fixed-point sweeps only;
-        gauss2_symplectic: GAUSS2 on Hamilton's variables (φ, p), symplectic, fixed step h).  Raises
+        gauss2_symplectic: GAUSS2 on Hamilton's variables (φ, p), symplectic, fixed step h; rk4_lanes:
+        RK4 with the model's own vectorised sin and cos, for batches).  Raises
         IntegrationError when it stops early.  With full_output, also a dict of counts (n_rhs,
         n_steps, n_rejected, n_iter, n_newton: GAUSS2 steps solved by Newton)."""
         if method == "gauss2_symplectic" and not self.has_canonical:

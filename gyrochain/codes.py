@@ -12,7 +12,7 @@ STATUS_MEANING = {"SINGULAR": "M is not positive definite", "NO_PERIOD": "steady
 QUAD_STATUS = ("SEPARATRIX", "NO_PERIOD", "QUAD_FAILED")
 
 # NAME_integrate*'s method argument
-METHODS = {"rk4": 1, "dop853": 2, "gauss2": 3, "gauss2_fixed": 4, "gauss2_symplectic": 5}
+METHODS = {"rk4": 1, "dop853": 2, "gauss2": 3, "gauss2_fixed": 4, "gauss2_symplectic": 5, "rk4_lanes": 6}
 
 # NAME_quad_info.kind
 MOTIONS = {"libration": 1, "rotation": 2, "steady": 3}

@@ -40,7 +40,7 @@ MEASURES = ("final", "flip_time", "energy_error", "lyapunov", "lyapunov_spectrum
 VARIATIONAL_MEASURES = ("lyapunov_spectrum", "floquet")
 # the extra dimension of a measure with more than one number per point
 ANGLES = ("auto", "absolute", "relative")  # --angles: what flip_time watches
-METHOD_NAMES = tuple(m for m in METHODS if m in ("rk4", "dop853", "gauss2"))  # those a sweep offers
+METHOD_NAMES = tuple(m for m in METHODS if m in ("rk4", "dop853", "gauss2", "rk4_lanes"))  # those a sweep offers
 
 
 # --------------------------------------------------------------------------- the sweep's arguments

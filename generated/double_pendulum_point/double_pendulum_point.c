@@ -10,6 +10,15 @@
 #include <float.h>
 #include <math.h>
 
+/* C99's restrict (the parts' and the lanes' arrays never overlap), which g++ spells __restrict__ */
+#if !defined(__cplusplus)
+#define DOUBLE_PENDULUM_POINT_RESTRICT_ restrict
+#elif defined(__GNUC__)
+#define DOUBLE_PENDULUM_POINT_RESTRICT_ __restrict__
+#else
+#define DOUBLE_PENDULUM_POINT_RESTRICT_
+#endif
+
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define DOUBLE_PENDULUM_POINT_PIVOT_TOL (2 * 2.220446049250313e-16)
 
@@ -549,11 +558,12 @@ int double_pendulum_point_pdot(const double *x, const double *u, const double_pe
     }
     return double_pendulum_point_all_finite_(pdot, 2) ? DOUBLE_PENDULUM_POINT_OK : DOUBLE_PENDULUM_POINT_NONFINITE;
 }
-#if FLT_EVAL_METHOD == 0
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
 #define DOUBLE_PENDULUM_POINT_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
-/* sin a[i] and cos a[i] for i < 4, the reduction and polynomials above (|a| < 1e6). */
-static void double_pendulum_point_sincos4_(const double *restrict a, double *restrict s, double *restrict c)
+/* the blocks of 4 and 1 arguments (kernels/sincos.c) */
+/* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
+static void double_pendulum_point_sincos4_(const double *DOUBLE_PENDULUM_POINT_RESTRICT_ a, double *DOUBLE_PENDULUM_POINT_RESTRICT_ s, double *DOUBLE_PENDULUM_POINT_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -568,21 +578,73 @@ static void double_pendulum_point_sincos4_(const double *restrict a, double *res
         const double y3 = y2 - w3;
         const double b3 = y3 - y2;
         const double e3 = (y2 - (y3 - b3)) - (w3 + b3);                         /* y2 - w3 = y3 + e3 */
-        const double lo = (e2 + e3) - j * 8.4784276603689e-32;
-        const double rh = y3 + lo;
-        const double rl = lo - (rh - y3);
+        const double lo = (e2 + e3) - j * 8.4784276603689e-32;               /* r = y3 + lo */
         const double q = j - 4.0 * f;                                           /* j mod 4 */
-        const double z = rh * rh;
-        const double ps = -0.16666666666666666 + z * (0.008333333333333333 + z * (-0.0001984126984126984
-                        + z * (2.7557319223985893e-06 + z * (-2.505210838544172e-08 + z * (1.6059043836821613e-10
-                        + z * (-7.647163731819816e-13 + z * 2.8114572543455206e-15))))));
-        const double pc = 0.041666666666666664 + z * (-0.001388888888888889 + z * (2.48015873015873e-05
-                        + z * (-2.755731922398589e-07 + z * (2.08767569878681e-09 + z * (-1.1470745597729725e-11
-                        + z * 4.779477332387385e-14)))));
+        const double z = y3 * y3;
+        const double z2 = z * z;
+        const double z4 = z2 * z2;
+        /* the Taylor polynomials of (sin r - r) / r^3 and (cos r - 1 + r^2/2) / r^4 in z = r^2, by
+         * Estrin's scheme (pairs, then pairs of pairs: a shorter chain of dependent operations
+         * than Horner's, for one lane whose time is that chain) */
+        const double ps = (-0.16666666666666666 + z * 0.008333333333333333)
+                        + z2 * (-0.0001984126984126984 + z * 2.7557319223985893e-06)
+                        + z4 * ((-2.505210838544172e-08 + z * 1.6059043836821613e-10)
+                                + z2 * (-7.647163731819816e-13 + z * 2.8114572543455206e-15));
+        const double pc = (0.041666666666666664 + z * -0.001388888888888889)
+                        + z2 * (2.48015873015873e-05 + z * -2.755731922398589e-07)
+                        + z4 * ((2.08767569878681e-09 + z * -1.1470745597729725e-11) + z2 * 4.779477332387385e-14);
         const double hz = 0.5 * z;
         const double w = 1.0 - hz;
-        const double sr = rh + (rh * z * ps + rl * (1.0 - hz));
-        const double cr = w + (((1.0 - w) - hz) + (z * z * pc - rh * rl));
+        /* sin(y3 + lo) = y3 + y3^3 ps + lo (1 - y3^2/2), cos(y3 + lo) = 1 - y3^2/2 + y3^4 pc - y3 lo,
+         * the rounding of w = 1 - hz carried */
+        const double sr = y3 + (y3 * z * ps + lo * (1.0 - hz));
+        const double cr = w + (((1.0 - w) - hz) + (z2 * pc - y3 * lo));
+        const double odd = (q == 1.0 || q == 3.0) ? 1.0 : 0.0;
+        const double ss = odd != 0.0 ? cr : sr;
+        const double cc = odd != 0.0 ? sr : cr;
+        const double sa = q >= 2.0 ? -ss : ss;
+        s[i] = a[i] == 0.0 ? a[i] : sa;  /* sin(-0) = -0 */
+        c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
+    }
+}
+
+/* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
+static void double_pendulum_point_sincos1_(const double *DOUBLE_PENDULUM_POINT_RESTRICT_ a, double *DOUBLE_PENDULUM_POINT_RESTRICT_ s, double *DOUBLE_PENDULUM_POINT_RESTRICT_ c)
+{
+    int i;
+    for (i = 0; i < 1; ++i) {
+        const double j = (a[i] * 0.63661977236758134 + DOUBLE_PENDULUM_POINT_ROUND_) - DOUBLE_PENDULUM_POINT_ROUND_;
+        const double f = (j * 0.25 - 0.375 + DOUBLE_PENDULUM_POINT_ROUND_) - DOUBLE_PENDULUM_POINT_ROUND_;  /* floor(j / 4) */
+        const double y1 = a[i] - j * 1.5707963267341256;                       /* exact */
+        const double w2 = j * 6.077100506303966e-11;                            /* exact */
+        const double y2 = y1 - w2;
+        const double b2 = y2 - y1;
+        const double e2 = (y1 - (y2 - b2)) - (w2 + b2);                         /* y1 - w2 = y2 + e2 */
+        const double w3 = j * 2.0222662487111665e-21;
+        const double y3 = y2 - w3;
+        const double b3 = y3 - y2;
+        const double e3 = (y2 - (y3 - b3)) - (w3 + b3);                         /* y2 - w3 = y3 + e3 */
+        const double lo = (e2 + e3) - j * 8.4784276603689e-32;               /* r = y3 + lo */
+        const double q = j - 4.0 * f;                                           /* j mod 4 */
+        const double z = y3 * y3;
+        const double z2 = z * z;
+        const double z4 = z2 * z2;
+        /* the Taylor polynomials of (sin r - r) / r^3 and (cos r - 1 + r^2/2) / r^4 in z = r^2, by
+         * Estrin's scheme (pairs, then pairs of pairs: a shorter chain of dependent operations
+         * than Horner's, for one lane whose time is that chain) */
+        const double ps = (-0.16666666666666666 + z * 0.008333333333333333)
+                        + z2 * (-0.0001984126984126984 + z * 2.7557319223985893e-06)
+                        + z4 * ((-2.505210838544172e-08 + z * 1.6059043836821613e-10)
+                                + z2 * (-7.647163731819816e-13 + z * 2.8114572543455206e-15));
+        const double pc = (0.041666666666666664 + z * -0.001388888888888889)
+                        + z2 * (2.48015873015873e-05 + z * -2.755731922398589e-07)
+                        + z4 * ((2.08767569878681e-09 + z * -1.1470745597729725e-11) + z2 * 4.779477332387385e-14);
+        const double hz = 0.5 * z;
+        const double w = 1.0 - hz;
+        /* sin(y3 + lo) = y3 + y3^3 ps + lo (1 - y3^2/2), cos(y3 + lo) = 1 - y3^2/2 + y3^4 pc - y3 lo,
+         * the rounding of w = 1 - hz carried */
+        const double sr = y3 + (y3 * z * ps + lo * (1.0 - hz));
+        const double cr = w + (((1.0 - w) - hz) + (z2 * pc - y3 * lo));
         const double odd = (q == 1.0 || q == 3.0) ? 1.0 : 0.0;
         const double ss = odd != 0.0 ? cr : sr;
         const double cc = odd != 0.0 ? sr : cr;
@@ -593,13 +655,18 @@ static void double_pendulum_point_sincos4_(const double *restrict a, double *res
 }
 #endif
 
-/* s[i] = sin a[i], c[i] = cos a[i] for i < count, a multiple of 4. */
+/* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
+ * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
+ * latency of a single trajectory's right side, where a vector of two is slower). */
 static void double_pendulum_point_sincos_(const double *a, double *s, double *c, int count)
 {
-    int i, far = 0;
-#if FLT_EVAL_METHOD == 0
-    for (i = 0; i < count; i += 4) {
+    int i = 0, far = 0;
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
+    for (; count >= 8 && i + 4 <= count; i += 4) {
         double_pendulum_point_sincos4_(a + i, s + i, c + i);
+    }
+    for (; i < count; ++i) {
+        double_pendulum_point_sincos1_(a + i, s + i, c + i);
     }
     for (i = 0; i < count; ++i) {
         far |= !(fabs(a[i]) < 1e6);
@@ -623,25 +690,30 @@ static void double_pendulum_point_sincos_(const double *a, double *s, double *c,
 /* The right side x' = (phidot, phi'') of 1 state(s) at once, for RK4's lanes (the integrators'
  * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 1 + l),
  * code[l] what double_pendulum_point_rhs returns for lane l.  double_pendulum_point_qdd's operations, each statement for
- * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
- * double_pendulum_point_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
-static void double_pendulum_point_rhs_lane_(const double *restrict X, const double *u, const double_pendulum_point_params *p,
-                                double *restrict XD, int *code)
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
+ * libm's (the bits of double_pendulum_point_rhs) or, with own, double_pendulum_point_sincos_'s (within 1 ulp of libm's,
+ * vectorised too). */
+static void double_pendulum_point_rhs_lane_(int own, const double *DOUBLE_PENDULUM_POINT_RESTRICT_ X, const double *u,
+                                const double_pendulum_point_params *p, double *DOUBLE_PENDULUM_POINT_RESTRICT_ XD, int *code)
 {
     double piv_[2], ok_[1];
-    double A_[4], S_[4], C_[4];
+    double A_[2], S_[2], C_[2];
     int i, l;
-    (void)p;
+    (void)p;  /* (a model whose parameters the right side does not read) */
     (void)u;
 
     for (l = 0; l < 1; ++l) {
         A_[l] = X[l];
         A_[1 + l] = X[1 + l];
     }
-    for (i = 2; i < 4; ++i) {
-        A_[i] = 0.0;
+    if (own) {
+        double_pendulum_point_sincos_(A_, S_, C_, 2);
+    } else {
+        for (i = 0; i < 2; ++i) {
+            S_[i] = sin(A_[i]);
+            C_[i] = cos(A_[i]);
+        }
     }
-    double_pendulum_point_sincos_(A_, S_, C_, 4);
     for (l = 0; l < 1; ++l) {
         const double cos_phi1 = C_[l];
         const double sin_phi1 = S_[l];
@@ -702,34 +774,42 @@ static void double_pendulum_point_rhs_lane_(const double *restrict X, const doub
                 continue;
             }
         }
+        code[l] = DOUBLE_PENDULUM_POINT_OK;
         for (i = 0; i < 2; ++i) {
             if (!isfinite(XD[(2 + i) * 1 + l])) {
-                break;
+                code[l] = DOUBLE_PENDULUM_POINT_NONFINITE;
             }
         }
-        code[l] = i < 2 ? DOUBLE_PENDULUM_POINT_NONFINITE : DOUBLE_PENDULUM_POINT_OK;
     }
 }
 
 /* The right side x' = (phidot, phi'') of 8 state(s) at once, for RK4's lanes (the integrators'
  * kernels/rk4_lanes.c): the states side by side in X and XD (component i of lane l at i * 8 + l),
  * code[l] what double_pendulum_point_rhs returns for lane l.  double_pendulum_point_qdd's operations, each statement for
- * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines from
- * double_pendulum_point_sincos_ rather than libm's (within 1 ulp), the same for any number of lanes. */
-static void double_pendulum_point_rhs_lanes_(const double *restrict X, const double *u, const double_pendulum_point_params *p,
-                                double *restrict XD, int *code)
+ * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
+ * libm's (the bits of double_pendulum_point_rhs) or, with own, double_pendulum_point_sincos_'s (within 1 ulp of libm's,
+ * vectorised too). */
+static void double_pendulum_point_rhs_lanes_(int own, const double *DOUBLE_PENDULUM_POINT_RESTRICT_ X, const double *u,
+                                const double_pendulum_point_params *p, double *DOUBLE_PENDULUM_POINT_RESTRICT_ XD, int *code)
 {
     double piv_[16], ok_[8];
     double A_[16], S_[16], C_[16];
     int i, l;
-    (void)p;
+    (void)p;  /* (a model whose parameters the right side does not read) */
     (void)u;
 
     for (l = 0; l < 8; ++l) {
         A_[l] = X[l];
         A_[8 + l] = X[8 + l];
     }
-    double_pendulum_point_sincos_(A_, S_, C_, 16);
+    if (own) {
+        double_pendulum_point_sincos_(A_, S_, C_, 16);
+    } else {
+        for (i = 0; i < 16; ++i) {
+            S_[i] = sin(A_[i]);
+            C_[i] = cos(A_[i]);
+        }
+    }
     for (l = 0; l < 8; ++l) {
         const double cos_phi1 = C_[l];
         const double sin_phi1 = S_[l];
@@ -790,18 +870,23 @@ static void double_pendulum_point_rhs_lanes_(const double *restrict X, const dou
                 continue;
             }
         }
+        code[l] = DOUBLE_PENDULUM_POINT_OK;
         for (i = 0; i < 2; ++i) {
             if (!isfinite(XD[(2 + i) * 8 + l])) {
-                break;
+                code[l] = DOUBLE_PENDULUM_POINT_NONFINITE;
             }
         }
-        code[l] = i < 2 ? DOUBLE_PENDULUM_POINT_NONFINITE : DOUBLE_PENDULUM_POINT_OK;
     }
 }
 
 /* ---------------------------------------------------------------------------------------
  * Integrators: NAME_integrate and NAME_integrate_grid, written once over double_pendulum_point_rhs.
- *   RK4     classical Runge-Kutta, order 4, fixed step.
+ *   RK4     classical Runge-Kutta, order 4, fixed step.  A batch runs it 8
+ *           trajectories at a time in lanes where the model has them (kernels/rk4_lanes.c), with
+ *           the same operations, so each is the single call's bit for bit.
+ *   RK4_LANES  the same with the lanes' own sine and cosine (kernels/trig.c, within 1 ulp of
+ *           libm's, vectorised): a batch's lanes twice as fast again, a single call slower (it is
+ *           the one-lane case); RK4 itself where the model has no lanes.
  *   DOP853  Dormand-Prince 8(5,3), adaptive, with the 7th-order dense output (Hairer, Norsett,
  *           Wanner, Solving ODE I, II.5-II.10, and their Fortran DOP853, whose coefficients and
  *           error norm these are).
@@ -1117,13 +1202,15 @@ static long double_pendulum_point_nsteps_(double ta, double tb, double h)
     return m < 1.0 ? 1L : (long)m;
 }
 
-/* RK4 in lanes (kernels/rk4_lanes.c): one lane for a single trajectory, 8 for a batch's;
- * the model's right side for lanes is printed before this file (double_pendulum_point_rhs_lane_, _lanes_). */
+/* RK4 in lanes (kernels/rk4_lanes.c): 8 for a batch's trajectories, one for a single
+ * RK4_LANES call; the model's right side for lanes is printed before this file (double_pendulum_point_rhs_lanes_,
+ * double_pendulum_point_rhs_lane_). */
 /* RK4 over the output times tt[0..nt-1] (steps as double_pendulum_point_fixed_ takes them) for 1
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
- * result, st[l] its statistics (and last finite state) when st is not NULL. */
-static void double_pendulum_point_rk4_lane_(int nt, const double *tt, double h, long max_steps, const double *u, const double_pendulum_point_params *p,
-                           double *const *X, double_pendulum_point_integrate_stats *const *st, int *code)
+ * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
+ * cosines from kernels/trig.c (DOUBLE_PENDULUM_POINT_RK4_LANES), else libm's (DOUBLE_PENDULUM_POINT_RK4, double_pendulum_point_fixed_'s bits). */
+static void double_pendulum_point_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+                           const double_pendulum_point_params *p, double *const *X, double_pendulum_point_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
     double x[4 * 1], cmp[4 * 1], y[4 * 1], k[4][4 * 1], fin[1];
@@ -1151,7 +1238,7 @@ static void double_pendulum_point_rk4_lane_(int nt, const double *tt, double h, 
             }
             /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
              * evaluations it made, as one trajectory alone stops at that stage) */
-            double_pendulum_point_rhs_lane_(x, u, p, k[0], fail);
+            double_pendulum_point_rhs_lane_(own, x, u, p, k[0], fail);
             for (l = 0; l < 1; ++l) {
                 nev[l] = 1;
             }
@@ -1159,7 +1246,7 @@ static void double_pendulum_point_rk4_lane_(int nt, const double *tt, double h, 
                 for (i = 0; i < 4 * 1; ++i) {
                     y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
                 }
-                double_pendulum_point_rhs_lane_(y, u, p, k[s], sc);
+                double_pendulum_point_rhs_lane_(own, y, u, p, k[s], sc);
                 for (l = 0; l < 1; ++l) {
                     if (fail[l] == DOUBLE_PENDULUM_POINT_OK) {
                         fail[l] = sc[l];
@@ -1238,9 +1325,10 @@ static void double_pendulum_point_rk4_lane_(int nt, const double *tt, double h, 
 
 /* RK4 over the output times tt[0..nt-1] (steps as double_pendulum_point_fixed_ takes them) for 8
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
- * result, st[l] its statistics (and last finite state) when st is not NULL. */
-static void double_pendulum_point_rk4_lanes_(int nt, const double *tt, double h, long max_steps, const double *u, const double_pendulum_point_params *p,
-                           double *const *X, double_pendulum_point_integrate_stats *const *st, int *code)
+ * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
+ * cosines from kernels/trig.c (DOUBLE_PENDULUM_POINT_RK4_LANES), else libm's (DOUBLE_PENDULUM_POINT_RK4, double_pendulum_point_fixed_'s bits). */
+static void double_pendulum_point_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+                           const double_pendulum_point_params *p, double *const *X, double_pendulum_point_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
     double x[4 * 8], cmp[4 * 8], y[4 * 8], k[4][4 * 8], fin[8];
@@ -1268,7 +1356,7 @@ static void double_pendulum_point_rk4_lanes_(int nt, const double *tt, double h,
             }
             /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
              * evaluations it made, as one trajectory alone stops at that stage) */
-            double_pendulum_point_rhs_lanes_(x, u, p, k[0], fail);
+            double_pendulum_point_rhs_lanes_(own, x, u, p, k[0], fail);
             for (l = 0; l < 8; ++l) {
                 nev[l] = 1;
             }
@@ -1276,7 +1364,7 @@ static void double_pendulum_point_rk4_lanes_(int nt, const double *tt, double h,
                 for (i = 0; i < 4 * 8; ++i) {
                     y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
                 }
-                double_pendulum_point_rhs_lanes_(y, u, p, k[s], sc);
+                double_pendulum_point_rhs_lanes_(own, y, u, p, k[s], sc);
                 for (l = 0; l < 8; ++l) {
                     if (fail[l] == DOUBLE_PENDULUM_POINT_OK) {
                         fail[l] = sc[l];
@@ -1773,7 +1861,8 @@ static int double_pendulum_point_grid_start_(int method, int nt, const double *t
         if (!double_pendulum_point_tolerances_ok_(rtol, atol) || isnan(h)) {
             return DOUBLE_PENDULUM_POINT_BAD_ARGUMENT;
         }
-    } else if (method == DOUBLE_PENDULUM_POINT_RK4 || method == DOUBLE_PENDULUM_POINT_GAUSS2 || method == DOUBLE_PENDULUM_POINT_GAUSS2_FIXED               || method == DOUBLE_PENDULUM_POINT_GAUSS2_SYMPLECTIC) {
+    } else if (method == DOUBLE_PENDULUM_POINT_RK4 || method == DOUBLE_PENDULUM_POINT_RK4_LANES || method == DOUBLE_PENDULUM_POINT_GAUSS2 || method == DOUBLE_PENDULUM_POINT_GAUSS2_FIXED
+               || method == DOUBLE_PENDULUM_POINT_GAUSS2_SYMPLECTIC) {
         if (!(h != 0.0 && fabs(h) < HUGE_VAL)) {
             return DOUBLE_PENDULUM_POINT_BAD_ARGUMENT;
         }
@@ -1810,20 +1899,21 @@ int double_pendulum_point_integrate_grid(int method, int nt, const double *t, do
     if (method == DOUBLE_PENDULUM_POINT_DOP853) {
         return double_pendulum_point_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
     }
-    if (method == DOUBLE_PENDULUM_POINT_RK4) {
+    if (method == DOUBLE_PENDULUM_POINT_RK4_LANES) {
         double *Xl[1];
         double_pendulum_point_integrate_stats *sl[1];
         Xl[0] = X;
         sl[0] = st;
-        double_pendulum_point_rk4_lane_(nt, t, h, max_steps, u, p, Xl, sl, &code);
+        double_pendulum_point_rk4_lane_(1, nt, t, h, max_steps, u, p, Xl, sl, &code);
         return code;
     }
-    return double_pendulum_point_fixed_(method, nt, t, h, max_steps, u, p, X, st);
+    return double_pendulum_point_fixed_(method == DOUBLE_PENDULUM_POINT_RK4_LANES ? DOUBLE_PENDULUM_POINT_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-/* NAME_integrate_batch's RK4 when every trajectory has the same u and p: 8 trajectories
- * at a time in lanes, the last ones alone, each the single call's bits. */
-static int double_pendulum_point_rk4_batch_(int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+/* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
+ * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
+ * bits. */
+static int double_pendulum_point_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const double_pendulum_point_params *p, double *X, int *codes)
 {
     double_pendulum_point_integrate_stats st;
@@ -1838,9 +1928,10 @@ static int double_pendulum_point_rk4_batch_(int nb, int nt, const double *t, dou
             continue;
         }
         lane[g] = b;
-        Xl[g++] = Xb;
+        Xl[g] = Xb;
+        ++g;
         if (g == 8) {
-            double_pendulum_point_rk4_lanes_(nt, t, h, budget, u, p, Xl, 0, lc);
+            double_pendulum_point_rk4_lanes_(own, nt, t, h, budget, u, p, Xl, 0, lc);
             for (i = 0; i < 8; ++i) {
                 codes[lane[i]] = lc[i];
             }
@@ -1848,7 +1939,12 @@ static int double_pendulum_point_rk4_batch_(int nb, int nt, const double *t, dou
         }
     }
     for (i = 0; i < g; ++i) {
-        double_pendulum_point_rk4_lane_(nt, t, h, budget, u, p, Xl + i, 0, codes + lane[i]);
+        if (own) {
+            double_pendulum_point_rk4_lane_(1, nt, t, h, budget, u, p, Xl + i, 0, codes + lane[i]);
+        } else {
+            codes[lane[i]] = double_pendulum_point_integrate_grid(DOUBLE_PENDULUM_POINT_RK4, nt, t, h, 0.0, 0.0, max_steps, x0 + (long)lane[i] * 4, u,
+                                                       p, Xl[i], 0);
+        }
     }
     for (b = 0; b < nb; ++b) {
         failed += codes[b] != DOUBLE_PENDULUM_POINT_OK;
@@ -1864,8 +1960,8 @@ int double_pendulum_point_integrate_batch(int method, int nb, int nt, const doub
     if (nb < 0 || !x0 || !X || !codes) {
         return -DOUBLE_PENDULUM_POINT_BAD_ARGUMENT;
     }
-    if (method == DOUBLE_PENDULUM_POINT_RK4 && (!u || u_stride == 0) && (!p || p_stride == 0)) {
-        return double_pendulum_point_rk4_batch_(nb, nt, t, h, max_steps, x0, u, p, X, codes);
+    if ((method == DOUBLE_PENDULUM_POINT_RK4 || method == DOUBLE_PENDULUM_POINT_RK4_LANES) && (!u || u_stride == 0) && (!p || p_stride == 0)) {
+        return double_pendulum_point_rk4_batch_(method == DOUBLE_PENDULUM_POINT_RK4_LANES, nb, nt, t, h, max_steps, x0, u, p, X, codes);
     }
     for (b = 0; b < nb; ++b) {
         codes[b] = double_pendulum_point_integrate_grid(method, nt, t, h, rtol, atol, max_steps, x0 + (long)b * 4,

@@ -23,13 +23,15 @@
  * Newton with the exact Jacobian: stats n_newton; PANDA_GAUSS2_FIXED = the sweeps only;
  * PANDA_GAUSS2_SYMPLECTIC = the same method on Hamilton's variables (phi, p), which makes it
  * symplectic: no energy drift over long runs, linear integrals such as (27) kept to round-off; x0
- * and the outputs stay (phi, phidot)).  On
+ * and the outputs stay (phi, phidot); PANDA_RK4_LANES = RK4 with this file's own sine
+ * and cosine where the model has RK4's lanes; this one has none (single precision, a long chain or
+ * a long phi''), so RK4_LANES is RK4).  On
  * failure x1 is the last accepted state.  panda_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means PANDA_INTEGRATE_MAX_STEPS.
  * panda_integrate_batch integrates nb independent trajectories at the same nt output times:
  * trajectory b starts at x0 + b*2N, holds u + b*u_stride (u NULL: no torque; u_stride 0: one u
  * for all) and p + b*p_stride (p_stride 0: one parameter set for all), writes X + b*nt*2N and its
- * own return code codes[b] (as panda_integrate_grid's).  It returns the number of
+ * own return code codes[b] (as panda_integrate_grid's, bit for bit).  It returns the number of
  * trajectories whose code is not PANDA_OK, or -PANDA_BAD_ARGUMENT (nothing written)
  * when nb < 0 or x0, X or codes is NULL.  No allocation, no state: callers may split a batch
  * across threads.
@@ -87,6 +89,7 @@ extern "C" {
 #define PANDA_GAUSS2 3
 #define PANDA_GAUSS2_FIXED 4
 #define PANDA_GAUSS2_SYMPLECTIC 5
+#define PANDA_RK4_LANES 6
 #define PANDA_HAS_CANONICAL 1
 #define PANDA_HAS_VARIATIONAL 1
 typedef struct panda_params {

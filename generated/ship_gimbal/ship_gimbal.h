@@ -20,13 +20,17 @@
  * (either direction) with u held constant: method SHIP_GIMBAL_RK4 (fixed step h), SHIP_GIMBAL_DOP853
  * (adaptive, rtol/atol, h the first step or 0) or SHIP_GIMBAL_GAUSS2 (symmetric, fixed step h; its stage
  * equations by fixed-point sweeps or, where those converge too slowly (long steps), by simplified
- * Newton with the exact Jacobian: stats n_newton; SHIP_GIMBAL_GAUSS2_FIXED = the sweeps only).  On
+ * Newton with the exact Jacobian: stats n_newton; SHIP_GIMBAL_GAUSS2_FIXED = the sweeps only; SHIP_GIMBAL_RK4_LANES = RK4 with this file's own sine
+ * and cosine, within 1 ulp of libm's: a batch's RK4_LANES evaluates the right side of 8 trajectories
+ * in one vectorised pass, sines and cosines included (RK4's batch calls libm for those), and a
+ * single call is the one-lane case, slower than RK4's).  On
  * failure x1 is the last accepted state.  ship_gimbal_integrate_grid gives the states at nt output times
  * (DOP853 by its dense output) and the counts; max_steps <= 0 means SHIP_GIMBAL_INTEGRATE_MAX_STEPS.
  * ship_gimbal_integrate_batch integrates nb independent trajectories at the same nt output times:
  * trajectory b starts at x0 + b*2N, holds u + b*u_stride (u NULL: no torque; u_stride 0: one u
  * for all) and p + b*p_stride (p_stride 0: one parameter set for all), writes X + b*nt*2N and its
- * own return code codes[b] (as ship_gimbal_integrate_grid's).  It returns the number of
+ * own return code codes[b] (as ship_gimbal_integrate_grid's, bit for bit: RK4 and RK4_LANES
+ * advance 8 trajectories at a time in lock-step, when all have the same u and p).  It returns the number of
  * trajectories whose code is not SHIP_GIMBAL_OK, or -SHIP_GIMBAL_BAD_ARGUMENT (nothing written)
  * when nb < 0 or x0, X or codes is NULL.  No allocation, no state: callers may split a batch
  * across threads.
@@ -81,6 +85,7 @@ extern "C" {
 #define SHIP_GIMBAL_GAUSS2 3
 #define SHIP_GIMBAL_GAUSS2_FIXED 4
 #define SHIP_GIMBAL_GAUSS2_SYMPLECTIC 5
+#define SHIP_GIMBAL_RK4_LANES 6
 #define SHIP_GIMBAL_HAS_CANONICAL 0
 #define SHIP_GIMBAL_HAS_VARIATIONAL 1
 typedef struct ship_gimbal_params {

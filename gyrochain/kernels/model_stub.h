@@ -19,6 +19,7 @@
 #ifndef MODEL_VARIATIONAL
 #define MODEL_VARIATIONAL 1
 #endif
+#define MODEL_RESTRICT_ restrict  /* the template's: restrict in C, __restrict__ in g++ */
 #ifndef MODEL_LANES
 #define MODEL_LANES 1
 #endif
@@ -73,6 +74,7 @@
 #define MODEL_GAUSS2 3
 #define MODEL_GAUSS2_FIXED 4
 #define MODEL_GAUSS2_SYMPLECTIC 5
+#define MODEL_RK4_LANES 6
 #define MODEL_SEPARATRIX_TOL 1e-14
 
 typedef struct model_params {
@@ -122,8 +124,10 @@ int model_integrate_variational(double t0, double t1, double h, double rtol, dou
                                 const double *x0, const double *u, const model_params *p,
                                 double *x1, double *Phi, model_integrate_stats *stats);
 /* the right side for RK4's lanes (the template prints them static, before kernels/integrate.c) */
-void model_rhs_lane_(MODEL_T(double t, )const double *X, const double *u, const model_params *p, double *XD, int *code);
-void model_rhs_lanes_(MODEL_T(double t, )const double *X, const double *u, const model_params *p, double *XD, int *code);
+void model_rhs_lane_(MODEL_T(double t, )int own, const double *X, const double *u, const model_params *p, double *XD,
+                     int *code);
+void model_rhs_lanes_(MODEL_T(double t, )int own, const double *X, const double *u, const model_params *p, double *XD,
+                      int *code);
 double model_energy(const double *x, const model_params *p);
 double model_momentum(const double *x, const model_params *p);
 static int model_all_finite_(const double *v, int count)

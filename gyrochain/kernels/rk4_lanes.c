@@ -1,12 +1,11 @@
 /* RK4 of SYS_L trajectories in lock-step: their output times, step, u and p shared, their states
  * side by side (x[i * SYS_L + l] is component i of lane l), so that every statement of a step is
  * a loop over the lanes that a compiler vectorises, and the right side is sys_rhs_lanes_
- * (the model's right side printed for SYS_L lanes, its sines and cosines from kernels/trig.c).
- * Each lane takes exactly the steps, operations and checks that one trajectory takes alone, in
- * the same order, so its bits do not depend on SYS_L: kernels/integrate.c prints it for one lane
- * (NAME_integrate, NAME_integrate_grid) and for MODEL_V_LANES (NAME_integrate_batch), and a trajectory of
- * a batch is the single call's bit for bit.  Compiled on its own (the preamble), it is the
- * batch's instance. */
+ (the model's right side printed for SYS_L lanes).  Each lane takes exactly the steps,
+ * operations and checks that one trajectory takes alone in model_fixed_, in the same order, so its
+ * bits do not depend on SYS_L: kernels/integrate.c prints it for MODEL_V_LANES lanes (a batch's)
+ * and for one (a single MODEL_RK4_LANES call), and a trajectory of a batch is the single call's bit
+ * for bit.  Compiled on its own (the preamble), it is the batch's instance. */
 #include "model_stub.h"
 #ifndef SYS_L
 #define SYS_L MODEL_V_LANES
@@ -18,9 +17,10 @@ long model_nsteps_stub_(double ta, double tb, double h);  /* kernels/integrate.c
 /* @kernel */
 /* RK4 over the output times tt[0..nt-1] (steps as model_fixed_ takes them) for SYS_L
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
- * result, st[l] its statistics (and last finite state) when st is not NULL. */
-static void sys_rk4_lanes_(int nt, const double *tt, double h, long max_steps, const double *u, const model_params *p,
-                           double *const *X, model_integrate_stats *const *st, int *code)
+ * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
+ * cosines from kernels/trig.c (MODEL_RK4_LANES), else libm's (MODEL_RK4, model_fixed_'s bits). */
+static void sys_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+                           const model_params *p, double *const *X, model_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
     double x[MODEL_V_DIM * SYS_L], cmp[MODEL_V_DIM * SYS_L], y[MODEL_V_DIM * SYS_L], k[4][MODEL_V_DIM * SYS_L], fin[SYS_L];
@@ -51,7 +51,7 @@ static void sys_rk4_lanes_(int nt, const double *tt, double h, long max_steps, c
             }
             /* the four stages; a lane's first failing stage ends it (fail[l] its code, nev[l] the
              * evaluations it made, as one trajectory alone stops at that stage) */
-            sys_rhs_lanes_(MODEL_T(tk, )x, u, p, k[0], fail);
+            sys_rhs_lanes_(MODEL_T(tk, )own, x, u, p, k[0], fail);
             for (l = 0; l < SYS_L; ++l) {
                 nev[l] = 1;
             }
@@ -59,7 +59,7 @@ static void sys_rk4_lanes_(int nt, const double *tt, double h, long max_steps, c
                 for (i = 0; i < MODEL_V_DIM * SYS_L; ++i) {
                     y[i] = x[i] + cs[s - 1] * hs * k[s - 1][i];
                 }
-                sys_rhs_lanes_(MODEL_T(tk + cs[s - 1] * hs, )y, u, p, k[s], sc);
+                sys_rhs_lanes_(MODEL_T(tk + cs[s - 1] * hs, )own, y, u, p, k[s], sc);
                 for (l = 0; l < SYS_L; ++l) {
                     if (fail[l] == MODEL_OK) {
                         fail[l] = sc[l];

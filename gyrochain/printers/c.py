@@ -117,6 +117,7 @@ class CTarget:
         ctx = dict(context)
         ctx["fn"], ctx["parts_c"] = chunks.cut_all(functions(model, CPrinter, "c"), ctx)
         ctx["lanes"] = lane_functions(model, ctx["fn"]["qdd"], ctx["real"], CPrinter)
+        ctx["lanes_count"] = LANES
         ctx.update(layout_data(ctx, env))
         ctx["decls"] = env.get_template("_decls.jinja").render(ctx)
         # the package files for C and C++ builds: a CMake library NAME::NAME and a pkg-config file

@@ -42,13 +42,6 @@ NOINLINE = """#if defined(__GNUC__)
 #else
 #define {NAME}_PART_ static void
 #endif
-#if !defined(__cplusplus)
-#define {NAME}_RESTRICT_ restrict
-#elif defined(__GNUC__)
-#define {NAME}_RESTRICT_ __restrict__
-#else
-#define {NAME}_RESTRICT_
-#endif
 """
 
 

@@ -84,7 +84,7 @@ def ldlt_lane_lines(n: int, L: int, NAME: str) -> tuple[list[str], list[str]]:
 def lane_functions(model, fn_qdd, real: str, printer_cls) -> dict:
     """What the template prints of RK4's lanes, or {} where they do not apply; per lane count:
     NAME_qdd's body (and the composite form's solve), the arguments of its sines and cosines,
-    the tables' length (padded to NAME_sincos_'s four) and the branch-free check.  They apply to
+    the tables' length and the branch-free check.  They apply to
     a double model whose φ̈ is one straight-line function not longer than LANES_MAX_TEMPORARIES
     (not the loop form of long chains), whose sines and cosines are of the state, t and the
     parameters alone."""
@@ -120,5 +120,5 @@ def lane_functions(model, fn_qdd, real: str, printer_cls) -> dict:
             check.append(f"ok_[l] = (lo - hi * {NAME}_PIVOT_TOL) + fin;")
         else:
             check.append("ok_[l] = (lo - tol_[l]) + fin;")
-        out[L] = dict(fn=fn, solve=solve, args=args, size=-(-len(pr.args) * L // 4) * 4, pad=len(pr.args) * L, check=check)
+        out[L] = dict(fn=fn, solve=solve, args=args, size=len(pr.args) * L, check=check)
     return out

@@ -70,13 +70,14 @@ def test_dop853_is_printed_once_per_system():
 
 
 def test_rk4_lanes_are_printed_for_one_lane_and_for_a_batch():
-    """kernels/rk4_lanes.c is instantiated twice where the model has RK4's lanes: one lane (the
-    single call) and LANES of them (a batch), each reading the right side printed for its count;
-    without lanes neither is printed and RK4 is the scalar step."""
+    """kernels/rk4_lanes.c is instantiated twice where the model has RK4's lanes: LANES of them (a
+    batch) and one (a single RK4_LANES call), each reading the right side printed for its count;
+    without lanes neither is printed and RK4_LANES is RK4's scalar step."""
     with_lanes, without = _integrators(True, False, lanes=True), _integrators(True, False)
-    assert "static void arm_rk4_lane_(int nt," in with_lanes and "static void arm_rk4_lanes_(int nt," in with_lanes
+    assert "static void arm_rk4_lane_(int own, int nt," in with_lanes and "static void arm_rk4_lanes_(int own, int nt," in with_lanes
     assert "double x[6 * 1]" in with_lanes and "double x[6 * 8]" in with_lanes
-    assert "arm_rhs_lane_(tk, x, u, p, k[0], fail);" in with_lanes and "arm_rhs_lanes_(tk, x, u, p, k[0], fail);" in with_lanes
-    assert "arm_rk4_lanes_(nt, t, h, budget, u, p, Xl, 0, lc);" in with_lanes
+    assert "arm_rhs_lane_(tk, own, x, u, p, k[0], fail);" in with_lanes and "arm_rhs_lanes_(tk, own, x, u, p, k[0], fail);" in with_lanes
+    assert "arm_rk4_lanes_(own, nt, t, h, budget, u, p, Xl, 0, lc);" in with_lanes
+    assert "arm_fixed_(method == ARM_RK4_LANES ? ARM_RK4 : method," in without
     assert "SYS_" not in with_lanes and "sys_" not in with_lanes and "#include" not in with_lanes
-    assert "rk4_lane" not in without and "rhs_lane" not in without
+    assert "arm_rk4_lane" not in without and "arm_rhs_lane" not in without
