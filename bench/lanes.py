@@ -1,13 +1,14 @@
 """RK4's lanes (issue 50, make bench): NAME_integrate_batch with RK4 against the previous release's.
 
-This release advances a batch LANES trajectories at a time in lock-step (the model's right side
-printed for lanes, its sines and cosines from kernels/trig.c, gcc vectorising across the lanes);
-the previous release integrated one trajectory after another with libm's sin and cos.  For a few
-example models, the generated C of both (this tree's generated/ and the previous release's, from
-git) is compiled into one C program per flag set, which times RK4 over 256 trajectories of 2000
-steps: the previous release's batch, this release's batch, and this release one trajectory at a
-time (NAME_integrate_grid, the one-lane instance).  Prints ns per RK4 step per trajectory and
-writes bench/results/lanes.csv.  Usage: bench/lanes.py [--previous COMMIT] [--models ...]
+This release advances a batch 8 trajectories at a time in lock-step (the model's right side
+printed for lanes, gcc vectorising across them): RK4 with libm's sin and cos, RK4_LANES with the
+lanes' own (kernels/trig.c); the previous release integrated one trajectory after another.  For a
+few example models, the generated C of both (this tree's generated/ and the previous release's,
+from git) is compiled into one C program per flag set, which times RK4 over 256 trajectories of
+2000 steps, as a batch and one trajectory at a time (NAME_integrate_grid), and checks that a
+batch's trajectory is the single call's bit for bit (and RK4's the previous release's).  Prints ns
+per RK4 step per trajectory and writes bench/results/lanes.csv.
+Usage: bench/lanes.py [--previous COMMIT] [--models ...]
 """
 from __future__ import annotations
 
@@ -92,12 +93,20 @@ def _params(name: str) -> str:
     return f"const {name}_params prm = {{{', '.join(repr(values[str(q)]) for q in spec.params)}}}, *p = &prm;"
 
 
+_BUILT: dict = {}
+
+
 def _time(folder: Path, name: str, flags: list[str], params: str, *args: str) -> tuple[float, float]:
-    (folder / "main.c").write_text(PROGRAM.format(name=name, NAME=name.upper(), params=params))
-    exe = folder / "main"
-    subprocess.run(["gcc", *flags, f"-I{folder}", str(folder / "main.c"), str(folder / f"{name}.c"), "-o", str(exe), "-lm"],
-                   check=True)
-    ns, x = subprocess.run([str(exe), *args], capture_output=True, text=True, check=True).stdout.split()
+    """(ns per step per trajectory, φ¹ of trajectory 1 after 2 s) from the program of this folder
+    at these flags, built once."""
+    key = (folder, tuple(flags))
+    if key not in _BUILT:
+        (folder / "main.c").write_text(PROGRAM.format(name=name, NAME=name.upper(), params=params))
+        exe = folder / f"main{len(_BUILT)}"
+        subprocess.run(["gcc", *flags, f"-I{folder}", str(folder / "main.c"), str(folder / f"{name}.c"), "-o", str(exe), "-lm"],
+                       check=True)
+        _BUILT[key] = exe
+    ns, x = subprocess.run([str(_BUILT[key]), *args], capture_output=True, text=True, check=True).stdout.split()
     return float(ns), float(x)
 
 
@@ -108,7 +117,8 @@ def main() -> int:
     args = ap.parse_args()
     sys.path.insert(0, str(ROOT))
     rows = []
-    print("ns per RK4 step per trajectory (256 trajectories x 2000 steps of 1 ms, u = 0)")
+    print("ns per RK4 step per trajectory (256 trajectories x 2000 steps of 1 ms, u = 0); the gains: the "
+          "previous release's batch over this one's, RK4 and RK4_LANES")
     with tempfile.TemporaryDirectory() as tmp:
         for name in args.models:
             params = _params(name)
@@ -121,15 +131,21 @@ def main() -> int:
                 (dirs["previous"] / f"{name}{suffix}").write_text(old)
                 (dirs["this"] / f"{name}{suffix}").write_text((ROOT / "generated" / name / f"{name}{suffix}").read_text())
             for flags in FLAGS:
-                prev, x_prev = _time(dirs["previous"], name, flags, params)
-                this, x_this = _time(dirs["this"], name, flags, params)
-                one, x_one = _time(dirs["this"], name, flags, params, "single")
-                assert x_one == x_this, f"{name}: a batch's trajectory is not the single call's"
-                rows.append(dict(model=name, flags=" ".join(flags), previous_ns=prev, batch_ns=this, one_at_a_time_ns=one,
-                                 gain=round(prev / this, 2), lanes_gain=round(one / this, 2)))
-                print(f"  {name:16s} {' '.join(flags):36s} previous {prev:7.1f}  this batch {this:7.1f}  "
-                      f"this one at a time {one:7.1f}   {prev / this:4.2f}x the previous  (state after 2 s: "
-                      f"{abs(x_this - x_prev):.1e} apart)")
+                prev, x_prev = _time(dirs["previous"], name, flags, params, "batch", "1")
+                row = dict(model=name, flags=" ".join(flags), previous_batch_ns=prev)
+                for method, number in (("rk4", "1"), ("rk4_lanes", "6")):
+                    batch, x_batch = _time(dirs["this"], name, flags, params, "batch", number)
+                    one, x_one = _time(dirs["this"], name, flags, params, "single", number)
+                    assert x_one == x_batch, f"{name} {method}: a batch's trajectory is not the single call's"
+                    if method == "rk4":
+                        assert x_batch == x_prev, f"{name}: RK4 does not give the previous release's bits"
+                    row.update({f"{method}_batch_ns": batch, f"{method}_single_ns": one})
+                row["previous_single_ns"] = _time(dirs["previous"], name, flags, params, "single", "1")[0]
+                rows.append(row)
+                print(f"  {name:16s} {' '.join(flags):38s} previous: batch {prev:6.1f} single {row['previous_single_ns']:6.1f}"
+                      f" | rk4: batch {row['rk4_batch_ns']:6.1f} single {row['rk4_single_ns']:6.1f}"
+                      f" | rk4_lanes: batch {row['rk4_lanes_batch_ns']:6.1f} single {row['rk4_lanes_single_ns']:6.1f}"
+                      f"   batch gain {prev / row['rk4_batch_ns']:4.2f}x, {prev / row['rk4_lanes_batch_ns']:4.2f}x")
     RESULTS.mkdir(parents=True, exist_ok=True)
     with open(RESULTS / "lanes.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))

@@ -21,8 +21,8 @@ WHY = {
     "2.2": "stores into the caller's output arrays, which the addon's dead-code check does not see read",
     "2.5": "the header's #defines (sizes, codes, facts) are for the caller, not used in the C itself",
     "8.7": "the API's functions have external linkage although this file alone calls some of them",
-    "8.14": "RK4's lanes declare their arrays restrict (they never overlap), so that the compiler vectorises "
-            "across the lanes without a run-time overlap test",
+    "8.14": "the parts of long functions and RK4's lanes declare their arrays restrict (they never overlap), "
+            "so that the compiler needs no run-time overlap test",
     "9.4": "the integrators' local statistics initialised as {0.0, {0.0}, 0, ...} for the analysers",
     "10.3": "values of another essential type assigned (a double scaled by an int macro, int counts to double)",
     "10.4": "int constants in double arithmetic: d0 / 4",
@@ -37,7 +37,7 @@ WHY = {
     "15.4": "more than one break out of an integrator's loop",
     "15.5": "early returns of the error codes (a single exit would need a flag per check)",
     "15.7": "an else-if chain without a final else",
-    "17.8": "a parameter reassigned (the max_steps default, a Newton iterate)",
+    "17.8": "a parameter reassigned (DOP853's first step h, estimated when given as 0)",
     "18.4": "pointer arithmetic on arrays: xdot + n, the rows of a batch",
 }
 
