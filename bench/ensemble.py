@@ -4,10 +4,10 @@ In one run, on the same random initial angles:
 - scipy's solve_ivp (DOP853, rtol 1e-8) on the generated Python rhs, one trajectory after another
   (what a user without this tool writes);
 - MuJoCo's rollout with its RK4 at the same fixed step, one MjData per thread (1 and 2 threads);
-- ours, NAME_integrate_batch with RK4 at that step and with DOP853 at rtol 1e-8: one thread, both
-  cores (two threads, each half of the batch; cffi releases the GIL) and a local Dask cluster of
-  two worker processes (started before the clock, the model built in each worker before it); RK4
-  also with the same C compiled at -O3 -march=native.
+- ours, NAME_integrate_batch with RK4 and RK4_LANES at that step and with DOP853 at rtol 1e-8: one
+  thread, both cores (two threads, each half of the batch; cffi releases the GIL) and (RK4, DOP853)
+  a local Dask cluster of two worker processes (started before the clock, the model built in each
+  worker before it); RK4 and RK4_LANES also with the same C compiled at -O3 -march=native.
 Each is first checked against ours (the final state after 1 s of a few trajectories).  Prints a
 table and writes bench/results/ensemble.csv; the README's 4000 x 4000 estimate comes from it.
 """
@@ -169,14 +169,17 @@ def main() -> int:
     ours = {}
     every = np.linspace(0.0, T1, nstep + 1)
     Xm = X0[: args.mujoco_count]
-    add("ours, NAME_integrate_batch", f"RK4 h = {H:g}", "1 thread, every step stored",
-        rate(lambda: model.integrate_batch(every, Xm, method="rk4", h=H), len(Xm)), "(as rollout stores them)")
-    for integ, kw in ((f"RK4 h = {H:g}", dict(method="rk4", h=H)), ("DOP853 rtol 1e-8", dict(method="dop853", rtol=1e-8, atol=1e-10))):
+    rk, rkl = f"RK4 h = {H:g}", f"RK4_LANES h = {H:g}"
+    for integ, method in ((rk, "rk4"), (rkl, "rk4_lanes")):
+        add("ours, NAME_integrate_batch", integ, "1 thread, every step stored",
+            rate(lambda: model.integrate_batch(every, Xm, method=method, h=H), len(Xm)), "(as rollout stores them)")
+    for integ, kw in ((rk, dict(method="rk4", h=H)), (rkl, dict(method="rk4_lanes", h=H)),
+                      ("DOP853 rtol 1e-8", dict(method="dop853", rtol=1e-8, atol=1e-10))):
         for nthreads in (1, 2):
             r = rate(lambda: ours_threads(model, X0, nthreads, **kw), len(X0))
             ours[(integ, nthreads)] = r
             add("ours, NAME_integrate_batch", integ, f"{nthreads} thread(s)", r)
-        if not args.no_dask:
+        if not args.no_dask and integ != rkl:
             from distributed import Client, LocalCluster
 
             with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None,
@@ -190,24 +193,27 @@ def main() -> int:
                 r = rate(go, len(X0))
                 ours[(integ, "dask")] = r
                 add("ours, NAME_integrate_batch", integ, "local Dask cluster, 2 workers", r)
-    rk = f"RK4 h = {H:g}"
     # the same C at -O3 -march=native (the vector width of this machine: 256 or 512 bits)
     native = native_model(files)
-    for nthreads in (1, 2):
-        r = rate(lambda: ours_threads(native, X0, nthreads, method="rk4", h=H), len(X0))
-        ours[(rk + " native", nthreads)] = r
-        add("ours, -O3 -march=native", rk, f"{nthreads} thread(s)", r)
+    for integ, method in ((rk, "rk4"), (rkl, "rk4_lanes")):
+        for nthreads in (1, 2):
+            r = rate(lambda: ours_threads(native, X0, nthreads, method=method, h=H), len(X0))
+            ours[(integ + " native", nthreads)] = r
+            add("ours, -O3 -march=native", integ, f"{nthreads} thread(s)", r)
     # a batch's trajectory is the single call's (the same lanes, one at a time)
-    Xb = model.integrate_batch([0.0, T1], X0[:9], method="rk4", h=H)[0][:, -1]
-    single = np.array([model.integrate([0.0, T1], x, "rk4", h=H)[-1] for x in X0[:9]])
-    print(f"batch against single calls, 9 trajectories over {T1:g} s: largest difference {np.max(np.abs(Xb - single)):.1e}")
+    for method in ("rk4", "rk4_lanes"):
+        Xb = model.integrate_batch([0.0, T1], X0[:9], method=method, h=H)[0][:, -1]
+        single = np.array([model.integrate([0.0, T1], x, method, h=H)[-1] for x in X0[:9]])
+        print(f"{method}: batch against single calls, 9 trajectories over {T1:g} s: largest difference "
+              f"{np.max(np.abs(Xb - single)):.1e}")
     eff = ours[(rk, 2)] / (2 * ours[(rk, 1)])
     eff_d = ours[("DOP853 rtol 1e-8", 2)] / (2 * ours[("DOP853 rtol 1e-8", 1)])
     print(f"\nparallel efficiency on 2 cores (threads): RK4 {eff:.0%}, DOP853 {eff_d:.0%}")
     if mj_rate:
-        print(f"ours RK4 / MuJoCo rollout RK4 at h = {H:g}: 1 thread {ours[(rk, 1)] / mj_rate[1]:.1f}x, "
-              f"both cores {ours[(rk, 2)] / mj_rate[2]:.1f}x; at -O3 -march=native "
-              f"{ours[(rk + ' native', 1)] / mj_rate[1]:.1f}x, {ours[(rk + ' native', 2)] / mj_rate[2]:.1f}x")
+        for integ in (rk, rkl):
+            print(f"ours {integ.split()[0]} / MuJoCo rollout RK4 at h = {H:g}: 1 thread {ours[(integ, 1)] / mj_rate[1]:.1f}x, "
+                  f"both cores {ours[(integ, 2)] / mj_rate[2]:.1f}x; at -O3 -march=native "
+                  f"{ours[(integ + ' native', 1)] / mj_rate[1]:.1f}x, {ours[(integ + ' native', 2)] / mj_rate[2]:.1f}x")
     per = 1.0 / ours[("DOP853 rtol 1e-8", 1)]
     print("a 4000 x 4000 flip map (DOP853 1e-8, 10 s each, final state only), from the one-thread cost and the 2-core efficiency:")
     for cores in (1, 64, 1024):

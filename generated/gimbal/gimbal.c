@@ -10,13 +10,11 @@
 #include <float.h>
 #include <math.h>
 
-/* C99's restrict (the parts' and the lanes' arrays never overlap), which g++ spells __restrict__ */
-#if !defined(__cplusplus)
-#define GIMBAL_RESTRICT_ restrict
-#elif defined(__GNUC__)
-#define GIMBAL_RESTRICT_ __restrict__
+/* C99's restrict (the parts' and the lanes' arrays never overlap), which C++ compilers spell __restrict */
+#if defined(__cplusplus)
+#define GIMBAL_RESTRICT_ __restrict
 #else
-#define GIMBAL_RESTRICT_
+#define GIMBAL_RESTRICT_ restrict
 #endif
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
@@ -559,7 +557,6 @@ int gimbal_pdot(const double *x, const double *u, const gimbal_params *p, double
     }
     return gimbal_all_finite_(pdot, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
 }
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
 #define GIMBAL_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -654,7 +651,6 @@ static void gimbal_sincos1_(const double *GIMBAL_RESTRICT_ a, double *GIMBAL_RES
         c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
     }
 }
-#endif
 
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
@@ -662,7 +658,13 @@ static void gimbal_sincos1_(const double *GIMBAL_RESTRICT_ a, double *GIMBAL_RES
 static void gimbal_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
+    if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
+        for (i = 0; i < count; ++i) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+        return;
+    }
     for (; count >= 8 && i + 4 <= count; i += 4) {
         gimbal_sincos4_(a + i, s + i, c + i);
     }
@@ -678,13 +680,6 @@ static void gimbal_sincos_(const double *a, double *s, double *c, int count)
             c[i] = cos(a[i]);
         }
     }
-#else
-    (void)far;
-    for (i = 0; i < count; ++i) {
-        s[i] = sin(a[i]);
-        c[i] = cos(a[i]);
-    }
-#endif
 }
 
 

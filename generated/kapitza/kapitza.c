@@ -10,13 +10,11 @@
 #include <float.h>
 #include <math.h>
 
-/* C99's restrict (the parts' and the lanes' arrays never overlap), which g++ spells __restrict__ */
-#if !defined(__cplusplus)
-#define KAPITZA_RESTRICT_ restrict
-#elif defined(__GNUC__)
-#define KAPITZA_RESTRICT_ __restrict__
+/* C99's restrict (the parts' and the lanes' arrays never overlap), which C++ compilers spell __restrict */
+#if defined(__cplusplus)
+#define KAPITZA_RESTRICT_ __restrict
 #else
-#define KAPITZA_RESTRICT_
+#define KAPITZA_RESTRICT_ restrict
 #endif
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
@@ -330,7 +328,6 @@ double kapitza_energy(double t, const double *x, const kapitza_params *p)
     }
     return result;
 }
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
 #define KAPITZA_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -425,7 +422,6 @@ static void kapitza_sincos1_(const double *KAPITZA_RESTRICT_ a, double *KAPITZA_
         c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
     }
 }
-#endif
 
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
@@ -433,7 +429,13 @@ static void kapitza_sincos1_(const double *KAPITZA_RESTRICT_ a, double *KAPITZA_
 static void kapitza_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
+    if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
+        for (i = 0; i < count; ++i) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+        return;
+    }
     for (; count >= 8 && i + 4 <= count; i += 4) {
         kapitza_sincos4_(a + i, s + i, c + i);
     }
@@ -449,13 +451,6 @@ static void kapitza_sincos_(const double *a, double *s, double *c, int count)
             c[i] = cos(a[i]);
         }
     }
-#else
-    (void)far;
-    for (i = 0; i < count; ++i) {
-        s[i] = sin(a[i]);
-        c[i] = cos(a[i]);
-    }
-#endif
 }
 
 

@@ -9,13 +9,11 @@
 
 #include <math.h>
 
-/* C99's restrict (the parts' and the lanes' arrays never overlap), which g++ spells __restrict__ */
-#if !defined(__cplusplus)
-#define PANDA_RESTRICT_ restrict
-#elif defined(__GNUC__)
-#define PANDA_RESTRICT_ __restrict__
+/* C99's restrict (the parts' and the lanes' arrays never overlap), which C++ compilers spell __restrict */
+#if defined(__cplusplus)
+#define PANDA_RESTRICT_ __restrict
 #else
-#define PANDA_RESTRICT_
+#define PANDA_RESTRICT_ restrict
 #endif
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */

@@ -10,13 +10,11 @@
 #include <float.h>
 #include <math.h>
 
-/* C99's restrict (the parts' and the lanes' arrays never overlap), which g++ spells __restrict__ */
-#if !defined(__cplusplus)
-#define PLANAR2DOF_RESTRICT_ restrict
-#elif defined(__GNUC__)
-#define PLANAR2DOF_RESTRICT_ __restrict__
+/* C99's restrict (the parts' and the lanes' arrays never overlap), which C++ compilers spell __restrict */
+#if defined(__cplusplus)
+#define PLANAR2DOF_RESTRICT_ __restrict
 #else
-#define PLANAR2DOF_RESTRICT_
+#define PLANAR2DOF_RESTRICT_ restrict
 #endif
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
@@ -738,7 +736,6 @@ int planar2dof_pdot(const double *x, const double *u, const planar2dof_params *p
     }
     return planar2dof_all_finite_(pdot, 2) ? PLANAR2DOF_OK : PLANAR2DOF_NONFINITE;
 }
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
 #define PLANAR2DOF_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -833,7 +830,6 @@ static void planar2dof_sincos1_(const double *PLANAR2DOF_RESTRICT_ a, double *PL
         c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
     }
 }
-#endif
 
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
@@ -841,7 +837,13 @@ static void planar2dof_sincos1_(const double *PLANAR2DOF_RESTRICT_ a, double *PL
 static void planar2dof_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
+    if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
+        for (i = 0; i < count; ++i) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+        return;
+    }
     for (; count >= 8 && i + 4 <= count; i += 4) {
         planar2dof_sincos4_(a + i, s + i, c + i);
     }
@@ -857,13 +859,6 @@ static void planar2dof_sincos_(const double *a, double *s, double *c, int count)
             c[i] = cos(a[i]);
         }
     }
-#else
-    (void)far;
-    for (i = 0; i < count; ++i) {
-        s[i] = sin(a[i]);
-        c[i] = cos(a[i]);
-    }
-#endif
 }
 
 

@@ -10,13 +10,11 @@
 #include <float.h>
 #include <math.h>
 
-/* C99's restrict (the parts' and the lanes' arrays never overlap), which g++ spells __restrict__ */
-#if !defined(__cplusplus)
-#define SPATIAL3_RESTRICT_ restrict
-#elif defined(__GNUC__)
-#define SPATIAL3_RESTRICT_ __restrict__
+/* C99's restrict (the parts' and the lanes' arrays never overlap), which C++ compilers spell __restrict */
+#if defined(__cplusplus)
+#define SPATIAL3_RESTRICT_ __restrict
 #else
-#define SPATIAL3_RESTRICT_
+#define SPATIAL3_RESTRICT_ restrict
 #endif
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
@@ -2153,7 +2151,6 @@ int spatial3_pdot(const double *x, const double *u, const spatial3_params *p, do
     }
     return spatial3_all_finite_(pdot, 3) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
 }
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
 #define SPATIAL3_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -2248,7 +2245,6 @@ static void spatial3_sincos1_(const double *SPATIAL3_RESTRICT_ a, double *SPATIA
         c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
     }
 }
-#endif
 
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
@@ -2256,7 +2252,13 @@ static void spatial3_sincos1_(const double *SPATIAL3_RESTRICT_ a, double *SPATIA
 static void spatial3_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
+    if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
+        for (i = 0; i < count; ++i) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+        return;
+    }
     for (; count >= 8 && i + 4 <= count; i += 4) {
         spatial3_sincos4_(a + i, s + i, c + i);
     }
@@ -2272,13 +2274,6 @@ static void spatial3_sincos_(const double *a, double *s, double *c, int count)
             c[i] = cos(a[i]);
         }
     }
-#else
-    (void)far;
-    for (i = 0; i < count; ++i) {
-        s[i] = sin(a[i]);
-        c[i] = cos(a[i]);
-    }
-#endif
 }
 
 

@@ -10,13 +10,11 @@
 #include <float.h>
 #include <math.h>
 
-/* C99's restrict (the parts' and the lanes' arrays never overlap), which g++ spells __restrict__ */
-#if !defined(__cplusplus)
-#define ZIEGLER_RESTRICT_ restrict
-#elif defined(__GNUC__)
-#define ZIEGLER_RESTRICT_ __restrict__
+/* C99's restrict (the parts' and the lanes' arrays never overlap), which C++ compilers spell __restrict */
+#if defined(__cplusplus)
+#define ZIEGLER_RESTRICT_ __restrict
 #else
-#define ZIEGLER_RESTRICT_
+#define ZIEGLER_RESTRICT_ restrict
 #endif
 
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
@@ -580,7 +578,6 @@ int ziegler_pdot(const double *x, const double *u, const ziegler_params *p, doub
     }
     return ziegler_all_finite_(pdot, 2) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
 }
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
 #define ZIEGLER_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -675,7 +672,6 @@ static void ziegler_sincos1_(const double *ZIEGLER_RESTRICT_ a, double *ZIEGLER_
         c[i] = (q == 1.0 || q == 2.0) ? -cc : cc;
     }
 }
-#endif
 
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
@@ -683,7 +679,13 @@ static void ziegler_sincos1_(const double *ZIEGLER_RESTRICT_ a, double *ZIEGLER_
 static void ziegler_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
+    if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
+        for (i = 0; i < count; ++i) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+        return;
+    }
     for (; count >= 8 && i + 4 <= count; i += 4) {
         ziegler_sincos4_(a + i, s + i, c + i);
     }
@@ -699,13 +701,6 @@ static void ziegler_sincos_(const double *a, double *s, double *c, int count)
             c[i] = cos(a[i]);
         }
     }
-#else
-    (void)far;
-    for (i = 0; i < count; ++i) {
-        s[i] = sin(a[i]);
-        c[i] = cos(a[i]);
-    }
-#endif
 }
 
 

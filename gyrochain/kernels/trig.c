@@ -16,7 +16,6 @@
 #include "model_stub.h"
 #include <float.h>
 /* @kernel */
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
 #define MODEL_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -31,7 +30,6 @@
 #include "sincos.c"
 #undef SYS_W
 #undef sys_sincos_block_
-#endif
 
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
@@ -39,7 +37,13 @@
 static void model_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
+    if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
+        for (i = 0; i < count; ++i) {
+            s[i] = sin(a[i]);
+            c[i] = cos(a[i]);
+        }
+        return;
+    }
     for (; count >= 8 && i + 4 <= count; i += 4) {
         model_sincos4_(a + i, s + i, c + i);
     }
@@ -55,11 +59,4 @@ static void model_sincos_(const double *a, double *s, double *c, int count)
             c[i] = cos(a[i]);
         }
     }
-#else
-    (void)far;
-    for (i = 0; i < count; ++i) {
-        s[i] = sin(a[i]);
-        c[i] = cos(a[i]);
-    }
-#endif
 }
