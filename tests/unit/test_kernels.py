@@ -47,8 +47,8 @@ def test_the_integrators_take_the_models_numbers_and_time():
     for body in (auto, timed):
         assert "MODEL_" not in body and "model_" not in body and "#if " not in body and "#else" not in body
         assert "double x[6], cmp[6], dx[6], F[2][6]" in body
-    assert "static int arm_rk4_step_(const double *x, double h," in auto
-    assert "static int arm_rk4_step_(double t0, const double *x, double h," in timed
+    assert "static inline int arm_rk4_step_(const double *x, double h," in auto
+    assert "static inline int arm_rk4_step_(double t0, const double *x, double h," in timed
     assert "arm_eval_canonical_" in auto and "arm_eval_canonical_" not in timed
     assert "27 ops against GAUSS2's 11." in auto
 
