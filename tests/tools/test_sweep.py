@@ -121,10 +121,11 @@ def test_killed_process_resumes_to_the_same_store(tmp_path):
     try:
         # Each done flag is one file (done/c/<chunk>), so a directory listing every 2 ms sees the
         # second chunk land long before the fortieth: reading the store to ask would be too slow.
+        # A flag's file is listed before its bytes are written: wait for three, so that two are whole.
         flags = cut / "done" / "c"
         deadline = time.monotonic() + 120
         while time.monotonic() < deadline and proc.poll() is None:
-            if flags.is_dir() and len(os.listdir(flags)) >= 2:
+            if flags.is_dir() and len(os.listdir(flags)) >= 3:
                 break
             time.sleep(0.002)
         proc.send_signal(signal.SIGKILL)
