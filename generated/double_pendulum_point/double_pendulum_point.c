@@ -1279,17 +1279,13 @@ static void double_pendulum_point_rk4_lane_(int own, int nt, const double *tt, d
                 }
             }
             for (l = 0; l < 1 && (st || bad); ++l) {
-                int ok = !bad || fail[l] == DOUBLE_PENDULUM_POINT_OK;
                 if (!live[l]) {
                     continue;
                 }
                 if (st) {
                     st[l]->n_rhs += nev[l];
                 }
-                for (i = 0; bad && ok && i < 4; ++i) {
-                    ok = isfinite(k[0][i * 1 + l]);
-                }
-                if (ok) {
+                if (fail[l] == DOUBLE_PENDULUM_POINT_OK && fin[l] == 0.0) {
                     for (i = 0; bad && i < 4; ++i) {
                         x[i * 1 + l] = k[0][i * 1 + l];
                         cmp[i * 1 + l] = y[i * 1 + l];
@@ -1397,17 +1393,13 @@ static void double_pendulum_point_rk4_lanes_(int own, int nt, const double *tt, 
                 }
             }
             for (l = 0; l < 8 && (st || bad); ++l) {
-                int ok = !bad || fail[l] == DOUBLE_PENDULUM_POINT_OK;
                 if (!live[l]) {
                     continue;
                 }
                 if (st) {
                     st[l]->n_rhs += nev[l];
                 }
-                for (i = 0; bad && ok && i < 4; ++i) {
-                    ok = isfinite(k[0][i * 8 + l]);
-                }
-                if (ok) {
+                if (fail[l] == DOUBLE_PENDULUM_POINT_OK && fin[l] == 0.0) {
                     for (i = 0; bad && i < 4; ++i) {
                         x[i * 8 + l] = k[0][i * 8 + l];
                         cmp[i * 8 + l] = y[i * 8 + l];

@@ -1631,17 +1631,13 @@ static void furuta_sym_rk4_lane_(int own, int nt, const double *tt, double h, lo
                 }
             }
             for (l = 0; l < 1 && (st || bad); ++l) {
-                int ok = !bad || fail[l] == FURUTA_SYM_OK;
                 if (!live[l]) {
                     continue;
                 }
                 if (st) {
                     st[l]->n_rhs += nev[l];
                 }
-                for (i = 0; bad && ok && i < 4; ++i) {
-                    ok = isfinite(k[0][i * 1 + l]);
-                }
-                if (ok) {
+                if (fail[l] == FURUTA_SYM_OK && fin[l] == 0.0) {
                     for (i = 0; bad && i < 4; ++i) {
                         x[i * 1 + l] = k[0][i * 1 + l];
                         cmp[i * 1 + l] = y[i * 1 + l];
@@ -1749,17 +1745,13 @@ static void furuta_sym_rk4_lanes_(int own, int nt, const double *tt, double h, l
                 }
             }
             for (l = 0; l < 8 && (st || bad); ++l) {
-                int ok = !bad || fail[l] == FURUTA_SYM_OK;
                 if (!live[l]) {
                     continue;
                 }
                 if (st) {
                     st[l]->n_rhs += nev[l];
                 }
-                for (i = 0; bad && ok && i < 4; ++i) {
-                    ok = isfinite(k[0][i * 8 + l]);
-                }
-                if (ok) {
+                if (fail[l] == FURUTA_SYM_OK && fin[l] == 0.0) {
                     for (i = 0; bad && i < 4; ++i) {
                         x[i * 8 + l] = k[0][i * 8 + l];
                         cmp[i * 8 + l] = y[i * 8 + l];

@@ -989,17 +989,13 @@ static void turntable_rk4_lane_(int own, int nt, const double *tt, double h, lon
                 }
             }
             for (l = 0; l < 1 && (st || bad); ++l) {
-                int ok = !bad || fail[l] == TURNTABLE_OK;
                 if (!live[l]) {
                     continue;
                 }
                 if (st) {
                     st[l]->n_rhs += nev[l];
                 }
-                for (i = 0; bad && ok && i < 2; ++i) {
-                    ok = isfinite(k[0][i * 1 + l]);
-                }
-                if (ok) {
+                if (fail[l] == TURNTABLE_OK && fin[l] == 0.0) {
                     for (i = 0; bad && i < 2; ++i) {
                         x[i * 1 + l] = k[0][i * 1 + l];
                         cmp[i * 1 + l] = y[i * 1 + l];
@@ -1107,17 +1103,13 @@ static void turntable_rk4_lanes_(int own, int nt, const double *tt, double h, lo
                 }
             }
             for (l = 0; l < 8 && (st || bad); ++l) {
-                int ok = !bad || fail[l] == TURNTABLE_OK;
                 if (!live[l]) {
                     continue;
                 }
                 if (st) {
                     st[l]->n_rhs += nev[l];
                 }
-                for (i = 0; bad && ok && i < 2; ++i) {
-                    ok = isfinite(k[0][i * 8 + l]);
-                }
-                if (ok) {
+                if (fail[l] == TURNTABLE_OK && fin[l] == 0.0) {
                     for (i = 0; bad && i < 2; ++i) {
                         x[i * 8 + l] = k[0][i * 8 + l];
                         cmp[i * 8 + l] = y[i * 8 + l];

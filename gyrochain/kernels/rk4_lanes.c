@@ -97,17 +97,13 @@ static void sys_rk4_lanes_(int own, int nt, const double *tt, double h, long max
                 }
             }
             for (l = 0; l < SYS_L && (st || bad); ++l) {
-                int ok = !bad || fail[l] == MODEL_OK;
                 if (!live[l]) {
                     continue;
                 }
                 if (st) {
                     st[l]->n_rhs += nev[l];
                 }
-                for (i = 0; bad && ok && i < MODEL_V_DIM; ++i) {
-                    ok = isfinite(k[0][i * SYS_L + l]);
-                }
-                if (ok) {
+                if (fail[l] == MODEL_OK && fin[l] == 0.0) {
                     for (i = 0; bad && i < MODEL_V_DIM; ++i) {
                         x[i * SYS_L + l] = k[0][i * SYS_L + l];
                         cmp[i * SYS_L + l] = y[i * SYS_L + l];
