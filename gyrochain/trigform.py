@@ -16,6 +16,7 @@ double, and a coefficient that is zero in exact arithmetic is not shown.
 """
 from __future__ import annotations
 
+import functools
 import itertools
 from dataclasses import dataclass
 from fractions import Fraction
@@ -43,13 +44,9 @@ def _split(expr: sp.Expr, phis: list) -> dict:
         index[sp.cos(phi)] = 2 * k
         index[sp.sin(phi)] = 2 * k + 1
     table: dict = {}
-    for term in sp.Add.make_args(sp.expand(expr)):
-        if term == 0:
-            continue
-        coeff, factors = term.as_coeff_mul()
+    for coeff, factors in _expanded(expr):
         number, exps, rest = exact(coeff), [0] * (2 * len(phis)), []
-        for f in factors:
-            base, e = f.as_base_exp()
+        for base, e, f in factors:
             slot = index.get(base)
             const = const_of(base) if isinstance(base, sp.Symbol) else None
             if slot is not None and e.is_Integer and e > 0:
@@ -61,6 +58,91 @@ def _split(expr: sp.Expr, phis: list) -> dict:
         key = (tuple(exps), sp.Mul(*rest))
         table[key] = table.get(key, 0) + number
     return {k: v for k, v in table.items() if v}
+
+
+class _NotPlain(Exception):
+    """A node the plain expansion below does not take: sympy's expand does it."""
+
+
+def _expanded(expr: sp.Expr) -> list:
+    """The terms of expand(expr), each as (rational coefficient, [(base, exponent, factor), …]) the
+    way as_coeff_mul and as_base_exp give them, many times faster than sympy's expand: the
+    polynomial is multiplied out in dicts of exact fractions over its atoms (symbols, and cos and
+    sin of linear arguments).  Anything else (floats, roots, quotients, other functions) goes to sympy."""
+    try:
+        poly = _poly(expr)
+    except _NotPlain:
+        out = []
+        for term in sp.Add.make_args(sp.expand(expr)):
+            if term != 0:
+                coeff, factors = term.as_coeff_mul()
+                out.append((coeff, [(*f.as_base_exp(), f) for f in factors]))
+        return out
+    return [(q.numerator if q.denominator == 1 else q,
+             [(atom, sp.Integer(k), atom if k == 1 else sp.Pow(atom, k)) for atom, k in mono])
+            for mono, q in poly.items()]
+
+
+def _poly(e: sp.Expr) -> dict:
+    """{((atom, integer exponent), … in a fixed order): nonzero Fraction} of e multiplied out."""
+    if e.is_Rational:
+        return {(): Fraction(int(e.p), int(e.q))} if e != 0 else {}
+    if _is_atom(e):
+        return {((e, 1),): Fraction(1)}
+    if e.is_Add:
+        out: dict = {}
+        for a in e.args:
+            for mono, q in _poly(a).items():
+                _add(out, mono, q)
+        return out
+    if e.is_Mul:
+        out = {(): Fraction(1)}
+        for a in e.args:
+            out = _times(out, _poly(a))
+        return out
+    if e.is_Pow and e.exp.is_Integer:
+        if e.exp < 0 and _is_atom(e.base):  # exponents of one atom add, as in sympy's Mul
+            return {((e.base, int(e.exp)),): Fraction(1)}
+        if e.exp > 0:
+            out, base = {(): Fraction(1)}, _poly(e.base)
+            for _ in range(int(e.exp)):
+                out = _times(out, base)
+            return out
+    raise _NotPlain
+
+
+def _is_atom(e: sp.Expr) -> bool:
+    """A symbol, or cos or sin of a sum of a rational and rational multiples of atoms (which
+    sympy's expand leaves as it is)."""
+    return e.is_Symbol or (isinstance(e, (sp.cos, sp.sin)) and all(map(_is_linear_term, sp.Add.make_args(e.args[0]))))
+
+
+def _is_linear_term(a: sp.Expr) -> bool:
+    return a.is_Rational or _is_atom(a) or (a.is_Mul and len(a.args) == 2 and a.args[0].is_Rational and _is_atom(a.args[1]))
+
+
+def _times(a: dict, b: dict) -> dict:
+    out: dict = {}
+    for ma, qa in a.items():
+        for mb, qb in b.items():
+            if not ma or not mb:
+                mono = ma or mb
+            else:
+                exps = dict(ma)
+                for atom, k in mb:
+                    exps[atom] = exps.get(atom, 0) + k
+                mono = tuple(sorted(((x, k) for x, k in exps.items() if k), key=_order))
+            _add(out, mono, qa * qb)
+    return out
+
+
+@functools.lru_cache(maxsize=None)
+def _atom_key(atom: sp.Expr):
+    return sp.default_sort_key(atom)
+
+
+def _order(pair) -> tuple:
+    return _atom_key(pair[0])
 
 
 def exact_power(const, e: int):

@@ -244,6 +244,49 @@ def test_every_form_is_the_same_function_and_the_shortest_is_chosen():
             assert _numeric(can.expr, phis, at) == pytest.approx(_numeric(e, phis, at), rel=1e-12, abs=1e-12)
 
 
+def _nested(rng, atoms, depth: int) -> sp.Expr:
+    """A random unexpanded expression: sums, products and powers (negative ones of atoms) of
+    rationals and ``atoms``."""
+    if depth == 0 or rng.random() < 0.2:
+        return atoms[int(rng.integers(len(atoms)))] if rng.random() < 0.8 else sp.Rational(int(rng.integers(-5, 6)), 3)
+    kind = rng.integers(4)
+    parts = [_nested(rng, atoms, depth - 1) for _ in range(int(rng.integers(2, 4)))]
+    if kind == 0:
+        return sp.Add(*parts)
+    if kind == 1:
+        return sp.Mul(*parts)
+    if kind == 2:
+        return sp.Add(*parts) ** 2
+    return sp.Mul(atoms[int(rng.integers(len(atoms)))] ** -int(rng.integers(1, 3)), sp.Add(*parts))
+
+
+def test_the_plain_expansion_is_sympys():
+    """trigform's own multiplication gives the terms of sympy's expand, term for term, on nested
+    expressions in the atoms it takes (symbols, a structural constant, cos and sin of angles and of
+    nested linear arguments, negative powers), and hands what it does not take to sympy."""
+    t, w, m = sp.symbols("t w m")
+    kappa = exact.to_sympy(exact.exact(sp.sqrt(2)), symbolic=True)
+    atoms = [w, m, kappa, sp.cos(PHI[0]), sp.sin(PHI[0]), sp.cos(PHI[1]), sp.sin(PHI[1]),
+             sp.sin(PHI[1] - sp.Rational(7, 5)), sp.cos(sp.Rational(3, 7) * t + sp.Rational(1, 3) * sp.sin(2 * t))]
+
+    def sympys(e):  # each term as (coefficient, factors' product), the factors' order aside
+        return sorted(((sp.sympify(c), sp.Mul(*(f for *_, f in fs))) for c, fs in trigform._expanded(e)), key=str)
+
+    def reference(e):
+        terms = (term.as_coeff_mul() for term in sp.Add.make_args(sp.expand(e)) if term != 0)
+        return sorted(((c, sp.Mul(*fs)) for c, fs in terms), key=str)
+
+    rng = np.random.default_rng(11)
+    for _ in range(40):
+        e = _nested(rng, atoms, 3)
+        assert trigform._poly(e) is not None  # taken, not handed on
+        assert sympys(e) == reference(e), e
+    for e in (sp.sqrt(w) * (w + 1) ** 2, sp.Float(0.1) * w * (w + m), sp.exp(w) ** 2 * (m + 1), (w + m) ** -1 * w):
+        with pytest.raises(trigform._NotPlain):
+            trigform._poly(e)
+        assert sympys(e) == reference(e), e
+
+
 def test_forms_are_canonical():
     """Two writings of the same function give the same printed form."""
     c, s = sp.cos(PHI[1]), sp.sin(PHI[1])
