@@ -219,7 +219,7 @@ def _sanitized_driver(folder, spec, params, tmp_path):
                 f"          if (rc < 0 || rc > 7) bad |= 64; }}")
     (tmp_path / "driver.c").write_text(DRIVER.format(name=name, NAME=name.upper(), init=init, momentum=mom, quad=quad, T=T))
     exe = tmp_path / "driver"
-    res = _run(["gcc", "-std=c99", "-g", "-O1", "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
+    res = _run(["gcc", "-std=c99", "-g1", "-O1", "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
                 "-fno-omit-frame-pointer", *STRICT, "-I", str(folder), str(tmp_path / "driver.c"),
                 str(folder / f"{name}.c"), "-lm", "-o", str(exe)])
     assert res.returncode == 0, res.stderr
