@@ -136,6 +136,50 @@ def _times(a: dict, b: dict) -> dict:
     return out
 
 
+def diff(expr: sp.Expr, sym: sp.Symbol) -> sp.Expr:
+    """∂expr/∂sym, expanded (the same function as sympy's diff, and the same canonical forms), from
+    the polynomial of _poly: each atom differentiated where it stands.  sympy's diff where that
+    does not take expr or an atom's argument depends on sym through another function."""
+    try:
+        poly = _poly_of(expr)
+        out: dict = {}
+        for mono, q in poly.items():
+            for i, (atom, k) in enumerate(mono):
+                da = _atom_diff(atom, sym)
+                if not da:
+                    continue
+                rest = mono[:i] + (((atom, k - 1),) if k != 1 else ()) + mono[i + 1:]
+                for m, r in _times({rest: q * k}, da).items():
+                    _add(out, m, r)
+    except _NotPlain:
+        return sp.expand(sp.diff(expr, sym))
+    return sp.Add(*(sp.Mul(sp.Rational(q.numerator, q.denominator), *(a ** k for a, k in mono)) for mono, q in out.items()))
+
+
+@functools.lru_cache(maxsize=8)
+def _poly_of(expr: sp.Expr) -> dict:
+    """_poly(expr), kept for the next derivative of the same expression (read, never changed)."""
+    return _poly(expr)
+
+
+def _atom_diff(atom: sp.Expr, sym: sp.Symbol) -> dict:
+    """∂atom/∂sym as a polynomial ({} where it is 0)."""
+    if atom.is_Symbol:
+        return {(): Fraction(1)} if atom == sym else {}
+    slope = Fraction(0)  # ∂(argument)/∂sym: the argument is linear in atoms (_is_atom)
+    for a in sp.Add.make_args(atom.args[0]):
+        r, b = (a.args[0], a.args[1]) if a.is_Mul else (sp.Integer(1), a)
+        if b == sym:
+            slope += Fraction(int(r.p), int(r.q))
+        elif not b.is_Rational and not b.is_Symbol and sym in b.free_symbols:
+            raise _NotPlain  # a function of sym inside the argument: sympy's chain rule
+    if not slope:
+        return {}
+    other = _poly(sp.sin(atom.args[0]) if isinstance(atom, sp.cos) else sp.cos(atom.args[0]))
+    sign = -1 if isinstance(atom, sp.cos) else 1
+    return {m: sign * slope * r for m, r in other.items()}
+
+
 @functools.lru_cache(maxsize=None)
 def _atom_key(atom: sp.Expr):
     return sp.default_sort_key(atom)

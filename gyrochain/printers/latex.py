@@ -283,7 +283,7 @@ def _derivative_tex(model: Model, stages, doc: Doc, printed_terms: int | None) -
         for j in range(1, n + 1):
             for i in range(n):
                 lhs = rf"\frac{{\partial R_{{{i + 1}}}}}{{\partial {tex}^{{{j}}}}}"
-                can = doc.canonical(sp.diff(R[i], syms[j]))
+                can = doc.canonical(trigform.diff(R[i], syms[j]))
                 entries.append((lhs, can))
                 terms += can.terms
                 if terms > DERIVATIVE_TEX_MAX_TERMS:  # too long to print: the rest need not be reduced

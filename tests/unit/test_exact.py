@@ -287,6 +287,24 @@ def test_the_plain_expansion_is_sympys():
         assert sympys(e) == reference(e), e
 
 
+def test_the_plain_derivative_is_sympys():
+    """trigform.diff (the LaTeX's ∂R/∂x) is sympy's diff, expanded: the same terms, on nested
+    expressions of joint angles, rates, a structural constant and functions of time whose arguments
+    hold the angle (shifted, scaled) or hold time inside a sine (sympy's chain rule then)."""
+    t, w = sp.symbols("t w")
+    kappa = exact.to_sympy(exact.exact(sp.sqrt(2)), symbolic=True)
+    atoms = [w, kappa, PHI[0], sp.cos(PHI[0]), sp.sin(PHI[0]), sp.cos(PHI[1]), sp.sin(PHI[1]),
+             sp.sin(PHI[1] - sp.Rational(7, 5)), sp.cos(sp.Rational(-3, 2) * PHI[0] + PHI[1]),
+             sp.cos(sp.Rational(3, 7) * t + sp.Rational(1, 3) * sp.sin(2 * t))]
+    rng = np.random.default_rng(12)
+    for _ in range(10):
+        e = _nested(rng, atoms, 3)
+        for x in (PHI[0], PHI[1], w, t):
+            got = trigform.diff(e, x)
+            assert sp.expand(got - sp.diff(e, x)) == 0, (e, x)
+            assert set(sp.Add.make_args(got)) == set(sp.Add.make_args(sp.expand(sp.diff(e, x)))), (e, x)
+
+
 def test_forms_are_canonical():
     """Two writings of the same function give the same printed form."""
     c, s = sp.cos(PHI[1]), sp.sin(PHI[1])
