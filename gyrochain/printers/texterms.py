@@ -20,6 +20,7 @@ with the names of the document's notation table.
 """
 from __future__ import annotations
 
+import functools
 from fractions import Fraction
 
 import sympy as sp
@@ -79,6 +80,12 @@ def _decimal(q: Fraction) -> str:
     return text[:-digits] + "." + text[-digits:]
 
 
+@functools.lru_cache(maxsize=4096)
+def _text(base: sp.Expr) -> str:
+    """sympy's text of a factor (its sort key among functions of time and angles), printed once."""
+    return str(base)
+
+
 class TexWriter:
     """Prints sympy expressions of the LaTeX target in the grammar above.
 
@@ -101,8 +108,8 @@ class TexWriter:
             return (group, (index,), 0, base.name)
         if isinstance(base, (sp.cos, sp.sin)) and base.free_symbols & set(self.angles):
             ks = sorted(self.angles[s] for s in base.args[0].free_symbols if s in self.angles)
-            return (self.ANGLE, tuple(ks), 0 if isinstance(base, sp.cos) else 1, str(base))
-        return (self.TIME, (0,), 1, str(base))
+            return (self.ANGLE, tuple(ks), 0 if isinstance(base, sp.cos) else 1, _text(base))
+        return (self.TIME, (0,), 1, _text(base))
 
     def _angle_of(self, arg) -> str | None:
         """\\varphi^{k} when the argument is a joint angle itself."""
