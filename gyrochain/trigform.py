@@ -162,8 +162,10 @@ def _poly_of(expr: sp.Expr) -> dict:
     return _poly(expr)
 
 
+@functools.lru_cache(maxsize=256)
 def _atom_diff(atom: sp.Expr, sym: sp.Symbol) -> dict:
-    """∂atom/∂sym as a polynomial ({} where it is 0)."""
+    """∂atom/∂sym as a polynomial ({} where it is 0); kept, as every monomial holding the atom asks
+    for it again (read, never changed)."""
     if atom.is_Symbol:
         return {(): Fraction(1)} if atom == sym else {}
     slope = Fraction(0)  # ∂(argument)/∂sym: the argument is linear in atoms (_is_atom)
