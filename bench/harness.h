@@ -70,6 +70,9 @@ done:
     }
     budget = bench_now() - t0;
     sweeps = (long)(0.02 / (budget > 1e-9 ? budget : 1e-9)) + 1;
+    if (getenv("BENCH_SWEEPS") != NULL) { /* a fixed count: instructions per call under callgrind */
+        sweeps = atol(getenv("BENCH_SWEEPS"));
+    }
     for (r = 0; r < BENCH_REPEATS; ++r) {
         t0 = bench_now();
         for (i = 0; i < sweeps; ++i) {

@@ -19,7 +19,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "bench"))
 sys.path.insert(0, str(ROOT))
-from speed import CFLAGS, PIN_DEFINES, _pin_prefix, run  # noqa: E402
+from speed import CFLAGS, _pin_prefix, pin_defines, run  # noqa: E402
 
 from gyrochain import exchange, pipeline  # noqa: E402
 from gyrochain.assemble import op_counts  # noqa: E402
@@ -52,7 +52,7 @@ def build_pinocchio(d: Path) -> Path | None:
     exe, lib = d / "pinocchio_urdf", pre / "lib"
     # Pinocchio's URDF parser includes urdfdom's headers (the bench extra installs cmeel-urdfdom-headers)
     # -DNDEBUG: Eigen's and Pinocchio's run-time checks off, as in the library the Python binding calls
-    subprocess.run(["g++", *CFLAGS, "-DNDEBUG", "-std=c++17", "-w", *PIN_DEFINES, f"-I{pre / 'include'}", f"-I{pre / 'include' / 'urdfdom_headers'}",
+    subprocess.run(["g++", *CFLAGS, "-DNDEBUG", "-std=c++17", "-w", *pin_defines(CFLAGS), f"-I{pre / 'include'}", f"-I{pre / 'include' / 'urdfdom_headers'}",
                     f"-I{pre / 'include' / 'urdfdom'}", "-I/usr/include/eigen3",
                     f"-I{ROOT / 'bench'}", str(ROOT / "bench" / "pinocchio_urdf.cpp"), f"-L{lib}", "-lpinocchio_parsers",
                     "-lpinocchio_default", f"-Wl,-rpath,{lib}", "-o", str(exe)], check=True)

@@ -5,7 +5,8 @@ computeABADerivatives, on the same random spatial gyrostat chains, in one run; g
 time, C size, peak memory and op counts against n, with their log-log slopes; the op count of
 reduced scenes (planar, no rotors, zero offsets).
 
-Every implementation's φ̈ is checked against gyrochain.reference before it is timed.  Peers that
+Every implementation's φ̈ is checked against gyrochain.reference before it is timed; the programs
+of one n are then timed in turn, ROUNDS times, each figure the least of its rounds' medians.  Peers that
 are not installed (pip install '.[bench]', apt libeigen3-dev) are reported as missing.
 Results: bench/results/speed.csv, generation.csv, scenes.csv and the PNG charts.
 """
@@ -39,6 +40,9 @@ RESULTS = ROOT / "bench" / "results"
 # the same for every C and C++ program of the comparison; BENCH_CFLAGS="-O3 -march=native" for the issue's figures
 CFLAGS = os.environ.get("BENCH_CFLAGS", "-O2").split()
 K_STATES = 64
+HARNESS_REPEATS = 21  # BENCH_REPEATS of harness.h
+COUNT_INSTRUCTIONS = False  # --instructions: also callgrind's instructions per call of every program
+ROUNDS = 3  # each program's timing, taken in turn with the others of the same n (more_rounds)
 TOL = 1e-8  # relative agreement with the reference model required before timing
 
 
@@ -192,8 +196,18 @@ def _pin_prefix() -> Path | None:
 # what pinocchio's CMake config gives its users (boost::variant of 25 joint types)
 PIN_DEFINES = [
     "-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30", "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS",
-    "-DBOOST_FUSION_INVOKE_MAX_ARITY=12", "-DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION",
+    "-DBOOST_FUSION_INVOKE_MAX_ARITY=12",
 ]
+
+
+def pin_defines(flags: list[str]) -> list[str]:
+    """With flags that change the vector unit (-march=native, -mavx2 ...), Eigen's alignment in our
+    program differs from the prebuilt library's: its explicitly instantiated ABA then sees a Data
+    of another layout and aborts (model.check(data) fails).  So the algorithms are compiled from
+    the headers with the program's own flags there (slower to build, and Pinocchio gets the same
+    vectors as every other program); with plain -O2/-O3 the library's instances are used."""
+    same_abi = not any(f.startswith("-m") for f in flags)
+    return PIN_DEFINES + (["-DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION"] if same_abi else [])
 
 
 def build_pinocchio(ch, n: int, d: Path, program: str = "pinocchio") -> Path | None:
@@ -211,7 +225,7 @@ def build_pinocchio(ch, n: int, d: Path, program: str = "pinocchio") -> Path | N
     if not exe.exists() or exe.stat().st_mtime < newest:
         lib = pre / "lib"
         subprocess.run(
-            ["g++", *CFLAGS, "-std=c++17", "-w", *PIN_DEFINES, f"-I{pre / 'include'}", "-I/usr/include/eigen3",
+            ["g++", *CFLAGS, "-std=c++17", "-w", *pin_defines(CFLAGS), f"-I{pre / 'include'}", "-I/usr/include/eigen3",
              f"-I{ROOT / 'bench'}", str(src), f"-L{lib}", "-lpinocchio_default", f"-Wl,-rpath,{lib}", "-o", str(exe)],
             check=True,
         )
@@ -267,6 +281,7 @@ def speed(ns: list[int]) -> list[dict]:
         if err > TOL:
             raise SystemExit(f"n = {n}: generated C disagrees with the reference model ({err:.2e})")
         row["ours_ns"], row["ours_err"] = med, err
+        timed = {"ours_ns": exe}  # what is timed again in the later rounds (checked programs only)
         # MuJoCo has no rotor momentum: its chain is the same without λ, checked against that
         ch0 = dataclasses.replace(ch, lam=np.zeros_like(ch.lam))
         ref0 = np.array([reference.qdd(ch0, x) for x in xs])
@@ -287,28 +302,75 @@ def speed(ns: list[int]) -> list[dict]:
             err = check(qdd, r)
             row[f"{peer}_err"] = err
             row[f"{peer}_ns"] = med if err <= TOL else None
+            if err <= TOL:
+                timed[f"{peer}_ns"] = exe
             if err > TOL:
                 print(f"  {peer} n = {n}: disagrees with the reference ({err:.2e}); not timed", file=sys.stderr)
+        jacobian(ch, ch0, n, d, xs, row, timed)
+        more_rounds(timed, xs, d, row)
+        if COUNT_INSTRUCTIONS:
+            for key, exe in timed.items():
+                row[key.replace("_ns", "_instructions")] = instructions(exe, xs, d)
+            print(_instructions_line(row), flush=True)
         best = min((row[f"{p}_ns"] for p in PEERS if row[f"{p}_ns"]), default=None)
         row["best_peer_over_ours"] = best / row["ours_ns"] if best else None
-        jacobian(ch, ch0, n, d, xs, row)
+        row["pinocchio_jac_over_ours"] = row["pinocchio_jac_ns"] / row["ours_jac_ns"] if row["pinocchio_jac_ns"] else None
         rows.append(row)
         print(_speed_line(row), flush=True)
     return rows
 
 
-def jacobian(ch, ch0, n: int, d: Path, xs: np.ndarray, row: dict) -> None:
+def more_rounds(timed: dict, xs: np.ndarray, d: Path, row: dict) -> None:
+    """ROUNDS − 1 more timings of every program of one n, taken in turn (ours, the peers, ours
+    again ...), each figure the least of its rounds' medians: a slow spell of this shared host
+    (one run of the same binary took 7× its usual time) then spoils one round, not the ratio."""
+    for _ in range(ROUNDS - 1):
+        for key, exe in timed.items():
+            row[key] = min(row[key], run(exe, xs, d)[1])
+
+
+def instructions(exe: Path, xs: np.ndarray, d: Path) -> float:
+    """Instructions per call, counted by callgrind: the same on a quiet and a busy host, where the
+    times are not.  The program runs with a fixed number of timed sweeps (BENCH_SWEEPS, harness.h),
+    once with none and once with one; the difference is K × BENCH_REPEATS calls, libm's included."""
+    inp = "\n".join(" ".join(repr(float(v)) for v in row) for row in xs)
+    totals = []
+    for sweeps in (0, 1):
+        out = (d / f"callgrind.{exe.name}.{sweeps}").resolve()
+        env = dict(os.environ, BENCH_CHAIN=str(d / "pinocchio_chain.txt"), BENCH_SWEEPS=str(sweeps))
+        subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(exe)], input=inp,
+                       capture_output=True, text=True, check=True, cwd=d, env=env)
+        totals.append(int(re.search(r"^(?:summary|totals):\s*(\d+)", out.read_text(), re.M).group(1)))
+    return (totals[1] - totals[0]) / (len(xs) * HARNESS_REPEATS)
+
+
+def _instructions_line(row: dict) -> str:
+    keys = [k for k in row if k.endswith("_instructions")]
+    ours = row.get("ours_instructions")
+    peers = [k for k in keys if k != "ours_instructions" and not k.endswith("jac_instructions")]
+    best = min((row[k] for k in peers), default=None)
+    jac = (f"  | Jacobian ours {row['ours_jac_instructions']:,.0f}"
+           + (f", Pinocchio {row['pinocchio_jac_instructions']:,.0f}" if "pinocchio_jac_instructions" in row else "")
+           if "ours_jac_instructions" in row else "")
+    return (f"n={row['n']:>3}  instructions per call: ours {ours:,.0f}  "
+            + "  ".join(f"{k.removesuffix('_instructions')} {row[k]:,.0f}" for k in peers)
+            + (f"  fewest of a peer / ours {best / ours:.2f}" if best else "") + jac)
+
+
+def jacobian(ch, ch0, n: int, d: Path, xs: np.ndarray, row: dict, timed: dict) -> None:
     """ns per ∂φ̈/∂(φ, φ̇): ours (NAME_qdd_derivatives) and Pinocchio's computeABADerivatives
     (on the chain without rotors, which it cannot take), each checked first against Richardson
     differences of the reference model (bench/derivatives.py has the other peers)."""
     import derivatives as dv
 
     ref = [dv.ref_jacobian(ch, x) for x in xs[:dv.N_CHECK]]
-    J, med, _ = run(dv.build_ours(n, d), xs, d)
+    exe = dv.build_ours(n, d)
+    J, med, _ = run(exe, xs, d)
     err = dv.err(J[:dv.N_CHECK], ref)
     if err > dv.TOL:
         raise SystemExit(f"n = {n}: our derivatives disagree with the reference ({err:.2e})")
     row["ours_jac_ns"] = med
+    timed["ours_jac_ns"] = exe
     row["pinocchio_jac_ns"] = None
     try:
         exe = build_pinocchio(ch0, n, d, "pinocchio_derivatives")
@@ -319,9 +381,10 @@ def jacobian(ch, ch0, n: int, d: Path, xs: np.ndarray, row: dict) -> None:
         J, med, _ = run(exe, xs, d)
         err = dv.err(J[:dv.N_CHECK], [dv.ref_jacobian(ch0, x) for x in xs[:dv.N_CHECK]])
         row["pinocchio_jac_ns"] = med if err <= dv.TOL else None
+        if err <= dv.TOL:
+            timed["pinocchio_jac_ns"] = exe
         if err > dv.TOL:
             print(f"  pinocchio derivatives n = {n}: disagree with the reference ({err:.2e}); not timed", file=sys.stderr)
-    row["pinocchio_jac_over_ours"] = row["pinocchio_jac_ns"] / row["ours_jac_ns"] if row["pinocchio_jac_ns"] else None
 
 
 SLOPE_MIN_N = 16  # the slopes are fitted from here on: below it the fixed costs dominate
@@ -461,7 +524,11 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, nargs="*", default=[2, 4, 8, 16, 32, 64, 128])
     ap.add_argument("--symbolic", type=int, nargs="*", default=[1, 2, 3, 4, 5, 6])
+    ap.add_argument("--instructions", action="store_true",
+                    help="also count each program's instructions per call with callgrind (deterministic; slow)")
     args = ap.parse_args()
+    global COUNT_INSTRUCTIONS
+    COUNT_INSTRUCTIONS = args.instructions and shutil.which("valgrind") is not None
     BUILD.mkdir(parents=True, exist_ok=True)
     RESULTS.mkdir(parents=True, exist_ok=True)
     print(f"machine: {os.cpu_count()} cores, {_cpu()}; flags {' '.join(CFLAGS)} for every compiled peer", flush=True)
