@@ -101,7 +101,7 @@ bench: $(VENV)/.plot-installed
 	$(VPY) bench/variational.py
 
 bench-speed: bench-setup
-	$(VPY) bench/speed.py
+	$(VPY) bench/speed.py --instructions
 	$(VPY) bench/derivatives.py
 	$(VPY) bench/robots.py
 	$(VPY) bench/releases.py

@@ -529,6 +529,8 @@ def main() -> int:
     args = ap.parse_args()
     global COUNT_INSTRUCTIONS
     COUNT_INSTRUCTIONS = args.instructions and shutil.which("valgrind") is not None
+    if args.instructions and not COUNT_INSTRUCTIONS:
+        print("no valgrind: the instructions per call are not counted (apt-get install valgrind)", flush=True)
     BUILD.mkdir(parents=True, exist_ok=True)
     RESULTS.mkdir(parents=True, exist_ok=True)
     print(f"machine: {os.cpu_count()} cores, {_cpu()}; flags {' '.join(CFLAGS)} for every compiled peer", flush=True)
