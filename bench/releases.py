@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -35,6 +36,7 @@ RESULTS = ROOT / "bench" / "results"
 PREVIOUS = "b3877bb"
 FLAGS = {"-O2": ["-O2"], "-O3 -march=native": ["-O3", "-march=native"]}
 K = 32  # states per timing
+COUNT = False  # --instructions
 
 EMIT = r'''
 import importlib, sys
@@ -57,6 +59,7 @@ PROGRAM = r'''#define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
+#include <stdlib.h>
 #define N {n}
 #define K {k}
 #define R 15
@@ -88,7 +91,7 @@ int main(void)
         {name}_integrate({NAME}_RK4, 0.0, 1e-3, 1e-3, 0.0, 0.0, X[k], 0, 0, x1, 0); for (i = 0; i < 2 * N; ++i) printf("%.17g ", x1[i]);
         printf("\n");
     }}
-    reps = N >= 64 ? 1 : N >= 16 ? 4 : 40;
+    reps = getenv("RELEASES_COUNT") != NULL ? 1 : N >= 64 ? 1 : N >= 16 ? 4 : 40; /* callgrind: fewest */
     TIME("mass_matrix", {name}_mass_matrix(X[k_], 0, M), reps);
     TIME("forces", {name}_forces(X[k_], 0, 0, f), reps);
     TIME("qdd", {name}_qdd(X[k_], 0, 0, f), reps);
@@ -126,11 +129,23 @@ def emit(src: Path, n: int, out: Path) -> None:
     subprocess.run([sys.executable, "-c", EMIT, str(spec), str(out)], cwd=src, env=env, check=True)
 
 
-def program(out: Path, n: int, flags: list[str]) -> Path:
+def program(out: Path, n: int, flags: list[str], apart: bool = False) -> Path:
+    """The timing program, the model's C included in it (one translation unit, as timed); with
+    ``apart``, the model compiled on its own and linked, as a user's program links it: every public
+    function is then a call of its own, which callgrind can count (gcc -O3 inlines some into the
+    program otherwise)."""
     name = f"chain{n}"
-    (out / "time_all.c").write_text(PROGRAM.format(name=name, NAME=name.upper(), n=n, k=K))
-    exe = out / ("time_all" + "".join(flags).replace("=", ""))
-    subprocess.run(["gcc", "-std=c99", *flags, f"-I{out}", str(out / "time_all.c"), "-lm", "-o", str(exe)], check=True)
+    text = PROGRAM.format(name=name, NAME=name.upper(), n=n, k=K)
+    tag = "".join(flags).replace("=", "")
+    if not apart:
+        (out / "time_all.c").write_text(text)
+        exe = out / ("time_all" + tag)
+        subprocess.run(["gcc", "-std=c99", *flags, f"-I{out}", str(out / "time_all.c"), "-lm", "-o", str(exe)], check=True)
+        return exe
+    (out / "count_all.c").write_text(text.replace(f'#include "{name}.c"', f'#include "{name}.h"'))
+    obj, exe = out / f"{name}{tag}.o", out / ("count_all" + tag)
+    subprocess.run(["gcc", "-std=c99", *flags, "-c", str(out / f"{name}.c"), "-o", str(obj)], check=True)
+    subprocess.run(["gcc", "-std=c99", *flags, f"-I{out}", str(out / "count_all.c"), str(obj), "-lm", "-o", str(exe)], check=True)
     return exe
 
 
@@ -141,12 +156,46 @@ def run(exe: Path, states: str) -> tuple[np.ndarray, dict]:
     return outs, times
 
 
+# each timed label and the public function it calls
+CALLS = {"mass_matrix": "mass_matrix", "forces": "forces", "qdd": "qdd", "energy": "energy", "qdd_derivatives": "qdd_derivatives",
+         "momenta": "momenta", "velocities": "velocities", "pdot": "pdot", "rk4_step": "integrate"}
+
+
+def instructions(exe: Path, states: str, name: str) -> dict:
+    """Instructions per call of every timed function, counted by callgrind (the same on a busy host
+    as on a quiet one, where the times are not): its inclusive count over its calls, from every
+    call site of the program (the model linked apart: program(apart=True)).  Each is called through
+    its public name; RK4's step is NAME_integrate's."""
+    out = exe.with_name(exe.name + ".callgrind")
+    subprocess.run(["valgrind", "--tool=callgrind", "--compress-strings=no", "--compress-pos=no", f"--callgrind-out-file={out}",
+                    str(exe)], input=states, capture_output=True, text=True, check=True, env=dict(os.environ, RELEASES_COUNT="1"))
+    calls: dict = {}
+    cost: dict = {}
+    target, pending = None, None
+    for line in out.read_text().splitlines():
+        if line.startswith("cfn="):
+            target = line[4:].split(".")[0].split("'")[0]  # a clone (.constprop.0) is the function
+        elif line.startswith("calls="):
+            pending = int(line[6:].split()[0])
+        elif pending is not None:
+            calls[target] = calls.get(target, 0) + pending
+            cost[target] = cost.get(target, 0) + int(line.split()[1])
+            pending = None
+    return {label: cost[f"{name}_{fn}"] / calls[f"{name}_{fn}"] for label, fn in CALLS.items() if calls.get(f"{name}_{fn}")}
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--previous", default=PREVIOUS, help=f"the previous release's commit (default {PREVIOUS})")
     ap.add_argument("--n", type=int, nargs="+", default=[2, 4, 8, 16, 32, 64, 128])
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--instructions", action="store_true",
+                    help="also count every function's instructions per call with callgrind (deterministic)")
     args = ap.parse_args()
+    global COUNT
+    COUNT = args.instructions and shutil.which("valgrind") is not None
+    if args.instructions and not COUNT:
+        print("no valgrind: the instructions per call are not counted (apt-get install valgrind)", flush=True)
     prev = source_of(args.previous)
     rng = np.random.default_rng(7)
     rows = []
@@ -165,15 +214,23 @@ def main() -> int:
                     outs[who], times = run(exe, states)
                     for fn, t in times.items():
                         best[who][fn] = min(best[who].get(fn, np.inf), t)
+            counted = {who: instructions(program(d, n, flags, apart=True), states, f"chain{n}") for who, d in dirs.items()} if COUNT else None
             a, b = outs["previous"], outs["this"]
             diff = float(np.max(np.abs(a - b) / (1.0 + np.abs(a)))) if a.shape == b.shape else float("nan")
             print(f"n = {n:3d}, {label}: outputs differ by {diff:.1e} (relative)")
             for fn in best["this"]:
                 p, t = best["previous"].get(fn, np.nan), best["this"][fn]
-                rows.append(dict(n=n, flags=label, function=fn, previous_ns=round(p, 1), this_ns=round(t, 1),
-                                 previous_over_this=round(p / t, 3), outputs_differ=f"{diff:.1e}"))
+                row = dict(n=n, flags=label, function=fn, previous_ns=round(p, 1), this_ns=round(t, 1),
+                           previous_over_this=round(p / t, 3), outputs_differ=f"{diff:.1e}")
                 flag = "  <- slower" if p / t < 0.95 else ""
-                print(f"    {fn:16s} previous {p:12.1f}  this {t:12.1f}  previous/this {p / t:5.2f}{flag}")
+                line = f"    {fn:16s} previous {p:12.1f}  this {t:12.1f}  previous/this {p / t:5.2f}{flag}"
+                if counted is not None:
+                    ip, it = counted["previous"].get(fn, np.nan), counted["this"].get(fn, np.nan)
+                    row.update(previous_instructions=round(ip, 1), this_instructions=round(it, 1),
+                               previous_over_this_instructions=round(ip / it, 3))
+                    line += f"  | instructions {ip:12,.0f} {it:12,.0f}  previous/this {ip / it:5.2f}" + ("  <- more" if ip / it < 0.995 else "")
+                rows.append(row)
+                print(line)
     RESULTS.mkdir(parents=True, exist_ok=True)
     write_csv(RESULTS / "releases.csv", rows)
     print(f"wrote {RESULTS / 'releases.csv'}")

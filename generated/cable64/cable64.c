@@ -26670,8 +26670,10 @@ static int cable64_fixed_(int method, int nt, const double *tt, double h, long m
 }
 
 /* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
- * and the others NaN, *max_steps the budget.  CABLE64_OK when the integration can start. */
-static int cable64_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ * and the others NaN, *max_steps the budget.  CABLE64_OK when the integration can start.  inline:
+ * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
+ * than before it was split off (bench/releases.py --instructions). */
+static inline int cable64_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const cable64_params *p, double *X,
                                   cable64_integrate_stats *st)
 {
@@ -26719,9 +26721,10 @@ static int cable64_grid_start_(int method, int nt, const double *t, double h, do
     return CABLE64_OK;
 }
 
-int cable64_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const cable64_params *p,
-                              double *X, cable64_integrate_stats *stats)
+/* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
+static inline int cable64_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                   long max_steps, const double *x0, const double *u, const cable64_params *p,
+                                   double *X, cable64_integrate_stats *stats)
 {
     cable64_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     cable64_integrate_stats *st = stats ? stats : &local;
@@ -26733,6 +26736,13 @@ int cable64_integrate_grid(int method, int nt, const double *t, double h, double
         return cable64_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
     }
     return cable64_fixed_(method == CABLE64_RK4_LANES ? CABLE64_RK4 : method, nt, t, h, max_steps, u, p, X, st);
+}
+
+int cable64_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const cable64_params *p,
+                              double *X, cable64_integrate_stats *stats)
+{
+    return cable64_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
 int cable64_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
@@ -26760,7 +26770,7 @@ int cable64_integrate(int method, double t0, double t1, double h, double rtol, d
     int code;
     tt[0] = t0;
     tt[1] = t1;
-    code = cable64_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    code = cable64_grid_(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
     if (x1) {
         cable64_copy_(x1, code == 0 ? X + 128 : st.x);
     }

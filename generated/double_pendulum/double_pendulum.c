@@ -1831,8 +1831,10 @@ static int double_pendulum_fixed_(int method, int nt, const double *tt, double h
 }
 
 /* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
- * and the others NaN, *max_steps the budget.  DOUBLE_PENDULUM_OK when the integration can start. */
-static int double_pendulum_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ * and the others NaN, *max_steps the budget.  DOUBLE_PENDULUM_OK when the integration can start.  inline:
+ * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
+ * than before it was split off (bench/releases.py --instructions). */
+static inline int double_pendulum_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const double_pendulum_params *p, double *X,
                                   double_pendulum_integrate_stats *st)
 {
@@ -1880,9 +1882,10 @@ static int double_pendulum_grid_start_(int method, int nt, const double *t, doub
     return DOUBLE_PENDULUM_OK;
 }
 
-int double_pendulum_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const double_pendulum_params *p,
-                              double *X, double_pendulum_integrate_stats *stats)
+/* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
+static inline int double_pendulum_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                   long max_steps, const double *x0, const double *u, const double_pendulum_params *p,
+                                   double *X, double_pendulum_integrate_stats *stats)
 {
     double_pendulum_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     double_pendulum_integrate_stats *st = stats ? stats : &local;
@@ -1902,6 +1905,13 @@ int double_pendulum_integrate_grid(int method, int nt, const double *t, double h
         return code;
     }
     return double_pendulum_fixed_(method == DOUBLE_PENDULUM_RK4_LANES ? DOUBLE_PENDULUM_RK4 : method, nt, t, h, max_steps, u, p, X, st);
+}
+
+int double_pendulum_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const double_pendulum_params *p,
+                              double *X, double_pendulum_integrate_stats *stats)
+{
+    return double_pendulum_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
@@ -1974,7 +1984,7 @@ int double_pendulum_integrate(int method, double t0, double t1, double h, double
     int code;
     tt[0] = t0;
     tt[1] = t1;
-    code = double_pendulum_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    code = double_pendulum_grid_(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
     if (x1) {
         double_pendulum_copy_(x1, code == 0 ? X + 4 : st.x);
     }

@@ -1819,8 +1819,10 @@ static int fast_gyro_fixed_(int method, int nt, const double *tt, double h, long
 }
 
 /* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
- * and the others NaN, *max_steps the budget.  FAST_GYRO_OK when the integration can start. */
-static int fast_gyro_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ * and the others NaN, *max_steps the budget.  FAST_GYRO_OK when the integration can start.  inline:
+ * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
+ * than before it was split off (bench/releases.py --instructions). */
+static inline int fast_gyro_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const fast_gyro_params *p, double *X,
                                   fast_gyro_integrate_stats *st)
 {
@@ -1868,9 +1870,10 @@ static int fast_gyro_grid_start_(int method, int nt, const double *t, double h, 
     return FAST_GYRO_OK;
 }
 
-int fast_gyro_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const fast_gyro_params *p,
-                              double *X, fast_gyro_integrate_stats *stats)
+/* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
+static inline int fast_gyro_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                   long max_steps, const double *x0, const double *u, const fast_gyro_params *p,
+                                   double *X, fast_gyro_integrate_stats *stats)
 {
     fast_gyro_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     fast_gyro_integrate_stats *st = stats ? stats : &local;
@@ -1890,6 +1893,13 @@ int fast_gyro_integrate_grid(int method, int nt, const double *t, double h, doub
         return code;
     }
     return fast_gyro_fixed_(method == FAST_GYRO_RK4_LANES ? FAST_GYRO_RK4 : method, nt, t, h, max_steps, u, p, X, st);
+}
+
+int fast_gyro_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const fast_gyro_params *p,
+                              double *X, fast_gyro_integrate_stats *stats)
+{
+    return fast_gyro_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
@@ -1962,7 +1972,7 @@ int fast_gyro_integrate(int method, double t0, double t1, double h, double rtol,
     int code;
     tt[0] = t0;
     tt[1] = t1;
-    code = fast_gyro_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    code = fast_gyro_grid_(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
     if (x1) {
         fast_gyro_copy_(x1, code == 0 ? X + 4 : st.x);
     }

@@ -2178,8 +2178,10 @@ static int furuta_sym_fixed_(int method, int nt, const double *tt, double h, lon
 }
 
 /* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
- * and the others NaN, *max_steps the budget.  FURUTA_SYM_OK when the integration can start. */
-static int furuta_sym_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ * and the others NaN, *max_steps the budget.  FURUTA_SYM_OK when the integration can start.  inline:
+ * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
+ * than before it was split off (bench/releases.py --instructions). */
+static inline int furuta_sym_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const furuta_sym_params *p, double *X,
                                   furuta_sym_integrate_stats *st)
 {
@@ -2229,9 +2231,10 @@ static int furuta_sym_grid_start_(int method, int nt, const double *t, double h,
     return FURUTA_SYM_OK;
 }
 
-int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const furuta_sym_params *p,
-                              double *X, furuta_sym_integrate_stats *stats)
+/* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
+static inline int furuta_sym_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                   long max_steps, const double *x0, const double *u, const furuta_sym_params *p,
+                                   double *X, furuta_sym_integrate_stats *stats)
 {
     furuta_sym_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     furuta_sym_integrate_stats *st = stats ? stats : &local;
@@ -2251,6 +2254,13 @@ int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, dou
         return code;
     }
     return furuta_sym_fixed_(method == FURUTA_SYM_RK4_LANES ? FURUTA_SYM_RK4 : method, nt, t, h, max_steps, u, p, X, st);
+}
+
+int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const furuta_sym_params *p,
+                              double *X, furuta_sym_integrate_stats *stats)
+{
+    return furuta_sym_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
@@ -2323,7 +2333,7 @@ int furuta_sym_integrate(int method, double t0, double t1, double h, double rtol
     int code;
     tt[0] = t0;
     tt[1] = t1;
-    code = furuta_sym_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    code = furuta_sym_grid_(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
     if (x1) {
         furuta_sym_copy_(x1, code == 0 ? X + 4 : st.x);
     }

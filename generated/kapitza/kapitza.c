@@ -1432,8 +1432,10 @@ static int kapitza_fixed_(int method, int nt, const double *tt, double h, long m
 }
 
 /* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
- * and the others NaN, *max_steps the budget.  KAPITZA_OK when the integration can start. */
-static int kapitza_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ * and the others NaN, *max_steps the budget.  KAPITZA_OK when the integration can start.  inline:
+ * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
+ * than before it was split off (bench/releases.py --instructions). */
+static inline int kapitza_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const kapitza_params *p, double *X,
                                   kapitza_integrate_stats *st)
 {
@@ -1482,9 +1484,10 @@ static int kapitza_grid_start_(int method, int nt, const double *t, double h, do
     return KAPITZA_OK;
 }
 
-int kapitza_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const kapitza_params *p,
-                              double *X, kapitza_integrate_stats *stats)
+/* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
+static inline int kapitza_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                   long max_steps, const double *x0, const double *u, const kapitza_params *p,
+                                   double *X, kapitza_integrate_stats *stats)
 {
     kapitza_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     kapitza_integrate_stats *st = stats ? stats : &local;
@@ -1504,6 +1507,13 @@ int kapitza_integrate_grid(int method, int nt, const double *t, double h, double
         return code;
     }
     return kapitza_fixed_(method == KAPITZA_RK4_LANES ? KAPITZA_RK4 : method, nt, t, h, max_steps, u, p, X, st);
+}
+
+int kapitza_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const kapitza_params *p,
+                              double *X, kapitza_integrate_stats *stats)
+{
+    return kapitza_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
@@ -1576,7 +1586,7 @@ int kapitza_integrate(int method, double t0, double t1, double h, double rtol, d
     int code;
     tt[0] = t0;
     tt[1] = t1;
-    code = kapitza_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    code = kapitza_grid_(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
     if (x1) {
         kapitza_copy_(x1, code == 0 ? X + 2 : st.x);
     }

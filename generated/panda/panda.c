@@ -10529,8 +10529,10 @@ static int panda_fixed_(int method, int nt, const double *tt, double h, long max
 }
 
 /* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
- * and the others NaN, *max_steps the budget.  PANDA_OK when the integration can start. */
-static int panda_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ * and the others NaN, *max_steps the budget.  PANDA_OK when the integration can start.  inline:
+ * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
+ * than before it was split off (bench/releases.py --instructions). */
+static inline int panda_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const panda_params *p, double *X,
                                   panda_integrate_stats *st)
 {
@@ -10578,9 +10580,10 @@ static int panda_grid_start_(int method, int nt, const double *t, double h, doub
     return PANDA_OK;
 }
 
-int panda_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const panda_params *p,
-                              double *X, panda_integrate_stats *stats)
+/* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
+static inline int panda_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                   long max_steps, const double *x0, const double *u, const panda_params *p,
+                                   double *X, panda_integrate_stats *stats)
 {
     panda_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     panda_integrate_stats *st = stats ? stats : &local;
@@ -10592,6 +10595,13 @@ int panda_integrate_grid(int method, int nt, const double *t, double h, double r
         return panda_dop853_(nt, t, h, rtol, atol, max_steps, u, p, X, st);
     }
     return panda_fixed_(method == PANDA_RK4_LANES ? PANDA_RK4 : method, nt, t, h, max_steps, u, p, X, st);
+}
+
+int panda_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const panda_params *p,
+                              double *X, panda_integrate_stats *stats)
+{
+    return panda_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
 int panda_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
@@ -10619,7 +10629,7 @@ int panda_integrate(int method, double t0, double t1, double h, double rtol, dou
     int code;
     tt[0] = t0;
     tt[1] = t1;
-    code = panda_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    code = panda_grid_(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
     if (x1) {
         panda_copy_(x1, code == 0 ? X + 14 : st.x);
     }

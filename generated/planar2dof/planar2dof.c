@@ -2064,8 +2064,10 @@ static int planar2dof_fixed_(int method, int nt, const double *tt, double h, lon
 }
 
 /* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
- * and the others NaN, *max_steps the budget.  PLANAR2DOF_OK when the integration can start. */
-static int planar2dof_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ * and the others NaN, *max_steps the budget.  PLANAR2DOF_OK when the integration can start.  inline:
+ * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
+ * than before it was split off (bench/releases.py --instructions). */
+static inline int planar2dof_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const planar2dof_params *p, double *X,
                                   planar2dof_integrate_stats *st)
 {
@@ -2113,9 +2115,10 @@ static int planar2dof_grid_start_(int method, int nt, const double *t, double h,
     return PLANAR2DOF_OK;
 }
 
-int planar2dof_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const planar2dof_params *p,
-                              double *X, planar2dof_integrate_stats *stats)
+/* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
+static inline int planar2dof_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                   long max_steps, const double *x0, const double *u, const planar2dof_params *p,
+                                   double *X, planar2dof_integrate_stats *stats)
 {
     planar2dof_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     planar2dof_integrate_stats *st = stats ? stats : &local;
@@ -2135,6 +2138,13 @@ int planar2dof_integrate_grid(int method, int nt, const double *t, double h, dou
         return code;
     }
     return planar2dof_fixed_(method == PLANAR2DOF_RK4_LANES ? PLANAR2DOF_RK4 : method, nt, t, h, max_steps, u, p, X, st);
+}
+
+int planar2dof_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const planar2dof_params *p,
+                              double *X, planar2dof_integrate_stats *stats)
+{
+    return planar2dof_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
@@ -2207,7 +2217,7 @@ int planar2dof_integrate(int method, double t0, double t1, double h, double rtol
     int code;
     tt[0] = t0;
     tt[1] = t1;
-    code = planar2dof_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    code = planar2dof_grid_(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
     if (x1) {
         planar2dof_copy_(x1, code == 0 ? X + 4 : st.x);
     }

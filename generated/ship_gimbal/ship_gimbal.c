@@ -1836,8 +1836,10 @@ static int ship_gimbal_fixed_(int method, int nt, const double *tt, double h, lo
 }
 
 /* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
- * and the others NaN, *max_steps the budget.  SHIP_GIMBAL_OK when the integration can start. */
-static int ship_gimbal_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ * and the others NaN, *max_steps the budget.  SHIP_GIMBAL_OK when the integration can start.  inline:
+ * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
+ * than before it was split off (bench/releases.py --instructions). */
+static inline int ship_gimbal_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const ship_gimbal_params *p, double *X,
                                   ship_gimbal_integrate_stats *st)
 {
@@ -1884,9 +1886,10 @@ static int ship_gimbal_grid_start_(int method, int nt, const double *t, double h
     return SHIP_GIMBAL_OK;
 }
 
-int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const ship_gimbal_params *p,
-                              double *X, ship_gimbal_integrate_stats *stats)
+/* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
+static inline int ship_gimbal_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                   long max_steps, const double *x0, const double *u, const ship_gimbal_params *p,
+                                   double *X, ship_gimbal_integrate_stats *stats)
 {
     ship_gimbal_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     ship_gimbal_integrate_stats *st = stats ? stats : &local;
@@ -1906,6 +1909,13 @@ int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, do
         return code;
     }
     return ship_gimbal_fixed_(method == SHIP_GIMBAL_RK4_LANES ? SHIP_GIMBAL_RK4 : method, nt, t, h, max_steps, u, p, X, st);
+}
+
+int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const ship_gimbal_params *p,
+                              double *X, ship_gimbal_integrate_stats *stats)
+{
+    return ship_gimbal_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
@@ -1978,7 +1988,7 @@ int ship_gimbal_integrate(int method, double t0, double t1, double h, double rto
     int code;
     tt[0] = t0;
     tt[1] = t1;
-    code = ship_gimbal_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    code = ship_gimbal_grid_(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
     if (x1) {
         ship_gimbal_copy_(x1, code == 0 ? X + 4 : st.x);
     }

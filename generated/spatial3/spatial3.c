@@ -3761,8 +3761,10 @@ static int spatial3_fixed_(int method, int nt, const double *tt, double h, long 
 }
 
 /* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
- * and the others NaN, *max_steps the budget.  SPATIAL3_OK when the integration can start. */
-static int spatial3_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ * and the others NaN, *max_steps the budget.  SPATIAL3_OK when the integration can start.  inline:
+ * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
+ * than before it was split off (bench/releases.py --instructions). */
+static inline int spatial3_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const spatial3_params *p, double *X,
                                   spatial3_integrate_stats *st)
 {
@@ -3810,9 +3812,10 @@ static int spatial3_grid_start_(int method, int nt, const double *t, double h, d
     return SPATIAL3_OK;
 }
 
-int spatial3_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const spatial3_params *p,
-                              double *X, spatial3_integrate_stats *stats)
+/* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
+static inline int spatial3_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                   long max_steps, const double *x0, const double *u, const spatial3_params *p,
+                                   double *X, spatial3_integrate_stats *stats)
 {
     spatial3_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     spatial3_integrate_stats *st = stats ? stats : &local;
@@ -3832,6 +3835,13 @@ int spatial3_integrate_grid(int method, int nt, const double *t, double h, doubl
         return code;
     }
     return spatial3_fixed_(method == SPATIAL3_RK4_LANES ? SPATIAL3_RK4 : method, nt, t, h, max_steps, u, p, X, st);
+}
+
+int spatial3_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const spatial3_params *p,
+                              double *X, spatial3_integrate_stats *stats)
+{
+    return spatial3_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
@@ -3904,7 +3914,7 @@ int spatial3_integrate(int method, double t0, double t1, double h, double rtol, 
     int code;
     tt[0] = t0;
     tt[1] = t1;
-    code = spatial3_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    code = spatial3_grid_(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
     if (x1) {
         spatial3_copy_(x1, code == 0 ? X + 6 : st.x);
     }

@@ -6809,8 +6809,10 @@ static int ur5_fixed_(int method, int nt, const double *tt, double h, long max_s
 }
 
 /* NAME_integrate_grid's checks and start: the stats reset, the arguments checked, X's row 0 set
- * and the others NaN, *max_steps the budget.  UR5_OK when the integration can start. */
-static int ur5_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ * and the others NaN, *max_steps the budget.  UR5_OK when the integration can start.  inline:
+ * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
+ * than before it was split off (bench/releases.py --instructions). */
+static inline int ur5_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const ur5_params *p, double *X,
                                   ur5_integrate_stats *st)
 {
@@ -6858,9 +6860,10 @@ static int ur5_grid_start_(int method, int nt, const double *t, double h, double
     return UR5_OK;
 }
 
-int ur5_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
-                              long max_steps, const double *x0, const double *u, const ur5_params *p,
-                              double *X, ur5_integrate_stats *stats)
+/* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
+static inline int ur5_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+                                   long max_steps, const double *x0, const double *u, const ur5_params *p,
+                                   double *X, ur5_integrate_stats *stats)
 {
     ur5_integrate_stats local = {0.0, {0.0}, 0, 0, 0, 0, 0};  /* (every field is set below; initialised for the analysers) */
     ur5_integrate_stats *st = stats ? stats : &local;
@@ -6880,6 +6883,13 @@ int ur5_integrate_grid(int method, int nt, const double *t, double h, double rto
         return code;
     }
     return ur5_fixed_(method == UR5_RK4_LANES ? UR5_RK4 : method, nt, t, h, max_steps, u, p, X, st);
+}
+
+int ur5_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+                              long max_steps, const double *x0, const double *u, const ur5_params *p,
+                              double *X, ur5_integrate_stats *stats)
+{
+    return ur5_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
@@ -6952,7 +6962,7 @@ int ur5_integrate(int method, double t0, double t1, double h, double rtol, doubl
     int code;
     tt[0] = t0;
     tt[1] = t1;
-    code = ur5_integrate_grid(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
+    code = ur5_grid_(method, 2, tt, h, rtol, atol, 0, x0, u, p, X, &st);
     if (x1) {
         ur5_copy_(x1, code == 0 ? X + 12 : st.x);
     }
