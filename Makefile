@@ -104,7 +104,7 @@ bench-speed: bench-setup
 	$(VPY) bench/speed.py --instructions
 	$(VPY) bench/derivatives.py
 	$(VPY) bench/robots.py
-	$(VPY) bench/releases.py
+	$(VPY) bench/releases.py --instructions
 
 pdf: generate
 	@name=$$($(VPY) -c "from gyrochain.spec import load_spec; print(load_spec('$(SPEC)').name)"); \
