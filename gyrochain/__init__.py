@@ -13,15 +13,37 @@ alpha are the direction cosines; equation numbers in comments are the paper's.
 __version__ = "0.3.0"  # the one place of the version (pyproject.toml reads it; --version prints it)
 DISTRIBUTION = "gyrochain"  # the name on the package index, of the import package and of the console command
 
-from pathlib import Path as _Path
+import os as _os  # (os, sys and the built-in _signal are loaded with the interpreter: free)
+import sys as _sys
+
+import _signal  # not signal.py, whose enums take a while to load: the handler goes in first
+
+INTERRUPT = {"requested": False}  # set by the console script's Ctrl-C handlers (below, and __main__.py)
+
+
+def _sigint_noted(signum, frame):
+    """Ctrl-C while the command line's package itself loads, before __main__'s handler is in
+    place: noted, and the command then ends as interrupted (__main__.run), without a traceback."""
+    INTERRUPT["requested"] = True
+
+
+def _started_as_the_command() -> bool:
+    """``python -m gyrochain ...`` or the ``gyrochain`` console script, not a program importing us."""
+    argv = list(getattr(_sys, "orig_argv", []))
+    after_m = argv[argv.index("-m") + 1:argv.index("-m") + 2] if "-m" in argv else []
+    return after_m == [DISTRIBUTION] or _os.path.basename(_sys.argv[0] if _sys.argv else "") == DISTRIBUTION
+
+
+if _started_as_the_command() and _signal.getsignal(_signal.SIGINT) is _signal.default_int_handler:
+    _signal.signal(_signal.SIGINT, _sigint_noted)  # before the imports below
+
+from pathlib import Path as _Path  # noqa: E402
 
 # the package data, found beside the code whether it runs from a checkout or a wheel
 TEMPLATES = _Path(__file__).resolve().parent / "templates"   # jinja2 layouts of the emitted files and the viewer
 KERNELS = _Path(__file__).resolve().parent / "kernels"       # the fixed numerical kernels (printers/kernels.py)
 EXAMPLES = _Path(__file__).resolve().parent / "examples"     # the example specs (`gyrochain examples`)
 
-
-INTERRUPT = {"requested": False}  # set by the console script's Ctrl-C handler (__main__.py)
 
 
 def caused_by_interrupt(exc: BaseException) -> bool:

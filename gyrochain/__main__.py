@@ -6,7 +6,7 @@ import sys
 import threading
 import time
 
-from . import INTERRUPT, caused_by_interrupt
+from . import INTERRUPT, _sigint_noted, caused_by_interrupt
 
 
 _CTRL_C = {"deferred": False, "quiet_until": 0.0}
@@ -52,8 +52,11 @@ def _again() -> None:
 
 
 def run() -> None:
-    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:  # (not where SIGINT is ignored)
+    if signal.getsignal(signal.SIGINT) in (signal.default_int_handler, _sigint_noted):  # (not where SIGINT is ignored)
         signal.signal(signal.SIGINT, _on_sigint)
+    if INTERRUPT["requested"]:  # Ctrl-C while the package loaded (gyrochain/__init__.py noted it)
+        print("error: interrupted", file=sys.stderr)
+        _end_now(130)
     try:
         from .cli import main
 

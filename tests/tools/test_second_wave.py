@@ -272,6 +272,21 @@ def test_ctrl_c_while_the_modules_load_ends_at_once():
     assert worst < 1.0
 
 
+def test_ctrl_c_while_the_package_itself_loads_is_one_line():
+    """SIGINT before __main__'s handler is in place, while `gyrochain` itself loads (a busy host,
+    0.1 s after the start: a KeyboardInterrupt traceback from runpy before): the package notes it
+    and the command ends at once as interrupted.  Made deterministic: the console script's
+    argv[0], the package imported, the signal sent, then the entry point run."""
+    script = ("import os, signal, sys; sys.argv[0] = 'gyrochain'; import gyrochain; "
+              "os.kill(os.getpid(), signal.SIGINT); import gyrochain.__main__ as m; m.run()")
+    r = subprocess.run([sys.executable, "-c", script], cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert (r.returncode, r.stderr) == (130, "error: interrupted\n"), (r.returncode, r.stderr[-500:])
+    # a program that imports gyrochain keeps its own Ctrl-C
+    r = subprocess.run([sys.executable, "-c", "import signal, gyrochain; print(signal.getsignal(signal.SIGINT) is signal.default_int_handler)"],
+                       cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert r.stdout.strip() == "True", r.stdout + r.stderr
+
+
 def test_float_constants_beyond_floats_range_are_refused():
     """generate --real float of a spec whose numbers float cannot hold (a mass of 1e-50, 1e39): was
     160 lines of gcc's -Woverflow and constants rounded to 0 or inf; one line now (comments aside)."""
