@@ -32,6 +32,7 @@ def _on_sigint(signum, frame):
 
 
 def _deliver():
+    _stop_children()
     _CTRL_C["deferred"] = False
     _CTRL_C["quiet_until"] = time.monotonic() + 0.05
     sys.settrace(None)
@@ -72,9 +73,40 @@ def run() -> None:
     sys.exit(code)
 
 
+def _stop_children() -> None:
+    """Ctrl-C sent to this process alone (``kill -INT``, a supervisor) does not reach the programs it
+    runs: a compiler and LTO's make and shells would run on in the build folder the unwinding
+    removes, and print into our stderr after "error: interrupted".  They get SIGTERM, the deepest
+    first (Linux's /proc lists each task's children; elsewhere nothing is done)."""
+    found, todo = [], [os.getpid()]
+    while todo:
+        pid = todo.pop()
+        for path in _children_files(pid):
+            try:
+                with open(path) as fh:
+                    kids = [int(w) for w in fh.read().split()]
+            except (OSError, ValueError):
+                continue
+            found += kids
+            todo += kids
+    for pid in reversed(found):
+        try:
+            os.kill(pid, signal.SIGTERM)
+        except OSError:
+            pass
+
+
+def _children_files(pid: int) -> list:
+    try:
+        return [f"/proc/{pid}/task/{tid}/children" for tid in os.listdir(f"/proc/{pid}/task")]
+    except OSError:
+        return []
+
+
 def _end_now(code: int) -> None:
     """Interrupted: every clean-up ran while the stack unwound, so the interpreter's own tear-down
     of sympy's and numpy's objects (0.2 s here, seconds on a busy machine) is skipped."""
+    _stop_children()
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(code)
