@@ -121,11 +121,15 @@ def generate(text: str, name: str) -> dict:
 
 
 # --------------------------------------------------------------------------- running
-def run(exe: Path, xs: np.ndarray, d: Path) -> tuple[np.ndarray, float, float]:
+def _feed(exe: Path, xs: np.ndarray, d: Path, prefix: tuple = (), **env) -> str:
+    """A harness program (harness.h) run on the states xs, under ``prefix`` (valgrind ...); its stdout."""
     inp = "\n".join(" ".join(repr(float(v)) for v in row) for row in xs)
-    env = dict(os.environ, BENCH_CHAIN=str(d / "pinocchio_chain.txt"))
-    res = subprocess.run([str(exe)], input=inp, capture_output=True, text=True, check=True, cwd=d, env=env)
-    lines = res.stdout.strip().splitlines()
+    env = dict(os.environ, BENCH_CHAIN=str(d / "pinocchio_chain.txt"), **env)
+    return subprocess.run([*prefix, str(exe)], input=inp, capture_output=True, text=True, check=True, cwd=d, env=env).stdout
+
+
+def run(exe: Path, xs: np.ndarray, d: Path) -> tuple[np.ndarray, float, float]:
+    lines = _feed(exe, xs, d).strip().splitlines()
     qdd = np.array([[float(v) for v in ln.split()] for ln in lines[:-1]])
     _, med, mn = lines[-1].split()
     return qdd, float(med), float(mn)
@@ -333,13 +337,10 @@ def instructions(exe: Path, xs: np.ndarray, d: Path) -> float:
     """Instructions per call, counted by callgrind: the same on a quiet and a busy host, where the
     times are not.  The program runs with a fixed number of timed sweeps (BENCH_SWEEPS, harness.h),
     once with none and once with one; the difference is K × BENCH_REPEATS calls, libm's included."""
-    inp = "\n".join(" ".join(repr(float(v)) for v in row) for row in xs)
     totals = []
     for sweeps in (0, 1):
         out = (d / f"callgrind.{exe.name}.{sweeps}").resolve()
-        env = dict(os.environ, BENCH_CHAIN=str(d / "pinocchio_chain.txt"), BENCH_SWEEPS=str(sweeps))
-        subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(exe)], input=inp,
-                       capture_output=True, text=True, check=True, cwd=d, env=env)
+        _feed(exe, xs, d, ("valgrind", "--tool=callgrind", f"--callgrind-out-file={out}"), BENCH_SWEEPS=str(sweeps))
         totals.append(int(re.search(r"^(?:summary|totals):\s*(\d+)", out.read_text(), re.M).group(1)))
     return (totals[1] - totals[0]) / (len(xs) * HARNESS_REPEATS)
 

@@ -30,8 +30,8 @@ def _sigint_noted(signum, frame):
 def _started_as_the_command() -> bool:
     """``python -m gyrochain ...`` or the ``gyrochain`` console script, not a program importing us."""
     argv = list(getattr(_sys, "orig_argv", []))
-    after_m = argv[argv.index("-m") + 1:argv.index("-m") + 2] if "-m" in argv else []
-    return after_m == [DISTRIBUTION] or _os.path.basename(_sys.argv[0] if _sys.argv else "") == DISTRIBUTION
+    m = argv.index("-m") if "-m" in argv else len(argv)
+    return argv[m + 1:m + 2] == [DISTRIBUTION] or _os.path.basename(_sys.argv[0] if _sys.argv else "") == DISTRIBUTION
 
 
 if _started_as_the_command() and _signal.getsignal(_signal.SIGINT) is _signal.default_int_handler:
