@@ -6,6 +6,7 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+import signal
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -129,6 +130,18 @@ def unit_layer_has_no_compiler(request, monkeypatch):
         raise AssertionError("a unit test compiled C: it belongs in tests/models, physics or tools")
 
     monkeypatch.setattr(build, "compile_model", refuse)
+
+
+@pytest.fixture
+def sigint_from_a_terminal():
+    """The commands a test interrupts start with Ctrl-C as a terminal gives it.  A suite started
+    in the background of a script (`make test &`, nohup) runs with SIGINT ignored, which every
+    program it starts inherits, and a command that finds SIGINT ignored keeps it so, as Python
+    does: the test would then wait for a command that rightly does not stop.  A signal with a
+    handler here reverts to its default in the programs started meanwhile."""
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)
 
 
 @pytest.fixture(scope="session")

@@ -426,7 +426,7 @@ def test_damaged_stores(tmp_path, store):
 
 
 @pytest.mark.skipif(LONG <= 0, reason="make fuzz (FUZZ_SECONDS) searches longer with fresh seeds")
-def test_fuzz_for_a_while(tmp_path, store):
+def test_fuzz_for_a_while(tmp_path, store, sigint_from_a_terminal):
     """Rounds of fresh random searches until FUZZ_SECONDS have passed; prints the inputs tried."""
     t_end = time.monotonic() + LONG
     count = iter(range(10**9))

@@ -178,7 +178,7 @@ LONG = {
 
 
 @pytest.mark.parametrize("what", list(LONG))
-def test_ctrl_c_ends_a_long_command_within_a_second(what, tmp_path):
+def test_ctrl_c_ends_a_long_command_within_a_second(what, tmp_path, sigint_from_a_terminal):
     """SIGINT at a random time (printed) into the work: exit 130 with one line within a second,
     and nothing half-written (no temporary file; a sweep's store resumable as it says)."""
     cmd, spec, *rest = LONG[what]
@@ -250,7 +250,7 @@ def test_ctrl_c_wrapped_by_python_while_a_class_is_made_is_an_interrupt(monkeypa
     assert exited.value.code == 130 and capsys.readouterr().err == "error: interrupted\n"
 
 
-def test_ctrl_c_while_the_modules_load_ends_at_once():
+def test_ctrl_c_while_the_modules_load_ends_at_once(sigint_from_a_terminal):
     """SIGINT 0.1–0.3 s after the start, while numpy and sympy load (most of that time is the import
     machinery's, where the handler must not raise): exit 130 with one line, well within the second.
     The interrupt is raised at the next module body, or where a signal sent again every 5 ms lands;
@@ -272,7 +272,7 @@ def test_ctrl_c_while_the_modules_load_ends_at_once():
     assert worst < 1.0
 
 
-def test_ctrl_c_while_the_package_itself_loads_is_one_line():
+def test_ctrl_c_while_the_package_itself_loads_is_one_line(sigint_from_a_terminal):
     """SIGINT before __main__'s handler is in place, while `gyrochain` itself loads (a busy host,
     0.1 s after the start: a KeyboardInterrupt traceback from runpy before): the package notes it
     and the command ends at once as interrupted.  Made deterministic: the console script's
