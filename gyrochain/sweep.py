@@ -362,6 +362,11 @@ def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
 
 
 # --------------------------------------------------------------------------- the model
+def _payload(payload: dict) -> dict:
+    """What every chunk task of a Dask run reads (a task of its own: see _dask_results)."""
+    return payload
+
+
 def run_chunk_task(payload: dict, i: int) -> dict:
     """What a Dask worker runs: load (build once) the model from the shipped sources, compute."""
     key = json.dumps(payload["sweep"], sort_keys=True)
@@ -476,10 +481,17 @@ def _dask_results(plan: Plan, sweep: Sweep, files: dict, todo: list, workers: in
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address=None, silence_logs=40)
         client = Client(cluster)
-    futures = []
+    futures: list = []
+    payload = None
     try:
-        payload = client.scatter({"sweep": asdict(sweep), "files": files, "name": plan.spec.name}, broadcast=True)
-        futures = [client.submit(run_chunk_task, payload, i, key=f"gyrochain-chunk-{i}-{_token(plan)}", retries=2)
+        # the payload is a task, not scattered data: the scheduler holds its inputs and recomputes it
+        # if the worker holding it dies (scattered data would be lost with it), and its key is this
+        # sweep's own (a scattered dict's keys are its literal keys, which two sweeps on one
+        # scheduler would share)
+        token = _token(plan)
+        payload = client.submit(_payload, {"sweep": asdict(sweep), "files": files, "name": plan.spec.name},
+                                key=f"gyrochain-payload-{token}", retries=2)
+        futures = [client.submit(run_chunk_task, payload, i, key=f"gyrochain-chunk-{i}-{token}", retries=2)
                    for i in todo]
         index = {f.key: i for f, i in zip(futures, todo)}
         workers_seen = _workers(client)
@@ -493,8 +505,9 @@ def _dask_results(plan: Plan, sweep: Sweep, files: dict, todo: list, workers: in
             yield index[fut.key], res
         _report_lost(client, workers_seen, note)
     finally:
-        for f in futures:
-            f.cancel()
+        for f in [*futures, payload]:
+            if f is not None:
+                f.cancel()
         client.close()
         if cluster is not None:
             cluster.close()

@@ -175,6 +175,42 @@ def test_killed_worker_loses_nothing(tmp_path):
     same(tmp_path / "whole.zarr", tmp_path / "dask.zarr")
 
 
+def test_two_sweeps_at_once_on_one_scheduler_keep_their_own_models(tmp_path):
+    """Two different sweeps (two specs) sent at once to the same scheduler, as two users of one
+    cluster would: each store equals its run on threads.  Their shared inputs were once scattered
+    under the literal keys 'sweep', 'files' and 'name', which the two runs then shared."""
+    import threading
+
+    distributed = pytest.importorskip("distributed")
+    runs = {"dp": small(measures=("final",), t1=1.0, chunk=10),
+            "furuta": small(measures=("final",), t1=1.0, chunk=10, spec_text=FURUTA_SYM.read_text(),
+                            vary=[("phi1", -1.0, 1.0, 12), ("phi2", -1.0, 1.0, 10)])}
+    for name, sw in runs.items():
+        sweep.run(sw, tmp_path / f"{name}_threads.zarr", threads=1, progress=False)
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                       dashboard_address=None, silence_logs=50)
+    errors: list = []
+
+    def run(name):
+        try:
+            sweep.run(runs[name], tmp_path / f"{name}_dask.zarr", scheduler=cluster.scheduler_address, progress=False)
+        except Exception as exc:  # noqa: BLE001  (reported by the assertion below)
+            errors.append(f"{name}: {exc}")
+
+    try:
+        threads = [threading.Thread(target=run, args=(name,)) for name in runs]
+        for th in threads:
+            th.start()
+        for th in threads:
+            th.join(timeout=120)
+        assert not any(th.is_alive() for th in threads), "a sweep did not end within 120 s"
+    finally:
+        cluster.close(timeout=30)
+    assert errors == []
+    for name in runs:
+        same(tmp_path / f"{name}_threads.zarr", tmp_path / f"{name}_dask.zarr")
+
+
 # --------------------------------------------------------------------------- the measures
 def test_measures(tmp_path):
     """final against the independent reference model; flip_time (a link's absolute angle passing
