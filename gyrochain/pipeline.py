@@ -1,11 +1,11 @@
 """The one route from a spec to a compiled model: ``derive`` → ``render`` → ``compile``.
 
 Every command that needs the model (generate, steady, sweep and its Dask workers, animate) and
-the tests take this route, so a spec is derived once per process and a model's C is compiled once per
-user: ``compile`` keeps the extension in the user's private cache folder (``cache_root``) under the
-build key (the C, header and cdef texts, the flags, the compiler and the Python ABI;
-build.build_key), and a file lock lets one process build while the others wait for it and load its
-build.
+the tests take this route, so a spec is derived (and its files printed) once per process and a
+model's C is compiled once per user: ``compile`` keeps the extension in the user's private cache
+folder (``cache_root``) under the build key (the C, header and cdef texts, the flags, the compiler
+and the Python ABI; build.build_key), and a file lock lets one process build while the others wait
+for it and load its build.
 
     model = pipeline.derive(spec)                      # assemble.Model: everything derived once
     files = pipeline.render(model, targets=("c",))    # {file name: text}, only what was asked
@@ -31,6 +31,7 @@ C_FILES = (".c", ".h", ".cdef")  # what an extension is built from
 
 _DERIVED: OrderedDict = OrderedDict()  # (spec text, forms) → Model, the last few derived
 _DERIVED_MAX = 8
+_RENDERED: OrderedDict = OrderedDict()  # (model, label, targets, real, options) → its files, the last few
 _LOCK = threading.Lock()
 _REGULAR: set = set()  # the (spec text, values) whose mass matrix was found regular
 _LOADED: dict = {}  # content hash of the sources → CModel (an extension loads once per process)
@@ -103,6 +104,7 @@ def forget() -> None:
     """Drop the derived models this process keeps (the next derive derives anew)."""
     with _LOCK:
         _DERIVED.clear()
+        _RENDERED.clear()
 
 
 def _remember(key, model: Model) -> Model:
@@ -130,10 +132,33 @@ def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on
     three also MANIFEST.json.  ``spec_label``: how the header names the spec (default NAME.toml);
     ``on_c``: called with the C files as soon as they are printed (``BuildAhead``); ``real``: the
     floating type of the C ("double", or "float": single precision); ``options``: the generate
-    options besides ``real`` that made them (the headers' regenerate command)."""
+    options besides ``real`` that made them (the headers' regenerate command).  The last few
+    renderings are kept: the same model asked again with the same arguments gets a copy of its files."""
     if "latex" in targets and model.spec.general and model.symbolic is None:
         model = _with_symbolic(model)
-    return printers.render(model, spec_label or f"{model.spec.name}.toml", targets, on_c, real, options)
+    label = spec_label or f"{model.spec.name}.toml"
+    key = (id(model), label, tuple(targets), real, tuple(options))
+    with _LOCK:
+        found = _RENDERED.get(key)
+    if found is not None and found[0] is model:  # the same files: printing is a function of these
+        files = dict(found[1])
+        if on_c is not None and "c" in targets:
+            on_c({k: v for k, v in files.items() if k in found[2]})
+        return files
+    c_names: set = set()
+
+    def printed_c(c_files):
+        c_names.update(c_files)
+        if on_c is not None:
+            on_c(c_files)
+
+    files = printers.render(model, label, targets, printed_c, real, options)
+    with _LOCK:  # the model is held with its files, so its id stays its own while they are kept
+        _RENDERED[key] = (model, dict(files), frozenset(c_names))
+        _RENDERED.move_to_end(key)
+        while len(_RENDERED) > _DERIVED_MAX:
+            _RENDERED.popitem(last=False)
+    return files
 
 
 def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_form: str = "auto",

@@ -44,6 +44,28 @@ def test_all_targets_are_the_committed_files_with_their_manifest():
     assert files == committed("gimbal")
 
 
+def test_a_model_is_printed_once_per_process_and_asked_options(monkeypatch):
+    """Rendering the same model with the same label, targets and type again returns the same files
+    without printing them again (a command or a test that asks twice pays once), still hands the C
+    to on_c, and gives out a copy; another type of real is printed anew."""
+    from gyrochain import printers
+
+    pipeline.forget()
+    model = pipeline.derive(load_spec(GIMBAL))
+    calls: list = []
+    real_render = printers.render
+    monkeypatch.setattr(printers, "render", lambda *a, **k: calls.append(a[2]) or real_render(*a, **k))
+    seen: list = []
+    first = pipeline.render(model, "gimbal.toml", ("c", "python"), on_c=seen.append)
+    first["gimbal.c"] = "changed by the caller"
+    again = pipeline.render(model, "gimbal.toml", ("c", "python"), on_c=seen.append)
+    assert calls == [("c", "python")]
+    assert again == {k: v for k, v in committed("gimbal").items() if k in again}
+    assert len(seen) == 2 and seen[0] == seen[1] and set(seen[1]) == {k for k in again if not k.endswith(".py")}
+    single = pipeline.render(model, "gimbal.toml", ("c",), real="float")
+    assert "float" in single["gimbal.h"] and len(calls) == 2
+
+
 def test_an_unknown_target_is_refused():
     with pytest.raises(ValueError, match="unknown target 'fortran'"):
         pipeline.render(pipeline.derive(load_spec(GIMBAL)), "gimbal.toml", ("c", "fortran"))
