@@ -8,6 +8,7 @@ import os
 import re
 import signal
 import sys
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -130,6 +131,21 @@ def unit_layer_has_no_compiler(request, monkeypatch):
         raise AssertionError("a unit test compiled C: it belongs in tests/models, physics or tools")
 
     monkeypatch.setattr(build, "compile_model", refuse)
+
+
+@contextmanager
+def printer_setting(module, name: str, value):
+    """A printer's module setting changed while the block runs (a test forcing a form or a size).
+    The renderings and derivations this process keeps were made with the setting as it was, and
+    those made inside were made with the other: both are forgotten on the way in and out."""
+    old = getattr(module, name)
+    pipeline.forget()
+    setattr(module, name, value)
+    try:
+        yield
+    finally:
+        setattr(module, name, old)
+        pipeline.forget()
 
 
 @pytest.fixture

@@ -13,7 +13,7 @@ import pytest
 from gyrochain import reference
 from gyrochain.build import ModelError
 from gyrochain.spec import load_spec
-from conftest import EXAMPLES, ONE_ARM, ROOT, SHORT_EXAMPLES, example_params
+from conftest import EXAMPLES, ONE_ARM, ROOT, SHORT_EXAMPLES, example_params, printer_setting
 
 GEN = ROOT / "generated"
 STRICT = ["-Wall", "-Wextra", "-Wpedantic", "-Werror"]
@@ -227,7 +227,7 @@ def _sanitized_driver(folder, spec, params, tmp_path):
     assert run.returncode == 0 and run.stdout.strip() == "0" and not run.stderr, (run.stdout, run.stderr)
 
 
-def test_both_loop_ldlt_forms_give_the_same_bits_under_the_sanitizers(monkeypatch, tmp_path):
+def test_both_loop_ldlt_forms_give_the_same_bits_under_the_sanitizers(tmp_path):
     """The loop form's LDLᵀ in velocities one sum per entry (short chains, and mass_matrix's pivot
     test always) or by columns (from loopform.LDLT_COLUMNS_MIN_N joints on): the
     same random 12-joint chain emitted in both (columns 4 to 11 take the four-k steps and the
@@ -240,8 +240,8 @@ def test_both_loop_ldlt_forms_give_the_same_bits_under_the_sanitizers(monkeypatc
     spec = parse_spec(random_spec_text(np.random.default_rng(1212), 12, name="ldl12", planar=False, gyro=True, controls=()))
     outs = {}
     for label, threshold in (("entries", 10**6), ("columns", 12)):
-        monkeypatch.setattr(loopform, "LDLT_COLUMNS_MIN_N", threshold)
-        files, model = pipeline.derive_and_render(spec, targets=("c",), loops="loops")
+        with printer_setting(loopform, "LDLT_COLUMNS_MIN_N", threshold):
+            files, model = pipeline.derive_and_render(spec, targets=("c",), loops="loops")
         assert model.dyn.loops is not None
         src = files["ldl12.c"]
         assert ("L transposed above it" in src) == (label == "columns")
@@ -340,7 +340,7 @@ def test_embedding_example_builds_with_plain_cc_and_runs(tmp_path):
 
 
 @pytest.fixture(scope="module")
-def cut_models(tmp_path_factory, monkeypatch_module):
+def cut_models(tmp_path_factory):
     """A 4-link gyrostat chain with a control torque in the loop form, with every long function
     cut into parts of 25 temporaries (printers/chunks.py; a real model is cut at 150 from 3 parts
     on), and the same spec whole."""
@@ -351,18 +351,11 @@ def cut_models(tmp_path_factory, monkeypatch_module):
 
     spec = parse_spec(random_spec_text(np.random.default_rng(5), 4, name="cut4", controls=(2,)))
     whole_files, _ = pipeline.derive_and_render(spec, targets=("c",), loops="loops", der_form="world")
-    monkeypatch_module.setattr(chunks, "PART_TEMPORARIES", 25)
-    cut_files, _ = pipeline.derive_and_render(spec, targets=("c",), loops="loops", der_form="world")
+    with printer_setting(chunks, "PART_TEMPORARIES", 25):
+        cut_files, _ = pipeline.derive_and_render(spec, targets=("c",), loops="loops", der_form="world")
     folder = tmp_path_factory.mktemp("cut") / "cut4"
     pipeline.write_tree(cut_files, folder, build_it=False, name="cut4")
     return spec, folder, pipeline.compile(whole_files, "cut4"), pipeline.compile(cut_files, "cut4"), cut_files
-
-
-@pytest.fixture(scope="module")
-def monkeypatch_module():
-    mp = pytest.MonkeyPatch()
-    yield mp
-    mp.undo()
 
 
 def test_parts_are_the_same_computation(cut_models, rng):
@@ -382,7 +375,7 @@ def test_parts_are_the_same_computation(cut_models, rng):
             assert np.array_equal(a, b)
 
 
-def test_parts_of_the_other_forms_are_the_same_computation(monkeypatch, rng):
+def test_parts_of_the_other_forms_are_the_same_computation(rng):
     """The composite qdd (its parts write the function's own M and f) and the forward-mode
     derivatives (acc and piv), cut into parts of 25 temporaries: the same doubles, bit for bit."""
     from gyrochain import pipeline
@@ -393,8 +386,8 @@ def test_parts_of_the_other_forms_are_the_same_computation(monkeypatch, rng):
     spec = parse_spec(random_spec_text(np.random.default_rng(6), 3, name="cut3", controls=(1,)))
     forms = dict(targets=("c",), qdd_form="composite", der_form="forward")
     whole_files, _ = pipeline.derive_and_render(spec, **forms)
-    monkeypatch.setattr(chunks, "PART_TEMPORARIES", 25)
-    cut_files, _ = pipeline.derive_and_render(spec, **forms)
+    with printer_setting(chunks, "PART_TEMPORARIES", 25):
+        cut_files, _ = pipeline.derive_and_render(spec, **forms)
     assert cut_files["cut3.c"].count("cut3_qdd_part") > 6 and "cut3_qdd_derivatives_part" in cut_files["cut3.c"]
     whole, cut = pipeline.compile(whole_files, "cut3"), pipeline.compile(cut_files, "cut3")
     for _ in range(5):

@@ -15,7 +15,7 @@ import pytest
 
 from gyrochain import build
 from gyrochain.build import ModelError
-from conftest import FURUTA_SYM_PARAMS, ROOT, SHORT_EXAMPLES, check_derivatives, example_script
+from conftest import FURUTA_SYM_PARAMS, ROOT, SHORT_EXAMPLES, check_derivatives, example_script, printer_setting
 
 
 def _state(rng, n):
@@ -300,7 +300,7 @@ def test_both_forms_of_the_column_solve_give_the_same_bits(make_model, tmp_path)
 
 
 @pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
-def test_both_forms_of_the_factor_give_the_same_bits(make_model, monkeypatch, tmp_path):
+def test_both_forms_of_the_factor_give_the_same_bits(make_model, tmp_path):
     """The world form's LDLᵀ of M row by row (short chains) and column by column (from
     world.FACTOR_COLUMNS_MIN_N joints on: contiguous updates, four k at a time) sums each entry in
     the same order: the n = 10 chain emitted both ways gives the same bits (φ̈ and every block, the
@@ -312,8 +312,8 @@ def test_both_forms_of_the_factor_give_the_same_bits(make_model, monkeypatch, tm
     xs = [_state(rng, 10) for _ in range(4)] + [np.zeros(20)]
     outs = {}
     for label, threshold in (("rows", 10**6), ("columns", 10)):
-        monkeypatch.setattr(world, "FACTOR_COLUMNS_MIN_N", threshold)
-        files, _ = pipeline.derive_and_render(wld.spec, targets=("c",), der_form="world")
+        with printer_setting(world, "FACTOR_COLUMNS_MIN_N", threshold):
+            files, _ = pipeline.derive_and_render(wld.spec, targets=("c",), der_form="world")
         assert ("four k at a time, each sum" in files[f"{name}.c"]) == (label == "columns")
         d = tmp_path / label
         d.mkdir()

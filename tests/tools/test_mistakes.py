@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gyrochain import __version__, cli
+from gyrochain import __version__, cli, pipeline
 from gyrochain.cli import main
 from conftest import ROOT
 
@@ -181,6 +181,7 @@ def test_a_missing_package_file_is_an_internal_error_not_the_users(monkeypatch, 
     from gyrochain.printers import common
 
     monkeypatch.setattr(common, "TEMPLATES", tmp_path / "nowhere")
+    pipeline.forget()  # a rendering kept from an earlier test would need no template
     code, _, err, _ = run("generate", "-q", "--no-build", SPECS / "gimbal.toml", "-o", tmp_path / "out")
     assert code == 1 and err.count("\n") == 1, err
     assert f"internal error in gyrochain {__version__}: TemplateNotFound" in err and "please report it" in err
@@ -287,7 +288,6 @@ def test_the_command_line_entry_point_prints_one_line(tmp_path):
 
 def test_normal_modes_of_two_point_masses():
     """double_pendulum_point: ω² = (g/l)(2 ∓ √2) for equal masses on equal massless rods."""
-    from gyrochain import pipeline
     from gyrochain.spec import load_spec
 
     cm, _ = pipeline.compiled(load_spec(SPECS / "double_pendulum_point.toml"))
