@@ -101,19 +101,25 @@ def check_mass_matrix(spec, tries: int = 3) -> None:
 
 
 def forget() -> None:
-    """Drop the derived models this process keeps (the next derive derives anew)."""
+    """Drop the derived models and the renderings this process keeps (the next derive derives
+    anew, the next render prints anew)."""
     with _LOCK:
         _DERIVED.clear()
         _RENDERED.clear()
 
 
-def _remember(key, model: Model) -> Model:
+def _keep(table: OrderedDict, key, value):
+    """``value`` kept under ``key`` as the newest of ``table``'s last few (_DERIVED_MAX)."""
     with _LOCK:
-        _DERIVED[key] = model
-        _DERIVED.move_to_end(key)
-        while len(_DERIVED) > _DERIVED_MAX:
-            _DERIVED.popitem(last=False)
-    return model
+        table[key] = value
+        table.move_to_end(key)
+        while len(table) > _DERIVED_MAX:
+            table.popitem(last=False)
+    return value
+
+
+def _remember(key, model: Model) -> Model:
+    return _keep(_DERIVED, key, model)
 
 
 def _with_symbolic(model: Model) -> Model:
@@ -137,27 +143,24 @@ def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on
     if "latex" in targets and model.spec.general and model.symbolic is None:
         model = _with_symbolic(model)
     label = spec_label or f"{model.spec.name}.toml"
+    # the model is kept with its files, so its id stays its own while they are kept
     key = (id(model), label, tuple(targets), real, tuple(options))
     with _LOCK:
         found = _RENDERED.get(key)
-    if found is not None and found[0] is model:  # the same files: printing is a function of these
-        files = dict(found[1])
-        if on_c is not None and "c" in targets:
-            on_c({k: v for k, v in files.items() if k in found[2]})
-        return files
-    c_names: set = set()
+    if found is not None:  # printing is a function of the model and these arguments
+        _, files, c_files = found
+        if on_c is not None and c_files:
+            on_c(dict(c_files))
+        return dict(files)
+    c_files = {}
 
-    def printed_c(c_files):
-        c_names.update(c_files)
+    def printed_c(printed: dict) -> None:  # kept, and handed on as soon as printed (BuildAhead)
+        c_files.update(printed)
         if on_c is not None:
-            on_c(c_files)
+            on_c(printed)
 
     files = printers.render(model, label, targets, printed_c, real, options)
-    with _LOCK:  # the model is held with its files, so its id stays its own while they are kept
-        _RENDERED[key] = (model, dict(files), frozenset(c_names))
-        _RENDERED.move_to_end(key)
-        while len(_RENDERED) > _DERIVED_MAX:
-            _RENDERED.popitem(last=False)
+    _keep(_RENDERED, key, (model, dict(files), c_files))
     return files
 
 
