@@ -3,6 +3,7 @@ printed without sympy, the emitted functions (``Function``: temporaries and outp
 the symbols' spellings, and spec text made safe for comments and docstrings."""
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import jinja2
@@ -252,8 +253,15 @@ def _regressor_functions(model: Model, printer_cls, names: dict, style: str) -> 
 
 
 def environment() -> jinja2.Environment:
+    """The templates' environment, one per process and folder: jinja2 compiles a template once per
+    environment (model.c.jinja took about half a second), and reloads one whose file changed."""
+    return _environment(str(TEMPLATES))
+
+
+@functools.lru_cache(maxsize=4)
+def _environment(folder: str) -> jinja2.Environment:
     return jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(TEMPLATES)),
+        loader=jinja2.FileSystemLoader(folder),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
         lstrip_blocks=True,
