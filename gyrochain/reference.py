@@ -28,14 +28,18 @@ from .spec import T, ChainSpec, phi_symbol, phidot_symbol
 def cross(a, b) -> np.ndarray:
     """a × b over the last axis of 3-vectors (broadcast as np.cross): numpy's own formula, term for
     term, so the same bits, without np.cross's generic axis handling, which took half of this
-    model's time on its small arrays."""
-    a, b = np.asarray(a), np.asarray(b)
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape), dtype=np.result_type(a, b))
+    model's time on its small arrays (nor its shape and type checks: the reference model's
+    vectors are float arrays)."""
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    out[..., 0] = a1 * b2 - a2 * b1
-    out[..., 1] = a2 * b0 - a0 * b2
-    out[..., 2] = a0 * b1 - a1 * b0
+    x = a1 * b2
+    x -= a2 * b1
+    y = a2 * b0
+    y -= a0 * b2
+    z = a0 * b1
+    z -= a1 * b0
+    out = np.empty(x.shape + (3,))
+    out[..., 0], out[..., 1], out[..., 2] = x, y, z
     return out
 
 
