@@ -284,7 +284,7 @@ def render(spec, spec_label: str, values: dict, asked: Asked) -> tuple[dict, lis
                  dependency_lists=[dict(vr=vr, on=deps, c_on=", ".join(map(str, deps)) or "0")
                                    for vr, deps in st["outputs"] + st["derivatives"]],
                  **(st if fmi == "3" else _indices(st, vs)))
-    env = environment()
+    env = environment(pipeline.compiled_templates())
     c_text = {f"sources/{name}.c": files[f"{name}.c"], f"sources/{name}.h": files[f"{name}.h"]}
     description = env.get_template(version.description)
     guid = "{" + str(_uuid(fmi, c_text, description.render(**facts, guid=""))) + "}"

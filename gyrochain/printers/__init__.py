@@ -10,6 +10,7 @@ from __future__ import annotations
 import hashlib
 import json
 import shlex
+from pathlib import Path
 
 import sympy as sp
 
@@ -122,20 +123,22 @@ def regressor_context(model: Model) -> dict:
     )
 
 
-def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "double", options=()) -> dict[str, str]:
+def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "double", options=(),
+           compiled: Path | None = None) -> dict[str, str]:
     """The emitted files of the asked targets, by file name.  With every target, also
     MANIFEST.json (the spec's hash, the versions, the op counts and every file's hash).
     ``options``: the generate options besides ``real`` that made the files (their headers say how
     to regenerate them).
     ``on_c``, if given, is called with the C target's files as soon as they are printed (the
     build can start while the Python and the LaTeX are printed).  ``real``: "float" retypes the C to
-    single precision (printers/real.py)."""
+    single precision (printers/real.py).  ``compiled``: where compiled templates are kept between
+    processes (``common.environment``)."""
     unknown = [t for t in targets if t not in TARGETS]
     if unknown:
         raise ValueError(f"unknown target {unknown[0]!r} (one of {', '.join(TARGETS)})")
     counts = op_counts(model)
     context = code_context(model, spec_label, counts, regenerate_command(spec_label, options, real), real)
-    env = environment()
+    env = environment(compiled)
     files: dict[str, str] = {}
     for key in ALL:  # in one order, whatever the order asked
         if key in targets:

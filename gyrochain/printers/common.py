@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
+from pathlib import Path
 
 import jinja2
 import sympy as sp
@@ -252,16 +253,20 @@ def _regressor_functions(model: Model, printer_cls, names: dict, style: str) -> 
     }
 
 
-def environment() -> jinja2.Environment:
+def environment(compiled: Path | None = None) -> jinja2.Environment:
     """The templates' environment, one per process and folder: jinja2 compiles a template once per
-    environment (model.c.jinja took about half a second), and reloads one whose file changed."""
-    return _environment(str(TEMPLATES))
+    environment (model.c.jinja took about half a second), and reloads one whose file changed.
+    ``compiled``: a private folder where compiled templates are kept for the next process (the
+    pipeline passes one in the user's build cache); a kept one is used only while its template's
+    text is the same."""
+    return _environment(str(TEMPLATES), None if compiled is None else str(compiled))
 
 
 @functools.lru_cache(maxsize=4)
-def _environment(folder: str) -> jinja2.Environment:
+def _environment(folder: str, compiled: str | None) -> jinja2.Environment:
     return jinja2.Environment(
         loader=jinja2.FileSystemLoader(folder),
+        bytecode_cache=None if compiled is None else jinja2.FileSystemBytecodeCache(compiled),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
         lstrip_blocks=True,

@@ -94,6 +94,75 @@ def test_a_template_is_compiled_once_per_process(monkeypatch, tmp_path):
     assert common.environment().get_template("model.pc.in.jinja").render(facts).endswith("# edited\n")
     assert compiled == ["model.pc.in.jinja"] * 2
 
+def test_the_next_process_reads_the_compiled_templates(monkeypatch, tmp_path):
+    """The templates compiled by one command are kept in the build cache for the next: a new
+    process (here: the per-process environment forgotten) renders the gimbal's C without compiling
+    a template file, the same bytes; a kept template whose text has changed is compiled again."""
+    import jinja2
+
+    from gyrochain.printers import common
+
+    monkeypatch.setenv("GYROCHAIN_CACHE", str(tmp_path / "cache"))
+    compiled: list = []
+    real_compile = jinja2.Environment.compile
+
+    def counted(self, source, name=None, *args, **kwargs):
+        if name is not None:  # a template file (the one-line glue of printers/c.py has no name)
+            compiled.append(name)
+        return real_compile(self, source, name, *args, **kwargs)
+
+    monkeypatch.setattr(jinja2.Environment, "compile", counted)
+    model = pipeline.derive(load_spec(GIMBAL))
+    outputs = []
+    for _ in range(2):
+        pipeline.forget()  # the renderings kept by this process
+        common._environment.cache_clear()  # and its environments: as a new process starts
+        compiled.clear()
+        outputs.append(pipeline.render(model, "gimbal.toml", ("c",)))
+        if len(outputs) == 1:
+            assert "model.c.jinja" in compiled
+    assert compiled == [] and outputs[0] == outputs[1] == {k: v for k, v in committed("gimbal").items() if k in outputs[0]}
+    kept = tmp_path / "cache" / "templates"
+    assert oct(kept.stat().st_mode & 0o777) == "0o700" and all(p.stat().st_mode & 0o077 == 0 for p in kept.iterdir())
+    folder = tmp_path / "templates"  # the same templates, one of them edited
+    import shutil
+
+    shutil.copytree(common.TEMPLATES, folder)
+    monkeypatch.setattr(common, "TEMPLATES", folder)
+    for edit in ("", "/* edited */\n"):
+        (folder / "model.cdef.jinja").write_text((folder / "model.cdef.jinja").read_text() + edit)
+        pipeline.forget()
+        common._environment.cache_clear()
+        compiled.clear()
+        again = pipeline.render(model, "gimbal.toml", ("c",))
+    assert compiled == ["model.cdef.jinja"] and again["gimbal.cdef"].endswith("/* edited */\n")
+    pipeline.forget()
+
+
+def test_compiled_templates_are_kept_only_in_a_private_cache(monkeypatch, tmp_path):
+    """A compiled template is code: a cache folder another user could have written (the build
+    cache's own checks) is neither read nor written, and rendering goes on without it."""
+    from gyrochain.printers import common
+
+    shared = tmp_path / "shared"
+    (shared / "templates").mkdir(parents=True)
+    shared.chmod(0o777)
+    monkeypatch.setenv("GYROCHAIN_CACHE", str(shared))
+    assert pipeline.compiled_templates() is None
+    mine = tmp_path / "mine"
+    monkeypatch.setenv("GYROCHAIN_CACHE", str(mine))
+    assert pipeline.compiled_templates() == (mine / "templates").resolve()
+    (mine / "templates").chmod(0o777)  # the cache is private, its templates folder is not
+    assert pipeline.compiled_templates() is None
+    before = sorted((mine / "templates").iterdir())
+    pipeline.forget()
+    common._environment.cache_clear()
+    files = pipeline.render(pipeline.derive(load_spec(GIMBAL)), "gimbal.toml", ("c",))
+    assert files["gimbal.c"] == committed("gimbal")["gimbal.c"] and sorted((mine / "templates").iterdir()) == before
+    monkeypatch.setenv("GYROCHAIN_CACHE", "")
+    assert pipeline.compiled_templates() is None
+    pipeline.forget()
+
 
 def test_an_unknown_target_is_refused():
     with pytest.raises(ValueError, match="unknown target 'fortran'"):
