@@ -175,11 +175,23 @@ def test_killed_worker_loses_nothing(tmp_path):
     same(tmp_path / "whole.zarr", tmp_path / "dask.zarr")
 
 
+# one user's sweep, in a process of its own: the Sweep's fields as JSON, the scheduler, the store
+ONE_USER = """
+import json, sys
+from gyrochain import sweep
+sweep.run(sweep.Sweep(**json.loads(sys.argv[1])), sys.argv[3], scheduler=sys.argv[2], progress=False)
+"""
+
+
 def test_two_sweeps_at_once_on_one_scheduler_keep_their_own_models(tmp_path):
-    """Two different sweeps (two specs) sent at once to the same scheduler, as two users of one
-    cluster would: each store equals its run on threads.  Their shared inputs were once scattered
-    under the literal keys 'sweep', 'files' and 'name', which the two runs then shared."""
-    import threading
+    """Two different sweeps (two specs) sent at once to the same scheduler by two processes, as two
+    users of one cluster would: each store equals its run on threads.  Their shared inputs were once
+    scattered under the literal keys 'sweep', 'files' and 'name', which the two runs then shared.
+    (Two processes, not two threads of this one: two Dask clients in threads of one process share
+    one event loop, and in a full suite one such client once waited past 120 s for results its
+    workers had computed.)"""
+    import json
+    from dataclasses import asdict
 
     distributed = pytest.importorskip("distributed")
     runs = {"dp": small(measures=("final",), t1=1.0, chunk=10),
@@ -189,24 +201,18 @@ def test_two_sweeps_at_once_on_one_scheduler_keep_their_own_models(tmp_path):
         sweep.run(sw, tmp_path / f"{name}_threads.zarr", threads=1, progress=False)
     cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
                                        dashboard_address=None, silence_logs=50)
-    errors: list = []
-
-    def run(name):
-        try:
-            sweep.run(runs[name], tmp_path / f"{name}_dask.zarr", scheduler=cluster.scheduler_address, progress=False)
-        except Exception as exc:  # noqa: BLE001  (reported by the assertion below)
-            errors.append(f"{name}: {exc}")
-
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
+    users = []
     try:
-        threads = [threading.Thread(target=run, args=(name,)) for name in runs]
-        for th in threads:
-            th.start()
-        for th in threads:
-            th.join(timeout=120)
-        assert not any(th.is_alive() for th in threads), "a sweep did not end within 120 s"
+        users = [subprocess.Popen([sys.executable, "-c", ONE_USER, json.dumps(asdict(sw)), cluster.scheduler_address,
+                                   str(tmp_path / f"{name}_dask.zarr")], cwd=tmp_path, env=env,
+                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for name, sw in runs.items()]
+        said = [user.communicate(timeout=180) for user in users]
+        assert [user.returncode for user in users] == [0, 0], [err[-2000:] for _, err in said]
     finally:
+        for user in users:
+            user.kill()
         cluster.close(timeout=30)
-    assert errors == []
     for name in runs:
         same(tmp_path / f"{name}_threads.zarr", tmp_path / f"{name}_dask.zarr")
 
