@@ -106,10 +106,15 @@ bench-speed: bench-setup
 	$(VPY) bench/robots.py
 	$(VPY) bench/releases.py --instructions
 
-pdf: generate
+# the LaTeX typeset by LuaLaTeX (Debian: texlive-luatex, texlive-latex-recommended, fonts-dejavu-core), two passes
+# for the tables' widths; PAPER=letter for US letter
+PAPER ?= a4
+pdf: setup
+	@command -v lualatex >/dev/null || { echo "make pdf needs lualatex: apt-get install texlive-luatex texlive-latex-recommended fonts-dejavu-core"; exit 1; }
+	$(VPY) -m gyrochain generate -q --no-build --paper $(PAPER) $(SPEC) >/dev/null
 	@name=$$($(VPY) -c "from gyrochain.spec import load_spec; print(load_spec('$(SPEC)').name)"); \
-	cd generated/$$name && pdflatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null \
-		&& pdflatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null && echo "generated/$$name/$$name.pdf"
+	cd generated/$$name && lualatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null \
+		&& lualatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null && echo "generated/$$name/$$name.pdf"
 
 clean:
 	rm -rf $(VENV) .pytest_cache build dist site *.egg-info

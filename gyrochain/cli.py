@@ -54,7 +54,7 @@ def cmd_generate(args) -> int:
         print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
     result = generate.run(spec, target, Path(args.spec).name, build=not args.no_build, force=args.force,
                           qdd_form=args.qdd_form, der_form=args.derivative_form, progress=_Progress(args.quiet),
-                          real=args.real, source=Path(args.spec), regressor=args.regressor)
+                          real=args.real, source=Path(args.spec), regressor=args.regressor, paper=args.paper)
     for line in generate.report(result):
         print(line)
     print(f"done in {time.perf_counter() - t0:.2f} s")

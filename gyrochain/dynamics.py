@@ -163,11 +163,13 @@ def _forward_pass(kin: Kinematics, bd: _Inertial) -> tuple[list, list, list]:
         a1 = P.vec("aO1", J[1].down(kin.acc0), r"a^{1}")
         acc_O, acc_Og = [None, a1], [None, P.vec("aOg1", add(a1, scale(-bd.g, kin.gamma[1])))]
     for k in range(1, kin.n + 1):
-        eps.append(P.vec(f"eps{k}", add(J[k].down(eps[k - 1]), cross(w[k], [qd[k], ZERO, ZERO])), rf"\varepsilon^{{{k}}}"))
+        eps.append(P.vec(f"eps{k}", add(J[k].down(eps[k - 1], rf"\varepsilon^{{{k - 1}}}"), cross(w[k], [qd[k], ZERO, ZERO])),
+                         rf"\varepsilon^{{{k}}}"))
         if k > 1:
             j, sj = k - 1, bd.s[k - 1]
-            rel = P.vec(f"aOrel{k}in{j}", add(cross(eps[j], sj), cross(w[j], P.vec(f"ws{j}", cross(w[j], sj)))))
-            acc_O.append(P.vec(f"aO{k}", J[k].down(add(acc_O[j], rel)), rf"a^{{{k}}}"))
+            ws = P.vec(f"ws{j}", cross(w[j], sj), rf"(\boldsymbol\omega\times\mathbf s)^{{{j}}}")
+            rel = P.vec(f"aOrel{k}in{j}", add(cross(eps[j], sj), cross(w[j], ws)), rf"\tilde a^{{{k}}}")
+            acc_O.append(P.vec(f"aO{k}", J[k].down(add(acc_O[j], rel), rf"a^{{{k}}}"), rf"a^{{{k}}}"))
             acc_Og.append(P.vec(f"aOg{k}", J[k].down(add(acc_Og[j], rel))))
     return eps, acc_O, acc_Og
 
@@ -177,9 +179,10 @@ def _carried_in(kin: Kinematics, k: int, nxt: _SubChain) -> _SubChain:
     if k == kin.n:
         return _SubChain(I=[[ZERO] * 3 for _ in range(3)])
     P, up = kin.prog, kin.joint[k + 1].up  # frame k+1 → frame k
-    F, N, Gm, Lam, h = (P.vec(f"{nm}{k + 1}in{k}", up(v)) for nm, v in
-                        (("F", nxt.F), ("N", nxt.N), ("Gm", nxt.Gm), ("Lam", nxt.Lam), ("h", nxt.h)))
-    I = kin.joint[k + 1].up_sym(nxt.I, f"I{k + 1}in{k}")
+    F, N, Gm, Lam, h = (P.vec(f"{nm}{k + 1}in{k}", up(v, rf"{tex}^{{{k + 1}}}"), rf"{tex}^{{{k + 1}|{k}}}") for nm, v, tex in
+                        (("F", nxt.F, "F"), ("N", nxt.N, "N"), ("Gm", nxt.Gm, r"\Gamma"), ("Lam", nxt.Lam, r"\Lambda"),
+                         ("h", nxt.h, "h")))
+    I = kin.joint[k + 1].up_sym(nxt.I, f"I{k + 1}in{k}", rf"I^{{{k + 1}}}")
     Fb, Nb = P.vec(f"Fb{k + 1}in{k}", up(nxt.Fb)), P.vec(f"Nb{k + 1}in{k}", up(nxt.Nb))
     return _SubChain(F=F, N=N, Gm=Gm, Lam=Lam, h=h, I=I, Fb=Fb, Nb=Nb, m=nxt.m, Ld=nxt.Ld, Fl=nxt.Fl, Nl=nxt.Nl)
 
@@ -204,9 +207,9 @@ def _backward_step(kin: Kinematics, k: int, bd: _Inertial, acc: tuple, nxt: _Sub
     eps, acc_O, acc_Og = acc
     A, c, sk, m = bd.A[k], bd.c[k], bd.s[k], bd.m[k]
     inn = _carried_in(kin, k, nxt)
-    wcc = P.vec(f"wc{k}", cross(w, c))
+    wcc = P.vec(f"wc{k}", cross(w, c), rf"(\boldsymbol\omega\times\mathbf c)^{{{k}}}")
     rel_G = add(cross(eps[k], c), cross(w, wcc))  # a_G − a_O
-    Aw = P.vec(f"Aw{k}", matvec(A, w))
+    Aw = P.vec(f"Aw{k}", matvec(A, w), rf"(\mathbf A\boldsymbol\omega)^{{{k}}}")
     # the paper's split: velocity-quadratic part Σ_{p≥k} [(Aω)˙ + m c×a_O] + Σ_{q>k} d_kq × m a_G
     F = P.vec(f"F{k}", add(scale(m, add(acc_O[k], rel_G)), inn.F), rf"F^{{{k}}}")
     N = P.vec(f"N{k}", add(add(matvec(A, eps[k]), cross(w, Aw)), scale(m, cross(c, acc_O[k])), inn.N, cross(sk, inn.F)),
@@ -252,8 +255,8 @@ def _mass_matrix(kin: Kinematics, s: list, I_c: list, h_c: list) -> list:
         fc = [ZERO, -h_c[k][2], h_c[k][1]]
         M[k - 1][k - 1] = nm[0]
         for j in range(k - 1, 0, -1):
-            fc = P.vec(f"f{k}in{j}", J[j + 1].up(fc), rf"f^{{{k}|{j}}}")
-            nm = P.vec(f"n{k}in{j}", add(J[j + 1].up(nm), cross(s[j], fc)), rf"n^{{{k}|{j}}}")
+            fc = P.vec(f"f{k}in{j}", J[j + 1].up(fc, rf"f^{{{k}}}"), rf"f^{{{k}|{j}}}")
+            nm = P.vec(f"n{k}in{j}", add(J[j + 1].up(nm, rf"n^{{{k}}}"), cross(s[j], fc)), rf"n^{{{k}|{j}}}")
             M[j - 1][k - 1] = M[k - 1][j - 1] = nm[0]
     return M
 

@@ -62,41 +62,45 @@ class Joint:
         self._double = None  # (cos 2φ, sin 2φ), named when a tensor is first turned
         self._double_cost = 0  # their operations, until a tensor rotation uses them
 
-    def _tmp(self, value: Poly) -> Poly:
+    def _tmp(self, value: Poly, of: str | None, tex: str | None = None) -> Poly:
         self._n += 1
-        return self.P.let(f"j{self.k}r{self._n}", value)
+        return self.P.let(f"j{self.k}r{self._n}", value, tex or of and in_frame(of, rf"\bar{{{self.k}}}") + "_{3}")
 
-    def down(self, v) -> list:
-        """v⁽ᵏ⁾ = αᵏ'ᵏ⁻¹ v⁽ᵏ⁻¹⁾."""
+    def down(self, v, of: str | None = None, tex: str | None = None) -> list:
+        """v⁽ᵏ⁾ = αᵏ'ᵏ⁻¹ v⁽ᵏ⁻¹⁾.  ``of``: the vector's TeX (\\omega^{2}), which names the component both
+        rows of R₁ read: its third in the frame of joint k at φᵏ = 0 (\\omega^{2|\\bar{3}}_{3}); or
+        ``tex``, that component's TeX itself."""
         ct, st, c, s = self.ct, self.st, self.cp, self.sp
-        w1, w2, w3 = ct * v[0] - st * v[2], v[1], self._tmp(st * v[0] + ct * v[2])
+        w1, w2, w3 = ct * v[0] - st * v[2], v[1], self._tmp(st * v[0] + ct * v[2], of, tex)
         return [w1, c * w2 + s * w3, c * w3 - s * w2]
 
-    def up(self, v) -> list:
-        """v⁽ᵏ⁻¹⁾ = (αᵏ'ᵏ⁻¹)ᵀ v⁽ᵏ⁾."""
+    def up(self, v, of: str | None = None) -> list:
+        """v⁽ᵏ⁻¹⁾ = (αᵏ'ᵏ⁻¹)ᵀ v⁽ᵏ⁾ (``of`` as in ``down``)."""
         ct, st, c, s = self.ct, self.st, self.cp, self.sp
-        y1, y2, y3 = v[0], c * v[1] - s * v[2], self._tmp(s * v[1] + c * v[2])
+        y1, y2, y3 = v[0], c * v[1] - s * v[2], self._tmp(s * v[1] + c * v[2], of)
         return [ct * y1 + st * y3, y2, ct * y3 - st * y1]
 
-    def up_sym(self, I, name: str) -> list:
+    def up_sym(self, I, name: str, of: str | None = None) -> list:
         """αᵀ I α of a symmetric 3×3 matrix (a tensor of frame k seen in frame k−1), lower
         triangle named.  Two ways, the cheaper one kept (the other is dead code): products
         by R₁(φ) then R₂(θ), or the same two plane rotations by the double angle (cos 2φ,
         sin 2φ computed once per joint), which wins for full tensors and loses for sparse ones."""
         P, k = self.P, self.k
         start = len(P.defs)
-        plain = self._conj(I, name, symmetric=True)
+        plain = self._conj(I, name, symmetric=True, of=of)
         cost_plain = _cost(P.defs[start:])
         if self._double is None:
             c, s = self.cp, self.sp
             start = len(P.defs)
-            self._double = (P.let(f"c2phi{k}", c * c - s * s), P.let(f"s2phi{k}", 2 * c * s))
+            angle = P.tex.get(next(iter(c.terms))[0].sym, rf"\cos\varphi^{{{k}}}").removeprefix(r"\cos")
+            self._double = (P.let(f"c2phi{k}", c * c - s * s, rf"\cos\left(2{angle}\right)"),
+                            P.let(f"s2phi{k}", 2 * c * s, rf"\sin\left(2{angle}\right)"))
             self._double_cost = _cost(P.defs[start:])
         start = len(P.defs)
-        X = _plane_sym(P, I, 1, 2, (self.cp, self.sp), self._double, f"{name}dr")
+        X = _plane_sym(P, I, 1, 2, (self.cp, self.sp), self._double, f"{name}dr", of and in_frame(of, rf"\bar{{{k}}}"))
         if not self.st.is_zero():
             ct, st = self.ct, -self.st  # R₂(θ) is a plane rotation of (e₁, e₃) by −θ
-            X = _plane_sym(P, X, 0, 2, (ct, st), (ct * ct - st * st, 2 * ct * st), f"{name}d")
+            X = _plane_sym(P, X, 0, 2, (ct, st), (ct * ct - st * st, 2 * ct * st), f"{name}d", of and in_frame(of, str(k - 1)))
         if _cost(P.defs[start:]) + self._double_cost < cost_plain:
             self._double_cost = 0
             return X
@@ -106,23 +110,25 @@ class Joint:
         """αᵀ X α of a general 3×3 matrix: R₁(φ) stage, then R₂(θ)."""
         return self._conj(X, name, symmetric=False)
 
-    def _conj(self, X, name: str, symmetric: bool) -> list:
+    def _conj(self, X, name: str, symmetric: bool, of: str | None = None) -> list:
         P = self.P
         c, s, ct, st = self.cp, self.sp, self.ct, self.st
         R1 = [[ONE, ZERO, ZERO], [ZERO, c, s], [ZERO, -s, c]]
         R2 = [[ct, ZERO, -st], [ZERO, ONE, ZERO], [st, ZERO, ct]]
 
-        def conj(R, X, tag):  # Rᵀ X R
+        def conj(R, X, tag, tex):  # Rᵀ X R
             T = [[P.let(f"{name}{tag}a_{i + 1}{j + 1}", sum((X[i][l] * R[l][j] for l in range(3)), ZERO)) for j in range(3)] for i in range(3)]
             out = [[None] * 3 for _ in range(3)]
             for i in range(3):
                 for j in range(i + 1 if symmetric else 3):
-                    out[i][j] = P.let(f"{name}{tag}_{i + 1}{j + 1}", sum((R[l][i] * T[l][j] for l in range(3)), ZERO))
+                    out[i][j] = P.let(f"{name}{tag}_{i + 1}{j + 1}", sum((R[l][i] * T[l][j] for l in range(3)), ZERO),
+                                      tex and f"{tex}_{{{i + 1}{j + 1}}}")
                     if symmetric:
                         out[j][i] = out[i][j]
             return out
 
-        return conj(R2, conj(R1, X, "r"), "")
+        k = self.k
+        return conj(R2, conj(R1, X, "r", of and in_frame(of, rf"\bar{{{k}}}")), "", of and in_frame(of, str(k - 1)))
 
 
 def _cost(defs) -> int:
@@ -130,7 +136,16 @@ def _cost(defs) -> int:
     return sum(rhs.op_count() for _, rhs in defs if isinstance(rhs, Poly))
 
 
-def _plane_sym(P, X, i: int, j: int, cs: tuple, double: tuple, name: str) -> list:
+def in_frame(tex: str, frame: str) -> str:
+    """The TeX of a vector or tensor of the paper's notation in another frame: \\omega^{2} in the
+    frame \\bar{3} is \\omega^{2|\\bar{3}} (the n^{k|r} of Appendix A, the frame after the bar)."""
+    head, sep, tail = tex.rpartition("^{")
+    if not sep or not tail.endswith("}"):
+        raise ValueError(f"not an upper-indexed name: {tex}")
+    return f"{head}^{{{tail[:-1]}|{frame}}}"
+
+
+def _plane_sym(P, X, i: int, j: int, cs: tuple, double: tuple, name: str, tex: str | None = None) -> list:
     """Rᵀ X R for a symmetric X and the plane rotation R = [[c, s], [−s, c]] of axes (i, j):
     with σ = (Xᵢᵢ + Xⱼⱼ)/2, δ = (Xᵢᵢ − Xⱼⱼ)/2 and the double angle (cos 2, sin 2),
     X'ᵢᵢ = σ + δ cos 2 − Xᵢⱼ sin 2, X'ⱼⱼ = σ − (…), X'ᵢⱼ = δ sin 2 + Xᵢⱼ cos 2: 12 operations
@@ -143,11 +158,12 @@ def _plane_sym(P, X, i: int, j: int, cs: tuple, double: tuple, name: str) -> lis
     dlt = P.let(f"{name}dlt", 0.5 * (X[i][i] - X[j][j]))
     t = P.let(f"{name}t", dlt * C2 - X[i][j] * S2)
     nm = lambda a, b: f"{name}_{max(a, b) + 1}{min(a, b) + 1}"  # noqa: E731
-    out[i][i] = P.let(nm(i, i), sig + t)
-    out[j][j] = P.let(nm(j, j), sig - t)
-    out[i][j] = out[j][i] = P.let(nm(i, j), dlt * S2 + X[i][j] * C2)
-    out[l][i] = out[i][l] = P.let(nm(l, i), X[l][i] * c - X[l][j] * s)
-    out[l][j] = out[j][l] = P.let(nm(l, j), X[l][i] * s + X[l][j] * c)
+    tx = lambda a, b: tex and f"{tex}_{{{max(a, b) + 1}{min(a, b) + 1}}}"  # noqa: E731
+    out[i][i] = P.let(nm(i, i), sig + t, tx(i, i))
+    out[j][j] = P.let(nm(j, j), sig - t, tx(j, j))
+    out[i][j] = out[j][i] = P.let(nm(i, j), dlt * S2 + X[i][j] * C2, tx(i, j))
+    out[l][i] = out[i][l] = P.let(nm(l, i), X[l][i] * c - X[l][j] * s, tx(l, i))
+    out[l][j] = out[j][l] = P.let(nm(l, j), X[l][i] * s + X[l][j] * c, tx(l, j))
     return out
 
 
@@ -231,7 +247,7 @@ def derive(spec: ChainSpec, prog: Program | None = None, symbolic_platform: bool
         j = Joint(P, k, ct, st, cp, sph)
         joint.append(j)
         alpha.append(direction_cosines(body.theta, phi[k], *(next(iter(v.terms))[0].sym for v in (cp, sph))))
-        gamma.append(P.vec(f"gam{k}", j.down(gamma[k - 1]), rf"\gamma^{{{k}}}"))  # (α^k_{i1})_i, eq. (14)
-        omega.append(P.vec(f"om{k}", add(j.down(omega[k - 1]), scale(qd[k], E1)), rf"\omega^{{{k}}}"))  # eq. (1)
+        gamma.append(P.vec(f"gam{k}", j.down(gamma[k - 1], rf"\gamma^{{{k - 1}}}"), rf"\gamma^{{{k}}}"))  # (α^k_{i1})_i, eq. (14)
+        omega.append(P.vec(f"om{k}", add(j.down(omega[k - 1], rf"\omega^{{{k - 1}}}"), scale(qd[k], E1)), rf"\omega^{{{k}}}"))  # eq. (1)
     return Kinematics(P, n, phi, phidot, torque, alpha, joint, gamma, omega, qd, tau, pm, eps0, vel0, acc0,
                       symbolic_platform and pm is not None)

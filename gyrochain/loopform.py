@@ -109,10 +109,12 @@ def place_joint(spec, kin: Kinematics, k: int, rows, O, tag: str) -> tuple:
     """Joint k in frame 0, from joint k − 1's ``rows`` and ``O``: (rows of R_k, Oᵏ, Sᵏ), named
     ``{tag}R…``, ``{tag}O…``, ``{tag}Sv…``.  Row i of R_k is ê⁰ᵢ in frame k, R_k[i][j] = ê⁰ᵢ·êᵏⱼ."""
     P, num = kin.prog, kin.prog.from_sympy
-    if k > 1:  # Oᵏ = Oᵏ⁻¹ + R_{k−1} sᵏ⁻¹
+    if k > 1:  # Oᵏ = Oᵏ⁻¹ + R_{k−1} sᵏ⁻¹ (the LaTeX's ρᵏ)
         s = [num(x) for x in spec.bodies[k - 2].s]
-        O = P.vec(f"{tag}O{k}", [O[i] + dot(rows[i], s) for i in range(3)])
-    rows = [P.vec(f"{tag}R{k}r{i + 1}", kin.joint[k].down(rows[i])) for i in range(3)]
+        O = P.vec(f"{tag}O{k}", [O[i] + dot(rows[i], s) for i in range(3)], rf"\rho^{{{k}}}")
+    # row i of R_k: the paper's α^k_{ji}, j = 1, 2, 3 (its third component in the frame of joint k at φᵏ = 0 on the way)
+    rows = [[P.let(f"{tag}R{k}r{i + 1}_{j + 1}", x, rf"\alpha^{{{k}}}_{{{j + 1}{i + 1}}}")
+             for j, x in enumerate(kin.joint[k].down(rows[i], tex=rf"\alpha^{{\bar{{{k}}}}}_{{3{i + 1}}}"))] for i in range(3)]
     e = [rows[i][0] for i in range(3)]
     return rows, O, e + P.vec(f"{tag}Sv{k}", cross(O, e))
 
@@ -128,8 +130,8 @@ def body_inertia(spec, kin: Kinematics, k: int, rows, O, tag: str) -> tuple:
     hw = [dot(rows[i], [m * num(x) for x in b.c]) for i in range(3)]
     diag = m * dot(O, O) + 2 * dot(O, hw)
     A0 = P.sym_mat(f"{tag}A{k}", [[Aw[i][j] + (diag if i == j else ZERO) - m * O[i] * O[j] - hw[i] * O[j] - O[i] * hw[j]
-                                  for j in range(3)] for i in range(3)])
-    return A0, P.vec(f"{tag}h{k}", [hw[i] + m * O[i] for i in range(3)]), m
+                                  for j in range(3)] for i in range(3)], rf"\Theta^{{{k}}}")
+    return A0, P.vec(f"{tag}h{k}", [hw[i] + m * O[i] for i in range(3)], rf"\eta^{{{k}}}"), m
 
 
 def derive(spec, kin: Kinematics) -> LoopForm:
@@ -153,7 +155,7 @@ def derive(spec, kin: Kinematics) -> LoopForm:
     for k in range(n, 0, -1):
         A0, h0, m = body[k - 1]
         IC = (A0, h0, m) if IC is None else (
-            P.sym_mat(f"CIC{k}", [[A0[i][j] + IC[0][i][j] for j in range(3)] for i in range(3)]),
-            P.vec(f"ChC{k}", [h0[i] + IC[1][i] for i in range(3)]), P.let(f"CmC{k}", m + IC[2]))
+            P.sym_mat(f"CIC{k}", [[A0[i][j] + IC[0][i][j] for j in range(3)] for i in range(3)], rf"\bar\Theta^{{{k}}}"),
+            P.vec(f"ChC{k}", [h0[i] + IC[1][i] for i in range(3)], rf"\bar\eta^{{{k}}}"), P.let(f"CmC{k}", m + IC[2]))
         z1[k - 1] = [Poly.lift(x) for x in inertia_apply(IC, S[k - 1])]
     return LoopForm(tuple(tuple(Poly.lift(x) for x in s) for s in S), tuple(tuple(z) for z in z1), T2)

@@ -31,7 +31,7 @@ C_FILES = (".c", ".h", ".cdef")  # what an extension is built from
 
 _DERIVED: OrderedDict = OrderedDict()  # (spec text, forms) → Model, the last few derived
 _DERIVED_MAX = 8
-_RENDERED: OrderedDict = OrderedDict()  # (model, label, targets, real, options) → its files, the last few
+_RENDERED: OrderedDict = OrderedDict()  # (model, label, targets, real, options, paper) → its files, the last few
 _LOCK = threading.Lock()
 _REGULAR: set = set()  # the (spec text, values) whose mass matrix was found regular
 _LOADED: dict = {}  # content hash of the sources → CModel (an extension loads once per process)
@@ -133,18 +133,19 @@ def _with_symbolic(model: Model) -> Model:
 
 
 def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on_c=None, real: str = "double",
-           options=()) -> dict[str, str]:
+           options=(), paper: str = "a4") -> dict[str, str]:
     """The emitted files of the asked targets ("c", "python", "latex"), by file name; with all
     three also MANIFEST.json.  ``spec_label``: how the header names the spec (default NAME.toml);
     ``on_c``: called with the C files as soon as they are printed (``BuildAhead``); ``real``: the
     floating type of the C ("double", or "float": single precision); ``options``: the generate
-    options besides ``real`` that made them (the headers' regenerate command).  The last few
+    options besides ``real`` that made them (the headers' regenerate command); ``paper``: the LaTeX's
+    page ("a4" or "letter").  The last few
     renderings are kept: the same model asked again with the same arguments gets a copy of its files."""
     if "latex" in targets and model.spec.general and model.symbolic is None:
         model = _with_symbolic(model)
     label = spec_label or f"{model.spec.name}.toml"
     # the model is kept with its files, so its id stays its own while they are kept
-    key = (id(model), label, tuple(targets), real, tuple(options))
+    key = (id(model), label, tuple(targets), real, tuple(options), paper)
     with _LOCK:
         found = _RENDERED.get(key)
     if found is not None:  # printing is a function of the model and these arguments
@@ -159,14 +160,14 @@ def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on
         if on_c is not None:
             on_c(printed)
 
-    files = printers.render(model, label, targets, printed_c, real, options, compiled_templates())
+    files = printers.render(model, label, targets, printed_c, real, options, compiled_templates(), paper)
     _keep(_RENDERED, key, (model, dict(files), c_files))
     return files
 
 
 def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_form: str = "auto",
                       der_form: str = "auto", targets=printers.ALL, loops: str = "auto", on_c=None,
-                      real: str = "double", regressor: bool = False) -> tuple[dict[str, str], Model]:
+                      real: str = "double", regressor: bool = False, paper: str = "a4") -> tuple[dict[str, str], Model]:
     """``derive`` then ``render``: the files and the model."""
     model = derive(spec, qdd_form, der_form, latex="latex" in targets, progress=progress, loops=loops,
                    regressor=regressor)
@@ -174,8 +175,9 @@ def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_fo
     say("printing " + ", ".join({"c": "C", "python": "Python", "latex": "LaTeX"}[t] for t in printers.ALL if t in targets))
     options = [*(("--qdd-form", qdd_form) if qdd_form != "auto" else ()),
                *(("--derivative-form", der_form) if der_form != "auto" else ()),
-               *(("--regressor",) if regressor else ())]
-    return render(model, spec_label, targets, on_c, real, options), model
+               *(("--regressor",) if regressor else ()),
+               *(("--paper", paper) if paper != "a4" else ())]
+    return render(model, spec_label, targets, on_c, real, options, paper), model
 
 
 # --------------------------------------------------------------------------- compile

@@ -48,12 +48,21 @@ def document_names(tex: str, n: int) -> dict[str, sp.Symbol]:
 
 
 def recursion(tex: str) -> list[tuple[str, str]]:
-    """The definitions of a long chain's recursion section, in order: (name, its formula).  The
-    lines that only restate cos φᵏ, sin φᵏ define nothing new."""
+    """The definitions of a long chain's recursion section, in order: (name, its formula), each
+    written in the text as "$name = formula$".  A line that defines cos 2φᵏ (a function the
+    grammar reads itself) defines nothing the formulas need."""
     if RECURSION not in tex:
         return []
     section = tex.split(RECURSION, 1)[1].split(r"\section*", 1)[0]
-    return [(lhs, rhs) for lhs, rhs in equations(section).items() if not lhs.startswith((r"\cos", r"\sin"))]
+    section = section[section.index(r"{\footnotesize"):]
+    out = []
+    for item in re.findall(r"(?<!\\)\$(.+?)(?<!\\)\$", section, flags=re.S):
+        lhs, eq, rhs = item.partition(" = ")
+        if not eq:
+            raise TexSyntaxError(f"a line of the recursion without ' = ': {item[:60]!r}")
+        if not lhs.startswith((r"\cos", r"\sin")):
+            out.append((lhs.strip(), rhs.strip()))
+    return out
 
 
 class Parser:
@@ -202,20 +211,30 @@ def parse(text: str, names: dict) -> sp.Expr:
     return Parser(text, names).parse()
 
 
+TAG = re.compile(r"\\tag\*?\{(?:[^{}]|\{(?:[^{}]|\{[^{}]*\})*\})*\}")
+
+
 def equations(tex: str) -> dict[str, str]:
-    """Every "lhs &= rhs" of the document's align* blocks (continuations joined), and every
-    quantity an "Identically zero:" line names, as "0"."""
+    """Every "lhs &= rhs" of the document's align* blocks (continuations joined; several to a row
+    as "lhs &= rhs & lhs &= rhs"; the equation numbers \\tag{…} dropped), and every quantity an
+    "Identically zero:" line names, as "0"."""
     out: dict[str, str] = {}
     for block in re.findall(r"\\begin\{align\*\}(.*?)\\end\{align\*\}", tex, flags=re.S):
+        if r"\begin{pmatrix}" in block:  # the direction cosines' matrices (direction_cosines reads them)
+            continue
         current = None
-        for chunk in re.split(r"\\\\", block):
+        for chunk in re.split(r"\\\\", TAG.sub("", block)):
             chunk = chunk.strip()
             if not chunk:
                 continue
             if "&=" in chunk:
-                lhs, rhs = chunk.split("&=", 1)
-                current = lhs.strip()
-                out[current] = rhs.strip()
+                parts = chunk.split("&=")
+                lhs = parts[0]
+                for i, part in enumerate(parts[1:], start=1):
+                    rhs, _, nxt = part.rpartition(" & ") if i < len(parts) - 1 else (part, "", "")
+                    current = lhs.strip()
+                    out[current] = rhs.strip()
+                    lhs = nxt
             elif chunk.startswith(r"&\quad") and current is not None:
                 out[current] += " " + chunk[len(r"&\quad"):].strip()
     for line in re.findall(r"^Identically zero: (.*)\.$", tex, flags=re.M):
@@ -234,20 +253,41 @@ def pmatrix(text: str, names: dict) -> list[list[sp.Expr]]:
     return [[parse(cell, names) for cell in row.split("&")] for row in body.split(r"\\")]
 
 
+def _vector(text: str, names: dict) -> list[list[sp.Expr]]:
+    """A printed 3-vector, a column or a row of a pmatrix, as three one-element rows."""
+    m = pmatrix(text, names)
+    return [[x] for x in m[0]] if len(m) == 1 else m
+
+
 def body_table(tex: str, names: dict) -> list[dict]:
-    r"""The scene's table of the bodies, a row per body: θ, m, c, s (None for the last), λ, A as
-    the document prints them (expressions) and the control flag."""
-    head = r"$k$ & $\theta^k$ & $m^k$ & $\mathbf c^k$ & $\mathbf s^k$ & $\boldsymbol\lambda^k$ & $\mathbf A^k$ & control"
+    r"""The scene's tables of the bodies, a row per body: θ, m, c, s (None for the last), λ as
+    the document prints them (expressions), the control flag, and A from the table of the inertia
+    tensors (its six components, or the matrix)."""
+    head = r"$k$ & $\theta^k$ & $m^k$ & $\mathbf c^k$ & $\mathbf s^k$ & $\boldsymbol\lambda^k$ & control"
     start = tex.index(head) + len(head)
     rows = []
     for line in tex[start:tex.index(r"\end{longtable}", start)].splitlines():
         cells = re.findall(r"\$(.*?)\$", line)
-        if len(cells) != 7:
+        if len(cells) != 6:
             continue
-        k, theta, m, c, s, lam, A = cells
-        rows.append(dict(k=int(k), theta=parse(theta, names), m=parse(m, names), c=pmatrix(c, names),
-                         s=None if s.startswith(r"\text") else pmatrix(s, names), lam=pmatrix(lam, names),
-                         A=pmatrix(A, names), control=line.rstrip(" \\").rsplit("&", 1)[1].strip()))
+        k, theta, m, c, s, lam = cells
+        rows.append(dict(k=int(k), theta=parse(theta, names), m=parse(m, names), c=_vector(c, names),
+                         s=None if s.startswith(r"\text") else _vector(s, names), lam=_vector(lam, names),
+                         control=re.sub(r"\\\\(\[[^]]*\])?\s*$", "", line).rsplit("&", 1)[1].strip()))
+    inertia = {}
+    for head in (r"$k$ & $A^k_{11}$ & $A^k_{22}$ & $A^k_{33}$ & $A^k_{12}$ & $A^k_{13}$ & $A^k_{23}$", r"$k$ & $\mathbf A^k$"):
+        if head not in tex:
+            continue
+        start = tex.index(head) + len(head)
+        for line in tex[start:tex.index(r"\end{longtable}", start)].splitlines():
+            cells = re.findall(r"\$(.*?)\$", line)
+            if len(cells) == 7:
+                a11, a22, a33, a12, a13, a23 = (parse(x, names) for x in cells[1:])
+                inertia[int(cells[0])] = [[a11, a12, a13], [a12, a22, a23], [a13, a23, a33]]
+            elif len(cells) == 2:
+                inertia[int(cells[0])] = pmatrix(cells[1], names)
+    for row in rows:
+        row["A"] = inertia[row["k"]]
     return rows
 
 
@@ -263,7 +303,7 @@ def _table_rows(tex: str, head: str) -> list[list[str]]:
         return []
     start = tex.index(r"\endhead", tex.index(head)) + len(r"\endhead")
     body = tex[start:tex.index(r"\end{longtable}", start)]
-    return [[c.strip() for c in line.rstrip().removesuffix(r"\\").split(" & ")] for line in body.splitlines() if " & " in line]
+    return [[c.strip() for c in re.sub(r"\\\\(\[[^]]*\])?\s*$", "", line).split(" & ")] for line in body.splitlines() if " & " in line]
 
 
 def _cell(text: str, names: dict):
@@ -307,3 +347,18 @@ def initial_state(tex: str) -> tuple[list[float], list[float]] | None:
         return None
     read = lambda s: [float(v) for v in s.replace(r"\allowbreak", "").split(",")]  # noqa: E731
     return read(m.group(1)), read(m.group(2))
+
+
+def motion_equations(tex: str) -> dict[int, tuple[str, str]]:
+    """The equations of motion as the document writes them out, one display per joint after the
+    comment "% the equation of motion of joint k": k → (left side, right side) of its "=" (the
+    lines of its split joined)."""
+    out = {}
+    for k, body in re.findall(r"^% the equation of motion of joint (\d+)\n\\begin\{equation\*\}\n\\begin\{split\}\n(.*?)\\end\{split\}",
+                              tex, flags=re.S | re.M):
+        text = " ".join(line.strip().lstrip("&").removesuffix(r"\\").replace(r"\quad", " ") for line in body.splitlines())
+        left, eq, right = text.partition(" = ")
+        if not eq or " = " in right:
+            raise TexSyntaxError(f"the equation of joint {k} has not one '=': {text[:80]!r}")
+        out[int(k)] = (left.strip(), right.strip())
+    return out

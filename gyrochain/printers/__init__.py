@@ -19,12 +19,13 @@ from ..assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sw
                         time_dependent, variational_stack_bytes)
 from .c import CTarget
 from .common import c_comment, environment, py_docstring
-from .latex import LatexTarget
+from .latex import PAPERS, LatexTarget
 from .python import PythonTarget
 from .real import single_precision
 
 TARGETS = {"c": CTarget, "python": PythonTarget, "latex": LatexTarget}
 REALS = ("double", "float")  # generate --real: the floating type of the C
+PAPER_SIZES = tuple(PAPERS)  # generate --paper: the LaTeX's page
 ALL = tuple(TARGETS)
 
 
@@ -124,7 +125,7 @@ def regressor_context(model: Model) -> dict:
 
 
 def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "double", options=(),
-           compiled: Path | None = None) -> dict[str, str]:
+           compiled: Path | None = None, paper: str = "a4") -> dict[str, str]:
     """The emitted files of the asked targets, by file name.  With every target, also
     MANIFEST.json (the spec's hash, the versions, the op counts and every file's hash).
     ``options``: the generate options besides ``real`` that made the files (their headers say how
@@ -132,12 +133,13 @@ def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "d
     ``on_c``, if given, is called with the C target's files as soon as they are printed (the
     build can start while the Python and the LaTeX are printed).  ``real``: "float" retypes the C to
     single precision (printers/real.py).  ``compiled``: where compiled templates are kept between
-    processes (``common.environment``)."""
+    processes (``common.environment``).  ``paper``: the LaTeX's page, "a4" or "letter"."""
     unknown = [t for t in targets if t not in TARGETS]
     if unknown:
         raise ValueError(f"unknown target {unknown[0]!r} (one of {', '.join(TARGETS)})")
     counts = op_counts(model)
     context = code_context(model, spec_label, counts, regenerate_command(spec_label, options, real), real)
+    context["paper"] = paper
     env = environment(compiled)
     files: dict[str, str] = {}
     for key in ALL:  # in one order, whatever the order asked

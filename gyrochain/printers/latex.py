@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import hashlib
 import re
-from dataclasses import dataclass
 
 import sympy as sp
 from .. import trigform
@@ -17,9 +16,10 @@ from ..assemble import Model
 from ..exact import Fraction, is_negative, is_unit, to_float
 from ..kinematics import Kinematics, platform_symbols
 from ..spec import T as TIME
-from . import texscene
-from .common import one_line, signed_sum, tex_escape
-from .texterms import TexWriter, breaks, join, number_text
+from . import texlisting, texrecursion, texscene, texsources
+from .texlayout import DISPLAY_WIDTH, TEXT_WIDTH, Numbers, TexEquation, block, per_row, term_counts
+from .common import one_line, tex_escape
+from .texterms import TexWriter, breaks, join, number_text, param_tex, visible
 
 
 def fold_numbers(expr: sp.Expr) -> sp.Expr:
@@ -33,20 +33,6 @@ def fold_numbers(expr: sp.Expr) -> sp.Expr:
     return expr.func(*args) if any(a is not b for a, b in zip(args, expr.args)) else expr
 
 
-
-
-def param_tex(name: str) -> str:
-    r"""A spec parameter's name in the document, in sans serif (the document's own symbols are in
-    serif type, so no parameter reads as one of them): a letter head and a subscript tail (m2 →
-    m_{2}, J1z → J_{\mathrm{1z}}, A11 → A_{11}, k_spring → k_{\mathrm{spring}}); a longer head, Greek
-    names included, as the word."""
-    m = re.fullmatch(r"([A-Za-z]+?)_?([0-9].*|(?<=_).+)?", name)
-    head, tail = (m.group(1), m.group(2)) if m else (name, None)
-    head = rf"\mathsf{{{tex_escape(head)}}}"
-    if not tail:
-        return head
-    tail = tail if tail.isdigit() else rf"\mathrm{{{tex_escape(tail)}}}"
-    return f"{head}_{{{tail}}}"
 
 
 def writer_for(spec, kin: Kinematics) -> TexWriter:
@@ -71,6 +57,7 @@ def writer_for(spec, kin: Kinematics) -> TexWriter:
 
 
 MAX_LATEX_TERMS = 400
+
 CLOSED_FORM_MAX_N = 3  # above this the LaTeX shows the recursion instead of expanded closed forms
 
 
@@ -100,8 +87,9 @@ class Doc:
     """One document's printing: its writer and the one trigonometric form it keeps (trigform.py),
     chosen as the form with the fewest terms over the equations of motion."""
 
-    def __init__(self, writer: TexWriter):
+    def __init__(self, writer: TexWriter, width: float = 0):
         self.w, self.form, self.counts = writer, None, {}
+        self.width = width or DISPLAY_WIDTH  # ems of a display's line (texterms.visible)
         self._seen: dict = {}  # expr → its Canonical in its own shortest form (from choose)
 
     def choose(self, exprs) -> None:
@@ -121,7 +109,7 @@ class Doc:
             return can
         return trigform.canonical(expr, _angles(expr), self.form)
 
-    def lines(self, expr: sp.Expr, width: int = 230, expand: bool = True, count: int | None = None) -> Shown:
+    def lines(self, expr: sp.Expr, width: float = 0, expand: bool = True, count: int | None = None) -> Shown:
         """A sum printed term by term and broken into lines: expanded into the document's
         trigonometric form, or as it is (``expand=False``: already in it, ``count`` its terms)."""
         if expand:
@@ -130,17 +118,25 @@ class Doc:
         expr = fold_numbers(expr)
         if len(sp.Add.make_args(expr)) > MAX_LATEX_TERMS:
             return Shown.of([rf"\text{{({len(sp.Add.make_args(expr))} terms when expanded; not shown)}}"], count)
-        return Shown.of(self.w.lines(expr, width), count)
+        return Shown.of(self.w.lines(expr, width or self.width), count)
 
     def grouped(self, expr: sp.Expr, gens: list) -> Shown:
         """Collected by monomials of φ̇ (the paper's coefficient · φ̇ʰφ̇ʳ layout)."""
         can = self.canonical(expr)
+        pieces = self.grouped_pieces(can.expr, gens, reduced=True)
+        return Shown.of(breaks(pieces, self.width) if pieces else ["0"], can.terms)
+
+    def grouped_pieces(self, expr: sp.Expr, gens: list, reduced: bool = False, free_last: bool = False) -> list[str]:
+        """The signed terms of ``expr`` collected by the monomials of ``gens`` (in the document's
+        form unless ``reduced`` says it is already); the terms free of them first, or last."""
+        if not reduced:
+            expr = self.canonical(expr).expr
         groups: dict = {}
-        for term in sp.Add.make_args(can.expr):
+        for term in sp.Add.make_args(expr):
             coeff, mono = term.as_independent(*gens, as_Add=False)
             groups[mono] = groups.get(mono, 0) + coeff
         pieces = []
-        for mono in sorted(groups, key=lambda m: (sp.Poly(m, *gens).monoms()[0][::-1] if m != 1 else ())):
+        for mono in sorted(groups, key=lambda m: ((free_last and m == 1), sp.Poly(m, *gens).monoms()[0][::-1] if m != 1 else ())):
             inner = self.w.pieces(fold_numbers(groups[mono]))
             if inner == ["0"]:
                 continue
@@ -152,10 +148,17 @@ class Doc:
                 body = inner[0][2:] if neg else inner[0]
                 pieces.append(("- " if neg else "") + (factor if body == "1" else body + r" \, " + factor))
             else:
-                pieces.extend(_bracketed(inner, factor))
-        return Shown.of(breaks(pieces, 230) if pieces else ["0"], can.terms)
+                pieces.extend(_bracketed(inner, factor, self.width))
+        return pieces
 
-    def poly_lines(self, p: Poly, width: int = 230) -> Shown:
+    def accelerations(self, n: int) -> list:
+        """φ̈¹ … φ̈ⁿ as symbols the writer prints (the equations of motion and ∂R/∂x have them)."""
+        acc = [sp.Symbol(f"qddot_{k}") for k in range(1, n + 1)]
+        for k, a in enumerate(acc, start=1):
+            self.w.names[a], self.w.rank[a] = rf"\ddot\varphi^{{{k}}}", (TexWriter.ACCELERATION, k)
+        return acc
+
+    def poly_lines(self, p: Poly, width: float = 0) -> Shown:
         """A polynomial of the program as it stands (no expansion), printed without sympy: the
         recursion listing of a long chain has thousands of these."""
         if not p.terms:
@@ -173,28 +176,15 @@ class Doc:
             if not m or not is_unit(c):
                 body = number_text(abs(to_float(c)) if not isinstance(c, (int, Fraction)) else abs(c)) + (" " + body if body else "")
             pieces.append(("- " if is_negative(c) else "") + body)
-        return Shown.of(breaks(pieces, width))
+        return Shown.of(breaks(pieces, width or self.width))
 
 
-def _bracketed(inner: list[str], factor: str) -> list[str]:
+def _bracketed(inner: list[str], factor: str, width: float) -> list[str]:
     r"""A multi-term coefficient of a velocity monomial in brackets: one piece, or for a long one a
     piece per term (the line breaker may then split it, \Big( and \Big) pairing across lines)."""
-    if len(join(inner)) < 200:
+    if visible(join(inner)) < 0.8 * width:
         return [r"\left(" + join(inner) + r"\right) \, " + factor]
     return [r"\Big(" + inner[0], *inner[1:-1], inner[-1] + r"\Big) \, " + factor]
-
-
-@dataclass(frozen=True)
-class TexEquation:
-    lhs: str
-    lines: tuple[str, ...]  # a Shown when the quantity was expanded
-
-
-def block(eqs: list[TexEquation]) -> dict:
-    """Equations to print and the names of those that are zero (one line states them)."""
-    rows = [e for e in eqs if not Shown.is_zero(e.lines)]
-    zero = [e.lhs for e in eqs if Shown.is_zero(e.lines)]
-    return dict(rows=rows, zero=", ".join(f"${z}$" for z in zero))
 
 
 T10_MAX_TERMS = 20  # T₁ + T₀ is written out up to this many terms of the program's algebra (ship_gimbal: 15)
@@ -255,7 +245,7 @@ def _platform_rows(kin, doc: Doc) -> dict | None:
     rows = []
     for key, vals in (("omega", pm.omega), ("epsilon", pm.eps), ("vdot", pm.acc), ("gamma", pm.down)):
         for sym, v in zip(sy[key], vals):
-            rows.append(TexEquation(doc.w.name(sym), doc.lines(sp.sympify(v), 200, expand=False)))
+            rows.append(TexEquation(doc.w.name(sym), doc.lines(sp.sympify(v), expand=False)))
     return block(rows)
 
 
@@ -272,9 +262,7 @@ def _derivative_tex(model: Model, stages, doc: Doc, printed_terms: int | None) -
         return dict(rows=None, reason=f"this document expands them only up to $n = {DERIVATIVE_TEX_MAX_N}$"
                     + (f" (for $n = {n}$ the equations they differentiate already have {printed_terms} terms above)"
                        if printed_terms else ""))
-    acc = [sp.Symbol(f"qddot_{k}") for k in range(1, n + 1)]
-    for k, a in enumerate(acc, start=1):
-        doc.w.names[a], doc.w.rank[a] = rf"\ddot\varphi^{{{k}}}", (TexWriter.ACCELERATION, k)
+    acc = doc.accelerations(n)
     vals = kin.prog.inline([dyn.M[i][j] for i in range(n) for j in range(n)] + list(dyn.f), symbolic=True)
     M = [vals[i * n:(i + 1) * n] for i in range(n)]
     R = [sum((M[i][j] * acc[j] for j in range(n)), sp.Integer(0)) - vals[n * n + i] for i in range(n)]
@@ -302,12 +290,24 @@ def _bodies(spec, kin, doc: Doc) -> list[dict]:
         rows = [" & ".join(show(x) for x in row) for row in m]
         return r"\begin{pmatrix}" + r" \\ ".join(rows) + r"\end{pmatrix}"
 
+
+    # c, s, λ as rows (one line a body) when a body's row of the table fits the page, else as columns
+    wide = max((sum(visible(show(x)) + 1 for key in ("c", "s", "lam") for x in getattr(b, key)) for b in spec.bodies),
+               default=0) + 14 > TEXT_WIDTH
+
     def vec(v):
-        return r"\begin{pmatrix}" + r" \\ ".join(show(x) for x in v) + r"\end{pmatrix}"
+        return r"\begin{pmatrix}" + (r" \\ " if wide else " & ").join(show(x) for x in v) + r"\end{pmatrix}"
+
+    def components(A):  # A₁₁, A₂₂, A₃₃, A₁₂, A₁₃, A₂₃: one line a body, or the matrix where that is too wide
+        cells = [show(A[i][j]) for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))]
+        return cells if not wide_inertia else [mat(A)]
+
+    wide_inertia = max((sum(visible(show(x)) + 1.5 for row in b.A for x in row) * 2 / 3 for b in spec.bodies),
+                       default=0) + 4 > TEXT_WIDTH
 
     return [dict(k=k, theta=texscene.angle_text(b.theta, doc.w, fold_numbers), m=show(b.m), c=vec(b.c),
                  s=vec(b.s) if k < spec.n else r"\text{(none: last body)}",
-                 lam=vec(b.lam), A=mat(b.A), control="yes" if b.control else "no", alpha=mat(kin.alpha[k]))
+                 lam=vec(b.lam), A=components(b.A), control="yes" if b.control else "no", alpha=mat(kin.alpha[k]))
             for k, b in enumerate(spec.bodies, start=1)]
 
 
@@ -333,23 +333,55 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
         Phi=[TexEquation(f"W_{{{k + 1}}}", lines(v)) for k, v in enumerate(vals["Phi"])],
         joint=[TexEquation(rf"\tau_{{{k + 1}}}", lines(v)) for k, v in vals["joint"]],
     )
-    counts = ", ".join(f"${sym}$ {sum(eq.lines.terms or 0 for eq in out[key])}" for sym, key in
-                       (("M", "M"), ("Q", "Q"), (r"\Gamma", "Gamma"), ("G", "G")))
+    counts = term_counts([(sym, sum(eq.lines.terms or 0 for eq in out[key])) for sym, key in
+                           (("M", "M"), ("Q", "Q"), (r"\Gamma", "Gamma"), ("G", "G"))])
     blocks = {key: block(eqs) if eqs else None for key, eqs in out.items()}
-    U = TexEquation("U", lines(vals["U"]))
+    U = TexEquation("U", lines(vals["U"]), "22")
     T10 = TexEquation("T_{1} + T_{0}", lines(vals["T10"])) if vals.get("T10") is not None else None
-    K = TexEquation(r"\ell", grouped(vals["K"])) if vals["K"] is not None else None
+    K = TexEquation(r"\ell", grouped(vals["K"]), "27") if vals["K"] is not None else None
     printed = sum(eq.lines.terms or 0 for key in ("M", "Q", "Gamma", "G") for eq in out[key]) if closed else None
     return dict(blocks, U=U, T10=T10, K=K, term_counts=counts, printed_terms=printed)
 
 
-def _recursion(kin, doc: Doc, targets: list) -> list:
-    """The program's definitions the printed quantities need, in order (long chains)."""
-    out = []
-    for a, rhs in kin.prog.needed(targets):
-        body = doc.poly_lines(rhs) if isinstance(rhs, Poly) else doc.lines(rhs, expand=False)
-        out.append(TexEquation(doc.w.name(a.sym), tuple(body)))
-    return out
+EOM_MAX_LINES = 6  # the equations of motion are written out when each fits this many lines
+
+
+def _assembled(spec, vals: dict, doc: Doc, kin, printed_terms) -> dict:
+    """Each joint's equation of motion written out, Σᵣ M_kr φ̈ʳ + Q_k + Γ_k (+ Π_k + Λ̊_k) = G_k + Lᵏ
+    (+ W_k + τ_k), the left side collected by φ̈ʳ and the monomials of φ̇: the lines of each (the
+    right side's first line starts with "= "), or the reason they are not written out."""
+    n = spec.n
+    acc = doc.accelerations(n)
+    gens = acc + kin.phidot[1:]
+    joint = dict(vals["joint"])
+    rows = []
+    for k in range(n):
+        left = sum((vals["M"][_m_index(n, k, r)] * acc[r] for r in range(n)), sp.Integer(0))
+        extra = [vals[key][k] for key in ("Pi", "Lamdot") if vals[key]]
+        left += vals["Q"][k] + vals["Gamma"][k] + sum(extra, sp.Integer(0))
+        right = vals["G"][k] + (vals["Phi"][k] if vals["Phi"] else 0) + joint.get(k, 0)
+        pieces = doc.grouped_pieces(left, gens, free_last=True)
+        rhs = doc.w.pieces(fold_numbers(doc.canonical(sp.sympify(right)).expr)) if right != 0 else []
+        if k + 1 in spec.controls:
+            rhs = [p for p in rhs if p != "0"] + [rf"L^{{{k + 1}}}"]
+        rhs = rhs or ["0"]
+        lines = breaks(pieces, doc.width)
+        lines[1:] = [r"\quad " + ln for ln in lines[1:]]
+        right_lines = breaks(rhs, doc.width - 2)
+        if visible(lines[-1]) + visible(right_lines[0]) + 2 < doc.width and len(right_lines) == 1:
+            lines[-1] += " = " + right_lines[0]
+        else:
+            lines += ["\\quad = " + right_lines[0]] + ["\\quad " + ln for ln in right_lines[1:]]
+        if len(lines) > EOM_MAX_LINES:
+            return dict(rows=None, reason=f"the equation of joint {k + 1} alone would take {len(lines)} lines")
+        rows.append(dict(k=k + 1, lines=lines))
+    return dict(rows=rows, count="one equation per joint" if n > 1 else "one equation")
+
+
+def _m_index(n: int, k: int, r: int) -> int:
+    """Where M_kr is in the printed upper triangle (k, r from 0)."""
+    k, r = min(k, r), max(k, r)
+    return k * n - k * (k - 1) // 2 + (r - k)
 
 
 def _quadratures(model: Model, doc: Doc) -> dict | None:
@@ -437,13 +469,17 @@ def _tex(model: Model) -> dict:
     if closed:  # one trigonometric form for the whole document: the shortest over the equations of motion
         doc.choose(vals["M"] + vals["Q"] + vals["Gamma"] + vals["G"] + (vals["Pi"] or []))
     pair_form = dyn.loops is not None
-    eqs = _equations(spec, vals, doc, closed, kin.phidot[1:], pair_form)
-    recursion = []
-    if not closed:
+    recursion, aux = [], False
+    if not closed:  # the printed quantities in the recursion's named quantities (Appendix A)
         targets = _mass_targets(dyn, n) + list(dyn.Q) + list(dyn.Gamma) + list(dyn.G)
         targets += [ints.U] + ([ints.momentum] if ints.momentum is not None else [])
         targets += list(dyn.Lamdot) + list(dyn.Phi) + [j for j in dyn.joint if not j.is_zero()]
-        recursion = _recursion(kin, doc, targets)
+        printed = {f"{g}_{{{k}}}" for g in ("Q", r"\Gamma", "G", r"\Pi", r"\mathring\Lambda", "W", r"\tau") for k in range(1, n + 1)}
+        recursion, full = texrecursion.recursion(kin, doc, targets, printed)
+        vals = texrecursion.substituted(vals, full)
+        aux = any(r.lhs.startswith(r"\zeta") for r in recursion)
+    eqs = _equations(spec, vals, doc, closed, kin.phidot[1:], pair_form)
+    bodies = _bodies(spec, kin, doc)
     out = dict(
         general=spec.general,
         moving=spec.base is not None and spec.base.moves,
@@ -452,9 +488,13 @@ def _tex(model: Model) -> dict:
         **integral_statements(model),
         **eqs,
         platform=_platform_rows(kin, doc) if spec.general else None,
-        recursion=recursion,
+        recursion=texrecursion.paragraphs(recursion),
+        recursion_gamma=any(r.lhs.startswith(r"\Gamma^{") for r in recursion),
+        recursion_aux=aux,
+        eom=_assembled(spec, vals, doc, kin, eqs["printed_terms"]) if closed else dict(rows=None, reason=""),
         quad=_quadratures(model, doc),
-        bodies=_bodies(spec, kin, doc),
+        bodies=bodies,
+        alpha_per_row=per_row([b["alpha"] for b in bodies], TEXT_WIDTH),
         offsets=[(k, texscene.angle_text(b.offset, doc.w, fold_numbers)) for k, b in enumerate(spec.bodies, start=1)
                  if b.offset != 0],
         scene=texscene.scene(spec, doc.w, fold_numbers),
@@ -468,86 +508,11 @@ def _tex(model: Model) -> dict:
         deriv_generic="d_jvp" in model.lines,
         deriv_world=model.der_form == "world",
         deriv_world_inverse=model.world_columns == "inverse",
-        base=base_parameters(model),
-        references=[REFERENCES[k] for k in references(model)],
+        base=texsources.base_parameters(model),
+        references=[texsources.REFERENCES[k] for k in texsources.references(model)],
     )
     out["notation"] = texscene.notation(model, out, [doc.w.name(p) for p in spec.params])
     return out
-
-
-def _coefficient(c) -> str:
-    """An exact coefficient as a reviewer reads it: a decimal when it is one (lengths and their
-    products), else a fraction; a numerical one as its double."""
-    if isinstance(c, sp.Rational):
-        q = int(c.q)
-        while q % 2 == 0:
-            q //= 2
-        while q % 5 == 0:
-            q //= 5
-        if q == 1:
-            text = format(sp.Float(abs(c), 30), "f").rstrip("0").rstrip(".")
-        else:
-            text = rf"\tfrac{{{abs(c.p)}}}{{{c.q}}}"
-    else:
-        text = f"{abs(float(c)):.15g}"
-    return text
-
-
-def base_parameters(model: Model) -> dict | None:
-    """The base parameters' section (generate --regressor): π, and each βᵢ as a formula of it."""
-    if model.reg is None:
-        return None
-    params, base = model.reg.params, model.base
-    rows = []
-    for i, row in enumerate(base.K):
-        text = signed_sum(row, lambda j, c: params[j].tex if c == 1 else rf"{_coefficient(c)}\,{params[j].tex}")
-        rows.append((rf"\beta_{{{i + 1}}}", text))
-    return dict(
-        pi=r",\allowbreak ".join(p.tex for p in params),
-        count=len(params),
-        nbase=base.count,
-        rows=rows,
-        numerical=[i + 1 for i, flag in enumerate(base.numerical) if flag],
-        damping=any(p.kind == "b" for p in params),
-        at=", ".join(f"${param_tex(name)} = {value:g}$" for name, value in base.at),
-        rotors=any(p.kind == "lam" for p in params),
-    )
-
-
-# the works a document cites: the paper and the one it builds on always, the others where the
-# document uses them (Nikolai's quadratures) or the spec's description names them
-REFERENCES = {
-    "paper": r"\emph{Sostavnoi prostranstvennyi mayatnik} [The compound spatial pendulum], in a Donetsk collection on rigid-body dynamics.",
-    "kharlamov": r"P.~V.~Kharlamov, \emph{On the equations of motion of a system of rigid bodies}, in the same collection as [1].",
-    "nikolai": r"E.~L.~Nikolai, \emph{On the motion of a balanced gyroscope in a Cardan suspension}, Prikladnaya Matematika i Mekhanika (PMM) 3(4), 1939.",
-    "kapitza": r"P.~L.~Kapitza, \emph{Dynamic stability of a pendulum when its point of suspension vibrates}, Zh. Eksp. Teor. Fiz. 21 (1951) 588--597.",
-    "floquet": r"G.~Floquet, \emph{Sur les \'equations diff\'erentielles lin\'eaires \`a coefficients p\'eriodiques}, Ann. Sci. \'Ec. Norm. Sup. 12 (1883) 47--88.",
-    "mathieu": r"\'E.~Mathieu, \emph{M\'emoire sur le mouvement vibratoire d'une membrane de forme elliptique}, J. Math. Pures Appl. 13 (1868) 137--203.",
-    "ziegler": r"H.~Ziegler, \emph{Die Stabilit\"atskriterien der Elastomechanik}, Ingenieur-Archiv 20 (1952) 49--56.",
-}
-
-
-def references(model: Model) -> list[str]:
-    """The keys of REFERENCES this document cites, in the order of their numbers."""
-    keys = ["paper", "kharlamov"]
-    if model.quad is not None and model.quad.nikolai or "nikolai" in model.spec.description.lower():
-        keys.append("nikolai")
-    keys += [k for k in ("kapitza", "floquet", "mathieu", "ziegler") if k in model.spec.description.lower()]
-    return keys
-
-
-def source_text(model: Model, context: dict) -> str:
-    """Where the document comes from: the paper and the works it builds on, the spec and its
-    sha256, the generator's and sympy's versions (the same facts as MANIFEST.json)."""
-    spec, cited = model.spec, references(model)
-    named = [k for k in cited[2:] if k != "nikolai" or model.quad is None or not model.quad.nikolai]
-    nikolai = "nikolai" in cited and model.quad is not None and model.quad.nikolai
-    return (rf"Derived from the spec \texttt{{{tex_escape(one_line(context['label']))}}} "
-            rf"(sha256 \texttt{{{hashlib.sha256(spec.source.encode('utf-8')).hexdigest()[:16]}}}\dots) by gyrochain "
-            rf"{tex_escape(context['gyrochain_version'])} with sympy {tex_escape(context['sympy_version'])}, following the paper "
-            r"\emph{The compound spatial pendulum} [1], whose equations of motion build on Kharlamov's [2]"
-            + (rf"; the quadratures of the balanced gyroscope follow Nikolai [{cited.index('nikolai') + 1}]" if nikolai else "")
-            + (r". The description names " + ", ".join(f"[{cited.index(k) + 1}]" for k in named) if named else "") + ".")
 
 
 def initial_text(spec) -> str:
@@ -557,6 +522,9 @@ def initial_text(spec) -> str:
     fmt = lambda v: r",\allowbreak ".join(f"{float(x):.10g}" for x in v)  # noqa: E731  (a long chain's state wraps)
     return (rf"Initial state (\texttt{{[initial]}}): $\varphi = ({fmt(spec.initial['phi'])})$, "
             rf"$\dot\varphi = ({fmt(spec.initial['phidot'])})$.")
+
+
+PAPERS = {"a4": "25mm", "letter": "1in"}  # generate --paper: the page and its margins
 
 
 class LatexTarget:
@@ -571,17 +539,20 @@ class LatexTarget:
         tex.update(
             name_tex=tex_escape(spec.name),
             description_tex=texscene.description_tex(one_line(spec.description)),
-            sha_tex=hashlib.sha256(spec.source.encode("utf-8")).hexdigest(),
+            sha_tex=r"\allowbreak ".join(re.findall(".{1,16}", hashlib.sha256(spec.source.encode("utf-8")).hexdigest())),
             spec_label_tex=tex_escape(one_line(context["label"])),
             counts_tex=[(tex_escape(k), v) for k, v in sorted(context["counts"].items())],
             has_momentum=tex["K"] is not None,
-            source_tex=source_text(model, context),
+            source_tex=texsources.source_text(model, context),
             initial_tex=initial_text(spec),
             articulated=model.qdd_form == "articulated",
             n=spec.n,
-            k_range=r"$k = 1$" if spec.n == 1 else rf"$k = 1,\dots,{spec.n}$",
+            k_range="$k = " + (", ".join(str(k) for k in range(1, spec.n + 1)) if spec.n <= 3 else rf"1,\dots,{spec.n}") + "$",
+            eq=Numbers(),
             # the first lines, a TeX comment: the same words as the C's and Python's
             version=context["version"], spec_label=context["spec_label"], spec_sha=context["spec_sha"],
             regenerate=context["regenerate"],
+            paper=context["paper"], margin=PAPERS[context["paper"]],
+            listing=texlisting.listing(spec.source.rstrip("\n")),
         )
         return {f"{spec.name}.tex": env.get_template("model.tex.jinja").render(tex)}

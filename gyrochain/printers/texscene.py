@@ -1,10 +1,9 @@
 """The scene as the LaTeX states it: every input of the spec as given (joints, loads, the
-platform's motion, the parameters, the spec text itself), the notation table, and the spec's
-description as text with its ASCII formulas kept as code."""
+platform's motion, the parameters), the notation table, and the spec's description as text with
+its ASCII formulas kept as code."""
 from __future__ import annotations
 
 import re
-import unicodedata
 
 import sympy as sp
 
@@ -69,85 +68,6 @@ def description_tex(text: str) -> str:
     return " ".join(out)
 
 
-_GREEK = {"lamda": "lambda", "omicron": "o", "final sigma": "varsigma", "phi": "varphi", "epsilon": "varepsilon",
-          "theta symbol": "vartheta", "phi symbol": "phi", "lunate epsilon symbol": "epsilon", "rho symbol": "varrho"}
-_CAPITAL_COMMANDS = {"Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Upsilon", "Phi", "Psi", "Omega"}
-_SYMBOLS = {"\u2248": r"\approx", "\u2264": r"\le", "\u2265": r"\ge", "\u2260": r"\ne", "\u00b1": r"\pm", "\u00d7": r"\times",
-            "\u00b7": r"\cdot", "\u22c5": r"\cdot", "\u00b0": r"^\circ", "\u00b5": r"\mu", "\u2212": "-", "\u2192": r"\to",
-            "\u2190": r"\leftarrow", "\u221e": r"\infty", "\u2202": r"\partial", "\u2022": r"\bullet", "\u00f7": r"\div",
-            "\u2026": r"\ldots", "\u2013": r"\text{-}", "\u2014": r"\text{-}", "\u2018": r"\text{`}", "\u2019": r"\text{'}",
-            "\u201c": r"\text{``}", "\u201d": r"\text{''}", "\u00ac": r"\neg", "\u221a": r"\surd"}
-_LATIN_LOOKALIKE = dict(Alpha="A", Beta="B", Epsilon="E", Zeta="Z", Eta="H", Iota="I", Kappa="K", Mu="M", Nu="N", O="O", Rho="P",
-                       Tau="T", Chi="X")
-_ACCENTS = {"GRAVE": "`", "ACUTE": "'", "CIRCUMFLEX": "^", "DIAERESIS": '"', "TILDE": "~", "MACRON": "=", "DOT ABOVE": ".",
-            "CEDILLA": "c", "RING ABOVE": "r", "CARON": "v", "BREVE": "u", "DOUBLE ACUTE": "H"}
-_LETTERS = {"\u00df": r"\ss", "\u00e6": r"\ae", "\u00c6": r"\AE", "\u00f8": r"\o", "\u00d8": r"\O", "\u0153": r"\oe",
-            "\u0152": r"\OE", "\u0142": r"\l", "\u0141": r"\L", "\u00e5": r"\aa", "\u00c5": r"\AA"}
-TAB = 8  # a tab is shown as the spaces to the next multiple of 8 columns, with an arrow in the first
-
-
-def _glyph(ch: str) -> str:
-    """How a character outside ASCII is drawn in the listing: TeX for its own glyph where the
-    fonts of texlive-latex-base have one, else a boxed '?' (its text stays the character)."""
-    name = unicodedata.name(ch, "")
-    if ch in _SYMBOLS:
-        return r"\ensuremath{" + _SYMBOLS[ch] + "}"
-    if ch in _LETTERS:
-        return "{" + _LETTERS[ch] + "}"
-    if name.startswith(("SUPERSCRIPT ", "SUBSCRIPT ")) or re.match(r"MODIFIER LETTER SMALL [A-Z]$", name):
-        base = unicodedata.normalize("NFKC", ch)
-        if base.isascii() and base.isalnum() or base in "+-=()":
-            return (r"\textsubscript{" if name.startswith("SUBSCRIPT") else r"\textsuperscript{") + base + "}"
-    if name.startswith("GREEK "):
-        m = re.match(r"GREEK (SMALL|CAPITAL) LETTER (.*)$", name) or re.match(r"GREEK (.*)()$", name)
-        word = (m.group(2) or m.group(1)).lower()
-        word = _GREEK.get(word, word)
-        if m.group(1) == "CAPITAL":
-            word = word.capitalize()
-            return "\\ensuremath{\\" + word + "}" if word in _CAPITAL_COMMANDS else r"\ensuremath{\mathrm{" + _LATIN_LOOKALIKE.get(word, "?") + "}}"
-        if word.isalpha() and word.isascii():
-            return "\\ensuremath{\\" + word + "}"
-    decomposed = unicodedata.normalize("NFD", ch)
-    if len(decomposed) == 2 and decomposed[0].isascii() and decomposed[0].isalpha():
-        accent = unicodedata.name(decomposed[1], "").replace("COMBINING ", "").replace(" ACCENT", "")
-        if accent in _ACCENTS:
-            return "\\" + _ACCENTS[accent] + "{" + decomposed[0] + "}"
-    return r"\fbox{\kern-2.5pt?\kern-2.5pt}"
-
-
-def verbatim_listing(text: str) -> dict:
-    """The spec file as Appendix B prints it, character for character.  ASCII goes into a verbatim
-    block as it is; every other character (and a tab, and the backslash of an ``\\end{verbatim}``
-    in the text) is an active character of the document, drawn one column wide by ``_glyph`` inside
-    a span whose ActualText is the character itself, so that the PDF's text (copy, search, a
-    text extractor) is the file's.  Returns the block's text, the declarations, the width in
-    columns of the longest line and whether there are tabs."""
-    chars: dict[str, tuple[str, str, int]] = {}  # code point of the block -> (UTF-16 of the text, glyph, columns)
-    lines, width = [], 0
-    for line in text.split("\n"):
-        out, col = [], 0
-        line = line.replace("\\end{verbatim}", "\ue000end{verbatim}")
-        for ch in line:
-            if ch == "\t":
-                span = TAB - col % TAB
-                key = chr(0xE000 + span)
-                chars[key] = ("0009", r"\ensuremath{\scriptscriptstyle\rightarrow}", span)
-                out.append(key)
-                col += span
-                continue
-            if ch == "\ue000":
-                chars[ch] = ("005C", r"\char92{}", 1)
-            elif not (ch.isascii() and ch.isprintable()) and ch not in chars:
-                utf16 = ch.encode("utf-16-be").hex().upper()
-                chars[ch] = (utf16, _glyph(ch), 1)
-            out.append(ch)
-            col += 1
-        lines.append("".join(out))
-        width = max(width, col)
-    decls = [("%04X" % ord(key), utf16, glyph, span) for key, (utf16, glyph, span) in sorted(chars.items())]
-    return dict(text="\n".join(lines), chars=decls, columns=width, tab=TAB, tabs=any(u == "0009" for _, u, _, _ in decls))
-
-
 def angle_text(theta: sp.Expr, w, fold) -> str:
     """A structural angle as given: a rational multiple of π as a fraction of π, else its value."""
     q = sp.nsimplify(theta / sp.pi) if theta.has(sp.pi) else None
@@ -164,7 +84,7 @@ def _vec(w, fold, v) -> str:
 def scene(spec, w, fold) -> dict:
     """Every input beyond the bodies' table, printed from the parsed spec: the joints' springs,
     rest angles, dampers and torque expressions; the forces and moments with their points and
-    frames; the platform's motion r₀(t) and its rotations; the symbolic parameters; the spec text."""
+    frames; the platform's motion r₀(t) and its rotations; the symbolic parameters."""
     show = lambda x: w.sum_text(fold(sp.sympify(x)))  # noqa: E731
     joints = []
     for k, b in enumerate(spec.bodies, start=1):
@@ -187,7 +107,7 @@ def scene(spec, w, fold) -> dict:
     params = [dict(tex=w.name(p), name=tex_escape(p.name),
                    value=number_text(sp.Rational(repr(spec.values[p.name]))) if p.name in spec.values else "")
               for p in spec.params]
-    return dict(joints=joints, loads=loads, base=base, params=params, spec_listing=verbatim_listing(spec.source.rstrip("\n")))
+    return dict(joints=joints, loads=loads, base=base, params=params)
 
 
 def notation(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str, str, str]]:
@@ -252,11 +172,16 @@ def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str
                      r"platform's frame (the Poisson vector; not in the paper, whose base does not turn)"
                      + (r"; $\gamma^k_i$ its components in frame $k$" if parts else "")))
     if recursion:
-        rows.append((r"$a^k$, $F^k$, $N^k$", r"m/s$^2$, N, N\,m",
-                     r"the acceleration of $O^k$; the sub-chain's inertial force and its moment about $O^k$"))
+        rows.append((r"$a^k$, $\tilde a^k$, $F^k$, $N^k$", r"m/s$^2$, N, N\,m",
+                     r"the acceleration of $O^k$, its part relative to $O^{k-1}$; the sub-chain's inertial force and its "
+                     r"moment about $O^k$ (Appendix A)"))
     if doc["pair_form"]:
         rows.append((r"$\xi^k$, $z^k$, $\mathcal I^k$", "", r"the axis of joint $k$ as a twist, its momentum $\mathcal I^k\xi^k$, "
                      r"the spatial inertia of the sub-chain about $O^1$"))
+        rows.append((r"$\rho^k_i$", "m", r"the position of $O^k$ from $O^1$, in the platform's frame"))
+        rows.append((r"$\Theta^k$, $\bar\Theta^k$, $\eta^k$, $\bar\eta^k$", r"kg\,m$^2$, kg\,m",
+                     r"the inertia tensor and the first moment of body $k$ (with a bar: of the sub-chain $k,\dots,n$) "
+                     r"about $O^1$, in the platform's frame"))
     if doc["offsets"]:
         rows.append((r"$\delta^k$", "rad", r"the offset of joint $k$"))
     if doc["jacobi"] is not None:
@@ -270,8 +195,8 @@ def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str
         rows.append((r"$\mathcal E(\varphi)$", "J", r"$2(E + U)$, the right side of (28)"))
         rows.append((r"$K(\varphi)$", r"kg\,m$^2$/s", r"the right side of (29)"))
         rows.append((r"$\Phi$", "s/rad", r"the integrand of (30), $dt/d\varphi$"))
-    if recursion:
-        rows.append((r"$\mathrm{name}$", "", r"an intermediate quantity of the code, defined by its line in the order printed"))
+    if doc.get("recursion_aux"):
+        rows.append((r"$\zeta_j$", "", r"a function of the angles or the parameters the recursion computes once, defined by its line"))
     if doc["base"] is not None:
         rows.append((r"$Y$, $Y_B$, $\boldsymbol\pi$, $\boldsymbol\beta$, $\beta_i$, $u$, $u_0$", "",
                      r"the regressor and its base columns, the standard and the base parameters, the joint torques and the spec's known part of them"))

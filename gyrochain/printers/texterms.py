@@ -14,18 +14,20 @@ back and evaluates it against the emitted C.  It is
     term    := [number] factor*  |  "\\frac{" sum "}{" sum "}"
     number  := digits ["." digits] [" \\cdot 10^{" int "}"]  |  "\\frac{" int "}{" int "}"
     factor  := name ["^{" int "}"]  |  "\\left(" name "\\right)^{" int "}"  |  "\\left(" sum "\\right)" ["^{" int "}"]
-             | func ["^{" int "}"] (\\varphi^{k} | "(" sum ")")  |  "\\sqrt{" sum "}"
+             | func ["^{" int "}"] "(" sum ")"  |  func \\varphi^{k}  |  "\\sqrt{" sum "}"
 
 with the names of the document's notation table.
 """
 from __future__ import annotations
 
 import functools
+import re
 from fractions import Fraction
 
 import sympy as sp
 
 from ..exact import Surd, to_float
+from .common import tex_escape
 
 FUNCTIONS = {sp.cos: r"\cos", sp.sin: r"\sin", sp.tan: r"\tan", sp.exp: r"\exp", sp.log: r"\log",
              sp.sinh: r"\sinh", sp.cosh: r"\cosh", sp.tanh: r"\tanh", sp.asin: r"\arcsin",
@@ -137,8 +139,8 @@ class TexWriter:
         if isinstance(base, sp.Function) and type(base) in FUNCTIONS:
             fn = FUNCTIONS[type(base)]
             angle = self._angle_of(base.args[0])
-            if angle is not None:
-                return f"{fn}{pw}{angle}"
+            if angle is not None:  # (cos φ²)², not cos² φ², whose upper index reads as a power
+                return rf"\left({fn}{angle}\right){pw}" if pw else f"{fn}{angle}"
             return rf"{fn}{pw}\left({self.sum_text(base.args[0])}\right)"
         if isinstance(base, sp.Pow) and base.exp == sp.Rational(1, 2):
             return rf"\sqrt{{{self.sum_text(base.base)}}}" + (rf"^{{{e}}}" if e != 1 else "")
@@ -211,16 +213,65 @@ def join(pieces: list[str]) -> str:
     return out
 
 
-def breaks(pieces: list[str], width: int) -> list[str]:
-    """Signed terms joined into lines of about ``width`` characters; a continuation line starts
-    with its sign."""
+_SPACING = re.compile(r"\\(?:left|right|Big|big)(?![A-Za-z])|\\[,;!]")
+_FONT = re.compile(r"\\(?:mathsf|mathrm|mathbf|boldsymbol|mathcal|text|operatorname)\{([^{}]*)\}")
+_SCRIPT = re.compile(r"[\^_](?:\{([^{}]*)\}|(\\[A-Za-z]+|.))")
+_FUNCTION = re.compile(r"\\(?:cos|sin|tan|exp|log|sinh|cosh|tanh|arcsin|arccos|arctan)(?![A-Za-z])")
+_ACCENT = re.compile(r"\\(?:dot|ddot|hat|mathring|tfrac|frac|sqrt)(?![A-Za-z])")
+
+
+@functools.lru_cache(maxsize=65536)
+def visible(tex: str) -> float:
+    """About how wide a piece of math is set, in ems of the document's type: a letter or digit
+    half an em, a script smaller, a binary operator with its spaces more, cos and sin three
+    letters, a fraction's numerator and denominator one above the other (their wider counts).
+    The line breaker measures by it, so that a line fits the page whatever its TeX source's length."""
+    s = _SPACING.sub("", tex)
+    s = _FONT.sub(lambda m: m.group(1), s)
+    while "\\frac{" in s:  # the innermost fraction: the wider of its two parts
+        m = re.search(r"\\frac\{([^{}]*)\}\{([^{}]*)\}", s)
+        if m is None:
+            break
+        a, b = m.group(1), m.group(2)
+        s = s[:m.start()] + (a if visible(a) >= visible(b) else b) + s[m.end():]
+    width = 0.0  # the weights: least squares over the printed formulas of the examples, set by LuaLaTeX
+    for m in _SCRIPT.finditer(s):
+        width += 0.63 * visible(m.group(1) if m.group(1) is not None else m.group(2))
+    s = _SCRIPT.sub("", s)
+    width += 1.75 * len(_FUNCTION.findall(s))
+    s = _ACCENT.sub("", _FUNCTION.sub("", s))
+    width += 0.63 * len(re.findall(r"\\[A-Za-z]+", s))
+    s = re.sub(r"\\[A-Za-z]+", "", s)
+    width += 0.9 * len(re.findall(r"[-+=<>]", s))
+    width += 0.47 * sum(1 for ch in s if ch.isalnum())
+    width += 0.55 * sum(1 for ch in s if ch in "()[].,|/")
+    return width
+
+
+def breaks(pieces: list[str], width: float) -> list[str]:
+    """Signed terms joined into lines about ``width`` ems wide (``visible``); a continuation line
+    starts with its sign."""
     lines, cur = [], ""
     for p in pieces:
         piece = p if not cur else (f" {p}" if p.startswith("- ") else f" + {p}")
-        if cur and len(cur) + len(piece) > width:
+        if cur and visible(cur) + visible(piece) > width:
             lines.append(cur)
             cur = p if p.startswith("- ") else f"+ {p}"
         else:
             cur += piece
     lines.append(cur)
     return lines
+
+
+def param_tex(name: str) -> str:
+    r"""A spec parameter's name in the document, in sans serif (the document's own symbols are in
+    serif type, so no parameter reads as one of them): a letter head and a subscript tail (m2 →
+    m_{2}, J1z → J_{\mathrm{1z}}, A11 → A_{11}, k_spring → k_{\mathrm{spring}}); a longer head, Greek
+    names included, as the word."""
+    m = re.fullmatch(r"([A-Za-z]+?)_?([0-9].*|(?<=_).+)?", name)
+    head, tail = (m.group(1), m.group(2)) if m else (name, None)
+    head = rf"\mathsf{{{tex_escape(head)}}}"
+    if not tail:
+        return head
+    tail = tail if tail.isdigit() else rf"\mathrm{{{tex_escape(tail)}}}"
+    return f"{head}_{{{tail}}}"

@@ -99,6 +99,7 @@ class Doc:
         self.n, self.tex, self.spec = n, tex, None
         self.names = texread.document_names(tex, n)
         self.eqs = texread.equations(tex)
+        self.eqs.update(texread.recursion(tex))  # a long chain's quantities, written in the text
         self.params = {sp.Symbol("param_" + k): v for k, v in (params or {}).items()}
         self.recursion = [lhs for lhs, _ in texread.recursion(tex)]  # a long chain's quantities, in order
         # a long chain's M is stated once as z^k · ξ^r; every component is printed or said to be zero
@@ -109,6 +110,9 @@ class Doc:
             assert not missing, f"components neither printed nor said to be zero: {missing[:5]}"
         self._parsed: dict = {}
         self._names_key = tuple(sorted((k, sp.srepr(v)) for k, v in self.names.items()))
+        # the equations of motion written out, one display per joint: "left = right" as left − right
+        for k, (left, right) in texread.motion_equations(tex).items():
+            self.eqs[f"equation of motion {k}"] = rf"{left} - \left({right}\right)"
 
     def has(self, lhs: str) -> bool:
         return lhs in self.eqs
@@ -202,6 +206,7 @@ def mismatches(doc: Doc, model, params, rng, points: int = 20) -> list[str]:
                     assert not required, f"{lhs} is neither printed nor said to be zero"
             check(f"f_{k} (G + L + W + tau - Q - Gamma - Pi - Lamdot)", total, scale, f[k - 1])
         out += _group_mismatches(doc, ch, x, t, check)
+        _motion_mismatches(doc, ch, x, uc, t, env, check)
         if doc.has(r"\gamma^{0}_{1}"):
             _platform_mismatches(doc, ch, t, env, check)
         U, Us = doc.value("U", env)
@@ -223,6 +228,25 @@ def mismatches(doc: Doc, model, params, rng, points: int = 20) -> list[str]:
         if doc.has(r"\frac{\partial R_{1}}{\partial \varphi^{1}}"):
             _check_derivatives(doc, c, params, x, uc, t, env, M, check)
     return out
+
+
+def _motion_mismatches(doc: Doc, ch, x, uc, t, env, check) -> None:
+    """Each joint's equation of motion as the document writes it out, left side − right side as a
+    function of φ̈ (linear): its coefficients of φ̈ʳ are the row of the independent model's M, its
+    value at φ̈ = 0 the model's −f (controls, platform and loads included)."""
+    n = doc.n
+    if not doc.has("equation of motion 1"):
+        return
+    M, f = reference.mass_matrix(ch, x[:n]), reference.forces(ch, x, uc, t)
+    zero = {sp.Symbol(f"qdd{r}"): 0.0 for r in range(1, n + 1)}
+    for k in range(1, n + 1):
+        lhs = f"equation of motion {k}"
+        assert doc.has(lhs), f"the equations of motion are written out for some joints, not for joint {k}"
+        base, bscale = doc.value(lhs, {**env, **zero})
+        check(f"{lhs}: the terms without phi'' (the independent model's -f)", base, bscale, -f[k - 1])
+        for r in range(1, n + 1):
+            v, s = doc.value(lhs, {**env, **zero, sp.Symbol(f"qdd{r}"): 1.0})
+            check(f"{lhs}: the coefficient of phi''^{r} (the independent model's M)", v - base, s + bscale, M[k - 1, r - 1])
 
 
 GROUPS = (("Q", "Q"), (r"\Gamma", "Gamma"), ("G", "G"), (r"\Pi", "Pi"), (r"\mathring\Lambda", "Lamdot"), ("W", "W"),
@@ -396,13 +420,12 @@ def _check_quadratures(doc, c, params, x, env, check):
     eqs = doc.eqs
     for i, lhs in enumerate([r"J(\varphi) = M_{11}", r"C(\varphi) = M_{12}", r"A^2_{11} = M_{22}"]):
         check(lhs, *doc.value(lhs, env), got[i])
-    U_text = eqs[r"\mathcal E(\varphi)"].split(r"U =", 1)[1]
-    doc.eqs["quad U"] = U_text
-    v, s = doc.value("quad U", env)
+    assert eqs[r"\mathcal E(\varphi)"] == r"2\left(E + U(\varphi)\right)", eqs[r"\mathcal E(\varphi)"]
+    v, s = doc.value(r"U(\varphi)", env)
     check("E(phi)", 2 * (E + v), 2 * s + 2 * abs(E), got[3])
     beta = eqs[r"K(\varphi)"]
-    assert beta.startswith(r"\ell - \left(") and beta.endswith(r"\right)"), beta
-    doc.eqs["quad beta"] = beta[len(r"\ell - \left("):-len(r"\right)")]
+    assert beta.startswith(r"\ell - \Big(") and beta.endswith(r"\Big)"), beta
+    doc.eqs["quad beta"] = beta[len(r"\ell - \Big("):-len(r"\Big)")]
     v, s = doc.value("quad beta", env)
     check("K(phi)", k - v, s + abs(k), got[4])
     _check_phi_and_nikolai(doc, params, x, got, k, check)
@@ -413,13 +436,13 @@ def _check_phi_and_nikolai(doc, params, x, got, k, check):
     Nikolai's J, C, K, written with the spec's A and λ, are the quadrature functions."""
     J, C, A, E_phi, K_phi = (float(v) for v in got[:5])
     tex = doc.tex
-    phi_text = re.search(r"\\Phi = (.*?),\\qquad", tex).group(1).replace("A^2_{11}", "A ")
+    phi_text = re.search(r"\\Phi = (.*?), \\tag", tex).group(1).replace("A^2_{11}", "A ")
     phi_text = re.sub(r"\^(\d)", r"^{\1}", phi_text)
     names = {"A": A, r"\mathcal E(\varphi)": E_phi, "J": J, "C": C, "K": K_phi,
              r"\operatorname{sgn}(\dot\varphi)": float(np.sign(x[3]))}
     Phi = float(texread.parse(phi_text, names))
     check("Phi of (30) = 1/phidot", Phi, abs(Phi), 1.0 / x[3])
-    psi_text = re.search(r"\\psi - \\psi_0 = \\int_\{\\varphi_0\}\^\{\\varphi\}(.*?),?\s*\\\]", tex, flags=re.S).group(1)
+    psi_text = re.search(r"\\psi - \\psi_0 = \\int_\{\\varphi_0\}\^\{\\varphi\}(.*?) \\tag", tex, flags=re.S).group(1)
     psi_text = psi_text.replace(r"\frac{d\varphi}{J}", r"\frac{1}{J}")
     dpsi = float(texread.parse(psi_text, dict(names, **{r"\Phi": Phi})))
     check("dpsi/dphi of (30)", dpsi, abs(dpsi), x[2] / x[3])
@@ -486,7 +509,7 @@ def test_printed_formulas_of_random_specs_are_the_code(case, make_model):
 
 def _planted(tex: str, lhs: str) -> str:
     """The document with one digit changed: the 5th significant digit of the first long number of ``lhs``."""
-    start = tex.index(lhs + " &=")
+    start = tex.index(lhs + " &=") if lhs + " &=" in tex else tex.index("$" + lhs + " = ")
     m = re.compile(r"\d\.\d{6,}|0\.0*[1-9]\d{6,}").search(tex, start)
     assert m, "no long number to change"
     digits = [i for i, ch in enumerate(m.group()) if ch.isdigit()]
@@ -512,7 +535,7 @@ PLANTED = [
     ("kapitza", r"U &= 0.981 \mathsf{a} \cos\left(\mathsf{w} t\right) + 0.1962", r"U &= 0.981 \mathsf{a} \cos\left(\mathsf{w} t\right) + 0.2962"),
     ("ship_gimbal", r"U &= 8.3385", r"U &= 9.3385"),
     ("gimbal", r"\alpha^{2,1} &= \begin{pmatrix}0 & 0 & - 1", r"\alpha^{2,1} &= \begin{pmatrix}0 & 0 & 1"),
-    ("gimbal", r"0 & 0.006 & 0 \\ 0 & 0 & 0.009\end{pmatrix}$ & no", r"0 & 0.006 & 0 \\ 0 & 0 & 0.0009\end{pmatrix}$ & no"),
+    ("gimbal", r"$2$ & $0.006$ & $0.006$ & $0.009$ &", r"$2$ & $0.006$ & $0.006$ & $0.0009$ &"),
     ("gimbal", r"\sqrt{\frac{A^2_{11}J - C^2}{\mathcal E(\varphi)J - K^2}}", r"\sqrt{\frac{\mathcal E(\varphi)J - K^2}{A^2_{11}J - C^2}}"),
     ("rt_nikolai", r"$K = \ell - \lambda^1_1", r"$K = \ell + \lambda^1_1"),  # gimbal's λ¹ is 0: a sign there changes nothing
     # the scene's inputs against the spec, and the platform's motion against the spec's
@@ -521,6 +544,11 @@ PLANTED = [
     ("ship_gimbal", r"by $0.2 \sin\left(0.5 t\right)$ about", r"by $0.2 \sin\left(0.6 t\right)$ about"),
     ("ship_gimbal", r"\omega^{0}_{2} &= 0.056 \cos", r"\omega^{0}_{2} &= 0.065 \cos"),
     ("kapitza", r"$\varphi = (3.041592654)$", r"$\varphi = (3.141592654)$"),
+    # the equations of motion written out, against the independent model: a coefficient of φ̈, a term
+    # of the right side, a velocity term
+    ("furuta", r"+ 0.003 \, \ddot\varphi^{2} -", r"+ 0.0031 \, \ddot\varphi^{2} -"),
+    ("kapitza", r"= - 0.1962 \sin\varphi^{1}" + "\n", r"= - 0.1963 \sin\varphi^{1}" + "\n"),
+    ("gimbal", r"0.006 \, \ddot\varphi^{2} + 0.5 \sin", r"0.006 \, \ddot\varphi^{2} - 0.5 \sin"),
 ]
 
 

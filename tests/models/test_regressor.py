@@ -179,8 +179,11 @@ def test_the_latex_base_parameters_are_the_code(name):
     spec = _spec(name)
     model = pipeline.derive(spec, regressor=True)
     tex = pipeline.render(model, targets=("latex",))[f"{spec.name}.tex"]
-    rows = re.findall(r"^\\beta_\{(\d+)\} &= (.*?)(?: \\\\)?$", tex, flags=re.M)
-    assert len(rows) == model.base.count
+    import texread
+
+    eqs = texread.equations(tex)
+    rows = [(str(i), eqs[rf"\beta_{{{i}}}"]) for i in range(1, model.base.count + 1) if rf"\beta_{{{i}}}" in eqs]
+    assert len(rows) == model.base.count and rf"\beta_{{{model.base.count + 1}}}" not in eqs
     by_tex = {p.tex: j for j, p in enumerate(model.reg.params)}
     term = re.compile(r"\s*([+-])?\s*(?:(\d+(?:\.\d+)?(?:e[+-]?\d+)?|\\tfrac\{(\d+)\}\{(\d+)\})\\,)?((?:\(mc\)|[mA]|\\lambda|b)\^\{\d+\}(?:_\{\d+\})?)")
     for (i, text), row in zip(rows, model.base.K):

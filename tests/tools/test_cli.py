@@ -91,8 +91,8 @@ def test_spec_text_is_data_in_every_output(tmp_path):
     strict = subprocess.run(["gcc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c", str(out / "evil.c"),
                              "-o", str(tmp_path / "e.o")], capture_output=True, text=True)
     assert strict.returncode == 0, strict.stderr
-    if shutil.which("pdflatex"):
-        tex = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "evil.tex"], cwd=out,
+    if shutil.which("lualatex"):
+        tex = subprocess.run(["lualatex", "-interaction=nonstopmode", "-halt-on-error", "evil.tex"], cwd=out,
                              capture_output=True, text=True)
         assert tex.returncode == 0, tex.stdout[-2000:]
 

@@ -82,7 +82,7 @@ def residue_report(files: dict[str, str]) -> list[str]:
 def _tex_equations(text: str) -> list[str]:
     """The right sides of the LaTeX's equations, continuation lines joined."""
     eqs: list[str] = []
-    for chunk in re.split(r"\\\\|\\end\{align\*\}", re.sub(r"\\tag\*\{[^}]*\}", "", text)):
+    for chunk in re.split(r"\\\\|\\end\{align\*\}", re.sub(r"\\tag\*?\{(?:[^{}]|\{(?:[^{}]|\{[^{}]*\})*\})*\}", "", text)):
         if "&=" in chunk:
             eqs.append(chunk.rsplit("&=", 1)[1])
         elif chunk.strip().startswith(r"&\quad") and eqs:
