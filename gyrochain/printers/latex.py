@@ -10,13 +10,13 @@ import hashlib
 import re
 
 import sympy as sp
-from .. import trigform
+from .. import __version__, trigform
 from ..algebra import ZERO, Poly
 from ..assemble import Model
 from ..exact import Fraction, is_negative, is_unit, to_float
 from ..kinematics import Kinematics, platform_symbols
 from ..spec import T as TIME
-from . import texlisting, texrecursion, texscene, texsources
+from . import texlisting, texrecursion, texscene, texsources, textype
 from .texlayout import DISPLAY_WIDTH, TEXT_WIDTH, Numbers, TexEquation, block, per_row, term_counts
 from .common import one_line, tex_escape
 from .texterms import TexWriter, breaks, join, number_text, param_tex, visible
@@ -405,9 +405,10 @@ def _jacobi(model: Model, doc: Doc, closed: bool):
     return dict(K=TexEquation("H", doc.grouped(value, model.kin.phidot[1:])))
 
 
-def _joined(reasons) -> str:
-    """The facts' reasons (plain text, as the CLI prints them) in the document: O1, l1 as $O^1$, $l^1$."""
-    return re.sub(r"\b([Ol])(\d+)\b", r"$\1^{\2}$", tex_escape("; ".join(reasons)))
+def _joined(reasons, params: dict) -> str:
+    """The facts' reasons (plain text, as the CLI prints them) in the document's type (textype):
+    O1, l1 as $O^1$, $l^1$, a field such as body[2].force[1] as code."""
+    return textype.typeset("; ".join(reasons), params)
 
 
 def integral_statements(model: Model) -> dict:
@@ -416,13 +417,14 @@ def integral_statements(model: Model) -> dict:
     generate's report; each verdict is one sentence "... is an integral of this model" or "... is
     not an integral of this model: <why>"."""
     spec, facts = model.spec, model.integrals
+    params = {p.name: param_tex(p.name) for p in spec.params}
     extra = ""
     if facts.U_extra:
         springs = [w for w, _ in facts.U_extra if "spring" in w]
         kinds = ([r"for a spring $-\tfrac12\kappa^k(\varphi^k-\varphi^k_{\mathrm{rest}})^2$"] if springs else []) + (
             ["for a constant force fixed in space the force dotted with the position of its point from $O^1$"]
             if len(springs) < len(facts.U_extra) else [])
-        extra = (r"$U$ includes the force function of " + ", ".join(tex_escape(w) for w, _ in facts.U_extra)
+        extra = (r"$U$ includes the force function of " + ", ".join(textype.typeset(w, params) for w, _ in facts.U_extra)
                  + " (" + "; ".join(kinds) + ").  ")
     if facts.has_energy_integral:
         why = (r"the base is fixed, every $\boldsymbol\lambda^k$ is constant, no control torque acts"
@@ -435,14 +437,14 @@ def integral_statements(model: Model) -> dict:
                           rf"control torques vanish ($L^k = 0$), and in general $dE/dt = \sum_k L^k\dot\varphi^k$, over the controlled "
                           rf"joint{'s' if len(spec.controls) > 1 else ''} {joints}.")
     else:
-        energy = extra + f"The energy (23) is not an integral of this model: work is done by {_joined(facts.energy_reasons)}."
+        energy = extra + f"The energy (23) is not an integral of this model: work is done by {_joined(facts.energy_reasons, params)}."
     K = r"$\hat{\mathbf e}^1_1\cdot\mathbf K_{O^1}$"
     if facts.momentum is None:
         intro = None
         momentum = r"The momentum (27) is not an integral of this model: $\theta^1 \ne 0$, the axis $l^1$ is not vertical."
     elif facts.momentum_condition:
         intro = (rf"Momentum (27), {K}; it is conserved, $= \ell$, only when "
-                 rf"the axis $l^1$ is vertical, (25): {tex_escape(facts.momentum_condition)}. The function is")
+                 rf"the axis $l^1$ is vertical, (25): {textype.typeset(facts.momentum_condition, params)}. The function is")
         momentum = "The momentum (27) is not an integral of this model for every value of its parameters."
     elif facts.has_momentum_integral:
         intro = (r"Momentum (27): the axis $l^1$ is vertical ($\sin\theta^1 = 0$, (25)) and nothing turns the chain "
@@ -453,7 +455,7 @@ def integral_statements(model: Model) -> dict:
     else:
         where = " in the platform" if spec.base is not None else ""
         intro = rf"Momentum (27), {K} (the axis $l^1$ is vertical{where}, $\sin\theta^1 = 0$):"
-        momentum = f"The momentum (27) is not an integral of this model: {_joined(facts.momentum_reasons)}."
+        momentum = f"The momentum (27) is not an integral of this model: {_joined(facts.momentum_reasons, params)}."
     return dict(energy_statement=energy, momentum_intro=intro, momentum_statement=momentum)
 
 
@@ -509,7 +511,7 @@ def _tex(model: Model) -> dict:
         deriv_world=model.der_form == "world",
         deriv_world_inverse=model.world_columns == "inverse",
         base=texsources.base_parameters(model),
-        references=[texsources.REFERENCES[k] for k in texsources.references(model)],
+        references=texsources.reference_texts(model, __version__),
     )
     out["notation"] = texscene.notation(model, out, [doc.w.name(p) for p in spec.params])
     return out
@@ -538,7 +540,7 @@ class LatexTarget:
         tex = _tex(model)
         tex.update(
             name_tex=tex_escape(spec.name),
-            description_tex=texscene.description_tex(one_line(spec.description)),
+            description_tex=textype.typeset(spec.description, {p.name: param_tex(p.name) for p in spec.params}),
             sha_tex=r"\allowbreak ".join(re.findall(".{1,16}", hashlib.sha256(spec.source.encode("utf-8")).hexdigest())),
             spec_label_tex=tex_escape(one_line(context["label"])),
             counts_tex=[(tex_escape(k), v) for k, v in sorted(context["counts"].items())],

@@ -1,9 +1,6 @@
 """The scene as the LaTeX states it: every input of the spec as given (joints, loads, the
-platform's motion, the parameters), the notation table, and the spec's description as text with
-its ASCII formulas kept as code."""
+platform's motion, the parameters) and the notation table."""
 from __future__ import annotations
-
-import re
 
 import sympy as sp
 
@@ -26,46 +23,6 @@ def form_counts(form: str | None, counts: dict) -> str:
         return ""
     others = " and ".join(f"{counts[f]} {FORM_NAMES[f]}" for f in counts if f != form)
     return rf"$M$, $Q$, $\Gamma$, $G$ have {counts[form]} terms in this form, {others}"
-
-
-_OPERATORS = set("^*/=<>_")
-_WORDS = {"a", "an", "as", "at", "be", "by", "in", "is", "it", "of", "on", "or", "the", "to", "and", "its"}
-
-
-def _formula_token(tok: str) -> bool:
-    """A word that can be part of an ASCII formula: operators, brackets, numbers, short names."""
-    bare = tok.rstrip(",;.")
-    if any(ch in _OPERATORS or ch in "()" for ch in bare) or bare in ("-", "+"):
-        return True
-    return bool(re.fullmatch(r"\d+(\.\d+)?|[A-Za-z]\w{0,2}", bare)) and bare.lower() not in _WORDS
-
-
-def _tt(escaped: str) -> str:
-    """Escaped text for typewriter type, whose OT1 font has < > | at their ASCII places (the
-    text-font names would borrow them from the math font, with a font warning)."""
-    return escaped.replace(r"\textgreater{}", r"\char62{}").replace(r"\textless{}", r"\char60{}").replace(r"\textbar{}", r"\char124{}")
-
-
-def description_tex(text: str) -> str:
-    """The description as text; runs of words that form an ASCII formula ("a^2 w^2 > 2 g A11 /
-    (m l)", "phi = pi") in typewriter type, escaped, as the user typed them."""
-    words = text.split()
-    out, i = [], 0
-    while i < len(words):
-        j = i
-        while j < len(words) and _formula_token(words[j]):
-            j += 1
-        run = words[i:j]
-        if run and any(any(ch in _OPERATORS for ch in w) or re.search(r"[a-z]\(", w) for w in run):
-            tail = ""
-            if run[-1][-1] in ",;." and run[-1][-1:] not in ")":
-                run[-1], tail = run[-1][:-1], run[-1][-1]
-            out.append(r"\texttt{" + _tt(tex_escape(" ".join(run))) + "}" + tex_escape(tail))
-            i = j
-        else:
-            out.append(tex_escape(words[i]))
-            i += 1
-    return " ".join(out)
 
 
 def angle_text(theta: sp.Expr, w, fold) -> str:
@@ -113,8 +70,7 @@ def scene(spec, w, fold) -> dict:
 def notation(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str, str, str]]:
     """Every symbol the document uses, once, with its unit and its meaning: the paper's, then this
     document's own; ``doc`` is the document's context (which sections it has)."""
-    spec = model.spec
-    general, recursion, moving = spec.general, bool(doc["recursion"]), doc["moving"]
+    recursion, moving = bool(doc["recursion"]), doc["moving"]
     rows = [
         (r"$n$, $k$, $r$, $p$, $q$", "", r"the number of bodies; indices of bodies and joints, $1,\dots,n$ (an upper index labels a body and is never summed)"),
         (r"$i$, $j$", "", r"components $1, 2, 3$ in a body's frame; a component index repeated in a product is summed over $1, 2, 3$"),

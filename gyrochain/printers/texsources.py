@@ -55,8 +55,11 @@ def base_parameters(model: Model) -> dict | None:
 # the works a document cites: the paper and the one it builds on always, the others where the
 # document uses them (Nikolai's quadratures) or the spec's description names them
 REFERENCES = {
-    "paper": r"\emph{Sostavnoi prostranstvennyi mayatnik} [The compound spatial pendulum], in a Donetsk collection on rigid-body dynamics.",
+    "paper": r"\emph{Sostavnoi prostranstvennyi mayatnik} [A compound spatial pendulum], in a collection on rigid-body dynamics "
+             r"from Donetsk that also holds [2].  Our copy of the paper gives neither its authors nor its year, volume or pages.",
     "kharlamov": r"P.~V.~Kharlamov, \emph{On the equations of motion of a system of rigid bodies}, in the same collection as [1].",
+    "gyrochain": r"The gyrochain developers, \emph{gyrochain {version}: equations of compound spatial pendulums, generated}, "
+                 r"software, MIT licence (its \texttt{CITATION.cff} says how to cite it).",
     "nikolai": r"E.~L.~Nikolai, \emph{On the motion of a balanced gyroscope in a Cardan suspension}, Prikladnaya Matematika i Mekhanika (PMM) 3(4), 1939.",
     "kapitza": r"P.~L.~Kapitza, \emph{Dynamic stability of a pendulum when its point of suspension vibrates}, Zh. Eksp. Teor. Fiz. 21 (1951) 588--597.",
     "floquet": r"G.~Floquet, \emph{Sur les \'equations diff\'erentielles lin\'eaires \`a coefficients p\'eriodiques}, Ann. Sci. \'Ec. Norm. Sup. 12 (1883) 47--88.",
@@ -71,18 +74,23 @@ def references(model: Model) -> list[str]:
     if model.quad is not None and model.quad.nikolai or "nikolai" in model.spec.description.lower():
         keys.append("nikolai")
     keys += [k for k in ("kapitza", "floquet", "mathieu", "ziegler") if k in model.spec.description.lower()]
-    return keys
+    return keys + ["gyrochain"]
+
+
+def reference_texts(model: Model, version: str) -> list[str]:
+    """The references' list as the document prints it, numbered in this order."""
+    return [REFERENCES[k].replace("{version}", tex_escape(version)) for k in references(model)]
 
 
 def source_text(model: Model, context: dict) -> str:
     """Where the document comes from: the paper and the works it builds on, the spec and its
     sha256, the generator's and sympy's versions (the same facts as MANIFEST.json)."""
     spec, cited = model.spec, references(model)
-    named = [k for k in cited[2:] if k != "nikolai" or model.quad is None or not model.quad.nikolai]
+    named = [k for k in cited[2:-1] if k != "nikolai" or model.quad is None or not model.quad.nikolai]
     nikolai = "nikolai" in cited and model.quad is not None and model.quad.nikolai
     return (rf"Derived from the spec \texttt{{{tex_escape(one_line(context['label']))}}} "
             rf"(sha256 \texttt{{{hashlib.sha256(spec.source.encode('utf-8')).hexdigest()[:16]}}}\dots) by gyrochain "
-            rf"{tex_escape(context['gyrochain_version'])} with sympy {tex_escape(context['sympy_version'])}, following the paper "
+            rf"{tex_escape(context['gyrochain_version'])} [{len(cited)}] with sympy {tex_escape(context['sympy_version'])}, following the paper "
             r"\emph{The compound spatial pendulum} [1], whose equations of motion build on Kharlamov's [2]"
             + (rf"; the quadratures of the balanced gyroscope follow Nikolai [{cited.index('nikolai') + 1}]" if nikolai else "")
             + (r". The description names " + ", ".join(f"[{cited.index(k) + 1}]" for k in named) if named else "") + ".")

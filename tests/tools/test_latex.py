@@ -142,17 +142,93 @@ def test_latex_has_the_paper_structure():
     assert "M_{33}" in big and r"\dot\varphi^{3}" in big
 
 
-def test_spec_text_prints_in_the_text_font():
-    """The OT1 text font has no '<', '>' or '|': pdflatex would print '¿' for Kapitza's 'a^2 w^2 > …'
-    (typewriter type has them: there they are the font's own)."""
-    from gyrochain.printers.common import tex_escape
+def test_text_is_set_as_code_math_or_words():
+    """One typesetter for the description and the sentences from the facts: options, arguments,
+    files and field names in typewriter type; ASCII formulas as the document's math (a spec
+    parameter as the document prints it); words escaped; never one thing split across the three."""
+    from gyrochain.printers.textype import typeset
 
-    assert tex_escape("a > b < c | d") == r"a \textgreater{} b \textless{} c \textbar{} d"
-    from gyrochain.printers.texscene import description_tex
+    params = {"a": r"\mathsf{a}", "w": r"\mathsf{w}"}
+    kapitza = (ROOT / "specs" / "kapitza.toml").read_text()
+    import tomllib
 
-    assert description_tex("stable when a^2 < b") == r"stable when \texttt{a\textasciicircum{}2 \char60{} b}"
-    tex = (ROOT / "generated" / "kapitza" / "kapitza.tex").read_text()
-    description = next(ln for ln in tex.splitlines() if "stable when" in ln)
-    # the ASCII formula stays code, as typed: typewriter type, escaped
-    assert r"\texttt{a\textasciicircum{}2 w\textasciicircum{}2 \char62{} 2 g A11 / (m l)}" in description  # tt has >
-    assert r"\texttt{phi = pi}" in description and ">" not in description
+    text = typeset(tomllib.loads(kapitza)["description"], params)
+    assert r"$\mathsf{a}^{2} \mathsf{w}^{2} > 2 g A_{11} / (m l)$" in text
+    assert r"at $\mathsf{a} = 0.01$ it holds from $\mathsf{w} = 198.09$~rad/s" in text
+    assert r"(\texttt{steady -{}-{}vary w=150:300:16}) say" in text and r"$\varphi = \pi$" in text
+    assert typeset("the modes (g/l)(2 -+ sqrt 2)") == r"the modes $(g / l) (2 \mp \sqrt{2})$"
+    assert typeset("work by body[2].force[1]; O1 on l1") == r"work by \texttt{body[2].force[1]}; $O^{1}$ on $l^{1}$"
+    assert typeset("from panda_link0 in panda.urdf, P_cr = 2 k / l") == (
+        r"from \texttt{panda\_link0} in \texttt{panda.urdf}, $P_{\mathrm{cr}} = 2 k / l$")
+    assert typeset("rotor at 555 rad/s; quotes `x_1 = {y}` & 50% of $5") == (
+        r"rotor at 555 rad/s; quotes \texttt{x\_1 = \{y\}} \& 50\% of \$5")
+    assert typeset("axis ê²₃ at φ¹ ≈ 0") == r"axis ê$^{2}_{3}$ at $\varphi^{1}$ $\approx$ 0"
+
+
+def test_no_document_prints_code_identities_or_ascii_maths():
+    """Every committed document: no name of the emitted code in a formula, no line x = x, and no
+    ASCII maths (^, _, *) in its text outside math and code."""
+    import texread
+
+    for name in EXAMPLES:
+        tex = (ROOT / "generated" / name / f"{name}.tex").read_text()
+        assert scan(tex, name) == [], name
+
+
+def scan(tex: str, name: str) -> list[str]:
+    """What the document must not print (see the test above)."""
+    import texread
+    from gyrochain import pipeline
+    from gyrochain.spec import load_spec
+
+    model = pipeline.derive(load_spec(ROOT / "specs" / f"{name}.toml"))
+    code_names = {a.name for a, _ in model.kin.prog.defs} | {f"{name}_{fn}" for fn in ("qdd", "rhs")}
+    body = tex.split(r"\begin{document}", 1)[1].split(r"\section*{Appendix B", 1)[0]
+    body = re.sub(r"(?<!\\)%.*", "", body)
+    found = []
+    math = re.findall(r"\\begin\{(align\*|equation\*|gather\*)\}(.*?)\\end\{\1\}|\\\[(.*?)\\\]|(?<!\\)\$(.+?)(?<!\\)\$", body, flags=re.S)
+    for m in math:
+        seg = m[1] or m[2] or m[3]
+        for word in re.findall(r"\\mathrm\{([^{}]*)\}", seg):
+            if re.fullmatch(r"[A-Za-z]+\d+[A-Za-z]\w*|.*\\_.*", word) or word.replace("\\_", "_") in code_names:
+                found.append(f"a name of the code in a formula: {word}")
+        for word in re.findall(r"(?<![\\A-Za-z])[A-Za-z]+\d+[A-Za-z_]\w*", seg):
+            if word in code_names:
+                found.append(f"a name of the code in a formula: {word}")
+    eqs = list(texread.equations(tex).items()) + texread.recursion(tex)
+    found += [f"an identity: {lhs} = {rhs}" for lhs, rhs in eqs if lhs.strip() == rhs.strip()]
+    text = re.sub(r"\\begin\{(align\*|equation\*|gather\*|longtable)\}.*?\\end\{\1\}|\\\[.*?\\\]|(?<!\\)\$.+?(?<!\\)\$", " ", body, flags=re.S)
+    text = re.sub(r"\\texttt\{(?:[^{}]|\{[^{}]*\})*\}|\\(?:sub)*section\*|\\[A-Za-z]+\*?|\\[\^_*]", " ", text)
+    for ch in "^_*":
+        for m in re.finditer(re.escape(ch), text):
+            found.append(f"ASCII maths in the text: {text[max(0, m.start() - 40):m.end() + 40]!r}")
+    return found
+
+
+def test_the_scan_finds_what_it_forbids():
+    """The scan can fail: a code name, an identity and ASCII maths planted in a document."""
+    tex = (ROOT / "generated" / "ur5" / "ur5.tex").read_text()
+    assert scan(tex, "ur5") == []
+    planted = tex.replace(r"\section*{Integrals}", r"$M_{15} = \mathrm{j2r16}$ and a^2 \section*{Integrals}")
+    found = scan(planted, "ur5")
+    assert any("j2r16" in f for f in found) and any("ASCII" in f for f in found), found
+    first = tex.index("$", tex.index(r"{\footnotesize\raggedright"))
+    lhs = tex[first + 1:tex.index(" = ", first)]
+    assert any("identity" in f for f in scan(tex[:first] + f"${lhs} = {lhs}$;\n" + tex[first:], "ur5"))
+
+
+def test_the_citation_file_is_the_package_s():
+    """CITATION.cff cites this version under the package's licence, and says what our copy of the
+    paper lacks instead of inventing it; every document cites the tool and the paper so."""
+    import yaml
+
+    from gyrochain import __version__
+
+    cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
+    assert cff["cff-version"] == "1.2.0" and cff["version"] == __version__ and cff["license"] == "MIT"
+    paper = cff["references"][0]
+    assert "Not given" in paper["authors"][0]["name"] and "year" not in paper
+    for name in EXAMPLES:
+        tex = (ROOT / "generated" / name / f"{name}.tex").read_text()
+        assert f"gyrochain {__version__}: equations of compound spatial pendulums" in tex
+        assert "Our copy of the paper gives neither its authors nor its year" in tex
