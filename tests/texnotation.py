@@ -21,9 +21,11 @@ NUMBERS = {"pi"}
 
 
 def math_segments(tex: str) -> list[str]:
-    """The document's math: $…$, \\[…\\], align*, without the comments and Appendix B (the spec as text)."""
+    """The document's math: $…$, \\[…\\], align*, without the comments, the spec's description (its
+    symbols are the user's, defined in its words) and Appendix B (the spec as text)."""
     tex = re.sub(r"(?<!\\)%.*", "", tex)
     tex = tex.split(r"\section*{Appendix B", 1)[0]
+    tex = re.sub(r"\\begin\{quote\}.*?\\end\{quote\}", " ", tex, count=1, flags=re.S)  # the spec's description, the user's words
     body = tex.split(r"\begin{document}", 1)[-1]
     out = []
     for m in re.finditer(r"\\begin\{(align\*|equation\*)\}(.*?)\\end\{\1\}|\\\[(.*?)\\\]|(?<!\\)\$(.+?)(?<!\\)\$", body, flags=re.S):

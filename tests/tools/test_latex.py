@@ -232,3 +232,25 @@ def test_the_citation_file_is_the_package_s():
         tex = (ROOT / "generated" / name / f"{name}.tex").read_text()
         assert f"gyrochain {__version__}: equations of compound spatial pendulums" in tex
         assert "Our copy of the paper gives neither its authors nor its year" in tex
+
+
+def test_generate_sets_the_paper_it_is_asked(tmp_path):
+    """generate --paper letter: the document's page is US letter and its header says how to make
+    it again; a paper the option does not know, a typo of the option: one line, exit 2, nothing written."""
+    import sys
+
+    def gen(*args):
+        return subprocess.run([sys.executable, "-m", "gyrochain", "generate", "-q", "--no-build", *args],
+                              capture_output=True, text=True, cwd=tmp_path, timeout=300)
+
+    spec = ROOT / "specs" / "kapitza.toml"
+    res = gen(str(spec), "--paper", "letter", "-o", "letter")
+    assert res.returncode == 0, res.stderr
+    tex = (tmp_path / "letter" / "kapitza.tex").read_text()
+    assert r"\documentclass[11pt,letterpaper]{article}" in tex and "[letterpaper,margin=1in]{geometry}" in tex
+    assert "gyrochain generate kapitza.toml --paper letter" in tex.splitlines()[1]
+    assert "--paper" not in (ROOT / "generated" / "kapitza" / "kapitza.tex").read_text().splitlines()[1]
+    for args, word in (((str(spec), "--paper", "a5", "-o", "a5"), "--paper"), ((str(spec), "--papr", "letter", "-o", "a5"), "--papr")):
+        res = gen(*args)
+        assert res.returncode == 2 and len(res.stderr.strip().splitlines()) == 1 and word in res.stderr, res.stderr
+        assert "Traceback" not in res.stderr and not (tmp_path / "a5").exists()
