@@ -40,7 +40,7 @@ _SUPER = dict(zip("⁰¹²³⁴⁵⁶⁷⁸⁹", "0123456789"))
 _SUB = dict(zip("₀₁₂₃₄₅₆₇₈₉", "0123456789"))
 
 _CODE = re.compile(r"^(?:--?[A-Za-z][\w-]*(?:=\S*)?|[\w.-]+\.(?:toml|urdf|xml|mjcf|csv|json|zarr|c|h|py|tex|fmu|gif|mp4|html)"
-                   r"|\w+\[\d+\](?:\.\w+(?:\[\d+\])?)*|\w+=[\w.:,-]+)$")
+                   r"|\w+\[\d+\](?:\.\w+(?:\[\d+\])?)*|[A-Za-z_]\w{2,}\.[A-Za-z_]\w{2,}|\w+=[\w.:,-]+)$")
 _OPERATORS = set("^*/=<>_")
 _TOKEN = re.compile(r"\d+(?:\.\d+)?|[A-Za-z][A-Za-z0-9_]*|!=|<=|>=|-\+|\+-|\S")
 
@@ -147,7 +147,11 @@ def _word_text(word: str) -> str:
 
 
 def _code(text: str) -> str:
-    return r"\texttt{" + tex_escape(text).replace("-", "-{}") + "}"
+    """Typewriter type, as typed; a long name may break after its _ . / = : (never inside a word)."""
+    tt = tex_escape(text).replace("-", "-{}")
+    if len(text) > 16:  # one that could overrun a line
+        tt = re.sub(r"(\\_|[./=:])(?=\w)", r"\1\\allowbreak{}", tt)
+    return r"\texttt{" + tt + "}"
 
 
 def _is_formula_token(tok: str, params: dict) -> bool:
@@ -223,6 +227,11 @@ def _plain(text: str, params: dict) -> str:
             if words[j - 1].rstrip(")").endswith((",", ";", ".")) and not re.fullmatch(r"\d+\.\d+", words[j - 1]):
                 break
         run = words[i:j]
+        if len(run) <= 1 and words[i].startswith("(") and _lone_symbol(_split_tail(words[i][1:])[0], params):
+            body, tail = _split_tail(words[i][1:])  # "(l1 does not ...": the bracket is the sentence's
+            out.append("($" + formula(body, params) + "$" + tex_escape(tail))
+            i += 1
+            continue
         units = []
         while run and _split_tail(run[-1])[0].strip("()") in UNITS and len(run) > 1:
             units.insert(0, run.pop())

@@ -492,6 +492,10 @@ def test_printed_formulas_of_every_example_are_the_code(name, make_model):
     model = _example(name, make_model)
     tex = (ROOT / "generated" / name / f"{name}.tex").read_text()
     doc = Doc(tex, model.spec.n, model.params)
+    if name in ("kapitza", "gimbal", "furuta"):  # each joint's equation of motion written out, as one numbered display
+        assert all(doc.has(f"equation of motion {k}") for k in range(1, model.spec.n + 1))
+        assert len(re.findall(r"^% the equation of motion of joint \d+\n\\begin\{equation\*\}\n\\begin\{split\}\n.*?"
+                              r"\\end\{split\} \\tag\{\d+\}", tex, flags=re.M | re.S)) == model.spec.n
     rng = np.random.default_rng(25)
     assert mismatches(doc, model, model.params, rng) == []
 
