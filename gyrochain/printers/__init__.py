@@ -19,13 +19,12 @@ from ..assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sw
                         time_dependent, variational_stack_bytes)
 from .c import CTarget
 from .common import c_comment, environment, py_docstring
-from .latex import PAPERS, LatexTarget
+from .latex import LatexTarget
 from .python import PythonTarget
 from .real import single_precision
 
 TARGETS = {"c": CTarget, "python": PythonTarget, "latex": LatexTarget}
 REALS = ("double", "float")  # generate --real: the floating type of the C
-PAPER_SIZES = tuple(PAPERS)  # generate --paper: the LaTeX's page
 ALL = tuple(TARGETS)
 
 

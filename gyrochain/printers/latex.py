@@ -87,9 +87,9 @@ class Doc:
     """One document's printing: its writer and the one trigonometric form it keeps (trigform.py),
     chosen as the form with the fewest terms over the equations of motion."""
 
-    def __init__(self, writer: TexWriter, width: float = 0):
+    def __init__(self, writer: TexWriter):
         self.w, self.form, self.counts = writer, None, {}
-        self.width = width or DISPLAY_WIDTH  # ems of a display's line (texterms.visible)
+        self.width = DISPLAY_WIDTH  # ems of a display's line (texterms.visible)
         self._seen: dict = {}  # expr → its Canonical in its own shortest form (from choose)
 
     def choose(self, exprs) -> None:
@@ -290,7 +290,6 @@ def _bodies(spec, kin, doc: Doc) -> list[dict]:
         rows = [" & ".join(show(x) for x in row) for row in m]
         return r"\begin{pmatrix}" + r" \\ ".join(rows) + r"\end{pmatrix}"
 
-
     # c, s, λ as rows (one line a body) when a body's row of the table fits the page, else as columns
     wide = max((sum(visible(show(x)) + 1 for key in ("c", "s", "lam") for x in getattr(b, key)) for b in spec.bodies),
                default=0) + 14 > TEXT_WIDTH
@@ -298,12 +297,12 @@ def _bodies(spec, kin, doc: Doc) -> list[dict]:
     def vec(v):
         return r"\begin{pmatrix}" + (r" \\ " if wide else " & ").join(show(x) for x in v) + r"\end{pmatrix}"
 
+    wide_inertia = max((sum(visible(show(x)) + 1.5 for row in b.A for x in row) * 2 / 3 for b in spec.bodies),
+                       default=0) + 4 > TEXT_WIDTH
+
     def components(A):  # A₁₁, A₂₂, A₃₃, A₁₂, A₁₃, A₂₃: one line a body, or the matrix where that is too wide
         cells = [show(A[i][j]) for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))]
         return cells if not wide_inertia else [mat(A)]
-
-    wide_inertia = max((sum(visible(show(x)) + 1.5 for row in b.A for x in row) * 2 / 3 for b in spec.bodies),
-                       default=0) + 4 > TEXT_WIDTH
 
     return [dict(k=k, theta=texscene.angle_text(b.theta, doc.w, fold_numbers), m=show(b.m), c=vec(b.c),
                  s=vec(b.s) if k < spec.n else r"\text{(none: last body)}",
@@ -346,7 +345,7 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
 EOM_MAX_LINES = 6  # the equations of motion are written out when each fits this many lines
 
 
-def _assembled(spec, vals: dict, doc: Doc, kin, printed_terms) -> dict:
+def _assembled(spec, vals: dict, doc: Doc, kin) -> dict:
     """Each joint's equation of motion written out, Σᵣ M_kr φ̈ʳ + Q_k + Γ_k (+ Π_k + Λ̊_k) = G_k + Lᵏ
     (+ W_k + τ_k), the left side collected by φ̈ʳ and the monomials of φ̇: the lines of each (the
     right side's first line starts with "= "), or the reason they are not written out."""
@@ -493,7 +492,7 @@ def _tex(model: Model) -> dict:
         recursion=texrecursion.paragraphs(recursion),
         recursion_gamma=any(r.lhs.startswith(r"\Gamma^{") for r in recursion),
         recursion_aux=aux,
-        eom=_assembled(spec, vals, doc, kin, eqs["printed_terms"]) if closed else dict(rows=None, reason=""),
+        eom=_assembled(spec, vals, doc, kin) if closed else dict(rows=None, reason=""),
         quad=_quadratures(model, doc),
         bodies=bodies,
         alpha_per_row=per_row([b["alpha"] for b in bodies], TEXT_WIDTH),

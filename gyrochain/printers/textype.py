@@ -208,7 +208,7 @@ def _plain(text: str, params: dict) -> str:
         body, tail = _split_tail(words[i])
         lead, bare = ("(", body[1:]) if body.startswith("(") and len(body) > 1 else ("", body)
         command = bare in COMMANDS and i + 1 < len(words) and words[i + 1].startswith("-")
-        if command or bare.startswith("-") and _CODE.match(bare) or _is_code(bare) and not _is_formula_run(words, i, params):
+        if command or bare.startswith("-") and _CODE.match(bare) or _is_code(bare) and not _is_formula_run(words, i):
             span, j = [bare], i + 1
             while not tail and j < len(words):
                 b, t = _split_tail(words[j])
@@ -251,7 +251,7 @@ def _plain(text: str, params: dict) -> str:
     return " ".join(out)
 
 
-def _is_formula_run(words, i, params) -> bool:
+def _is_formula_run(words, i) -> bool:
     return any(ch in "^*/<>" for ch in words[i]) and not re.search(r"\.\w+$", words[i])
 
 
