@@ -324,9 +324,18 @@ def cmd_new(args) -> int:
 
 
 def cmd_import(args) -> int:
-    """A robot description (URDF) as a spec: the chain from the base to the tip."""
+    """A robot description (URDF or MJCF) as a spec: the chain from the base to the tip."""
     from . import exchange
 
+    if args.list:
+        given = [opt for opt, value in (("-o", args.output), ("--tip", args.tip), ("--lock", args.lock),
+                                        ("--name", args.name), ("--g", args.g), ("--no-control", args.no_control),
+                                        ("--force", args.force)) if value]
+        if given:
+            raise SpecError(f"import --list {given[0]}", "--list prints the tree and writes nothing: give "
+                            f"{given[0]} without --list")
+        print(exchange.tree_text(args.description, args.base))
+        return 0
     text, lines = exchange.import_text(args.description, args.base, args.tip, args.lock, args.name or None,
                                        controls=not args.no_control, g=args.g)
     path = deliver(text, args.output, text.split('\nname = "', 1)[1].split('"', 1)[0] + ".toml", args.force, args.description)

@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import hashlib
 import math
+import re
 from pathlib import Path
 
 import numpy as np
 
-from . import robot, urdf
+from . import robot, robotspec, urdf
 from .errors import SpecError
 from .spec import parse_spec
 
@@ -33,34 +34,61 @@ def locks_of(items) -> dict:
 
 
 def read_description(path) -> robot.Description:
-    """A URDF; an MJCF file is named as such (export writes MJCF, import reads URDF)."""
+    """A URDF, or an MJCF model (through MuJoCo's compiler), told apart by the root element."""
     path = Path(path)
-    if path.suffix.lower() == ".xml" or (path.is_file() and b"<mujoco" in path.read_bytes()[:4096]):
-        raise SpecError(str(path), "an MJCF file (MuJoCo's format): import reads URDF, which most robots publish "
-                        "beside their MJCF (export writes both)")
+    head = b""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(1 << 16)
+    except OSError:
+        pass  # urdf.read says what is wrong with the path
+    text = re.sub(rb"<!--.*?-->|<\?.*?\?>", b"", head, flags=re.S)
+    root = re.search(rb"<([A-Za-z_][\w:.-]*)", text)
+    if root is not None and root.group(1) == b"mujoco":
+        from . import mjcf
+
+        return mjcf.read(path)
     return urdf.read(path)
 
 
+def tree_text(path, base: str | None = None) -> str:
+    """The tree of the description at ``path`` (``import --list``)."""
+    return robot.tree_text(read_description(path), base)
+
+
 def import_text(path, base: str | None = None, tip: str | None = None, locks=None, name: str | None = None,
-                controls: bool = True, g: float = robot.GRAVITY) -> tuple[str, list[str]]:
-    """The spec text of the chain in the description at ``path``, and lines that say what was done."""
+                controls: bool = True, g: float | None = None) -> tuple[str, list[str]]:
+    """The spec text of the chain in the description at ``path``, and lines that say what was done
+    (``g``: the gravity along the description's −z; default the description's own, else 9.81)."""
     desc = read_description(path)
-    if name is not None and not robot.spec_name(name) == name:
+    g = g if g is not None else desc.g if desc.g is not None else robot.GRAVITY
+    if name is not None and not robotspec.spec_name(name) == name:
         raise SpecError(f"--name {name}", "expected a C identifier (letters, digits, _; not starting with a digit)")
     ch = robot.chain(desc, base, tip, locks_of(locks))
-    text = robot.spec_text(ch, name, g=g, controls=controls)
+    text = robotspec.spec_text(ch, name, g=g, controls=controls)
     spec = parse_spec(text)  # what is written is a spec the other commands accept
     joints = [b.joint.name for b in ch.bodies]
-    lines = [f"imported {spec.name} from {Path(path).name}: {len(joints)} joints from {ch.base} to {ch.tip} "
+    lines = [f"imported {spec.name} from {Path(path).name}: {len(joints)} joint{'s' if len(joints) > 1 else ''} from {ch.base} to {ch.tip} "
              f"({', '.join(joints)})"]
     if ch.merged:
-        lines.append(f"  merged into their bodies (fixed or locked joints): {', '.join(ch.merged)}")
+        lines.append(f"  merged into their bodies (fixed or locked joints): {_few(ch.merged)}")
     if ch.locked:
-        lines.append(f"  locked: {', '.join(f'{k} = {v}' for k, v in ch.locked.items())}")
+        lines.append(f"  locked at the values given: {', '.join(f'{k} = {v}' for k, v in ch.locked.items())}")
+    if ch.auto_locked:
+        lines.append(f"  locked at their zero (off the chain, or sliding): {_few(ch.auto_locked)}")
+    if ch.held:
+        lines.append(f"  held at their zero (between the root and the base): {_few(ch.held)}")
+    lines += [f"  {line}" for line in ch.repairs]
     dropped = [b.joint.name for b in ch.bodies if float(b.joint.friction) != 0]
     if dropped:
         lines.append(f"  dropped: the Coulomb friction of {', '.join(dropped)} (a spec has viscous damping only)")
     return text, lines
+
+
+def _few(names, most: int = 8) -> str:
+    """A list of names for a line on the terminal: the first ``most``, then how many more (the spec lists all)."""
+    names = list(names)
+    return ", ".join(names[:most]) + (f" and {len(names) - most} more (listed in the spec)" if len(names) > most else "")
 
 
 FORMATS = {"urdf": ("model.urdf.jinja", ".urdf"), "mjcf": ("model.mjcf.jinja", ".xml")}
@@ -71,10 +99,10 @@ def export_text(spec, spec_label: str, to: str, values: dict) -> tuple[str, list
     from . import __version__
     from .printers.common import environment
 
-    why = robot.refusals(spec, to)
+    why = robotspec.refusals(spec, to)
     if why:
         raise SpecError(f"export --to {to}", why)
-    links = robot.links_of(spec, values)
+    links = robotspec.links_of(spec, values)
     if to == "mjcf":
         for k, link in enumerate(links, start=1):
             xx, yy, zz, xy, xz, yz = (float(v) for v in link.Ic)
@@ -82,10 +110,10 @@ def export_text(spec, spec_label: str, to: str, values: dict) -> tuple[str, list
                 raise SpecError(f"body[{k}].I_c", "MuJoCo's compiler refuses a body whose inertia about its centre of mass "
                                 "has a zero principal moment (a point mass, a thin rod): give it a small one")
     g = float(spec.g.subs({p: values[str(p)] for p in spec.params if str(p) in values}))
-    rows = [dict(xyz=robot.numbers(link.xyz), rpy=robot.numbers(robot.rpy_of(link.R)), quat=robot.numbers(robot.quat_of(link.R)),
-                 c=robot.numbers(link.c), m=robot.numbers([link.m]), I=robot.numbers(link.Ic).split(),
-                 damping=robot.numbers([link.damping]) if link.damping else "",
-                 spring=robot.numbers([link.spring]) if link.spring else "", rest=robot.numbers([link.rest]))
+    rows = [dict(xyz=robotspec.numbers(link.xyz), rpy=robotspec.numbers(robotspec.rpy_of(link.R)), quat=robotspec.numbers(robotspec.quat_of(link.R)),
+                 c=robotspec.numbers(link.c), m=robotspec.numbers([link.m]), I=robotspec.numbers(link.Ic).split(),
+                 damping=robotspec.numbers([link.damping]) if link.damping else "",
+                 spring=robotspec.numbers([link.spring]) if link.spring else "", rest=robotspec.numbers([link.rest]))
             for link in links]
     notes = [f"The spec's parameters at: {', '.join(f'{k} = {v:g}' for k, v in values.items())}."] if values else []
     if to == "urdf" and spec.controls:
@@ -94,7 +122,7 @@ def export_text(spec, spec_label: str, to: str, values: dict) -> tuple[str, list
     template, _ = FORMATS[to]
     text = environment().get_template(template).render(
         name=spec.name, version=__version__, spec_label=Path(spec_label).name.replace("--", "- -"),
-        spec_sha=hashlib.sha256(spec.source.encode("utf-8")).hexdigest()[:16], g=robot.numbers([g]), links=rows,
+        spec_sha=hashlib.sha256(spec.source.encode("utf-8")).hexdigest()[:16], g=robotspec.numbers([g]), links=rows,
         notes=[n.replace("--", "- -") for n in notes], motors=list(spec.controls) if to == "mjcf" else [])
     said = [f"exported {spec.name} as {to.upper()}: {len(links)} joints (joint1..joint{len(links)} = phi1..phi{len(links)})"]
     if to == "urdf" and g != robot.GRAVITY:

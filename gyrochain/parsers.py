@@ -255,19 +255,24 @@ def _start(sub, kinds: dict) -> None:
 
 
 def _exchange(sub) -> None:
-    im = sub.add_parser("import", help="a robot description (URDF) as a spec: the revolute chain from the base to the tip",
+    im = sub.add_parser("import", help="a robot description (URDF or MJCF) as a spec: the revolute chain from the base "
+                        "to the tip",
                         description="The spec's joint angles are the description's joint positions; fixed joints "
-                        "merge their links, and a joint the paper's chain cannot have must be locked.")
-    im.add_argument("description", metavar="URDF", help="the URDF file")
+                        "merge their links, and with --tip every joint off the chain is locked at its zero (or "
+                        "at its --lock value) and merged too. --list shows the tree to choose from.")
+    im.add_argument("description", metavar="FILE", help="the URDF file, or an MJCF model (read by MuJoCo's compiler)")
+    im.add_argument("--list", action="store_true", help="print the tree (links, joints, the leaves a chain can end "
+                    "at) and write nothing")
     im.add_argument("-o", "--output", default="", metavar="FILE", help="the spec file (default NAME.toml here; - for "
                     "standard output)")
     im.add_argument("--base", default=None, metavar="LINK", help="the link the chain starts from (default: the root)")
-    im.add_argument("--tip", default=None, metavar="LINK", help="the link it ends at (needed where the movable joints "
-                    "branch; default: the only leaf)")
-    im.add_argument("--lock", action="append", metavar="JOINT=VALUE", help="fix a joint at a value, rad (repeatable; "
-                    "default: none)")
+    im.add_argument("--tip", default=None, metavar="LINK", help="the link it ends at; every joint off the chain is "
+                    "locked (needed where the movable joints branch; default: the only leaf)")
+    im.add_argument("--lock", action="append", metavar="JOINT=VALUE", help="fix a joint at a value, rad or m "
+                    "(repeatable; default: none, or with --tip the joints off the chain at 0)")
     im.add_argument("--name", default="", help="the model's name, a C identifier (default: from the robot's name)")
-    im.add_argument("--g", type=float, default=9.81, help="gravity along the description's -z, m/s^2 (default 9.81)")
+    im.add_argument("--g", type=float, default=None, help="gravity along the description's -z, m/s^2 (default: the "
+                    "MJCF model's, 9.81 for a URDF)")
     im.add_argument("--no-control", action="store_true", help="no torque inputs (default: one in every joint)")
     im.add_argument("--force", action="store_true", help=FORCE)
     xp = sub.add_parser("export", help="the spec as a robot description (URDF for Pinocchio and ROS, MJCF for MuJoCo)",

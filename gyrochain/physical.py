@@ -67,8 +67,8 @@ def check_values(spec, values: dict, label: str = "") -> None:
         num(b.theta, f"{at}.theta")
         num(b.offset, f"{at}.offset")
         m = num(b.m, f"{at}.m")
-        if not m > 0:
-            raise SpecError(f"{at}.m", f"mass must be positive, got {m:g}{label}")
+        if m < 0:
+            raise SpecError(f"{at}.m", f"mass must be positive (or 0: a massless frame between two joints), got {m:g}{label}")
         c = np.array([num(x, f"{at}.c") for x in b.c])
         A = np.array([[num(x, f"{at}.A") for x in row] for row in b.A])
         for x in b.s:

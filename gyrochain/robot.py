@@ -3,7 +3,7 @@ chain the paper's pendulum is, and written as a spec.
 
     desc = urdf.read(path)                                   # Description: links, joints, numbers as written
     ch = robot.chain(desc, base=None, tip=None, locks={})    # Chain: the revolute joints from base to tip
-    text = robot.spec_text(ch, name="ur5", source="ur5.urdf")
+    text = robotspec.spec_text(ch, name="ur5")                # robotspec.py
 
 The geometry is computed with 40 digits (mpmath) from the decimals as written, at the description's
 zero (every joint at 0, a locked one at its value), in the description's world (z up, gravity −z):
@@ -25,14 +25,12 @@ zero (every joint at 0, a locked one at its value), in the description's world (
 """
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import mpmath as mp
 
 from .errors import SpecError, did_you_mean
-from .spec import IDENT
 
 DIGITS = 40
 EXACT = mp.mpf("1e-30")  # below this a computed number is an exact 0 or multiple of pi/2
@@ -64,6 +62,9 @@ class Joint:
     friction: object = 0
     limit: dict = field(default_factory=dict)  # lower, upper, effort, velocity as written
     mimic: str | None = None
+    armature: object = 0  # MJCF: a rotor's inertia added to the joint's diagonal of M
+    spring: object = 0  # MJCF: the joint's stiffness, about ``rest``
+    rest: object = 0
 
 
 @dataclass(frozen=True)
@@ -72,6 +73,8 @@ class Description:
     source: str  # what it was read from, for messages
     links: dict  # name -> Inertial | None
     joints: dict  # name -> Joint, in the file's order
+    notes: tuple = ()  # what the reader left out, a line each (for the spec's comments)
+    g: object = None  # the gravity the description states (MJCF); None where the format has none (URDF)
 
 
 @dataclass(frozen=True)
@@ -97,6 +100,9 @@ class Chain:
     merged: tuple  # links joined to a body by fixed or locked joints
     platform: tuple  # the links of the base's body
     left_out: tuple  # links not on the chain (above the base)
+    auto_locked: tuple = ()  # joints off the chain, locked at their zero
+    repairs: tuple = ()  # inertias made possible (round-off), a line each
+    held: tuple = ()  # joints between the root and the base, held at their zero (the base's attitude)
 
 
 def fail(desc: Description, what: str, message: str):
@@ -168,50 +174,65 @@ def _sym6(I) -> mp.matrix:
 # --------------------------------------------------------------------------- the tree and the chain
 def chain(desc: Description, base: str | None = None, tip: str | None = None, locks: dict | None = None) -> Chain:
     """The revolute chain from ``base`` (default: the root) to ``tip`` (needed where the movable
-    joints branch), with the ``locks`` {joint: value} fixed.  Everything the paper's chain cannot
-    express is one line naming the joint or the links."""
+    joints branch), with the ``locks`` {joint: value} fixed.  Given a tip, every joint off the path
+    from the base to it is locked too: at its ``locks`` value, or else at its zero.  Everything the
+    paper's chain cannot express is one line naming the joint or the links."""
     mp.mp.dps = DIGITS
     locks = dict(locks or {})
-    children, root = _tree(desc, locks)
-    base = base or root
+    children, parent_of, roots = _tree(desc, locks)
     for what, link in (("--base", base), ("--tip", tip)):
         if link is not None and link not in desc.links:
             fail(desc, f"{what} {link}", f"no such link; {did_you_mean(link, desc.links)}"
-                 f"the links are {', '.join(desc.links)}")
-    walk = _Walk(desc, children, locks, base)
+                 f"`import {Path(desc.source).name} --list` shows the tree")
+    if base is None:
+        if len(roots) != 1:
+            fail(desc, "", f"{len(roots)} links have no parent ({', '.join(roots[:5])}{' …' if len(roots) > 5 else ''}): "
+                 "a description is one tree; give --base LINK to import from one of them")
+        base = roots[0]
+    path = None
+    if tip is not None:
+        if not _below(children, base, tip):
+            fail(desc, f"--tip {tip}", f"is not below the base {base}: `import {Path(desc.source).name} --list` "
+                 "shows the tree")
+        path, link = set(), tip
+        while link != base:
+            path.add(parent_of[link].name)
+            link = parent_of[link].parent
+    walk = _Walk(desc, children, locks, base, path)
+    walk.pose[base], held = _attitude(desc, parent_of, base, locks, walk.used)
     platform, out = walk.cluster(base)
-    path, bodies_links = [], []
+    chain_joints, bodies_links = [], []
     while out:
-        if len(out) > 1:  # the movable joints branch: one branch is the chain, the others must be locked
-            if tip is None:
-                fail(desc, "--tip", f"the movable joints branch at {', '.join(j.name for j in out)}: give --tip, "
-                     f"one of {', '.join(_ends(children, [j.child for j in out]))}")
-            on = [j for j in out if _below(children, j.child, tip)]
-            others = [j.name for j in out if not on or j is not on[0]]
-            fail(desc, f"joint {others[0]!r}", f"is not on the chain from {base} to {tip}: lock it "
-                 f"({' '.join(f'--lock {o}=VALUE' for o in others[:3])}{' …' if len(others) > 3 else ''})")
+        if len(out) > 1:  # the movable joints branch (no tip given): the user picks the chain
+            fail(desc, "--tip", f"the movable joints branch at {', '.join(j.name for j in out)}: give --tip, "
+                 f"one of {', '.join(_ends(children, [j.child for j in out]))} (`import "
+                 f"{Path(desc.source).name} --list` shows the tree)")
         j = out[0]
         walk.place(j, 0)
         links, out = walk.cluster(j.child)
-        path.append(j)
+        chain_joints.append(j)
         bodies_links.append(links)
-        if tip is not None and tip in links:
-            if out:
-                fail(desc, f"joint {out[0].name!r}", f"is past the tip {tip}: lock it with --lock {out[0].name}=VALUE")
-            break
-    if not path:
-        fail(desc, "", f"no revolute or continuous joint below {base}: nothing moves")
-    if tip is not None and tip not in bodies_links[-1]:
-        fail(desc, f"--tip {tip}", f"is not moved by a joint below {base}")
-    bodies = tuple(_body(desc, j, links, walk.pose) for j, links in zip(path, bodies_links))
+    unused = [name for name in locks if name not in walk.used]
+    if unused:
+        fail(desc, f"--lock {unused[0]}", f"the joint is neither below the base {base} nor between it and the root: "
+             "it is not part of the model")
+    if not chain_joints:
+        fail(desc, f"--tip {tip}" if tip else "", f"no revolute or continuous joint below {base}"
+             f"{f' on the way to {tip}' if tip else ''}: nothing moves")
+    bodies = tuple(_body(desc, j, links, walk) for j, links in zip(chain_joints, bodies_links))
+    if bodies[-1].m == 0 and all(x == 0 for x in bodies[-1].Ic):
+        fail(desc, f"link {bodies[-1].links[0]!r}", f"joint {bodies[-1].joint.name!r} turns no mass (its links "
+             f"{', '.join(bodies[-1].links)} have none): give --tip a link further out, or give it an <inertial>")
     above = tuple(name for name in desc.links if name not in walk.pose)
     merged = tuple(x for links in bodies_links for x in links[1:])
-    return Chain(desc, base, tip or bodies_links[-1][0], bodies, dict(locks), merged, tuple(platform), above)
+    return Chain(desc, base, tip or bodies_links[-1][0], bodies, {k: locks[k] for k in locks}, merged,
+                 tuple(platform), above, tuple(walk.auto), tuple(walk.repairs), tuple(held))
 
 
-def _tree(desc: Description, locks: dict) -> tuple[dict, str]:
-    """{link: its child joints} and the root; a joint naming a missing link, a second parent (a
-    closed loop), a lock of no joint or of a joint that cannot be locked are one line each."""
+def _tree(desc: Description, locks: dict) -> tuple[dict, dict, list]:
+    """{link: its child joints}, {link: its parent joint} and the roots; a joint naming a missing
+    link, a second parent (a closed loop), a lock of no joint, of a joint that cannot be locked or
+    outside the joint's limits are one line each."""
     parent_of: dict = {}
     children: dict = {name: [] for name in desc.links}
     for j in desc.joints.values():
@@ -223,46 +244,98 @@ def _tree(desc: Description, locks: dict) -> tuple[dict, str]:
                  f"{parent_of[j.child].name!r} (the paper's chain is a tree of one path)")
         parent_of[j.child] = j
         children[j.parent].append(j)
-    for name in locks:
+    for name, value in locks.items():
         if name not in desc.joints:
             fail(desc, f"--lock {name}", f"no such joint; {did_you_mean(name, desc.joints)}"
-                 f"the joints are {', '.join(desc.joints)}")
-        if desc.joints[name].kind not in LOCKABLE:
-            fail(desc, f"--lock {name}", f"a {desc.joints[name].kind} joint cannot be locked at one value")
+                 f"`import {Path(desc.source).name} --list` shows the tree")
+        j = desc.joints[name]
+        if j.kind not in LOCKABLE:
+            fail(desc, f"--lock {name}", f"a {j.kind} joint cannot be locked at one value")
+        lo, hi = j.limit.get("lower"), j.limit.get("upper")
+        if j.kind != "continuous" and lo is not None and hi is not None and mp.mpf(lo) <= mp.mpf(hi) \
+                and not mp.mpf(lo) <= mp.mpf(value) <= mp.mpf(hi):
+            unit = "m" if j.kind == "prismatic" else "rad"
+            fail(desc, f"--lock {name}={value}", f"outside the joint's limits, {lo} to {hi} {unit}")
     roots = [name for name in desc.links if name not in parent_of]
-    if len(roots) != 1:
-        fail(desc, "", f"{len(roots)} links have no parent ({', '.join(roots[:5])}): a description is one tree")
-    return children, roots[0]
+    if _cycle_free_count(children, roots) != len(desc.links):
+        fail(desc, "", "its joints form a loop with no root: a description is a tree")
+    return children, parent_of, roots
+
+
+def _attitude(desc: Description, parent_of: dict, base: str, locks: dict, used: set) -> tuple:
+    """The base link's world pose at the zero: the joints from the root to it at their --lock
+    values or their zero (a floating or planar one at its origin), so that gravity stays along the
+    world's −z whatever link the chain starts from."""
+    up, link = [], base
+    while link in parent_of:
+        up.append(parent_of[link])
+        link = parent_of[link].parent
+    pose, held = (mp.eye(3), mp.matrix([0, 0, 0])), []
+    for j in reversed(up):
+        used.update([j.name] if j.name in locks else [])
+        if j.kind != "fixed" and j.name not in locks:
+            held.append(j.name)
+        pose = _placed(pose, j, locks.get(j.name, 0))
+    return (pose[0], mp.matrix([0, 0, 0])), held
+
+
+def _placed(parent: tuple, j: Joint, q) -> tuple:
+    """The child link's pose (rotation, origin) from its parent's, with the joint at ``q`` (a
+    floating or planar joint, which cannot be locked at one value, at its origin)."""
+    R, p = parent
+    Rj, O, q = R * _rpy(*j.rpy), p + R * _v(j.xyz), mp.mpf(q)
+    if q == 0 or j.kind not in LOCKABLE:
+        return Rj, O
+    if j.kind == "prismatic":
+        return Rj, O + Rj * (_unit(_v(j.axis)) * q)
+    return Rj * _about(_unit(_v(j.axis)), q), O
+
+
+def _cycle_free_count(children: dict, roots: list) -> int:
+    seen, todo = 0, list(roots)
+    while todo:
+        link = todo.pop()
+        seen += 1
+        todo += [j.child for j in children[link]]
+    return seen
 
 
 class _Walk:
-    """The links' world poses at the zero, placed joint by joint from the base outwards."""
+    """The links' world poses at the zero, placed joint by joint from the base outwards.  With a
+    ``path`` (the joints from the base to the tip) every other joint is rigid: locked at its value
+    or its zero."""
 
-    def __init__(self, desc: Description, children: dict, locks: dict, base: str):
-        self.desc, self.children, self.locks = desc, children, locks
+    def __init__(self, desc: Description, children: dict, locks: dict, base: str, path: set | None):
+        self.desc, self.children, self.locks, self.path = desc, children, locks, path
         self.pose = {base: (mp.eye(3), mp.matrix([0, 0, 0]))}  # world rotation (columns: link axes), origin
+        self.used: set = set()  # the locks applied
+        self.auto: list = []  # joints off the chain locked at their zero
+        self.repairs: list = []  # inertias made possible (round-off), one line each
 
     def moves(self, j: Joint) -> bool:
         """A joint of the chain (True), rigid (False), or one line saying why it can be neither."""
-        if j.name in self.locks or j.kind == "fixed":
+        if j.name in self.locks:
+            self.used.add(j.name)
+            return False
+        if j.kind == "fixed":
+            return False
+        if self.path is not None and (j.name not in self.path or j.kind == "prismatic"):  # off the chain, or a slide
+            self.auto.append(j.name)
             return False
         if j.mimic is not None:
             fail(self.desc, f"joint {j.name!r}", f"mimics {j.mimic!r}: the paper's joints are independent "
                  f"(lock it with --lock {j.name}=VALUE)")
+        if mp.mpf(j.armature) != 0:
+            fail(self.desc, f"joint {j.name!r}", f"armature {j.armature}: a motor's inertia on the joint's diagonal of M "
+                 f"has no field in a spec (lock the joint with --lock {j.name}=VALUE, or set armature to 0)")
         if j.kind not in CHAIN_KINDS:
-            hint = f" (lock it with --lock {j.name}=VALUE)" if j.kind in LOCKABLE else ""
+            hint = (f" (lock it with --lock {j.name}=VALUE)" if j.kind in LOCKABLE
+                    else f" (give --base {j.child} or a link below it: the chain then starts there)")
             fail(self.desc, f"joint {j.name!r}", f"a {j.kind} joint: the paper's chain has revolute joints only{hint}")
         return True
 
     def place(self, j: Joint, q) -> None:
-        R, p = self.pose[j.parent]
-        Rj = R * _rpy(*j.rpy)
-        O = p + R * _v(j.xyz)
-        a = _unit(_v(j.axis))
-        if j.kind == "prismatic":
-            self.pose[j.child] = (Rj, O + Rj * (a * mp.mpf(q)))
-        else:
-            self.pose[j.child] = (Rj * _about(a, mp.mpf(q)) if q else Rj, O)
+        self.pose[j.child] = _placed(self.pose[j.parent], j, q)
 
     def cluster(self, head: str) -> tuple[list, list]:
         """The links rigidly joined to ``head`` (placed), and the chain joints leaving them."""
@@ -301,256 +374,118 @@ def _ends(children, heads) -> list:
     return ends
 
 
-def _body(desc: Description, j: Joint, links: list, pose: dict) -> Body:
-    """Body of joint ``j``: its links' masses merged (world axes, at the zero)."""
+DOF = {"revolute": 1, "continuous": 1, "prismatic": 1, "planar": 3, "ball": 3, "floating": 6}
+
+
+def tree_text(desc: Description, base: str | None = None) -> str:
+    """The description as a tree, a link a line under the joint that leads to it, and the leaves a
+    chain can end at (reached from the base by at least one revolute or continuous joint)."""
+    children, parent_of, roots = _tree(desc, {})
+    if base is not None and base not in desc.links:
+        fail(desc, f"--base {base}", f"no such link; {did_you_mean(base, desc.links)}the tree has "
+             f"{len(desc.links)} links")
+    kinds: dict = {}
+    for j in desc.joints.values():
+        kinds[j.kind] = kinds.get(j.kind, 0) + 1
+    dof = sum(DOF.get(j.kind, 0) for j in desc.joints.values() if j.mimic is None)
+    mimics = sum(1 for j in desc.joints.values() if j.mimic is not None)
+    lines = [f"{Path(desc.source).name}: robot {desc.name!r}, {len(desc.links)} links, {len(desc.joints)} joints ("
+             + ", ".join(f"{v} {k}" for k, v in sorted(kinds.items(), key=lambda kv: -kv[1]))
+             + f"); {dof} degrees of freedom" + (f" and {mimics} mimic joints" if mimics else "")]
+    leaves = []
+    for top in ([base] if base else roots):
+        todo = [(top, None, "", 0)]
+        while todo:
+            link, j, indent, turning = todo.pop()
+            what = "" if j is None else f"  ({j.name}: {j.kind}" + (f", mimics {j.mimic}" if j.mimic else "") + ")"
+            lines.append(f"  {indent}{link}{what}")
+            kids = children[link]
+            if not kids and turning:
+                leaves.append((link, turning))
+            for k in reversed(kids):
+                todo.append((k.child, k, indent + "  ", turning + (k.kind in CHAIN_KINDS and k.mimic is None)))
+    name = Path(desc.source).name
+    if leaves:
+        lines.append(f"leaves a chain can end at (`import {name} --tip LINK`; the number of revolute joints "
+                     f"from {base or roots[0]}):")
+        lines += [f"  {leaf} ({n})" for leaf, n in leaves]
+    else:
+        lines.append("no leaf is reached by a revolute or continuous joint: nothing for a chain to turn")
+    return "\n".join(lines)
+
+
+ROUND_OFF = 1e-9  # a principal moment this far (relative) outside the possible is round-off, and repaired
+TINY = mp.mpf("1e-20")  # kg m²: an inertia below this is a point's, whatever its written round-off
+
+
+def _outside(I: mp.matrix) -> tuple:
+    """How far a central inertia lies outside the possible ones (0 inside), its principal moments
+    in increasing order, their axes' indices in that order and the axes (columns of Q)."""
+    E, Q = mp.eigsy(I)
+    order = sorted(range(3), key=lambda i: E[i])
+    l0, l1, l2 = (E[i] for i in order)
+    return max(-l0, l2 - l0 - l1, mp.mpf(0)), (l0, l1, l2), order, Q
+
+
+def _moments(ls) -> str:
+    return ", ".join(mp.nstr(x, 6) for x in ls)
+
+
+def _possible(desc: Description, j: Joint, links: list, Ic: mp.matrix, impossible: list, walk: _Walk) -> mp.matrix:
+    """The body's inertia about its centre of mass as a body can have it: as computed; the nearest
+    possible tensor where it is outside only by round-off (with a line saying so); else one line
+    naming the links whose own inertia is impossible."""
+    outside, (l0, l1, l2), order, Q = _outside(Ic)
+    if outside == 0:
+        return Ic
+    scale = max(abs(l0), abs(l2))
+    if outside > ROUND_OFF * scale + TINY:
+        culprits = f" (of its links, {', '.join(impossible)} alone {'is' if len(impossible) == 1 else 'are'} not)" \
+            if impossible else ""
+        fail(desc, f"link {impossible[0] if impossible else links[0]!r}", f"<inertia>: the body of joint {j.name!r} is not "
+             f"physically possible{culprits}: principal moments {_moments((l0, l1, l2))} about its centre of mass; each "
+             "must be ≥ 0 and at most the sum of the others")
+    l0 = max(l0, mp.mpf(0))  # the nearest possible moments: clip at 0, then onto l2 = l0 + l1
+    d = max(l2 - l0 - l1, mp.mpf(0)) / 3
+    fixed = {order[0]: l0 + d, order[1]: l1 + d, order[2]: l2 - d}
+    walk.repairs.append(f"the body of joint {j.name}: inertia repaired to the nearest possible (principal moments "
+                        f"{_moments((l0, l1, l2))}, outside by round-off)")
+    return Q * mp.diag([fixed[i] for i in range(3)]) * Q.T
+
+
+def _body(desc: Description, j: Joint, links: list, walk: _Walk) -> Body:
+    """Body of joint ``j``: its links' masses merged (world axes, at the zero).  A link with no mass
+    but an inertia (real files have them) adds its inertia."""
+    pose = walk.pose
     m, first = mp.mpf(0), mp.matrix([0, 0, 0])
-    parts = []
+    parts, impossible = [], []
     for name in links:
         ine = desc.links[name]
-        if ine is None or mp.mpf(ine.m) == 0:
+        if ine is None or (mp.mpf(ine.m) == 0 and all(mp.mpf(v) == 0 for v in ine.I)):
             continue
+        if mp.mpf(ine.m) < 0:
+            fail(desc, f"link {name!r}", f"<mass value>: a negative mass ({ine.m}); it is part of the body of joint {j.name!r}")
         R, p = pose[name]
         Ri = R * _rpy(*ine.rpy)
-        parts.append((mp.mpf(ine.m), p + R * _v(ine.xyz), Ri * _sym6(ine.I) * Ri.T))
+        I = _sym6(ine.I)
+        outside, ls, _, _ = _outside(I)
+        if outside > ROUND_OFF * max(abs(ls[0]), abs(ls[2])) + TINY:
+            impossible.append(name)
+            walk.repairs.append(f"the inertia of link {name} alone is not physically possible (principal moments "
+                                f"{_moments(ls)}); the body of joint {j.name} it is part of is, and the model uses the body")
+        parts.append((mp.mpf(ine.m), p + R * _v(ine.xyz), Ri * I * Ri.T))
         m += parts[-1][0]
         first += parts[-1][0] * parts[-1][1]
-    if not m > 0:
-        fail(desc, f"link {links[0]!r}", f"joint {j.name!r} turns no mass (its links {', '.join(links)} have none): "
-             "the paper's bodies have mass; merge it by locking the joint or give it an <inertial>")
-    com = first / m
+    if 0 < m < EXACT:
+        fail(desc, f"link {links[0]!r}", f"the body of joint {j.name!r} has a mass of {mp.nstr(m, 6)} kg, too small "
+             f"to be written (below {mp.nstr(EXACT, 1)} kg): give its links their masses")
+    R, _ = pose[j.child]
+    Rp, pp = pose[j.parent]
+    O = pp + Rp * _v(j.xyz)
+    com = first / m if m > 0 else O  # a massless frame between two joints (a ball joint of revolute ones)
     Ic = mp.zeros(3, 3)
     for mi, pi, Ii in parts:
         d = pi - com
         Ic += Ii + mi * (_dot(d, d) * mp.eye(3) - d * d.T)
-    R, _ = pose[j.child]
-    Rp, pp = pose[j.parent]
-    return Body(j, tuple(links), m, com, Ic, pp + Rp * _v(j.xyz), R * _unit(_v(j.axis)))
-
-
-# --------------------------------------------------------------------------- the paper's frames
-@dataclass(frozen=True)
-class PaperBody:
-    """Body k in the paper's terms: every vector in its frame at the description's zero."""
-
-    theta: object
-    offset: object
-    m: object
-    c: tuple
-    Ic: tuple  # (xx, yy, zz, xy, xz, yz)
-    s: tuple | None
-
-
-def paper(ch: Chain) -> list[PaperBody]:
-    """θᵏ, δᵏ and the body data in the frames of the module docstring."""
-    mp.mp.dps = DIGITS
-    down = mp.matrix([0, 0, -1])
-    us = [b.u for b in ch.bodies]
-    n = len(us)
-
-    def perpendicular(a, b, fallback):
-        w = _cross(a, b)
-        return _unit(w) if _norm(w) > EXACT else fallback
-
-    # the fixed frame: ê⁰₁ down, ê⁰₂ along ê⁰₁ × e¹ (free when e¹ is vertical: then along e¹ × e²)
-    e2 = perpendicular(down, us[0], None)
-    if e2 is None:
-        e2 = perpendicular(us[0], us[1], None) if n > 1 else None
-        e2 = e2 if e2 is not None else perpendicular(down, mp.matrix([1, 0, 0]), None)
-    F = _frame(down, e2)
-    out = []
-    for k in range(n):
-        u = us[k]
-        a1, a2 = _row(F, 0), _row(F, 1)
-        theta = mp.atan2(_dot(_cross(a1, u), a2), _dot(a1, u))
-        G = _frame(u, a2)  # R₂(θ) F: the second axis kept
-        want = perpendicular(u, us[k + 1], _row(G, 1)) if k + 1 < n else _row(G, 1)
-        g2, g3 = _row(G, 1), _row(G, 2)
-        delta = mp.atan2(_dot(want, g3), _dot(want, g2))
-        if abs(delta) > mp.pi / 2 + EXACT:  # the perpendicular's other sense: the smaller turn (θᵏ⁺¹ < 0 then)
-            want = -want
-            delta = mp.atan2(_dot(want, g3), _dot(want, g2))
-        F = _frame(u, want)
-        b = ch.bodies[k]
-        c = F * (b.com - b.O)
-        Ic = F * b.Ic * F.T
-        s = F * (ch.bodies[k + 1].O - b.O) if k + 1 < n else None
-        out.append(PaperBody(theta, delta, b.m, tuple(c), (Ic[0, 0], Ic[1, 1], Ic[2, 2], Ic[0, 1], Ic[0, 2], Ic[1, 2]),
-                             tuple(s) if s is not None else None))
-    return out
-
-
-def _frame(e1, e2) -> mp.matrix:
-    """Rows ê₁, ê₂, ê₃ = ê₁ × ê₂ (e2 made exactly orthogonal to e1)."""
-    e2 = _unit(e2 - _dot(e2, e1) * e1)
-    e3 = _cross(e1, e2)
-    return mp.matrix([[e1[0], e1[1], e1[2]], [e2[0], e2[1], e2[2]], [e3[0], e3[1], e3[2]]])
-
-
-# --------------------------------------------------------------------------- numbers as written in a spec
-def number(x) -> str:
-    """The double nearest to x as TOML (a decimal that stood as written is written as it was)."""
-    x = mp.mpf(x)
-    return "0.0" if abs(x) < EXACT else repr(float(x))
-
-
-def angle(x) -> str:
-    """An angle: an exact multiple of π/2 as a string ("pi/2"), any other the nearest double."""
-    x = mp.mpf(x)
-    quarters = mp.nint(x / (mp.pi / 2))
-    if abs(x - quarters * mp.pi / 2) < EXACT:
-        q = int(quarters)
-        return {0: "0.0", 1: '"pi/2"', -1: '"-pi/2"', 2: '"pi"', -2: '"-pi"'}.get(q, f'"{q}*pi/2"')
-    return number(x)
-
-
-def spec_name(text: str) -> str:
-    """A C identifier from a robot's name ("ur5", "panda_arm"); "robot" when nothing is left."""
-    out = "".join(ch if ch.isalnum() or ch == "_" else "_" for ch in text).strip("_") or "robot"
-    out = out if not out[0].isdigit() else f"robot_{out}"
-    return out if IDENT.fullmatch(out) else "robot"
-
-
-def spec_text(ch: Chain, name: str | None = None, g=GRAVITY, controls: bool = True) -> str:
-    """The chain as a spec (TOML), with comments saying where every body came from and what was
-    merged, locked, left out or dropped."""
-    from .printers.common import environment
-
-    name = name or spec_name(ch.desc.name)
-    bodies = []
-    for k, (b, pb) in enumerate(zip(ch.bodies, paper(ch)), start=1):
-        j = b.joint
-        fields = [("theta", angle(pb.theta))]
-        if angle(pb.offset) != "0.0":
-            fields.append(("offset", angle(pb.offset)))
-        fields += [("m", number(pb.m)), ("c", _vec(pb.c)), ("I_c", _vec(pb.Ic))]
-        if pb.s is not None:
-            fields.append(("s", _vec(pb.s)))
-        if mp.mpf(j.damping) > 0:
-            fields.append(("damping", number(j.damping)))
-        if controls:
-            fields.append(("control", "true"))
-        comments = []
-        if len(b.links) > 1:
-            comments.append(f"with {', '.join(b.links[1:])} (fixed or locked to {b.links[0]})")
-        if j.limit:
-            comments.append("limits (not enforced by the model): " + ", ".join(f"{k} {v}" for k, v in j.limit.items()))
-        if mp.mpf(j.friction) != 0:
-            comments.append(f"dropped: <dynamics friction=\"{j.friction}\"> (Coulomb friction has no field in a spec)")
-        bodies.append(dict(joint=j.name, title=f"joint {j.name} ({j.kind}), link {b.links[0]}", fields=fields,
-                           comments=comments))
-    notes = []
-    if ch.locked:
-        notes.append("locked: " + ", ".join(f"{k} = {v}" for k, v in ch.locked.items()))
-    if ch.platform:
-        notes.append(f"the platform (fixed): {', '.join(ch.platform)}")
-    if ch.left_out:
-        notes.append(f"left out (above the base {ch.base}): {', '.join(ch.left_out)}")
-    source = ch.desc.source
-    description = f"{ch.desc.name}: {len(bodies)} joints from {ch.base} to {ch.tip}, imported from {Path(source).name}"
-    return environment().get_template("imported_spec.toml.jinja").render(
-        name=name, source=Path(source).name, robot=ch.desc.name, base=ch.base, tip=ch.tip, bodies=bodies,
-        notes=notes, description=json.dumps(description, ensure_ascii=False), g=number(g))
-
-
-def _vec(xs) -> str:
-    return "[" + ", ".join(number(x) for x in xs) + "]"
-
-
-# --------------------------------------------------------------------------- a spec as links (export)
-# the spec's fixed frame in a description's world (z up, gravity −z): ê⁰₁ = −z, ê⁰₂ = x, ê⁰₃ = −y
-FIXED_IN_WORLD = ((0, 0, -1), (1, 0, 0), (0, -1, 0))
-
-
-@dataclass(frozen=True)
-class Link:
-    """Link k of an exported description: its joint's origin in the parent link's frame (xyz and
-    the rotation R, columns the child's axes), and its body's data in its own frame (ê^k at φᵏ = 0)."""
-
-    xyz: tuple
-    R: object
-    m: object
-    c: tuple
-    Ic: tuple  # (xx, yy, zz, xy, xz, yz) about the centre of mass
-    damping: object
-    spring: object
-    rest: object
-    control: bool
-
-
-def refusals(spec, to: str) -> str | None:
-    """Why the spec cannot be written as ``to`` ("urdf" or "mjcf"), naming the field; None if it can."""
-    import sympy as sp
-
-    if spec.base is not None:
-        return ("base: a moving platform has no element in a robot description (its motion is prescribed, not a "
-                "joint's); export the chain on a fixed base")
-    for k, b in enumerate(spec.bodies, start=1):
-        at = f"body[{k}]"
-        if any(sp.sympify(x) != 0 for x in b.lam):
-            return (f"{at}.lambda: a rotor's relative angular momentum has no element in URDF or MJCF, and a body of "
-                    "its own on a free joint would be one more degree of freedom, whose spin the chain's motion "
-                    "changes: not the gyrostat's constant relative momentum")
-        for key, what in (("torque", b.torque), ("force", b.forces), ("moment", b.moments)):
-            if what:
-                return f"{at}.{key}: a load has no element in a robot description"
-        if b.spring is not None and to == "urdf":
-            return f"{at}.spring: URDF has no joint stiffness (MJCF has: --to mjcf)"
-    return None
-
-
-def links_of(spec, values: dict) -> list[Link]:
-    """The spec's bodies as links, every number with 40 digits (parameters at ``values``)."""
-    import sympy as sp
-
-    mp.mp.dps = DIGITS
-    subs = {p: sp.Float(values[str(p)], 17) for p in spec.params if str(p) in values}
-
-    def num(x):
-        return mp.mpf(str(sp.N(sp.sympify(x).subs(subs), DIGITS)))
-
-    prev_s = mp.matrix([0, 0, 0])
-    out = []
-    for k, b in enumerate(spec.bodies, start=1):
-        th, de = num(b.theta), num(b.offset)
-        ct, st, cd, sd = mp.cos(th), mp.sin(th), mp.cos(de), mp.sin(de)
-        alpha = (mp.matrix([[1, 0, 0], [0, cd, sd], [0, -sd, cd]])  # R₁(δ) R₂(θ): rows ê^k in frame k−1
-                 * mp.matrix([[ct, 0, -st], [0, 1, 0], [st, 0, ct]]))
-        R = alpha.T if k > 1 else mp.matrix(FIXED_IN_WORLD).T * alpha.T
-        m = num(b.m)
-        c = mp.matrix([num(x) for x in b.c])
-        A = mp.matrix([[num(x) for x in row] for row in b.A])
-        Ic = A - m * (_dot(c, c) * mp.eye(3) - c * c.T)
-        out.append(Link(tuple(prev_s), R, m, tuple(c), (Ic[0, 0], Ic[1, 1], Ic[2, 2], Ic[0, 1], Ic[0, 2], Ic[1, 2]),
-                        num(b.damping) if b.damping is not None else 0, num(b.spring) if b.spring is not None else 0,
-                        num(b.rest), b.control))
-        prev_s = mp.matrix([num(x) for x in b.s])
-    return out
-
-
-def rpy_of(R) -> tuple:
-    """URDF's roll, pitch, yaw of a rotation (R = Rz(y) Ry(p) Rx(r)); at p = ±π/2, r = 0."""
-    p = mp.atan2(-R[2, 0], mp.sqrt(R[0, 0] ** 2 + R[1, 0] ** 2))
-    if mp.sqrt(R[0, 0] ** 2 + R[1, 0] ** 2) < EXACT:
-        return (mp.mpf(0), p, mp.atan2(-R[0, 1], R[1, 1]))
-    return (mp.atan2(R[2, 1], R[2, 2]), p, mp.atan2(R[1, 0], R[0, 0]))
-
-
-def quat_of(R) -> tuple:
-    """The unit quaternion (w, x, y, z) of a rotation, w ≥ 0 (MJCF's quat)."""
-    t = R[0, 0] + R[1, 1] + R[2, 2]
-    if t > 0:
-        w = mp.sqrt(1 + t) / 2
-        q = (w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w))
-    else:
-        i = max(range(3), key=lambda j: R[j, j])
-        j, k = (i + 1) % 3, (i + 2) % 3
-        r = mp.sqrt(1 + R[i, i] - R[j, j] - R[k, k])
-        v = [0, 0, 0]
-        v[i], v[j], v[k] = r / 2, (R[j, i] + R[i, j]) / (2 * r), (R[k, i] + R[i, k]) / (2 * r)
-        q = ((R[k, j] - R[j, k]) / (2 * r), *v)
-    return tuple(-x for x in q) if q[0] < 0 else q
-
-
-def numbers(xs) -> str:
-    """Space-separated, as XML attributes want them."""
-    return " ".join("0" if abs(mp.mpf(x)) < EXACT else repr(float(x)) for x in xs)
+    Ic = _possible(desc, j, links, Ic, impossible, walk)
+    return Body(j, tuple(links), m, com, Ic, O, R * _unit(_v(j.axis)))

@@ -11,7 +11,7 @@ import sys
 import mpmath as mp
 import pytest
 
-from gyrochain import exchange, robot, urdf
+from gyrochain import exchange, robot, robotspec, urdf
 from gyrochain.errors import SpecError
 from gyrochain.spec import load_spec, parse_spec
 from conftest import ROOT
@@ -38,10 +38,10 @@ def test_the_chain_frames_follow_the_paper():
     ch = robot.chain(urdf.read(ROBOTS / "ur5_robot.urdf"))
     assert [b.joint.name for b in ch.bodies] == ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
                                                   "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"]
-    pb = robot.paper(ch)
-    assert robot.angle(pb[0].theta) == '"pi"' and robot.angle(abs(pb[1].theta)) == '"pi/2"' and robot.angle(pb[2].theta) == "0.0"
+    pb = robotspec.paper(ch)
+    assert robotspec.angle(pb[0].theta) == '"pi"' and robotspec.angle(abs(pb[1].theta)) == '"pi/2"' and robotspec.angle(pb[2].theta) == "0.0"
     assert [float(x) for x in ch.bodies[1].O] == pytest.approx([0, 0.13585, 0.089159], abs=1e-15)
-    assert robot.number(pb[1].m) == "8.393" and robot.number(pb[0].Ic[2]) == "0.010267495893"  # as written
+    assert robotspec.number(pb[1].m) == "8.393" and robotspec.number(pb[0].Ic[2]) == "0.010267495893"  # as written
 
 
 def test_fixed_links_merge_by_the_parallel_axis_theorem(tmp_path):
@@ -85,15 +85,15 @@ MASS = {k: ("1", "0 0 -0.1") for k in ("a", "left", "right", "b", "c")}
     ("mimic", "joint 'm': mimics 'j1'"),
     ("branch", "--tip: the movable joints branch at l, r: give --tip, one of left, right"),
     ("loop", "joint 'again': closes a loop: link 'a' is already the child of joint 'j1'"),
-    ("massless", "link 'a': joint 'j1' turns no mass"),
+    ("massless", "link 'b': joint 'j2' turns no mass"),
     ("nan", "<origin xyz>: 'nan' is not a finite number"),
     ("xml", "not well-formed XML"),
     ("doctype", "has a document type declaration"),
     ("negative mass", "<mass value>: a negative mass (-1)"),
-    ("inertia", "<inertia>: not physically possible"),
+    ("inertia", "link 'a': <inertia>: the body of joint 'j1' is not physically possible (of its links, a alone is not)"),
     ("missing link", "joint 'j1': names the link 'nowhere'"),
     ("zero axis", "<axis xyz>: a zero axis has no direction"),
-    ("not urdf", "an MJCF file (MuJoCo's format): import reads URDF"),
+    ("not urdf", "MuJoCo does not compile it: XML Error"),
     ("no revolute", "no revolute or continuous joint below base"),
     ("other xml", "the root element is <svg>, not <robot>: not a URDF"),
 ])
@@ -107,7 +107,7 @@ def test_what_a_chain_cannot_be_is_one_line(case, words, tmp_path):
             '<joint name="m" type="revolute">', '<joint name="m" type="revolute"><mimic joint="j1"/>'),
         "branch": _urdf(TWO_ARMS, MASS),
         "loop": _urdf([j1, ("b1", "revolute", "a", "b", "0 0 0", "1 0 0"), ("again", "revolute", "b", "a", "0 0 0", "1 0 0")], MASS),
-        "massless": _urdf([j1, ("j2", "revolute", "a", "b", "0 0 0", "1 0 0")], {"b": MASS["b"]}),
+        "massless": _urdf([j1, ("j2", "revolute", "a", "b", "0 0 0", "1 0 0")], {"a": MASS["a"]}),
         "nan": _urdf([j1], MASS).replace('<origin xyz="0 0 0"/><axis', '<origin xyz="0 nan 0"/><axis'),
         "xml": _urdf([j1], MASS)[:-20],
         "doctype": '<!DOCTYPE r [<!ENTITY a "aaaa">]>' + _urdf([j1], MASS),
@@ -115,7 +115,7 @@ def test_what_a_chain_cannot_be_is_one_line(case, words, tmp_path):
         "inertia": _urdf([j1], MASS).replace('ixx="0.01"', 'ixx="0.05"'),
         "missing link": _urdf([j1], MASS, links=["base"]).replace('child link="a"', 'child link="nowhere"'),
         "zero axis": _urdf([("j1", "revolute", "base", "a", "0 0 0", "0 0 0")], MASS),
-        "not urdf": "<mujoco/>",
+        "not urdf": "<mujoco><worldbody><nonsense/></worldbody></mujoco>",
         "no revolute": _urdf([("f", "fixed", "base", "a", "0 0 0", "1 0 0")], MASS),
         "other xml": "<svg/>",
     }[case]
@@ -131,11 +131,16 @@ def test_lock_merges_the_locked_joint_and_tip_picks_a_branch(tmp_path):
     f.write_text(_urdf(TWO_ARMS, MASS))
     text, lines = exchange.import_text(f, tip="left", locks=["r=0.5"])
     spec = parse_spec(text)
-    assert spec.n == 2 and "locked: r = 0.5" in "\n".join(lines) and "right" in "\n".join(lines)
+    assert spec.n == 2 and "locked at the values given: r = 0.5" in "\n".join(lines) and "right" in "\n".join(lines)
     # the locked arm's mass is in body 1 (1 + 1 kg)
     assert float(spec.bodies[0].m) == 2.0
-    with pytest.raises(SpecError, match="joint 'r': is not on the chain from base to left"):
-        exchange.import_text(f, tip="left")
+    text, lines = exchange.import_text(f, tip="left")  # the other arm locked at its zero, in one go
+    assert parse_spec(text).n == 2 and "locked at their zero (off the chain, or sliding): r" in "\n".join(lines)
+    assert "# locked at their zero (off the chain from base to left, or sliding): r" in text
+    with pytest.raises(SpecError, match="--tip base: no revolute or continuous joint below base on the way to base"):
+        exchange.import_text(f, tip="base")
+    with pytest.raises(SpecError, match="--lock r: the joint is neither below the base left nor between it and the root"):
+        exchange.import_text(f, base="left", locks=["r=0.1"])
     with pytest.raises(SpecError, match="--lock nope: no such joint"):
         exchange.import_text(f, tip="left", locks=["nope=1"])
     with pytest.raises(SpecError, match="expected joint=number"):

@@ -59,7 +59,6 @@ CASES = [
     ("non-numeric-list", replace_body1("c", 'c = [0.0, [1.0], 0.0]'), "body[1].c[2]", "expected a number"),
     ("nan", replace_body1("m", "m = nan"), "body[1].m", "not a finite"),
     ("inf", replace_body1("c", "c = [0.0, inf, 0.0]"), "body[1].c[2]", "not a finite"),
-    ("mass-zero", replace_body1("m", "m = 0.0"), "body[1].m", "positive"),
     ("mass-negative", replace_body1("m", "m = -1.0"), "body[1].m", "positive"),
     ("A-asymmetric", replace_body1("A", "A = [[0.0042, 0.001, 0.0], [0.0, 0.0041, 0.0], [0.0, 0.0, 0.0002]]"), "body[1].A", "not symmetric"),
     ("A-not-pd", replace_body1("A", "A = [[0.0042, 0.0, 0.0], [0.0, 0.0041, 0.0], [0.0, 0.0, -0.0002]]"), "body[1].A", "negative principal moment"),

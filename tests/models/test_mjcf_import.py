@@ -1,0 +1,127 @@
+"""MJCF in, through MuJoCo's own compiler: every example that MJCF can hold, exported and imported
+again, and four models of DeepMind's Control Suite (tests/mjcf) give the φ̈ of MuJoCo's
+``mj_forward`` on the same file to 1e-10.  Where the chain is part of a larger model (the cart of
+the cart-pole held at its place), MuJoCo's equations are cut to the chain's joints, the others at
+rest: M_cc φ̈ = τ + passive − bias.  The spec is evaluated by the independent model
+(gyrochain/reference.py)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gyrochain import exchange, reference, robot
+from gyrochain.errors import SpecError
+from gyrochain.spec import load_spec, parse_spec
+from conftest import ROOT, example_params
+
+mujoco = pytest.importorskip("mujoco", reason="MuJoCo (pip install mujoco; make test installs it) compiles MJCF")
+
+EXPORTABLE = ["double_pendulum", "furuta", "furuta_sym", "ur5", "panda", "planar2dof", "cable64"]
+SUITE = ROOT / "tests" / "mjcf" / "dm_control"
+STATES = 50
+
+
+@pytest.fixture(autouse=True)
+def _elsewhere(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # MuJoCo may write MUJOCO_LOG.TXT in the working folder
+
+
+class Cut:
+    """MuJoCo's model of the file, constraints off, with every joint but ``names`` at rest at the
+    model's pose; φ̈ of ``names``."""
+
+    def __init__(self, path, names):
+        self.model = mujoco.MjModel.from_xml_path(str(path))
+        self.model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
+        self.data = mujoco.MjData(self.model)
+        ids = [self.model.joint(j).id for j in names]
+        self.qpos = [self.model.jnt_qposadr[i] for i in ids]
+        self.dof = [self.model.jnt_dofadr[i] for i in ids]
+
+    def qdd(self, x, tau):
+        m, d, n = self.model, self.data, len(self.dof)
+        d.qpos[:], d.qvel[:], d.qfrc_applied[:], d.ctrl[:] = m.qpos0, 0, 0, 0
+        d.qpos[self.qpos], d.qvel[self.dof], d.qfrc_applied[self.dof] = x[:n], x[n:], tau
+        mujoco.mj_forward(m, d)
+        if len(self.dof) == m.nv:
+            return d.qacc[self.dof].copy()
+        M = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, d, M)
+        c = self.dof
+        rhs = d.qfrc_applied + d.qfrc_passive - d.qfrc_bias
+        return np.linalg.solve(M[np.ix_(c, c)], rhs[c])
+
+
+def worst(path, **kw) -> tuple[float, int]:
+    text, _ = exchange.import_text(path, **kw)
+    spec = parse_spec(text)
+    ch = reference.numeric(spec)
+    names = [b.joint.name for b in robot.chain(exchange.read_description(path), kw.get("base"), kw.get("tip")).bodies]
+    theirs = Cut(path, names)
+    rng, n, out = np.random.default_rng(n_ := spec.n), spec.n, 0.0
+    for _ in range(STATES):
+        x = np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.normal(size=n) * 2.0])
+        tau = rng.normal(size=n) * 0.5
+        a, b = reference.qdd(ch, x, tau), theirs.qdd(x, tau)
+        out = max(out, float(np.max(np.abs(a - b)) / np.max(np.abs(b))))
+    return out, n_
+
+
+@pytest.mark.parametrize("name", EXPORTABLE)
+def test_an_exported_example_comes_back_as_mujoco_simulates_it(name, tmp_path):
+    spec = load_spec(ROOT / "specs" / f"{name}.toml")
+    values = example_params(name) or {}
+    try:
+        text, _ = exchange.export_text(spec, f"{name}.toml", "mjcf", values)
+    except SpecError as exc:  # a point mass is refused for MuJoCo, and said so
+        assert "I_c: MuJoCo's compiler refuses" in str(exc)
+        pytest.skip(str(exc))
+    path = tmp_path / f"{name}.xml"
+    path.write_text(text)
+    err, n = worst(path)
+    print(f"{name}.xml: n = {n}, MuJoCo {err:.1e}")
+    assert err <= 1e-10
+
+
+@pytest.mark.parametrize("file, kw", [("pendulum.xml", {}), ("acrobot.xml", {}), ("reacher.xml", {}),
+                                      ("cartpole.xml", {"base": "cart"})])
+def test_control_suite_models_are_mujoco_s(file, kw):
+    err, n = worst(SUITE / file, **kw)
+    print(f"{file}: n = {n}, MuJoCo {err:.1e}")
+    assert err <= 1e-10
+
+
+def test_what_the_spec_cannot_hold_is_said(tmp_path):
+    """The cart-pole's slider above the base is held; a joint's armature is refused on the chain;
+    gravity not along −z is refused; MuJoCo's own compiler errors are one line."""
+    text, lines = exchange.import_text(SUITE / "cartpole.xml", base="cart")
+    assert "slider" in text and "held at their zero" in text
+    f = tmp_path / "arm.xml"
+    body = '<body name="a" pos="0 0 0"><joint name="j" axis="0 1 0" armature="0.1"/><geom size=".1" pos="0 0 -.5"/></body>'
+    f.write_text(f"<mujoco><worldbody>{body}</worldbody></mujoco>")
+    with pytest.raises(SpecError, match="joint 'j': armature 0.1"):
+        exchange.import_text(f)
+    plain = body.replace(' armature="0.1"', "")
+    f.write_text(f'<mujoco><option gravity="0 -9.81 0"/><worldbody>{plain}</worldbody></mujoco>')
+    with pytest.raises(SpecError, match="<option gravity>: \\(0 -9.81 0\\) is not along -z"):
+        exchange.import_text(f)
+    f.write_text("<mujoco><worldbody><body><joint type='hinge' axis='0 0 0'/></body></worldbody></mujoco>")
+    with pytest.raises(SpecError, match="MuJoCo does not compile it") as err:
+        exchange.import_text(f)
+    assert "\n" not in str(err.value)
+
+
+def test_two_joints_in_one_body_and_a_joint_off_the_origin(tmp_path):
+    """MuJoCo composes a body's joints in order, each about its axis through its point: a gimbal
+    in one body, and a hinge placed away from the body's origin."""
+    f = tmp_path / "gimbal.xml"
+    f.write_text("""<mujoco model="two in one"><worldbody>
+      <body name="ring" pos="0 0 1" euler="10 20 30">
+        <joint name="outer" axis="1 0 0" pos="0.1 0 0" damping="0.2"/>
+        <joint name="inner" axis="0 1 0.3" pos="0 0.05 -0.02" stiffness="3" springref="0.4"/>
+        <geom type="box" size=".1 .2 .3" pos=".05 0 -.4" mass="2"/>
+        <body name="tip" pos="0 0 -.8"><joint name="last" axis="0 0 1" pos="0 .1 0"/>
+          <geom type="capsule" fromto="0 0 0 .3 .1 -.2" size=".05"/></body>
+      </body></worldbody></mujoco>""")
+    err, n = worst(f)
+    assert n == 3 and err <= 1e-10, err

@@ -1,0 +1,95 @@
+"""Every URDF of the corpus (tests/robots: the 69 descriptions of example-robot-data) answers: a
+spec, or one line naming what cannot be modelled; never an internal error, and quickly.  The tree
+that ``import --list`` prints names the leaves a chain can end at, and ``--tip`` at any of them
+locks the rest of the tree in one go."""
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from gyrochain import exchange, robot
+from gyrochain.errors import SpecError
+from gyrochain.spec import parse_spec
+from conftest import ROOT
+
+CORPUS = sorted((ROOT / "tests" / "robots").glob("*/*.urdf"))
+
+
+def leaves(path) -> list[tuple[str, int]]:
+    """The leaves ``import --list`` names, with their number of revolute joints, most first."""
+    text = exchange.tree_text(path)
+    if "leaves a chain can end at" not in text:
+        return []
+    rows = text.split("leaves a chain can end at", 1)[1].splitlines()[1:]
+    out = [(row.strip().rsplit(" (", 1)[0], int(row.strip().rsplit("(", 1)[1][:-1])) for row in rows]
+    return sorted(out, key=lambda p: -p[1])
+
+
+def test_the_corpus_is_the_69_descriptions():
+    assert len(CORPUS) == 69
+
+
+@pytest.mark.parametrize("path", CORPUS, ids=lambda p: p.name)
+def test_every_description_answers_in_one_line_or_a_spec(path):
+    t0 = time.perf_counter()
+    try:
+        text, lines = exchange.import_text(path)
+        parse_spec(text)
+        assert lines[0].startswith("imported ")
+    except SpecError as err:
+        assert "\n" not in str(err) and str(err).startswith(str(path)), str(err)
+    assert time.perf_counter() - t0 < 10
+
+
+def test_a_leg_of_a_quadruped_in_one_command():
+    """Go1: the trunk's own inertia is impossible (principal moments −2e-22, 9e-23, 3e-6) but it is
+    the platform's, which plays no part; --tip locks the other three legs at once and says so."""
+    path = ROOT / "tests" / "robots" / "go1_description" / "go1.urdf"
+    text, lines = exchange.import_text(path, tip="FL_foot")
+    spec = parse_spec(text)
+    assert spec.n == 3
+    said = "\n".join(lines)
+    assert "locked at their zero" in said and "FR_hip_joint" in said
+    for other in ("FR_calf_joint", "RL_hip_joint", "RR_thigh_joint"):
+        assert other in text  # the spec lists every joint it locked
+    with pytest.raises(SpecError, match="the movable joints branch at .*give --tip"):
+        exchange.import_text(path)
+
+
+def test_an_arm_of_a_humanoid_with_a_lock_value(tmp_path):
+    path = ROOT / "tests" / "robots" / "talos_data" / "talos_full_v2.urdf"
+    text, lines = exchange.import_text(path, tip="arm_left_7_link", locks=["torso_2_joint=0.1"])
+    spec = parse_spec(text)
+    assert spec.n == 8 and "torso_2_joint = 0.1" in text
+    with pytest.raises(SpecError, match=r"--lock torso_2_joint=9: outside the joint's limits"):
+        exchange.import_text(path, tip="arm_left_7_link", locks=["torso_2_joint=9"])
+
+
+def test_a_fixed_joint_s_axis_is_ignored_as_the_format_says():
+    """SO-101's fixed joints are written with <axis xyz="0 0 0"/>, which URDF ignores."""
+    text, _ = exchange.import_text(ROOT / "tests" / "robots" / "so_arm_description" / "so101.urdf")
+    assert parse_spec(text).n == 6
+
+
+def test_a_massless_link_with_an_inertia_adds_it():
+    """Bolt's feet have mass 0 and an inertia; Pinocchio adds it, and so do we."""
+    path = ROOT / "tests" / "robots" / "bolt_description" / "bolt.urdf"
+    desc = exchange.read_description(path)
+    ch = robot.chain(desc, tip="FL_FOOT")
+    foot = desc.links["FL_FOOT"]
+    assert float(foot.m) == 0 and float(foot.I[0]) > 0
+    without = robot.chain(robot.Description(desc.name, desc.source, {**desc.links, "FL_FOOT": None}, desc.joints),
+                          tip="FL_FOOT")
+    assert abs(float(ch.bodies[-1].Ic[0, 0] - without.bodies[-1].Ic[0, 0]) - float(foot.I[0])) < 1e-15
+
+
+@pytest.mark.parametrize("path", [p for p in CORPUS if p.name in ("solo.urdf", "baxter.urdf", "iris_simple.urdf")],
+                         ids=lambda p: p.name)
+def test_the_tree_names_its_leaves(path):
+    text = exchange.tree_text(path)
+    assert text.splitlines()[0].startswith(f"{path.name}: robot ")
+    desc = exchange.read_description(path)
+    assert all(f"  {name}" in text for name in desc.links)  # every link, on a line of its own
+    for leaf, n in leaves(path)[:3]:
+        assert len(robot.chain(desc, tip=leaf).bodies) == n
