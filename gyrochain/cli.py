@@ -68,7 +68,8 @@ def cmd_identify(args) -> int:
     spec = load_spec(args.spec)
     values = run_values(spec, cliargs.params_of(args.param))
     how = identify.Filter(args.filter, args.cutoff, args.window, args.order)
-    identify.run(spec, args.data, values, args.output, args.force, args.validate, args.plot, how, args.physical)
+    identify.run(spec, args.data, values, args.output, args.force, args.validate, args.plot, how, args.physical,
+                 spec_path=args.spec)
     return 0
 
 
@@ -362,7 +363,7 @@ def cmd_fmu(args) -> int:
 
     spec = load_spec(args.spec)
     asked = fmu.Asked(tuple(k.strip() for k in args.kind.split(",") if k.strip()), args.fmi, args.real,
-                      tuple(dict.fromkeys(args.input or ())), tuple(dict.fromkeys(args.add_output or ())))
+                      tuple(args.input or ()), tuple(args.add_output or ()))
     fmu.check(spec, asked)  # the options first, then the file, then the build
     if args.output != "-":
         target(args.output, spec.name + ".fmu", args.force, args.spec)
@@ -396,7 +397,8 @@ def main(argv=None) -> int:
                "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
                "examples": cmd_examples, "new": cmd_new, "import": cmd_import,
                "export": cmd_export, "fmu": cmd_fmu, "identify": cmd_identify, "excite": cmd_excite}[args.cmd]
-    beat = cliargs.Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate", "identify", "excite") else None
+    beat = cliargs.Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate", "identify", "excite",
+                                                       "fmu") else None
     stdout = sys.stdout
     if beat is not None and beat.running:
         sys.stdout = cliargs.ClearsFirst(stdout, beat)  # the results' first line ends the heartbeat's

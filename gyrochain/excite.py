@@ -69,6 +69,11 @@ class _Problem:
         self.full = len(spec.controls) == spec.n  # every joint controlled: design the trajectories
         self.ctl = [k - 1 for k in spec.controls]
         self.pi0 = cm.standard_parameters(params)  # the spec's own parameters (the feedforward torques)
+        self.uscale = 1.0  # the torques' scale below u_max, where the motion at u_max leaves the limits
+
+    def over(self, q, qd) -> float:
+        """The largest of |φ − centre|/φ_max and |φ̇|/φ̇_max over the period (≤ 1: within the limits)."""
+        return float(np.maximum(np.abs(q - self.centre) / self.pmax, np.abs(qd) / self.vmax).max())
 
     def cond(self, q, qd, qdd) -> float:
         cm, p = self.cm, self.params
@@ -91,7 +96,7 @@ class _Problem:
         lw = self.wf * np.arange(1, L + 1)
         coef = x.reshape(len(self.ctl), L, 2)
         u = np.sin(np.outer(tt, lw)) @ coef[..., 0].T + np.cos(np.outer(tt, lw)) @ coef[..., 1].T
-        u = u * np.min(self.umax / np.maximum(np.abs(u).max(axis=0), 1e-300))
+        u = u * np.min(self.umax / np.maximum(np.abs(u).max(axis=0), 1e-300)) * self.uscale
         X = np.empty((len(tt), 2 * n))
         X[0] = np.concatenate([self.centre, np.zeros(n)])
         for i in range(1, len(tt)):
@@ -106,7 +111,7 @@ class _Problem:
         except Exception:  # noqa: BLE001  (a motion the integrator cannot follow is a bad design)
             return 1e3
         c = self.cond(q, qd, qdd)
-        over = 0.0 if self.full else np.maximum(np.abs(q - self.centre) / self.pmax, np.abs(qd) / self.vmax).max()
+        over = 0.0 if self.full else self.over(q, qd)
         return (np.log(c) if np.isfinite(c) else 1e3) + (10.0 * (over - 1.0) ** 2 if over > 1.0 else 0.0)
 
 
@@ -136,13 +141,41 @@ def excite(spec, cm, period: float = 10.0, harmonics: int = 5, phi_max=None, phi
     best = minimize(pb.cost, x0, method="Nelder-Mead" if small else "Powell",
                     options=dict(maxfev=evaluations, **({"xatol": 1e-4, "fatol": 1e-4} if small else {"xtol": 1e-4, "ftol": 1e-4})))
     x = best.x if best.fun <= start else x0
+    scaled = "" if pb.full else _within_limits(pb, x)
     q, qd, qdd, u = pb.motion(x)
     mode = (f"joint trajectories: {harmonics} harmonics of {period:g} s per joint (Swevers et al. 1997)" if pb.full else
             f"torques of the controlled joints: {harmonics} harmonics of {period:g} s (the chain has passive joints); "
-            "the motion simulated from rest, its second period")
+            f"the motion simulated from rest, its second period{scaled}")
     first = pb.motion(x0)
     begin = np.concatenate([q[0], qd[0]]) if pb.full else np.concatenate([centre, np.zeros(n)])
     return Design(pb.t, q, qd, qdd, u, pb.cond(q, qd, qdd), pb.cond(*first[:3]), mode, begin)
+
+
+def _within_limits(pb: _Problem, x) -> str:
+    """Where the best torques at u_max drive the passive motion beyond --phi-max or --phidot-max,
+    the torques scaled down until it stays within (bisection on the scale); where no scale does,
+    one line.  Returns what the report adds."""
+    def over(scale: float) -> float:
+        pb.uscale = scale
+        try:
+            q, qd, _, _ = pb.motion(x)
+        except Exception:  # noqa: BLE001  (a motion the integrator cannot follow is beyond every limit)
+            return np.inf
+        return pb.over(q, qd)
+
+    if over(1.0) <= 1.0:
+        return ""
+    lo, hi = 0.0, 1.0
+    for _ in range(24):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if over(mid) <= 1.0 else (lo, mid)
+    if lo < 1e-6:
+        pb.uscale = 1.0
+        raise SpecError("--phi-max", "no torque within --u-max keeps the passive joints' motion within --phi-max and "
+                                     "--phidot-max (the motion about the centre is unstable?); widen the limits or move "
+                                     "the --center")
+    over(lo)
+    return f"; the torques scaled to {lo:.3g} of --u-max to keep phi and phidot within their limits"
 
 
 def write_design(design: Design, spec) -> str:
@@ -195,6 +228,7 @@ def simulate_recording(spec, cm, d: Design, duration: float, rate: float, noise:
 
 
 MAX_SAMPLES = 2_000_000  # a simulated recording longer than this is refused
+RECORDING = (1000.0, 0.01, 4096)  # --experiment's defaults: samples per second, the torques' noise, encoder counts
 
 
 def check_options(period: float = 10.0, harmonics: int = 5, samples: int = 200, evaluations: int = 1,
@@ -224,6 +258,11 @@ def run_excite(spec, source: str, values: dict, output: str, force: bool, limits
     encoder counts)."""
     import sys
 
+    given = [name for name, value in zip(("--rate", "--noise", "--encoder"), recording) if value is not None]
+    if experiment is None and given:
+        raise SpecError(given[0], "applies to --experiment (a simulated measurement); give --experiment SECONDS, "
+                                  f"or drop {given[0]}")
+    recording = tuple(default if value is None else value for value, default in zip(recording, RECORDING))
     check_options(options.get("period", 10.0), options.get("harmonics", 5), options.get("samples", 200),
                   options.get("evaluations", 1), experiment, recording)
     default = f"{spec.name}_{'experiment' if experiment is not None else 'excite'}.csv"

@@ -25,13 +25,16 @@ def write_new(path: Path, text: str | bytes, force: bool = False) -> None:
         else:
             tmp.write_text(text, encoding="utf-8")
         tmp.replace(path)
+    except OSError as exc:  # said of the file the user named, never of our temporary one
+        raise SpecError(str(path), f"cannot be written: {exc.strerror or exc}") from None
     finally:
         tmp.unlink(missing_ok=True)
 
 
-def deliver(text: str | bytes, output: str, default: str, force: bool = False, source: str | None = None) -> Path | None:
+def deliver(text: str | bytes, output: str, default: str, force: bool = False, source=None) -> Path | None:
     """A command's file: printed for ``-o -`` (text only; None is returned), else written to
-    ``output`` or ``default`` in this folder.  The file a command read (``source``) is never its output."""
+    ``output`` or ``default`` in this folder.  A file the command read (``source``: a path or a
+    list of them) is never its output."""
     if output == "-":
         if isinstance(text, bytes):
             raise SpecError("-o -", "a binary file is not printed: name a file")
@@ -42,15 +45,32 @@ def deliver(text: str | bytes, output: str, default: str, force: bool = False, s
     return path
 
 
-def target(output: str, default: str, force: bool = False, source: str | None = None) -> Path:
-    """Where a command will write (checked before its work: not the file it reads, not a file of
-    the user's without ``force``)."""
+def target(output: str, default: str, force: bool = False, source=None, option: str = "-o") -> Path:
+    """Where a command will write, checked before its work: not a file it reads (``source``: a
+    path or a list of them; ``--force`` does not change that), not a file of the user's without
+    ``force``, in a folder it can write."""
     path = Path(output or default)
-    if source is not None and path.resolve() == Path(source).resolve():
-        raise SpecError(f"-o {path}", "is the file the command reads")
+    sources = [source] if isinstance(source, (str, Path)) else list(source or [])
+    for src in sources:
+        if src is not None and path.resolve() == Path(src).resolve():
+            raise SpecError(f"{option} {path}", "is a file the command reads; name another file")
     if path.exists() and not force:
         raise SpecError(str(path), "exists; pass --force to replace it")
+    writable(path)
     return path
+
+
+def writable(path: Path) -> None:
+    """One line, before any work, where ``path`` cannot be written: its folder (or the nearest
+    that exists, for one to be made) must be a folder this user may write in."""
+    folder = Path(path).parent if str(Path(path).parent) else Path(".")
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    if not folder.is_dir():
+        raise SpecError(str(folder), "is not a folder")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        shown = folder if str(folder) not in (".", "") else Path.cwd()
+        raise SpecError(str(path), f"cannot be written: the folder {shown} is not writable (permission denied)")
 
 
 MAX_TABLE_BYTES = 512 << 20  # a CSV larger than this is refused (a device never ends)
@@ -77,7 +97,7 @@ def _read_table(path: str, fail, required: list[str], expected: str) -> tuple[li
             raise fail(f"not a file (a CSV of {expected})")
         if os.stat(path).st_size > MAX_TABLE_BYTES:
             raise fail(f"larger than {MAX_TABLE_BYTES >> 20} MiB; thin it out (every k-th row)")
-        with open(path, encoding="utf-8") as f, warnings.catch_warnings():
+        with open(path, encoding="utf-8-sig") as f, warnings.catch_warnings():  # Excel's byte-order mark
             warnings.simplefilter("ignore")  # numpy's "input contained no data": said below as one line
             names = [h.strip() for h in f.readline().strip().split(",")]
             data = np.loadtxt(f, delimiter=",", ndmin=2)

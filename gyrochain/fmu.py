@@ -119,8 +119,12 @@ def check(spec, asked: Asked) -> None:
     if real != "double":
         raise SpecError("--real", "FMI's variables are double precision: the float model cannot be an FMU")
     bad = [k for k in kinds if k not in ("me", "cs")]
-    if bad or not kinds:
+    if bad or not kinds or len(set(kinds)) != len(kinds):
         raise SpecError("--kind", f"expected me, cs or me,cs, got {','.join(kinds) or 'nothing'}")
+    for option, given in (("--input", as_inputs), ("--add-output", outputs)):
+        twice = sorted({name for name in given if given.count(name) > 1})
+        if twice:
+            raise SpecError(f"{option} {twice[0]}", "given twice; give it once")
 
 
 def variables(spec, model, values: dict, asked: Asked) -> list[Var]:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -23,6 +24,7 @@ from .errors import SpecError
 from .printers.common import signed_sum
 from .measured import Filter, Motion, compiled, read, same_geometry, stack
 
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
 FAR = 3.0  # estimates this many standard errors from any physically possible bodies are not written without --physical
 
 
@@ -104,10 +106,10 @@ def identified_spec(spec, model, pi: np.ndarray, note: str) -> str:
     params = model.reg.params
     taken = {str(p) for p in spec.params}
     names = {p.name: symbol(p) for p in params}
-    clash = sorted(taken & set(names.values()))
-    if clash:
+    clash = sorted(taken & set(names.values()) & _used_beside_the_bodies(raw))
+    if clash:  # a name identify writes, used for something else (a spec identify wrote may be identified again)
         raise SpecError(f"values.{clash[0]}", "the spec names a parameter as identify names the identified ones; rename it")
-    raw["name"] = f"{spec.name}_identified"
+    raw["name"] = spec.name if spec.name.endswith("_identified") else f"{spec.name}_identified"
     for k, body in enumerate(raw["body"], start=1):
         own = {p.kind + "".join(map(str, p.index)): names[p.name] for p in params if p.body == k}
         body.pop("I_c", None)
@@ -128,6 +130,26 @@ def identified_spec(spec, model, pi: np.ndarray, note: str) -> str:
     return text
 
 
+REWRITTEN = ("m", "c", "A", "I_c", "lambda", "rotor", "damping")  # the body fields identify writes as symbols
+
+
+def _used_beside_the_bodies(raw: dict) -> set:
+    """The parameters the spec uses in anything but the fields identify rewrites."""
+    import copy
+
+    import tomli_w
+
+    from .spec import parse_spec
+
+    rest = copy.deepcopy(raw)
+    for body in rest["body"]:
+        for key in REWRITTEN:
+            body.pop(key, None)
+        body.update(m=1.0, c=[0.0, 0.0, 0.0], I_c=[1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
+    rest["values"] = {}
+    return {str(p) for p in parse_spec(tomli_w.dumps(rest)).params}
+
+
 def formula(model, i: int) -> str:
     """βᵢ in the standard parameters' names, as the command prints it (Axx1 + 0.04 m2 + 0.4 hx2)."""
     names = [p.name for p in model.reg.params]
@@ -135,7 +157,7 @@ def formula(model, i: int) -> str:
 
 
 def run(spec, data: str, values: dict, output: str, force: bool, validate: str | None = None, plot: str | None = None,
-        how: Filter = Filter(), physical: bool = False, say=print) -> dict:
+        how: Filter = Filter(), physical: bool = False, say=print, spec_path: str | None = None) -> dict:
     """``identify``: read, filter, stack, estimate, write the spec, print the table (and with
     ``validate``, compare the predicted torques and a simulated motion with held-out data).
     Returns the figures (the tests read them)."""
@@ -143,9 +165,14 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     if not spec.controls:
         raise SpecError(spec.name, "has no control torque: a motion without input determines the parameters only up to a "
                                    "common factor (mark the driven joints control = true)")
-    out_path = files.target(output, f"{spec.name}_identified.toml", force, data)
+    inputs = [data, validate, spec_path]
+    out_path = files.target(output, f"{spec.name}_identified.toml", force, inputs)
     if plot:
-        files.target(plot, plot, force)
+        if Path(plot).suffix.lower() not in PLOT_SUFFIXES:
+            raise SpecError(f"--plot {plot}", "a picture is named .png, .svg or .pdf (a file is what its name says)")
+        if not validate:
+            raise SpecError("--plot", "draws the held-out comparison: give --validate HELD.csv too")
+        files.target(plot, plot, force, inputs + [out_path], "--plot")
     params = values or None
     cm, model = compiled(spec)
     same_geometry(model, values)
@@ -161,18 +188,26 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     say(f"filter: {motion.how}")
     say(f"weighted least squares: {est.rows} equations, {model.base.count} base parameters, cond {est.cond:.4g}; "
         "residual RMS " + ", ".join(f"joint {k + 1} {r:.3g}" for k, r in enumerate(est.rms)) + " N m")
+    _explains(A, y, est.beta, spec, data, "the estimates")
     pi0 = cm.standard_parameters(params)
     beta0 = cm.base_parameters(pi0)
     pi, moved = consistent(model, est.beta, est.se, pi0)
     beta = cm.base_parameters(pi) if physical else est.beta
     if physical:
+        _explains(A, y, beta, spec, data, "the physically consistent estimates", est.rms)
+    if physical:
         say(f"physically consistent (--physical): every body possible; the estimates moved by at most {moved:.3g} "
             "standard errors" + (" (the unconstrained ones were already consistent)" if moved < 1e-3 else ""))
     _table(model, beta, est.se, beta0, say)
+    say("standard errors: of the noise the residuals show; they assume the filter adds no bias, which a motion near "
+        + (f"its cutoff ({how.cutoff:g} Hz)" if how.kind == "butter" else
+           f"its window ({how.window:g} s; the Savitzky-Golay derivative filters are not its smoothing filter)")
+        + " adds, beyond them (--validate on held-out data checks it)")
     if moved > FAR and not physical:
         raise SpecError(out_path.name, f"not written: the estimates are {moved:.3g} standard errors from any physically "
-                                       "possible bodies (model error, or too little excitation); --physical writes the "
-                                       "nearest, or record a longer or richer motion (gyrochain excite)")
+                                       "possible bodies (model error, data in other units or signs, or too little "
+                                       "excitation); --physical writes the nearest, or record a longer or richer motion "
+                                       "(gyrochain excite)")
     note = (f"{spec.name} with the parameters identified by gyrochain identify from {data}\n"
             f"(physically possible bodies whose base parameters are the estimates' to {moved:.2g} standard errors;\n"
             f"the parameters the motion does not determine chosen near {spec.name}'s values)")
@@ -184,6 +219,30 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     if held is not None:
         figures.update(_validate(cm, model, beta, held, params, validate, plot, say))
     return figures
+
+
+EXPLAINED = 0.9  # a fit must explain this fraction of each driven joint's torque variance to be printed
+
+
+def _explains(A, y, beta, spec, data: str, what: str, free_rms=None) -> None:
+    """The fit must explain the measured torques: each controlled joint's R² at least EXPLAINED,
+    and the physically consistent estimates' residual at most twice the free fit's.  Otherwise
+    the data contradict the model (angles in degrees, a torque of the wrong sign or joint, another
+    robot) and nothing is printed as estimates."""
+    n = spec.n
+    res = (y - A @ beta).reshape(-1, n)
+    meas = y.reshape(-1, n)
+    for k in spec.controls:
+        j = k - 1
+        spread = float(np.sum((meas[:, j] - meas[:, j].mean()) ** 2))
+        r2 = 1.0 - float(np.sum(res[:, j] ** 2)) / spread if spread > 0 else 1.0
+        rms = float(np.sqrt(np.mean(res[:, j] ** 2)))
+        worse = free_rms is not None and rms > 2.0 * free_rms[j] + 1e-12 * np.sqrt(spread / len(meas))
+        if r2 < EXPLAINED or worse:
+            than = f" ({rms / free_rms[j]:.3g} times the free fit's residual)" if worse else ""
+            raise SpecError(data, f"{what} explain {100 * max(r2, 0.0):.3g}% of joint {k}'s measured torque{than}: the data "
+                                  "contradict the model; check the CSV's units (radians, rad/s, seconds, N m), the torques' "
+                                  "signs and columns, and that the spec is the robot measured. No estimate is printed")
 
 
 def _table(model, beta, se, beta0, say) -> None:

@@ -55,9 +55,17 @@ class Filter:
     seen differently in φ̈ and in u)."""
 
     kind: str = "butter"
-    cutoff: float = CUTOFF_HZ
-    window: float = WINDOW_S
+    cutoff: float | None = None  # None: CUTOFF_HZ (the Butterworth's only)
+    window: float | None = None  # None: WINDOW_S (the Savitzky–Golay filter's only)
     order: int = ORDER
+
+    def __post_init__(self):
+        for name, value, default, own in (("cutoff", self.cutoff, CUTOFF_HZ, "butter"), ("window", self.window, WINDOW_S, "savgol")):
+            if value is not None and self.kind != own and self.kind in ("butter", "savgol"):
+                raise SpecError(f"--{name}", f"applies to --filter {own}; the {self.kind} filter takes "
+                                f"--{'window' if name == 'cutoff' else 'cutoff'} (give --filter {own}, or drop --{name})")
+            if value is None:
+                object.__setattr__(self, name, default)
 
     def check(self) -> None:
         if self.kind not in ("butter", "savgol"):
@@ -79,6 +87,7 @@ def read(path: str, spec, what: str, how: Filter = Filter()) -> Motion:
     phis, rates, us = columns(spec)
     expected = f"t, {phis[0]}..{phis[-1]}" + (f", {us[0]}..{us[-1]}" if us else "") + " (and optionally phidot1..)"
     names, data = files.read_table(path, what, ["t"] + phis + us, expected)
+    _no_foreign_columns(names, spec, what, path)
     t = data[:, names.index("t")]
     dt = np.diff(t)
     step = float(np.median(dt)) if len(dt) else 0.0
@@ -94,7 +103,9 @@ def read(path: str, spec, what: str, how: Filter = Filter()) -> Motion:
     edge, keep, derive, said = (_butter if how.kind == "butter" else _savgol)(how, step, len(t), path, what)
     phi_f, phidot, phidd = derive(phi)
     if rate is not None:
-        phidot, phidd, _ = derive(rate)
+        rate_f, rate_d, _ = derive(rate)
+        _rates_are_derivatives(rate_f, phidot, edge, what, path)
+        phidot, phidd = rate_f, rate_d
         how_rate = "phidot measured (filtered), phidd its derivative"
     else:
         how_rate = "phidot and phidd the derivatives of the filtered phi"
@@ -107,12 +118,59 @@ def read(path: str, spec, what: str, how: Filter = Filter()) -> Motion:
     return Motion(t[cut], phi_f[cut], phidot[cut], phidd[cut], u_f[cut], text, len(t), (t[inner], phi_f[inner], u_f[inner]))
 
 
+RATE_TOL = 0.2  # a measured phidot may differ from the filtered dphi/dt by this fraction of its RMS
+
+
+def _no_foreign_columns(names: list, spec, what: str, path: str) -> None:
+    """A column named for a joint or a control the spec does not have (u2 of a passive joint,
+    phi3 of a two-joint chain) is refused: its data would be dropped without a word."""
+    import re
+
+    n, nu = spec.n, len(spec.controls)
+    passive = [k for k in range(1, n + 1) if k not in spec.controls]
+    for name in names:
+        m = re.fullmatch(r"(phi|phidot|phidd|u)(\d+)", name)
+        if m is None:
+            continue
+        kind, k = m.group(1), int(m.group(2))
+        if kind == "u" and not 1 <= k <= nu:
+            why = (f"the spec has {nu} control torque{'s' if nu != 1 else ''} (u1..u{nu}, of joints "
+                   f"{', '.join(map(str, spec.controls))}); joint{'s' if len(passive) > 1 else ''} "
+                   f"{', '.join(map(str, passive))} {'are' if len(passive) > 1 else 'is'} passive: mark it control = true "
+                   "in the spec, or drop the column") if passive else f"the spec has {nu} control torques (u1..u{nu})"
+            raise _fail(what, path, f"column {name!r}: {why}")
+        if kind != "u" and not 1 <= k <= n:
+            raise _fail(what, path, f"column {name!r}: the spec has {n} joints ({kind}1..{kind}{n})")
+        if kind == "phidd":
+            raise _fail(what, path, f"column {name!r}: identify reads phi (and phidot) and derives phidd itself; drop it")
+
+
+def _rates_are_derivatives(rate, phidot, edge: int, what: str, path: str) -> None:
+    """A measured phidot must be the derivative of phi: rates in deg/s, or of another joint, or
+    a time in other units are refused, not fitted."""
+    inner = slice(edge, len(rate) - edge) if len(rate) > 2 * edge + 2 else slice(None)
+    for k in range(rate.shape[1]):
+        d, r = phidot[inner, k], rate[inner, k]
+        scale = float(np.sqrt(np.mean(d ** 2)))
+        if scale == 0:
+            continue
+        off = float(np.sqrt(np.mean((r - d) ** 2))) / scale
+        if off > RATE_TOL:
+            ratio = float(np.sqrt(np.mean(r ** 2))) / scale
+            hint = " (degrees per second? the rates must be rad/s)" if 40 < ratio < 80 else (
+                " (is t in seconds?)" if ratio > 200 or ratio < 1 / 200 else "")
+            raise _fail(what, path, f"column 'phidot{k + 1}' is not the derivative of phi{k + 1}: they differ by "
+                                    f"{100 * off:.0f}% of its RMS, the RMS ratio is {ratio:.3g}{hint}")
+
+
 def _butter(how: Filter, step: float, count: int, path, what) -> tuple:
     from scipy.signal import butter, sosfiltfilt
 
     fs = 1.0 / step if step > 0 else 0.0
     if not how.cutoff < 0.5 * fs:
-        raise SpecError("--cutoff", f"{how.cutoff:g} Hz is not below half the sampling rate ({0.5 * fs:g} Hz)")
+        raise _fail(what, path, f"t steps by {step:g} s ({fs:g} samples per second), too slow for the filter's cutoff "
+                                f"of {how.cutoff:g} Hz, which must be below half the rate: is t in seconds (milliseconds "
+                                "read as seconds do this)? Else a lower --cutoff")
     sos = butter(how.order, how.cutoff, fs=fs, output="sos")
     edge = int(np.ceil(3 * fs / how.cutoff))
     keep = max(1, int(round(fs / (2 * how.cutoff))))

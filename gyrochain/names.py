@@ -44,6 +44,16 @@ C_HEADERS = frozenset(
 )
 
 
+def _shipped_sources() -> dict:
+    """{stem, lower case: the file} of the C sources and headers the package ships and writes
+    beside a model (the FMI headers, the integrators' kernels): a model of that name would
+    collide with them, on a case-insensitive file system too."""
+    from pathlib import Path
+
+    kernels = Path(__file__).resolve().parent / "kernels"
+    return {p.stem.lower(): p.name for p in sorted(kernels.rglob("*")) if p.suffix in (".h", ".c")}
+
+
 def model_name_clash(name: str) -> str:
     """Why a model may not be called ``name`` ("" if it may): its NAME.h or NAME.py would shadow
     a system header or a Python module, or NAME.py could not be imported (a Python keyword)."""
@@ -51,6 +61,9 @@ def model_name_clash(name: str) -> str:
     import sys
 
     low = name.lower()
+    shipped = _shipped_sources().get(low)
+    if shipped:
+        return f"make its {name}.h or {name}.c collide with {shipped}, which the product writes beside it (FMUs, builds)"
     if low in C_HEADERS:
         return f"make its {name}.h shadow the system header <{low if low != 'python' else 'Python'}.h>"
     if name.upper() in ACCESS_MODES:

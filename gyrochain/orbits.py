@@ -348,6 +348,13 @@ def stable_equilibrium(cm, params=None, u=None):
     return found[best], min(others, default=math.inf)
 
 
+def _removed(reasons, pushed: bool) -> list[str]:
+    """What removes an integral in this run: its reasons but the control torques, which are 0
+    unless --u gives them (``pushed``)."""
+    out = [r for r in reasons if not r.startswith("control torque")]
+    return out + ["the control torques --u"] if pushed and any(r.startswith("control torque") for r in reasons) else out
+
+
 def analyze(spec, params=None, u=None, at=None, energies=None, modes=None, vary=None, omegas=None) -> list[Family]:
     """The periodic orbits ``gyrochain orbits`` prints: the nonlinear normal modes at the stable
     equilibrium ``at`` (default: the one of least energy) over ``energies`` above its energy
@@ -361,12 +368,17 @@ def analyze(spec, params=None, u=None, at=None, energies=None, modes=None, vary=
     cm, model = pipeline.compiled(spec)
     if time_dependent(model):
         raise SpecError("orbits", "the model depends on t: the stability of its equilibria for all t is `gyrochain steady`'s")
-    if not model.integrals.has_energy_integral or (u is not None and np.any(np.asarray(u) != 0)):
-        raise SpecError("orbits", "the energy (23) is not an integral here (damping, loads, a torque): periodic orbits "
-                                  "are continued in the energy, which must be conserved")
+    ints = model.integrals
+    pushed = u is not None and np.any(np.asarray(u) != 0)
+    why = _removed(ints.energy_reasons, pushed)  # control torques held at 0 (--u not given) remove nothing
+    if why:
+        raise SpecError("orbits", f"the energy (23) is not an integral here ({'; '.join(why)} removed it): periodic "
+                                  "orbits are continued in the energy, which must be conserved")
     if omegas is not None:
-        if not model.integrals.has_momentum_integral or not getattr(cm, "has_momentum", False):
-            raise SpecError("--omega", "phi1 is not cyclic (l1 not vertical, or a torque in joint 1): no steady rotations")
+        m_why = _removed(ints.momentum_reasons, pushed and np.asarray(u).ravel()[0] != 0 and 1 in spec.controls)
+        if not getattr(cm, "has_momentum", False) or m_why or (not ints.has_momentum_integral and not ints.momentum_reasons):
+            raise SpecError("--omega", "phi1 is not cyclic (" + ("; ".join(m_why) if m_why else "l1 not vertical")
+                                       + "): no steady rotations")
         start = np.zeros(cm.n) if at is None else np.asarray(at, float)
         return [rotations(cm, omegas, start, params, u)]
     if at is None:

@@ -25,6 +25,34 @@ class Parser(argparse.ArgumentParser):
     """argparse with one line for a mistake: ``error: <what> (see <prog> --help)``, exit 2; a
     missing subcommand lists the subcommands."""
 
+    def parse_known_args(self, args=None, namespace=None):
+        if args is not None and not any(isinstance(a, argparse._SubParsersAction) for a in self._actions):
+            self._refuse_repeats(list(args))
+        return super().parse_known_args(args, namespace)
+
+    def _refuse_repeats(self, args: list) -> None:
+        """An option given twice is refused, whatever it is (a repeatable one, like --param, aside):
+        the last value silently winning would hide a typo in a long command line."""
+        once = {s: a for a in self._actions if a.option_strings and not isinstance(a, argparse._AppendAction)
+                for s in a.option_strings}
+        seen: dict = {}
+        for tok in args:
+            if tok == "--":
+                break
+            if not tok.startswith("-") or tok == "-" or tok[1:2].isdigit() or tok[1:2] == ".":
+                continue
+            name = tok.split("=", 1)[0]
+            if name not in once and name.startswith("--"):  # argparse's unique prefixes (--out for --output)
+                hits = {once[s] for s in once if s.startswith(name)}
+                action = hits.pop() if len(hits) == 1 else None
+            else:
+                action = once.get(name)
+            if action is None:
+                continue
+            if action in seen:
+                self.error(f"{seen[action]}: given twice; give it once")
+            seen[action] = name
+
     def error(self, message):
         subs = [a for a in self._actions if isinstance(a, argparse._SubParsersAction)]
         if subs and "required: " in message:
@@ -262,7 +290,7 @@ def _exchange(sub) -> None:
                         "at its --lock value) and merged too. --list shows the tree to choose from.")
     im.add_argument("description", metavar="FILE", help="the URDF file, or an MJCF model (read by MuJoCo's compiler)")
     im.add_argument("--list", action="store_true", help="print the tree (links, joints, the leaves a chain can end "
-                    "at) and write nothing")
+                    "at) and write nothing (default: import the chain)")
     im.add_argument("-o", "--output", default="", metavar="FILE", help="the spec file (default NAME.toml here; - for "
                     "standard output)")
     im.add_argument("--base", default=None, metavar="LINK", help="the link the chain starts from (default: the root)")
@@ -317,8 +345,8 @@ def _identify(sub) -> None:
     idf.add_argument("--filter", default="butter", choices=["butter", "savgol"], help="how phi is smoothed and "
                      "differentiated (u alike): a zero-phase Butterworth low-pass and central differences (default), or "
                      "a Savitzky-Golay filter")
-    idf.add_argument("--cutoff", type=float, default=5.0, help="the Butterworth's cutoff, Hz (default 5)")
-    idf.add_argument("--window", type=float, default=0.2, help="the Savitzky-Golay window, s (default 0.2)")
+    idf.add_argument("--cutoff", type=float, default=None, help="--filter butter: the cutoff, Hz (default 5)")
+    idf.add_argument("--window", type=float, default=None, help="--filter savgol: the window, s (default 0.2)")
     idf.add_argument("--order", type=int, default=4, help="the Butterworth's order or the polynomial's (default 4)")
     idf.add_argument("--physical", action="store_true", help="constrain the estimates to physically possible bodies "
                      "(positive masses, realisable inertias; default: unconstrained least squares)")
@@ -347,8 +375,8 @@ def _identify(sub) -> None:
     exc.add_argument("--experiment", type=float, default=None, metavar="SECONDS", help="write instead a simulated "
                      "measurement of the design on the spec's own model, that long: t, phi, u, what identify reads "
                      "(default: the design)")
-    exc.add_argument("--rate", type=float, default=1000.0, help="--experiment: samples per second (default 1000)")
-    exc.add_argument("--noise", type=float, default=0.01, help="--experiment: the torques' noise, a fraction of their RMS "
+    exc.add_argument("--rate", type=float, default=None, help="--experiment: samples per second (default 1000)")
+    exc.add_argument("--noise", type=float, default=None, help="--experiment: the torques' noise, a fraction of their RMS "
                      "(default 0.01)")
-    exc.add_argument("--encoder", type=int, default=4096, help="--experiment: counts per turn of the angles (default "
+    exc.add_argument("--encoder", type=int, default=None, help="--experiment: counts per turn of the angles (default "
                      "4096; 0: exact)")

@@ -68,7 +68,7 @@ def check_values(spec, values: dict, label: str = "") -> None:
         num(b.offset, f"{at}.offset")
         m = num(b.m, f"{at}.m")
         if m < 0:
-            raise SpecError(f"{at}.m", f"mass must be positive (or 0: a massless frame between two joints), got {m:g}{label}")
+            raise SpecError(f"{at}.m", f"mass must be positive, got {m:g}{label} (or 0: a massless frame between two joints)")
         c = np.array([num(x, f"{at}.c") for x in b.c])
         A = np.array([[num(x, f"{at}.A") for x in row] for row in b.A])
         for x in b.s:

@@ -13,6 +13,7 @@ for it and load its build.
 """
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import hashlib
 import os
@@ -387,6 +388,7 @@ def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str, a
     (``extension``: compiled now only if no process built it before, ``ahead``'s child included):
     returns "compiled", "reused" or None (no build)."""
     target = Path(target)
+    new_parents = [p for p in target.parents if not p.exists()]  # the folders this call makes above the target
     target.parent.mkdir(parents=True, exist_ok=True)
     made = not target.exists()
     tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
@@ -418,6 +420,10 @@ def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str, a
     except BaseException:
         if made and target.exists():
             shutil.rmtree(target, ignore_errors=True)  # only what this call put there
+        shutil.rmtree(tmp, ignore_errors=True)
+        for folder in new_parents:  # innermost first: an interrupted first run leaves no empty generated/
+            with contextlib.suppress(OSError):
+                folder.rmdir()
         raise
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -61,7 +61,7 @@ def check_start(M: np.ndarray, what: str = "state") -> None:
 
 
 def motion(model, times: np.ndarray, x0, u=None, params=None, method: str = "dop853", h: float = 0.0,
-           rtol: float = 1e-10, atol: float = 1e-12) -> np.ndarray:
+           rtol: float = 1e-10, atol: float = 1e-12, max_steps: int = 0) -> np.ndarray:
     """The states at ``times`` by the emitted C's integrator (DOP853: dense output between its
     steps); a failure is a one-line error naming where it stopped."""
     from .build import IntegrationError, ModelError
@@ -69,10 +69,12 @@ def motion(model, times: np.ndarray, x0, u=None, params=None, method: str = "dop
     check_start(model.mass_matrix(x0[: model.n], params=params or None))
     t = np.concatenate([[0.0], times]) if times[0] > 0 else times
     try:
-        X = model.integrate(t, x0, method, h=h, rtol=rtol, atol=atol, u=u, params=params or None)
+        X = model.integrate(t, x0, method, h=h, rtol=rtol, atol=atol, u=u, params=params or None, max_steps=max_steps)
     except IntegrationError as exc:
         why = str(exc.args[0]).split(": ", 1)[-1].split(" at t =")[0]
-        raise SpecError("motion", f"the integrator stopped at t = {exc.t:.6g} s: {why}") from None
+        budget = (f" (its budget of {max_steps:.0e} steps; a shorter --t1, a looser --rtol, or --yes for 1e+08)"
+                  if max_steps and "step" in why.lower() else "")
+        raise SpecError("motion", f"the integrator stopped at t = {exc.t:.6g} s: {why}{budget}") from None
     except ModelError as exc:
         raise SpecError("motion", str(exc)) from None
     return X[len(t) - len(times):]
@@ -81,6 +83,8 @@ def motion(model, times: np.ndarray, x0, u=None, params=None, method: str = "dop
 FIXED_STEP = ("rk4", "gauss2", "gauss2_symplectic")
 MAX_CSV_BYTES = 200 << 20  # simulate's output past which it asks for --yes
 MAX_FIXED_STEPS = 10**8  # steps of a fixed-step method past which simulate asks for --yes
+MAX_ADAPTIVE_STEPS = 10**7  # DOP853's budget of steps in simulate (seconds of work); --yes lifts it to the C's 10⁸
+MAX_T1 = 1e9
 RK4_STABLE = 2.785  # h |lambda| on the imaginary axis where classical RK4 stops being stable (2 sqrt 2)
 
 
@@ -127,6 +131,9 @@ def check_stability(model, x0, u, params, method: str, h: float) -> None:
 def check_options(t1: float, steps: int, method: str, h: float, rtol: float, atol: float) -> None:
     if not (math.isfinite(t1) and t1 > 0):
         raise SpecError("--t1", f"must be a positive number of seconds, got {t1:g}")
+    if t1 > MAX_T1:
+        raise SpecError("--t1", f"{t1:g} s is more than {MAX_T1:g} s (about 30 years) of motion: no integrator's budget of "
+                                "steps reaches that; a shorter --t1")
     if not 1 <= steps <= 10_000_000:
         raise SpecError("--steps", f"must be a whole number of output intervals from 1 to 10⁷, got {steps}")
     if method not in METHODS:
@@ -169,6 +176,7 @@ def run(spec, x0, t1: float, steps: int, u=None, params: dict | None = None, met
         check_stability(model, np.asarray(x0, float), u, values, method, h)
     if method == "gauss2_symplectic" and not model.has_canonical:
         raise SpecError("--method", "gauss2_symplectic needs Hamilton's variables: a fixed base and no time-dependent field")
-    X = motion(model, t, x0, u=u, params=values, method=method, h=h, rtol=rtol, atol=atol)
+    X = motion(model, t, x0, u=u, params=values, method=method, h=h, rtol=rtol, atol=atol,
+               max_steps=0 if yes or method != "dop853" else MAX_ADAPTIVE_STEPS)
     p = values or None
     return np.array([[ti, *xi, model.energy(xi, params=p, t=ti)] for ti, xi in zip(t, X)])

@@ -489,7 +489,7 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
             raise SpecError(f"{at}.{key}", f"a negative {what} ({float(v):g}) would feed energy into the joint")
     m, c = vals["m"], vals["c"]
     if m.is_number and m < 0:
-        raise SpecError(f"{at}.m", f"mass must be positive (or 0: a massless frame between two joints), got {float(m):g}")
+        raise SpecError(f"{at}.m", f"mass must be positive, got {float(m):g} (or 0: a massless frame between two joints)")
     if "I_c" in vals:  # the parallel-axis theorem: A = I_c + m(|c|²1 − c cᵀ)
         Ic, cc = vals["I_c"], sum(x * x for x in c)
         A = tuple(tuple(Ic[i][j] + m * ((cc if i == j else 0) - c[i] * c[j]) for j in range(3)) for i in range(3))

@@ -65,7 +65,14 @@ def copy(names: list[str], folder: Path, force: bool = False) -> list[Path]:
                if names == ["all"] else [example_path(n) for n in names])
     if folder.exists() and not folder.is_dir():
         raise SpecError("-o", f"{folder} is not a folder")
-    targets = [folder / src.name for src in sources]
+    if not folder.is_dir() and folder.suffix.lower() in (".toml", ".urdf"):  # a file's name: one example, that file
+        if len(sources) != 1:
+            raise SpecError(f"-o {folder}", f"names a file, and {len(sources)} examples need a folder")
+        if folder.suffix.lower() != sources[0].suffix:
+            raise SpecError(f"-o {folder}", f"{sources[0].name} is a {sources[0].suffix} file (a file is what its name says)")
+        targets, folder = [folder], folder.parent
+    else:
+        targets = [folder / src.name for src in sources]
     if not force:
         there = [str(t) for t in targets if t.exists() or t.is_symlink()]
         if there:
@@ -84,13 +91,11 @@ def robot_files() -> list[str]:
 def examples_command(action: str | None, names, name, output: Path, force: bool, prog: str) -> int:
     """`gyrochain examples`: list them, print one (``show``), or copy some into a folder (``copy``)."""
     if action == "copy":
-        for path in copy(names, output, force):
+        written = copy(names, output, force)
+        for path in written:
             print(f"wrote {path}")
-        first = names[0] if names != ["all"] else "gimbal"
-        if first.endswith(".urdf"):
-            print(f"next: {prog} import {output / first}")
-        else:
-            print(f"next: {prog} generate {output / (first.removesuffix('.toml') + '.toml')}")
+        first = written[0] if names != ["all"] else next(p for p in written if p.name == "gimbal.toml")
+        print(f"next: {prog} {'import' if first.suffix == '.urdf' else 'generate'} {first}")
     elif action == "show":
         print(example_path(name).read_text(encoding="utf-8"), end="")
     else:
