@@ -1,4 +1,4 @@
-"""Fuzzing the commands as users meet them (issue 26): every example spec mutated (fields dropped,
+"""Fuzzing the commands as users meet them: every example spec mutated (fields dropped,
 renamed, duplicated; wrong types; NaN, ±inf, huge and tiny numbers; empty, unicode and very long
 strings; expression bombs; wrong vector shapes; n = 0 and n = 40), and command lines for every
 command built from valid and invalid options.  The property: exit 0, or exit 2 with one line
@@ -220,19 +220,39 @@ OPTIONS.update({
             "--rotor": None, "--control": None, "--driven": None, "--mass": NUM, "--length": NUM, "--force": None},
 })
 ROBOTS = SPECS / "robots"
+CORPUS = sorted((ROOT / "tests" / "robots").glob("*/*.urdf")) + sorted((ROOT / "tests" / "mjcf" / "dm_control").glob("*.xml"))
 URDF_ARG = st.sampled_from([ROBOTS / "ur5_robot.urdf", ROBOTS / "panda.urdf", ROBOTS / "double_pendulum.urdf", ROBOTS / "xarm7.urdf",
-                            ROBOTS / "missing.urdf", ROBOTS, SPECS / "gimbal.toml", ROBOTS / "README.md"])
+                            ROBOTS / "missing.urdf", ROBOTS, SPECS / "gimbal.toml", ROBOTS / "README.md", *CORPUS])
 OPTIONS.update({
-    "import": {"--tip": st.sampled_from(["wrist_3_link", "panda_link7", "panda_lnk7", "link1", "base_link", ""]),
-               "--base": st.sampled_from(["world", "shoulder_link", "nowhere", "panda_link0", ""]),
+    "import": {"--tip": st.sampled_from(["wrist_3_link", "panda_link7", "panda_lnk7", "link1", "base_link", "", "FL_FOOT",
+                                         "FL_foot", "LF_FOOT", "left_hand_link", "arm_left_7_link", "l_sole", "lower_arm"]),
+               "--base": st.sampled_from(["world", "shoulder_link", "nowhere", "panda_link0", "", "torso", "base", "cart"]),
                "--lock": st.sampled_from(["panda_finger_joint1=0.02", "panda_finger_joint2=0.02", "joint1=0.3", "elbow_joint=x",
-                                          "nope=1", "=1", "panda_finger_joint1=nan", "shoulder_pan_joint=1e300"]),
+                                          "nope=1", "=1", "panda_finger_joint1=nan", "shoulder_pan_joint=1e300",
+                                          "panda_finger_joint1=5", "FR_HAA=0.3", "torso_1_joint=-9", "slider=0.5"]),
+               "--list": None,
                "--name": st.sampled_from(["arm", "int", "1x", "a b", ""]), "--g": NUM, "--no-control": None, "--force": None},
     "export": {"--to": st.sampled_from(["urdf", "mjcf", "sdf", ""]), "--param": PARAM, "--force": None},
 })
+CSV_ARG = st.sampled_from(["@DATA@/data.csv", "@DATA@/held.csv", "@DATA@/missing.csv", "@DATA@/furuta.toml", "@DATA@"])
+OPTIONS.update({
+    "excite": {"--period": st.sampled_from(["5", "0", "-1", "nan", "1e9", "x"]), "--harmonics": st.sampled_from(["1", "3", "0", "-2"]),
+               "--phi-max": st.sampled_from(["1", "0", "-1", "0.5,0.5", "1,2,3", "nan"]),
+               "--phidot-max": st.sampled_from(["2", "0", "x", "1,1"]), "--u-max": st.sampled_from(["0.05", "0", "-1", "1,2"]),
+               "--center": st.sampled_from(["0", "0,0", "1,2,3", "nan,0"]), "--samples": st.sampled_from(["50", "1", "0", "10000000"]),
+               "--evaluations": st.sampled_from(["5", "0", "-1"]), "--seed": st.sampled_from(["0", "-1", "x"]),
+               "--experiment": st.sampled_from(["1", "0", "-1", "1e9", "nan"]), "--rate": st.sampled_from(["200", "0", "-1", "1e9"]),
+               "--noise": st.sampled_from(["0.01", "-1", "nan"]), "--encoder": st.sampled_from(["4096", "0", "-1"]),
+               "--param": PARAM, "--force": None},
+    "identify": {"--validate": CSV_ARG, "--plot": st.sampled_from(["fit.png", "fit.svg", "fit.toml", "@DATA@/data.csv.png", ""]),
+                 "--filter": st.sampled_from(["butter", "savgol", "kalman"]), "--cutoff": NUM, "--window": NUM,
+                 "--order": st.sampled_from(["4", "1", "9", "x"]), "--physical": None, "--param": PARAM, "--force": None},
+})
 OUTPUTS = {"sweep": ["s.zarr", "sub/s.zarr", ""], "animate": ["a.gif", "a.png", "a.html", "a.avi", "sub/a.gif", ""],
            "plot": ["p.png", "p.jpgg", "sub/p.svg", ""], "generate": ["g", "sub/g", ""], "new": ["n.toml", "-", "sub/n.toml"],
-           "import": ["i.toml", "-", "sub/i.toml", ""], "export": ["e.urdf", "e.xml", "-", "sub/e.urdf", ""]}
+           "import": ["i.toml", "-", "sub/i.toml", ""], "export": ["e.urdf", "e.xml", "-", "sub/e.urdf", ""],
+           "excite": ["x.csv", "-", "sub/x.csv", ""], "identify": ["id.toml", "sub/id.toml", ""]}
+# (never into the recordings' folder: a --force there would change the inputs of the cases after it)
 NEW_KINDS = st.sampled_from(["pendulum", "double-pendulum", "chain", "spatial-chain", "chian", ""])
 
 
@@ -240,6 +260,8 @@ NEW_KINDS = st.sampled_from(["pendulum", "double-pendulum", "chain", "spatial-ch
 def command_line(draw):
     cmd = draw(st.sampled_from(sorted(OPTIONS)))
     args = [cmd, draw(NEW_KINDS) if cmd == "new" else draw(URDF_ARG) if cmd == "import" else draw(SPEC_ARG)]
+    if cmd == "identify":
+        args.append(draw(CSV_ARG))
     opts = OPTIONS[cmd]
     for name in draw(st.lists(st.sampled_from(sorted(opts)), max_size=4)) if opts else []:
         args.append(name)
@@ -259,15 +281,18 @@ def command_line(draw):
 COVERED: dict = {}  # command → how many lines of it a search ran
 
 
-def command_property(args, folder: Path, store: Path):
+def command_property(args, folder: Path, store: Path, bench: Path):
     TRIED["command"] += 1
     COVERED[args[0]] = COVERED.get(args[0], 0) + 1
-    args = [str(a).replace("@OUT@", str(folder)) for a in args]
+    args = [str(a).replace("@OUT@", str(folder)).replace("@DATA@", str(bench)) for a in args]
+    if args[0] == "excite" and "--evaluations" not in args:  # its default (2000 designs) is minutes of legitimate work
+        args += ["--evaluations", "5", "--samples", "40"]
     if args[0] == "plot":
         args[1] = str(store)
     if args[0] == "generate" and "-o" not in args:  # never into the repository's generated/
         args += ["-o", str(folder / "g")]
-    holds(args, folder, 120)
+    with contextlib.chdir(folder):  # a default output (NAME.toml, NAME_excite.csv) lands in the case's folder
+        holds(args, folder, 120)
 
 
 @st.composite
@@ -310,6 +335,74 @@ def damaged_store_property(how, store: Path, folder: Path):
     assert code == 0, err
     data = sweep.read(copy_)
     assert data["done"].all() and not len(data["damaged"]), (how, data["done"])
+
+
+@st.composite
+def damaged_csv(draw):
+    """A measured motion as real files come hurt or mis-scaled: cut short, a cell not a number, a
+    column gone or renamed or added, time in ms, angles in degrees, a torque's sign, rows out of
+    order or repeated, a byte-order mark, an empty file, bytes that are not text."""
+    how = draw(st.sampled_from(["cut", "cell", "drop", "rename", "add", "ms", "degrees", "sign", "shuffle", "repeat", "bom",
+                                "empty", "binary", "few", "uneven"]))
+    return how, draw(st.integers(0, 10**6))
+
+
+def csv_property(how, bench: Path, folder: Path):
+    """identify on a damaged recording: estimates and a spec, or one line naming the file, and the
+    recording itself untouched."""
+    import numpy as np
+
+    TRIED["command"] += 1
+    kind, seed = how
+    rng = np.random.default_rng(seed)
+    lines = (bench / "data.csv").read_text().splitlines()
+    head, rows = lines[0], lines[1:]
+    if kind == "cut":
+        rows = rows[: int(rng.integers(0, len(rows)))]
+    elif kind == "cell":
+        i = int(rng.integers(0, len(rows)))
+        cells = rows[i].split(",")
+        cells[int(rng.integers(0, len(cells)))] = str(rng.choice(["nan", "x", "", "inf", "1e400"]))
+        rows[i] = ",".join(cells)
+    elif kind in ("drop", "rename", "add"):
+        names = head.split(",")
+        j = int(rng.integers(0, len(names)))
+        table = [r.split(",") for r in rows]
+        if kind == "drop":
+            names.pop(j)
+            table = [r[:j] + r[j + 1:] for r in table]
+        elif kind == "rename":
+            names[j] = str(rng.choice(["T", "phi3", "u2", "phidd1", "Phi1", "phi1 ", "time"]))
+        else:
+            names.append(str(rng.choice(["u2", "phi9", "phidot1", "current", "phidd2"])))
+            table = [r + [r[1]] for r in table]
+        head, rows = ",".join(names), [",".join(r) for r in table]
+    elif kind in ("ms", "degrees", "sign"):
+        col, factor = {"ms": (0, 1000.0), "degrees": (1, 57.29577951308232), "sign": (-1, -1.0)}[kind]
+        table = [[float(x) for x in r.split(",")] for r in rows]
+        for r in table:
+            r[col] *= factor
+        rows = [",".join(repr(x) for x in r) for r in table]
+    elif kind == "shuffle":
+        i, j = sorted(int(x) for x in rng.integers(0, len(rows), 2))
+        rows[i], rows[j] = rows[j], rows[i]
+    elif kind == "repeat":
+        i = int(rng.integers(0, len(rows)))
+        rows.insert(i, rows[i])
+    elif kind == "few":
+        rows = rows[:5]
+    elif kind == "uneven":
+        rows = rows[::2] + rows[1::2][:10]
+    path = folder / "d.csv"
+    if kind == "empty":
+        path.write_bytes(b"")
+    elif kind == "binary":
+        path.write_bytes(bytes(rng.integers(0, 256, 4096, dtype=np.uint8)))
+    else:
+        path.write_text("\n".join([head] + rows) + "\n", encoding="utf-8-sig" if kind == "bom" else "utf-8")
+    before = path.read_bytes()
+    holds(["identify", bench / "furuta.toml", path, "-o", folder / "id.toml"], folder, 120)
+    assert path.read_bytes() == before
 
 
 # --------------------------------------------------------------------------- robot descriptions
@@ -376,6 +469,20 @@ def store(tmp_path_factory):
     return path
 
 
+@pytest.fixture(scope="module")
+def bench(tmp_path_factory):
+    """A Furuta pendulum's simulated recordings for identify (and excite's files to collide with)."""
+    import shutil
+
+    d = tmp_path_factory.mktemp("fuzzbench")
+    shutil.copy(SPECS / "furuta.toml", d / "furuta.toml")
+    base = ["excite", d / "furuta.toml", "--u-max", "0.05", "--period", "5", "--harmonics", "3", "--evaluations", "30"]
+    for extra in (["--experiment", "20", "-o", d / "data.csv"], ["--experiment", "8", "--seed", "1", "-o", d / "held.csv"]):
+        code, _, err, _ = run([*base, *extra], 300)
+        assert code == 0, err
+    return d
+
+
 def _fresh(tmp_path: Path, i: int) -> Path:
     d = tmp_path / f"case{i}"
     d.mkdir()
@@ -403,16 +510,35 @@ def test_mutated_robot_descriptions(tmp_path):
     prop()
 
 
-def test_command_lines(tmp_path, store):
+def test_command_lines(tmp_path, store, bench):
     count = iter(range(10**9))
 
-    @fixed(120)
+    @fixed(150)
     @given(command_line())
     def prop(args):
-        command_property(args, _fresh(tmp_path, next(count)), store)
+        command_property(args, _fresh(tmp_path, next(count)), store, bench)
     prop()
     assert TRIED["command"] >= 100
     assert set(COVERED) == set(OPTIONS), sorted(set(OPTIONS) - set(COVERED))  # every command, every run
+
+
+def test_damaged_recordings(tmp_path, bench):
+    count = iter(range(10**9))
+
+    @fixed(25)
+    @given(damaged_csv())
+    def prop(how):
+        csv_property(how, bench, _fresh(tmp_path, next(count)))
+    prop()
+
+
+def test_the_corpus_and_its_trees(tmp_path):
+    """Every description of the corpus: --list, and the first leaf it names as --tip, answer."""
+    for path in CORPUS:
+        code, out, _ = holds(["import", path, "--list"], tmp_path, 30)
+        leaves = out.split("leaves a chain can end at", 1)[1].splitlines()[1:] if code == 0 and "leaves a chain" in out else []
+        if leaves:
+            holds(["import", path, "--tip", leaves[0].split()[0], "-o", "-"], tmp_path, 30)
 
 
 def test_damaged_stores(tmp_path, store):
@@ -426,7 +552,7 @@ def test_damaged_stores(tmp_path, store):
 
 
 @pytest.mark.skipif(LONG <= 0, reason="make fuzz (FUZZ_SECONDS) searches longer with fresh seeds")
-def test_fuzz_for_a_while(tmp_path, store, sigint_from_a_terminal):
+def test_fuzz_for_a_while(tmp_path, store, bench, sigint_from_a_terminal):
     """Rounds of fresh random searches until FUZZ_SECONDS have passed; prints the inputs tried."""
     t_end = time.monotonic() + LONG
     count = iter(range(10**9))
@@ -435,24 +561,25 @@ def test_fuzz_for_a_while(tmp_path, store, sigint_from_a_terminal):
     while time.monotonic() < t_end:
         given(mutated_spec())(rounds(lambda data: spec_property(data, _fresh(tmp_path, next(count)))))()
         given(mutated_urdf())(rounds(lambda data: urdf_property(data, _fresh(tmp_path, next(count)))))()
-        given(command_line())(rounds(lambda args: command_property(args, _fresh(tmp_path, next(count)), store)))()
+        given(command_line())(rounds(lambda args: command_property(args, _fresh(tmp_path, next(count)), store, bench)))()
+        given(damaged_csv())(settings(rounds, max_examples=10)(lambda how: csv_property(how, bench, _fresh(tmp_path, next(count)))))()
         given(damage())(settings(rounds, max_examples=5)(lambda how: damaged_store_property(how, store, _fresh(tmp_path, next(count)))))()
         given(command_line(), st.floats(0.2, 3.0))(settings(rounds, max_examples=3)(
-            lambda args, delay: interrupt_property(args, delay, _fresh(tmp_path, next(count)), store)))()
+            lambda args, delay: interrupt_property(args, delay, _fresh(tmp_path, next(count)), store, bench)))()
         print(f"fuzz: {TRIED['spec'] - start['spec']} specs and {TRIED['command'] - start['command']} command lines "
               f"so far", flush=True)
     print(f"\nfuzz: {TRIED['spec'] - start['spec']} specs and {TRIED['command'] - start['command']} command lines "
           f"in {LONG:.0f} s, no failure")
 
 
-def interrupt_property(args, delay: float, folder: Path, store: Path):
+def interrupt_property(args, delay: float, folder: Path, store: Path, bench: Path):
     """The command line in its own process, SIGINT after ``delay`` seconds: it has ended by itself
     (0 or 2), or it ends within a second with exit 130 and one line, nothing half-written."""
     import subprocess
     import sys
 
     TRIED["command"] += 1
-    args = [str(a).replace("@OUT@", str(folder)) for a in args]
+    args = [str(a).replace("@OUT@", str(folder)).replace("@DATA@", str(bench)) for a in args]
     if args[0] == "plot":
         args[1] = str(store)
     if args[0] == "generate" and "-o" not in args:
