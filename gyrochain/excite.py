@@ -102,6 +102,7 @@ class _Problem:
         for i in range(1, len(tt)):
             X[i] = self.cm.integrate([tt[i - 1], tt[i]], X[i - 1], u=u[i - 1], params=self.params, rtol=1e-9, atol=1e-11)[-1]
         half = slice(self.samples, 2 * self.samples)
+        self.from_rest = (X[:, :n], X[:, n:])  # both periods: the start from rest is part of a recording too
         acc = np.array([self.cm.qdd(X[i], u[i], self.params, float(tt[i])) for i in range(len(tt))[half]])
         return X[half, :n], X[half, n:], acc, u[half]
 
@@ -111,7 +112,7 @@ class _Problem:
         except Exception:  # noqa: BLE001  (a motion the integrator cannot follow is a bad design)
             return 1e3
         c = self.cond(q, qd, qdd)
-        over = 0.0 if self.full else self.over(q, qd)
+        over = 0.0 if self.full else self.over(*self.from_rest)
         return (np.log(c) if np.isfinite(c) else 1e3) + (10.0 * (over - 1.0) ** 2 if over > 1.0 else 0.0)
 
 
@@ -158,10 +159,10 @@ def _within_limits(pb: _Problem, x) -> str:
     def over(scale: float) -> float:
         pb.uscale = scale
         try:
-            q, qd, _, _ = pb.motion(x)
+            pb.motion(x)
         except Exception:  # noqa: BLE001  (a motion the integrator cannot follow is beyond every limit)
             return np.inf
-        return pb.over(q, qd)
+        return pb.over(*pb.from_rest)
 
     if over(1.0) <= 1.0:
         return ""
@@ -176,6 +177,15 @@ def _within_limits(pb: _Problem, x) -> str:
                                      "the --center")
     over(lo)
     return f"; the torques scaled to {lo:.3g} of --u-max to keep phi and phidot within their limits"
+
+
+def _beyond(phi: np.ndarray, limits: dict, n: int) -> str:
+    """Where a recorded φ leaves |φ − centre| ≤ phi_max: the joints and how far ("" if nowhere)."""
+    pmax = _limits(limits.get("phi_max"), n, "--phi-max", 1.0)
+    centre = np.zeros(n) if limits.get("center") is None else np.asarray(limits["center"], float)
+    reach = np.abs(phi - centre).max(axis=0)
+    return ", ".join(f"|phi{k + 1} - centre| reaches {reach[k]:.4g} rad, --phi-max {pmax[k]:g}"
+                     for k in range(n) if reach[k] > pmax[k] * (1 + 1e-9))
 
 
 def write_design(design: Design, spec) -> str:
@@ -286,6 +296,10 @@ def run_excite(spec, source: str, values: dict, output: str, force: bool, limits
         rate, noise, counts = recording
         tell(f"wrote {path}: a simulated measurement of {experiment:g} s at {rate:g} Hz (t, phi, u): noise {100 * noise:g}% "
              "of u's RMS, " + (f"phi quantised to {counts} counts per turn" if counts else "phi exact"))
+        left = _beyond(rows[:, 1:1 + spec.n], limits, spec.n)
+        if left:
+            tell(f"  the recording leaves the design's limits ({left}): the motion from its start is not the designed "
+                 "period; a bench's limits must allow for it, or record fewer periods")
     elif path is not None:
         tell(f"wrote {path}: {len(d.t)} samples of one period (t, phi, phidot, phidd, u)")
     return d
