@@ -222,6 +222,7 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
 
 
 EXPLAINED = 0.9  # a fit must explain this fraction of each driven joint's torque variance to be printed
+CANCEL = 0.5  # and leave a passive joint's equation unbalanced by less than this fraction of its terms' size
 
 
 def _explains(A, y, beta, spec, data: str, what: str, free_rms=None) -> None:
@@ -232,6 +233,17 @@ def _explains(A, y, beta, spec, data: str, what: str, free_rms=None) -> None:
     n = spec.n
     res = (y - A @ beta).reshape(-1, n)
     meas = y.reshape(-1, n)
+    for k in range(1, n + 1):  # a passive joint's terms must cancel (u = 0): its residual well below their size
+        if k in spec.controls:
+            continue
+        rows = A[k - 1::n] * beta
+        size = float(np.sqrt(np.mean(np.sum(rows ** 2, axis=1))))
+        left = float(np.sqrt(np.mean(res[:, k - 1] ** 2)))
+        if size > 0 and left > CANCEL * size:
+            raise SpecError(data, f"{what} leave joint {k}'s equation (a passive joint: its terms cancel) unbalanced by "
+                                  f"{100 * left / size:.3g}% of its terms: the data contradict the model; check the CSV's "
+                                  "units (radians, rad/s, seconds, N m), the torques' signs and columns, and that the spec "
+                                  "is the robot measured. No estimate is printed")
     for k in spec.controls:
         j = k - 1
         spread = float(np.sum((meas[:, j] - meas[:, j].mean()) ** 2))

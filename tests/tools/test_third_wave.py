@@ -71,13 +71,14 @@ def test_an_excitation_respects_the_limits_it_is_given(tmp_path):
 
 @pytest.mark.parametrize("file, words", [
     ("degps.csv", "column 'phidot1' is not the derivative of phi1"),
-    ("degrees.csv", "the data contradict the model"),
+    ("degrees.csv", "the data contradict the model"),  # φ² in degrees: the pendulum's equation no longer balances
     ("passive_u.csv", "column 'u2': the spec has 1 control torque"),
     ("ms.csv", "is t in seconds"),
 ])
 def test_data_in_other_units_or_columns_are_refused_not_fitted(bench, file, words):
-    refused("identify", "furuta.toml", file, "-o", "out.toml", cwd=bench, words=words)
-    assert not (bench / "out.toml").exists()
+    out = f"out_{file}.toml"
+    refused("identify", "furuta.toml", file, "-o", out, cwd=bench, words=words)
+    assert not (bench / out).exists()
 
 
 def test_contradictory_data_print_no_estimates_even_with_physical(bench):
@@ -152,7 +153,7 @@ def test_a_folder_that_cannot_be_written_is_said_before_the_work(bench, tmp_path
     """A folder this user may not write in (root may write anywhere, so the permission is taken
     away where the product asks for it): one line naming the file and the folder, never our
     temporary file, and before the fit."""
-    from gyrochain import cli, files, measured
+    from gyrochain import cli, excite, files, identify, measured
 
     ro = tmp_path / "ro"
     ro.mkdir()
@@ -160,7 +161,8 @@ def test_a_folder_that_cannot_be_written_is_said_before_the_work(bench, tmp_path
         shutil.copy(bench / f, ro / f)
     real = os.access
     monkeypatch.setattr(files.os, "access", lambda p, mode: False if os.path.realpath(p) == str(ro) else real(p, mode))
-    monkeypatch.setattr(measured, "compiled", lambda spec: pytest.fail("the fit began"))
+    for module in (measured, identify, excite):  # where the commands call it (imported by name)
+        monkeypatch.setattr(module, "compiled", lambda spec: pytest.fail("the work began"))
     monkeypatch.chdir(ro)
     for args in (["identify", "furuta.toml", "data.csv"], ["import", str(ROBOTS / "ur_description" / "ur5_robot.urdf")],
                  ["excite", "furuta.toml"]):
