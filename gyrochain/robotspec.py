@@ -136,11 +136,14 @@ def spec_text(ch: Chain, name: str | None = None, g=GRAVITY, controls: bool = Tr
     notes = []
     for line in facts(ch):
         notes += textwrap.wrap(line, 96, subsequent_indent="  ", break_on_hyphens=False, break_long_words=False)
-    source = ch.desc.source
-    description = f"{ch.desc.name}: {len(bodies)} joint{'s' if len(bodies) > 1 else ''} from {ch.base} to {ch.tip}, imported from {Path(source).name}"
+    n, source = len(bodies), Path(ch.desc.source).name
+    count = f"{n} joint{'s' if n > 1 else ''}"
+    angles = (f"angles phi1..phi{n} are the description's joint positions" if n > 1
+              else "angle phi1 is the description's joint position")
+    description = f"{ch.desc.name}: {count} from {ch.base} to {ch.tip}, imported from {source}"
     return environment().get_template("imported_spec.toml.jinja").render(
-        name=name, source=Path(source).name, robot=ch.desc.name, base=ch.base, tip=ch.tip, bodies=bodies,
-        notes=notes, description=json.dumps(description, ensure_ascii=False), g=number(g))
+        count=count, angles=angles, name=name, source=source, robot=ch.desc.name, base=ch.base, tip=ch.tip,
+        bodies=bodies, notes=notes, description=json.dumps(description, ensure_ascii=False), g=number(g))
 
 
 def facts(ch: Chain) -> list[str]:
