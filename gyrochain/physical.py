@@ -67,8 +67,10 @@ def check_values(spec, values: dict, label: str = "") -> None:
         num(b.theta, f"{at}.theta")
         num(b.offset, f"{at}.offset")
         m = num(b.m, f"{at}.m")
-        if m < 0:
-            raise SpecError(f"{at}.m", f"mass must be positive, got {m:g}{label} (or 0: a massless frame between two joints)")
+        if m < 0 or (m == 0 and not b.m.is_number):  # a massless frame is written m = 0, where the derivation checks it
+            raise SpecError(f"{at}.m", f"mass must be positive, got {m:g}{label}"
+                                       + (" (or 0: a massless frame between two joints)" if m < 0 else
+                                          " (a massless frame between two joints is written m = 0 in the spec)"))
         c = np.array([num(x, f"{at}.c") for x in b.c])
         A = np.array([[num(x, f"{at}.A") for x in row] for row in b.A])
         for x in b.s:
