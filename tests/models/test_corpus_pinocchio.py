@@ -14,6 +14,7 @@ from gyrochain import exchange, reference, robot
 from gyrochain.errors import SpecError
 from gyrochain.spec import parse_spec
 from conftest import ROOT
+from simulators import Pin
 
 pin = pytest.importorskip("pinocchio", reason="Pinocchio (pip install pin; make test installs it) checks the corpus")
 
@@ -32,43 +33,6 @@ def _leaves(path):
     return sorted(((r.strip().rsplit(" (", 1)[0], int(r.strip().rsplit("(", 1)[1][:-1])) for r in rows), key=lambda p: -p[1])
 
 
-class Reduced:
-    """Pinocchio's model of the file with every joint but ``names`` locked at ``locks`` or its zero."""
-
-    def __init__(self, path, names, locks: dict, g: float = robot.GRAVITY):
-        full = pin.buildModelFromUrdf(str(path))
-        q0 = pin.neutral(full)
-        for joint, value in locks.items():
-            q0[full.joints[full.getJointId(joint)].idx_q] = float(value)
-        drop = [full.getJointId(j) for j in full.names[1:] if j not in names]
-        try:
-            self.model, self.q0 = (pin.buildReducedModel(full, drop, q0) if drop else full), None
-        except ValueError:  # a joint and a link of one name (ANYmal C): Pinocchio's reduction stops there
-            self.model, self.q0 = full, q0  # the locked joints then held by the partitioned equations
-        self.model.gravity.linear[:] = [0.0, 0.0, -g]
-        self.data = self.model.createData()
-        self.joints = [self.model.joints[self.model.getJointId(j)] for j in names]
-
-    def qdd(self, x, tau):
-        n = len(self.joints)
-        q = pin.neutral(self.model) if self.q0 is None else self.q0.copy()
-        v, t = np.zeros(self.model.nv), np.zeros(self.model.nv)
-        for k, j in enumerate(self.joints):
-            if j.nq == 2:  # a continuous joint: (cos q, sin q)
-                q[j.idx_q:j.idx_q + 2] = np.cos(x[k]), np.sin(x[k])
-            else:
-                q[j.idx_q] = x[k]
-            v[j.idx_v], t[j.idx_v] = x[n + k], tau[k]
-        if self.q0 is None:
-            a = pin.aba(self.model, self.data, q, v, t)
-            return np.array([a[j.idx_v] for j in self.joints])
-        idx = [j.idx_v for j in self.joints]  # M_cc φ̈ = τ − b_c, the other joints at rest
-        M = pin.crba(self.model, self.data, q)
-        M = np.triu(M) + np.triu(M, 1).T
-        b = pin.rnea(self.model, self.data, q, v, np.zeros(self.model.nv))
-        return np.linalg.solve(M[np.ix_(idx, idx)], t[idx] - b[idx])
-
-
 def worst(path, tip=None, base=None, locks=()) -> tuple[float, int]:
     """The largest relative difference of φ̈ (imported spec against Pinocchio) over the states."""
     text, _ = exchange.import_text(path, base=base, tip=tip, locks=list(locks))
@@ -76,7 +40,7 @@ def worst(path, tip=None, base=None, locks=()) -> tuple[float, int]:
     ch = reference.numeric(spec)
     names = [b.joint.name for b in robot.chain(exchange.read_description(path), base, tip,
                                                  exchange.locks_of(locks)).bodies]
-    other = Reduced(path, names, exchange.locks_of(locks))
+    other = Pin(path, names, exchange.locks_of(locks), robot.GRAVITY)
     rng, n = np.random.default_rng(len(names)), spec.n
     damping = np.array([float(b.damping or 0) for b in spec.bodies])
     out = 0.0

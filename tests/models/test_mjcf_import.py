@@ -13,6 +13,7 @@ from gyrochain import exchange, reference, robot
 from gyrochain.errors import SpecError
 from gyrochain.spec import load_spec, parse_spec
 from conftest import ROOT, example_params
+from simulators import Mj
 
 mujoco = pytest.importorskip("mujoco", reason="MuJoCo (pip install mujoco; make test installs it) compiles MJCF")
 
@@ -26,38 +27,12 @@ def _elsewhere(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # MuJoCo may write MUJOCO_LOG.TXT in the working folder
 
 
-class Cut:
-    """MuJoCo's model of the file, constraints off, with every joint but ``names`` at rest at the
-    model's pose; φ̈ of ``names``."""
-
-    def __init__(self, path, names):
-        self.model = mujoco.MjModel.from_xml_path(str(path))
-        self.model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
-        self.data = mujoco.MjData(self.model)
-        ids = [self.model.joint(j).id for j in names]
-        self.qpos = [self.model.jnt_qposadr[i] for i in ids]
-        self.dof = [self.model.jnt_dofadr[i] for i in ids]
-
-    def qdd(self, x, tau):
-        m, d, n = self.model, self.data, len(self.dof)
-        d.qpos[:], d.qvel[:], d.qfrc_applied[:], d.ctrl[:] = m.qpos0, 0, 0, 0
-        d.qpos[self.qpos], d.qvel[self.dof], d.qfrc_applied[self.dof] = x[:n], x[n:], tau
-        mujoco.mj_forward(m, d)
-        if len(self.dof) == m.nv:
-            return d.qacc[self.dof].copy()
-        M = np.zeros((m.nv, m.nv))
-        mujoco.mj_fullM(m, d, M)
-        c = self.dof
-        rhs = d.qfrc_applied + d.qfrc_passive - d.qfrc_bias
-        return np.linalg.solve(M[np.ix_(c, c)], rhs[c])
-
-
 def worst(path, **kw) -> tuple[float, int]:
     text, _ = exchange.import_text(path, **kw)
     spec = parse_spec(text)
     ch = reference.numeric(spec)
     names = [b.joint.name for b in robot.chain(exchange.read_description(path), kw.get("base"), kw.get("tip")).bodies]
-    theirs = Cut(path, names)
+    theirs = Mj.of_file(path, names)
     rng, n, out = np.random.default_rng(n_ := spec.n), spec.n, 0.0
     for _ in range(STATES):
         x = np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.normal(size=n) * 2.0])

@@ -16,6 +16,7 @@ from gyrochain import exchange, robot, urdf
 from gyrochain.randspec import random_spec_text
 from gyrochain.spec import load_spec, parse_spec
 from conftest import ROOT, example_params
+from simulators import Mj, Pin
 
 pin = pytest.importorskip("pinocchio", reason="Pinocchio (pip install pin; make test installs it) checks the imported arms")
 mujoco = pytest.importorskip("mujoco", reason="MuJoCo (pip install mujoco; make test installs it) checks the descriptions")
@@ -45,54 +46,6 @@ def _relative(a, b) -> float:
     return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
 
 
-class Pin:
-    """Pinocchio's model of a URDF file, its locked joints removed at their values (a reduced
-    model), gravity g along −z; φ̈ in the order of ``names``."""
-
-    def __init__(self, path, names, locks: dict, g: float):
-        full = pin.buildModelFromUrdf(str(path))
-        q0 = pin.neutral(full)
-        for joint, value in locks.items():
-            q0[full.joints[full.getJointId(joint)].idx_q] = float(value)
-        drop = [full.getJointId(j) for j in full.names[1:] if j not in names]
-        self.model = pin.buildReducedModel(full, drop, q0) if drop else full
-        self.model.gravity.linear[:] = [0.0, 0.0, -g]
-        self.data = self.model.createData()
-        self.joints = [self.model.joints[self.model.getJointId(j)] for j in names]
-
-    def qdd(self, x, tau):
-        n = len(self.joints)
-        q, v, t = pin.neutral(self.model), np.zeros(self.model.nv), np.zeros(self.model.nv)
-        for k, j in enumerate(self.joints):
-            if j.nq == 2:  # a continuous joint: (cos q, sin q)
-                q[j.idx_q:j.idx_q + 2] = np.cos(x[k]), np.sin(x[k])
-            else:
-                q[j.idx_q] = x[k]
-            v[j.idx_v], t[j.idx_v] = x[n + k], tau[k]
-        a = pin.aba(self.model, self.data, q, v, t)
-        return np.array([a[j.idx_v] for j in self.joints])
-
-
-class Mj:
-    """MuJoCo's model of a description (URDF or MJCF text), constraints off (a joint limit is not
-    part of the chain's dynamics); φ̈ in the order of ``names``, torques as applied forces."""
-
-    def __init__(self, xml: str, names):
-        self.model = mujoco.MjModel.from_xml_string(xml)
-        self.model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
-        self.data = mujoco.MjData(self.model)
-        ids = [self.model.joint(j).id for j in names]
-        self.qpos = [self.model.jnt_qposadr[i] for i in ids]
-        self.dof = [self.model.jnt_dofadr[i] for i in ids]
-
-    def qdd(self, x, tau):
-        n, d = len(self.dof), self.data
-        d.qpos[:], d.qvel[:], d.qfrc_applied[:], d.ctrl[:] = 0, 0, 0, 0
-        d.qpos[self.qpos], d.qvel[self.dof], d.qfrc_applied[self.dof] = x[:n], x[n:], tau
-        mujoco.mj_forward(self.model, d)
-        return d.qacc[self.dof].copy()
-
-
 def _for_mujoco(path, locks: dict) -> str:
     """The URDF as MuJoCo's compiler can read it here: its meshes (not copied, and not dynamics)
     left out, and a locked prismatic joint made fixed at its value (MuJoCo has no locking)."""
@@ -113,7 +66,7 @@ def test_imported_arms_match_pinocchio_and_mujoco(file, make_model):
     model = make_model(parse_spec(text))
     names = [b.joint.name for b in robot.chain(urdf.read(path), locks=locks).bodies]
     damping = np.array([float(b.damping or 0) for b in model.spec.bodies])
-    pinocchio, mj = Pin(path, names, locks, float(model.spec.g)), Mj(_for_mujoco(path, locks), names)
+    pinocchio, mj = Pin(path, names, locks, float(model.spec.g)), Mj.of_text(_for_mujoco(path, locks), names)
     worst_pin = worst_mj = 0.0
     for x, tau in _states(np.random.default_rng(len(file)), model.spec.n):
         ours = model.c.qdd(x, tau)
@@ -137,7 +90,7 @@ def test_exported_descriptions_load_silently_and_agree(name, make_model, tmp_pat
             assert to == "mjcf" and "I_c: MuJoCo's compiler refuses" in str(exc), exc
     (tmp_path / "m.urdf").write_text(files["urdf"])
     pinocchio = Pin(tmp_path / "m.urdf", names, {}, float(spec.g.subs({p: values[str(p)] for p in spec.params})))
-    mj = Mj(files["mjcf"], names) if "mjcf" in files else None
+    mj = Mj.of_text(files["mjcf"], names) if "mjcf" in files else None
     out, err = capfd.readouterr()
     assert out == "" and err == "", (out, err)  # neither loader said a word
     damping = np.array([float(b.damping or 0) for b in model.spec.bodies])
