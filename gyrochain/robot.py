@@ -391,7 +391,8 @@ def tree_text(desc: Description, base: str | None = None) -> str:
     mimics = sum(1 for j in desc.joints.values() if j.mimic is not None)
     lines = [f"{Path(desc.source).name}: robot {desc.name!r}, {len(desc.links)} links, {len(desc.joints)} joints ("
              + ", ".join(f"{v} {k}" for k, v in sorted(kinds.items(), key=lambda kv: -kv[1]))
-             + f"); {dof} degrees of freedom" + (f" and {mimics} mimic joints" if mimics else "")]
+             + f"); {dof} degree{'s' if dof != 1 else ''} of freedom"
+             + (f" and {mimics} mimic joint{'s' if mimics != 1 else ''}" if mimics else "")]
     leaves = []
     for top in ([base] if base else roots):
         todo = [(top, None, "", 0)]
@@ -407,7 +408,7 @@ def tree_text(desc: Description, base: str | None = None) -> str:
     name = Path(desc.source).name
     if leaves:
         lines.append(f"leaves a chain can end at (`import {name} --tip LINK`; the number of revolute joints "
-                     f"from {base or roots[0]}):")
+                     f"from {base or (roots[0] if len(roots) == 1 else 'its root')}):")
         lines += [f"  {leaf} ({n})" for leaf, n in leaves]
     else:
         lines.append("no leaf is reached by a revolute or continuous joint: nothing for a chain to turn")

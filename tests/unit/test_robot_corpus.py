@@ -93,3 +93,30 @@ def test_the_tree_names_its_leaves(path):
     assert all(f"  {name}" in text for name in desc.links)  # every link, on a line of its own
     for leaf, n in leaves(path)[:3]:
         assert len(robot.chain(desc, tip=leaf).bodies) == n
+
+
+def test_the_format_as_it_is_written(tmp_path):
+    """Two trees (one chosen with --base), unicode and comments, a mesh-only link, a fixed joint's
+    zero axis, and the elements the dynamics does not read (transmission, gazebo, calibration,
+    safety_controller): read or ignored as the format says, never a crash."""
+    f = tmp_path / "roots.urdf"
+    f.write_text("""<?xml version="1.0"?>
+<!-- two trees; unicode: ✓ -->
+<robot name="twö">
+  <link name="a"/>
+  <link name="b"><inertial><mass value="1"/><origin xyz="0 0 -0.5"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><geometry><mesh filename="package://x/b.stl"/></geometry></visual></link>
+  <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 1 0"/>
+    <safety_controller k_velocity="1"/><calibration rising="0"/><mimic_not joint="x"/></joint>
+  <link name="c"/><link name="d"><visual><geometry><mesh filename="d.stl"/></geometry></visual></link>
+  <joint name="f" type="fixed"><parent link="c"/><child link="d"/><axis xyz="0 0 0"/></joint>
+  <transmission name="t"><type>x</type><joint name="j"/></transmission>
+  <gazebo reference="b"><material>Red</material></gazebo>
+</robot>""", encoding="utf-8")
+    with pytest.raises(SpecError, match="2 links have no parent \\(a, c\\): .*give --base LINK"):
+        exchange.import_text(f)
+    text, _ = exchange.import_text(f, base="a")
+    assert parse_spec(text).n == 1 and "left out (not below the base a): c, d" in text
+    tree = exchange.tree_text(f)
+    assert "1 degree of freedom" in tree and "  b (1)" in tree
