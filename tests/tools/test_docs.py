@@ -127,6 +127,21 @@ def test_the_site_builds_with_warnings_as_errors(site):
     assert conventions.count("<math") > 40 and "\\hat" not in conventions  # the formulas typeset, as MathML
 
 
+def test_every_list_renders_as_a_list(site):
+    """A Markdown list right under a paragraph's line is one paragraph to MkDocs (GitHub renders a
+    list): no paragraph of the site holds a line that starts as a list item."""
+    import html
+    import re
+
+    found = []
+    for page in sorted(site.rglob("*.html")):
+        for para in re.findall(r"<p>(.*?)</p>", page.read_text(encoding="utf-8"), flags=re.S):
+            text = html.unescape(re.sub(r"<[^>]+>", "", para))
+            if re.search(r"\n\s*(?:[-*+]|\d+\.) \S", text):
+                found.append(f"{page.relative_to(site)}: {text.strip()[:70]!r}")
+    assert not found, found
+
+
 def _offline(browser, viewport=(1280, 800)):
     """A page of a browser that lets nothing leave the file system (every other request aborted
     and recorded) and records the console's errors."""
