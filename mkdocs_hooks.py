@@ -45,3 +45,18 @@ def mathml(tex: str, display: bool) -> str:
 
 def on_page_content(content: str, **_) -> str:
     return _MATH.sub(lambda m: mathml(m[2], m[1] == "div"), content)
+
+
+_ROOTED = re.compile(r'((?:href|src)=")/(?!/)')
+
+
+def on_post_build(config, **_) -> None:
+    """The 404 page is written for a server (every link and asset from the site's root, ``/``):
+    made relative like the other pages, it also loads from ``file://`` (it sits at the root)."""
+    from pathlib import Path
+
+    page = Path(config["site_dir"]) / "404.html"
+    if page.exists():
+        text = _ROOTED.sub(r"\1./", page.read_text(encoding="utf-8"))
+        text = text.replace('"base": "/"', '"base": "."').replace('"/assets/', '"./assets/')
+        page.write_text(text, encoding="utf-8")

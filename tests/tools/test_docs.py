@@ -201,6 +201,24 @@ def test_the_site_from_a_file_offline(site, browser):
         ctx.close()
 
 
+def test_the_404_page_loads_offline(site, browser):
+    """The page a server shows for a missing address, opened from file://: its styles and scripts
+    load (nothing leaves the file system, no console error) and its links lead to pages."""
+    ctx, page, left, errors = _offline(browser)
+    try:
+        page.goto((site / "404.html").as_uri())
+        assert page.locator("h1").first.inner_text().strip() == "404 - Not found"
+        assert page.evaluate("getComputedStyle(document.body).fontFamily") != ""
+        links = page.eval_on_selector_all("nav.md-nav--primary a.md-nav__link[href]", "els => els.map(e => e.href)")
+        assert links and all(u.startswith(site.as_uri()) and u.split("#")[0].endswith(".html") for u in links), links[:5]
+        page.goto(links[0])
+        assert page.locator("article h1").count() == 1
+        assert not left, left
+        assert not errors, errors
+    finally:
+        ctx.close()
+
+
 _TABLES = """() => [...document.querySelectorAll('article table')].map(t => {
     const wrap = t.closest('.md-typeset__scrollwrap'), r = wrap.getBoundingClientRect();
     const hint = wrap.previousElementSibling, heads = [...t.rows[0].cells];
