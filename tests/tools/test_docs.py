@@ -40,6 +40,18 @@ def test_what_the_pages_hold():
 LINK = re.compile(r"\]\((?!https?://|#|mailto:)([^)\s]+?)(?:#[^)]*)?\)")
 
 
+INTERNAL = re.compile(r"\bissues? #?\d+|\bthe issue's\b|\b(?:previous|last|this) stop\b|\bstop \d+\b", re.I)
+
+
+def test_no_words_of_our_internal_work():
+    """What users read speaks of the tool, not of the team's work items (issue numbers, stops)."""
+    pages = [ROOT / "README.md", ROOT / "README-pypi.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    found = [f"{p.relative_to(ROOT)}:{i}: {m.group(0)!r}" for p in pages
+             for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), start=1) for m in INTERNAL.finditer(line)]
+    assert not found, found
+    assert INTERNAL.search("the last before issue 50") and INTERNAL.search("in the noisy one of the previous stop")
+
+
 @pytest.mark.parametrize("page", PAGES, ids=[str(p.relative_to(ROOT)) for p in PAGES])
 def test_every_relative_link_resolves_inside_the_repository(page):
     text = page.read_text()
