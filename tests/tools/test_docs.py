@@ -43,6 +43,13 @@ LINK = re.compile(r"\]\((?!https?://|#|mailto:)([^)\s]+?)(?:#[^)]*)?\)")
 INTERNAL = re.compile(r"\bissues? #?\d+|\bthe issue's\b|\b(?:previous|last|this) stop\b|\bstop \d+\b", re.I)
 
 
+def test_every_example_is_in_the_getting_started_table():
+    """The table of examples names every spec the package ships, and no other."""
+    text = (ROOT / "docs" / "getting-started.md").read_text(encoding="utf-8")
+    listed = set(re.findall(r"^\| `([\w]+\.toml)` \|", text, re.M))
+    assert listed == {p.name for p in (ROOT / "specs").glob("*.toml")}, listed ^ {p.name for p in (ROOT / "specs").glob("*.toml")}
+
+
 def test_no_words_of_our_internal_work():
     """What users read speaks of the tool, not of the team's work items (issue numbers, stops)."""
     pages = [ROOT / "README.md", ROOT / "README-pypi.md", *sorted((ROOT / "docs").rglob("*.md"))]
