@@ -22,7 +22,7 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test test-fast test-install docs fuzz pdf plot animations clean bench bench-setup bench-speed
+.PHONY: all setup generate generate-all test test-fast test-install docs fuzz pdf plot animations clean bench bench-setup bench-speed dist
 
 all: generate
 
@@ -50,6 +50,12 @@ test-fast: setup
 
 test-install: setup
 	$(VPY) -m pytest -q tests/tools/test_install.py
+
+# the source archive and the wheel (built from it), as a release ships them, checked as the index checks them
+dist: setup
+	rm -rf dist
+	$(VPY) -m build -o dist .
+	$(VPY) -m twine check --strict dist/*
 
 docs: setup
 	NO_MKDOCS_2_WARNING=1 $(VPY) -m mkdocs build --strict -q -d site

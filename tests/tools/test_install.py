@@ -2,9 +2,10 @@
 wheel (no warning); ``twine check --strict`` passes both; the wheel, not editable, goes into a fresh
 virtual environment outside the repository beside a distribution that owns a top-level ``codegen``
 package (a stand-in for the unrelated "codegen" on the index, built here); and from an empty folder,
-with a home of its own (so the default per-user cache), every block of the README-pypi.md and
+with a home of its own (so the default per-user cache), every block of README.md, README-pypi.md and
 docs/getting-started.md marked ``docs-test: installed`` runs command for command, output compared as
-tests/docrun.py compares it.  Then the generated folder builds with CMake, the cache is private, and
+tests/docrun.py compares it (the README's first instruction, ``pip install ./gyrochain-VERSION.tar.gz``,
+as written, with the source archive in the user's folder).  Then the generated folder builds with CMake, the cache is private, and
 the optional extras (sweep, view) run a small sweep, its map and a GIF.
 
 Needs the package index for the build backend and the dependencies (pip's cache makes a second
@@ -152,7 +153,7 @@ def installed(dist, tmp_path_factory):
         cwd.mkdir(exist_ok=True)
         return subprocess.run(["bash", "-c", line], cwd=cwd, env=env, capture_output=True, text=True, timeout=timeout)
 
-    return dict(venv=venv, home=home, here=here, env=env, wheel=wheel, run=run)
+    return dict(venv=venv, home=home, here=here, env=env, wheel=wheel, sdist=dist[0], run=run)
 
 
 def test_the_tour_from_an_empty_folder(installed):
@@ -161,7 +162,9 @@ def test_the_tour_from_an_empty_folder(installed):
     run, wheel, here = installed["run"], installed["wheel"], installed["here"]
     blocks = docrun.installed_blocks()
     pages = {b.path.name for b in blocks}
-    assert {"README-pypi.md", "getting-started.md"} <= pages, pages
+    assert {"README.md", "README-pypi.md", "getting-started.md"} <= pages, pages
+    first = [b for b in blocks if b.path.name == "README.md"][0]
+    assert docrun.commands(first.text)[0].line.startswith("pip install ./gyrochain-")  # the README's first instruction
     ran = 0
     for block in blocks:  # each page from an empty folder of its own, its blocks in order
         page = block.path.stem
@@ -174,7 +177,12 @@ def test_the_tour_from_an_empty_folder(installed):
             continue
         for cmd in docrun.commands(block.text):
             line = cmd.line
-            if line.startswith(("pip install gyrochain", 'pip install "gyrochain[')):
+            if line.startswith("pip install ./gyrochain-"):  # as written: the source archive the user has in the folder
+                archive = line.split()[2].removeprefix("./")
+                assert archive == installed["sdist"].name, f"{block.where}: `{line}`, but the release's archive is {installed['sdist'].name}"
+                (here / page).mkdir(exist_ok=True)
+                shutil.copy(installed["sdist"], here / page / archive)
+            elif line.startswith(("pip install gyrochain", 'pip install "gyrochain[')):
                 extras = line.split("gyrochain", 1)[1].split("]")[0] + "]" if "[" in line else ""
                 line = f'pip install -q "{wheel}{extras.strip(chr(34))}"'
             r = run(line + " 2>&1", page)
