@@ -50,6 +50,28 @@ def test_every_example_is_in_the_getting_started_table():
     assert listed == {p.name for p in (ROOT / "specs").glob("*.toml")}, listed ^ {p.name for p in (ROOT / "specs").glob("*.toml")}
 
 
+def test_the_command_reference_has_every_command_and_option():
+    """docs/reference/commands.md: a section per command with its --help as printed (the blocks run,
+    so the options and defaults cannot drift), and no command the parser lacks."""
+    import argparse
+
+    from gyrochain import parsers
+
+    from gyrochain.starter import KINDS
+
+    ap = parsers.build("gyrochain", "", "0", KINDS)
+    sub = next(a for a in ap._actions if isinstance(a, argparse._SubParsersAction))
+    text = (ROOT / "docs" / "reference" / "commands.md").read_text(encoding="utf-8")
+    sections = re.findall(r"^## `([a-z]+)`", text, re.M)
+    assert sections == list(sub.choices), sections
+    for name, parser in sub.choices.items():
+        assert f"$ gyrochain {name} --help\n" in text, name
+        block = text.split(f"$ gyrochain {name} --help\n", 1)[1].split("```", 1)[0]
+        for action in parser._actions:
+            for option in action.option_strings:
+                assert option in block, (name, option)
+
+
 def test_no_words_of_our_internal_work():
     """What users read speaks of the tool, not of the team's work items (issue numbers, stops)."""
     pages = [ROOT / "README.md", ROOT / "README-pypi.md", *sorted((ROOT / "docs").rglob("*.md"))]
