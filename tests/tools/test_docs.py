@@ -72,9 +72,17 @@ def test_the_command_reference_has_every_command_and_option():
                 assert option in block, (name, option)
 
 
+def test_the_changelog_has_this_version():
+    """CHANGELOG.md: what is unreleased first, then this package's version as the newest release."""
+    from gyrochain import __version__
+
+    heads = re.findall(r"^## (.+)$", (ROOT / "CHANGELOG.md").read_text(encoding="utf-8"), re.M)
+    assert heads[0] == "Unreleased" and heads[1].startswith(f"{__version__} ("), heads[:2]
+
+
 def test_no_words_of_our_internal_work():
     """What users read speaks of the tool, not of the team's work items (issue numbers, stops)."""
-    pages = [ROOT / "README.md", ROOT / "README-pypi.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    pages = [ROOT / "README.md", ROOT / "README-pypi.md", ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").rglob("*.md"))]
     found = [f"{p.relative_to(ROOT)}:{i}: {m.group(0)!r}" for p in pages
              for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), start=1) for m in INTERNAL.finditer(line)]
     assert not found, found
