@@ -44,7 +44,7 @@ def mathml(tex: str, display: bool) -> str:
 
 
 def on_page_content(content: str, **_) -> str:
-    return _MATH.sub(lambda m: mathml(m[2], m[1] == "div"), content)
+    return figures(_MATH.sub(lambda m: mathml(m[2], m[1] == "div"), content))
 
 
 _ROOTED = re.compile(r'((?:href|src)=")/(?!/)')
@@ -60,3 +60,22 @@ def on_post_build(config, **_) -> None:
         text = _ROOTED.sub(r"\1./", page.read_text(encoding="utf-8"))
         text = text.replace('"base": "/"', '"base": "."').replace('"/assets/', '"./assets/')
         page.write_text(text, encoding="utf-8")
+
+
+_FIGURES = re.compile(r"<p>((?:\s*<img [^>]*/?>\s*)+)</p>")
+_CELL = re.compile(r"<td>\s*(<img [^>]*/?>)\s*</td>")
+_IMG = re.compile(r"<img [^>]*/?>")
+_ALT = re.compile(r'alt="([^"]*)"')
+
+
+def _figure(img: str) -> str:
+    """An image with its alternative text shown beneath it as the caption (Markdown has no caption)."""
+    alt = _ALT.search(img)
+    caption = f"<figcaption>{alt.group(1)}</figcaption>" if alt and alt.group(1).strip() else ""
+    return f'<figure class="gc-figure">{img}{caption}</figure>'
+
+
+def figures(content: str) -> str:
+    """Images alone in a paragraph or a table cell become figures with visible captions."""
+    content = _FIGURES.sub(lambda m: "".join(_figure(i) for i in _IMG.findall(m.group(1))), content)
+    return _CELL.sub(lambda m: f"<td>{_figure(m.group(1))}</td>", content)

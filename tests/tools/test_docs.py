@@ -191,6 +191,26 @@ def test_every_list_renders_as_a_list(site):
     assert not found, found
 
 
+def test_every_picture_has_a_visible_caption(site):
+    """Markdown's alternative text is only read aloud or shown when the picture fails: on the site
+    every picture of a page is a figure whose caption shows that text."""
+    import re
+
+    bare, terse = [], []
+    for page in sorted(site.glob("*.html")):
+        text = page.read_text(encoding="utf-8")
+        article = text.split("<article", 1)[1].split("</article>", 1)[0] if "<article" in text else ""
+        for m in re.finditer(r"<img [^>]*>", article):
+            after = article[m.end():m.end() + 600]
+            alt = re.search(r'alt="([^"]*)"', m.group(0))
+            if not (after.startswith("<figcaption>") and alt and f"<figcaption>{alt.group(1)}</figcaption>" in after):
+                bare.append(f"{page.name}: {m.group(0)[:80]}")
+            elif len(alt.group(1).split()) < 4:
+                terse.append(f"{page.name}: {alt.group(1)!r}")
+    assert not bare, bare
+    assert not terse, terse  # a caption says what the picture shows, not only its name
+
+
 def _offline(browser, viewport=(1280, 800)):
     """A page of a browser that lets nothing leave the file system (every other request aborted
     and recorded) and records the console's errors."""
