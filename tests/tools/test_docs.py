@@ -80,6 +80,20 @@ def test_the_changelog_has_this_version():
     assert heads[0] == "Unreleased" and heads[1].startswith(f"{__version__} ("), heads[:2]
 
 
+def test_the_c_api_page_names_every_emitted_function():
+    """Every function a committed model's header declares is on docs/c-api.md (as NAME_… or the
+    gimbal's name), so a new emitted function cannot go undocumented."""
+    api = (ROOT / "docs" / "c-api.md").read_text(encoding="utf-8")
+    missing = set()
+    for header in sorted((ROOT / "generated").glob("*/*.h")):
+        name = header.stem
+        for fn in set(re.findall(rf"\b{name}_(\w+)\s*\(", header.read_text(encoding="utf-8"))):
+            if not re.search(rf"\b(?:NAME|gimbal)_{fn}\b", api):
+                missing.add(f"{name}_{fn}")
+    assert len(list((ROOT / "generated").glob("*/*.h"))) >= 10
+    assert not missing, sorted(missing)
+
+
 def test_no_words_of_our_internal_work():
     """What users read speaks of the tool, not of the team's work items (issue numbers, stops)."""
     pages = [ROOT / "README.md", ROOT / "README-pypi.md", ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").rglob("*.md"))]
