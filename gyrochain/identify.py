@@ -222,6 +222,8 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
 
 
 EXPLAINED = 0.9  # a fit must explain this fraction of each driven joint's torque variance to be printed
+CONTRADICT = ("the data contradict the model; check the CSV's units (radians, rad/s, seconds, N m), the torques' signs "
+              "and columns, and that the spec is the robot measured. No estimate is printed")
 CANCEL = 0.5  # and leave a passive joint's equation unbalanced by less than this fraction of its terms' size
 
 
@@ -241,9 +243,7 @@ def _explains(A, y, beta, spec, data: str, what: str, free_rms=None) -> None:
         left = float(np.sqrt(np.mean(res[:, k - 1] ** 2)))
         if size > 0 and left > CANCEL * size:
             raise SpecError(data, f"{what} leave joint {k}'s equation (a passive joint: its terms cancel) unbalanced by "
-                                  f"{100 * left / size:.3g}% of its terms: the data contradict the model; check the CSV's "
-                                  "units (radians, rad/s, seconds, N m), the torques' signs and columns, and that the spec "
-                                  "is the robot measured. No estimate is printed")
+                                  f"{100 * left / size:.3g}% of its terms: {CONTRADICT}")
     for k in spec.controls:
         j = k - 1
         spread = float(np.sum((meas[:, j] - meas[:, j].mean()) ** 2))
@@ -252,9 +252,8 @@ def _explains(A, y, beta, spec, data: str, what: str, free_rms=None) -> None:
         worse = free_rms is not None and rms > 2.0 * free_rms[j] + 1e-12 * np.sqrt(spread / len(meas))
         if r2 < EXPLAINED or worse:
             than = f" ({rms / free_rms[j]:.3g} times the free fit's residual)" if worse else ""
-            raise SpecError(data, f"{what} explain {100 * max(r2, 0.0):.3g}% of joint {k}'s measured torque{than}: the data "
-                                  "contradict the model; check the CSV's units (radians, rad/s, seconds, N m), the torques' "
-                                  "signs and columns, and that the spec is the robot measured. No estimate is printed")
+            raise SpecError(data, f"{what} explain {100 * max(r2, 0.0):.3g}% of joint {k}'s measured torque{than}: "
+                                  f"{CONTRADICT}")
 
 
 def _table(model, beta, se, beta0, say) -> None:

@@ -380,7 +380,7 @@ DOF = {"revolute": 1, "continuous": 1, "prismatic": 1, "planar": 3, "ball": 3, "
 def tree_text(desc: Description, base: str | None = None) -> str:
     """The description as a tree, a link a line under the joint that leads to it, and the leaves a
     chain can end at (reached from the base by at least one revolute or continuous joint)."""
-    children, parent_of, roots = _tree(desc, {})
+    children, _, roots = _tree(desc, {})
     if base is not None and base not in desc.links:
         fail(desc, f"--base {base}", f"no such link; {did_you_mean(base, desc.links)}the tree has "
              f"{len(desc.links)} links")
