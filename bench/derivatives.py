@@ -26,7 +26,7 @@ sys.path.insert(0, str(ROOT / "bench"))
 
 from gyrochain import reference  # noqa: E402
 from gyrochain.spec import parse_spec  # noqa: E402
-from speed import BUILD, CFLAGS, RESULTS, build_pinocchio, chain_text, generate, run, states, write_csv, _cpu  # noqa: E402
+from speed import BUILD, CFLAGS, RESULTS, build_pinocchio, chain_text, flagged, generate, run, states, write_csv, _cpu  # noqa: E402
 
 TOL = 1e-6  # relative agreement with the reference differences required before timing
 N_CHECK = 3  # states checked against the reference (its differences cost 8n reference calls each)
@@ -259,7 +259,7 @@ def main() -> int:
               f"  best peer / ours {f(row['best_peer_over_ours'], '.2f')}", flush=True)
     if rows:
         # one file per flag set: derivatives.csv at the default -O2, derivatives_O3_march_native.csv ...
-        out = RESULTS / ("derivatives" + ("" if CFLAGS == ["-O2"] else "_" + "_".join(f.lstrip("-").replace("=", "_") for f in CFLAGS)) + ".csv")
+        out = RESULTS / flagged("derivatives")
         write_csv(out, rows)
         print(f"wrote {out.relative_to(ROOT)}")
     if args.symbolic:

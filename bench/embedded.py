@@ -23,6 +23,7 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
+from provenance import record  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 M4 = ROOT / "examples" / "embed" / "m4"
@@ -190,6 +191,7 @@ def main() -> int:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    record(out, "-Os")
     print(f"\nwrote {out.relative_to(ROOT)} (the size of every function)")
     return 0
 

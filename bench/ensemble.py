@@ -28,6 +28,7 @@ sys.path.insert(0, str(ROOT))
 
 from gyrochain import build, pipeline  # noqa: E402
 from gyrochain.spec import parse_spec  # noqa: E402
+from provenance import record  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"
 SPEC = ROOT / "specs" / "double_pendulum.toml"
@@ -225,6 +226,7 @@ def main() -> int:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    record(RESULTS / "ensemble.csv", "-O2 unless the row says otherwise")
     print(f"wrote {RESULTS / 'ensemble.csv'}  (cores: {os.cpu_count()})")
     return 0
 

@@ -28,6 +28,7 @@ from gyrochain import pipeline  # noqa: E402
 from gyrochain.randspec import random_spec_text  # noqa: E402
 from gyrochain.spec import load_spec, parse_spec  # noqa: E402
 from conftest import SHORT_EXAMPLES, example_params  # noqa: E402
+from provenance import record  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"
 STATES = 1000
@@ -110,6 +111,7 @@ def main() -> int:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    record(RESULTS / "float_accuracy.csv", "-O2")
     try:
         import matplotlib
 

@@ -39,6 +39,7 @@ from gyrochain import build, reference  # noqa: E402
 from gyrochain.build import IntegrationError  # noqa: E402
 from gyrochain.spec import load_spec  # noqa: E402
 from conftest import example_params  # noqa: E402  (the values of furuta_sym's parameters)
+from provenance import record  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"
 GEN = ROOT / "generated"
@@ -295,6 +296,7 @@ def write_csv(path, rows):
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    record(path, "-O2")
 
 
 def symplectic_chart(sy, machine):

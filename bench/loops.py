@@ -2,10 +2,13 @@
 gyrostat chains emitted in the straight-line form and in the loop form, side by side in one run —
 C size, gcc -O2 time, and ns per call of every function the loop form changes.
 
-    python bench/loops.py [n ...]      (default 4 6 8 10 12 16)
+    python bench/loops.py [n ...]      (default 8 12 16 24)
+
+Writes bench/results/loops.csv: per n, the loop form's figure over the straight-line form's.
 """
 from __future__ import annotations
 
+import csv
 import subprocess
 import sys
 import tempfile
@@ -13,6 +16,10 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from provenance import RESULTS, record  # noqa: E402
 
 from gyrochain import pipeline
 from gyrochain.randspec import random_spec_text
@@ -64,6 +71,7 @@ def measure(n: int, form: str, work: Path) -> dict:
 def main(ns) -> None:
     fns = ("mass_matrix", "energy", "momenta", "velocities", "pdot")
     print(f"{'n':>3} {'form':>8} {'C KB':>7} {'gcc s':>6} " + " ".join(f"{f:>11}" for f in fns) + "   (ns per call)")
+    out = []
     with tempfile.TemporaryDirectory() as tmp:
         for n in ns:
             rows = {form: measure(n, form, Path(tmp)) for form in ("straight", "loops")}
@@ -72,7 +80,15 @@ def main(ns) -> None:
             s, lo = rows["straight"], rows["loops"]
             print(f"{n:>3} {'ratio':>8} {lo['kb'] / s['kb']:>7.2f} {lo['gcc'] / s['gcc']:>6.2f} "
                   + " ".join(f"{lo[f] / s[f]:>11.2f}" for f in fns) + "   (loops / straight)", flush=True)
+            out.append(dict(n=n, c_size=round(lo["kb"] / s["kb"], 3), gcc_time=round(lo["gcc"] / s["gcc"], 3),
+                            **{f: round(lo[f] / s[f], 3) for f in fns}))
+    path = RESULTS / "loops.csv"
+    with path.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(out[0]))
+        w.writeheader()
+        w.writerows(out)
+    record(path, "-O2")
 
 
 if __name__ == "__main__":
-    main([int(a) for a in sys.argv[1:]] or [4, 6, 8, 10, 12, 16])
+    main([int(a) for a in sys.argv[1:]] or [8, 12, 16, 24])

@@ -24,6 +24,7 @@ from speed import CFLAGS, _pin_prefix, pin_defines, run  # noqa: E402
 from gyrochain import exchange, pipeline  # noqa: E402
 from gyrochain.assemble import op_counts  # noqa: E402
 from gyrochain.spec import load_spec  # noqa: E402
+from provenance import record  # noqa: E402
 
 ARMS = {"ur5": ("ur5_robot.urdf", []), "panda": ("panda.urdf", ["panda_finger_joint1=0.02", "panda_finger_joint2=0.02"])}
 
@@ -102,6 +103,7 @@ def main() -> None:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    record(out, "-O2")
     print(f"wrote {out.relative_to(ROOT)}")
 
 

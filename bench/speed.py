@@ -8,7 +8,8 @@ reduced scenes (planar, no rotors, zero offsets).
 Every implementation's φ̈ is checked against gyrochain.reference before it is timed; the programs
 of one n are then timed in turn, ROUNDS times, each figure the least of its rounds' medians.  Peers that
 are not installed (pip install '.[bench]', apt libeigen3-dev) are reported as missing.
-Results: bench/results/speed.csv, generation.csv, scenes.csv and the PNG charts.
+Results: bench/results/speed.csv (speed_O3_march_native.csv etc. with other BENCH_CFLAGS), scenes.csv,
+generation_symbolic.csv; `make plot` draws the charts and tables of docs/benchmarks.md from them.
 """
 from __future__ import annotations
 
@@ -32,6 +33,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
 from gyrochain import reference  # noqa: E402
+from provenance import record  # noqa: E402
 from gyrochain.randspec import random_spec_text  # noqa: E402
 from gyrochain.spec import parse_spec  # noqa: E402
 
@@ -463,59 +465,17 @@ def scenes(n: int) -> list[dict]:
 
 
 def write_csv(path: Path, rows: list[dict]) -> None:
+    """Write the rows, and note in bench/results/machines.csv which machine measured them, when."""
     with path.open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    record(path, " ".join(CFLAGS))
 
 
-def charts(sp: list[dict], sym: list[dict]) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    ns = [r["n"] for r in sp]
-    fig, (ax, aj) = plt.subplots(1, 2, figsize=(11.0, 4.4))
-    for a, title, ylabel, curves in (
-        (ax, "Forward dynamics φ̈", "ns per call (median)", (
-            ("ours", "generated C (this tool)", "o-"), ("casadi", "CasADi-generated C (ABA in SX)", "s--"),
-            ("pinocchio", "Pinocchio ABA (C++)", "^--"), ("mujoco", "MuJoCo mj_forward (λ = 0)", "v--"))),
-        (aj, "Jacobian ∂φ̈/∂(φ, φ̇)", "ns per call (median)", (
-            ("ours_jac", "generated C: qdd_derivatives", "o-"),
-            ("pinocchio_jac", "Pinocchio computeABADerivatives (λ = 0)", "^--"))),
-    ):
-        for key, label, style in curves:
-            pts = [(r["n"], r[f"{key}_ns"]) for r in sp if r.get(f"{key}_ns")]
-            if pts:
-                a.loglog(*zip(*pts), style, label=label, base=2)
-        a.set_xlabel("bodies n")
-        a.set_ylabel(ylabel)
-        a.set_xticks(ns, [str(n) for n in ns])
-        a.grid(True, which="both", alpha=0.3)
-        a.legend(fontsize=8)
-        a.set_title(title + ", random spatial gyrostat chains", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(RESULTS / "speed.png", dpi=110)
-
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.6, 4.0))
-    a1.loglog(ns, [r["gen_s"] + r["cc_s"] for r in sp], "o-", label="numeric: derive + emit + gcc", base=2)
-    a1.loglog(ns, [r["gen_s"] for r in sp], "o:", label="numeric: derive + emit", base=2)
-    if sym:
-        a1.loglog([r["n"] for r in sym], [r["gen_s"] + r["cc_s"] for r in sym], "s-", label="all symbolic: + gcc", base=2)
-    a1.set_xlabel("bodies n")
-    a1.set_ylabel("seconds")
-    a1.grid(True, which="both", alpha=0.3)
-    a1.legend(fontsize=8)
-    a1.set_title("Generation time")
-    a2.loglog(ns, [r["qdd_ops"] for r in sp], "o-", label="qdd op count", base=2)
-    a2.loglog(ns, [r["rss_mb"] for r in sp], "s--", label="peak memory (MB)", base=2)
-    a2.set_xlabel("bodies n")
-    a2.grid(True, which="both", alpha=0.3)
-    a2.legend(fontsize=8)
-    a2.set_title("Size of the model and of the generator")
-    fig.tight_layout()
-    fig.savefig(RESULTS / "generation.png", dpi=110)
+def flagged(stem: str) -> str:
+    """The results' file name: ``stem.csv`` at the product's -O2, ``stem_O3_march_native.csv`` etc. otherwise."""
+    return stem + ("" if CFLAGS == ["-O2"] else "_" + "_".join(f.lstrip("-").replace("=", "_") for f in CFLAGS)) + ".csv"
 
 
 def main() -> int:
@@ -536,15 +496,15 @@ def main() -> int:
     RESULTS.mkdir(parents=True, exist_ok=True)
     print(f"machine: {os.cpu_count()} cores, {_cpu()}; flags {' '.join(CFLAGS)} for every compiled peer", flush=True)
     sp = speed(args.n)
-    write_csv(RESULTS / "speed.csv", sp)
+    write_csv(RESULTS / flagged("speed"), sp)
     print(slopes(sp), flush=True)
     sym = symbolic(args.symbolic) if args.symbolic else []
     if sym:
         write_csv(RESULTS / "generation_symbolic.csv", sym)
     sc = scenes(8)
     write_csv(RESULTS / "scenes.csv", sc)
-    charts(sp, sym)
-    print(f"wrote {RESULTS.relative_to(ROOT)}/: speed.csv, scenes.csv, generation_symbolic.csv, speed.png, generation.png")
+    print(f"wrote {RESULTS.relative_to(ROOT)}/: {flagged('speed')}, scenes.csv, generation_symbolic.csv "
+          "(make plot draws the charts and the tables of docs/benchmarks.md from them)")
     return 0
 
 

@@ -21,6 +21,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from gyrochain import build, orbits  # noqa: E402
+from provenance import record  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"
 EQUILIBRIUM = [1.33227005, 1.25831554, -1.64484794]  # spatial3's stable equilibrium (`gyrochain steady`)
@@ -81,6 +82,7 @@ def main() -> int:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    record(RESULTS / "variational.csv", "-O2")
     print("wrote bench/results/variational.csv")
     return 0
 
