@@ -3,9 +3,11 @@
 # make test-fast                      the unit layer only: the stages, printers, pipeline and architecture, no compiler (< 1 min)
 # make test-install                   the package as users install it: sdist and wheel built, installed into a fresh venv,
 #                                     the tour run from an empty folder (part of make test too; needs the package index)
-# make plot                           the frames figure, the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map,
+# make plot                           the tables and charts of docs/benchmarks.md (from bench/results/*.csv), the frames figure,
+#                                     the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map,
 #                                     Kapitza's stability chart, the double pendulum's nonlinear normal modes (docs/img/)
 # make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
+# make gallery                        the pictures of docs/gallery.md, each drawn by the commands its card shows (docs/img/gallery/)
 # make docs                           the documentation site from docs/ into site/ (MkDocs, warnings are errors; works from file://, offline)
 # make fuzz                           the commands fuzzed with fresh random inputs for FUZZ_SECONDS (default 600)
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost; ensembles against
@@ -22,7 +24,7 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test test-fast test-install docs fuzz pdf plot animations clean bench bench-setup bench-speed dist
+.PHONY: all setup generate generate-all test test-fast test-install docs fuzz pdf plot animations clean bench bench-setup bench-speed dist gallery
 
 all: generate
 
@@ -83,6 +85,10 @@ plot: $(VENV)/.plot-installed
 	$(VPY) examples/kapitza_chart.py docs/img/kapitza_chart.png
 	$(VPY) -m gyrochain generate -q specs/double_pendulum_point.toml >/dev/null
 	$(VPY) examples/nnm_periods.py docs/img/nnm_periods.png
+	$(VPY) bench/report.py
+
+gallery: setup
+	$(VPY) examples/gallery.py
 
 animations: setup
 	$(VPY) -m gyrochain animate specs/gimbal.toml --t1 8 --fps 20 --size 360x360 -o docs/img/gimbal.gif

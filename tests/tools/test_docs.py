@@ -50,6 +50,32 @@ def test_every_example_is_in_the_getting_started_table():
     assert listed == {p.name for p in (ROOT / "specs").glob("*.toml")}, listed ^ {p.name for p in (ROOT / "specs").glob("*.toml")}
 
 
+def test_every_example_has_a_gallery_card():
+    """docs/gallery.md: a card per example spec, in the order of Getting started's table, with its
+    picture and the two commands that draw it (checked against the parsers here; the docs test runs
+    them, and make gallery draws the pictures with them)."""
+    import shlex
+
+    from gyrochain import parsers
+    from gyrochain.starter import KINDS
+
+    text = (ROOT / "docs" / "gallery.md").read_text(encoding="utf-8")
+    cards = re.findall(r"^### (\w+)\n\n!\[([^\]]+)\]\(img/gallery/(\w+)\.png\)\n\n(.+?)\n\n```console\n(.*?)```", text, re.S | re.M)
+    names = [c[0] for c in cards]
+    assert sorted(names) == sorted(p.stem for p in (ROOT / "specs").glob("*.toml")), names
+    table = re.findall(r"^\| `([\w]+)\.toml` \|", (ROOT / "docs" / "getting-started.md").read_text(encoding="utf-8"), re.M)
+    assert names == table
+    ap = parsers.build("gyrochain", "", "0", KINDS)
+    for name, alt, picture, line, block in cards:
+        assert picture == name and (ROOT / "docs" / "img" / "gallery" / f"{name}.png").is_file(), name
+        assert len(alt.split()) >= 8 and len(line.split()) >= 6, name  # says what it shows, and what it is for
+        lines = [shlex.split(x[2:]) for x in block.splitlines() if x.startswith("$ ")]
+        assert [a[:3] for a in lines] == [["gyrochain", "examples", "copy"], ["gyrochain", "animate", f"{name}.toml"]]
+        assert lines[0][3:] == [name] and lines[1][-2:] == ["-o", f"{name}.png"], lines
+        args = ap.parse_args(lines[1][1:])
+        assert args.frame is not None, name  # a still, not an animation
+
+
 def test_the_command_reference_has_every_command_and_option():
     """docs/reference/commands.md: a section per command with its --help as printed (the blocks run,
     so the options and defaults cannot drift), and no command the parser lacks."""
@@ -101,6 +127,37 @@ def test_no_words_of_our_internal_work():
              for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), start=1) for m in INTERNAL.finditer(line)]
     assert not found, found
     assert INTERNAL.search("the last before issue 50") and INTERNAL.search("in the noisy one of the previous stop")
+
+
+def _report():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("bench_report", ROOT / "bench" / "report.py")
+    report = importlib.util.module_from_spec(spec)
+    sys.modules["bench_report"] = report  # its dataclasses look their module up
+    spec.loader.exec_module(report)
+    return report
+
+
+def test_every_benchmark_table_and_chart_is_its_csv():
+    """docs/benchmarks.md: every table is what bench/report.py makes of its CSV files, with the
+    machine and date that bench/results/machines.csv gives them; every chart of the page was drawn
+    from the CSV files of its table as they are now (the hashes in the PNG)."""
+    report = _report()
+    assert report.check() == []
+    text = report.PAGE.read_text(encoding="utf-8")
+    shown = set(re.findall(r"<!-- table: ([\w-]+) -->", text))
+    assert shown == set(report.TABLES), shown ^ set(report.TABLES)
+    pictures = set(re.findall(r"\]\(bench-results/([\w.]+\.png)\)", text))
+    assert pictures == set(report.CHARTS), pictures ^ set(report.CHARTS)
+    outside = re.sub(r"<!-- table: [\w-]+ -->.*?<!-- /table -->", "", text, flags=re.S)
+    heads = re.findall(r"^(\|[^\n]*)\n\|---", outside, re.M)
+    assert all(h.startswith(("| machine |", "| command |")) for h in heads), heads  # no figures typed by hand
+    # a figure typed by hand is found, and so is a table from two machines
+    edited = text.replace("<!-- table: robots -->\n| arm", "<!-- table: robots -->\n| arm ", 1)
+    assert edited != text and report.page(edited) == text
+    with pytest.raises(SystemExit, match="one table, one machine"):
+        report.provenance(("speed.csv", "speed_O3_march_native.csv"))
 
 
 @pytest.mark.parametrize("page", PAGES, ids=[str(p.relative_to(ROOT)) for p in PAGES])
@@ -168,6 +225,20 @@ def test_output_patterns():
     assert not docrun.matches(["a"], "a\nb\n")
 
 
+def test_numbers_within_a_tolerance(tmp_path):
+    """A block marked ``numbers within TOL`` shows its figures in full: each printed figure must be
+    the shown one within TOL, or within half a unit of the shown last digit; text stays exact."""
+    shown = ["beta1  Axx1 + Azz2   0.0141   2.1e-05   0.15%", "cond 12.3 ... done"]
+    assert docrun.matches(shown, "beta1  Axx1 + Azz2   0.01412   2.13e-05   0.151%\ncond 12.5 of it done\n", 0.05)
+    assert not docrun.matches(shown, "beta1  Axx1 + Azz2   0.0160   2.1e-05   0.15%\ncond 12.3 done\n", 0.05)
+    assert not docrun.matches(shown, "beta1  Axx2 + Azz2   0.0141   2.1e-05   0.15%\ncond 12.3 done\n", 0.05)
+    assert docrun.matches(["x 0.0030"], "x 0.00304\n", 0.0) and not docrun.matches(["x 0.0030"], "x 0.0031\n", 0.0)
+    assert not docrun.matches(["x 0.0141"], "x 0.01412\n")  # without the mark, exact
+    page = tmp_path / "p.md"
+    page.write_text("<!-- docs-test: numbers within 2% -->\n```console\n$ gyrochain --version\n```\n")
+    assert docrun.blocks(page)[0].within == 0.02
+
+
 # --------------------------------------------------------------------------- the site
 @pytest.fixture(scope="module")
 def site(tmp_path_factory) -> Path:
@@ -215,14 +286,43 @@ def test_every_picture_has_a_visible_caption(site):
         text = page.read_text(encoding="utf-8")
         article = text.split("<article", 1)[1].split("</article>", 1)[0] if "<article" in text else ""
         for m in re.finditer(r"<img [^>]*>", article):
-            after = article[m.end():m.end() + 600]
+            after = article[m.end():m.end() + 8000]
             alt = re.search(r'alt="([^"]*)"', m.group(0))
-            if not (after.startswith("<figcaption>") and alt and f"<figcaption>{alt.group(1)}</figcaption>" in after):
+            caption = re.match(r"<figcaption>(.*?)</figcaption>", after, re.S)
+            shown = re.sub(r"<math.*?</math>", "x", caption.group(1), flags=re.S) if caption else ""
+            if not (caption and alt and alt.group(1).strip()) or "\\(" in shown or "<" in shown:
                 bare.append(f"{page.name}: {m.group(0)[:80]}")
             elif len(alt.group(1).split()) < 4:
                 terse.append(f"{page.name}: {alt.group(1)!r}")
     assert not bare, bare
     assert not terse, terse  # a caption says what the picture shows, not only its name
+
+
+# Maths written as text: a letter with a Unicode index or accent (φ̈ʳ, ê¹₁, ẋ), a root or a partial
+# sign, or TeX's _ and ^ on a short name (ê^k_2, M_kr); identifiers such as fast_gyro are not.
+RAW_MATHS = re.compile("[\u0300-\u036f\u1e00-\u1eff\u2070-\u209f\u00b2\u00b3\u00b9\u1d2c-\u1d6a\u1d9b-\u1dbf"
+                       "\u221a\u2202\u2112\U0001d4d4]|(?<![\\w\\\\/.-])[^\\W\\d_]{1,2}[_^]\\{?[\\w,+\\-\u2212]{1,4}\\}?(?![\\w/.])")
+
+
+def raw_maths(page_html: str) -> list[str]:
+    """Formulas of a page written as text outside code and MathML, with a little context."""
+    import html
+
+    article = page_html.split("<article", 1)[1].split("</article>", 1)[0] if "<article" in page_html else page_html
+    text = re.sub(r"<(script|style|pre|code|math|svg)\b.*?</\1>", " ", article, flags=re.S)
+    text = html.unescape(re.sub(r"<[^>]+>", " ", text))
+    return [text[max(0, m.start() - 30):m.end() + 20].replace("\n", " ") for m in RAW_MATHS.finditer(text)]
+
+
+def test_one_notation_every_formula_typeset(site):
+    """Every formula of the site is MathML (typeset by the browser, as the PDFs typeset it): no
+    Unicode indices or accents, and no _ or ^ maths, in the text of any page outside code."""
+    for written in ("φ̈ʳ", "ê^k_2", "M_kr", "ẋ", "ê¹₁", "∂ℒ"):
+        assert raw_maths(f"<article><p>the {written} here</p></article>"), written
+    assert not raw_maths("<article><p><code>M_kr</code> fast_gyro RK4_LANES <math><mi>φ</mi></math></p></article>")
+    found = {str(p.relative_to(site)): raw_maths(p.read_text(encoding="utf-8")) for p in sorted(site.rglob("*.html"))}
+    found = {k: v for k, v in found.items() if v}
+    assert not found, found
 
 
 def _offline(browser, viewport=(1280, 800)):
@@ -328,7 +428,50 @@ def test_tables_fit_or_say_they_scroll(site, browser):
         assert not hidden, hidden
         page.goto((site / "benchmarks.html").as_uri())
         heads = dict(page.evaluate(_TABLES)[0]["heads"])
-        assert heads["best peer / ours"] and heads["generated C (ns)"]
+        assert heads["ours"] and heads["the fastest peer"] and heads["ours ahead by"]  # the summary in sight
         assert wide >= 1  # the check has met a wide table
+    finally:
+        ctx.close()
+
+
+_FORMULAS = """() => [...document.querySelectorAll('article .gc-display')].map(b => {
+    const hint = b.previousElementSibling;
+    return {wide: b.scrollWidth > b.clientWidth + 1,
+            scrolls: getComputedStyle(b).overflowX,
+            cue: !!(hint && hint.classList.contains('gc-scroll-hint') && b.classList.contains('gc-scrolls'))};
+})"""
+
+_SIZES = """() => [...document.querySelectorAll('article p math')].slice(0, 20).map(m => {
+    const p = m.closest('p');
+    return [parseFloat(getComputedStyle(m).fontSize), parseFloat(getComputedStyle(p).fontSize)];
+})"""
+
+
+def test_formulas_on_a_phone(site, browser):
+    """At 390 px a displayed formula wider than the screen scrolls sideways with the cue a table has,
+    and an inline formula is set at least at the size of the text around it."""
+    ctx, page, left, errors = _offline(browser, viewport=(390, 844))
+    try:
+        hidden, wide, small = [], 0, []
+        for f in sorted(site.glob("*.html")):
+            page.goto(f.as_uri())
+            for i, b in enumerate(page.evaluate(_FORMULAS)):
+                if b["wide"]:
+                    wide += 1
+                    if not (b["cue"] and b["scrolls"] in ("auto", "scroll")):
+                        hidden.append((f.name, i))
+            small += [(f.name, s) for s in page.evaluate(_SIZES) if s[0] < s[1]]
+        # and a formula made wider than the screen gets the cue once the page notices (a resize)
+        page.goto((site / "spec.html").as_uri())
+        box = page.locator("article .gc-display").first
+        box.evaluate("b => { const m = b.querySelector('math'); m.append(m.firstElementChild.cloneNode(true), "
+                     "m.firstElementChild.cloneNode(true)); window.dispatchEvent(new Event('resize')); }")
+        made = page.evaluate(_FORMULAS)[0]
+        wide += made["wide"]
+        if not (made["wide"] and made["cue"]):
+            hidden.append(("spec.html, widened", made))
+        assert not hidden, hidden
+        assert wide >= 1  # a phone has met a formula wider than its screen
+        assert not small, small[:5]
     finally:
         ctx.close()
