@@ -43,8 +43,16 @@ def mathml(tex: str, display: bool) -> str:
     return _FUNCTION.sub(r'<mspace width="0.167em"></mspace><mi>\1</mi><mspace width="0.167em"></mspace>', ml)
 
 
+def _formula(kind: str, tex: str) -> str:
+    """A formula of the page: inline, or a display in a box that scrolls sideways where it is wider
+    than the page (a phone), which site.js shades and says."""
+    if kind != "div":
+        return mathml(tex, False)
+    return f'<div class="gc-display">{mathml(tex, True)}</div>'
+
+
 def on_page_content(content: str, **_) -> str:
-    return figures(_MATH.sub(lambda m: mathml(m[2], m[1] == "div"), content))
+    return figures(_MATH.sub(lambda m: _formula(m[1], m[2]), content))
 
 
 _ROOTED = re.compile(r'((?:href|src)=")/(?!/)')
@@ -68,11 +76,34 @@ _IMG = re.compile(r"<img [^>]*/?>")
 _ALT = re.compile(r'alt="([^"]*)"')
 
 
+_INLINE = re.compile(r"\\\((.*?)\\\)")  # a formula of the alternative text, as arithmatex left it: \(...\)
+_SYMBOLS = {"varphi": "φ", "theta": "θ", "lambda": "λ", "omega": "ω", "psi": "ψ", "delta": "δ", "pi": "π",
+            "varepsilon": "ε", "alpha": "α", "beta": "β", "Phi": "Φ", "Omega": "Ω", "mathcal{E}": "𝓔"}
+_SUPERSCRIPT = str.maketrans("0123456789+-kjirn", "⁰¹²³⁴⁵⁶⁷⁸⁹⁺⁻ᵏʲⁱʳⁿ")
+_SUBSCRIPT = str.maketrans("0123456789+-", "₀₁₂₃₄₅₆₇₈₉₊₋")
+
+
+def _plain(tex: str) -> str:
+    """A formula as text for the alternative text of a picture (read aloud, or shown without the
+    picture): Greek letters as letters, simple indices as Unicode indices."""
+    s = html.unescape(tex)
+    s = re.sub(r"\\(ddot|dot)\s*\\?(\w+)", lambda m: "\\" + m[2] + ("\u0308" if m[1] == "ddot" else "\u0307"), s)
+    s = re.sub(r"\\(mathcal\{E\}|[A-Za-z]+)", lambda m: _SYMBOLS.get(m[1], m[1]), s)
+    s = re.sub(r"\^\{?([0-9+\-kjirn]+)\}?", lambda m: m[1].translate(_SUPERSCRIPT), s)
+    s = re.sub(r"_\{?([0-9+\-]+)\}?", lambda m: m[1].translate(_SUBSCRIPT), s)
+    return s.replace("{", "").replace("}", "")
+
+
 def _figure(img: str) -> str:
-    """An image with its alternative text shown beneath it as the caption (Markdown has no caption)."""
+    """An image with its alternative text shown beneath it as the caption (Markdown has no caption);
+    a formula of that text ($...$ in the page) is typeset in the caption and plain in the ``alt``."""
     alt = _ALT.search(img)
-    caption = f"<figcaption>{alt.group(1)}</figcaption>" if alt and alt.group(1).strip() else ""
-    return f'<figure class="gc-figure">{img}{caption}</figure>'
+    if not (alt and alt.group(1).strip()):
+        return f'<figure class="gc-figure">{img}</figure>'
+    text = alt.group(1)
+    caption = _INLINE.sub(lambda m: mathml(m.group(1), False), text)
+    img = img.replace(alt.group(0), 'alt="' + html.escape(_INLINE.sub(lambda m: _plain(m.group(1)), text), quote=True) + '"')
+    return f'<figure class="gc-figure">{img}<figcaption>{caption}</figcaption></figure>'
 
 
 def figures(content: str) -> str:

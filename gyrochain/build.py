@@ -279,7 +279,7 @@ class CModel:
         return self._call("forces", *self._t(t), xp, up, self._p(params), out_len=self.n)
 
     def qdd(self, x, u=None, params=None, t=0.0):
-        """φ̈ at the state x (and the time t, for a time-dependent model)."""
+        r"""$\ddot\varphi$ at the state x (and the time t, for a time-dependent model)."""
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
         return self._call("qdd", *self._t(t), xp, up, self._p(params), out_len=self.n)
@@ -290,7 +290,8 @@ class CModel:
         return self._call("rhs", float(t), xp, up, self._p(params), out_len=2 * self.n)
 
     def qdd_derivatives(self, x, u=None, params=None, t=0.0):
-        """(φ̈, ∂φ̈/∂φ, ∂φ̈/∂φ̇, ∂φ̈/∂u) from NAME_qdd_derivatives (arrays n, n×n, n×n, n×nu)."""
+        r"""$(\ddot\varphi, \partial\ddot\varphi/\partial\varphi, \partial\ddot\varphi/\partial\dot\varphi, \partial\ddot\varphi/\partial u)$
+        from NAME_qdd_derivatives (arrays n, n×n, n×n, n×nu)."""
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
         n, nu = self.n, self.nu
@@ -302,7 +303,7 @@ class CModel:
         return tuple(out)
 
     def linearize(self, x, u=None, params=None, t=0.0):
-        """(A, B) of ẋ ≈ A δx + B δu about (x, u), from NAME_linearize."""
+        r"""(A, B) of $\dot x \approx A\,\delta x + B\,\delta u$ about (x, u), from NAME_linearize."""
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
         A, B = np.empty((2 * self.n, 2 * self.n), self.dtype), np.empty((2 * self.n, self.nu), self.dtype)
@@ -359,18 +360,18 @@ class CModel:
 
     # ---- Hamilton's variables (models with NAME_HAS_CANONICAL: fixed base, autonomous)
     def momenta(self, x, params=None):
-        """p = ∂ℒ/∂φ̇ = M φ̇ + k(φ) at the state x."""
+        r"""$p = \partial\mathcal{L}/\partial\dot\varphi = M\dot\varphi + k(\varphi)$ at the state x."""
         xp, _k = self._arr(x, 2 * self.n)
         return self._call("momenta", xp, self._p(params), out_len=self.n)
 
     def velocities(self, q, pm, params=None):
-        """φ̇ from the coordinates q and the momenta pm (M φ̇ = p − k)."""
+        r"""$\dot\varphi$ from the coordinates q and the momenta pm ($M\dot\varphi = p - k$)."""
         qp, _k = self._arr(q, self.n)
         pp, _kp = self._arr(pm, self.n)
         return self._call("velocities", qp, pp, self._p(params), out_len=self.n)
 
     def pdot(self, x, u=None, params=None):
-        """ṗ = ∂ℒ/∂φ + the torques without a force function, at the state x."""
+        r"""$\dot p = \partial\mathcal{L}/\partial\varphi$ + the torques without a force function, at the state x."""
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
         return self._call("pdot", xp, up, self._p(params), out_len=self.n)
@@ -381,10 +382,10 @@ class CModel:
         """The trajectory at the times t (monotone; t[0] is the start, x0 the state there), as an
         array (len(t), 2N), by the C integrator `method` (rk4, gauss2: fixed step h; dop853:
         adaptive, h the first step or 0; gauss2_fixed: GAUSS2 by fixed-point sweeps only;
-        gauss2_symplectic: GAUSS2 on Hamilton's variables (φ, p), symplectic, fixed step h; rk4_lanes:
+        gauss2_symplectic: GAUSS2 on Hamilton's variables $(\varphi, p)$, symplectic, fixed step h; rk4_lanes:
         RK4 with the model's own vectorised sin and cos, for batches).  Raises
-        IntegrationError when it stops early.  With full_output, also a dict of counts (n_rhs,
-        n_steps, n_rejected, n_iter, n_newton: GAUSS2 steps solved by Newton)."""
+        IntegrationError when it stops early.  With full_output, also a dict of counts (`n_rhs`,
+        `n_steps`, `n_rejected`, `n_iter`, `n_newton`: GAUSS2 steps solved by Newton)."""
         if method == "gauss2_symplectic" and not self.has_canonical:
             raise ValueError(f"{self.name}: gauss2_symplectic needs Hamilton's variables, which a model with a moving "
                              "platform, a lambda(t) or a load of t does not have")
@@ -446,11 +447,12 @@ class CModel:
 
     def integrate_variational(self, t0, t1, x0, Phi0=None, u=None, params=None, rtol=1e-10, atol=1e-12, h=0.0,
                               full_output=False):
-        """(x(t1), Φ(t1)) from x(t0) = x0 by NAME_integrate_variational: the state with its
-        fundamental matrix, Φ' = A(t, x) Φ with A the exact Jacobian of the emitted φ̈, by DOP853
-        at rtol/atol over both.  Φ(t0) = Phi0 (2N × 2N; the identity by default, when Φ(t1) is
-        ∂x(t1)/∂x(t0), the monodromy matrix over a period).  Raises IntegrationError when it stops
-        early; with full_output also the counts (n_rhs, n_steps, n_rejected)."""
+        r"""$(x(t_1), \Phi(t_1))$ from $x(t_0)$ = x0 by NAME_integrate_variational: the state with its
+        fundamental matrix, $\Phi' = A(t, x)\,\Phi$ with A the exact Jacobian of the emitted
+        $\ddot\varphi$, by DOP853 at rtol/atol over both.  $\Phi(t_0)$ = Phi0 (2N × 2N; the identity
+        by default, when $\Phi(t_1) = \partial x(t_1)/\partial x(t_0)$, the monodromy matrix over a
+        period).  Raises IntegrationError when it stops early; with full_output also the counts
+        (`n_rhs`, `n_steps`, `n_rejected`)."""
         if not self.has_variational:
             raise ValueError(f"{self.name}: no NAME_integrate_variational (emitted up to n = 16; n = {self.n})")
         dim = 2 * self.n

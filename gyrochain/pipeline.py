@@ -40,8 +40,8 @@ _LOADED: dict = {}  # content hash of the sources → CModel (an extension loads
 
 def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = True, progress=None,
            loops: str = "auto", regressor: bool = False) -> Model:
-    """Everything the printers need, derived once: kinematics (15)/(1)–(3), dynamics (17)–(19) or
-    (8)–(10), the integrals (23), (27) and Jacobi's, the forms of φ̈ and of its derivatives chosen
+    r"""Everything the printers need, derived once: kinematics (15)/(1)–(3), dynamics (17)–(19) or
+    (8)–(10), the integrals (23), (27) and Jacobi's, the forms of $\ddot\varphi$ and of its derivatives chosen
     by op count, the quadratures (30) and Hamilton's variables where they exist, and (``latex``,
     general case only) the stages again with the platform's motion as symbols for the LaTeX.
     The same spec text and options give the same Model object within a process.  ``loops``: the

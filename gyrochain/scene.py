@@ -306,7 +306,7 @@ def shifted(prim: tuple, d: np.ndarray) -> tuple:
 def legend(frames: list, static: list, trace: float, n: int) -> list[tuple[str, str]]:
     """The legend of a scene, read off the primitives it draws: one entry per kind of mark in
     any frame (symbols: bar, link, dot, disc, deck, triad, trace), after the bodies' colours
-    ("bodies": each number in its colour; "bodymap": the colour map of a long chain, named)."""
+    ("bodies": each number in its colour; "bodymap": the colours of a long chain, as a strip)."""
     marks = set()
     for prim in static + [p for f in frames for p in f]:
         if prim[0] == "seg" and prim[4] == 5.0:
@@ -329,7 +329,7 @@ def legend(frames: list, static: list, trace: float, n: int) -> list[tuple[str, 
              "disc": "rotor (white spoke: its sense)", "deck": "platform, its axes 1 2 3", "deck_only": "platform (it only translates)",
              "triad": "fixed axes 1 2 3 (1 down)", "trace": f"path of the tip, last {trace:g} s"}
     bodies = (("bodies", "body " + " ".join(str(k) for k in range(1, n + 1))) if n <= len(BODY_COLOURS)
-              else ("bodymap", f"bodies 1…{n} (colour = index, {COLOUR_MAP[0]})"))
+              else ("bodymap", f"bodies 1…{n}, from the first colour to the last"))
     return [bodies] + [(k, words[k]) for k in words if k in marks]
 
 

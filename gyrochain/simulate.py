@@ -1,4 +1,4 @@
-"""``simulate``: a trajectory of a spec as the rows of a CSV: t, φ¹…φⁿ, φ̇¹…φ̇ⁿ and the energy
+r"""``simulate``: a trajectory of a spec as the rows of a CSV: t, $\varphi^1 \dots \varphi^n$, $\dot\varphi^1 \dots \dot\varphi^n$ and the energy
 (23), by the emitted C's integrators (DOP853 with dense output at the asked times by default) or,
 with ``reference``, by the independent numpy model and scipy's DOP853; and what every command
 that runs a motion shares: the initial state (``initial_state``), the check that the mass matrix
@@ -18,7 +18,7 @@ METHODS = ("dop853", "rk4", "gauss2", "gauss2_symplectic")
 
 
 def initial_state(spec, phi=None, phidot=None) -> list:
-    """x₀ = (φ, φ̇): the given values, else the spec's [initial], else zero; the counts checked."""
+    r"""$x_0 = (\varphi, \dot\varphi)$: the given values, else the spec's [initial], else zero; the counts checked."""
     n, init = spec.n, spec.initial or {}
     out = []
     for what, given, key in (("--phi", phi, "phi"), ("--phidot", phidot, "phidot")):

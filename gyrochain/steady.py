@@ -1,21 +1,29 @@
-"""Steady motions of a generated model and their stability: ``python -m gyrochain steady SPEC``.
+r"""Steady motions of a generated model and their stability: ``python -m gyrochain steady SPEC``.
 
 Everything here runs on the emitted C through its exact derivatives (NAME_qdd_derivatives,
 NAME_mass_matrix); nothing is differenced.
 
-* Equilibria: φ̇ = 0, φ̈(φ) = 0, by Newton's method with ∂φ̈/∂φ from a documented set of starts
-  (``STARTS``).  When φ¹ is cyclic (l¹ vertical, no torque in joint 1: ∂φ̈/∂φ¹ ≡ 0) an equilibrium
-  is the ω = 0 member of the steady rotations below and φ¹ is arbitrary (reported as 0).
-* Steady rotations / precessions φ̇¹ = ω, φ², … at rest, where φ¹ is cyclic: φ̈ʳ(φ; ω) = 0 for
-  r ≥ 2 (then φ̈¹ = 0 too, from the conservation of p₁ = ∂ℒ/∂φ̇¹), continued over a grid of ω and
-  joined into branches; new branches are looked for from every start at every ω.
+* Equilibria: $\dot\varphi = 0$, $\ddot\varphi(\varphi) = 0$, by Newton's method with
+  $\partial\ddot\varphi/\partial\varphi$ from a documented set of starts (``STARTS``).  When
+  $\varphi^1$ is cyclic ($l^1$ vertical, no torque in joint 1:
+  $\partial\ddot\varphi/\partial\varphi^1 \equiv 0$) an equilibrium is the $\omega = 0$ member of
+  the steady rotations below and $\varphi^1$ is arbitrary (reported as 0).
+* Steady rotations / precessions $\dot\varphi^1 = \omega$, $\varphi^2, \dots$ at rest, where
+  $\varphi^1$ is cyclic: $\ddot\varphi^r(\varphi; \omega) = 0$ for $r \ge 2$ (then
+  $\ddot\varphi^1 = 0$ too, from the conservation of $p_1 = \partial\mathcal{L}/\partial\dot\varphi^1$),
+  continued over a grid of $\omega$ and joined into branches; new branches are looked for from
+  every start at every $\omega$.
 * Stability.  The linearisation A = NAME_linearize; for a steady rotation the reduced system at
-  fixed momentum: δφ¹ drops out (cyclic), and δφ̇¹ = −(∂p₁/∂φʳ δφʳ + M₁ᵣ δφ̇ʳ)/M₁₁ on δp₁ = 0,
-  where ∂p₁/∂φ̇ = M₁· (the first row of M) and ∂p₁/∂φʳ = −M₁·∂φ̈/∂φ̇ʳ (p₁ is conserved, so its
-  gradient is a left null vector of A).  The reduced equations are M_red δq̈ + G δq̇ + K δq = 0
-  with M_red = M_rr − M_r1 M_1r/M₁₁ (Routh), so K = −M_red ∂δq̈/∂δq is the Hessian of the energy
-  at an equilibrium, of the amended potential at a steady rotation (Routh), and G the
-  gyroscopic matrix.  Verdicts (``classify``):
+  fixed momentum: $\delta\varphi^1$ drops out (cyclic), and
+  $\delta\dot\varphi^1 = -(\partial p_1/\partial\varphi^r\,\delta\varphi^r + M_{1r}\,\delta\dot\varphi^r)/M_{11}$
+  on $\delta p_1 = 0$, where $\partial p_1/\partial\dot\varphi = M_{1\cdot}$ (the first row of M)
+  and $\partial p_1/\partial\varphi^r = -M_{1\cdot}\,\partial\ddot\varphi/\partial\dot\varphi^r$
+  ($p_1$ is conserved, so its gradient is a left null vector of A).  The reduced equations are
+  $M_{\mathrm{red}}\,\delta\ddot q + G\,\delta\dot q + K\,\delta q = 0$ with
+  $M_{\mathrm{red}} = M_{rr} - M_{r1} M_{1r}/M_{11}$ (Routh), so
+  $K = -M_{\mathrm{red}}\,\partial\delta\ddot q/\partial\delta q$ is the Hessian of the energy at an
+  equilibrium, of the amended potential at a steady rotation (Routh), and G the gyroscopic
+  matrix.  Verdicts (``classify``):
   - "unstable": an eigenvalue of A with positive real part (Lyapunov's first method);
   - "stable (energy–momentum)": K positive definite and the energy (or Jacobi) integral exists
     at constant u — a Lyapunov function (Lagrange–Dirichlet; Routh for steady rotations);

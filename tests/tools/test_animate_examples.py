@@ -70,7 +70,7 @@ def test_the_long_chain_names_its_colour_map(tmp_path):
 
     spec = load_spec(SPECS / "cable64.toml")
     sc = scene.build(spec, reference.numeric(spec, {}), [0.0], [[0.0] * 128], trace=0.0)
-    assert sc.legend[0] == ("bodymap", "bodies 1…64 (colour = index, viridis)")
+    assert sc.legend[0] == ("bodymap", "bodies 1…64, from the first colour to the last")
     assert len(set(sc.colours)) == 64 and "#000000" not in sc.colours
     assert not set(sc.colours) & {"#555555", "#888888", "#F0E442"}  # the legend's symbols, the faint yellow
 
