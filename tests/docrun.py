@@ -20,6 +20,12 @@ Every fenced block must carry one of these info strings (anything else is an err
   After ``<!-- docs-test: from PATH -->`` it quotes that file of the repository, and every line of
   it must be found there.
 
+A console block right after ``<!-- docs-test: numbers within TOL -->`` (``2%``, ``1e-6``) compares
+every number of its shown output with the number printed in its place: they agree when they differ
+by at most TOL of the shown number, or by half a unit of its last shown digit (a shown ``0.0030``
+stands for 0.00295 to 0.00305), so that figures which move with the machine (an estimate from noisy
+data, a condition number) are shown in full and still checked.
+
 A block right after ``<!-- docs-test: skip (reason) -->`` is not run (a cluster that needs other
 machines); the skips are counted and reported.  A block right after ``<!-- docs-test: installed
 (reason) -->`` is what a user types after ``pip install gyrochain``, from an empty folder: it is not
@@ -43,10 +49,12 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 KINDS = ("console", "python", "toml", "c", "text")
 DRY_MAKE = {"test", "test-fast", "test-install", "fuzz", "bench", "bench-speed", "bench-setup", "docs", "plot", "animations",
-            "generate-all", "setup", "clean", "all", "pdf"}
+            "generate-all", "setup", "clean", "all", "pdf", "gallery"}
 SKIP = re.compile(r"<!--\s*docs-test:\s*skip\s*\((.+?)\)\s*-->")
 FROM = re.compile(r"<!--\s*docs-test:\s*from\s+(\S+)\s*-->")
 INSTALLED = re.compile(r"<!--\s*docs-test:\s*installed\s*\((.+?)\)\s*-->")
+WITHIN = re.compile(r"<!--\s*docs-test:\s*numbers within\s+([0-9.e+-]+)(%?)\s*-->")
+NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 FENCE = re.compile(r"^(?P<indent>[ \t]*)(?P<fence>`{3,})(?P<info>[^`\n]*)$")
 
 
@@ -59,6 +67,7 @@ class Block:
     skip: str = ""  # the reason, when marked not to run
     source: str = ""  # a text block quoting a file of the repository: every line must be in it
     installed: bool = False  # run by tests/tools/test_install.py in a fresh virtual environment
+    within: float | None = None  # a console block's numbers compared within this relative tolerance
 
     @property
     def where(self) -> str:
@@ -90,7 +99,11 @@ def blocks(path: Path, text: str | None = None) -> list[Block]:
             source = s[1]
         if k >= 0 and INSTALLED.search(lines[k]):
             installed = True
-        found.append(Block(path, i + 1, info.split()[0] if info else "", "\n".join(body) + "\n", skip, source, installed))
+        within = None
+        if k >= 0 and (s := WITHIN.search(lines[k])):
+            within = float(s[1]) / (100 if s[2] else 1)
+        found.append(Block(path, i + 1, info.split()[0] if info else "", "\n".join(body) + "\n", skip, source, installed,
+                           within))
         i = j + 1
     return found
 
@@ -128,21 +141,47 @@ def commands(text: str) -> list[Command]:
     return out
 
 
-def _pattern(shown: list[str]) -> re.Pattern:
+def _literal(text: str, numbers: list[str] | None) -> str:
+    """A piece of a shown line as a pattern: itself, or (``numbers``) with each number a group."""
+    if numbers is None:
+        return re.escape(text)
+    out, at = [], 0
+    for m in re.finditer(r"(?<![\w.])" + NUMBER + r"(?![\w.])", text):
+        out += [re.escape(text[at:m.start()]), f"({NUMBER})"]
+        numbers.append(m.group(0))
+        at = m.end()
+    return "".join(out) + re.escape(text[at:])
+
+
+def _pattern(shown: list[str], numbers: list[str] | None = None) -> re.Pattern:
     parts = []
     for ln in shown:
         if ln.strip() == "...":
             parts.append(r"(?:[^\n]*\n)*?")
         else:
-            parts.append(".*?".join(re.escape(p) for p in ln.rstrip().split("...")) + r"[ \t]*\n")
+            parts.append(".*?".join(_literal(p, numbers) for p in ln.rstrip().split("...")) + r"[ \t]*\n")
     return re.compile("".join(parts) + r"\Z", re.S)
 
 
-def matches(shown: list[str], actual: str) -> bool:
+def close(shown: str, printed: str, within: float) -> bool:
+    """A printed number is the shown one, within ``within`` of it or half a unit of its last digit."""
+    mantissa, _, exponent = shown.lower().partition("e")
+    digits = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    half_unit = 0.5 * 10.0 ** (int(exponent or 0) - digits)
+    s, p = float(shown), float(printed)
+    return abs(p - s) <= max(within * abs(s), half_unit * (1 + 1e-9))
+
+
+def matches(shown: list[str], actual: str, within: float | None = None) -> bool:
+    """The output as shown: ``...`` matches anything; with ``within``, numbers match within it."""
     actual = "\n".join(ln.rstrip() for ln in actual.rstrip("\n").splitlines()) + "\n"
     while shown and not shown[-1].strip():
         shown = shown[:-1]
-    return bool(_pattern(shown).match(actual))
+    if within is None:
+        return bool(_pattern(shown).match(actual))
+    numbers: list[str] = []
+    m = _pattern(shown, numbers).match(actual)
+    return bool(m) and all(close(s, p, within) for s, p in zip(numbers, m.groups()))
 
 
 def scratch(folder: Path) -> Path:
@@ -212,8 +251,9 @@ def run_console(block: Block, folder: Path) -> int:
         want = 2 if any(ln.startswith("error:") for ln in cmd.shown) else 0
         assert code == want, f"{block.where}: `{cmd.line}` exited {code}, expected {want}:\n{out}"
         if cmd.shown:
-            assert matches(cmd.shown, out), (f"{block.where}: `{cmd.line}` printed\n{out}\nwhere the docs show\n"
-                                             + "\n".join(cmd.shown))
+            assert matches(cmd.shown, out, block.within), (
+                f"{block.where}: `{cmd.line}` printed\n{out}\nwhere the docs show"
+                + (f" (numbers within {block.within:g})" if block.within is not None else "") + "\n" + "\n".join(cmd.shown))
         ran += 1
     return ran
 
