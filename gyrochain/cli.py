@@ -49,12 +49,13 @@ def cmd_generate(args) -> int:
     if args.output is not None and not args.output.strip():
         raise SpecError("-o", "is empty; name a folder (default generated/<name>)")
     target = Path(args.output) if args.output is not None else Path("generated") / spec.name
-    generate.check(spec, target, args.force, Path(args.spec), args.derivative_form)  # before the first line: one line
+    generate.check(spec, target, args.force, Path(args.spec), args.derivative_form, args.pdf)  # before any line: one line
     if not args.quiet:
         print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
     result = generate.run(spec, target, Path(args.spec).name, build=not args.no_build, force=args.force,
                           qdd_form=args.qdd_form, der_form=args.derivative_form, progress=_Progress(args.quiet),
-                          real=args.real, source=Path(args.spec), regressor=args.regressor, paper=args.paper)
+                          real=args.real, source=Path(args.spec), regressor=args.regressor, paper=args.paper,
+                          pdf=args.pdf)
     for line in generate.report(result):
         print(line)
     print(f"done in {time.perf_counter() - t0:.2f} s")
@@ -468,7 +469,8 @@ def _internal(exc: BaseException, debug: bool) -> int:
 
     what = " ".join(str(exc).split()) or "(no message)"
     print(f"error: internal error in {DISTRIBUTION} {__version__}: {type(exc).__name__}: {what} — please report it "
-          f"with the command (--debug or {DISTRIBUTION.upper()}_TRACEBACK=1 prints the traceback)", file=sys.stderr)
+          f"with the command (--debug or {DISTRIBUTION.upper()}_TRACEBACK=1 prints the traceback; \"Reporting a problem\" "
+          f"in the documentation says what else helps)", file=sys.stderr)
     if debug:
         raise exc
     return EXIT_INTERNAL

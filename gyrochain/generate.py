@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import pipeline
+from . import pipeline, typeset
 from .assemble import Model, op_counts, time_dependent
 from .integrals import energy_verdict, momentum_verdict
 from .spec import SpecError
@@ -36,16 +36,17 @@ class Result:
     target: Path
     files: tuple  # the file names written
     build: str | None  # "compiled", "reused" or None (--no-build)
+    pdf: tuple | None = None  # (the PDF, its pages) with --pdf
 
 
 def run(spec, target: Path, label: str, build: bool = True, force: bool = False, qdd_form: str = "auto",
         der_form: str = "auto", progress=None, real: str = "double", source: Path | None = None,
-        regressor: bool = False, paper: str = "a4") -> Result:
+        regressor: bool = False, paper: str = "a4", pdf: bool = False) -> Result:
     """Derive, print and write ``spec`` into ``target`` (built unless ``build`` is False).  A
     folder this generator did not write is written into only with ``force``, and its other files
-    are kept; a folder that holds ``source``, the spec file, never."""
+    are kept; a folder that holds ``source``, the spec file, never.  ``pdf``: the LaTeX typeset too."""
     target = Path(target)
-    check(spec, target, force, source, der_form)
+    check(spec, target, force, source, der_form, pdf)
     say = progress or (lambda msg: None)
     ahead = pipeline.BuildAhead(target, spec.name) if build else None
     try:
@@ -60,15 +61,22 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     finally:
         if ahead is not None:
             ahead.close()
-    return Result(spec, model, target, tuple(sorted(files)), how)
+    made = None
+    if pdf:
+        say("the PDF: LuaLaTeX, two passes")
+        made = typeset.pdf(target / f"{spec.name}.tex")
+    return Result(spec, model, target, tuple(sorted(files)), how, made)
 
 
-def check(spec, target: Path, force: bool = False, source: Path | None = None, der_form: str = "auto") -> None:
+def check(spec, target: Path, force: bool = False, source: Path | None = None, der_form: str = "auto",
+          pdf: bool = False) -> None:
     """What must hold before anything is derived: the target is a folder we may write into (one
     gyrochain wrote, a new or empty one, or with ``force`` any folder: its other files are kept),
     it does not hold the spec file ``source`` itself, and the chain's mass matrix is not singular
-    everywhere."""
+    everywhere; with ``pdf``, LuaLaTeX is installed."""
     target = Path(target)
+    if pdf:
+        typeset.available()
     if target.exists() and not target.is_dir():
         raise SpecError("-o", f"{target} is a file, not a folder")
     if source is not None:
@@ -107,6 +115,8 @@ def report(result: Result) -> list[str]:
     built = {None: "", "compiled": " + cffi extension",
              "reused": " + cffi extension (not recompiled: the C, the header and the compiler flags are those it was built from)"}[result.build]
     out.append(f"wrote {result.target}/: " + ", ".join(result.files) + built)
+    if result.pdf is not None:
+        out.append(f"typeset {result.pdf[0]}: {result.pdf[1]} pages")
     return out
 
 

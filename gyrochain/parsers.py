@@ -105,6 +105,8 @@ def _derive(sub) -> None:
                    "the base parameters and NAME_base_regressor (parameter identification; default: without)")
     g.add_argument("--paper", choices=("a4", "letter"), default="a4",
                    help="the page of the LaTeX document: a4 (the default) or letter (US)")
+    g.add_argument("--pdf", action="store_true", help="also typeset the LaTeX into NAME.pdf with LuaLaTeX, two passes "
+                   "(default: the .tex only)")
     c = sub.add_parser("check", help="validate a spec without generating")
     _spec(c)
     s = sub.add_parser("simulate", help="integrate a spec with the emitted C (CSV to stdout: t, phi, phidot, energy)")

@@ -257,3 +257,43 @@ def test_generate_sets_the_paper_it_is_asked(tmp_path):
         res = gen(*args)
         assert res.returncode == 2 and len(res.stderr.strip().splitlines()) == 1 and word in res.stderr, res.stderr
         assert "Traceback" not in res.stderr and not (tmp_path / "a5").exists()
+
+
+@needs_tex
+def test_generate_pdf_typesets_the_document(tmp_path):
+    """generate --pdf: the folder gets NAME.pdf from two LuaLaTeX passes (and no auxiliary files),
+    the report says how many pages, and they are the PDF's; a document LuaLaTeX stops on is one line
+    with TeX's error and the log to read."""
+    import sys
+
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "generate", "-q", "--no-build", "--pdf",
+                          str(ROOT / "specs" / "kapitza.toml"), "-o", "k"], capture_output=True, text=True, cwd=tmp_path,
+                         timeout=600)
+    assert res.returncode == 0, res.stderr
+    pages = int(re.search(r"^typeset k/kapitza\.pdf: (\d+) pages$", res.stdout, re.M).group(1))
+    assert check_pages(tmp_path / "k" / "kapitza.pdf") == pages >= 2
+    assert not [p.name for p in (tmp_path / "k").iterdir() if p.suffix in (".aux", ".log", ".out", ".toc")]
+
+    from gyrochain import typeset
+    from gyrochain.spec import SpecError
+
+    bad = tmp_path / "bad.tex"
+    bad.write_text("\\documentclass{article}\\begin{document}\\nosuchcommand\\end{document}\n")
+    with pytest.raises(SpecError, match=r"--pdf: LuaLaTeX stopped on .*bad\.tex: Undefined control sequence\. \(its log is .*bad\.log\)"):
+        typeset.pdf(bad)
+    assert (tmp_path / "bad.log").exists()
+
+
+def test_generate_pdf_without_lualatex_says_so(tmp_path):
+    """Without LuaLaTeX on the PATH, generate --pdf is one line before any work: exit 2, nothing written."""
+    import os
+    import sys
+
+    env = dict(os.environ, PATH=str(tmp_path / "empty"))
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "generate", "--no-build", "--pdf",
+                          str(ROOT / "specs" / "kapitza.toml"), "-o", "k"], capture_output=True, text=True, cwd=tmp_path,
+                         env=env, timeout=300)
+    assert res.returncode == 2 and res.stdout == "", (res.stdout, res.stderr)
+    assert res.stderr.strip() == "error: --pdf: needs LuaLaTeX (on Debian: apt-get install texlive-luatex " \
+                                 "texlive-latex-recommended fonts-dejavu-core)"
+    assert not (tmp_path / "k").exists()
