@@ -26,6 +26,9 @@ by at most TOL of the shown number, or by half a unit of its last shown digit (a
 stands for 0.00295 to 0.00305), so that figures which move with the machine (an estimate from noisy
 data, a condition number) are shown in full and still checked.
 
+A block right after ``<!-- docs-test: save NAME -->`` (a spec the page asks the reader to save) is
+also written to the page's folder as NAME, for the commands after it.
+
 A block right after ``<!-- docs-test: skip (reason) -->`` is not run (a cluster that needs other
 machines); the skips are counted and reported.  A block right after ``<!-- docs-test: installed
 (reason) -->`` is what a user types after ``pip install gyrochain``, from an empty folder: it is not
@@ -53,6 +56,7 @@ DRY_MAKE = {"test", "test-fast", "test-install", "fuzz", "bench", "bench-speed",
 SKIP = re.compile(r"<!--\s*docs-test:\s*skip\s*\((.+?)\)\s*-->")
 FROM = re.compile(r"<!--\s*docs-test:\s*from\s+(\S+)\s*-->")
 INSTALLED = re.compile(r"<!--\s*docs-test:\s*installed\s*\((.+?)\)\s*-->")
+SAVE = re.compile(r"<!--\s*docs-test:\s*save\s+([\w.-]+)\s*-->")
 WITHIN = re.compile(r"<!--\s*docs-test:\s*numbers within\s+([0-9.e+-]+)(%?)\s*-->")
 NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 FENCE = re.compile(r"^(?P<indent>[ \t]*)(?P<fence>`{3,})(?P<info>[^`\n]*)$")
@@ -68,6 +72,7 @@ class Block:
     source: str = ""  # a text block quoting a file of the repository: every line must be in it
     installed: bool = False  # run by tests/tools/test_install.py in a fresh virtual environment
     within: float | None = None  # a console block's numbers compared within this relative tolerance
+    save: str = ""  # written to the page's folder under this name before it runs
 
     @property
     def where(self) -> str:
@@ -99,11 +104,13 @@ def blocks(path: Path, text: str | None = None) -> list[Block]:
             source = s[1]
         if k >= 0 and INSTALLED.search(lines[k]):
             installed = True
-        within = None
+        within, save = None, ""
         if k >= 0 and (s := WITHIN.search(lines[k])):
             within = float(s[1]) / (100 if s[2] else 1)
+        if k >= 0 and (s := SAVE.search(lines[k])):
+            save = s[1]
         found.append(Block(path, i + 1, info.split()[0] if info else "", "\n".join(body) + "\n", skip, source, installed,
-                           within))
+                           within, save))
         i = j + 1
     return found
 
@@ -239,6 +246,10 @@ def run_console(block: Block, folder: Path) -> int:
         os.chdir(folder)
         try:
             if words[:1] == ["gyrochain"]:
+                if "--pdf" in words and shutil.which("lualatex") is None:
+                    import pytest
+
+                    pytest.skip(f"{block.where}: `{cmd.line}` needs LuaLaTeX (apt-get install texlive-luatex; .ci/run installs it)")
                 if env:
                     raise AssertionError(f"{block.where}: environment variables before gyrochain are not run: {cmd.line}")
                 code, out = run_gyrochain(words[1:])
@@ -329,6 +340,8 @@ def run_page(path: Path, folder: Path, text: str | None = None) -> dict:
             assert block.kind in ("console", "python"), f"{block.where}: an installed block is console or python"
             counts["installed"] += 1
             continue
+        if block.save:
+            (folder / block.save).write_text(block.text)
         if block.kind == "console":
             counts["commands"] += run_console(block, folder)
         elif block.kind == "python":
