@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import re
 import subprocess
 import sys
 import time
@@ -173,6 +174,10 @@ def test_internal_errors_say_so_and_exit_1(monkeypatch):
     monkeypatch.setattr(cli, "cmd_check", broken)
     code, _, err, _ = run("check", SPECS / "gimbal.toml")
     assert code == 1 and err.count("\n") == 1 and f"internal error in gyrochain {__version__}: RuntimeError: a bug — please report it" in err
+    # the page the line names is in the documentation, under that title
+    title = re.search(r'"([^"]+)" in the documentation', err).group(1)
+    assert (ROOT / "docs" / "report.md").read_text(encoding="utf-8").startswith(f"# {title}\n")
+    assert f"{title}: report.md" in (ROOT / "mkdocs.yml").read_text(encoding="utf-8")
 
 
 def test_a_missing_package_file_is_an_internal_error_not_the_users(monkeypatch, tmp_path):
