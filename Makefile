@@ -5,7 +5,8 @@
 #                                     the tour run from an empty folder (part of make test too; needs the package index)
 # make plot                           the tables and charts of docs/benchmarks.md (from bench/results/*.csv), the frames figure,
 #                                     the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map,
-#                                     Kapitza's stability chart, the double pendulum's nonlinear normal modes, the tutorial's PDF page (docs/img/)
+#                                     Kapitza's stability chart, the double pendulum's nonlinear normal modes, the tutorial's PDF page,
+#                                     identify's two validations (docs/img/)
 # make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
 # make gallery                        the pictures of docs/gallery.md, each drawn by the commands its card shows (docs/img/gallery/)
 # make docs                           the documentation site from docs/ into site/ (MkDocs, warnings are errors; works from file://, offline)
@@ -87,6 +88,7 @@ plot: $(VENV)/.plot-installed
 	$(VPY) examples/nnm_periods.py docs/img/nnm_periods.png
 	$(VPY) bench/report.py
 	$(VPY) examples/tutorial_page.py docs/img/tutorial_page.png
+	$(VPY) examples/identify_pictures.py
 
 gallery: setup
 	$(VPY) examples/gallery.py

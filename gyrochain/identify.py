@@ -306,17 +306,24 @@ def _plot(held: Motion, pred, meas, sim, path: str) -> None:
     except ImportError:
         raise SpecError("--plot", "needs matplotlib: pip install 'gyrochain[plot]'") from None
     n = held.phi.shape[1]
-    fig, ax = plt.subplots(2, n, figsize=(4.2 * n, 5.6), squeeze=False, sharex=True)
+    fig, ax = plt.subplots(2, n, figsize=(4.5 * n, 6.0), squeeze=False, sharex=True)
+    every = max(1, len(sim[0]) // 60)  # the measured angle as points, few enough to see the line through them
     for k in range(n):
-        ax[0, k].plot(held.t, meas[:, k], lw=1.6, color="0.6", label="measured (filtered)")
-        ax[0, k].plot(held.t, pred[:, k], lw=0.9, color="C0", label="predicted")
-        ax[0, k].set_title(f"joint {k + 1}: torque (N m)", fontsize=10)
-        ax[1, k].plot(sim[0], sim[1][:, k], lw=1.6, color="0.6", label="measured (filtered)")
-        ax[1, k].plot(sim[0], sim[2][:, k], lw=0.9, color="C1", label="simulated")
-        ax[1, k].set_title(f"joint {k + 1}: angle (rad)", fontsize=10)
-        ax[1, k].set_xlabel("t (s)")
-    ax[0, 0].legend(fontsize=8)
-    ax[1, 0].legend(fontsize=8)
+        if np.any(meas[:, k]):
+            ax[0, k].plot(held.t, pred[:, k], lw=1.4, color="C0", label="predicted by the estimates", zorder=1)
+            ax[0, k].plot(held.t, meas[:, k], "o", ms=3, color="0.2", label="measured (filtered)", zorder=2)
+            ax[0, k].set_title(f"joint {k + 1}: torque (N m)", fontsize=11)
+        else:  # a passive joint: no torque was measured, and the model's should be zero
+            ax[0, k].axhline(0.0, lw=1.0, color="0.2", label="measured: none (no motor)")
+            ax[0, k].plot(held.t, pred[:, k], lw=1.0, color="C0", label="the estimates' residual")
+            ax[0, k].set_title(f"joint {k + 1}, passive: residual torque (N m)", fontsize=11)
+            ax[0, k].legend(fontsize=9)
+        ax[1, k].plot(sim[0], sim[2][:, k], lw=1.4, color="C1", label="simulated with the estimates", zorder=1)
+        ax[1, k].plot(sim[0][::every], sim[1][::every, k], "o", ms=3, color="0.2", label="measured (filtered)", zorder=2)
+        ax[1, k].set_title(f"joint {k + 1}: angle (rad)", fontsize=11)
+        ax[1, k].set_xlabel("t (s)", fontsize=11)
+    ax[0, 0].legend(fontsize=9)
+    ax[1, 0].legend(fontsize=9)
     fig.tight_layout()
     tmp = f"{path}.tmp.png"
     fig.savefig(tmp, dpi=110)
