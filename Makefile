@@ -114,6 +114,7 @@ bench: $(VENV)/.plot-installed
 	$(VPY) bench/ensemble.py
 	$(VPY) bench/lanes.py
 	$(VPY) bench/variational.py
+	$(VPY) bench/report.py
 
 bench-speed: bench-setup
 	$(VPY) bench/speed.py --instructions

@@ -1,4 +1,5 @@
-"""The tables and charts of docs/benchmarks.md, drawn from the CSV files of bench/results/ alone.
+"""The tables and charts of docs/benchmarks.md (and the integrators' charts of docs/integrators.md),
+drawn from the CSV files of bench/results/ alone.
 
     python bench/report.py            rewrite the tables of docs/benchmarks.md, draw the charts
     python bench/report.py --check    exit 1 if a table or a chart differs from what the CSVs give
@@ -305,6 +306,7 @@ def _chart_qdd(plt, rs):
     a.set_title("time (median)", fontsize=12)
     b.set_title("instructions (callgrind)", fontsize=12)
     a.legend(fontsize=11)
+    fig.tight_layout()
     return fig
 
 
@@ -316,6 +318,7 @@ def _chart_jacobian(plt, rs):
                lw=2 if key == "ours" else 1.3)
     _axes(a, [int(r["n"]) for r in rs], "ns per Jacobian")
     a.legend(fontsize=11)
+    fig.tight_layout()
     return fig
 
 
@@ -326,6 +329,73 @@ def _chart_generation(plt, rs):
     a.plot(xs, [num(r, "gen_s") for r in rs], "o-", label="derive + emit", lw=2)
     _axes(a, xs, "seconds")
     a.legend(fontsize=11)
+    fig.tight_layout()
+    return fig
+
+
+def _series(rs, x, y, **match):
+    """The (x, y) points of the rows that match, sorted by x; y floored at 1e-17 for a log axis."""
+    pts = sorted((float(r[x]), max(float(r[y]), 1e-17)) for r in rs if all(r[k] == v for k, v in match.items()))
+    return [p[0] for p in pts], [p[1] for p in pts]
+
+
+def _log_axes(ax, xlabel, ylabel):
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(xlabel, fontsize=12)
+    ax.set_ylabel(ylabel, fontsize=12)
+    ax.tick_params(labelsize=11)
+    ax.grid(True, which="major", alpha=0.35)
+
+
+def _chart_work_precision(plt, rs):
+    style = {("DOP853", "C"): ("C0", "o-"), ("RK4", "C"): ("C1", "s-"), ("GAUSS2", "C"): ("C2", "D-"),
+             ("RK45", "Python"): ("C3", "v:"), ("DOP853", "Python"): ("C4", "^:"), ("Radau", "Python"): ("C5", "<:"),
+             ("RK45", "cffi C"): ("C3", "v--"), ("DOP853", "cffi C"): ("C4", "^--"), ("Radau", "cffi C"): ("C5", "<--")}
+    titles = {"gimbal": "gimbal, 10 periods", "spatial3": "spatial3, chaotic, 2 s", "fast_gyro": "fast_gyro, 1 s"}
+    fig, axes = plt.subplots(3, 2, figsize=(10, 12.5))
+    for i, (pb, title) in enumerate(titles.items()):
+        for (m, d), (col, ls) in style.items():
+            label = f"{m}, " + ("the emitted C" if d == "C" else f"scipy on the {'Python' if d == 'Python' else 'C'} rhs")
+            for j, x in enumerate(("seconds", "n_rhs")):
+                xs, ys = _series(rs, x, "error", problem=pb, method=m, driver=d)
+                if xs:
+                    axes[i, j].plot(xs, ys, ls, color=col, ms=4, label=label)
+        _log_axes(axes[i, 0], "wall time (s)", f"{title}: relative error at t1")
+        _log_axes(axes[i, 1], "right-hand-side evaluations", "")
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=11, frameon=False)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    return fig
+
+
+def _chart_drift(plt, rs):
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.6))
+    for m in sorted({r["method"] for r in rs}):
+        axes[0].plot(*_series(rs, "periods", "energy_error", method=m), label=m)
+        axes[1].plot(*_series(rs, "periods", "momentum_error", method=m), label=m)
+    _log_axes(axes[0], "gimbal periods", "relative energy error")
+    _log_axes(axes[1], "gimbal periods", "relative momentum (27) error")
+    axes[0].legend(fontsize=11)
+    fig.tight_layout()
+    return fig
+
+
+def _chart_symplectic(plt, rs):
+    colours = {"GAUSS2": "C2", "GAUSS2_SYMPLECTIC": "C3", "DOP853": "C0"}
+    labels = {"GAUSS2": "GAUSS2", "GAUSS2_SYMPLECTIC": "GAUSS2_SYMPLECTIC", "DOP853": "DOP853 at 1e-10"}
+    fig, axes = plt.subplots(1, 3, figsize=(12, 4.4))
+    for m in colours:
+        axes[0].plot(*_series(rs, "time", "energy_error", system="gyrostat2", method=m), color=colours[m], label=labels[m])
+        axes[1].plot(*_series(rs, "time", "momentum_error", system="gyrostat2", method=m), color=colours[m])
+        axes[2].plot(*_series(rs, "time", "energy_error", system="spatial3", method=m), color=colours[m])
+    _log_axes(axes[0], "periods", "relative error")
+    _log_axes(axes[1], "periods", "")
+    _log_axes(axes[2], "time (s)", "")
+    axes[0].set_title("gyrostat2: energy", fontsize=12)
+    axes[1].set_title("gyrostat2: momentum (27)", fontsize=12)
+    axes[2].set_title("spatial3, chaotic: energy", fontsize=12)
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=11, frameon=False)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
     return fig
 
 
@@ -339,6 +409,9 @@ CHARTS: dict[str, Chart] = {
     "qdd.png": Chart(TABLES["qdd"].files, _chart_qdd),
     "jacobian.png": Chart(TABLES["jacobian"].files, _chart_jacobian),
     "generation.png": Chart(TABLES["qdd-O2"].files, _chart_generation),
+    "work_precision.png": Chart(("work_precision.csv",), _chart_work_precision),  # on docs/integrators.md
+    "drift.png": Chart(("drift.csv",), _chart_drift),
+    "drift_symplectic.png": Chart(("drift_symplectic.csv",), _chart_symplectic),
 }
 
 
@@ -349,8 +422,7 @@ def draw(name: str, out: Path) -> None:
     import matplotlib.pyplot as plt
 
     c = CHARTS[name]
-    fig = c.draw(plt, rows(*c.files))
-    fig.tight_layout()
+    fig = c.draw(plt, rows(*c.files))  # laid out by its drawing function
     fig.savefig(out, dpi=100, metadata={"Source": sha(c.files), "Software": None})
     plt.close(fig)
 
