@@ -205,29 +205,28 @@ def _summary(_):
     out = []
     for n, f in ((8, "speed_O3_march_native.csv"), (128, "speed_O3_march_native_64_128.csv")):
         peer, v = best_peer(at[n])
-        out.append([f"{QDD}, random spatial chain of {n} gyrostats", f"{num(at[n], 'ours_ns'):,.0f} ns",
-                    f"{v:,.0f} ns ({peer})", f"**{v / num(at[n], 'ours_ns'):.1f}×**", _measured(f),
-                    "[forward dynamics](#forward-dynamics)"])
+        out.append([f"[{QDD}, random spatial chain of {n} gyrostats](#forward-dynamics)", f"{num(at[n], 'ours_ns'):,.0f} ns",
+                    f"{v:,.0f} ns ({peer})", f"**{v / num(at[n], 'ours_ns'):.1f}×**", _measured(f)])
     j = jac[32]
-    out.append([f"{JACOBIAN}, 32 gyrostats", f"{num(j, 'ours_ns'):,.0f} ns", f"{num(j, 'pinocchio_ns'):,.0f} ns (Pinocchio)",
-                f"**{num(j, 'pinocchio_ns') / num(j, 'ours_ns'):.1f}×**", _measured("derivatives_O3_march_native.csv"),
-                "[derivatives](#derivatives)"])
+    out.append([f"[the Jacobian {JACOBIAN}, 32 gyrostats](#derivatives)", f"{num(j, 'ours_ns'):,.0f} ns",
+                f"{num(j, 'pinocchio_ns'):,.0f} ns (Pinocchio)", f"**{num(j, 'pinocchio_ns') / num(j, 'ours_ns'):.1f}×**",
+                _measured("derivatives_O3_march_native.csv")])
     u = arm["ur5"]
-    out.append([f"{QDD} of the UR5, imported from its URDF", f"{num(u, 'ours_ns'):,.0f} ns",
+    out.append([f"[{QDD} of the UR5, imported from its URDF](#imported-arms)", f"{num(u, 'ours_ns'):,.0f} ns",
                 f"{num(u, 'pinocchio_ns'):,.0f} ns (Pinocchio)", f"**{num(u, 'pinocchio_over_ours'):.1f}×**",
-                _measured("robots.csv"), "[imported arms](#imported-arms)"])
+                _measured("robots.csv")])
 
     def pick(impl, integ, where):
         return next(float(r["traj_per_s"]) for r in ens if r["implementation"].startswith(impl)
                     and r["integrator"].startswith(integ) and r["where"].startswith(where))
     ours = pick("ours, NAME", "RK4_LANES", "2 thread")
     mj = pick("MuJoCo", "RK4", "2 thread")
-    out.append(["double pendulums of 10 s, RK4 at 1 ms, both cores (trajectories per second)", f"{ours:,.0f}",
-                f"{mj:,.1f} (MuJoCo `rollout`)", f"**{ours / mj:.0f}×**", _measured("ensemble.csv") + ", `-O2`", "[ensembles](#ensembles)"])
+    out.append(["[double pendulums of 10 s, RK4 at 1 ms, both cores](#ensembles) (trajectories per second)", f"{ours:,.0f}",
+                f"{mj:,.1f} (MuJoCo `rollout`)", f"**{ours / mj:.0f}×**", _measured("ensemble.csv") + ", `-O2`"])
     g = gen[128]
-    out.append(["`gyrochain generate` of a chain of 128 gyrostats, build included", sec(num(g, "whole_s")), "—", "—",
-                _measured("generate.csv"), "[long chains](#long-chains)"])
-    return ["", "ours", "the fastest peer", "ours ahead by", "measured (machine, date, flags)", "table"], out
+    out.append(["[`gyrochain generate` of a chain of 128 gyrostats](#long-chains), build included", sec(num(g, "whole_s")),
+                "—", "—", _measured("generate.csv")])
+    return ["", "ours", "the fastest peer", "ours ahead by", "machine, date, flags"], out
 
 
 TABLES: dict[str, Table] = {
@@ -252,7 +251,7 @@ def _summary_provenance(files: tuple[str, ...]) -> str:
     known = read_machines()
     letters = sorted({machine_letter(known[f]["cpu"]) for f in files})
     dates = sorted({known[f]["date"] for f in files})
-    return f"*Each row is a row of the table it links to, which names its CSV file (machines {', '.join(letters)}, {dates[0]} to {dates[-1]}).*"
+    return f"*Each row is a row of the table it links to, which names its CSV file (machine {', '.join(letters)}, {dates[0]} to {dates[-1]}).*"
 
 
 def page(text: str) -> str:
