@@ -28,6 +28,7 @@ sys.path.insert(0, str(ROOT))
 
 from gyrochain import build, pipeline  # noqa: E402
 from gyrochain.spec import parse_spec  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/, when loaded from elsewhere
 from provenance import record  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"

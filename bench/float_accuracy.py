@@ -28,6 +28,7 @@ from gyrochain import pipeline  # noqa: E402
 from gyrochain.randspec import random_spec_text  # noqa: E402
 from gyrochain.spec import load_spec, parse_spec  # noqa: E402
 from conftest import SHORT_EXAMPLES, example_params  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/, when loaded from elsewhere
 from provenance import record  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"

@@ -18,6 +18,7 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/, when loaded from elsewhere
 from provenance import record  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent

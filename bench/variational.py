@@ -21,6 +21,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from gyrochain import build, orbits  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/, when loaded from elsewhere
 from provenance import record  # noqa: E402
 
 RESULTS = ROOT / "bench" / "results"

@@ -6,6 +6,7 @@ import os
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -392,8 +393,12 @@ def test_the_site_from_a_file_offline(site, browser):
                 raw[url.rsplit("/", 1)[1]] = found
         assert not raw, raw
         page.goto((site / "index.html").as_uri())
+        started = time.perf_counter()
         page.fill("input.md-search__input", "gimbal")
-        page.wait_for_selector(".md-search-result__item a", timeout=20_000)
+        # the offline search builds its index in a worker (every file read through the test's router): seconds on
+        # a quiet machine, more on a busy one
+        page.wait_for_selector(".md-search-result__item a", timeout=90_000)
+        print(f"search: the first results after {time.perf_counter() - started:.1f} s")
         hits = page.eval_on_selector_all(".md-search-result__item a", "els => els.map(e => e.href)")
         assert len(hits) >= 5
         page.goto(hits[0])
