@@ -397,7 +397,13 @@ def test_the_site_from_a_file_offline(site, browser):
         page.fill("input.md-search__input", "gimbal")
         # the offline search builds its index in a worker (every file read through the test's router): seconds on
         # a quiet machine, more on a busy one
-        page.wait_for_selector(".md-search-result__item a", timeout=90_000)
+        try:
+            page.wait_for_selector(".md-search-result__item a", timeout=90_000)
+        except Exception as exc:  # say what the page saw: its console, what it tried to fetch, the search box's state
+            state = page.evaluate("() => [document.querySelector('.md-search__output')?.innerText?.slice(0, 200), "
+                                  "typeof window.Worker, location.href]")
+            raise AssertionError(f"no search result: {exc}; console errors {errors}; requests that left {left}; "
+                                 f"search box {state}") from None
         print(f"search: the first results after {time.perf_counter() - started:.1f} s")
         hits = page.eval_on_selector_all(".md-search-result__item a", "els => els.map(e => e.href)")
         assert len(hits) >= 5
