@@ -1,4 +1,4 @@
-"""Where the loop form of long chains (gyrochain/loopform.py) starts to pay: the same random spatial
+"""Where the loop form of long chains (gyrochain/derive/loopform.py) starts to pay: the same random spatial
 gyrostat chains emitted in the straight-line form and in the loop form, side by side in one run —
 C size, gcc -O2 time, and ns per call of every function the loop form changes.
 

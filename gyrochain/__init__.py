@@ -1,10 +1,12 @@
 """gyrochain: closed-form equations of compound spatial pendulums → C, Python and LaTeX.
 
-The data flow, one module a stage: spec → the derivation stages (kinematics → dynamics →
-integrals, aba, derivatives, world, quadratures) → assemble (the Model, forms chosen by op count)
-→ printers (c, python, latex; the kernels) and build → pipeline (derive, render, compile: the one
-route) → the commands (generate, simulate, steady, sweep, animate, plot) → cli.  No module imports
-a layer above its own ([tool.importlinter] in pyproject.toml).
+The data flow, one subpackage a stage: chainspec (the spec file and its checks) → derive (the
+derivation stages, kinematics → dynamics → integrals, aba, derivatives, world, quadratures →
+assemble: the Model, its forms chosen by op count) → printers (c, python, latex; the kernels) →
+models (pipeline: derive, render, compile, the one route; build, generate, typeset) → the
+capabilities (analysis, ensembles, robots, fmi, identification) → view → commandline.  No module
+imports a layer above its own ([tool.importlinter] in pyproject.toml); the names of the modules
+before this layout still import them (MOVED, below).
 
 The notation is the paper's ("The compound spatial pendulum", with Kharlamov's equations of
 motion of a system of rigid bodies): k is the body index (0 the base), phi/phidot are φᵏ/φ̇ᵏ,
@@ -43,6 +45,97 @@ from pathlib import Path as _Path  # noqa: E402
 TEMPLATES = _Path(__file__).resolve().parent / "templates"   # jinja2 layouts of the emitted files and the viewer
 KERNELS = _Path(__file__).resolve().parent / "kernels"       # the fixed numerical kernels (printers/kernels.py)
 EXAMPLES = _Path(__file__).resolve().parent / "examples"     # the example specs (`gyrochain examples`)
+
+
+# The package is laid out by capability, gyrochain/<capability>/<module>.py (docs/reference/layout.md);
+# the names scripts used before that layout (gyrochain.spec, gyrochain.pipeline, gyrochain.build, ...)
+# import the same modules: `import gyrochain.pipeline` is gyrochain.models.pipeline itself.
+MOVED = {
+    "aba": "derive.aba",
+    "algebra": "derive.algebra",
+    "animate": "view.animate",
+    "assemble": "derive.assemble",
+    "baseparams": "derive.baseparams",
+    "build": "models.build",
+    "cli": "commandline.cli",
+    "cliargs": "commandline.cliargs",
+    "codes": "printers.codes",
+    "consistency": "identification.consistency",
+    "derivatives": "derive.derivatives",
+    "dynamics": "derive.dynamics",
+    "errors": "chainspec.errors",
+    "exact": "derive.exact",
+    "exchange": "robots.exchange",
+    "excite": "identification.excite",
+    "files": "models.files",
+    "floquet": "analysis.floquet",
+    "fmu": "fmi.fmu",
+    "generate": "models.generate",
+    "identify": "identification.identify",
+    "integrals": "derive.integrals",
+    "kinematics": "derive.kinematics",
+    "loopform": "derive.loopform",
+    "measured": "identification.measured",
+    "measures": "ensembles.measures",
+    "mjcf": "robots.mjcf",
+    "names": "chainspec.names",
+    "orbits": "analysis.orbits",
+    "parsers": "commandline.parsers",
+    "physical": "chainspec.physical",
+    "pipeline": "models.pipeline",
+    "platform": "derive.platform",
+    "plot": "view.plot",
+    "program": "derive.program",
+    "quadratures": "derive.quadratures",
+    "randspec": "chainspec.randspec",
+    "raster": "view.raster",
+    "reference": "derive.reference",
+    "regressor": "derive.regressor",
+    "robot": "robots.robot",
+    "robotspec": "robots.robotspec",
+    "scene": "view.scene",
+    "simulate": "analysis.simulate",
+    "spec": "chainspec.spec",
+    "starter": "commandline.starter",
+    "steady": "analysis.steady",
+    "store": "ensembles.store",
+    "straightline": "derive.straightline",
+    "sweep": "ensembles.sweep",
+    "trigform": "derive.trigform",
+    "typeset": "models.typeset",
+    "urdf": "robots.urdf",
+    "vec3": "derive.vec3",
+    "world": "derive.world"
+}
+
+
+class _MovedLoader:
+    def __init__(self, target: str):
+        self.target = target
+
+    def create_module(self, spec):
+        import importlib
+
+        return importlib.import_module(self.target)
+
+    def exec_module(self, module) -> None:
+        pass
+
+
+class _MovedFinder:
+    """Finds ``gyrochain.<old name>`` as the module it became (MOVED)."""
+
+    @staticmethod
+    def find_spec(fullname: str, path=None, target=None):
+        head, _, name = fullname.partition(".")
+        if head != DISTRIBUTION or name not in MOVED:
+            return None
+        import importlib.util
+
+        return importlib.util.spec_from_loader(fullname, _MovedLoader(f"{DISTRIBUTION}.{MOVED[name]}"))
+
+
+_sys.meta_path.insert(0, _MovedFinder)  # first: an old name is always the module it became
 
 
 

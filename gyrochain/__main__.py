@@ -59,7 +59,7 @@ def run() -> None:
         print("error: interrupted", file=sys.stderr)
         _end_now(130)
     try:
-        from .cli import main
+        from .commandline.cli import main
 
         code = main()
     except BaseException as exc:  # before cli.main's own handler is in place (numpy, sympy still loading)

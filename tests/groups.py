@@ -1,7 +1,7 @@
-"""Each group of the printed equations of motion, from the independent model (gyrochain/reference.py)
+"""Each group of the printed equations of motion, from the independent model (gyrochain/derive/reference.py)
 alone: every other group switched off (issue 49, item 1).
 
-With f = G + L + W + τ − Q − Γ − Π − Λ̊ the right side of M φ̈ = f (gyrochain/reference.py's
+With f = G + L + W + τ − Q − Γ − Π − Λ̊ the right side of M φ̈ = f (gyrochain/derive/reference.py's
 ``forces`` at φ̈ = 0), and the model's inputs taken away one kind at a time:
 
 - Π_k: f minus f with the platform frozen at its attitude and position at t (no ω⁰, ε⁰, v̇₀);

@@ -14,8 +14,9 @@ from pathlib import Path
 
 import sympy as sp
 
-from .. import __version__, integrals, loopform, world
-from ..assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
+from .. import __version__
+from ..derive import integrals, loopform, world
+from ..derive.assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
                         time_dependent, variational_stack_bytes)
 from .c import CTarget
 from .common import c_comment, environment, py_docstring

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from sympy.printing.c import C99CodePrinter
 
-from ..codes import METHODS, MOTIONS, QUAD_STATUS, STATUS
+from .codes import METHODS, MOTIONS, QUAD_STATUS, STATUS
 from .. import __version__
 from . import chunks, kernels
 from .common import NumbersAsDoubles, build_text, functions

@@ -13,7 +13,7 @@ from __future__ import annotations
 import re
 from dataclasses import replace
 
-from ..world import VECTORS
+from ..derive.world import VECTORS
 from .common import Function
 
 PART_TEMPORARIES = 150  # temporaries per part; a function is cut from 3 parts on

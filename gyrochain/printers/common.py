@@ -10,13 +10,14 @@ from pathlib import Path
 import jinja2
 import sympy as sp
 
-from .. import TEMPLATES, world
-from ..algebra import Poly
-from ..assemble import Model
-from ..exact import Fraction, Surd, is_unit, to_float
-from ..kinematics import Kinematics
-from ..spec import T as TIME
-from ..straightline import StraightLine
+from .. import TEMPLATES
+from ..derive import world
+from ..derive.algebra import Poly
+from ..derive.assemble import Model
+from ..derive.exact import Fraction, Surd, is_unit, to_float
+from ..derive.kinematics import Kinematics
+from ..chainspec.spec import T as TIME
+from ..derive.straightline import StraightLine
 
 
 

@@ -10,12 +10,13 @@ import hashlib
 import re
 
 import sympy as sp
-from .. import __version__, trigform
-from ..algebra import ZERO, Poly
-from ..assemble import Model
-from ..exact import Fraction, is_negative, is_unit, to_float
-from ..kinematics import Kinematics, platform_symbols
-from ..spec import T as TIME
+from .. import __version__
+from ..derive import trigform
+from ..derive.algebra import ZERO, Poly
+from ..derive.assemble import Model
+from ..derive.exact import Fraction, is_negative, is_unit, to_float
+from ..derive.kinematics import Kinematics, platform_symbols
+from ..chainspec.spec import T as TIME
 from . import texlisting, texrecursion, texscene, texsources, textype
 from .texlayout import DISPLAY_WIDTH, TEXT_WIDTH, Numbers, TexEquation, block, per_row, term_counts
 from .common import one_line, tex_escape

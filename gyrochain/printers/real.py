@@ -71,7 +71,7 @@ def check_range(text: str) -> None:
     """Every constant of the code (outside comments and strings) within float's normal range, or a
     one-line SpecError: a mass of 1e-50 or 1e39 would become 0 or inf in the float C (and gcc would
     warn of an overflow in every line that has it)."""
-    from ..errors import SpecError
+    from ..chainspec.errors import SpecError
 
     parts = _SKIP.split(text)
     for i, part in enumerate(parts):

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import re
 
-from ..algebra import Poly
+from ..derive.algebra import Poly
 from .texlayout import INLINE, TexEquation
 
 INLINE_MAX_TERMS = 12  # an unnamed quantity of the recursion is substituted where it has at most this many terms

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..assemble import Model
+from ..derive.assemble import Model
 from .common import tex_escape
 from .texterms import number_text
 

@@ -6,7 +6,7 @@ import hashlib
 
 import sympy as sp
 
-from ..assemble import Model
+from ..derive.assemble import Model
 from .common import one_line, tex_escape
 from .texlayout import DISPLAY_WIDTH, TexEquation
 from .texterms import breaks, param_tex

@@ -26,7 +26,7 @@ from fractions import Fraction
 
 import sympy as sp
 
-from ..exact import Surd, to_float
+from ..derive.exact import Surd, to_float
 from .common import tex_escape
 
 FUNCTIONS = {sp.cos: r"\cos", sp.sin: r"\sin", sp.tan: r"\tan", sp.exp: r"\exp", sp.log: r"\log",

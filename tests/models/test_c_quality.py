@@ -143,7 +143,7 @@ def test_sanitizers_clean(name, tmp_path):
 
 @pytest.fixture(scope="module")
 def world_model(make_model):
-    """spatial3 with NAME_qdd_derivatives in the world form (gyrochain/world.py), which the examples
+    """spatial3 with NAME_qdd_derivatives in the world form (gyrochain/derive/world.py), which the examples
     do not choose: its loops, LDLᵀ and block handling go through the same checks."""
     text = (ROOT / "specs" / "spatial3.toml").read_text().replace('name = "spatial3"', 'name = "spatial3w"')
     return make_model(text, der_form="world")
@@ -158,7 +158,7 @@ def world_inverse_model(make_model):
 
 @pytest.fixture(scope="module")
 def loop_models(make_model):
-    """The loop form of long chains (gyrochain/loopform.py) forced on spatial3 (fixed base: Hamilton's
+    """The loop form of long chains (gyrochain/derive/loopform.py) forced on spatial3 (fixed base: Hamilton's
     variables too) and on ship_gimbal (a moving platform: no canonical functions), with the world
     form of the derivatives where it applies: the loops' helpers go through the same checks."""
     text = (ROOT / "specs" / "spatial3.toml").read_text().replace('name = "spatial3"', 'name = "spatial3l"')

@@ -2,7 +2,7 @@
 description with a leaf that revolute joints reach, the chain ``import --tip LEAF`` writes (the leaf
 with the most such joints that imports) has the φ̈ of Pinocchio's ABA on its reduced model
 (``buildReducedModel``, every other joint locked at the same value), to 1e-10 at 50 random states
-and torques.  The spec is evaluated by the independent model (gyrochain/reference.py), which the
+and torques.  The spec is evaluated by the independent model (gyrochain/derive/reference.py), which the
 other suites hold to the generated C; a chain from a link inside the tree (``--base``) keeps
 gravity along the world's −z."""
 from __future__ import annotations

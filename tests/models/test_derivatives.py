@@ -111,7 +111,7 @@ def test_furuta_lqr_example(example):
     assert np.max(np.abs(Xo[:, 1] - np.pi)) > 1.0
 
 
-# ------------------------------------------------------------------ the world form (gyrochain/world.py)
+# ------------------------------------------------------------------ the world form (gyrochain/derive/world.py)
 # The same specs in both forms of NAME_qdd_derivatives: forward mode over the articulated recursion,
 # and the inverse dynamics differentiated in frame 0 (M⁻¹(∂τ/∂x − ∂ID/∂x)).  Both are exact, so they
 # agree to round-off; both against the reference's differences.

@@ -56,7 +56,7 @@ def _random_cases() -> dict:
         cases[f"rt_fixed{n}{'p' if planar else ''}"] = (random_spec_text(rng, n, name=f"rt_fixed{n}{'p' if planar else ''}",
                                                                           planar=planar, controls=(1,)), None)
     # past CLOSED_FORM_MAX_N the document prints the recursion's quantities; from n = 12 on the
-    # code is the loop form (gyrochain/loopform.py)
+    # code is the loop form (gyrochain/derive/loopform.py)
     for n in (4, 12):
         rng = np.random.default_rng(2540 + n)
         cases[f"rt_recursion{n}"] = (random_spec_text(rng, n, name=f"rt_recursion{n}", controls=(2,)), None)

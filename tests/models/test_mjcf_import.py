@@ -3,7 +3,7 @@ again, and four models of DeepMind's Control Suite (tests/mjcf) give the φ̈ of
 ``mj_forward`` on the same file to 1e-10.  Where the chain is part of a larger model (the cart of
 the cart-pole held at its place), MuJoCo's equations are cut to the chain's joints, the others at
 rest: M_cc φ̈ = τ + passive − bias.  The spec is evaluated by the independent model
-(gyrochain/reference.py)."""
+(gyrochain/derive/reference.py)."""
 from __future__ import annotations
 
 import numpy as np

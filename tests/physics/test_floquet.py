@@ -1,4 +1,4 @@
-"""Floquet stability of driven pendulums (gyrochain/floquet.py) against the Mathieu equation.
+"""Floquet stability of driven pendulums (gyrochain/analysis/floquet.py) against the Mathieu equation.
 
 Kapitza's pendulum (specs/kapitza.toml: a point bob on a light rod of l = 0.2 m, the pivot moving
 as a cos(ω t) along the vertical) linearised about the upright position θ = φ − π is, with

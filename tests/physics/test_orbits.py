@@ -1,4 +1,4 @@
-"""Periodic orbits by shooting (gyrochain/orbits.py): the nonlinear normal modes of the double pendulum
+"""Periodic orbits by shooting (gyrochain/analysis/orbits.py): the nonlinear normal modes of the double pendulum
 of point masses grow out of its linear modes, ω² = (g/l)(2 ∓ √2); every orbit closes under the
 independent reference model; the multipliers agree with differences of the flow (and a perturbed
 derivative is caught); a steady rotation of the heavy gyrostat as an orbit has the multipliers
