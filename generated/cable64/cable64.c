@@ -3,7 +3,7 @@
  * See cable64.h for the API.  The temporaries are the quantities of the recursions over the
  * sub-chains p >= k (the paper's sums; om2_1 is omega^2_1 in frame 2, h1_3 a composite first
  * moment); w<i> are products several of them share.  A chain this long has the loop form
- * (gyrochain/loopform.py): per joint k the axis S^k and z1^k = I_c^k S^k in frame 0 (CR<k>r<i>,
+ * (gyrochain/derive/loopform.py): per joint k the axis S^k and z1^k = I_c^k S^k in frame 0 (CR<k>r<i>,
  * CO<k>, CIC<k>, ...), M_kj = z1^k . S^j in loops.  cable64.tex shows the formulas.
  */
 #include "cable64.h"
@@ -55,7 +55,7 @@ static int cable64_pivots_(const double *piv)
     return CABLE64_OK;
 }
 
-/* The 6-dot of two of the per-joint spatial vectors (gyrochain/loopform.py, gyrochain/world.py). */
+/* The 6-dot of two of the per-joint spatial vectors (gyrochain/derive/loopform.py, gyrochain/derive/world.py). */
 static double cable64_dot6_(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5];
@@ -25290,7 +25290,7 @@ static void cable64_ldlt_solve_(const double *A, double *b)
 }
 
 
-/* M (both triangles) by the loop form, gyrochain/loopform.py: per joint S and z1 in frame 0, then
+/* M (both triangles) by the loop form, gyrochain/derive/loopform.py: per joint S and z1 in frame 0, then
  * M_kj = z1^k . S^j; mass_matrix and velocities share it.  p is checked by the caller. */
 static int cable64_mass_pairs_(const double *q, const cable64_params *p, double *M)
 {
@@ -25525,7 +25525,7 @@ static int cable64_ldlt_factor_(double *A)
     return CABLE64_OK;
 }
 
-/* Spatial products of gyrochain/vec3.py on 6-arrays (motion (omega, v), force (moment, force)) and
+/* Spatial products of gyrochain/derive/vec3.py on 6-arrays (motion (omega, v), force (moment, force)) and
  * I^c of world.py as (A11, A12, A13, A22, A23, A33, h, m): out = a x b (motion), a x* f (force),
  * I^c m = (A omega + h x v, m v - h x omega). */
 static void cable64_mcross_(const double *a, const double *b, double *out)
@@ -25558,7 +25558,7 @@ static void cable64_inertia_(const double *ic, const double *m, double *out)
     out[5] = ic[9] * m[5] - ic[6] * m[1] + ic[7] * m[0];
 }
 
-/* The share of phi'' in beta and G (gyrochain/world.py), added in place to their values at phi'' = 0:
+/* The share of phi'' in beta and G (gyrochain/derive/world.py), added in place to their values at phi'' = 0:
  * with A^j = sum_{i<j} S^i phi''^i and Z^j = sum_{i>=j} z1^i phi''^i,
  * beta^j -= S^j x A^j and G^j += S^j x* (I^c^j A^j + Z^j) - I^c^j (S^j x A^j). */
 static void cable64_world_accel_(const double *qdd, const double *S, const double *z1, const double *IC,
@@ -25744,7 +25744,7 @@ static void cable64_transpose_(double *X)
 int cable64_qdd_derivatives(const double *x, const double *u, const cable64_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
-    /* The inverse dynamics ID(phi, phidot, phi'') in closed form in frame 0 (gyrochain/world.py):
+    /* The inverse dynamics ID(phi, phidot, phi'') in closed form in frame 0 (gyrochain/derive/world.py):
      * per joint the 6-vectors S, z1, z2, beta, w, G, K at phi'' = 0 and I^c; M = (z1^k . S^j) by
      * LDL^T; phi'' = M^-1 (tau - ID(phi, phidot, 0)); the share of phi'' in beta and G; then
      * d phi''/dx = M^-1 (d tau/dx - d ID/dx) with M^-1 formed and the sums of world_products_
@@ -25916,7 +25916,7 @@ double cable64_energy(const double *x, const cable64_params *p)
     return result;
 }
 
-/* Hamilton's variables (gyrochain/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
+/* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
 int cable64_momenta(const double *x, const cable64_params *p, double *pm)
 {
     (void)p;

@@ -66,7 +66,7 @@ def _ldlt_solve(M, b):
 
 
 def _mcross(a, b):
-    """Row by row, motion x motion of gyrochain/vec3.py: (w1 x w2, w1 x v2 + v1 x w2)."""
+    """Row by row, motion x motion of gyrochain/derive/vec3.py: (w1 x w2, w1 x v2 + v1 x w2)."""
     return np.hstack([np.cross(a[:, :3], b[:, :3]), np.cross(a[:, :3], b[:, 3:]) + np.cross(a[:, 3:], b[:, :3])])
 
 
@@ -97,7 +97,7 @@ def mass_matrix(q, p=None):
     """M(phi), an N×N symmetric array."""
     q = [float(v) for v in q]
 
-    S_ = np.empty((N, 6))  # per joint the axis S and z1 = I_c S in frame 0 (gyrochain/loopform.py)
+    S_ = np.empty((N, 6))  # per joint the axis S and z1 = I_c S in frame 0 (gyrochain/derive/loopform.py)
     z1_ = np.empty((N, 6))
     cos_phi1 = math.cos(q[0])
     sin_phi1 = math.sin(q[0])
@@ -11624,7 +11624,7 @@ def qdd_derivatives(x, u=None, p=None):
     except ZeroDivisionError:
         raise NonFiniteResult("a division by zero in the joint torques") from None
     # M = (z1^k . S^j) and phi'' = M^-1 (tau - ID(phi, phidot, 0)), with the vectors at phi'' = 0;
-    # then the share of phi'' in beta and G (gyrochain/world.py)
+    # then the share of phi'' in beta and G (gyrochain/derive/world.py)
     M = np.tril(z1_ @ S_.T)
     M = M + np.tril(M, -1).T
     if not (np.all(np.isfinite(M)) and np.all(np.isfinite(acc))):

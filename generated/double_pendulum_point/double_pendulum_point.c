@@ -288,7 +288,7 @@ int double_pendulum_point_qdd_derivatives(const double *x, const double *u, cons
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derive/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[2];
     double piv[2];
@@ -439,7 +439,7 @@ double double_pendulum_point_energy(const double *x, const double_pendulum_point
     return result;
 }
 
-/* Hamilton's variables (gyrochain/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
+/* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
 int double_pendulum_point_momenta(const double *x, const double_pendulum_point_params *p, double *pm)
 {
     (void)p;

@@ -422,7 +422,7 @@ int gyrostat2_qdd_derivatives(const double *x, const double *u, const gyrostat2_
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derive/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[2];
     double piv[2];
@@ -651,7 +651,7 @@ double gyrostat2_momentum(const double *x, const gyrostat2_params *p)
     return result;
 }
 
-/* Hamilton's variables (gyrochain/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
+/* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
 int gyrostat2_momenta(const double *x, const gyrostat2_params *p, double *pm)
 {
     (void)p;

@@ -209,7 +209,7 @@ int kapitza_qdd_derivatives(double t, const double *x, const double *u, const ka
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derive/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[1];
     double piv[1];

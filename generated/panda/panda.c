@@ -7878,7 +7878,7 @@ int panda_qdd_derivatives(const double *x, const double *u, const panda_params *
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derive/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[7];
     double piv[7];
@@ -9090,7 +9090,7 @@ double panda_momentum(const double *x, const panda_params *p)
     return result;
 }
 
-/* Hamilton's variables (gyrochain/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
+/* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
 int panda_momenta(const double *x, const panda_params *p, double *pm)
 {
     (void)p;

@@ -371,7 +371,7 @@ int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, cons
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derive/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[2];
     double piv[2];

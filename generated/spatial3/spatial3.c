@@ -1184,7 +1184,7 @@ int spatial3_qdd_derivatives(const double *x, const double *u, const spatial3_pa
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
-     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derivatives.py): row-major
+     * (forward mode, one column per phi^j, phidot^j, u_j; gyrochain/derive/derivatives.py): row-major
      * n x n, n x n, n x nu.  A block whose pointer is NULL is not computed. */
     double acc[3];
     double piv[3];
@@ -1699,7 +1699,7 @@ double spatial3_energy(const double *x, const spatial3_params *p)
     return result;
 }
 
-/* Hamilton's variables (gyrochain/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
+/* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
 int spatial3_momenta(const double *x, const spatial3_params *p, double *pm)
 {
     (void)p;

@@ -1,7 +1,7 @@
 // The offline viewer of `python -m gyrochain animate … -o FILE.html`.
 // The page carries the primitives of every frame in the fixed frame ê⁰ (ê⁰₁ down, along gravity),
-// made by gyrochain/scene.py; this script only projects, sorts and paints them, as the raster
-// renderer of gyrochain/animate.py does: an orthographic camera at azimuth az about the vertical
+// made by gyrochain/view/scene.py; this script only projects, sorts and paints them, as the raster
+// renderer of gyrochain/view/animate.py does: an orthographic camera at azimuth az about the vertical
 // and elevation el, over the right-handed frame (X, Y, Z) = (x₃, x₂, −x₁).
 "use strict";
 (function () {
@@ -145,7 +145,7 @@
   }
 
   // ---- a bar through a disc: in pieces, each in front of the disc where it is on the camera's side
-  // of the disc's plane (as gyrochain/animate.py's occluders and seg_pieces)
+  // of the disc's plane (as gyrochain/view/animate.py's occluders and seg_pieces)
   const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
   const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
   function occluders(prims) {
@@ -339,7 +339,7 @@
     get playing() { return state.playing; }, get rate() { return state.rate; }, frames: N, setFrame, play, pause,
     project: p => { camera(); fitView(); return project(p).slice(0, 2); },  // a fixed-frame point → canvas px
   };
-  // the legend: what the marks are, as gyrochain/scene.py read them off the primitives
+  // the legend: what the marks are, as gyrochain/view/scene.py read them off the primitives
   const SYMBOLS = { bar: ["━", "#555"], link: ["─", "#555"], ring: ["◯", "#555"], dot: ["●", "#555"], disc: ["◍", "#555"],
                     deck: ["▭", D.platformColour], deck_only: ["▭", D.platformColour], triad: ["⅄", D.frameColour], trace: ["┄", D.traceColour] };
   const legend = document.getElementById("legend");
