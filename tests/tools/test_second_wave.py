@@ -231,13 +231,13 @@ def test_ctrl_c_wrapped_by_python_while_a_class_is_made_is_an_interrupt(monkeypa
     monkeypatch.setattr(cli, "_exit_if_held", lambda code: None)
     assert cli.main(["check", str(SPECS / "gimbal.toml")]) == 130
     assert capsys.readouterr().err == "error: interrupted\n"
-    monkeypatch.setitem(sys.modules, "gyrochain.cli", types.SimpleNamespace(main=_make_a_class_while_interrupted))
+    monkeypatch.setitem(sys.modules, "gyrochain.commandline.cli", types.SimpleNamespace(main=_make_a_class_while_interrupted))
     monkeypatch.setattr(signal, "signal", lambda *a: None)  # the test's own process keeps its handlers
     monkeypatch.setattr(entry, "_end_now", sys.exit)  # (the command ends the process at once: not this one)
     with pytest.raises(SystemExit) as exited:
         entry.run()
     assert exited.value.code == 130 and capsys.readouterr().err == "error: interrupted\n"
-    monkeypatch.setitem(sys.modules, "gyrochain.cli", types.SimpleNamespace(main=lambda: 1 / 0))
+    monkeypatch.setitem(sys.modules, "gyrochain.commandline.cli", types.SimpleNamespace(main=lambda: 1 / 0))
     with pytest.raises(ZeroDivisionError):  # anything else is not taken for an interrupt
         entry.run()
     # ... unless the user has pressed Ctrl-C: numpy loading datetime from C reports the interrupt

@@ -37,14 +37,18 @@ def test_a_planted_defect_is_found(tmp_path):
     assert res.returncode != 0 and "uninitvar" in res.stderr
 
 
-def test_misra_rules_broken_are_the_documented_ones():
-    """The rules the addon finds in two examples are all in the documented table, with a reason."""
+def test_misra_rules_broken_are_the_documented_ones(tmp_path):
+    """The rules the addon finds in two examples are all in the documented table, with a reason.
+    The addon writes its dump beside the source: a copy is checked, so that generated/ stays the
+    generator's alone while other tests read it."""
     page = (ROOT / "docs" / "embedding.md").read_text()
     listed = set(re.findall(r"^\| (\d+\.\d+) \| \d+ \| \d+ \| .+ \|$", page, re.M))
     assert len(listed) >= 10
     found = set()
     for name in ("gimbal", "kapitza"):
+        for ext in (".c", ".h"):
+            shutil.copy2(GEN / name / f"{name}{ext}", tmp_path / f"{name}{ext}")
         res = subprocess.run(["cppcheck", "--addon=misra", "--std=c99", "--quiet", "--suppress=missingIncludeSystem",
-                              "--template={id}", str(GEN / name / f"{name}.c")], capture_output=True, text=True, timeout=600)
+                              "--template={id}", str(tmp_path / f"{name}.c")], capture_output=True, text=True, timeout=600)
         found |= set(re.findall(r"misra-c2012-(\d+\.\d+)", res.stderr))
     assert found and found <= listed, found - listed
