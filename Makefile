@@ -1,8 +1,10 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
-# make test                           set up .venv and run the whole test suite (tests/unit, models, physics, tools)
+# make test                           set up .venv and run every derivation, accuracy, physics and command test (before a commit)
+# make test-all                       everything CI runs: make test, and the installed wheel, QEMU, the static analysers, the
+#                                     fuzz lanes, the documentation site in a browser, TeX (the extended tier, tests/conftest.py)
 # make test-fast                      the unit layer only: the stages, printers, pipeline and architecture, no compiler (< 1 min)
 # make test-install                   the package as users install it: sdist and wheel built, installed into a fresh venv,
-#                                     the tour run from an empty folder (part of make test too; needs the package index)
+#                                     the tour run from an empty folder (part of make test-all; needs the package index)
 # make plot                           the tables and charts of docs/benchmarks.md (from bench/results/*.csv), the frames figure,
 #                                     the gimbal's quadrature over an ODE solution, the Furuta LQR loop, the flip map,
 #                                     Kapitza's stability chart, the double pendulum's nonlinear normal modes, the tutorial's PDF page,
@@ -25,7 +27,7 @@ SPEC ?= specs/gimbal.toml
 EXAMPLES := $(wildcard specs/*.toml)
 export PYTHONHASHSEED := 0
 
-.PHONY: all setup generate generate-all test test-fast test-install docs fuzz pdf plot animations clean bench bench-setup bench-speed dist gallery
+.PHONY: all setup generate generate-all test test-all test-fast test-install docs fuzz pdf plot animations clean bench bench-setup bench-speed dist gallery
 
 all: generate
 
@@ -46,6 +48,9 @@ generate-all: setup
 # the suite on JOBS processes (pytest-xdist; a file stays on one worker, so its models are built once)
 JOBS ?= 2
 test: setup
+	$(VPY) -m pytest -q -n $(JOBS) --dist loadfile --durations=25 -m "not extended"
+
+test-all: setup
 	$(VPY) -m pytest -q -n $(JOBS) --dist loadfile --durations=25
 
 test-fast: setup

@@ -114,11 +114,28 @@ def model_cache(tmp_path_factory):
 LAYERS = ("unit", "models", "physics", "tools")  # the folders of tests/, each a marker too
 
 
+# The extended tier (make test-all, CI): the product as others see it, beyond the derivation, accuracy,
+# physics and command tests of make test: the installed wheel, the Cortex-M4 under QEMU, the static
+# analysers, the fuzz lanes, the documentation site and every test that drives a browser, and TeX
+# typesetting every document.
+EXTENDED_FILES = {"test_install.py", "test_m4.py", "test_static_checks.py", "test_fuzz.py"}
+EXTENDED_FIXTURES = {"browser", "site"}
+
+
+def extended(item) -> bool:
+    """Whether a test belongs to make test-all only (EXTENDED_FILES, a browser or the site, TeX)."""
+    if item.path.name in EXTENDED_FILES or EXTENDED_FIXTURES & set(getattr(item, "fixturenames", ())):
+        return True
+    return any(m.name == "skipif" and "LuaLaTeX" in str(m.kwargs.get("reason", "")) for m in item.iter_markers())
+
+
 def pytest_collection_modifyitems(config, items):
     for item in items:
         layer = item.path.parent.name
         if layer in LAYERS:
             item.add_marker(getattr(pytest.mark, layer))
+        if extended(item):
+            item.add_marker(pytest.mark.extended)
 
 
 @pytest.fixture(autouse=True)
