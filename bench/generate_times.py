@@ -7,7 +7,6 @@ model cache for each, the peak memory of the largest process (GNU time's maximum
 Writes bench/results/generate.csv."""
 from __future__ import annotations
 
-import csv
 import os
 import subprocess
 import sys
@@ -22,7 +21,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
 from gyrochain.randspec import random_spec_text  # noqa: E402
-from provenance import RESULTS, record  # noqa: E402
+from provenance import RESULTS, write  # noqa: E402
 
 
 def one(n: int, tmp: Path) -> dict:
@@ -51,13 +50,11 @@ def main(ns: list[int]) -> None:
             rows.append(one(n, Path(d)))
             print(rows[-1], flush=True)
     path = RESULTS / "generate.csv"
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    record(path, "")
+    write(path, rows, "")
     print(f"wrote {path.relative_to(ROOT)}")
 
 
 if __name__ == "__main__":
+    if not all(a.isdigit() for a in sys.argv[1:]):
+        raise SystemExit(__doc__)
     main([int(a) for a in sys.argv[1:]] or [16, 32, 64, 128])

@@ -8,7 +8,6 @@ Writes bench/results/loops.csv: per n, the loop form's figure over the straight-
 """
 from __future__ import annotations
 
-import csv
 import subprocess
 import sys
 import tempfile
@@ -19,7 +18,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from provenance import RESULTS, record  # noqa: E402
+from provenance import RESULTS, write  # noqa: E402
 
 from gyrochain import pipeline
 from gyrochain.randspec import random_spec_text
@@ -83,12 +82,10 @@ def main(ns) -> None:
             out.append(dict(n=n, c_size=round(lo["kb"] / s["kb"], 3), gcc_time=round(lo["gcc"] / s["gcc"], 3),
                             **{f: round(lo[f] / s[f], 3) for f in fns}))
     path = RESULTS / "loops.csv"
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(out[0]))
-        w.writeheader()
-        w.writerows(out)
-    record(path, "-O2")
+    write(path, out, "-O2")
 
 
 if __name__ == "__main__":
+    if not all(a.isdigit() for a in sys.argv[1:]):
+        raise SystemExit(__doc__)
     main([int(a) for a in sys.argv[1:]] or [8, 12, 16, 24])

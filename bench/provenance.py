@@ -33,6 +33,15 @@ def read() -> dict[str, dict]:
         return {r["file"]: r for r in csv.DictReader(fh)}
 
 
+def write(path: Path, rows: list[dict], flags: str = "") -> None:
+    """Write ``rows`` as the CSV ``path`` of bench/results/ and record which machine measured them."""
+    with Path(path).open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    record(path, flags)
+
+
 def record(path: Path, flags: str = "") -> None:
     """Note that ``path`` (a file of bench/results/) was just measured on this machine, today."""
     rows = read()

@@ -14,7 +14,6 @@ generation_symbolic.csv; `make plot` draws the charts and tables of docs/benchma
 from __future__ import annotations
 
 import argparse
-import csv
 import dataclasses
 import json
 import os
@@ -33,7 +32,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
 from gyrochain import reference  # noqa: E402
-from provenance import record  # noqa: E402
+from provenance import cpu as _cpu, write  # noqa: E402
 from gyrochain.randspec import random_spec_text  # noqa: E402
 from gyrochain.spec import parse_spec  # noqa: E402
 
@@ -466,11 +465,7 @@ def scenes(n: int) -> list[dict]:
 
 def write_csv(path: Path, rows: list[dict]) -> None:
     """Write the rows, and note in bench/results/machines.csv which machine measured them, when."""
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    record(path, " ".join(CFLAGS))
+    write(path, rows, " ".join(CFLAGS))
 
 
 def flagged(stem: str) -> str:
@@ -508,14 +503,6 @@ def main() -> int:
     return 0
 
 
-def _cpu() -> str:
-    try:
-        for ln in Path("/proc/cpuinfo").read_text().splitlines():
-            if ln.startswith("model name"):
-                return ln.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown CPU"
 
 
 if __name__ == "__main__":
