@@ -188,11 +188,12 @@ def _lanes(rs):
     return header, body
 
 
-def _measured(f: str) -> str:
-    """Machine, date and flags of a file of bench/results/, for a row of the summary."""
+def _measured(f: str, flags: str | None = None) -> str:
+    """Machine, date and flags of a file of bench/results/, for a row of the summary; ``flags`` where
+    the row's are not the file's (a file whose rows name their own)."""
     m = read_machines()[f]
-    flags = f", `{m['flags']}`" if m["flags"].startswith("-O") and "unless" not in m["flags"] else ""
-    return f"{machine_letter(m['cpu'])}, {m['date']}{flags}"
+    flags = m["flags"] if flags is None else flags
+    return f"{machine_letter(m['cpu'])}, {m['date']}" + (f", `{flags}`" if flags else "")
 
 
 def _summary(_):
@@ -222,7 +223,7 @@ def _summary(_):
     ours = pick("ours, NAME", "RK4_LANES", "2 thread")
     mj = pick("MuJoCo", "RK4", "2 thread")
     out.append(["[double pendulums of 10 s, RK4 at 1 ms, both cores](#ensembles) (trajectories per second)", f"{ours:,.0f}",
-                f"{mj:,.1f} (MuJoCo `rollout`)", f"**{ours / mj:.0f}×**", _measured("ensemble.csv") + ", `-O2`"])
+                f"{mj:,.1f} (MuJoCo `rollout`)", f"**{ours / mj:.0f}×**", _measured("ensemble.csv", "-O2")])
     g = gen[128]
     out.append(["[`gyrochain generate` of a chain of 128 gyrostats](#long-chains), build included", sec(num(g, "whole_s")),
                 "—", "—", _measured("generate.csv")])
