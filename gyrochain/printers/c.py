@@ -81,6 +81,14 @@ def integrators(ctx: dict) -> str:
     return text[:-1] if text.endswith("\n") else text
 
 
+def _ext_target(col: int, n: int, nu: int) -> tuple[str, str]:
+    """The block of x's column ``col`` (dqdd_dphi, _dphidot or _du) and its entry for row i."""
+    if col < 2 * n:
+        out = "dqdd_dphi" if col < n else "dqdd_dphidot"
+        return out, f"{out}[{(col % n) * n} + i]"
+    return "dqdd_du", f"dqdd_du[i * {nu} + {col - 2 * n}]"
+
+
 def layout_data(ctx: dict, env) -> dict:
     """What the C templates lay out besides the printed functions, decided here: the #defines,
     the unrolled LDLᵀ, the spellings that depend on the model's facts, and the kernels."""
@@ -97,6 +105,16 @@ def layout_data(ctx: dict, env) -> dict:
         # unrolled: O(n³) text, printed only where the loop form (long chains) does not take its place
         ldlt_factor={A: ldlt_factor_lines(A, n, NAME) for A in ("LD", "M") if not ctx["loops"] or A == "M" and not ctx["articulated"]},
         ldlt_solve_code={f"M,{b}": ldlt_solve_lines("M", b, n) for b in ("f", "qd") if not ctx["loops"] or b == "f" and not ctx["articulated"]},
+        # which static helpers model.c needs (each is printed only where a function calls it)
+        helpers=dict(
+            restrict=bool(ctx["lanes"] or ctx["parts_c"]),  # C99 restrict: the lanes' and the parts' arrays
+            pivots=ctx["articulated"] or not ctx["der_world"],  # the articulated recursion's pivot test
+            ldlt_solve=ctx["loops"] and ctx["canonical"] or ctx["der_world"],  # L D L^T y = b in place
+            ldlt_columns_u=bool(nu) and nu != n,  # the world form's solve for the nu columns of dqdd_du
+        ),
+        rhs_lanes_name={L: f"{name}_rhs_{'lane' if L == 1 else 'lanes'}_" for L in ctx["lanes"]},
+        # the world form's d tau/dx terms: the block each adds M^-1's column k times ext[e] to, and where
+        world_ext_terms=[(k, *_ext_target(col, n, nu), e) for k, col, e in ctx["world_ext"]],
         integrate_c=integrators(ctx),
         trig_c=kernels.specialise("trig.c", name, {}, {}) if ctx["lanes"] else "",
     )

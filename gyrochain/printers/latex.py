@@ -500,7 +500,8 @@ def _tex(model: Model) -> dict:
         offsets=[(k, texscene.angle_text(b.offset, doc.w, fold_numbers)) for k, b in enumerate(spec.bodies, start=1)
                  if b.offset != 0],
         scene=texscene.scene(spec, doc.w, fold_numbers),
-        form_text=texscene.FORM_TEXT.get(doc.form),
+        # the one form of the angles' functions, stated where the equations are written in closed form
+        form_text=texscene.FORM_TEXT.get(doc.form) if closed else None,
         form_counts=texscene.form_counts(doc.form, doc.counts),
         g=doc.w.sum_text(fold_numbers(spec.g)),
         closed=closed,

@@ -3,6 +3,7 @@ and the size limits that keep each module one idea."""
 from __future__ import annotations
 
 import ast
+import re
 import shutil
 import subprocess
 import sys
@@ -65,6 +66,26 @@ def test_no_template_is_too_long():
     long = {p.name: n for p in sorted((ROOT / "gyrochain" / "templates").glob("*"))
             if (n := len(p.read_text().splitlines())) > MAX_TEMPLATE_LINES}
     assert not long, long
+
+
+# a decision in a template: a condition joined by and/or, or a value chosen by if/else
+DECISION = re.compile(r"{%-?\s*(?:(?:el)?if\b[^%]*\b(?:and|or)\b|set\b[^%]*\bif\b[^%]*\belse\b)[^%]*%}")
+
+
+def _decisions(text: str) -> list[str]:
+    return DECISION.findall(text)
+
+
+def test_templates_hold_layout_and_loops_not_decisions():
+    """What a model needs (a helper, a block, a name) is decided by the printer and named in its data;
+    a template tests one named fact at a time (a for loop's filter selects, it does not decide)."""
+    found = {p.name: d for p in sorted((ROOT / "gyrochain" / "templates").glob("*.jinja"))
+             if (d := _decisions(p.read_text()))}
+    assert not found, found
+    planted = ['{% if loops and canonical or der_world %}', '{%- elif a or b %}',
+               '{% set out = "a" if col < n else "b" %}']
+    assert all(_decisions(t) for t in planted)
+    assert not _decisions('{% if helpers.ldlt_solve %}{% for v in vs if v.a and v.b %}{% set full = c - 8 %}')
 
 
 def test_no_function_is_too_long():
