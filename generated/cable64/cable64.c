@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define CABLE64_PIVOT_TOL (64 * 2.220446049250313e-16)
 
-static int cable64_all_finite_(const double *v, int count)
+CABLE64_FN static int cable64_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -34,7 +34,7 @@ static int cable64_all_finite_(const double *v, int count)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int cable64_pivots_(const double *piv)
+CABLE64_FN static int cable64_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -56,14 +56,14 @@ static int cable64_pivots_(const double *piv)
 }
 
 /* The 6-dot of two of the per-joint spatial vectors (gyrochain/derive/loopform.py, gyrochain/derive/world.py). */
-static double cable64_dot6_(const double *a, const double *b)
+CABLE64_FN static double cable64_dot6_(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5];
 }
 
 /* M's lower triangle (row-major 64 x 64) from the per-joint S and z1: M_kj = z1^k . S^j, k >= j;
  * with ``upper`` the upper triangle too. */
-static void cable64_pairs_(const double *S, const double *z1, double *M, int upper)
+CABLE64_FN static void cable64_pairs_(const double *S, const double *z1, double *M, int upper)
 {
     int i, j;
     for (i = 0; i < 64; ++i) {
@@ -80,7 +80,7 @@ static void cable64_pairs_(const double *S, const double *z1, double *M, int upp
  * A may be M): L below the diagonal, D on it.  SINGULAR when a pivot is not above PIVOT_TOL times the
  * largest |diagonal entry| (M not numerically positive definite); the loops of the unrolled form of
  * shorter chains.  Reading M in place of a copy keeps gcc from calling memcpy (not libm). */
-static int cable64_ldlt_checked_(const double *M, double *A)
+CABLE64_FN static int cable64_ldlt_checked_(const double *M, double *A)
 {
     double v[64];
     double tol = 0.0, d, s, r;
@@ -120,7 +120,7 @@ static int cable64_ldlt_checked_(const double *M, double *A)
  * shorter chains.  Reading M in place of a copy keeps gcc from calling memcpy (not libm).  By columns
  * for velocities (A = M, 1.5-2x faster on long chains); mass_matrix keeps the form above, which gcc
  * -O3 vectorises across the rows when A is its own local array. */
-static int cable64_ldlt_checked_columns_(const double *M, double *A)
+CABLE64_FN static int cable64_ldlt_checked_columns_(const double *M, double *A)
 {
     double v[64];
     double tol = 0.0, d, s, r;
@@ -175,9 +175,9 @@ static int cable64_ldlt_checked_columns_(const double *M, double *A)
 
 
 #if defined(__GNUC__)
-#define CABLE64_PART_ static __attribute__((noinline)) void
+#define CABLE64_PART_ CABLE64_FN static __attribute__((noinline)) void
 #else
-#define CABLE64_PART_ static void
+#define CABLE64_PART_ CABLE64_FN static void
 #endif
 
 /* cable64_mass_matrix, part 1 of 12 (gyrochain/printers/chunks.py) */
@@ -25266,7 +25266,7 @@ CABLE64_PART_ cable64_pdot_part7_(const double *CABLE64_RESTRICT_ x, const doubl
 }
 
 /* L D L^T y = b solved in place with the factors ldlt_checked_ or ldlt_factor_ left in A. */
-static void cable64_ldlt_solve_(const double *A, double *b)
+CABLE64_FN static void cable64_ldlt_solve_(const double *A, double *b)
 {
     double s;
     int i, k;
@@ -25292,7 +25292,7 @@ static void cable64_ldlt_solve_(const double *A, double *b)
 
 /* M (both triangles) by the loop form, gyrochain/derive/loopform.py: per joint S and z1 in frame 0, then
  * M_kj = z1^k . S^j; mass_matrix and velocities share it.  p is checked by the caller. */
-static int cable64_mass_pairs_(const double *q, const cable64_params *p, double *M)
+CABLE64_FN static int cable64_mass_pairs_(const double *q, const cable64_params *p, double *M)
 {
     double S_[384];
     double z1_[384];
@@ -25318,7 +25318,7 @@ static int cable64_mass_pairs_(const double *q, const cable64_params *p, double 
     return cable64_all_finite_(M, 4096) ? CABLE64_OK : CABLE64_NONFINITE;
 }
 
-int cable64_mass_matrix(const double *q, const cable64_params *p, double *M)
+CABLE64_FN int cable64_mass_matrix(const double *q, const cable64_params *p, double *M)
 {
     /* M by the pairs, then its pivots tested */
     double LD[4096];
@@ -25335,7 +25335,7 @@ int cable64_mass_matrix(const double *q, const cable64_params *p, double *M)
     return cable64_ldlt_checked_(M, LD);
 }
 
-int cable64_forces(const double *x, const double *u, const cable64_params *p, double *f)
+CABLE64_FN int cable64_forces(const double *x, const double *u, const cable64_params *p, double *f)
 {
     (void)p;
 
@@ -25424,7 +25424,7 @@ int cable64_forces(const double *x, const double *u, const cable64_params *p, do
     return cable64_all_finite_(f, 64) ? CABLE64_OK : CABLE64_NONFINITE;
 }
 
-int cable64_qdd(const double *x, const double *u, const cable64_params *p, double *qdd)
+CABLE64_FN int cable64_qdd(const double *x, const double *u, const cable64_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[64];
@@ -25477,7 +25477,7 @@ int cable64_qdd(const double *x, const double *u, const cable64_params *p, doubl
  * i > j, four k at a time, each sum in the order of k (the same bits as the row-by-row form).
  * NONFINITE when an entry it meets is not finite; SINGULAR when a pivot is not above PIVOT_TOL
  * times the largest |diagonal entry| (M not numerically positive definite). */
-static int cable64_ldlt_factor_(double *A)
+CABLE64_FN static int cable64_ldlt_factor_(double *A)
 {
     double tol = 0.0;
     int i, j, k;
@@ -25528,7 +25528,7 @@ static int cable64_ldlt_factor_(double *A)
 /* Spatial products of gyrochain/derive/vec3.py on 6-arrays (motion (omega, v), force (moment, force)) and
  * I^c of world.py as (A11, A12, A13, A22, A23, A33, h, m): out = a x b (motion), a x* f (force),
  * I^c m = (A omega + h x v, m v - h x omega). */
-static void cable64_mcross_(const double *a, const double *b, double *out)
+CABLE64_FN static void cable64_mcross_(const double *a, const double *b, double *out)
 {
     out[0] = a[1] * b[2] - a[2] * b[1];
     out[1] = a[2] * b[0] - a[0] * b[2];
@@ -25538,7 +25538,7 @@ static void cable64_mcross_(const double *a, const double *b, double *out)
     out[5] = a[0] * b[4] - a[1] * b[3] + a[3] * b[1] - a[4] * b[0];
 }
 
-static void cable64_fcross_(const double *a, const double *f, double *out)
+CABLE64_FN static void cable64_fcross_(const double *a, const double *f, double *out)
 {
     out[0] = a[1] * f[2] - a[2] * f[1] + a[4] * f[5] - a[5] * f[4];
     out[1] = a[2] * f[0] - a[0] * f[2] + a[5] * f[3] - a[3] * f[5];
@@ -25548,7 +25548,7 @@ static void cable64_fcross_(const double *a, const double *f, double *out)
     out[5] = a[0] * f[4] - a[1] * f[3];
 }
 
-static void cable64_inertia_(const double *ic, const double *m, double *out)
+CABLE64_FN static void cable64_inertia_(const double *ic, const double *m, double *out)
 {
     out[0] = ic[0] * m[0] + ic[1] * m[1] + ic[2] * m[2] + ic[7] * m[5] - ic[8] * m[4];
     out[1] = ic[1] * m[0] + ic[3] * m[1] + ic[4] * m[2] + ic[8] * m[3] - ic[6] * m[5];
@@ -25561,7 +25561,7 @@ static void cable64_inertia_(const double *ic, const double *m, double *out)
 /* The share of phi'' in beta and G (gyrochain/derive/world.py), added in place to their values at phi'' = 0:
  * with A^j = sum_{i<j} S^i phi''^i and Z^j = sum_{i>=j} z1^i phi''^i,
  * beta^j -= S^j x A^j and G^j += S^j x* (I^c^j A^j + Z^j) - I^c^j (S^j x A^j). */
-static void cable64_world_accel_(const double *qdd, const double *S, const double *z1, const double *IC,
+CABLE64_FN static void cable64_world_accel_(const double *qdd, const double *S, const double *z1, const double *IC,
                                  double *beta, double *G)
 {
     double A[384];
@@ -25597,7 +25597,7 @@ static void cable64_world_accel_(const double *qdd, const double *S, const doubl
 /* M^-1 in place (full, symmetric) from the factors of ldlt_factor_: W = L^-1 over L (row r of W as
  * contiguous updates by the rows above it), then M^-1 = W^T D^-1 W row by row into the upper
  * triangle (four rows of W at a time), then copied onto the lower one. */
-static void cable64_minv_(double *A)
+CABLE64_FN static void cable64_minv_(double *A)
 {
     double rD[64], t[64];
     int a, b, k, r;
@@ -25665,7 +25665,7 @@ static void cable64_minv_(double *A)
  * from the low-rank pairs of d ID: below the diagonal (i > j) z1^i . a + z2^i . b, on and above it
  * S^i . c, so column j of M^-1 d ID is P_j (a, b) + Q_j c with the sums P_j = sum_{i>j} M^-1_i (z1^i, z2^i)
  * (j downward) and Q_j = sum_{i<=j} M^-1_i S^i (j upward): O(n^2) in place of a solve per column. */
-static void cable64_world_products_(const double *Mi, const double *S, const double *z1, const double *z2,
+CABLE64_FN static void cable64_world_products_(const double *Mi, const double *S, const double *z1, const double *z2,
                                       const double *beta, const double *w, const double *G, const double *K,
                                       double *dqT, double *dvT)
 {
@@ -25729,7 +25729,7 @@ static void cable64_world_products_(const double *Mi, const double *S, const dou
 }
 
 /* The 64 x 64 row-major array X transposed in place. */
-static void cable64_transpose_(double *X)
+CABLE64_FN static void cable64_transpose_(double *X)
 {
     int i, j;
     for (i = 1; i < 64; ++i) {
@@ -25741,7 +25741,7 @@ static void cable64_transpose_(double *X)
     }
 }
 
-int cable64_qdd_derivatives(const double *x, const double *u, const cable64_params *p,
+CABLE64_FN int cable64_qdd_derivatives(const double *x, const double *u, const cable64_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* The inverse dynamics ID(phi, phidot, phi'') in closed form in frame 0 (gyrochain/derive/world.py):
@@ -25862,7 +25862,7 @@ int cable64_qdd_derivatives(const double *x, const double *u, const cable64_para
     return cable64_all_finite_(acc, 64) ? CABLE64_OK : CABLE64_NONFINITE;
 }
 
-int cable64_linearize(double t, const double *x, const double *u, const cable64_params *p, double *A, double *B)
+CABLE64_FN int cable64_linearize(double t, const double *x, const double *u, const cable64_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -25888,7 +25888,7 @@ int cable64_linearize(double t, const double *x, const double *u, const cable64_
     return CABLE64_OK;
 }
 
-int cable64_rhs(double t, const double *x, const double *u, const cable64_params *p, double *xdot)
+CABLE64_FN int cable64_rhs(double t, const double *x, const double *u, const cable64_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -25898,7 +25898,7 @@ int cable64_rhs(double t, const double *x, const double *u, const cable64_params
     return cable64_qdd(x, u, p, xdot + 64);
 }
 
-double cable64_energy(const double *x, const cable64_params *p)
+CABLE64_FN double cable64_energy(const double *x, const cable64_params *p)
 {
     double result;
     (void)p;
@@ -25917,7 +25917,7 @@ double cable64_energy(const double *x, const cable64_params *p)
 }
 
 /* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
-int cable64_momenta(const double *x, const cable64_params *p, double *pm)
+CABLE64_FN int cable64_momenta(const double *x, const cable64_params *p, double *pm)
 {
     (void)p;
 
@@ -26003,7 +26003,7 @@ int cable64_momenta(const double *x, const cable64_params *p, double *pm)
 }
 
 /* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
-int cable64_velocities(const double *q, const double *pm, const cable64_params *p, double *qd)
+CABLE64_FN int cable64_velocities(const double *q, const double *pm, const cable64_params *p, double *qd)
 {
     double M[4096];
     double k[64];
@@ -26101,7 +26101,7 @@ int cable64_velocities(const double *q, const double *pm, const cable64_params *
 
 /* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
  * dampers), computed as (dp/dphi) phidot + f. */
-int cable64_pdot(const double *x, const double *u, const cable64_params *p, double *pdot)
+CABLE64_FN int cable64_pdot(const double *x, const double *u, const cable64_params *p, double *pdot)
 {
     (void)p;
 
@@ -26224,7 +26224,7 @@ int cable64_pdot(const double *x, const double *u, const cable64_params *p, doub
 #define CABLE64_GAUSS_FLOOR 1e-12
 #define CABLE64_EPS 2.220446049250313e-16
 
-static int cable64_eval_(const double *x, const double *u, const cable64_params *p, double *xdot,
+CABLE64_FN static int cable64_eval_(const double *x, const double *u, const cable64_params *p, double *xdot,
                             cable64_integrate_stats *st)
 {
     st->n_rhs++;
@@ -26233,7 +26233,7 @@ static int cable64_eval_(const double *x, const double *u, const cable64_params 
 
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = cable64_pdot.  One call costs 123469 + 3069 ops. */
-static int cable64_eval_canonical_(const double *y, const double *u, const cable64_params *p, double *ydot,
+CABLE64_FN static int cable64_eval_canonical_(const double *y, const double *u, const cable64_params *p, double *ydot,
                                       cable64_integrate_stats *st)
 {
     double x[128];
@@ -26252,7 +26252,7 @@ static int cable64_eval_canonical_(const double *y, const double *u, const cable
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void cable64_to_state_(const double *y, const cable64_params *p, double *x)
+CABLE64_FN static void cable64_to_state_(const double *y, const cable64_params *p, double *x)
 {
     int i;
     for (i = 0; i < 64; ++i) {
@@ -26267,7 +26267,7 @@ static void cable64_to_state_(const double *y, const cable64_params *p, double *
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void cable64_add_(double *x, double *cmp, const double *dx)
+CABLE64_FN static void cable64_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 128; ++i) {
@@ -26278,7 +26278,7 @@ static void cable64_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void cable64_copy_(double *dst, const double *src)
+CABLE64_FN static void cable64_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 128; ++i) {
@@ -26287,7 +26287,7 @@ static void cable64_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void cable64_ksum_(const double *w, int count, double k[][128], double hs, double *out)
+CABLE64_FN static void cable64_ksum_(const double *w, int count, double k[][128], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 128; ++i) {
@@ -26301,7 +26301,7 @@ static void cable64_ksum_(const double *w, int count, double k[][128], double hs
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int cable64_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+CABLE64_FN static int cable64_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const cable64_params *p, double *X,
                               cable64_integrate_stats *st)
 {
@@ -26479,13 +26479,13 @@ static int cable64_dop853_(int nt, const double *tt, double h0, double rtol, dou
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int cable64_tolerances_ok_(double rtol, double atol)
+CABLE64_FN static int cable64_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double cable64_floor_(const double *x)
+CABLE64_FN static double cable64_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -26497,7 +26497,7 @@ static double cable64_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long cable64_nsteps_(double ta, double tb, double h)
+CABLE64_FN static long cable64_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -26507,7 +26507,7 @@ static long cable64_nsteps_(double ta, double tb, double h)
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * cable64_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int cable64_rk4_step_(const double *x, double h, const double *u, const cable64_params *p,
+CABLE64_FN static inline int cable64_rk4_step_(const double *x, double h, const double *u, const cable64_params *p,
                                        double *dx, cable64_integrate_stats *st)
 {
     double k[4][128], y[128];
@@ -26536,7 +26536,7 @@ static inline int cable64_rk4_step_(const double *x, double h, const double *u, 
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int cable64_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+CABLE64_FN static int cable64_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const cable64_params *p, double F[2][128], double *dx, cable64_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -26608,7 +26608,7 @@ static int cable64_gauss2_step_(const double *x, double h, double hp, int method
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
  * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
-static int cable64_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+CABLE64_FN static int cable64_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const cable64_params *p, double *X,
                              cable64_integrate_stats *st)
 {
@@ -26673,7 +26673,7 @@ static int cable64_fixed_(int method, int nt, const double *tt, double h, long m
  * and the others NaN, *max_steps the budget.  CABLE64_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int cable64_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+CABLE64_FN static inline int cable64_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const cable64_params *p, double *X,
                                   cable64_integrate_stats *st)
 {
@@ -26722,7 +26722,7 @@ static inline int cable64_grid_start_(int method, int nt, const double *t, doubl
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int cable64_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+CABLE64_FN static inline int cable64_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const cable64_params *p,
                                    double *X, cable64_integrate_stats *stats)
 {
@@ -26738,14 +26738,14 @@ static inline int cable64_grid_(int method, int nt, const double *t, double h, d
     return cable64_fixed_(method == CABLE64_RK4_LANES ? CABLE64_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int cable64_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+CABLE64_FN int cable64_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const cable64_params *p,
                               double *X, cable64_integrate_stats *stats)
 {
     return cable64_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
-int cable64_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+CABLE64_FN int cable64_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const cable64_params *p, long p_stride, double *X, int *codes)
 {
@@ -26762,7 +26762,7 @@ int cable64_integrate_batch(int method, int nb, int nt, const double *t, double 
     return failed;
 }
 
-int cable64_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+CABLE64_FN int cable64_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const cable64_params *p, double *x1, long *n_rhs)
 {
     cable64_integrate_stats st;

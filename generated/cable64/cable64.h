@@ -55,6 +55,14 @@
 extern "C" {
 #endif
 
+/* CABLE64_FN marks every function of cable64.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (cable64_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define CABLE64_FN __host__ __device__
+#else
+#define CABLE64_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define CABLE64_REAL double
 #define CABLE64_N 64
@@ -84,17 +92,17 @@ extern "C" {
 typedef struct cable64_params {
     double unused_;
 } cable64_params;
-int cable64_mass_matrix(const double *q, const cable64_params *p, double *M);
-int cable64_forces(const double *x, const double *u, const cable64_params *p, double *f);
-int cable64_qdd(const double *x, const double *u, const cable64_params *p, double *qdd);
-int cable64_rhs(double t, const double *x, const double *u, const cable64_params *p, double *xdot);
-int cable64_qdd_derivatives(const double *x, const double *u, const cable64_params *p,
+CABLE64_FN int cable64_mass_matrix(const double *q, const cable64_params *p, double *M);
+CABLE64_FN int cable64_forces(const double *x, const double *u, const cable64_params *p, double *f);
+CABLE64_FN int cable64_qdd(const double *x, const double *u, const cable64_params *p, double *qdd);
+CABLE64_FN int cable64_rhs(double t, const double *x, const double *u, const cable64_params *p, double *xdot);
+CABLE64_FN int cable64_qdd_derivatives(const double *x, const double *u, const cable64_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int cable64_linearize(double t, const double *x, const double *u, const cable64_params *p, double *A, double *B);
-double cable64_energy(const double *x, const cable64_params *p);
-int cable64_momenta(const double *x, const cable64_params *p, double *pm);
-int cable64_velocities(const double *q, const double *pm, const cable64_params *p, double *qd);
-int cable64_pdot(const double *x, const double *u, const cable64_params *p, double *pdot);
+CABLE64_FN int cable64_linearize(double t, const double *x, const double *u, const cable64_params *p, double *A, double *B);
+CABLE64_FN double cable64_energy(const double *x, const cable64_params *p);
+CABLE64_FN int cable64_momenta(const double *x, const cable64_params *p, double *pm);
+CABLE64_FN int cable64_velocities(const double *q, const double *pm, const cable64_params *p, double *qd);
+CABLE64_FN int cable64_pdot(const double *x, const double *u, const cable64_params *p, double *pdot);
 typedef struct cable64_integrate_stats {
     double t;
     double x[128];
@@ -104,12 +112,12 @@ typedef struct cable64_integrate_stats {
     long n_iter;
     long n_newton;
 } cable64_integrate_stats;
-int cable64_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+CABLE64_FN int cable64_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const cable64_params *p, double *x1, long *n_rhs);
-int cable64_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+CABLE64_FN int cable64_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const cable64_params *p,
                         double *X, cable64_integrate_stats *stats);
-int cable64_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+CABLE64_FN int cable64_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const cable64_params *p, long p_stride, double *X, int *codes);
 

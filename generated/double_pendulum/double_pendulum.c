@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define DOUBLE_PENDULUM_PIVOT_TOL (2 * 2.220446049250313e-16)
 
-static int double_pendulum_all_finite_(const double *v, int count)
+DOUBLE_PENDULUM_FN static int double_pendulum_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int double_pendulum_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void double_pendulum_symmetrize_(double *M)
+DOUBLE_PENDULUM_FN static void double_pendulum_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 2; ++i) {
@@ -44,7 +44,7 @@ static void double_pendulum_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int double_pendulum_pivots_(const double *piv)
+DOUBLE_PENDULUM_FN static int double_pendulum_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int double_pendulum_pivots_(const double *piv)
 }
 
 
-int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p, double *M)
+DOUBLE_PENDULUM_FN int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p, double *M)
 {
     double LD[4];
     double v[2];
@@ -121,7 +121,7 @@ int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p
     return DOUBLE_PENDULUM_OK;
 }
 
-int double_pendulum_forces(const double *x, const double *u, const double_pendulum_params *p, double *f)
+DOUBLE_PENDULUM_FN int double_pendulum_forces(const double *x, const double *u, const double_pendulum_params *p, double *f)
 {
     (void)p;
 
@@ -152,7 +152,7 @@ int double_pendulum_forces(const double *x, const double *u, const double_pendul
     return double_pendulum_all_finite_(f, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
 }
 
-int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_params *p, double *qdd)
+DOUBLE_PENDULUM_FN int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[2];
@@ -205,7 +205,7 @@ int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void double_pendulum_dq1_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
+DOUBLE_PENDULUM_FN static void double_pendulum_dq1_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -226,7 +226,7 @@ static void double_pendulum_dq1_(const double *x, const double *u, const double_
 
 /* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q2, reading the recursion's values it needs from b. */
-static void double_pendulum_dq2_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
+DOUBLE_PENDULUM_FN static void double_pendulum_dq2_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -248,7 +248,7 @@ static void double_pendulum_dq2_(const double *x, const double *u, const double_
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void double_pendulum_dv1_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
+DOUBLE_PENDULUM_FN static void double_pendulum_dv1_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -269,7 +269,7 @@ static void double_pendulum_dv1_(const double *x, const double *u, const double_
 
 /* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v2, reading the recursion's values it needs from b. */
-static void double_pendulum_dv2_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
+DOUBLE_PENDULUM_FN static void double_pendulum_dv2_(const double *x, const double *u, const double_pendulum_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -285,7 +285,7 @@ static void double_pendulum_dv2_(const double *x, const double *u, const double_
 
 }
 
-int double_pendulum_qdd_derivatives(const double *x, const double *u, const double_pendulum_params *p,
+DOUBLE_PENDULUM_FN int double_pendulum_qdd_derivatives(const double *x, const double *u, const double_pendulum_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -384,7 +384,7 @@ int double_pendulum_qdd_derivatives(const double *x, const double *u, const doub
     return double_pendulum_all_finite_(acc, 2) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
 }
 
-int double_pendulum_linearize(double t, const double *x, const double *u, const double_pendulum_params *p, double *A, double *B)
+DOUBLE_PENDULUM_FN int double_pendulum_linearize(double t, const double *x, const double *u, const double_pendulum_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -410,7 +410,7 @@ int double_pendulum_linearize(double t, const double *x, const double *u, const 
     return DOUBLE_PENDULUM_OK;
 }
 
-int double_pendulum_rhs(double t, const double *x, const double *u, const double_pendulum_params *p, double *xdot)
+DOUBLE_PENDULUM_FN int double_pendulum_rhs(double t, const double *x, const double *u, const double_pendulum_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -420,7 +420,7 @@ int double_pendulum_rhs(double t, const double *x, const double *u, const double
     return double_pendulum_qdd(x, u, p, xdot + 2);
 }
 
-double double_pendulum_energy(const double *x, const double_pendulum_params *p)
+DOUBLE_PENDULUM_FN double double_pendulum_energy(const double *x, const double_pendulum_params *p)
 {
     double result;
     (void)p;
@@ -443,7 +443,7 @@ double double_pendulum_energy(const double *x, const double_pendulum_params *p)
 }
 
 /* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
-int double_pendulum_momenta(const double *x, const double_pendulum_params *p, double *pm)
+DOUBLE_PENDULUM_FN int double_pendulum_momenta(const double *x, const double_pendulum_params *p, double *pm)
 {
     (void)p;
 
@@ -463,7 +463,7 @@ int double_pendulum_momenta(const double *x, const double_pendulum_params *p, do
 }
 
 /* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
-int double_pendulum_velocities(const double *q, const double *pm, const double_pendulum_params *p, double *qd)
+DOUBLE_PENDULUM_FN int double_pendulum_velocities(const double *q, const double *pm, const double_pendulum_params *p, double *qd)
 {
     double M[4];
     double k[2];
@@ -527,7 +527,7 @@ int double_pendulum_velocities(const double *q, const double *pm, const double_p
 
 /* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
  * dampers), computed as (dp/dphi) phidot + f. */
-int double_pendulum_pdot(const double *x, const double *u, const double_pendulum_params *p, double *pdot)
+DOUBLE_PENDULUM_FN int double_pendulum_pdot(const double *x, const double *u, const double_pendulum_params *p, double *pdot)
 {
     (void)p;
 
@@ -563,7 +563,7 @@ int double_pendulum_pdot(const double *x, const double *u, const double_pendulum
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void double_pendulum_sincos4_(const double *DOUBLE_PENDULUM_RESTRICT_ a, double *DOUBLE_PENDULUM_RESTRICT_ s, double *DOUBLE_PENDULUM_RESTRICT_ c)
+DOUBLE_PENDULUM_FN static void double_pendulum_sincos4_(const double *DOUBLE_PENDULUM_RESTRICT_ a, double *DOUBLE_PENDULUM_RESTRICT_ s, double *DOUBLE_PENDULUM_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -609,7 +609,7 @@ static void double_pendulum_sincos4_(const double *DOUBLE_PENDULUM_RESTRICT_ a, 
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void double_pendulum_sincos1_(const double *DOUBLE_PENDULUM_RESTRICT_ a, double *DOUBLE_PENDULUM_RESTRICT_ s, double *DOUBLE_PENDULUM_RESTRICT_ c)
+DOUBLE_PENDULUM_FN static void double_pendulum_sincos1_(const double *DOUBLE_PENDULUM_RESTRICT_ a, double *DOUBLE_PENDULUM_RESTRICT_ s, double *DOUBLE_PENDULUM_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -657,7 +657,7 @@ static void double_pendulum_sincos1_(const double *DOUBLE_PENDULUM_RESTRICT_ a, 
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void double_pendulum_sincos_(const double *a, double *s, double *c, int count)
+DOUBLE_PENDULUM_FN static void double_pendulum_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -691,7 +691,7 @@ static void double_pendulum_sincos_(const double *a, double *s, double *c, int c
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of double_pendulum_rhs) or, with own, double_pendulum_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void double_pendulum_rhs_lane_(int own, const double *DOUBLE_PENDULUM_RESTRICT_ X, const double *u,
+DOUBLE_PENDULUM_FN static void double_pendulum_rhs_lane_(int own, const double *DOUBLE_PENDULUM_RESTRICT_ X, const double *u,
                                 const double_pendulum_params *p, double *DOUBLE_PENDULUM_RESTRICT_ XD, int *code)
 {
     double piv_[2], ok_[1];
@@ -788,7 +788,7 @@ static void double_pendulum_rhs_lane_(int own, const double *DOUBLE_PENDULUM_RES
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of double_pendulum_rhs) or, with own, double_pendulum_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void double_pendulum_rhs_lanes_(int own, const double *DOUBLE_PENDULUM_RESTRICT_ X, const double *u,
+DOUBLE_PENDULUM_FN static void double_pendulum_rhs_lanes_(int own, const double *DOUBLE_PENDULUM_RESTRICT_ X, const double *u,
                                 const double_pendulum_params *p, double *DOUBLE_PENDULUM_RESTRICT_ XD, int *code)
 {
     double piv_[16], ok_[8];
@@ -922,7 +922,7 @@ static void double_pendulum_rhs_lanes_(int own, const double *DOUBLE_PENDULUM_RE
  * side, the LU of the 8 x 8 matrix and ~4 iterations. */
 #define DOUBLE_PENDULUM_NEWTON_SWEEPS_CANONICAL 10
 
-static int double_pendulum_eval_(const double *x, const double *u, const double_pendulum_params *p, double *xdot,
+DOUBLE_PENDULUM_FN static int double_pendulum_eval_(const double *x, const double *u, const double_pendulum_params *p, double *xdot,
                             double_pendulum_integrate_stats *st)
 {
     st->n_rhs++;
@@ -931,7 +931,7 @@ static int double_pendulum_eval_(const double *x, const double *u, const double_
 
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = double_pendulum_pdot.  One call costs 17 + 35 ops. */
-static int double_pendulum_eval_canonical_(const double *y, const double *u, const double_pendulum_params *p, double *ydot,
+DOUBLE_PENDULUM_FN static int double_pendulum_eval_canonical_(const double *y, const double *u, const double_pendulum_params *p, double *ydot,
                                       double_pendulum_integrate_stats *st)
 {
     double x[4];
@@ -950,7 +950,7 @@ static int double_pendulum_eval_canonical_(const double *y, const double *u, con
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void double_pendulum_to_state_(const double *y, const double_pendulum_params *p, double *x)
+DOUBLE_PENDULUM_FN static void double_pendulum_to_state_(const double *y, const double_pendulum_params *p, double *x)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -965,7 +965,7 @@ static void double_pendulum_to_state_(const double *y, const double_pendulum_par
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void double_pendulum_add_(double *x, double *cmp, const double *dx)
+DOUBLE_PENDULUM_FN static void double_pendulum_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -976,7 +976,7 @@ static void double_pendulum_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void double_pendulum_copy_(double *dst, const double *src)
+DOUBLE_PENDULUM_FN static void double_pendulum_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -985,7 +985,7 @@ static void double_pendulum_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void double_pendulum_ksum_(const double *w, int count, double k[][4], double hs, double *out)
+DOUBLE_PENDULUM_FN static void double_pendulum_ksum_(const double *w, int count, double k[][4], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 4; ++i) {
@@ -999,7 +999,7 @@ static void double_pendulum_ksum_(const double *w, int count, double k[][4], dou
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int double_pendulum_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+DOUBLE_PENDULUM_FN static int double_pendulum_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const double_pendulum_params *p, double *X,
                               double_pendulum_integrate_stats *st)
 {
@@ -1177,13 +1177,13 @@ static int double_pendulum_dop853_(int nt, const double *tt, double h0, double r
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int double_pendulum_tolerances_ok_(double rtol, double atol)
+DOUBLE_PENDULUM_FN static int double_pendulum_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double double_pendulum_floor_(const double *x)
+DOUBLE_PENDULUM_FN static double double_pendulum_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -1195,7 +1195,7 @@ static double double_pendulum_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long double_pendulum_nsteps_(double ta, double tb, double h)
+DOUBLE_PENDULUM_FN static long double_pendulum_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -1209,7 +1209,7 @@ static long double_pendulum_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (DOUBLE_PENDULUM_RK4_LANES), else libm's (DOUBLE_PENDULUM_RK4, double_pendulum_fixed_'s bits). */
-static void double_pendulum_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+DOUBLE_PENDULUM_FN static void double_pendulum_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const double_pendulum_params *p, double *const *X, double_pendulum_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1323,7 +1323,7 @@ static void double_pendulum_rk4_lane_(int own, int nt, const double *tt, double 
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (DOUBLE_PENDULUM_RK4_LANES), else libm's (DOUBLE_PENDULUM_RK4, double_pendulum_fixed_'s bits). */
-static void double_pendulum_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+DOUBLE_PENDULUM_FN static void double_pendulum_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const double_pendulum_params *p, double *const *X, double_pendulum_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1436,7 +1436,7 @@ static void double_pendulum_rk4_lanes_(int own, int nt, const double *tt, double
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * double_pendulum_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int double_pendulum_rk4_step_(const double *x, double h, const double *u, const double_pendulum_params *p,
+DOUBLE_PENDULUM_FN static inline int double_pendulum_rk4_step_(const double *x, double h, const double *u, const double_pendulum_params *p,
                                        double *dx, double_pendulum_integrate_stats *st)
 {
     double k[4][4], y[4];
@@ -1461,7 +1461,7 @@ static inline int double_pendulum_rk4_step_(const double *x, double h, const dou
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int double_pendulum_lu_(double *A, int *piv, int m)
+DOUBLE_PENDULUM_FN static int double_pendulum_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -1495,7 +1495,7 @@ static int double_pendulum_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void double_pendulum_lu_solve_(const double *A, const int *piv, int m, double *b)
+DOUBLE_PENDULUM_FN static void double_pendulum_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -1519,7 +1519,7 @@ static void double_pendulum_lu_solve_(const double *A, const int *piv, int m, do
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of double_pendulum_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int double_pendulum_gauss2_newton_(const double *x, double h, const double *u, const double_pendulum_params *p,
+DOUBLE_PENDULUM_FN static int double_pendulum_gauss2_newton_(const double *x, double h, const double *u, const double_pendulum_params *p,
                                      double Z[2][4], double F[2][4], double_pendulum_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1603,7 +1603,7 @@ static int double_pendulum_gauss2_newton_(const double *x, double h, const doubl
  * differences of the canonical right side g (the converged solution does not depend on J, only the
  * rate does: differences are accurate enough and need nothing that is not emitted):
  *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
-static int double_pendulum_canonical_newton_(const double *y, double h, const double *u, const double_pendulum_params *p,
+DOUBLE_PENDULUM_FN static int double_pendulum_canonical_newton_(const double *y, double h, const double *u, const double_pendulum_params *p,
                                         double Z[2][4], double F[2][4], double_pendulum_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1683,7 +1683,7 @@ static int double_pendulum_canonical_newton_(const double *y, double h, const do
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int double_pendulum_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+DOUBLE_PENDULUM_FN static int double_pendulum_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const double_pendulum_params *p, double F[2][4], double *dx, double_pendulum_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -1769,7 +1769,7 @@ static int double_pendulum_gauss2_step_(const double *x, double h, double hp, in
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
  * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
-static int double_pendulum_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+DOUBLE_PENDULUM_FN static int double_pendulum_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const double_pendulum_params *p, double *X,
                              double_pendulum_integrate_stats *st)
 {
@@ -1834,7 +1834,7 @@ static int double_pendulum_fixed_(int method, int nt, const double *tt, double h
  * and the others NaN, *max_steps the budget.  DOUBLE_PENDULUM_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int double_pendulum_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+DOUBLE_PENDULUM_FN static inline int double_pendulum_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const double_pendulum_params *p, double *X,
                                   double_pendulum_integrate_stats *st)
 {
@@ -1883,7 +1883,7 @@ static inline int double_pendulum_grid_start_(int method, int nt, const double *
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int double_pendulum_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+DOUBLE_PENDULUM_FN static inline int double_pendulum_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const double_pendulum_params *p,
                                    double *X, double_pendulum_integrate_stats *stats)
 {
@@ -1907,7 +1907,7 @@ static inline int double_pendulum_grid_(int method, int nt, const double *t, dou
     return double_pendulum_fixed_(method == DOUBLE_PENDULUM_RK4_LANES ? DOUBLE_PENDULUM_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int double_pendulum_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+DOUBLE_PENDULUM_FN int double_pendulum_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const double_pendulum_params *p,
                               double *X, double_pendulum_integrate_stats *stats)
 {
@@ -1917,7 +1917,7 @@ int double_pendulum_integrate_grid(int method, int nt, const double *t, double h
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int double_pendulum_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+DOUBLE_PENDULUM_FN static int double_pendulum_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const double_pendulum_params *p, double *X, int *codes)
 {
     double_pendulum_integrate_stats st;
@@ -1956,7 +1956,7 @@ static int double_pendulum_rk4_batch_(int own, int nb, int nt, const double *t, 
     return failed;
 }
 
-int double_pendulum_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+DOUBLE_PENDULUM_FN int double_pendulum_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const double_pendulum_params *p, long p_stride, double *X, int *codes)
 {
@@ -1976,7 +1976,7 @@ int double_pendulum_integrate_batch(int method, int nb, int nt, const double *t,
     return failed;
 }
 
-int double_pendulum_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+DOUBLE_PENDULUM_FN int double_pendulum_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const double_pendulum_params *p, double *x1, long *n_rhs)
 {
     double_pendulum_integrate_stats st;
@@ -2001,7 +2001,7 @@ int double_pendulum_integrate(int method, double t0, double t1, double h, double
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int double_pendulum_eval_variational_(const double *y, const double *u, const double_pendulum_params *p,
+DOUBLE_PENDULUM_FN static int double_pendulum_eval_variational_(const double *y, const double *u, const double_pendulum_params *p,
                                    double *ydot, double_pendulum_integrate_stats *st)
 {
     double dq[4], dv[4];
@@ -2038,7 +2038,7 @@ static int double_pendulum_eval_variational_(const double *y, const double *u, c
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void double_pendulum_add_variational_(double *x, double *cmp, const double *dx)
+DOUBLE_PENDULUM_FN static void double_pendulum_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2049,7 +2049,7 @@ static void double_pendulum_add_variational_(double *x, double *cmp, const doubl
     }
 }
 
-static void double_pendulum_copy_variational_(double *dst, const double *src)
+DOUBLE_PENDULUM_FN static void double_pendulum_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2058,7 +2058,7 @@ static void double_pendulum_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void double_pendulum_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
+DOUBLE_PENDULUM_FN static void double_pendulum_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 20; ++i) {
@@ -2072,7 +2072,7 @@ static void double_pendulum_ksum_variational_(const double *w, int count, double
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int double_pendulum_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+DOUBLE_PENDULUM_FN static int double_pendulum_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const double_pendulum_params *p, double *X,
                               double_pendulum_integrate_stats *st)
 {
@@ -2249,7 +2249,7 @@ static int double_pendulum_dop853_variational_(int nt, const double *tt, double 
 }
 
 
-int double_pendulum_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+DOUBLE_PENDULUM_FN int double_pendulum_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const double_pendulum_params *p,
                                 double *x1, double *Phi, double_pendulum_integrate_stats *stats)
 {

@@ -61,6 +61,14 @@
 extern "C" {
 #endif
 
+/* DOUBLE_PENDULUM_FN marks every function of double_pendulum.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (double_pendulum_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define DOUBLE_PENDULUM_FN __host__ __device__
+#else
+#define DOUBLE_PENDULUM_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define DOUBLE_PENDULUM_REAL double
 #define DOUBLE_PENDULUM_N 2
@@ -90,17 +98,17 @@ extern "C" {
 typedef struct double_pendulum_params {
     double unused_;
 } double_pendulum_params;
-int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p, double *M);
-int double_pendulum_forces(const double *x, const double *u, const double_pendulum_params *p, double *f);
-int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_params *p, double *qdd);
-int double_pendulum_rhs(double t, const double *x, const double *u, const double_pendulum_params *p, double *xdot);
-int double_pendulum_qdd_derivatives(const double *x, const double *u, const double_pendulum_params *p,
+DOUBLE_PENDULUM_FN int double_pendulum_mass_matrix(const double *q, const double_pendulum_params *p, double *M);
+DOUBLE_PENDULUM_FN int double_pendulum_forces(const double *x, const double *u, const double_pendulum_params *p, double *f);
+DOUBLE_PENDULUM_FN int double_pendulum_qdd(const double *x, const double *u, const double_pendulum_params *p, double *qdd);
+DOUBLE_PENDULUM_FN int double_pendulum_rhs(double t, const double *x, const double *u, const double_pendulum_params *p, double *xdot);
+DOUBLE_PENDULUM_FN int double_pendulum_qdd_derivatives(const double *x, const double *u, const double_pendulum_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int double_pendulum_linearize(double t, const double *x, const double *u, const double_pendulum_params *p, double *A, double *B);
-double double_pendulum_energy(const double *x, const double_pendulum_params *p);
-int double_pendulum_momenta(const double *x, const double_pendulum_params *p, double *pm);
-int double_pendulum_velocities(const double *q, const double *pm, const double_pendulum_params *p, double *qd);
-int double_pendulum_pdot(const double *x, const double *u, const double_pendulum_params *p, double *pdot);
+DOUBLE_PENDULUM_FN int double_pendulum_linearize(double t, const double *x, const double *u, const double_pendulum_params *p, double *A, double *B);
+DOUBLE_PENDULUM_FN double double_pendulum_energy(const double *x, const double_pendulum_params *p);
+DOUBLE_PENDULUM_FN int double_pendulum_momenta(const double *x, const double_pendulum_params *p, double *pm);
+DOUBLE_PENDULUM_FN int double_pendulum_velocities(const double *q, const double *pm, const double_pendulum_params *p, double *qd);
+DOUBLE_PENDULUM_FN int double_pendulum_pdot(const double *x, const double *u, const double_pendulum_params *p, double *pdot);
 typedef struct double_pendulum_integrate_stats {
     double t;
     double x[4];
@@ -110,15 +118,15 @@ typedef struct double_pendulum_integrate_stats {
     long n_iter;
     long n_newton;
 } double_pendulum_integrate_stats;
-int double_pendulum_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+DOUBLE_PENDULUM_FN int double_pendulum_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const double_pendulum_params *p, double *x1, long *n_rhs);
-int double_pendulum_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+DOUBLE_PENDULUM_FN int double_pendulum_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const double_pendulum_params *p,
                         double *X, double_pendulum_integrate_stats *stats);
-int double_pendulum_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+DOUBLE_PENDULUM_FN int double_pendulum_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const double_pendulum_params *p, long p_stride, double *X, int *codes);
-int double_pendulum_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+DOUBLE_PENDULUM_FN int double_pendulum_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const double_pendulum_params *p,
                                double *x1, double *Phi, double_pendulum_integrate_stats *stats);
 

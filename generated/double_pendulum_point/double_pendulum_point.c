@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define DOUBLE_PENDULUM_POINT_PIVOT_TOL (2 * 2.220446049250313e-16)
 
-static int double_pendulum_point_all_finite_(const double *v, int count)
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int double_pendulum_point_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void double_pendulum_point_symmetrize_(double *M)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 2; ++i) {
@@ -44,7 +44,7 @@ static void double_pendulum_point_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int double_pendulum_point_pivots_(const double *piv)
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int double_pendulum_point_pivots_(const double *piv)
 }
 
 
-int double_pendulum_point_mass_matrix(const double *q, const double_pendulum_point_params *p, double *M)
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_mass_matrix(const double *q, const double_pendulum_point_params *p, double *M)
 {
     double LD[4];
     double v[2];
@@ -121,7 +121,7 @@ int double_pendulum_point_mass_matrix(const double *q, const double_pendulum_poi
     return DOUBLE_PENDULUM_POINT_OK;
 }
 
-int double_pendulum_point_forces(const double *x, const double *u, const double_pendulum_point_params *p, double *f)
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_forces(const double *x, const double *u, const double_pendulum_point_params *p, double *f)
 {
     (void)p;
 
@@ -152,7 +152,7 @@ int double_pendulum_point_forces(const double *x, const double *u, const double_
     return double_pendulum_point_all_finite_(f, 2) ? DOUBLE_PENDULUM_POINT_OK : DOUBLE_PENDULUM_POINT_NONFINITE;
 }
 
-int double_pendulum_point_qdd(const double *x, const double *u, const double_pendulum_point_params *p, double *qdd)
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_qdd(const double *x, const double *u, const double_pendulum_point_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[2];
@@ -204,7 +204,7 @@ int double_pendulum_point_qdd(const double *x, const double *u, const double_pen
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void double_pendulum_point_dq1_(const double *x, const double *u, const double_pendulum_point_params *p, const double *b, double *col)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_dq1_(const double *x, const double *u, const double_pendulum_point_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -225,7 +225,7 @@ static void double_pendulum_point_dq1_(const double *x, const double *u, const d
 
 /* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q2, reading the recursion's values it needs from b. */
-static void double_pendulum_point_dq2_(const double *x, const double *u, const double_pendulum_point_params *p, const double *b, double *col)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_dq2_(const double *x, const double *u, const double_pendulum_point_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -247,7 +247,7 @@ static void double_pendulum_point_dq2_(const double *x, const double *u, const d
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void double_pendulum_point_dv1_(const double *x, const double *u, const double_pendulum_point_params *p, const double *b, double *col)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_dv1_(const double *x, const double *u, const double_pendulum_point_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -268,7 +268,7 @@ static void double_pendulum_point_dv1_(const double *x, const double *u, const d
 
 /* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v2, reading the recursion's values it needs from b. */
-static void double_pendulum_point_dv2_(const double *x, const double *u, const double_pendulum_point_params *p, const double *b, double *col)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_dv2_(const double *x, const double *u, const double_pendulum_point_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -284,7 +284,7 @@ static void double_pendulum_point_dv2_(const double *x, const double *u, const d
 
 }
 
-int double_pendulum_point_qdd_derivatives(const double *x, const double *u, const double_pendulum_point_params *p,
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_qdd_derivatives(const double *x, const double *u, const double_pendulum_point_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -381,7 +381,7 @@ int double_pendulum_point_qdd_derivatives(const double *x, const double *u, cons
     return double_pendulum_point_all_finite_(acc, 2) ? DOUBLE_PENDULUM_POINT_OK : DOUBLE_PENDULUM_POINT_NONFINITE;
 }
 
-int double_pendulum_point_linearize(double t, const double *x, const double *u, const double_pendulum_point_params *p, double *A, double *B)
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_linearize(double t, const double *x, const double *u, const double_pendulum_point_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -407,7 +407,7 @@ int double_pendulum_point_linearize(double t, const double *x, const double *u, 
     return DOUBLE_PENDULUM_POINT_OK;
 }
 
-int double_pendulum_point_rhs(double t, const double *x, const double *u, const double_pendulum_point_params *p, double *xdot)
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_rhs(double t, const double *x, const double *u, const double_pendulum_point_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -417,7 +417,7 @@ int double_pendulum_point_rhs(double t, const double *x, const double *u, const 
     return double_pendulum_point_qdd(x, u, p, xdot + 2);
 }
 
-double double_pendulum_point_energy(const double *x, const double_pendulum_point_params *p)
+DOUBLE_PENDULUM_POINT_FN double double_pendulum_point_energy(const double *x, const double_pendulum_point_params *p)
 {
     double result;
     (void)p;
@@ -440,7 +440,7 @@ double double_pendulum_point_energy(const double *x, const double_pendulum_point
 }
 
 /* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
-int double_pendulum_point_momenta(const double *x, const double_pendulum_point_params *p, double *pm)
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_momenta(const double *x, const double_pendulum_point_params *p, double *pm)
 {
     (void)p;
 
@@ -460,7 +460,7 @@ int double_pendulum_point_momenta(const double *x, const double_pendulum_point_p
 }
 
 /* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
-int double_pendulum_point_velocities(const double *q, const double *pm, const double_pendulum_point_params *p, double *qd)
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_velocities(const double *q, const double *pm, const double_pendulum_point_params *p, double *qd)
 {
     double M[4];
     double k[2];
@@ -524,7 +524,7 @@ int double_pendulum_point_velocities(const double *q, const double *pm, const do
 
 /* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
  * dampers), computed as (dp/dphi) phidot + f. */
-int double_pendulum_point_pdot(const double *x, const double *u, const double_pendulum_point_params *p, double *pdot)
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_pdot(const double *x, const double *u, const double_pendulum_point_params *p, double *pdot)
 {
     (void)p;
 
@@ -560,7 +560,7 @@ int double_pendulum_point_pdot(const double *x, const double *u, const double_pe
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void double_pendulum_point_sincos4_(const double *DOUBLE_PENDULUM_POINT_RESTRICT_ a, double *DOUBLE_PENDULUM_POINT_RESTRICT_ s, double *DOUBLE_PENDULUM_POINT_RESTRICT_ c)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_sincos4_(const double *DOUBLE_PENDULUM_POINT_RESTRICT_ a, double *DOUBLE_PENDULUM_POINT_RESTRICT_ s, double *DOUBLE_PENDULUM_POINT_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -606,7 +606,7 @@ static void double_pendulum_point_sincos4_(const double *DOUBLE_PENDULUM_POINT_R
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void double_pendulum_point_sincos1_(const double *DOUBLE_PENDULUM_POINT_RESTRICT_ a, double *DOUBLE_PENDULUM_POINT_RESTRICT_ s, double *DOUBLE_PENDULUM_POINT_RESTRICT_ c)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_sincos1_(const double *DOUBLE_PENDULUM_POINT_RESTRICT_ a, double *DOUBLE_PENDULUM_POINT_RESTRICT_ s, double *DOUBLE_PENDULUM_POINT_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -654,7 +654,7 @@ static void double_pendulum_point_sincos1_(const double *DOUBLE_PENDULUM_POINT_R
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void double_pendulum_point_sincos_(const double *a, double *s, double *c, int count)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -688,7 +688,7 @@ static void double_pendulum_point_sincos_(const double *a, double *s, double *c,
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of double_pendulum_point_rhs) or, with own, double_pendulum_point_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void double_pendulum_point_rhs_lane_(int own, const double *DOUBLE_PENDULUM_POINT_RESTRICT_ X, const double *u,
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_rhs_lane_(int own, const double *DOUBLE_PENDULUM_POINT_RESTRICT_ X, const double *u,
                                 const double_pendulum_point_params *p, double *DOUBLE_PENDULUM_POINT_RESTRICT_ XD, int *code)
 {
     double piv_[2], ok_[1];
@@ -784,7 +784,7 @@ static void double_pendulum_point_rhs_lane_(int own, const double *DOUBLE_PENDUL
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of double_pendulum_point_rhs) or, with own, double_pendulum_point_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void double_pendulum_point_rhs_lanes_(int own, const double *DOUBLE_PENDULUM_POINT_RESTRICT_ X, const double *u,
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_rhs_lanes_(int own, const double *DOUBLE_PENDULUM_POINT_RESTRICT_ X, const double *u,
                                 const double_pendulum_point_params *p, double *DOUBLE_PENDULUM_POINT_RESTRICT_ XD, int *code)
 {
     double piv_[16], ok_[8];
@@ -917,7 +917,7 @@ static void double_pendulum_point_rhs_lanes_(int own, const double *DOUBLE_PENDU
  * side, the LU of the 8 x 8 matrix and ~4 iterations. */
 #define DOUBLE_PENDULUM_POINT_NEWTON_SWEEPS_CANONICAL 10
 
-static int double_pendulum_point_eval_(const double *x, const double *u, const double_pendulum_point_params *p, double *xdot,
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_eval_(const double *x, const double *u, const double_pendulum_point_params *p, double *xdot,
                             double_pendulum_point_integrate_stats *st)
 {
     st->n_rhs++;
@@ -926,7 +926,7 @@ static int double_pendulum_point_eval_(const double *x, const double *u, const d
 
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = double_pendulum_point_pdot.  One call costs 17 + 31 ops. */
-static int double_pendulum_point_eval_canonical_(const double *y, const double *u, const double_pendulum_point_params *p, double *ydot,
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_eval_canonical_(const double *y, const double *u, const double_pendulum_point_params *p, double *ydot,
                                       double_pendulum_point_integrate_stats *st)
 {
     double x[4];
@@ -945,7 +945,7 @@ static int double_pendulum_point_eval_canonical_(const double *y, const double *
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void double_pendulum_point_to_state_(const double *y, const double_pendulum_point_params *p, double *x)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_to_state_(const double *y, const double_pendulum_point_params *p, double *x)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -960,7 +960,7 @@ static void double_pendulum_point_to_state_(const double *y, const double_pendul
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void double_pendulum_point_add_(double *x, double *cmp, const double *dx)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -971,7 +971,7 @@ static void double_pendulum_point_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void double_pendulum_point_copy_(double *dst, const double *src)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -980,7 +980,7 @@ static void double_pendulum_point_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void double_pendulum_point_ksum_(const double *w, int count, double k[][4], double hs, double *out)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_ksum_(const double *w, int count, double k[][4], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 4; ++i) {
@@ -994,7 +994,7 @@ static void double_pendulum_point_ksum_(const double *w, int count, double k[][4
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int double_pendulum_point_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const double_pendulum_point_params *p, double *X,
                               double_pendulum_point_integrate_stats *st)
 {
@@ -1172,13 +1172,13 @@ static int double_pendulum_point_dop853_(int nt, const double *tt, double h0, do
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int double_pendulum_point_tolerances_ok_(double rtol, double atol)
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double double_pendulum_point_floor_(const double *x)
+DOUBLE_PENDULUM_POINT_FN static double double_pendulum_point_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -1190,7 +1190,7 @@ static double double_pendulum_point_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long double_pendulum_point_nsteps_(double ta, double tb, double h)
+DOUBLE_PENDULUM_POINT_FN static long double_pendulum_point_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -1204,7 +1204,7 @@ static long double_pendulum_point_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (DOUBLE_PENDULUM_POINT_RK4_LANES), else libm's (DOUBLE_PENDULUM_POINT_RK4, double_pendulum_point_fixed_'s bits). */
-static void double_pendulum_point_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const double_pendulum_point_params *p, double *const *X, double_pendulum_point_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1318,7 +1318,7 @@ static void double_pendulum_point_rk4_lane_(int own, int nt, const double *tt, d
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (DOUBLE_PENDULUM_POINT_RK4_LANES), else libm's (DOUBLE_PENDULUM_POINT_RK4, double_pendulum_point_fixed_'s bits). */
-static void double_pendulum_point_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const double_pendulum_point_params *p, double *const *X, double_pendulum_point_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1431,7 +1431,7 @@ static void double_pendulum_point_rk4_lanes_(int own, int nt, const double *tt, 
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * double_pendulum_point_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int double_pendulum_point_rk4_step_(const double *x, double h, const double *u, const double_pendulum_point_params *p,
+DOUBLE_PENDULUM_POINT_FN static inline int double_pendulum_point_rk4_step_(const double *x, double h, const double *u, const double_pendulum_point_params *p,
                                        double *dx, double_pendulum_point_integrate_stats *st)
 {
     double k[4][4], y[4];
@@ -1456,7 +1456,7 @@ static inline int double_pendulum_point_rk4_step_(const double *x, double h, con
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int double_pendulum_point_lu_(double *A, int *piv, int m)
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -1490,7 +1490,7 @@ static int double_pendulum_point_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void double_pendulum_point_lu_solve_(const double *A, const int *piv, int m, double *b)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -1514,7 +1514,7 @@ static void double_pendulum_point_lu_solve_(const double *A, const int *piv, int
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of double_pendulum_point_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int double_pendulum_point_gauss2_newton_(const double *x, double h, const double *u, const double_pendulum_point_params *p,
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_gauss2_newton_(const double *x, double h, const double *u, const double_pendulum_point_params *p,
                                      double Z[2][4], double F[2][4], double_pendulum_point_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1598,7 +1598,7 @@ static int double_pendulum_point_gauss2_newton_(const double *x, double h, const
  * differences of the canonical right side g (the converged solution does not depend on J, only the
  * rate does: differences are accurate enough and need nothing that is not emitted):
  *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
-static int double_pendulum_point_canonical_newton_(const double *y, double h, const double *u, const double_pendulum_point_params *p,
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_canonical_newton_(const double *y, double h, const double *u, const double_pendulum_point_params *p,
                                         double Z[2][4], double F[2][4], double_pendulum_point_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1678,7 +1678,7 @@ static int double_pendulum_point_canonical_newton_(const double *y, double h, co
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int double_pendulum_point_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const double_pendulum_point_params *p, double F[2][4], double *dx, double_pendulum_point_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -1764,7 +1764,7 @@ static int double_pendulum_point_gauss2_step_(const double *x, double h, double 
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
  * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
-static int double_pendulum_point_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const double_pendulum_point_params *p, double *X,
                              double_pendulum_point_integrate_stats *st)
 {
@@ -1829,7 +1829,7 @@ static int double_pendulum_point_fixed_(int method, int nt, const double *tt, do
  * and the others NaN, *max_steps the budget.  DOUBLE_PENDULUM_POINT_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int double_pendulum_point_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+DOUBLE_PENDULUM_POINT_FN static inline int double_pendulum_point_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const double_pendulum_point_params *p, double *X,
                                   double_pendulum_point_integrate_stats *st)
 {
@@ -1878,7 +1878,7 @@ static inline int double_pendulum_point_grid_start_(int method, int nt, const do
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int double_pendulum_point_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+DOUBLE_PENDULUM_POINT_FN static inline int double_pendulum_point_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const double_pendulum_point_params *p,
                                    double *X, double_pendulum_point_integrate_stats *stats)
 {
@@ -1902,7 +1902,7 @@ static inline int double_pendulum_point_grid_(int method, int nt, const double *
     return double_pendulum_point_fixed_(method == DOUBLE_PENDULUM_POINT_RK4_LANES ? DOUBLE_PENDULUM_POINT_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int double_pendulum_point_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const double_pendulum_point_params *p,
                               double *X, double_pendulum_point_integrate_stats *stats)
 {
@@ -1912,7 +1912,7 @@ int double_pendulum_point_integrate_grid(int method, int nt, const double *t, do
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int double_pendulum_point_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const double_pendulum_point_params *p, double *X, int *codes)
 {
     double_pendulum_point_integrate_stats st;
@@ -1951,7 +1951,7 @@ static int double_pendulum_point_rk4_batch_(int own, int nb, int nt, const doubl
     return failed;
 }
 
-int double_pendulum_point_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const double_pendulum_point_params *p, long p_stride, double *X, int *codes)
 {
@@ -1971,7 +1971,7 @@ int double_pendulum_point_integrate_batch(int method, int nb, int nt, const doub
     return failed;
 }
 
-int double_pendulum_point_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const double_pendulum_point_params *p, double *x1, long *n_rhs)
 {
     double_pendulum_point_integrate_stats st;
@@ -1996,7 +1996,7 @@ int double_pendulum_point_integrate(int method, double t0, double t1, double h, 
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int double_pendulum_point_eval_variational_(const double *y, const double *u, const double_pendulum_point_params *p,
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_eval_variational_(const double *y, const double *u, const double_pendulum_point_params *p,
                                    double *ydot, double_pendulum_point_integrate_stats *st)
 {
     double dq[4], dv[4];
@@ -2033,7 +2033,7 @@ static int double_pendulum_point_eval_variational_(const double *y, const double
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void double_pendulum_point_add_variational_(double *x, double *cmp, const double *dx)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2044,7 +2044,7 @@ static void double_pendulum_point_add_variational_(double *x, double *cmp, const
     }
 }
 
-static void double_pendulum_point_copy_variational_(double *dst, const double *src)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2053,7 +2053,7 @@ static void double_pendulum_point_copy_variational_(double *dst, const double *s
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void double_pendulum_point_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
+DOUBLE_PENDULUM_POINT_FN static void double_pendulum_point_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 20; ++i) {
@@ -2067,7 +2067,7 @@ static void double_pendulum_point_ksum_variational_(const double *w, int count, 
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int double_pendulum_point_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const double_pendulum_point_params *p, double *X,
                               double_pendulum_point_integrate_stats *st)
 {
@@ -2244,7 +2244,7 @@ static int double_pendulum_point_dop853_variational_(int nt, const double *tt, d
 }
 
 
-int double_pendulum_point_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const double_pendulum_point_params *p,
                                 double *x1, double *Phi, double_pendulum_point_integrate_stats *stats)
 {

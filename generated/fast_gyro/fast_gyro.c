@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define FAST_GYRO_PIVOT_TOL (2 * 2.220446049250313e-16)
 
-static int fast_gyro_all_finite_(const double *v, int count)
+FAST_GYRO_FN static int fast_gyro_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int fast_gyro_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void fast_gyro_symmetrize_(double *M)
+FAST_GYRO_FN static void fast_gyro_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 2; ++i) {
@@ -44,7 +44,7 @@ static void fast_gyro_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int fast_gyro_pivots_(const double *piv)
+FAST_GYRO_FN static int fast_gyro_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int fast_gyro_pivots_(const double *piv)
 }
 
 
-int fast_gyro_mass_matrix(const double *q, const fast_gyro_params *p, double *M)
+FAST_GYRO_FN int fast_gyro_mass_matrix(const double *q, const fast_gyro_params *p, double *M)
 {
     double LD[4];
     double v[2];
@@ -122,7 +122,7 @@ int fast_gyro_mass_matrix(const double *q, const fast_gyro_params *p, double *M)
     return FAST_GYRO_OK;
 }
 
-int fast_gyro_forces(const double *x, const double *u, const fast_gyro_params *p, double *f)
+FAST_GYRO_FN int fast_gyro_forces(const double *x, const double *u, const fast_gyro_params *p, double *f)
 {
     (void)p;
 
@@ -151,7 +151,7 @@ int fast_gyro_forces(const double *x, const double *u, const fast_gyro_params *p
     return fast_gyro_all_finite_(f, 2) ? FAST_GYRO_OK : FAST_GYRO_NONFINITE;
 }
 
-int fast_gyro_qdd(const double *x, const double *u, const fast_gyro_params *p, double *qdd)
+FAST_GYRO_FN int fast_gyro_qdd(const double *x, const double *u, const fast_gyro_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[2];
@@ -200,7 +200,7 @@ int fast_gyro_qdd(const double *x, const double *u, const fast_gyro_params *p, d
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void fast_gyro_dq1_(const double *x, const double *u, const fast_gyro_params *p, const double *b, double *col)
+FAST_GYRO_FN static void fast_gyro_dq1_(const double *x, const double *u, const fast_gyro_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -214,7 +214,7 @@ static void fast_gyro_dq1_(const double *x, const double *u, const fast_gyro_par
 
 /* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q2, reading the recursion's values it needs from b. */
-static void fast_gyro_dq2_(const double *x, const double *u, const fast_gyro_params *p, const double *b, double *col)
+FAST_GYRO_FN static void fast_gyro_dq2_(const double *x, const double *u, const fast_gyro_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -239,7 +239,7 @@ static void fast_gyro_dq2_(const double *x, const double *u, const fast_gyro_par
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void fast_gyro_dv1_(const double *x, const double *u, const fast_gyro_params *p, const double *b, double *col)
+FAST_GYRO_FN static void fast_gyro_dv1_(const double *x, const double *u, const fast_gyro_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -260,7 +260,7 @@ static void fast_gyro_dv1_(const double *x, const double *u, const fast_gyro_par
 
 /* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v2, reading the recursion's values it needs from b. */
-static void fast_gyro_dv2_(const double *x, const double *u, const fast_gyro_params *p, const double *b, double *col)
+FAST_GYRO_FN static void fast_gyro_dv2_(const double *x, const double *u, const fast_gyro_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -275,7 +275,7 @@ static void fast_gyro_dv2_(const double *x, const double *u, const fast_gyro_par
 
 }
 
-int fast_gyro_qdd_derivatives(const double *x, const double *u, const fast_gyro_params *p,
+FAST_GYRO_FN int fast_gyro_qdd_derivatives(const double *x, const double *u, const fast_gyro_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -367,7 +367,7 @@ int fast_gyro_qdd_derivatives(const double *x, const double *u, const fast_gyro_
     return fast_gyro_all_finite_(acc, 2) ? FAST_GYRO_OK : FAST_GYRO_NONFINITE;
 }
 
-int fast_gyro_linearize(double t, const double *x, const double *u, const fast_gyro_params *p, double *A, double *B)
+FAST_GYRO_FN int fast_gyro_linearize(double t, const double *x, const double *u, const fast_gyro_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -393,7 +393,7 @@ int fast_gyro_linearize(double t, const double *x, const double *u, const fast_g
     return FAST_GYRO_OK;
 }
 
-int fast_gyro_rhs(double t, const double *x, const double *u, const fast_gyro_params *p, double *xdot)
+FAST_GYRO_FN int fast_gyro_rhs(double t, const double *x, const double *u, const fast_gyro_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -403,7 +403,7 @@ int fast_gyro_rhs(double t, const double *x, const double *u, const fast_gyro_pa
     return fast_gyro_qdd(x, u, p, xdot + 2);
 }
 
-double fast_gyro_energy(const double *x, const fast_gyro_params *p)
+FAST_GYRO_FN double fast_gyro_energy(const double *x, const fast_gyro_params *p)
 {
     double result;
     (void)p;
@@ -421,7 +421,7 @@ double fast_gyro_energy(const double *x, const fast_gyro_params *p)
     return result;
 }
 
-double fast_gyro_momentum(const double *x, const fast_gyro_params *p)
+FAST_GYRO_FN double fast_gyro_momentum(const double *x, const fast_gyro_params *p)
 {
     double result;
     (void)p;
@@ -440,7 +440,7 @@ double fast_gyro_momentum(const double *x, const fast_gyro_params *p)
 }
 
 /* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
-int fast_gyro_momenta(const double *x, const fast_gyro_params *p, double *pm)
+FAST_GYRO_FN int fast_gyro_momenta(const double *x, const fast_gyro_params *p, double *pm)
 {
     (void)p;
 
@@ -461,7 +461,7 @@ int fast_gyro_momenta(const double *x, const fast_gyro_params *p, double *pm)
 }
 
 /* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
-int fast_gyro_velocities(const double *q, const double *pm, const fast_gyro_params *p, double *qd)
+FAST_GYRO_FN int fast_gyro_velocities(const double *q, const double *pm, const fast_gyro_params *p, double *qd)
 {
     double M[4];
     double k[2];
@@ -526,7 +526,7 @@ int fast_gyro_velocities(const double *q, const double *pm, const fast_gyro_para
 
 /* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
  * dampers), computed as (dp/dphi) phidot + f. */
-int fast_gyro_pdot(const double *x, const double *u, const fast_gyro_params *p, double *pdot)
+FAST_GYRO_FN int fast_gyro_pdot(const double *x, const double *u, const fast_gyro_params *p, double *pdot)
 {
     (void)p;
 
@@ -561,7 +561,7 @@ int fast_gyro_pdot(const double *x, const double *u, const fast_gyro_params *p, 
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void fast_gyro_sincos4_(const double *FAST_GYRO_RESTRICT_ a, double *FAST_GYRO_RESTRICT_ s, double *FAST_GYRO_RESTRICT_ c)
+FAST_GYRO_FN static void fast_gyro_sincos4_(const double *FAST_GYRO_RESTRICT_ a, double *FAST_GYRO_RESTRICT_ s, double *FAST_GYRO_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -607,7 +607,7 @@ static void fast_gyro_sincos4_(const double *FAST_GYRO_RESTRICT_ a, double *FAST
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void fast_gyro_sincos1_(const double *FAST_GYRO_RESTRICT_ a, double *FAST_GYRO_RESTRICT_ s, double *FAST_GYRO_RESTRICT_ c)
+FAST_GYRO_FN static void fast_gyro_sincos1_(const double *FAST_GYRO_RESTRICT_ a, double *FAST_GYRO_RESTRICT_ s, double *FAST_GYRO_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -655,7 +655,7 @@ static void fast_gyro_sincos1_(const double *FAST_GYRO_RESTRICT_ a, double *FAST
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void fast_gyro_sincos_(const double *a, double *s, double *c, int count)
+FAST_GYRO_FN static void fast_gyro_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -689,7 +689,7 @@ static void fast_gyro_sincos_(const double *a, double *s, double *c, int count)
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of fast_gyro_rhs) or, with own, fast_gyro_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void fast_gyro_rhs_lane_(int own, const double *FAST_GYRO_RESTRICT_ X, const double *u,
+FAST_GYRO_FN static void fast_gyro_rhs_lane_(int own, const double *FAST_GYRO_RESTRICT_ X, const double *u,
                                 const fast_gyro_params *p, double *FAST_GYRO_RESTRICT_ XD, int *code)
 {
     double piv_[2], ok_[1];
@@ -781,7 +781,7 @@ static void fast_gyro_rhs_lane_(int own, const double *FAST_GYRO_RESTRICT_ X, co
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of fast_gyro_rhs) or, with own, fast_gyro_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void fast_gyro_rhs_lanes_(int own, const double *FAST_GYRO_RESTRICT_ X, const double *u,
+FAST_GYRO_FN static void fast_gyro_rhs_lanes_(int own, const double *FAST_GYRO_RESTRICT_ X, const double *u,
                                 const fast_gyro_params *p, double *FAST_GYRO_RESTRICT_ XD, int *code)
 {
     double piv_[16], ok_[8];
@@ -910,7 +910,7 @@ static void fast_gyro_rhs_lanes_(int own, const double *FAST_GYRO_RESTRICT_ X, c
  * side, the LU of the 8 x 8 matrix and ~4 iterations. */
 #define FAST_GYRO_NEWTON_SWEEPS_CANONICAL 10
 
-static int fast_gyro_eval_(const double *x, const double *u, const fast_gyro_params *p, double *xdot,
+FAST_GYRO_FN static int fast_gyro_eval_(const double *x, const double *u, const fast_gyro_params *p, double *xdot,
                             fast_gyro_integrate_stats *st)
 {
     st->n_rhs++;
@@ -919,7 +919,7 @@ static int fast_gyro_eval_(const double *x, const double *u, const fast_gyro_par
 
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = fast_gyro_pdot.  One call costs 22 + 32 ops. */
-static int fast_gyro_eval_canonical_(const double *y, const double *u, const fast_gyro_params *p, double *ydot,
+FAST_GYRO_FN static int fast_gyro_eval_canonical_(const double *y, const double *u, const fast_gyro_params *p, double *ydot,
                                       fast_gyro_integrate_stats *st)
 {
     double x[4];
@@ -938,7 +938,7 @@ static int fast_gyro_eval_canonical_(const double *y, const double *u, const fas
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void fast_gyro_to_state_(const double *y, const fast_gyro_params *p, double *x)
+FAST_GYRO_FN static void fast_gyro_to_state_(const double *y, const fast_gyro_params *p, double *x)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -953,7 +953,7 @@ static void fast_gyro_to_state_(const double *y, const fast_gyro_params *p, doub
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void fast_gyro_add_(double *x, double *cmp, const double *dx)
+FAST_GYRO_FN static void fast_gyro_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -964,7 +964,7 @@ static void fast_gyro_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void fast_gyro_copy_(double *dst, const double *src)
+FAST_GYRO_FN static void fast_gyro_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -973,7 +973,7 @@ static void fast_gyro_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void fast_gyro_ksum_(const double *w, int count, double k[][4], double hs, double *out)
+FAST_GYRO_FN static void fast_gyro_ksum_(const double *w, int count, double k[][4], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 4; ++i) {
@@ -987,7 +987,7 @@ static void fast_gyro_ksum_(const double *w, int count, double k[][4], double hs
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int fast_gyro_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+FAST_GYRO_FN static int fast_gyro_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const fast_gyro_params *p, double *X,
                               fast_gyro_integrate_stats *st)
 {
@@ -1165,13 +1165,13 @@ static int fast_gyro_dop853_(int nt, const double *tt, double h0, double rtol, d
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int fast_gyro_tolerances_ok_(double rtol, double atol)
+FAST_GYRO_FN static int fast_gyro_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double fast_gyro_floor_(const double *x)
+FAST_GYRO_FN static double fast_gyro_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -1183,7 +1183,7 @@ static double fast_gyro_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long fast_gyro_nsteps_(double ta, double tb, double h)
+FAST_GYRO_FN static long fast_gyro_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -1197,7 +1197,7 @@ static long fast_gyro_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (FAST_GYRO_RK4_LANES), else libm's (FAST_GYRO_RK4, fast_gyro_fixed_'s bits). */
-static void fast_gyro_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+FAST_GYRO_FN static void fast_gyro_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const fast_gyro_params *p, double *const *X, fast_gyro_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1311,7 +1311,7 @@ static void fast_gyro_rk4_lane_(int own, int nt, const double *tt, double h, lon
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (FAST_GYRO_RK4_LANES), else libm's (FAST_GYRO_RK4, fast_gyro_fixed_'s bits). */
-static void fast_gyro_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+FAST_GYRO_FN static void fast_gyro_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const fast_gyro_params *p, double *const *X, fast_gyro_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1424,7 +1424,7 @@ static void fast_gyro_rk4_lanes_(int own, int nt, const double *tt, double h, lo
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * fast_gyro_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int fast_gyro_rk4_step_(const double *x, double h, const double *u, const fast_gyro_params *p,
+FAST_GYRO_FN static inline int fast_gyro_rk4_step_(const double *x, double h, const double *u, const fast_gyro_params *p,
                                        double *dx, fast_gyro_integrate_stats *st)
 {
     double k[4][4], y[4];
@@ -1449,7 +1449,7 @@ static inline int fast_gyro_rk4_step_(const double *x, double h, const double *u
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int fast_gyro_lu_(double *A, int *piv, int m)
+FAST_GYRO_FN static int fast_gyro_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -1483,7 +1483,7 @@ static int fast_gyro_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void fast_gyro_lu_solve_(const double *A, const int *piv, int m, double *b)
+FAST_GYRO_FN static void fast_gyro_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -1507,7 +1507,7 @@ static void fast_gyro_lu_solve_(const double *A, const int *piv, int m, double *
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of fast_gyro_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int fast_gyro_gauss2_newton_(const double *x, double h, const double *u, const fast_gyro_params *p,
+FAST_GYRO_FN static int fast_gyro_gauss2_newton_(const double *x, double h, const double *u, const fast_gyro_params *p,
                                      double Z[2][4], double F[2][4], fast_gyro_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1591,7 +1591,7 @@ static int fast_gyro_gauss2_newton_(const double *x, double h, const double *u, 
  * differences of the canonical right side g (the converged solution does not depend on J, only the
  * rate does: differences are accurate enough and need nothing that is not emitted):
  *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
-static int fast_gyro_canonical_newton_(const double *y, double h, const double *u, const fast_gyro_params *p,
+FAST_GYRO_FN static int fast_gyro_canonical_newton_(const double *y, double h, const double *u, const fast_gyro_params *p,
                                         double Z[2][4], double F[2][4], fast_gyro_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1671,7 +1671,7 @@ static int fast_gyro_canonical_newton_(const double *y, double h, const double *
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int fast_gyro_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+FAST_GYRO_FN static int fast_gyro_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const fast_gyro_params *p, double F[2][4], double *dx, fast_gyro_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -1757,7 +1757,7 @@ static int fast_gyro_gauss2_step_(const double *x, double h, double hp, int meth
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
  * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
-static int fast_gyro_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+FAST_GYRO_FN static int fast_gyro_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const fast_gyro_params *p, double *X,
                              fast_gyro_integrate_stats *st)
 {
@@ -1822,7 +1822,7 @@ static int fast_gyro_fixed_(int method, int nt, const double *tt, double h, long
  * and the others NaN, *max_steps the budget.  FAST_GYRO_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int fast_gyro_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+FAST_GYRO_FN static inline int fast_gyro_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const fast_gyro_params *p, double *X,
                                   fast_gyro_integrate_stats *st)
 {
@@ -1871,7 +1871,7 @@ static inline int fast_gyro_grid_start_(int method, int nt, const double *t, dou
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int fast_gyro_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+FAST_GYRO_FN static inline int fast_gyro_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const fast_gyro_params *p,
                                    double *X, fast_gyro_integrate_stats *stats)
 {
@@ -1895,7 +1895,7 @@ static inline int fast_gyro_grid_(int method, int nt, const double *t, double h,
     return fast_gyro_fixed_(method == FAST_GYRO_RK4_LANES ? FAST_GYRO_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int fast_gyro_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+FAST_GYRO_FN int fast_gyro_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const fast_gyro_params *p,
                               double *X, fast_gyro_integrate_stats *stats)
 {
@@ -1905,7 +1905,7 @@ int fast_gyro_integrate_grid(int method, int nt, const double *t, double h, doub
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int fast_gyro_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+FAST_GYRO_FN static int fast_gyro_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const fast_gyro_params *p, double *X, int *codes)
 {
     fast_gyro_integrate_stats st;
@@ -1944,7 +1944,7 @@ static int fast_gyro_rk4_batch_(int own, int nb, int nt, const double *t, double
     return failed;
 }
 
-int fast_gyro_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+FAST_GYRO_FN int fast_gyro_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const fast_gyro_params *p, long p_stride, double *X, int *codes)
 {
@@ -1964,7 +1964,7 @@ int fast_gyro_integrate_batch(int method, int nb, int nt, const double *t, doubl
     return failed;
 }
 
-int fast_gyro_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+FAST_GYRO_FN int fast_gyro_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const fast_gyro_params *p, double *x1, long *n_rhs)
 {
     fast_gyro_integrate_stats st;
@@ -1989,7 +1989,7 @@ int fast_gyro_integrate(int method, double t0, double t1, double h, double rtol,
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int fast_gyro_eval_variational_(const double *y, const double *u, const fast_gyro_params *p,
+FAST_GYRO_FN static int fast_gyro_eval_variational_(const double *y, const double *u, const fast_gyro_params *p,
                                    double *ydot, fast_gyro_integrate_stats *st)
 {
     double dq[4], dv[4];
@@ -2026,7 +2026,7 @@ static int fast_gyro_eval_variational_(const double *y, const double *u, const f
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void fast_gyro_add_variational_(double *x, double *cmp, const double *dx)
+FAST_GYRO_FN static void fast_gyro_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2037,7 +2037,7 @@ static void fast_gyro_add_variational_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void fast_gyro_copy_variational_(double *dst, const double *src)
+FAST_GYRO_FN static void fast_gyro_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2046,7 +2046,7 @@ static void fast_gyro_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void fast_gyro_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
+FAST_GYRO_FN static void fast_gyro_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 20; ++i) {
@@ -2060,7 +2060,7 @@ static void fast_gyro_ksum_variational_(const double *w, int count, double k[][2
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int fast_gyro_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+FAST_GYRO_FN static int fast_gyro_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const fast_gyro_params *p, double *X,
                               fast_gyro_integrate_stats *st)
 {
@@ -2237,7 +2237,7 @@ static int fast_gyro_dop853_variational_(int nt, const double *tt, double h0, do
 }
 
 
-int fast_gyro_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+FAST_GYRO_FN int fast_gyro_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const fast_gyro_params *p,
                                 double *x1, double *Phi, fast_gyro_integrate_stats *stats)
 {
@@ -2336,7 +2336,7 @@ typedef struct {
 } fast_gyro_orbit_;
 
 /* J(phi), C(phi), A, U(phi), beta(phi) of the spec (generated). */
-static void fast_gyro_quad_terms_(double phi, const fast_gyro_params *p, double *out)
+FAST_GYRO_FN static void fast_gyro_quad_terms_(double phi, const fast_gyro_params *p, double *out)
 {
     (void)p;
     const double cos_phi2 = cos(phi);
@@ -2353,7 +2353,7 @@ static void fast_gyro_quad_terms_(double phi, const fast_gyro_params *p, double 
 }
 
 /* P, P', P'' at phi from the Fourier coefficients. */
-static void fast_gyro_pfour_(const double *c, double phi, double *d)
+FAST_GYRO_FN static void fast_gyro_pfour_(const double *c, double phi, double *d)
 {
     const double c1 = cos(phi), s1 = sin(phi);
     double ck = c1, sk = s1, t;
@@ -2372,7 +2372,7 @@ static void fast_gyro_pfour_(const double *c, double phi, double *d)
 }
 
 /* P(r + x) - P(r) = sum_j 2 sin(j x/2) (c_sj cos j(r + x/2) - c_cj sin j(r + x/2)), accurate for small x. */
-static double fast_gyro_pdelta_(const double *c, double r, double x)
+FAST_GYRO_FN static double fast_gyro_pdelta_(const double *c, double r, double x)
 {
     const double m = r + 0.5 * x, cm = cos(m), sm = sin(m);
     double ck = cm, sk = sm, t, sum = 0.0;
@@ -2390,7 +2390,7 @@ static double fast_gyro_pdelta_(const double *c, double r, double x)
  * with p_j = c_sj cos js - c_cj sin js, q_j = c_cj cos js + c_sj sin js it is
  * sum_j (sin jx - j sin x) p_j - 2 sin^2(jx/2) q_j, and sin 2x - 2 sin x = -4 sin x sin^2(x/2),
  * sin 3x - 3 sin x = -4 sin^3 x: no term is linear in x, so nothing cancels near s. */
-static double fast_gyro_pbump_(const double *c, double s, double x)
+FAST_GYRO_FN static double fast_gyro_pbump_(const double *c, double s, double x)
 {
     const double cs = cos(s), ss = sin(s), sx = sin(x), h1 = sin(0.5 * x);
     const double c2 = cs * cs - ss * ss, s2 = 2.0 * ss * cs, c3 = c2 * cs - s2 * ss, s3 = s2 * cs + c2 * ss;
@@ -2403,7 +2403,7 @@ static double fast_gyro_pbump_(const double *c, double s, double x)
 /* The first root of P from a (P(a) > 0) in the sense sig within dmax: returns 1 and *root, 0 when
  * P > 0 all the way, -1 when the walk does not converge.  *pmin, *argmin: the least local minimum
  * of P passed (located by bisection on P'). */
-static int fast_gyro_walk_(const fast_gyro_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin, double *argmin)
+FAST_GYRO_FN static int fast_gyro_walk_(const fast_gyro_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin, double *argmin)
 {
     double d[3], dn[3], gone = 0.0, step, lo, hi, mid, dm[3];
     int it, i, last;
@@ -2454,7 +2454,7 @@ static int fast_gyro_walk_(const fast_gyro_orbit_ *o, double a, double sig, doub
 }
 
 /* dt, dpsi_K, dpsi_C per unit parameter b of quarter q (the turn when rotating). */
-static int fast_gyro_integrand_(const fast_gyro_orbit_ *o, int q, double b, double *f, double *phi_out, double *g_out)
+FAST_GYRO_FN static int fast_gyro_integrand_(const fast_gyro_orbit_ *o, int q, double b, double *f, double *phi_out, double *g_out)
 {
     double t[5], phi, dphi, P = 0.0, D, g, K, s2 = 0.0, x;
     if (o->kind == FAST_GYRO_ROTATION) {
@@ -2498,7 +2498,7 @@ static int fast_gyro_integrand_(const fast_gyro_orbit_ *o, int q, double b, doub
 }
 
 /* Gauss-Kronrod 7/15 on [a, b]: v = the three integrals, e = |K15 - G7| of each. */
-static int fast_gyro_kronrod_(const fast_gyro_orbit_ *o, int q, double a, double b, double *v, double *e)
+FAST_GYRO_FN static int fast_gyro_kronrod_(const fast_gyro_orbit_ *o, int q, double a, double b, double *v, double *e)
 {
     static const double xk[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
         0.864864423359769072789712788640926, 0.741531185599394439863864773280788, 0.586087235467691130294144845693013,
@@ -2550,7 +2550,7 @@ static int fast_gyro_kronrod_(const fast_gyro_orbit_ *o, int q, double a, double
 }
 
 /* Adaptive panels over [0, end] of quarter q; sorted, with cumulative integrals. */
-static int fast_gyro_panels_(fast_gyro_orbit_ *o, int q, double end, int start)
+FAST_GYRO_FN static int fast_gyro_panels_(fast_gyro_orbit_ *o, int q, double end, int start)
 {
     fast_gyro_panel_ *pan = o->pan[q], tmp;
     double e[3], err[3], size[3], ab[3], worst;
@@ -2636,7 +2636,7 @@ static int fast_gyro_panels_(fast_gyro_orbit_ *o, int q, double end, int start)
 }
 
 /* The integrals from the start of quarter q to parameter b. */
-static int fast_gyro_partial_(const fast_gyro_orbit_ *o, int q, double b, double *v)
+FAST_GYRO_FN static int fast_gyro_partial_(const fast_gyro_orbit_ *o, int q, double b, double *v)
 {
     const fast_gyro_panel_ *pan = o->pan[q];
     double part[3], e[3];
@@ -2657,7 +2657,7 @@ static int fast_gyro_partial_(const fast_gyro_orbit_ *o, int q, double b, double
 }
 
 /* The parameter b of quarter q at which the time from its start is tau (Newton, bracketed). */
-static int fast_gyro_invert_(const fast_gyro_orbit_ *o, int q, double tau, double *b, double *v)
+FAST_GYRO_FN static int fast_gyro_invert_(const fast_gyro_orbit_ *o, int q, double tau, double *b, double *v)
 {
     const fast_gyro_panel_ *pan = o->pan[q];
     double x, xn, lo_x, hi_x, F, g, f[3], e[3], part[3];
@@ -2707,7 +2707,7 @@ static int fast_gyro_invert_(const fast_gyro_orbit_ *o, int q, double tau, doubl
 }
 
 /* The motion from x0: constants, Fourier coefficients of P, turning points, panels. */
-static int fast_gyro_orbit_init_(const double *x0, const fast_gyro_params *p, fast_gyro_orbit_ *o)
+FAST_GYRO_FN static int fast_gyro_orbit_init_(const double *x0, const fast_gyro_params *p, fast_gyro_orbit_ *o)
 {
     double t[5], ej[8], kk[8], d[3], root, pmin, argmin, phi, D0, ang, e_end;
     const double phi0 = x0[1], phid0 = x0[3];
@@ -2824,7 +2824,7 @@ static int fast_gyro_orbit_init_(const double *x0, const fast_gyro_params *p, fa
     return rc;
 }
 
-int fast_gyro_quad_motion(const double *x0, const fast_gyro_params *p, fast_gyro_quad_info *info)
+FAST_GYRO_FN int fast_gyro_quad_motion(const double *x0, const fast_gyro_params *p, fast_gyro_quad_info *info)
 {
     fast_gyro_orbit_ o;
     int rc = fast_gyro_orbit_init_(x0, p, &o);
@@ -2853,7 +2853,7 @@ int fast_gyro_quad_motion(const double *x0, const fast_gyro_params *p, fast_gyro
     return FAST_GYRO_OK;
 }
 
-int fast_gyro_quad_period(const double *x0, const fast_gyro_params *p, double *period)
+FAST_GYRO_FN int fast_gyro_quad_period(const double *x0, const fast_gyro_params *p, double *period)
 {
     fast_gyro_quad_info info;
     int rc = fast_gyro_quad_motion(x0, p, &info);
@@ -2870,7 +2870,7 @@ int fast_gyro_quad_period(const double *x0, const fast_gyro_params *p, double *p
 /* Phase time (from phi_- with phidot > 0) and psi gained, at the point with integrals v on
  * segment seg of a libration: 1 phi_- -> mid and 2 mid -> phi_+ (phidot > 0), 3 phi_+ -> mid and
  * 4 mid -> phi_- (phidot < 0).  psi gains K dt/J - C dphi/J: the C part flips with phidot. */
-static void fast_gyro_lib_phase_(const fast_gyro_orbit_ *o, int seg, const double *v, double *phase, double *psir)
+FAST_GYRO_FN static void fast_gyro_lib_phase_(const fast_gyro_orbit_ *o, int seg, const double *v, double *phase, double *psir)
 {
     const double *Im = o->tot[0], *Ip = o->tot[1];
     const double up = Im[1] - Im[2] + Ip[1] - Ip[2];   /* psi gained over segments 1 and 2 */
@@ -2894,7 +2894,7 @@ static void fast_gyro_lib_phase_(const fast_gyro_orbit_ *o, int seg, const doubl
     }
 }
 
-int fast_gyro_quad_state(double t, const double *x0, const fast_gyro_params *p, double *x)
+FAST_GYRO_FN int fast_gyro_quad_state(double t, const double *x0, const fast_gyro_params *p, double *x)
 {
     fast_gyro_orbit_ o;
     double T, n, rem, tau, b, v[3], phase0, psir0, phase, psir, phi, g, f[3], tt[5], phid, b0;
@@ -2988,7 +2988,7 @@ int fast_gyro_quad_state(double t, const double *x0, const fast_gyro_params *p, 
     return FAST_GYRO_OK;
 }
 
-int fast_gyro_quad_functions(double phi, const double *x0, const fast_gyro_params *p, double *out)
+FAST_GYRO_FN int fast_gyro_quad_functions(double phi, const double *x0, const fast_gyro_params *p, double *out)
 {
     double t[5], E, k, P, D;
     if (!fast_gyro_all_finite_(x0, 4) || !isfinite(phi)) {

@@ -61,6 +61,14 @@
 extern "C" {
 #endif
 
+/* FAST_GYRO_FN marks every function of fast_gyro.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (fast_gyro_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define FAST_GYRO_FN __host__ __device__
+#else
+#define FAST_GYRO_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define FAST_GYRO_REAL double
 #define FAST_GYRO_N 2
@@ -96,18 +104,18 @@ extern "C" {
 typedef struct fast_gyro_params {
     double unused_;
 } fast_gyro_params;
-int fast_gyro_mass_matrix(const double *q, const fast_gyro_params *p, double *M);
-int fast_gyro_forces(const double *x, const double *u, const fast_gyro_params *p, double *f);
-int fast_gyro_qdd(const double *x, const double *u, const fast_gyro_params *p, double *qdd);
-int fast_gyro_rhs(double t, const double *x, const double *u, const fast_gyro_params *p, double *xdot);
-int fast_gyro_qdd_derivatives(const double *x, const double *u, const fast_gyro_params *p,
+FAST_GYRO_FN int fast_gyro_mass_matrix(const double *q, const fast_gyro_params *p, double *M);
+FAST_GYRO_FN int fast_gyro_forces(const double *x, const double *u, const fast_gyro_params *p, double *f);
+FAST_GYRO_FN int fast_gyro_qdd(const double *x, const double *u, const fast_gyro_params *p, double *qdd);
+FAST_GYRO_FN int fast_gyro_rhs(double t, const double *x, const double *u, const fast_gyro_params *p, double *xdot);
+FAST_GYRO_FN int fast_gyro_qdd_derivatives(const double *x, const double *u, const fast_gyro_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int fast_gyro_linearize(double t, const double *x, const double *u, const fast_gyro_params *p, double *A, double *B);
-double fast_gyro_energy(const double *x, const fast_gyro_params *p);
-double fast_gyro_momentum(const double *x, const fast_gyro_params *p);
-int fast_gyro_momenta(const double *x, const fast_gyro_params *p, double *pm);
-int fast_gyro_velocities(const double *q, const double *pm, const fast_gyro_params *p, double *qd);
-int fast_gyro_pdot(const double *x, const double *u, const fast_gyro_params *p, double *pdot);
+FAST_GYRO_FN int fast_gyro_linearize(double t, const double *x, const double *u, const fast_gyro_params *p, double *A, double *B);
+FAST_GYRO_FN double fast_gyro_energy(const double *x, const fast_gyro_params *p);
+FAST_GYRO_FN double fast_gyro_momentum(const double *x, const fast_gyro_params *p);
+FAST_GYRO_FN int fast_gyro_momenta(const double *x, const fast_gyro_params *p, double *pm);
+FAST_GYRO_FN int fast_gyro_velocities(const double *q, const double *pm, const fast_gyro_params *p, double *qd);
+FAST_GYRO_FN int fast_gyro_pdot(const double *x, const double *u, const fast_gyro_params *p, double *pdot);
 typedef struct fast_gyro_integrate_stats {
     double t;
     double x[4];
@@ -117,15 +125,15 @@ typedef struct fast_gyro_integrate_stats {
     long n_iter;
     long n_newton;
 } fast_gyro_integrate_stats;
-int fast_gyro_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+FAST_GYRO_FN int fast_gyro_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const fast_gyro_params *p, double *x1, long *n_rhs);
-int fast_gyro_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+FAST_GYRO_FN int fast_gyro_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const fast_gyro_params *p,
                         double *X, fast_gyro_integrate_stats *stats);
-int fast_gyro_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+FAST_GYRO_FN int fast_gyro_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const fast_gyro_params *p, long p_stride, double *X, int *codes);
-int fast_gyro_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+FAST_GYRO_FN int fast_gyro_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const fast_gyro_params *p,
                                double *x1, double *Phi, fast_gyro_integrate_stats *stats);
 typedef struct fast_gyro_quad_info {
@@ -138,10 +146,10 @@ typedef struct fast_gyro_quad_info {
     double psi_advance;
     double separatrix_distance;
 } fast_gyro_quad_info;
-int fast_gyro_quad_motion(const double *x0, const fast_gyro_params *p, fast_gyro_quad_info *info);
-int fast_gyro_quad_period(const double *x0, const fast_gyro_params *p, double *period);
-int fast_gyro_quad_state(double t, const double *x0, const fast_gyro_params *p, double *x);
-int fast_gyro_quad_functions(double phi, const double *x0, const fast_gyro_params *p, double *out);
+FAST_GYRO_FN int fast_gyro_quad_motion(const double *x0, const fast_gyro_params *p, fast_gyro_quad_info *info);
+FAST_GYRO_FN int fast_gyro_quad_period(const double *x0, const fast_gyro_params *p, double *period);
+FAST_GYRO_FN int fast_gyro_quad_state(double t, const double *x0, const fast_gyro_params *p, double *x);
+FAST_GYRO_FN int fast_gyro_quad_functions(double phi, const double *x0, const fast_gyro_params *p, double *out);
 
 /* quad_* report SEPARATRIX when the state is closer than this (relative to the size of the terms of
  * E(phi) J - K^2) to a double root of it: the period is unbounded there. */

@@ -61,6 +61,14 @@
 extern "C" {
 #endif
 
+/* FURUTA_FN marks every function of furuta.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (furuta_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define FURUTA_FN __host__ __device__
+#else
+#define FURUTA_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define FURUTA_REAL double
 #define FURUTA_N 2
@@ -90,18 +98,18 @@ extern "C" {
 typedef struct furuta_params {
     double unused_;
 } furuta_params;
-int furuta_mass_matrix(const double *q, const furuta_params *p, double *M);
-int furuta_forces(const double *x, const double *u, const furuta_params *p, double *f);
-int furuta_qdd(const double *x, const double *u, const furuta_params *p, double *qdd);
-int furuta_rhs(double t, const double *x, const double *u, const furuta_params *p, double *xdot);
-int furuta_qdd_derivatives(const double *x, const double *u, const furuta_params *p,
+FURUTA_FN int furuta_mass_matrix(const double *q, const furuta_params *p, double *M);
+FURUTA_FN int furuta_forces(const double *x, const double *u, const furuta_params *p, double *f);
+FURUTA_FN int furuta_qdd(const double *x, const double *u, const furuta_params *p, double *qdd);
+FURUTA_FN int furuta_rhs(double t, const double *x, const double *u, const furuta_params *p, double *xdot);
+FURUTA_FN int furuta_qdd_derivatives(const double *x, const double *u, const furuta_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int furuta_linearize(double t, const double *x, const double *u, const furuta_params *p, double *A, double *B);
-double furuta_energy(const double *x, const furuta_params *p);
-double furuta_momentum(const double *x, const furuta_params *p);
-int furuta_momenta(const double *x, const furuta_params *p, double *pm);
-int furuta_velocities(const double *q, const double *pm, const furuta_params *p, double *qd);
-int furuta_pdot(const double *x, const double *u, const furuta_params *p, double *pdot);
+FURUTA_FN int furuta_linearize(double t, const double *x, const double *u, const furuta_params *p, double *A, double *B);
+FURUTA_FN double furuta_energy(const double *x, const furuta_params *p);
+FURUTA_FN double furuta_momentum(const double *x, const furuta_params *p);
+FURUTA_FN int furuta_momenta(const double *x, const furuta_params *p, double *pm);
+FURUTA_FN int furuta_velocities(const double *q, const double *pm, const furuta_params *p, double *qd);
+FURUTA_FN int furuta_pdot(const double *x, const double *u, const furuta_params *p, double *pdot);
 typedef struct furuta_integrate_stats {
     double t;
     double x[4];
@@ -111,15 +119,15 @@ typedef struct furuta_integrate_stats {
     long n_iter;
     long n_newton;
 } furuta_integrate_stats;
-int furuta_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+FURUTA_FN int furuta_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const furuta_params *p, double *x1, long *n_rhs);
-int furuta_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+FURUTA_FN int furuta_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const furuta_params *p,
                         double *X, furuta_integrate_stats *stats);
-int furuta_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+FURUTA_FN int furuta_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const furuta_params *p, long p_stride, double *X, int *codes);
-int furuta_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+FURUTA_FN int furuta_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const furuta_params *p,
                                double *x1, double *Phi, furuta_integrate_stats *stats);
 

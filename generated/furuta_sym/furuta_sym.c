@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define FURUTA_SYM_PIVOT_TOL (2 * 2.220446049250313e-16)
 
-static int furuta_sym_all_finite_(const double *v, int count)
+FURUTA_SYM_FN static int furuta_sym_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int furuta_sym_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void furuta_sym_symmetrize_(double *M)
+FURUTA_SYM_FN static void furuta_sym_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 2; ++i) {
@@ -44,7 +44,7 @@ static void furuta_sym_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int furuta_sym_pivots_(const double *piv)
+FURUTA_SYM_FN static int furuta_sym_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int furuta_sym_pivots_(const double *piv)
 }
 
 
-int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *M)
+FURUTA_SYM_FN int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *M)
 {
     double LD[4];
     double v[2];
@@ -132,7 +132,7 @@ int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *
     return FURUTA_SYM_OK;
 }
 
-int furuta_sym_forces(const double *x, const double *u, const furuta_sym_params *p, double *f)
+FURUTA_SYM_FN int furuta_sym_forces(const double *x, const double *u, const furuta_sym_params *p, double *f)
 {
     if (!p) {
         return FURUTA_SYM_NO_PARAMS;
@@ -176,7 +176,7 @@ int furuta_sym_forces(const double *x, const double *u, const furuta_sym_params 
     return furuta_sym_all_finite_(f, 2) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
 }
 
-int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p, double *qdd)
+FURUTA_SYM_FN int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p, double *qdd)
 {
     double M[4];
     double f[2];
@@ -278,7 +278,7 @@ int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p,
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void furuta_sym_dq1_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
+FURUTA_SYM_FN static void furuta_sym_dq1_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -294,7 +294,7 @@ static void furuta_sym_dq1_(const double *x, const double *u, const furuta_sym_p
 
 /* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q2, reading the recursion's values it needs from b. */
-static void furuta_sym_dq2_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
+FURUTA_SYM_FN static void furuta_sym_dq2_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -340,7 +340,7 @@ static void furuta_sym_dq2_(const double *x, const double *u, const furuta_sym_p
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void furuta_sym_dv1_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
+FURUTA_SYM_FN static void furuta_sym_dv1_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -374,7 +374,7 @@ static void furuta_sym_dv1_(const double *x, const double *u, const furuta_sym_p
 
 /* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v2, reading the recursion's values it needs from b. */
-static void furuta_sym_dv2_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
+FURUTA_SYM_FN static void furuta_sym_dv2_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -400,7 +400,7 @@ static void furuta_sym_dv2_(const double *x, const double *u, const furuta_sym_p
 
 /* Column 1 of d phi''/d u: the forward-mode tangent of the recursion
  * along u1, reading the recursion's values it needs from b. */
-static void furuta_sym_du1_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
+FURUTA_SYM_FN static void furuta_sym_du1_(const double *x, const double *u, const furuta_sym_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -416,7 +416,7 @@ static void furuta_sym_du1_(const double *x, const double *u, const furuta_sym_p
 
 }
 
-int furuta_sym_qdd_derivatives(const double *x, const double *u, const furuta_sym_params *p,
+FURUTA_SYM_FN int furuta_sym_qdd_derivatives(const double *x, const double *u, const furuta_sym_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -566,7 +566,7 @@ int furuta_sym_qdd_derivatives(const double *x, const double *u, const furuta_sy
     return furuta_sym_all_finite_(acc, 2) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
 }
 
-int furuta_sym_linearize(double t, const double *x, const double *u, const furuta_sym_params *p, double *A, double *B)
+FURUTA_SYM_FN int furuta_sym_linearize(double t, const double *x, const double *u, const furuta_sym_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -600,7 +600,7 @@ int furuta_sym_linearize(double t, const double *x, const double *u, const furut
     return FURUTA_SYM_OK;
 }
 
-int furuta_sym_rhs(double t, const double *x, const double *u, const furuta_sym_params *p, double *xdot)
+FURUTA_SYM_FN int furuta_sym_rhs(double t, const double *x, const double *u, const furuta_sym_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -610,7 +610,7 @@ int furuta_sym_rhs(double t, const double *x, const double *u, const furuta_sym_
     return furuta_sym_qdd(x, u, p, xdot + 2);
 }
 
-double furuta_sym_energy(const double *x, const furuta_sym_params *p)
+FURUTA_SYM_FN double furuta_sym_energy(const double *x, const furuta_sym_params *p)
 {
     double result;
     if (!p) {
@@ -641,7 +641,7 @@ double furuta_sym_energy(const double *x, const furuta_sym_params *p)
     return result;
 }
 
-double furuta_sym_momentum(const double *x, const furuta_sym_params *p)
+FURUTA_SYM_FN double furuta_sym_momentum(const double *x, const furuta_sym_params *p)
 {
     double result;
     if (!p) {
@@ -668,7 +668,7 @@ double furuta_sym_momentum(const double *x, const furuta_sym_params *p)
 }
 
 /* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
-int furuta_sym_momenta(const double *x, const furuta_sym_params *p, double *pm)
+FURUTA_SYM_FN int furuta_sym_momenta(const double *x, const furuta_sym_params *p, double *pm)
 {
     if (!p) {
         return FURUTA_SYM_NO_PARAMS;
@@ -699,7 +699,7 @@ int furuta_sym_momenta(const double *x, const furuta_sym_params *p, double *pm)
 }
 
 /* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
-int furuta_sym_velocities(const double *q, const double *pm, const furuta_sym_params *p, double *qd)
+FURUTA_SYM_FN int furuta_sym_velocities(const double *q, const double *pm, const furuta_sym_params *p, double *qd)
 {
     double M[4];
     double k[2];
@@ -774,7 +774,7 @@ int furuta_sym_velocities(const double *q, const double *pm, const furuta_sym_pa
 
 /* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
  * dampers), computed as (dp/dphi) phidot + f. */
-int furuta_sym_pdot(const double *x, const double *u, const furuta_sym_params *p, double *pdot)
+FURUTA_SYM_FN int furuta_sym_pdot(const double *x, const double *u, const furuta_sym_params *p, double *pdot)
 {
     if (!p) {
         return FURUTA_SYM_NO_PARAMS;
@@ -832,7 +832,7 @@ int furuta_sym_pdot(const double *x, const double *u, const furuta_sym_params *p
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void furuta_sym_sincos4_(const double *FURUTA_SYM_RESTRICT_ a, double *FURUTA_SYM_RESTRICT_ s, double *FURUTA_SYM_RESTRICT_ c)
+FURUTA_SYM_FN static void furuta_sym_sincos4_(const double *FURUTA_SYM_RESTRICT_ a, double *FURUTA_SYM_RESTRICT_ s, double *FURUTA_SYM_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -878,7 +878,7 @@ static void furuta_sym_sincos4_(const double *FURUTA_SYM_RESTRICT_ a, double *FU
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void furuta_sym_sincos1_(const double *FURUTA_SYM_RESTRICT_ a, double *FURUTA_SYM_RESTRICT_ s, double *FURUTA_SYM_RESTRICT_ c)
+FURUTA_SYM_FN static void furuta_sym_sincos1_(const double *FURUTA_SYM_RESTRICT_ a, double *FURUTA_SYM_RESTRICT_ s, double *FURUTA_SYM_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -926,7 +926,7 @@ static void furuta_sym_sincos1_(const double *FURUTA_SYM_RESTRICT_ a, double *FU
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void furuta_sym_sincos_(const double *a, double *s, double *c, int count)
+FURUTA_SYM_FN static void furuta_sym_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -960,7 +960,7 @@ static void furuta_sym_sincos_(const double *a, double *s, double *c, int count)
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of furuta_sym_rhs) or, with own, furuta_sym_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void furuta_sym_rhs_lane_(int own, const double *FURUTA_SYM_RESTRICT_ X, const double *u,
+FURUTA_SYM_FN static void furuta_sym_rhs_lane_(int own, const double *FURUTA_SYM_RESTRICT_ X, const double *u,
                                 const furuta_sym_params *p, double *FURUTA_SYM_RESTRICT_ XD, int *code)
 {
     double M_[4], f_[2], piv_[2], tol_[1], ok_[1];
@@ -1096,7 +1096,7 @@ static void furuta_sym_rhs_lane_(int own, const double *FURUTA_SYM_RESTRICT_ X, 
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of furuta_sym_rhs) or, with own, furuta_sym_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void furuta_sym_rhs_lanes_(int own, const double *FURUTA_SYM_RESTRICT_ X, const double *u,
+FURUTA_SYM_FN static void furuta_sym_rhs_lanes_(int own, const double *FURUTA_SYM_RESTRICT_ X, const double *u,
                                 const furuta_sym_params *p, double *FURUTA_SYM_RESTRICT_ XD, int *code)
 {
     double M_[32], f_[16], piv_[16], tol_[8], ok_[8];
@@ -1269,7 +1269,7 @@ static void furuta_sym_rhs_lanes_(int own, const double *FURUTA_SYM_RESTRICT_ X,
  * side, the LU of the 8 x 8 matrix and ~4 iterations. */
 #define FURUTA_SYM_NEWTON_SWEEPS_CANONICAL 8
 
-static int furuta_sym_eval_(const double *x, const double *u, const furuta_sym_params *p, double *xdot,
+FURUTA_SYM_FN static int furuta_sym_eval_(const double *x, const double *u, const furuta_sym_params *p, double *xdot,
                             furuta_sym_integrate_stats *st)
 {
     st->n_rhs++;
@@ -1278,7 +1278,7 @@ static int furuta_sym_eval_(const double *x, const double *u, const furuta_sym_p
 
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = furuta_sym_pdot.  One call costs 31 + 91 ops. */
-static int furuta_sym_eval_canonical_(const double *y, const double *u, const furuta_sym_params *p, double *ydot,
+FURUTA_SYM_FN static int furuta_sym_eval_canonical_(const double *y, const double *u, const furuta_sym_params *p, double *ydot,
                                       furuta_sym_integrate_stats *st)
 {
     double x[4];
@@ -1297,7 +1297,7 @@ static int furuta_sym_eval_canonical_(const double *y, const double *u, const fu
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void furuta_sym_to_state_(const double *y, const furuta_sym_params *p, double *x)
+FURUTA_SYM_FN static void furuta_sym_to_state_(const double *y, const furuta_sym_params *p, double *x)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -1312,7 +1312,7 @@ static void furuta_sym_to_state_(const double *y, const furuta_sym_params *p, do
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void furuta_sym_add_(double *x, double *cmp, const double *dx)
+FURUTA_SYM_FN static void furuta_sym_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -1323,7 +1323,7 @@ static void furuta_sym_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void furuta_sym_copy_(double *dst, const double *src)
+FURUTA_SYM_FN static void furuta_sym_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -1332,7 +1332,7 @@ static void furuta_sym_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void furuta_sym_ksum_(const double *w, int count, double k[][4], double hs, double *out)
+FURUTA_SYM_FN static void furuta_sym_ksum_(const double *w, int count, double k[][4], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 4; ++i) {
@@ -1346,7 +1346,7 @@ static void furuta_sym_ksum_(const double *w, int count, double k[][4], double h
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int furuta_sym_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+FURUTA_SYM_FN static int furuta_sym_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const furuta_sym_params *p, double *X,
                               furuta_sym_integrate_stats *st)
 {
@@ -1524,13 +1524,13 @@ static int furuta_sym_dop853_(int nt, const double *tt, double h0, double rtol, 
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int furuta_sym_tolerances_ok_(double rtol, double atol)
+FURUTA_SYM_FN static int furuta_sym_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double furuta_sym_floor_(const double *x)
+FURUTA_SYM_FN static double furuta_sym_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -1542,7 +1542,7 @@ static double furuta_sym_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long furuta_sym_nsteps_(double ta, double tb, double h)
+FURUTA_SYM_FN static long furuta_sym_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -1556,7 +1556,7 @@ static long furuta_sym_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (FURUTA_SYM_RK4_LANES), else libm's (FURUTA_SYM_RK4, furuta_sym_fixed_'s bits). */
-static void furuta_sym_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+FURUTA_SYM_FN static void furuta_sym_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const furuta_sym_params *p, double *const *X, furuta_sym_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1670,7 +1670,7 @@ static void furuta_sym_rk4_lane_(int own, int nt, const double *tt, double h, lo
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (FURUTA_SYM_RK4_LANES), else libm's (FURUTA_SYM_RK4, furuta_sym_fixed_'s bits). */
-static void furuta_sym_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+FURUTA_SYM_FN static void furuta_sym_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const furuta_sym_params *p, double *const *X, furuta_sym_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1783,7 +1783,7 @@ static void furuta_sym_rk4_lanes_(int own, int nt, const double *tt, double h, l
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * furuta_sym_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int furuta_sym_rk4_step_(const double *x, double h, const double *u, const furuta_sym_params *p,
+FURUTA_SYM_FN static inline int furuta_sym_rk4_step_(const double *x, double h, const double *u, const furuta_sym_params *p,
                                        double *dx, furuta_sym_integrate_stats *st)
 {
     double k[4][4], y[4];
@@ -1808,7 +1808,7 @@ static inline int furuta_sym_rk4_step_(const double *x, double h, const double *
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int furuta_sym_lu_(double *A, int *piv, int m)
+FURUTA_SYM_FN static int furuta_sym_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -1842,7 +1842,7 @@ static int furuta_sym_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void furuta_sym_lu_solve_(const double *A, const int *piv, int m, double *b)
+FURUTA_SYM_FN static void furuta_sym_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -1866,7 +1866,7 @@ static void furuta_sym_lu_solve_(const double *A, const int *piv, int m, double 
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of furuta_sym_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int furuta_sym_gauss2_newton_(const double *x, double h, const double *u, const furuta_sym_params *p,
+FURUTA_SYM_FN static int furuta_sym_gauss2_newton_(const double *x, double h, const double *u, const furuta_sym_params *p,
                                      double Z[2][4], double F[2][4], furuta_sym_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1950,7 +1950,7 @@ static int furuta_sym_gauss2_newton_(const double *x, double h, const double *u,
  * differences of the canonical right side g (the converged solution does not depend on J, only the
  * rate does: differences are accurate enough and need nothing that is not emitted):
  *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
-static int furuta_sym_canonical_newton_(const double *y, double h, const double *u, const furuta_sym_params *p,
+FURUTA_SYM_FN static int furuta_sym_canonical_newton_(const double *y, double h, const double *u, const furuta_sym_params *p,
                                         double Z[2][4], double F[2][4], furuta_sym_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -2030,7 +2030,7 @@ static int furuta_sym_canonical_newton_(const double *y, double h, const double 
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int furuta_sym_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+FURUTA_SYM_FN static int furuta_sym_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const furuta_sym_params *p, double F[2][4], double *dx, furuta_sym_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -2116,7 +2116,7 @@ static int furuta_sym_gauss2_step_(const double *x, double h, double hp, int met
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
  * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
-static int furuta_sym_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+FURUTA_SYM_FN static int furuta_sym_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const furuta_sym_params *p, double *X,
                              furuta_sym_integrate_stats *st)
 {
@@ -2181,7 +2181,7 @@ static int furuta_sym_fixed_(int method, int nt, const double *tt, double h, lon
  * and the others NaN, *max_steps the budget.  FURUTA_SYM_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int furuta_sym_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+FURUTA_SYM_FN static inline int furuta_sym_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const furuta_sym_params *p, double *X,
                                   furuta_sym_integrate_stats *st)
 {
@@ -2232,7 +2232,7 @@ static inline int furuta_sym_grid_start_(int method, int nt, const double *t, do
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int furuta_sym_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+FURUTA_SYM_FN static inline int furuta_sym_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const furuta_sym_params *p,
                                    double *X, furuta_sym_integrate_stats *stats)
 {
@@ -2256,7 +2256,7 @@ static inline int furuta_sym_grid_(int method, int nt, const double *t, double h
     return furuta_sym_fixed_(method == FURUTA_SYM_RK4_LANES ? FURUTA_SYM_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+FURUTA_SYM_FN int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const furuta_sym_params *p,
                               double *X, furuta_sym_integrate_stats *stats)
 {
@@ -2266,7 +2266,7 @@ int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, dou
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int furuta_sym_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+FURUTA_SYM_FN static int furuta_sym_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const furuta_sym_params *p, double *X, int *codes)
 {
     furuta_sym_integrate_stats st;
@@ -2305,7 +2305,7 @@ static int furuta_sym_rk4_batch_(int own, int nb, int nt, const double *t, doubl
     return failed;
 }
 
-int furuta_sym_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+FURUTA_SYM_FN int furuta_sym_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const furuta_sym_params *p, long p_stride, double *X, int *codes)
 {
@@ -2325,7 +2325,7 @@ int furuta_sym_integrate_batch(int method, int nb, int nt, const double *t, doub
     return failed;
 }
 
-int furuta_sym_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+FURUTA_SYM_FN int furuta_sym_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const furuta_sym_params *p, double *x1, long *n_rhs)
 {
     furuta_sym_integrate_stats st;
@@ -2350,7 +2350,7 @@ int furuta_sym_integrate(int method, double t0, double t1, double h, double rtol
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int furuta_sym_eval_variational_(const double *y, const double *u, const furuta_sym_params *p,
+FURUTA_SYM_FN static int furuta_sym_eval_variational_(const double *y, const double *u, const furuta_sym_params *p,
                                    double *ydot, furuta_sym_integrate_stats *st)
 {
     double dq[4], dv[4];
@@ -2387,7 +2387,7 @@ static int furuta_sym_eval_variational_(const double *y, const double *u, const 
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void furuta_sym_add_variational_(double *x, double *cmp, const double *dx)
+FURUTA_SYM_FN static void furuta_sym_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2398,7 +2398,7 @@ static void furuta_sym_add_variational_(double *x, double *cmp, const double *dx
     }
 }
 
-static void furuta_sym_copy_variational_(double *dst, const double *src)
+FURUTA_SYM_FN static void furuta_sym_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2407,7 +2407,7 @@ static void furuta_sym_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void furuta_sym_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
+FURUTA_SYM_FN static void furuta_sym_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 20; ++i) {
@@ -2421,7 +2421,7 @@ static void furuta_sym_ksum_variational_(const double *w, int count, double k[][
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int furuta_sym_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+FURUTA_SYM_FN static int furuta_sym_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const furuta_sym_params *p, double *X,
                               furuta_sym_integrate_stats *st)
 {
@@ -2598,7 +2598,7 @@ static int furuta_sym_dop853_variational_(int nt, const double *tt, double h0, d
 }
 
 
-int furuta_sym_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+FURUTA_SYM_FN int furuta_sym_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const furuta_sym_params *p,
                                 double *x1, double *Phi, furuta_sym_integrate_stats *stats)
 {

@@ -61,6 +61,14 @@
 extern "C" {
 #endif
 
+/* FURUTA_SYM_FN marks every function of furuta_sym.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (furuta_sym_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define FURUTA_SYM_FN __host__ __device__
+#else
+#define FURUTA_SYM_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define FURUTA_SYM_REAL double
 #define FURUTA_SYM_N 2
@@ -98,18 +106,18 @@ typedef struct furuta_sym_params {
     double J2;
     double J2z;
 } furuta_sym_params;
-int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *M);
-int furuta_sym_forces(const double *x, const double *u, const furuta_sym_params *p, double *f);
-int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p, double *qdd);
-int furuta_sym_rhs(double t, const double *x, const double *u, const furuta_sym_params *p, double *xdot);
-int furuta_sym_qdd_derivatives(const double *x, const double *u, const furuta_sym_params *p,
+FURUTA_SYM_FN int furuta_sym_mass_matrix(const double *q, const furuta_sym_params *p, double *M);
+FURUTA_SYM_FN int furuta_sym_forces(const double *x, const double *u, const furuta_sym_params *p, double *f);
+FURUTA_SYM_FN int furuta_sym_qdd(const double *x, const double *u, const furuta_sym_params *p, double *qdd);
+FURUTA_SYM_FN int furuta_sym_rhs(double t, const double *x, const double *u, const furuta_sym_params *p, double *xdot);
+FURUTA_SYM_FN int furuta_sym_qdd_derivatives(const double *x, const double *u, const furuta_sym_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int furuta_sym_linearize(double t, const double *x, const double *u, const furuta_sym_params *p, double *A, double *B);
-double furuta_sym_energy(const double *x, const furuta_sym_params *p);
-double furuta_sym_momentum(const double *x, const furuta_sym_params *p);
-int furuta_sym_momenta(const double *x, const furuta_sym_params *p, double *pm);
-int furuta_sym_velocities(const double *q, const double *pm, const furuta_sym_params *p, double *qd);
-int furuta_sym_pdot(const double *x, const double *u, const furuta_sym_params *p, double *pdot);
+FURUTA_SYM_FN int furuta_sym_linearize(double t, const double *x, const double *u, const furuta_sym_params *p, double *A, double *B);
+FURUTA_SYM_FN double furuta_sym_energy(const double *x, const furuta_sym_params *p);
+FURUTA_SYM_FN double furuta_sym_momentum(const double *x, const furuta_sym_params *p);
+FURUTA_SYM_FN int furuta_sym_momenta(const double *x, const furuta_sym_params *p, double *pm);
+FURUTA_SYM_FN int furuta_sym_velocities(const double *q, const double *pm, const furuta_sym_params *p, double *qd);
+FURUTA_SYM_FN int furuta_sym_pdot(const double *x, const double *u, const furuta_sym_params *p, double *pdot);
 typedef struct furuta_sym_integrate_stats {
     double t;
     double x[4];
@@ -119,15 +127,15 @@ typedef struct furuta_sym_integrate_stats {
     long n_iter;
     long n_newton;
 } furuta_sym_integrate_stats;
-int furuta_sym_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+FURUTA_SYM_FN int furuta_sym_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const furuta_sym_params *p, double *x1, long *n_rhs);
-int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+FURUTA_SYM_FN int furuta_sym_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const furuta_sym_params *p,
                         double *X, furuta_sym_integrate_stats *stats);
-int furuta_sym_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+FURUTA_SYM_FN int furuta_sym_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const furuta_sym_params *p, long p_stride, double *X, int *codes);
-int furuta_sym_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+FURUTA_SYM_FN int furuta_sym_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const furuta_sym_params *p,
                                double *x1, double *Phi, furuta_sym_integrate_stats *stats);
 

@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define GIMBAL_PIVOT_TOL (2 * 2.220446049250313e-16)
 
-static int gimbal_all_finite_(const double *v, int count)
+GIMBAL_FN static int gimbal_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int gimbal_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void gimbal_symmetrize_(double *M)
+GIMBAL_FN static void gimbal_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 2; ++i) {
@@ -44,7 +44,7 @@ static void gimbal_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int gimbal_pivots_(const double *piv)
+GIMBAL_FN static int gimbal_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int gimbal_pivots_(const double *piv)
 }
 
 
-int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M)
+GIMBAL_FN int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M)
 {
     double LD[4];
     double v[2];
@@ -122,7 +122,7 @@ int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M)
     return GIMBAL_OK;
 }
 
-int gimbal_forces(const double *x, const double *u, const gimbal_params *p, double *f)
+GIMBAL_FN int gimbal_forces(const double *x, const double *u, const gimbal_params *p, double *f)
 {
     (void)p;
 
@@ -151,7 +151,7 @@ int gimbal_forces(const double *x, const double *u, const gimbal_params *p, doub
     return gimbal_all_finite_(f, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
 }
 
-int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double *qdd)
+GIMBAL_FN int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[2];
@@ -200,7 +200,7 @@ int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double 
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void gimbal_dq1_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
+GIMBAL_FN static void gimbal_dq1_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -214,7 +214,7 @@ static void gimbal_dq1_(const double *x, const double *u, const gimbal_params *p
 
 /* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q2, reading the recursion's values it needs from b. */
-static void gimbal_dq2_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
+GIMBAL_FN static void gimbal_dq2_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -239,7 +239,7 @@ static void gimbal_dq2_(const double *x, const double *u, const gimbal_params *p
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void gimbal_dv1_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
+GIMBAL_FN static void gimbal_dv1_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -260,7 +260,7 @@ static void gimbal_dv1_(const double *x, const double *u, const gimbal_params *p
 
 /* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v2, reading the recursion's values it needs from b. */
-static void gimbal_dv2_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
+GIMBAL_FN static void gimbal_dv2_(const double *x, const double *u, const gimbal_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -275,7 +275,7 @@ static void gimbal_dv2_(const double *x, const double *u, const gimbal_params *p
 
 }
 
-int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params *p,
+GIMBAL_FN int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -367,7 +367,7 @@ int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params
     return gimbal_all_finite_(acc, 2) ? GIMBAL_OK : GIMBAL_NONFINITE;
 }
 
-int gimbal_linearize(double t, const double *x, const double *u, const gimbal_params *p, double *A, double *B)
+GIMBAL_FN int gimbal_linearize(double t, const double *x, const double *u, const gimbal_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -393,7 +393,7 @@ int gimbal_linearize(double t, const double *x, const double *u, const gimbal_pa
     return GIMBAL_OK;
 }
 
-int gimbal_rhs(double t, const double *x, const double *u, const gimbal_params *p, double *xdot)
+GIMBAL_FN int gimbal_rhs(double t, const double *x, const double *u, const gimbal_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -403,7 +403,7 @@ int gimbal_rhs(double t, const double *x, const double *u, const gimbal_params *
     return gimbal_qdd(x, u, p, xdot + 2);
 }
 
-double gimbal_energy(const double *x, const gimbal_params *p)
+GIMBAL_FN double gimbal_energy(const double *x, const gimbal_params *p)
 {
     double result;
     (void)p;
@@ -421,7 +421,7 @@ double gimbal_energy(const double *x, const gimbal_params *p)
     return result;
 }
 
-double gimbal_momentum(const double *x, const gimbal_params *p)
+GIMBAL_FN double gimbal_momentum(const double *x, const gimbal_params *p)
 {
     double result;
     (void)p;
@@ -440,7 +440,7 @@ double gimbal_momentum(const double *x, const gimbal_params *p)
 }
 
 /* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
-int gimbal_momenta(const double *x, const gimbal_params *p, double *pm)
+GIMBAL_FN int gimbal_momenta(const double *x, const gimbal_params *p, double *pm)
 {
     (void)p;
 
@@ -461,7 +461,7 @@ int gimbal_momenta(const double *x, const gimbal_params *p, double *pm)
 }
 
 /* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
-int gimbal_velocities(const double *q, const double *pm, const gimbal_params *p, double *qd)
+GIMBAL_FN int gimbal_velocities(const double *q, const double *pm, const gimbal_params *p, double *qd)
 {
     double M[4];
     double k[2];
@@ -526,7 +526,7 @@ int gimbal_velocities(const double *q, const double *pm, const gimbal_params *p,
 
 /* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
  * dampers), computed as (dp/dphi) phidot + f. */
-int gimbal_pdot(const double *x, const double *u, const gimbal_params *p, double *pdot)
+GIMBAL_FN int gimbal_pdot(const double *x, const double *u, const gimbal_params *p, double *pdot)
 {
     (void)p;
 
@@ -561,7 +561,7 @@ int gimbal_pdot(const double *x, const double *u, const gimbal_params *p, double
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void gimbal_sincos4_(const double *GIMBAL_RESTRICT_ a, double *GIMBAL_RESTRICT_ s, double *GIMBAL_RESTRICT_ c)
+GIMBAL_FN static void gimbal_sincos4_(const double *GIMBAL_RESTRICT_ a, double *GIMBAL_RESTRICT_ s, double *GIMBAL_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -607,7 +607,7 @@ static void gimbal_sincos4_(const double *GIMBAL_RESTRICT_ a, double *GIMBAL_RES
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void gimbal_sincos1_(const double *GIMBAL_RESTRICT_ a, double *GIMBAL_RESTRICT_ s, double *GIMBAL_RESTRICT_ c)
+GIMBAL_FN static void gimbal_sincos1_(const double *GIMBAL_RESTRICT_ a, double *GIMBAL_RESTRICT_ s, double *GIMBAL_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -655,7 +655,7 @@ static void gimbal_sincos1_(const double *GIMBAL_RESTRICT_ a, double *GIMBAL_RES
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void gimbal_sincos_(const double *a, double *s, double *c, int count)
+GIMBAL_FN static void gimbal_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -689,7 +689,7 @@ static void gimbal_sincos_(const double *a, double *s, double *c, int count)
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of gimbal_rhs) or, with own, gimbal_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void gimbal_rhs_lane_(int own, const double *GIMBAL_RESTRICT_ X, const double *u,
+GIMBAL_FN static void gimbal_rhs_lane_(int own, const double *GIMBAL_RESTRICT_ X, const double *u,
                                 const gimbal_params *p, double *GIMBAL_RESTRICT_ XD, int *code)
 {
     double piv_[2], ok_[1];
@@ -781,7 +781,7 @@ static void gimbal_rhs_lane_(int own, const double *GIMBAL_RESTRICT_ X, const do
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of gimbal_rhs) or, with own, gimbal_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void gimbal_rhs_lanes_(int own, const double *GIMBAL_RESTRICT_ X, const double *u,
+GIMBAL_FN static void gimbal_rhs_lanes_(int own, const double *GIMBAL_RESTRICT_ X, const double *u,
                                 const gimbal_params *p, double *GIMBAL_RESTRICT_ XD, int *code)
 {
     double piv_[16], ok_[8];
@@ -910,7 +910,7 @@ static void gimbal_rhs_lanes_(int own, const double *GIMBAL_RESTRICT_ X, const d
  * side, the LU of the 8 x 8 matrix and ~4 iterations. */
 #define GIMBAL_NEWTON_SWEEPS_CANONICAL 10
 
-static int gimbal_eval_(const double *x, const double *u, const gimbal_params *p, double *xdot,
+GIMBAL_FN static int gimbal_eval_(const double *x, const double *u, const gimbal_params *p, double *xdot,
                             gimbal_integrate_stats *st)
 {
     st->n_rhs++;
@@ -919,7 +919,7 @@ static int gimbal_eval_(const double *x, const double *u, const gimbal_params *p
 
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = gimbal_pdot.  One call costs 22 + 30 ops. */
-static int gimbal_eval_canonical_(const double *y, const double *u, const gimbal_params *p, double *ydot,
+GIMBAL_FN static int gimbal_eval_canonical_(const double *y, const double *u, const gimbal_params *p, double *ydot,
                                       gimbal_integrate_stats *st)
 {
     double x[4];
@@ -938,7 +938,7 @@ static int gimbal_eval_canonical_(const double *y, const double *u, const gimbal
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void gimbal_to_state_(const double *y, const gimbal_params *p, double *x)
+GIMBAL_FN static void gimbal_to_state_(const double *y, const gimbal_params *p, double *x)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -953,7 +953,7 @@ static void gimbal_to_state_(const double *y, const gimbal_params *p, double *x)
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void gimbal_add_(double *x, double *cmp, const double *dx)
+GIMBAL_FN static void gimbal_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -964,7 +964,7 @@ static void gimbal_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void gimbal_copy_(double *dst, const double *src)
+GIMBAL_FN static void gimbal_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -973,7 +973,7 @@ static void gimbal_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void gimbal_ksum_(const double *w, int count, double k[][4], double hs, double *out)
+GIMBAL_FN static void gimbal_ksum_(const double *w, int count, double k[][4], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 4; ++i) {
@@ -987,7 +987,7 @@ static void gimbal_ksum_(const double *w, int count, double k[][4], double hs, d
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int gimbal_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+GIMBAL_FN static int gimbal_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const gimbal_params *p, double *X,
                               gimbal_integrate_stats *st)
 {
@@ -1165,13 +1165,13 @@ static int gimbal_dop853_(int nt, const double *tt, double h0, double rtol, doub
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int gimbal_tolerances_ok_(double rtol, double atol)
+GIMBAL_FN static int gimbal_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double gimbal_floor_(const double *x)
+GIMBAL_FN static double gimbal_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -1183,7 +1183,7 @@ static double gimbal_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long gimbal_nsteps_(double ta, double tb, double h)
+GIMBAL_FN static long gimbal_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -1197,7 +1197,7 @@ static long gimbal_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (GIMBAL_RK4_LANES), else libm's (GIMBAL_RK4, gimbal_fixed_'s bits). */
-static void gimbal_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+GIMBAL_FN static void gimbal_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const gimbal_params *p, double *const *X, gimbal_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1311,7 +1311,7 @@ static void gimbal_rk4_lane_(int own, int nt, const double *tt, double h, long m
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (GIMBAL_RK4_LANES), else libm's (GIMBAL_RK4, gimbal_fixed_'s bits). */
-static void gimbal_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+GIMBAL_FN static void gimbal_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const gimbal_params *p, double *const *X, gimbal_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1424,7 +1424,7 @@ static void gimbal_rk4_lanes_(int own, int nt, const double *tt, double h, long 
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * gimbal_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int gimbal_rk4_step_(const double *x, double h, const double *u, const gimbal_params *p,
+GIMBAL_FN static inline int gimbal_rk4_step_(const double *x, double h, const double *u, const gimbal_params *p,
                                        double *dx, gimbal_integrate_stats *st)
 {
     double k[4][4], y[4];
@@ -1449,7 +1449,7 @@ static inline int gimbal_rk4_step_(const double *x, double h, const double *u, c
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int gimbal_lu_(double *A, int *piv, int m)
+GIMBAL_FN static int gimbal_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -1483,7 +1483,7 @@ static int gimbal_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void gimbal_lu_solve_(const double *A, const int *piv, int m, double *b)
+GIMBAL_FN static void gimbal_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -1507,7 +1507,7 @@ static void gimbal_lu_solve_(const double *A, const int *piv, int m, double *b)
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of gimbal_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int gimbal_gauss2_newton_(const double *x, double h, const double *u, const gimbal_params *p,
+GIMBAL_FN static int gimbal_gauss2_newton_(const double *x, double h, const double *u, const gimbal_params *p,
                                      double Z[2][4], double F[2][4], gimbal_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1591,7 +1591,7 @@ static int gimbal_gauss2_newton_(const double *x, double h, const double *u, con
  * differences of the canonical right side g (the converged solution does not depend on J, only the
  * rate does: differences are accurate enough and need nothing that is not emitted):
  *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
-static int gimbal_canonical_newton_(const double *y, double h, const double *u, const gimbal_params *p,
+GIMBAL_FN static int gimbal_canonical_newton_(const double *y, double h, const double *u, const gimbal_params *p,
                                         double Z[2][4], double F[2][4], gimbal_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1671,7 +1671,7 @@ static int gimbal_canonical_newton_(const double *y, double h, const double *u, 
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int gimbal_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+GIMBAL_FN static int gimbal_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const gimbal_params *p, double F[2][4], double *dx, gimbal_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -1757,7 +1757,7 @@ static int gimbal_gauss2_step_(const double *x, double h, double hp, int method,
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
  * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
-static int gimbal_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+GIMBAL_FN static int gimbal_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const gimbal_params *p, double *X,
                              gimbal_integrate_stats *st)
 {
@@ -1822,7 +1822,7 @@ static int gimbal_fixed_(int method, int nt, const double *tt, double h, long ma
  * and the others NaN, *max_steps the budget.  GIMBAL_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int gimbal_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+GIMBAL_FN static inline int gimbal_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const gimbal_params *p, double *X,
                                   gimbal_integrate_stats *st)
 {
@@ -1871,7 +1871,7 @@ static inline int gimbal_grid_start_(int method, int nt, const double *t, double
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int gimbal_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+GIMBAL_FN static inline int gimbal_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const gimbal_params *p,
                                    double *X, gimbal_integrate_stats *stats)
 {
@@ -1895,7 +1895,7 @@ static inline int gimbal_grid_(int method, int nt, const double *t, double h, do
     return gimbal_fixed_(method == GIMBAL_RK4_LANES ? GIMBAL_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+GIMBAL_FN int gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const gimbal_params *p,
                               double *X, gimbal_integrate_stats *stats)
 {
@@ -1905,7 +1905,7 @@ int gimbal_integrate_grid(int method, int nt, const double *t, double h, double 
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int gimbal_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+GIMBAL_FN static int gimbal_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const gimbal_params *p, double *X, int *codes)
 {
     gimbal_integrate_stats st;
@@ -1944,7 +1944,7 @@ static int gimbal_rk4_batch_(int own, int nb, int nt, const double *t, double h,
     return failed;
 }
 
-int gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+GIMBAL_FN int gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const gimbal_params *p, long p_stride, double *X, int *codes)
 {
@@ -1964,7 +1964,7 @@ int gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h
     return failed;
 }
 
-int gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+GIMBAL_FN int gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const gimbal_params *p, double *x1, long *n_rhs)
 {
     gimbal_integrate_stats st;
@@ -1989,7 +1989,7 @@ int gimbal_integrate(int method, double t0, double t1, double h, double rtol, do
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int gimbal_eval_variational_(const double *y, const double *u, const gimbal_params *p,
+GIMBAL_FN static int gimbal_eval_variational_(const double *y, const double *u, const gimbal_params *p,
                                    double *ydot, gimbal_integrate_stats *st)
 {
     double dq[4], dv[4];
@@ -2026,7 +2026,7 @@ static int gimbal_eval_variational_(const double *y, const double *u, const gimb
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void gimbal_add_variational_(double *x, double *cmp, const double *dx)
+GIMBAL_FN static void gimbal_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2037,7 +2037,7 @@ static void gimbal_add_variational_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void gimbal_copy_variational_(double *dst, const double *src)
+GIMBAL_FN static void gimbal_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2046,7 +2046,7 @@ static void gimbal_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void gimbal_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
+GIMBAL_FN static void gimbal_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 20; ++i) {
@@ -2060,7 +2060,7 @@ static void gimbal_ksum_variational_(const double *w, int count, double k[][20],
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int gimbal_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+GIMBAL_FN static int gimbal_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const gimbal_params *p, double *X,
                               gimbal_integrate_stats *st)
 {
@@ -2237,7 +2237,7 @@ static int gimbal_dop853_variational_(int nt, const double *tt, double h0, doubl
 }
 
 
-int gimbal_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+GIMBAL_FN int gimbal_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const gimbal_params *p,
                                 double *x1, double *Phi, gimbal_integrate_stats *stats)
 {
@@ -2336,7 +2336,7 @@ typedef struct {
 } gimbal_orbit_;
 
 /* J(phi), C(phi), A, U(phi), beta(phi) of the spec (generated). */
-static void gimbal_quad_terms_(double phi, const gimbal_params *p, double *out)
+GIMBAL_FN static void gimbal_quad_terms_(double phi, const gimbal_params *p, double *out)
 {
     (void)p;
     const double cos_phi2 = cos(phi);
@@ -2353,7 +2353,7 @@ static void gimbal_quad_terms_(double phi, const gimbal_params *p, double *out)
 }
 
 /* P, P', P'' at phi from the Fourier coefficients. */
-static void gimbal_pfour_(const double *c, double phi, double *d)
+GIMBAL_FN static void gimbal_pfour_(const double *c, double phi, double *d)
 {
     const double c1 = cos(phi), s1 = sin(phi);
     double ck = c1, sk = s1, t;
@@ -2372,7 +2372,7 @@ static void gimbal_pfour_(const double *c, double phi, double *d)
 }
 
 /* P(r + x) - P(r) = sum_j 2 sin(j x/2) (c_sj cos j(r + x/2) - c_cj sin j(r + x/2)), accurate for small x. */
-static double gimbal_pdelta_(const double *c, double r, double x)
+GIMBAL_FN static double gimbal_pdelta_(const double *c, double r, double x)
 {
     const double m = r + 0.5 * x, cm = cos(m), sm = sin(m);
     double ck = cm, sk = sm, t, sum = 0.0;
@@ -2390,7 +2390,7 @@ static double gimbal_pdelta_(const double *c, double r, double x)
  * with p_j = c_sj cos js - c_cj sin js, q_j = c_cj cos js + c_sj sin js it is
  * sum_j (sin jx - j sin x) p_j - 2 sin^2(jx/2) q_j, and sin 2x - 2 sin x = -4 sin x sin^2(x/2),
  * sin 3x - 3 sin x = -4 sin^3 x: no term is linear in x, so nothing cancels near s. */
-static double gimbal_pbump_(const double *c, double s, double x)
+GIMBAL_FN static double gimbal_pbump_(const double *c, double s, double x)
 {
     const double cs = cos(s), ss = sin(s), sx = sin(x), h1 = sin(0.5 * x);
     const double c2 = cs * cs - ss * ss, s2 = 2.0 * ss * cs, c3 = c2 * cs - s2 * ss, s3 = s2 * cs + c2 * ss;
@@ -2403,7 +2403,7 @@ static double gimbal_pbump_(const double *c, double s, double x)
 /* The first root of P from a (P(a) > 0) in the sense sig within dmax: returns 1 and *root, 0 when
  * P > 0 all the way, -1 when the walk does not converge.  *pmin, *argmin: the least local minimum
  * of P passed (located by bisection on P'). */
-static int gimbal_walk_(const gimbal_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin, double *argmin)
+GIMBAL_FN static int gimbal_walk_(const gimbal_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin, double *argmin)
 {
     double d[3], dn[3], gone = 0.0, step, lo, hi, mid, dm[3];
     int it, i, last;
@@ -2454,7 +2454,7 @@ static int gimbal_walk_(const gimbal_orbit_ *o, double a, double sig, double dma
 }
 
 /* dt, dpsi_K, dpsi_C per unit parameter b of quarter q (the turn when rotating). */
-static int gimbal_integrand_(const gimbal_orbit_ *o, int q, double b, double *f, double *phi_out, double *g_out)
+GIMBAL_FN static int gimbal_integrand_(const gimbal_orbit_ *o, int q, double b, double *f, double *phi_out, double *g_out)
 {
     double t[5], phi, dphi, P = 0.0, D, g, K, s2 = 0.0, x;
     if (o->kind == GIMBAL_ROTATION) {
@@ -2498,7 +2498,7 @@ static int gimbal_integrand_(const gimbal_orbit_ *o, int q, double b, double *f,
 }
 
 /* Gauss-Kronrod 7/15 on [a, b]: v = the three integrals, e = |K15 - G7| of each. */
-static int gimbal_kronrod_(const gimbal_orbit_ *o, int q, double a, double b, double *v, double *e)
+GIMBAL_FN static int gimbal_kronrod_(const gimbal_orbit_ *o, int q, double a, double b, double *v, double *e)
 {
     static const double xk[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
         0.864864423359769072789712788640926, 0.741531185599394439863864773280788, 0.586087235467691130294144845693013,
@@ -2550,7 +2550,7 @@ static int gimbal_kronrod_(const gimbal_orbit_ *o, int q, double a, double b, do
 }
 
 /* Adaptive panels over [0, end] of quarter q; sorted, with cumulative integrals. */
-static int gimbal_panels_(gimbal_orbit_ *o, int q, double end, int start)
+GIMBAL_FN static int gimbal_panels_(gimbal_orbit_ *o, int q, double end, int start)
 {
     gimbal_panel_ *pan = o->pan[q], tmp;
     double e[3], err[3], size[3], ab[3], worst;
@@ -2636,7 +2636,7 @@ static int gimbal_panels_(gimbal_orbit_ *o, int q, double end, int start)
 }
 
 /* The integrals from the start of quarter q to parameter b. */
-static int gimbal_partial_(const gimbal_orbit_ *o, int q, double b, double *v)
+GIMBAL_FN static int gimbal_partial_(const gimbal_orbit_ *o, int q, double b, double *v)
 {
     const gimbal_panel_ *pan = o->pan[q];
     double part[3], e[3];
@@ -2657,7 +2657,7 @@ static int gimbal_partial_(const gimbal_orbit_ *o, int q, double b, double *v)
 }
 
 /* The parameter b of quarter q at which the time from its start is tau (Newton, bracketed). */
-static int gimbal_invert_(const gimbal_orbit_ *o, int q, double tau, double *b, double *v)
+GIMBAL_FN static int gimbal_invert_(const gimbal_orbit_ *o, int q, double tau, double *b, double *v)
 {
     const gimbal_panel_ *pan = o->pan[q];
     double x, xn, lo_x, hi_x, F, g, f[3], e[3], part[3];
@@ -2707,7 +2707,7 @@ static int gimbal_invert_(const gimbal_orbit_ *o, int q, double tau, double *b, 
 }
 
 /* The motion from x0: constants, Fourier coefficients of P, turning points, panels. */
-static int gimbal_orbit_init_(const double *x0, const gimbal_params *p, gimbal_orbit_ *o)
+GIMBAL_FN static int gimbal_orbit_init_(const double *x0, const gimbal_params *p, gimbal_orbit_ *o)
 {
     double t[5], ej[8], kk[8], d[3], root, pmin, argmin, phi, D0, ang, e_end;
     const double phi0 = x0[1], phid0 = x0[3];
@@ -2824,7 +2824,7 @@ static int gimbal_orbit_init_(const double *x0, const gimbal_params *p, gimbal_o
     return rc;
 }
 
-int gimbal_quad_motion(const double *x0, const gimbal_params *p, gimbal_quad_info *info)
+GIMBAL_FN int gimbal_quad_motion(const double *x0, const gimbal_params *p, gimbal_quad_info *info)
 {
     gimbal_orbit_ o;
     int rc = gimbal_orbit_init_(x0, p, &o);
@@ -2853,7 +2853,7 @@ int gimbal_quad_motion(const double *x0, const gimbal_params *p, gimbal_quad_inf
     return GIMBAL_OK;
 }
 
-int gimbal_quad_period(const double *x0, const gimbal_params *p, double *period)
+GIMBAL_FN int gimbal_quad_period(const double *x0, const gimbal_params *p, double *period)
 {
     gimbal_quad_info info;
     int rc = gimbal_quad_motion(x0, p, &info);
@@ -2870,7 +2870,7 @@ int gimbal_quad_period(const double *x0, const gimbal_params *p, double *period)
 /* Phase time (from phi_- with phidot > 0) and psi gained, at the point with integrals v on
  * segment seg of a libration: 1 phi_- -> mid and 2 mid -> phi_+ (phidot > 0), 3 phi_+ -> mid and
  * 4 mid -> phi_- (phidot < 0).  psi gains K dt/J - C dphi/J: the C part flips with phidot. */
-static void gimbal_lib_phase_(const gimbal_orbit_ *o, int seg, const double *v, double *phase, double *psir)
+GIMBAL_FN static void gimbal_lib_phase_(const gimbal_orbit_ *o, int seg, const double *v, double *phase, double *psir)
 {
     const double *Im = o->tot[0], *Ip = o->tot[1];
     const double up = Im[1] - Im[2] + Ip[1] - Ip[2];   /* psi gained over segments 1 and 2 */
@@ -2894,7 +2894,7 @@ static void gimbal_lib_phase_(const gimbal_orbit_ *o, int seg, const double *v, 
     }
 }
 
-int gimbal_quad_state(double t, const double *x0, const gimbal_params *p, double *x)
+GIMBAL_FN int gimbal_quad_state(double t, const double *x0, const gimbal_params *p, double *x)
 {
     gimbal_orbit_ o;
     double T, n, rem, tau, b, v[3], phase0, psir0, phase, psir, phi, g, f[3], tt[5], phid, b0;
@@ -2988,7 +2988,7 @@ int gimbal_quad_state(double t, const double *x0, const gimbal_params *p, double
     return GIMBAL_OK;
 }
 
-int gimbal_quad_functions(double phi, const double *x0, const gimbal_params *p, double *out)
+GIMBAL_FN int gimbal_quad_functions(double phi, const double *x0, const gimbal_params *p, double *out)
 {
     double t[5], E, k, P, D;
     if (!gimbal_all_finite_(x0, 4) || !isfinite(phi)) {

@@ -61,6 +61,14 @@
 extern "C" {
 #endif
 
+/* GIMBAL_FN marks every function of gimbal.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (gimbal_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define GIMBAL_FN __host__ __device__
+#else
+#define GIMBAL_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define GIMBAL_REAL double
 #define GIMBAL_N 2
@@ -96,18 +104,18 @@ extern "C" {
 typedef struct gimbal_params {
     double unused_;
 } gimbal_params;
-int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M);
-int gimbal_forces(const double *x, const double *u, const gimbal_params *p, double *f);
-int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double *qdd);
-int gimbal_rhs(double t, const double *x, const double *u, const gimbal_params *p, double *xdot);
-int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params *p,
+GIMBAL_FN int gimbal_mass_matrix(const double *q, const gimbal_params *p, double *M);
+GIMBAL_FN int gimbal_forces(const double *x, const double *u, const gimbal_params *p, double *f);
+GIMBAL_FN int gimbal_qdd(const double *x, const double *u, const gimbal_params *p, double *qdd);
+GIMBAL_FN int gimbal_rhs(double t, const double *x, const double *u, const gimbal_params *p, double *xdot);
+GIMBAL_FN int gimbal_qdd_derivatives(const double *x, const double *u, const gimbal_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int gimbal_linearize(double t, const double *x, const double *u, const gimbal_params *p, double *A, double *B);
-double gimbal_energy(const double *x, const gimbal_params *p);
-double gimbal_momentum(const double *x, const gimbal_params *p);
-int gimbal_momenta(const double *x, const gimbal_params *p, double *pm);
-int gimbal_velocities(const double *q, const double *pm, const gimbal_params *p, double *qd);
-int gimbal_pdot(const double *x, const double *u, const gimbal_params *p, double *pdot);
+GIMBAL_FN int gimbal_linearize(double t, const double *x, const double *u, const gimbal_params *p, double *A, double *B);
+GIMBAL_FN double gimbal_energy(const double *x, const gimbal_params *p);
+GIMBAL_FN double gimbal_momentum(const double *x, const gimbal_params *p);
+GIMBAL_FN int gimbal_momenta(const double *x, const gimbal_params *p, double *pm);
+GIMBAL_FN int gimbal_velocities(const double *q, const double *pm, const gimbal_params *p, double *qd);
+GIMBAL_FN int gimbal_pdot(const double *x, const double *u, const gimbal_params *p, double *pdot);
 typedef struct gimbal_integrate_stats {
     double t;
     double x[4];
@@ -117,15 +125,15 @@ typedef struct gimbal_integrate_stats {
     long n_iter;
     long n_newton;
 } gimbal_integrate_stats;
-int gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+GIMBAL_FN int gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const gimbal_params *p, double *x1, long *n_rhs);
-int gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+GIMBAL_FN int gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const gimbal_params *p,
                         double *X, gimbal_integrate_stats *stats);
-int gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+GIMBAL_FN int gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const gimbal_params *p, long p_stride, double *X, int *codes);
-int gimbal_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+GIMBAL_FN int gimbal_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const gimbal_params *p,
                                double *x1, double *Phi, gimbal_integrate_stats *stats);
 typedef struct gimbal_quad_info {
@@ -138,10 +146,10 @@ typedef struct gimbal_quad_info {
     double psi_advance;
     double separatrix_distance;
 } gimbal_quad_info;
-int gimbal_quad_motion(const double *x0, const gimbal_params *p, gimbal_quad_info *info);
-int gimbal_quad_period(const double *x0, const gimbal_params *p, double *period);
-int gimbal_quad_state(double t, const double *x0, const gimbal_params *p, double *x);
-int gimbal_quad_functions(double phi, const double *x0, const gimbal_params *p, double *out);
+GIMBAL_FN int gimbal_quad_motion(const double *x0, const gimbal_params *p, gimbal_quad_info *info);
+GIMBAL_FN int gimbal_quad_period(const double *x0, const gimbal_params *p, double *period);
+GIMBAL_FN int gimbal_quad_state(double t, const double *x0, const gimbal_params *p, double *x);
+GIMBAL_FN int gimbal_quad_functions(double phi, const double *x0, const gimbal_params *p, double *out);
 
 /* quad_* report SEPARATRIX when the state is closer than this (relative to the size of the terms of
  * E(phi) J - K^2) to a double root of it: the period is unbounded there. */

@@ -61,6 +61,14 @@
 extern "C" {
 #endif
 
+/* GYROSTAT2_FN marks every function of gyrostat2.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (gyrostat2_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define GYROSTAT2_FN __host__ __device__
+#else
+#define GYROSTAT2_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define GYROSTAT2_REAL double
 #define GYROSTAT2_N 2
@@ -96,18 +104,18 @@ extern "C" {
 typedef struct gyrostat2_params {
     double unused_;
 } gyrostat2_params;
-int gyrostat2_mass_matrix(const double *q, const gyrostat2_params *p, double *M);
-int gyrostat2_forces(const double *x, const double *u, const gyrostat2_params *p, double *f);
-int gyrostat2_qdd(const double *x, const double *u, const gyrostat2_params *p, double *qdd);
-int gyrostat2_rhs(double t, const double *x, const double *u, const gyrostat2_params *p, double *xdot);
-int gyrostat2_qdd_derivatives(const double *x, const double *u, const gyrostat2_params *p,
+GYROSTAT2_FN int gyrostat2_mass_matrix(const double *q, const gyrostat2_params *p, double *M);
+GYROSTAT2_FN int gyrostat2_forces(const double *x, const double *u, const gyrostat2_params *p, double *f);
+GYROSTAT2_FN int gyrostat2_qdd(const double *x, const double *u, const gyrostat2_params *p, double *qdd);
+GYROSTAT2_FN int gyrostat2_rhs(double t, const double *x, const double *u, const gyrostat2_params *p, double *xdot);
+GYROSTAT2_FN int gyrostat2_qdd_derivatives(const double *x, const double *u, const gyrostat2_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int gyrostat2_linearize(double t, const double *x, const double *u, const gyrostat2_params *p, double *A, double *B);
-double gyrostat2_energy(const double *x, const gyrostat2_params *p);
-double gyrostat2_momentum(const double *x, const gyrostat2_params *p);
-int gyrostat2_momenta(const double *x, const gyrostat2_params *p, double *pm);
-int gyrostat2_velocities(const double *q, const double *pm, const gyrostat2_params *p, double *qd);
-int gyrostat2_pdot(const double *x, const double *u, const gyrostat2_params *p, double *pdot);
+GYROSTAT2_FN int gyrostat2_linearize(double t, const double *x, const double *u, const gyrostat2_params *p, double *A, double *B);
+GYROSTAT2_FN double gyrostat2_energy(const double *x, const gyrostat2_params *p);
+GYROSTAT2_FN double gyrostat2_momentum(const double *x, const gyrostat2_params *p);
+GYROSTAT2_FN int gyrostat2_momenta(const double *x, const gyrostat2_params *p, double *pm);
+GYROSTAT2_FN int gyrostat2_velocities(const double *q, const double *pm, const gyrostat2_params *p, double *qd);
+GYROSTAT2_FN int gyrostat2_pdot(const double *x, const double *u, const gyrostat2_params *p, double *pdot);
 typedef struct gyrostat2_integrate_stats {
     double t;
     double x[4];
@@ -117,15 +125,15 @@ typedef struct gyrostat2_integrate_stats {
     long n_iter;
     long n_newton;
 } gyrostat2_integrate_stats;
-int gyrostat2_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+GYROSTAT2_FN int gyrostat2_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const gyrostat2_params *p, double *x1, long *n_rhs);
-int gyrostat2_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+GYROSTAT2_FN int gyrostat2_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const gyrostat2_params *p,
                         double *X, gyrostat2_integrate_stats *stats);
-int gyrostat2_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+GYROSTAT2_FN int gyrostat2_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const gyrostat2_params *p, long p_stride, double *X, int *codes);
-int gyrostat2_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+GYROSTAT2_FN int gyrostat2_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const gyrostat2_params *p,
                                double *x1, double *Phi, gyrostat2_integrate_stats *stats);
 typedef struct gyrostat2_quad_info {
@@ -138,10 +146,10 @@ typedef struct gyrostat2_quad_info {
     double psi_advance;
     double separatrix_distance;
 } gyrostat2_quad_info;
-int gyrostat2_quad_motion(const double *x0, const gyrostat2_params *p, gyrostat2_quad_info *info);
-int gyrostat2_quad_period(const double *x0, const gyrostat2_params *p, double *period);
-int gyrostat2_quad_state(double t, const double *x0, const gyrostat2_params *p, double *x);
-int gyrostat2_quad_functions(double phi, const double *x0, const gyrostat2_params *p, double *out);
+GYROSTAT2_FN int gyrostat2_quad_motion(const double *x0, const gyrostat2_params *p, gyrostat2_quad_info *info);
+GYROSTAT2_FN int gyrostat2_quad_period(const double *x0, const gyrostat2_params *p, double *period);
+GYROSTAT2_FN int gyrostat2_quad_state(double t, const double *x0, const gyrostat2_params *p, double *x);
+GYROSTAT2_FN int gyrostat2_quad_functions(double phi, const double *x0, const gyrostat2_params *p, double *out);
 
 /* quad_* report SEPARATRIX when the state is closer than this (relative to the size of the terms of
  * E(phi) J - K^2) to a double root of it: the period is unbounded there. */

@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define KAPITZA_PIVOT_TOL (1 * 2.220446049250313e-16)
 
-static int kapitza_all_finite_(const double *v, int count)
+KAPITZA_FN static int kapitza_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int kapitza_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void kapitza_symmetrize_(double *M)
+KAPITZA_FN static void kapitza_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 1; ++i) {
@@ -44,7 +44,7 @@ static void kapitza_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int kapitza_pivots_(const double *piv)
+KAPITZA_FN static int kapitza_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int kapitza_pivots_(const double *piv)
 }
 
 
-int kapitza_mass_matrix(const double *q, const kapitza_params *p, double *M)
+KAPITZA_FN int kapitza_mass_matrix(const double *q, const kapitza_params *p, double *M)
 {
     double LD[1];
     double v[1];
@@ -110,7 +110,7 @@ int kapitza_mass_matrix(const double *q, const kapitza_params *p, double *M)
     return KAPITZA_OK;
 }
 
-int kapitza_forces(double t, const double *x, const double *u, const kapitza_params *p, double *f)
+KAPITZA_FN int kapitza_forces(double t, const double *x, const double *u, const kapitza_params *p, double *f)
 {
     if (!p) {
         return KAPITZA_NO_PARAMS;
@@ -136,7 +136,7 @@ int kapitza_forces(double t, const double *x, const double *u, const kapitza_par
     return kapitza_all_finite_(f, 1) ? KAPITZA_OK : KAPITZA_NONFINITE;
 }
 
-int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params *p, double *qdd)
+KAPITZA_FN int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[1];
@@ -176,7 +176,7 @@ int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void kapitza_dq1_(double t, const double *x, const double *u, const kapitza_params *p, const double *b, double *col)
+KAPITZA_FN static void kapitza_dq1_(double t, const double *x, const double *u, const kapitza_params *p, const double *b, double *col)
 {
     (void)t;
     (void)x;
@@ -193,7 +193,7 @@ static void kapitza_dq1_(double t, const double *x, const double *u, const kapit
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void kapitza_dv1_(double t, const double *x, const double *u, const kapitza_params *p, const double *b, double *col)
+KAPITZA_FN static void kapitza_dv1_(double t, const double *x, const double *u, const kapitza_params *p, const double *b, double *col)
 {
     (void)t;
     (void)x;
@@ -205,7 +205,7 @@ static void kapitza_dv1_(double t, const double *x, const double *u, const kapit
 
 }
 
-int kapitza_qdd_derivatives(double t, const double *x, const double *u, const kapitza_params *p,
+KAPITZA_FN int kapitza_qdd_derivatives(double t, const double *x, const double *u, const kapitza_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -272,7 +272,7 @@ int kapitza_qdd_derivatives(double t, const double *x, const double *u, const ka
     return kapitza_all_finite_(acc, 1) ? KAPITZA_OK : KAPITZA_NONFINITE;
 }
 
-int kapitza_linearize(double t, const double *x, const double *u, const kapitza_params *p, double *A, double *B)
+KAPITZA_FN int kapitza_linearize(double t, const double *x, const double *u, const kapitza_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -297,7 +297,7 @@ int kapitza_linearize(double t, const double *x, const double *u, const kapitza_
     return KAPITZA_OK;
 }
 
-int kapitza_rhs(double t, const double *x, const double *u, const kapitza_params *p, double *xdot)
+KAPITZA_FN int kapitza_rhs(double t, const double *x, const double *u, const kapitza_params *p, double *xdot)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -306,7 +306,7 @@ int kapitza_rhs(double t, const double *x, const double *u, const kapitza_params
     return kapitza_qdd(t, x, u, p, xdot + 1);
 }
 
-double kapitza_energy(double t, const double *x, const kapitza_params *p)
+KAPITZA_FN double kapitza_energy(double t, const double *x, const kapitza_params *p)
 {
     double result;
     if (!p) {
@@ -332,7 +332,7 @@ double kapitza_energy(double t, const double *x, const kapitza_params *p)
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void kapitza_sincos4_(const double *KAPITZA_RESTRICT_ a, double *KAPITZA_RESTRICT_ s, double *KAPITZA_RESTRICT_ c)
+KAPITZA_FN static void kapitza_sincos4_(const double *KAPITZA_RESTRICT_ a, double *KAPITZA_RESTRICT_ s, double *KAPITZA_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -378,7 +378,7 @@ static void kapitza_sincos4_(const double *KAPITZA_RESTRICT_ a, double *KAPITZA_
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void kapitza_sincos1_(const double *KAPITZA_RESTRICT_ a, double *KAPITZA_RESTRICT_ s, double *KAPITZA_RESTRICT_ c)
+KAPITZA_FN static void kapitza_sincos1_(const double *KAPITZA_RESTRICT_ a, double *KAPITZA_RESTRICT_ s, double *KAPITZA_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -426,7 +426,7 @@ static void kapitza_sincos1_(const double *KAPITZA_RESTRICT_ a, double *KAPITZA_
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void kapitza_sincos_(const double *a, double *s, double *c, int count)
+KAPITZA_FN static void kapitza_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -460,7 +460,7 @@ static void kapitza_sincos_(const double *a, double *s, double *c, int count)
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of kapitza_rhs) or, with own, kapitza_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void kapitza_rhs_lane_(double t, int own, const double *KAPITZA_RESTRICT_ X, const double *u,
+KAPITZA_FN static void kapitza_rhs_lane_(double t, int own, const double *KAPITZA_RESTRICT_ X, const double *u,
                                 const kapitza_params *p, double *KAPITZA_RESTRICT_ XD, int *code)
 {
     double piv_[1], ok_[1];
@@ -540,7 +540,7 @@ static void kapitza_rhs_lane_(double t, int own, const double *KAPITZA_RESTRICT_
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of kapitza_rhs) or, with own, kapitza_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void kapitza_rhs_lanes_(double t, int own, const double *KAPITZA_RESTRICT_ X, const double *u,
+KAPITZA_FN static void kapitza_rhs_lanes_(double t, int own, const double *KAPITZA_RESTRICT_ X, const double *u,
                                 const kapitza_params *p, double *KAPITZA_RESTRICT_ XD, int *code)
 {
     double piv_[8], ok_[8];
@@ -649,7 +649,7 @@ static void kapitza_rhs_lanes_(double t, int own, const double *KAPITZA_RESTRICT
  * 10 ops per rhs.  Newton is used when more sweeps than this are still needed. */
 #define KAPITZA_NEWTON_SWEEPS 4
 
-static int kapitza_eval_(double t, const double *x, const double *u, const kapitza_params *p, double *xdot,
+KAPITZA_FN static int kapitza_eval_(double t, const double *x, const double *u, const kapitza_params *p, double *xdot,
                             kapitza_integrate_stats *st)
 {
     st->n_rhs++;
@@ -658,7 +658,7 @@ static int kapitza_eval_(double t, const double *x, const double *u, const kapit
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void kapitza_add_(double *x, double *cmp, const double *dx)
+KAPITZA_FN static void kapitza_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -669,7 +669,7 @@ static void kapitza_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void kapitza_copy_(double *dst, const double *src)
+KAPITZA_FN static void kapitza_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -678,7 +678,7 @@ static void kapitza_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void kapitza_ksum_(const double *w, int count, double k[][2], double hs, double *out)
+KAPITZA_FN static void kapitza_ksum_(const double *w, int count, double k[][2], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 2; ++i) {
@@ -692,7 +692,7 @@ static void kapitza_ksum_(const double *w, int count, double k[][2], double hs, 
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int kapitza_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+KAPITZA_FN static int kapitza_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const kapitza_params *p, double *X,
                               kapitza_integrate_stats *st)
 {
@@ -874,13 +874,13 @@ static int kapitza_dop853_(int nt, const double *tt, double h0, double rtol, dou
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int kapitza_tolerances_ok_(double rtol, double atol)
+KAPITZA_FN static int kapitza_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double kapitza_floor_(const double *x)
+KAPITZA_FN static double kapitza_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -892,7 +892,7 @@ static double kapitza_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long kapitza_nsteps_(double ta, double tb, double h)
+KAPITZA_FN static long kapitza_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -906,7 +906,7 @@ static long kapitza_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (KAPITZA_RK4_LANES), else libm's (KAPITZA_RK4, kapitza_fixed_'s bits). */
-static void kapitza_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+KAPITZA_FN static void kapitza_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const kapitza_params *p, double *const *X, kapitza_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1021,7 +1021,7 @@ static void kapitza_rk4_lane_(int own, int nt, const double *tt, double h, long 
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (KAPITZA_RK4_LANES), else libm's (KAPITZA_RK4, kapitza_fixed_'s bits). */
-static void kapitza_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+KAPITZA_FN static void kapitza_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const kapitza_params *p, double *const *X, kapitza_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1135,7 +1135,7 @@ static void kapitza_rk4_lanes_(int own, int nt, const double *tt, double h, long
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * kapitza_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int kapitza_rk4_step_(double t0, const double *x, double h, const double *u, const kapitza_params *p,
+KAPITZA_FN static inline int kapitza_rk4_step_(double t0, const double *x, double h, const double *u, const kapitza_params *p,
                                        double *dx, kapitza_integrate_stats *st)
 {
     double k[4][2], y[2];
@@ -1160,7 +1160,7 @@ static inline int kapitza_rk4_step_(double t0, const double *x, double h, const 
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int kapitza_lu_(double *A, int *piv, int m)
+KAPITZA_FN static int kapitza_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -1194,7 +1194,7 @@ static int kapitza_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void kapitza_lu_solve_(const double *A, const int *piv, int m, double *b)
+KAPITZA_FN static void kapitza_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -1218,7 +1218,7 @@ static void kapitza_lu_solve_(const double *A, const int *piv, int m, double *b)
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of kapitza_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int kapitza_gauss2_newton_(double t0, const double *x, double h, const double *u, const kapitza_params *p,
+KAPITZA_FN static int kapitza_gauss2_newton_(double t0, const double *x, double h, const double *u, const kapitza_params *p,
                                      double Z[2][2], double F[2][2], kapitza_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1302,7 +1302,7 @@ static int kapitza_gauss2_newton_(double t0, const double *x, double h, const do
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int kapitza_gauss2_step_(double t0, const double *x, double h, double hp, int method, const double *u,
+KAPITZA_FN static int kapitza_gauss2_step_(double t0, const double *x, double h, double hp, int method, const double *u,
                                    const kapitza_params *p, double F[2][2], double *dx, kapitza_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -1385,7 +1385,7 @@ static int kapitza_gauss2_step_(double t0, const double *x, double h, double hp,
 
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant). */
-static int kapitza_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+KAPITZA_FN static int kapitza_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const kapitza_params *p, double *X,
                              kapitza_integrate_stats *st)
 {
@@ -1435,7 +1435,7 @@ static int kapitza_fixed_(int method, int nt, const double *tt, double h, long m
  * and the others NaN, *max_steps the budget.  KAPITZA_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int kapitza_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+KAPITZA_FN static inline int kapitza_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const kapitza_params *p, double *X,
                                   kapitza_integrate_stats *st)
 {
@@ -1485,7 +1485,7 @@ static inline int kapitza_grid_start_(int method, int nt, const double *t, doubl
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int kapitza_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+KAPITZA_FN static inline int kapitza_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const kapitza_params *p,
                                    double *X, kapitza_integrate_stats *stats)
 {
@@ -1509,7 +1509,7 @@ static inline int kapitza_grid_(int method, int nt, const double *t, double h, d
     return kapitza_fixed_(method == KAPITZA_RK4_LANES ? KAPITZA_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int kapitza_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+KAPITZA_FN int kapitza_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const kapitza_params *p,
                               double *X, kapitza_integrate_stats *stats)
 {
@@ -1519,7 +1519,7 @@ int kapitza_integrate_grid(int method, int nt, const double *t, double h, double
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int kapitza_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+KAPITZA_FN static int kapitza_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const kapitza_params *p, double *X, int *codes)
 {
     kapitza_integrate_stats st;
@@ -1558,7 +1558,7 @@ static int kapitza_rk4_batch_(int own, int nb, int nt, const double *t, double h
     return failed;
 }
 
-int kapitza_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+KAPITZA_FN int kapitza_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const kapitza_params *p, long p_stride, double *X, int *codes)
 {
@@ -1578,7 +1578,7 @@ int kapitza_integrate_batch(int method, int nb, int nt, const double *t, double 
     return failed;
 }
 
-int kapitza_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+KAPITZA_FN int kapitza_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const kapitza_params *p, double *x1, long *n_rhs)
 {
     kapitza_integrate_stats st;
@@ -1603,7 +1603,7 @@ int kapitza_integrate(int method, double t0, double t1, double h, double rtol, d
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int kapitza_eval_variational_(double t, const double *y, const double *u, const kapitza_params *p,
+KAPITZA_FN static int kapitza_eval_variational_(double t, const double *y, const double *u, const kapitza_params *p,
                                    double *ydot, kapitza_integrate_stats *st)
 {
     double dq[1], dv[1];
@@ -1640,7 +1640,7 @@ static int kapitza_eval_variational_(double t, const double *y, const double *u,
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void kapitza_add_variational_(double *x, double *cmp, const double *dx)
+KAPITZA_FN static void kapitza_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 6; ++i) {
@@ -1651,7 +1651,7 @@ static void kapitza_add_variational_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void kapitza_copy_variational_(double *dst, const double *src)
+KAPITZA_FN static void kapitza_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 6; ++i) {
@@ -1660,7 +1660,7 @@ static void kapitza_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void kapitza_ksum_variational_(const double *w, int count, double k[][6], double hs, double *out)
+KAPITZA_FN static void kapitza_ksum_variational_(const double *w, int count, double k[][6], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 6; ++i) {
@@ -1674,7 +1674,7 @@ static void kapitza_ksum_variational_(const double *w, int count, double k[][6],
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int kapitza_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+KAPITZA_FN static int kapitza_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const kapitza_params *p, double *X,
                               kapitza_integrate_stats *st)
 {
@@ -1855,7 +1855,7 @@ static int kapitza_dop853_variational_(int nt, const double *tt, double h0, doub
 }
 
 
-int kapitza_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+KAPITZA_FN int kapitza_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const kapitza_params *p,
                                 double *x1, double *Phi, kapitza_integrate_stats *stats)
 {

@@ -60,6 +60,14 @@
 extern "C" {
 #endif
 
+/* KAPITZA_FN marks every function of kapitza.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (kapitza_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define KAPITZA_FN __host__ __device__
+#else
+#define KAPITZA_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define KAPITZA_REAL double
 #define KAPITZA_N 1
@@ -92,14 +100,14 @@ typedef struct kapitza_params {
     double a;
     double w;
 } kapitza_params;
-int kapitza_mass_matrix(const double *q, const kapitza_params *p, double *M);
-int kapitza_forces(double t, const double *x, const double *u, const kapitza_params *p, double *f);
-int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params *p, double *qdd);
-int kapitza_rhs(double t, const double *x, const double *u, const kapitza_params *p, double *xdot);
-int kapitza_qdd_derivatives(double t, const double *x, const double *u, const kapitza_params *p,
+KAPITZA_FN int kapitza_mass_matrix(const double *q, const kapitza_params *p, double *M);
+KAPITZA_FN int kapitza_forces(double t, const double *x, const double *u, const kapitza_params *p, double *f);
+KAPITZA_FN int kapitza_qdd(double t, const double *x, const double *u, const kapitza_params *p, double *qdd);
+KAPITZA_FN int kapitza_rhs(double t, const double *x, const double *u, const kapitza_params *p, double *xdot);
+KAPITZA_FN int kapitza_qdd_derivatives(double t, const double *x, const double *u, const kapitza_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int kapitza_linearize(double t, const double *x, const double *u, const kapitza_params *p, double *A, double *B);
-double kapitza_energy(double t, const double *x, const kapitza_params *p);
+KAPITZA_FN int kapitza_linearize(double t, const double *x, const double *u, const kapitza_params *p, double *A, double *B);
+KAPITZA_FN double kapitza_energy(double t, const double *x, const kapitza_params *p);
 typedef struct kapitza_integrate_stats {
     double t;
     double x[2];
@@ -109,15 +117,15 @@ typedef struct kapitza_integrate_stats {
     long n_iter;
     long n_newton;
 } kapitza_integrate_stats;
-int kapitza_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+KAPITZA_FN int kapitza_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const kapitza_params *p, double *x1, long *n_rhs);
-int kapitza_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+KAPITZA_FN int kapitza_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const kapitza_params *p,
                         double *X, kapitza_integrate_stats *stats);
-int kapitza_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+KAPITZA_FN int kapitza_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const kapitza_params *p, long p_stride, double *X, int *codes);
-int kapitza_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+KAPITZA_FN int kapitza_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const kapitza_params *p,
                                double *x1, double *Phi, kapitza_integrate_stats *stats);
 

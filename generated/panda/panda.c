@@ -19,7 +19,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define PANDA_PIVOT_TOL (7 * 2.220446049250313e-16)
 
-static int panda_all_finite_(const double *v, int count)
+PANDA_FN static int panda_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -31,7 +31,7 @@ static int panda_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void panda_symmetrize_(double *M)
+PANDA_FN static void panda_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 7; ++i) {
@@ -43,7 +43,7 @@ static void panda_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int panda_pivots_(const double *piv)
+PANDA_FN static int panda_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -65,9 +65,9 @@ static int panda_pivots_(const double *piv)
 }
 
 #if defined(__GNUC__)
-#define PANDA_PART_ static __attribute__((noinline)) void
+#define PANDA_PART_ PANDA_FN static __attribute__((noinline)) void
 #else
-#define PANDA_PART_ static void
+#define PANDA_PART_ PANDA_FN static void
 #endif
 
 /* panda_qdd_derivatives, part 1 of 4 (gyrochain/printers/chunks.py) */
@@ -2607,7 +2607,7 @@ PANDA_PART_ panda_pdot_part5_(const double *PANDA_RESTRICT_ x, const double *PAN
 }
 
 
-int panda_mass_matrix(const double *q, const panda_params *p, double *M)
+PANDA_FN int panda_mass_matrix(const double *q, const panda_params *p, double *M)
 {
     double LD[49];
     double v[7];
@@ -2992,7 +2992,7 @@ int panda_mass_matrix(const double *q, const panda_params *p, double *M)
     return PANDA_OK;
 }
 
-int panda_forces(const double *x, const double *u, const panda_params *p, double *f)
+PANDA_FN int panda_forces(const double *x, const double *u, const panda_params *p, double *f)
 {
     (void)p;
 
@@ -3207,7 +3207,7 @@ int panda_forces(const double *x, const double *u, const panda_params *p, double
     return panda_all_finite_(f, 7) ? PANDA_OK : PANDA_NONFINITE;
 }
 
-int panda_qdd(const double *x, const double *u, const panda_params *p, double *qdd)
+PANDA_FN int panda_qdd(const double *x, const double *u, const panda_params *p, double *qdd)
 {
     double M[49];
     double f[7];
@@ -3806,7 +3806,7 @@ int panda_qdd(const double *x, const double *u, const panda_params *p, double *q
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void panda_dq1_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dq1_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -3839,7 +3839,7 @@ static void panda_dq1_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q2, reading the recursion's values it needs from b. */
-static void panda_dq2_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dq2_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -4110,7 +4110,7 @@ static void panda_dq2_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 3 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q3, reading the recursion's values it needs from b. */
-static void panda_dq3_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dq3_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -4396,7 +4396,7 @@ static void panda_dq3_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 4 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q4, reading the recursion's values it needs from b. */
-static void panda_dq4_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dq4_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -4701,7 +4701,7 @@ static void panda_dq4_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 5 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q5, reading the recursion's values it needs from b. */
-static void panda_dq5_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dq5_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -5038,7 +5038,7 @@ static void panda_dq5_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 6 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q6, reading the recursion's values it needs from b. */
-static void panda_dq6_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dq6_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -5400,7 +5400,7 @@ static void panda_dq6_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 7 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q7, reading the recursion's values it needs from b. */
-static void panda_dq7_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dq7_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -5786,7 +5786,7 @@ static void panda_dq7_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void panda_dv1_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dv1_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -6051,7 +6051,7 @@ static void panda_dv1_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v2, reading the recursion's values it needs from b. */
-static void panda_dv2_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dv2_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -6305,7 +6305,7 @@ static void panda_dv2_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 3 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v3, reading the recursion's values it needs from b. */
-static void panda_dv3_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dv3_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -6536,7 +6536,7 @@ static void panda_dv3_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 4 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v4, reading the recursion's values it needs from b. */
-static void panda_dv4_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dv4_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -6741,7 +6741,7 @@ static void panda_dv4_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 5 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v5, reading the recursion's values it needs from b. */
-static void panda_dv5_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dv5_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -6920,7 +6920,7 @@ static void panda_dv5_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 6 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v6, reading the recursion's values it needs from b. */
-static void panda_dv6_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dv6_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -7073,7 +7073,7 @@ static void panda_dv6_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 7 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v7, reading the recursion's values it needs from b. */
-static void panda_dv7_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_dv7_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -7207,7 +7207,7 @@ static void panda_dv7_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 1 of d phi''/d u: the forward-mode tangent of the recursion
  * along u1, reading the recursion's values it needs from b. */
-static void panda_du1_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_du1_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -7280,7 +7280,7 @@ static void panda_du1_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 2 of d phi''/d u: the forward-mode tangent of the recursion
  * along u2, reading the recursion's values it needs from b. */
-static void panda_du2_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_du2_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -7355,7 +7355,7 @@ static void panda_du2_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 3 of d phi''/d u: the forward-mode tangent of the recursion
  * along u3, reading the recursion's values it needs from b. */
-static void panda_du3_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_du3_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -7439,7 +7439,7 @@ static void panda_du3_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 4 of d phi''/d u: the forward-mode tangent of the recursion
  * along u4, reading the recursion's values it needs from b. */
-static void panda_du4_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_du4_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -7533,7 +7533,7 @@ static void panda_du4_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 5 of d phi''/d u: the forward-mode tangent of the recursion
  * along u5, reading the recursion's values it needs from b. */
-static void panda_du5_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_du5_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -7638,7 +7638,7 @@ static void panda_du5_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 6 of d phi''/d u: the forward-mode tangent of the recursion
  * along u6, reading the recursion's values it needs from b. */
-static void panda_du6_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_du6_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -7752,7 +7752,7 @@ static void panda_du6_(const double *x, const double *u, const panda_params *p, 
 
 /* Column 7 of d phi''/d u: the forward-mode tangent of the recursion
  * along u7, reading the recursion's values it needs from b. */
-static void panda_du7_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
+PANDA_FN static void panda_du7_(const double *x, const double *u, const panda_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -7874,7 +7874,7 @@ static void panda_du7_(const double *x, const double *u, const panda_params *p, 
 
 }
 
-int panda_qdd_derivatives(const double *x, const double *u, const panda_params *p,
+PANDA_FN int panda_qdd_derivatives(const double *x, const double *u, const panda_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -8557,7 +8557,7 @@ int panda_qdd_derivatives(const double *x, const double *u, const panda_params *
     return panda_all_finite_(acc, 7) ? PANDA_OK : PANDA_NONFINITE;
 }
 
-int panda_linearize(double t, const double *x, const double *u, const panda_params *p, double *A, double *B)
+PANDA_FN int panda_linearize(double t, const double *x, const double *u, const panda_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -8591,7 +8591,7 @@ int panda_linearize(double t, const double *x, const double *u, const panda_para
     return PANDA_OK;
 }
 
-int panda_rhs(double t, const double *x, const double *u, const panda_params *p, double *xdot)
+PANDA_FN int panda_rhs(double t, const double *x, const double *u, const panda_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -8601,7 +8601,7 @@ int panda_rhs(double t, const double *x, const double *u, const panda_params *p,
     return panda_qdd(x, u, p, xdot + 7);
 }
 
-double panda_energy(const double *x, const panda_params *p)
+PANDA_FN double panda_energy(const double *x, const panda_params *p)
 {
     double result;
     (void)p;
@@ -8863,7 +8863,7 @@ double panda_energy(const double *x, const panda_params *p)
     return result;
 }
 
-double panda_momentum(const double *x, const panda_params *p)
+PANDA_FN double panda_momentum(const double *x, const panda_params *p)
 {
     double result;
     (void)p;
@@ -9091,7 +9091,7 @@ double panda_momentum(const double *x, const panda_params *p)
 }
 
 /* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
-int panda_momenta(const double *x, const panda_params *p, double *pm)
+PANDA_FN int panda_momenta(const double *x, const panda_params *p, double *pm)
 {
     (void)p;
 
@@ -9351,7 +9351,7 @@ int panda_momenta(const double *x, const panda_params *p, double *pm)
 }
 
 /* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
-int panda_velocities(const double *q, const double *pm, const panda_params *p, double *qd)
+PANDA_FN int panda_velocities(const double *q, const double *pm, const panda_params *p, double *qd)
 {
     double M[49];
     double k[7];
@@ -9765,7 +9765,7 @@ int panda_velocities(const double *q, const double *pm, const panda_params *p, d
 
 /* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
  * dampers), computed as (dp/dphi) phidot + f. */
-int panda_pdot(const double *x, const double *u, const panda_params *p, double *pdot)
+PANDA_FN int panda_pdot(const double *x, const double *u, const panda_params *p, double *pdot)
 {
     (void)p;
 
@@ -9851,7 +9851,7 @@ int panda_pdot(const double *x, const double *u, const panda_params *p, double *
  * side, the LU of the 28 x 28 matrix and ~4 iterations. */
 #define PANDA_NEWTON_SWEEPS_CANONICAL 14
 
-static int panda_eval_(const double *x, const double *u, const panda_params *p, double *xdot,
+PANDA_FN static int panda_eval_(const double *x, const double *u, const panda_params *p, double *xdot,
                             panda_integrate_stats *st)
 {
     st->n_rhs++;
@@ -9860,7 +9860,7 @@ static int panda_eval_(const double *x, const double *u, const panda_params *p, 
 
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = panda_pdot.  One call costs 704 + 2133 ops. */
-static int panda_eval_canonical_(const double *y, const double *u, const panda_params *p, double *ydot,
+PANDA_FN static int panda_eval_canonical_(const double *y, const double *u, const panda_params *p, double *ydot,
                                       panda_integrate_stats *st)
 {
     double x[14];
@@ -9879,7 +9879,7 @@ static int panda_eval_canonical_(const double *y, const double *u, const panda_p
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void panda_to_state_(const double *y, const panda_params *p, double *x)
+PANDA_FN static void panda_to_state_(const double *y, const panda_params *p, double *x)
 {
     int i;
     for (i = 0; i < 7; ++i) {
@@ -9894,7 +9894,7 @@ static void panda_to_state_(const double *y, const panda_params *p, double *x)
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void panda_add_(double *x, double *cmp, const double *dx)
+PANDA_FN static void panda_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 14; ++i) {
@@ -9905,7 +9905,7 @@ static void panda_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void panda_copy_(double *dst, const double *src)
+PANDA_FN static void panda_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 14; ++i) {
@@ -9914,7 +9914,7 @@ static void panda_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void panda_ksum_(const double *w, int count, double k[][14], double hs, double *out)
+PANDA_FN static void panda_ksum_(const double *w, int count, double k[][14], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 14; ++i) {
@@ -9928,7 +9928,7 @@ static void panda_ksum_(const double *w, int count, double k[][14], double hs, d
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int panda_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+PANDA_FN static int panda_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const panda_params *p, double *X,
                               panda_integrate_stats *st)
 {
@@ -10106,13 +10106,13 @@ static int panda_dop853_(int nt, const double *tt, double h0, double rtol, doubl
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int panda_tolerances_ok_(double rtol, double atol)
+PANDA_FN static int panda_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double panda_floor_(const double *x)
+PANDA_FN static double panda_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -10124,7 +10124,7 @@ static double panda_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long panda_nsteps_(double ta, double tb, double h)
+PANDA_FN static long panda_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -10134,7 +10134,7 @@ static long panda_nsteps_(double ta, double tb, double h)
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * panda_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int panda_rk4_step_(const double *x, double h, const double *u, const panda_params *p,
+PANDA_FN static inline int panda_rk4_step_(const double *x, double h, const double *u, const panda_params *p,
                                        double *dx, panda_integrate_stats *st)
 {
     double k[4][14], y[14];
@@ -10159,7 +10159,7 @@ static inline int panda_rk4_step_(const double *x, double h, const double *u, co
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int panda_lu_(double *A, int *piv, int m)
+PANDA_FN static int panda_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -10193,7 +10193,7 @@ static int panda_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void panda_lu_solve_(const double *A, const int *piv, int m, double *b)
+PANDA_FN static void panda_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -10217,7 +10217,7 @@ static void panda_lu_solve_(const double *A, const int *piv, int m, double *b)
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of panda_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int panda_gauss2_newton_(const double *x, double h, const double *u, const panda_params *p,
+PANDA_FN static int panda_gauss2_newton_(const double *x, double h, const double *u, const panda_params *p,
                                      double Z[2][14], double F[2][14], panda_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -10301,7 +10301,7 @@ static int panda_gauss2_newton_(const double *x, double h, const double *u, cons
  * differences of the canonical right side g (the converged solution does not depend on J, only the
  * rate does: differences are accurate enough and need nothing that is not emitted):
  *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
-static int panda_canonical_newton_(const double *y, double h, const double *u, const panda_params *p,
+PANDA_FN static int panda_canonical_newton_(const double *y, double h, const double *u, const panda_params *p,
                                         double Z[2][14], double F[2][14], panda_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -10381,7 +10381,7 @@ static int panda_canonical_newton_(const double *y, double h, const double *u, c
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int panda_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+PANDA_FN static int panda_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const panda_params *p, double F[2][14], double *dx, panda_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -10467,7 +10467,7 @@ static int panda_gauss2_step_(const double *x, double h, double hp, int method, 
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
  * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
-static int panda_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+PANDA_FN static int panda_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const panda_params *p, double *X,
                              panda_integrate_stats *st)
 {
@@ -10532,7 +10532,7 @@ static int panda_fixed_(int method, int nt, const double *tt, double h, long max
  * and the others NaN, *max_steps the budget.  PANDA_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int panda_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+PANDA_FN static inline int panda_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const panda_params *p, double *X,
                                   panda_integrate_stats *st)
 {
@@ -10581,7 +10581,7 @@ static inline int panda_grid_start_(int method, int nt, const double *t, double 
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int panda_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+PANDA_FN static inline int panda_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const panda_params *p,
                                    double *X, panda_integrate_stats *stats)
 {
@@ -10597,14 +10597,14 @@ static inline int panda_grid_(int method, int nt, const double *t, double h, dou
     return panda_fixed_(method == PANDA_RK4_LANES ? PANDA_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int panda_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+PANDA_FN int panda_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const panda_params *p,
                               double *X, panda_integrate_stats *stats)
 {
     return panda_grid_(method, nt, t, h, rtol, atol, max_steps, x0, u, p, X, stats);
 }
 
-int panda_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+PANDA_FN int panda_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const panda_params *p, long p_stride, double *X, int *codes)
 {
@@ -10621,7 +10621,7 @@ int panda_integrate_batch(int method, int nb, int nt, const double *t, double h,
     return failed;
 }
 
-int panda_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+PANDA_FN int panda_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const panda_params *p, double *x1, long *n_rhs)
 {
     panda_integrate_stats st;
@@ -10646,7 +10646,7 @@ int panda_integrate(int method, double t0, double t1, double h, double rtol, dou
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int panda_eval_variational_(const double *y, const double *u, const panda_params *p,
+PANDA_FN static int panda_eval_variational_(const double *y, const double *u, const panda_params *p,
                                    double *ydot, panda_integrate_stats *st)
 {
     double dq[49], dv[49];
@@ -10683,7 +10683,7 @@ static int panda_eval_variational_(const double *y, const double *u, const panda
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void panda_add_variational_(double *x, double *cmp, const double *dx)
+PANDA_FN static void panda_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 210; ++i) {
@@ -10694,7 +10694,7 @@ static void panda_add_variational_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void panda_copy_variational_(double *dst, const double *src)
+PANDA_FN static void panda_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 210; ++i) {
@@ -10703,7 +10703,7 @@ static void panda_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void panda_ksum_variational_(const double *w, int count, double k[][210], double hs, double *out)
+PANDA_FN static void panda_ksum_variational_(const double *w, int count, double k[][210], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 210; ++i) {
@@ -10717,7 +10717,7 @@ static void panda_ksum_variational_(const double *w, int count, double k[][210],
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int panda_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+PANDA_FN static int panda_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const panda_params *p, double *X,
                               panda_integrate_stats *st)
 {
@@ -10894,7 +10894,7 @@ static int panda_dop853_variational_(int nt, const double *tt, double h0, double
 }
 
 
-int panda_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+PANDA_FN int panda_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const panda_params *p,
                                 double *x1, double *Phi, panda_integrate_stats *stats)
 {

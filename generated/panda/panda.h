@@ -64,6 +64,14 @@
 extern "C" {
 #endif
 
+/* PANDA_FN marks every function of panda.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (panda_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define PANDA_FN __host__ __device__
+#else
+#define PANDA_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define PANDA_REAL double
 #define PANDA_N 7
@@ -95,18 +103,18 @@ extern "C" {
 typedef struct panda_params {
     double unused_;
 } panda_params;
-int panda_mass_matrix(const double *q, const panda_params *p, double *M);
-int panda_forces(const double *x, const double *u, const panda_params *p, double *f);
-int panda_qdd(const double *x, const double *u, const panda_params *p, double *qdd);
-int panda_rhs(double t, const double *x, const double *u, const panda_params *p, double *xdot);
-int panda_qdd_derivatives(const double *x, const double *u, const panda_params *p,
+PANDA_FN int panda_mass_matrix(const double *q, const panda_params *p, double *M);
+PANDA_FN int panda_forces(const double *x, const double *u, const panda_params *p, double *f);
+PANDA_FN int panda_qdd(const double *x, const double *u, const panda_params *p, double *qdd);
+PANDA_FN int panda_rhs(double t, const double *x, const double *u, const panda_params *p, double *xdot);
+PANDA_FN int panda_qdd_derivatives(const double *x, const double *u, const panda_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int panda_linearize(double t, const double *x, const double *u, const panda_params *p, double *A, double *B);
-double panda_energy(const double *x, const panda_params *p);
-double panda_momentum(const double *x, const panda_params *p);
-int panda_momenta(const double *x, const panda_params *p, double *pm);
-int panda_velocities(const double *q, const double *pm, const panda_params *p, double *qd);
-int panda_pdot(const double *x, const double *u, const panda_params *p, double *pdot);
+PANDA_FN int panda_linearize(double t, const double *x, const double *u, const panda_params *p, double *A, double *B);
+PANDA_FN double panda_energy(const double *x, const panda_params *p);
+PANDA_FN double panda_momentum(const double *x, const panda_params *p);
+PANDA_FN int panda_momenta(const double *x, const panda_params *p, double *pm);
+PANDA_FN int panda_velocities(const double *q, const double *pm, const panda_params *p, double *qd);
+PANDA_FN int panda_pdot(const double *x, const double *u, const panda_params *p, double *pdot);
 typedef struct panda_integrate_stats {
     double t;
     double x[14];
@@ -116,15 +124,15 @@ typedef struct panda_integrate_stats {
     long n_iter;
     long n_newton;
 } panda_integrate_stats;
-int panda_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+PANDA_FN int panda_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const panda_params *p, double *x1, long *n_rhs);
-int panda_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+PANDA_FN int panda_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const panda_params *p,
                         double *X, panda_integrate_stats *stats);
-int panda_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+PANDA_FN int panda_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const panda_params *p, long p_stride, double *X, int *codes);
-int panda_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+PANDA_FN int panda_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const panda_params *p,
                                double *x1, double *Phi, panda_integrate_stats *stats);
 

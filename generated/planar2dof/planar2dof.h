@@ -66,6 +66,14 @@
 extern "C" {
 #endif
 
+/* PLANAR2DOF_FN marks every function of planar2dof.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (planar2dof_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define PLANAR2DOF_FN __host__ __device__
+#else
+#define PLANAR2DOF_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define PLANAR2DOF_REAL double
 #define PLANAR2DOF_N 2
@@ -97,17 +105,17 @@ extern "C" {
 typedef struct planar2dof_params {
     double unused_;
 } planar2dof_params;
-int planar2dof_mass_matrix(const double *q, const planar2dof_params *p, double *M);
-int planar2dof_forces(const double *x, const double *u, const planar2dof_params *p, double *f);
-int planar2dof_qdd(const double *x, const double *u, const planar2dof_params *p, double *qdd);
-int planar2dof_rhs(double t, const double *x, const double *u, const planar2dof_params *p, double *xdot);
-int planar2dof_qdd_derivatives(const double *x, const double *u, const planar2dof_params *p,
+PLANAR2DOF_FN int planar2dof_mass_matrix(const double *q, const planar2dof_params *p, double *M);
+PLANAR2DOF_FN int planar2dof_forces(const double *x, const double *u, const planar2dof_params *p, double *f);
+PLANAR2DOF_FN int planar2dof_qdd(const double *x, const double *u, const planar2dof_params *p, double *qdd);
+PLANAR2DOF_FN int planar2dof_rhs(double t, const double *x, const double *u, const planar2dof_params *p, double *xdot);
+PLANAR2DOF_FN int planar2dof_qdd_derivatives(const double *x, const double *u, const planar2dof_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int planar2dof_linearize(double t, const double *x, const double *u, const planar2dof_params *p, double *A, double *B);
-double planar2dof_energy(const double *x, const planar2dof_params *p);
-int planar2dof_momenta(const double *x, const planar2dof_params *p, double *pm);
-int planar2dof_velocities(const double *q, const double *pm, const planar2dof_params *p, double *qd);
-int planar2dof_pdot(const double *x, const double *u, const planar2dof_params *p, double *pdot);
+PLANAR2DOF_FN int planar2dof_linearize(double t, const double *x, const double *u, const planar2dof_params *p, double *A, double *B);
+PLANAR2DOF_FN double planar2dof_energy(const double *x, const planar2dof_params *p);
+PLANAR2DOF_FN int planar2dof_momenta(const double *x, const planar2dof_params *p, double *pm);
+PLANAR2DOF_FN int planar2dof_velocities(const double *q, const double *pm, const planar2dof_params *p, double *qd);
+PLANAR2DOF_FN int planar2dof_pdot(const double *x, const double *u, const planar2dof_params *p, double *pdot);
 typedef struct planar2dof_integrate_stats {
     double t;
     double x[4];
@@ -117,15 +125,15 @@ typedef struct planar2dof_integrate_stats {
     long n_iter;
     long n_newton;
 } planar2dof_integrate_stats;
-int planar2dof_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+PLANAR2DOF_FN int planar2dof_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const planar2dof_params *p, double *x1, long *n_rhs);
-int planar2dof_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+PLANAR2DOF_FN int planar2dof_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const planar2dof_params *p,
                         double *X, planar2dof_integrate_stats *stats);
-int planar2dof_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+PLANAR2DOF_FN int planar2dof_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const planar2dof_params *p, long p_stride, double *X, int *codes);
-int planar2dof_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+PLANAR2DOF_FN int planar2dof_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const planar2dof_params *p,
                                double *x1, double *Phi, planar2dof_integrate_stats *stats);
 

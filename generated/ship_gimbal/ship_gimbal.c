@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define SHIP_GIMBAL_PIVOT_TOL (2 * 2.220446049250313e-16)
 
-static int ship_gimbal_all_finite_(const double *v, int count)
+SHIP_GIMBAL_FN static int ship_gimbal_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int ship_gimbal_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void ship_gimbal_symmetrize_(double *M)
+SHIP_GIMBAL_FN static void ship_gimbal_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 2; ++i) {
@@ -44,7 +44,7 @@ static void ship_gimbal_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int ship_gimbal_pivots_(const double *piv)
+SHIP_GIMBAL_FN static int ship_gimbal_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int ship_gimbal_pivots_(const double *piv)
 }
 
 
-int ship_gimbal_mass_matrix(const double *q, const ship_gimbal_params *p, double *M)
+SHIP_GIMBAL_FN int ship_gimbal_mass_matrix(const double *q, const ship_gimbal_params *p, double *M)
 {
     double LD[4];
     double v[2];
@@ -122,7 +122,7 @@ int ship_gimbal_mass_matrix(const double *q, const ship_gimbal_params *p, double
     return SHIP_GIMBAL_OK;
 }
 
-int ship_gimbal_forces(double t, const double *x, const double *u, const ship_gimbal_params *p, double *f)
+SHIP_GIMBAL_FN int ship_gimbal_forces(double t, const double *x, const double *u, const ship_gimbal_params *p, double *f)
 {
     (void)p;
     (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
@@ -186,7 +186,7 @@ int ship_gimbal_forces(double t, const double *x, const double *u, const ship_gi
     return ship_gimbal_all_finite_(f, 2) ? SHIP_GIMBAL_OK : SHIP_GIMBAL_NONFINITE;
 }
 
-int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimbal_params *p, double *qdd)
+SHIP_GIMBAL_FN int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimbal_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[2];
@@ -270,7 +270,7 @@ int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimba
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void ship_gimbal_dq1_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
+SHIP_GIMBAL_FN static void ship_gimbal_dq1_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
 {
     (void)t;
     (void)x;
@@ -304,7 +304,7 @@ static void ship_gimbal_dq1_(double t, const double *x, const double *u, const s
 
 /* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q2, reading the recursion's values it needs from b. */
-static void ship_gimbal_dq2_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
+SHIP_GIMBAL_FN static void ship_gimbal_dq2_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
 {
     (void)t;
     (void)x;
@@ -330,7 +330,7 @@ static void ship_gimbal_dq2_(double t, const double *x, const double *u, const s
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void ship_gimbal_dv1_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
+SHIP_GIMBAL_FN static void ship_gimbal_dv1_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
 {
     (void)t;
     (void)x;
@@ -351,7 +351,7 @@ static void ship_gimbal_dv1_(double t, const double *x, const double *u, const s
 
 /* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v2, reading the recursion's values it needs from b. */
-static void ship_gimbal_dv2_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
+SHIP_GIMBAL_FN static void ship_gimbal_dv2_(double t, const double *x, const double *u, const ship_gimbal_params *p, const double *b, double *col)
 {
     (void)t;
     (void)x;
@@ -367,7 +367,7 @@ static void ship_gimbal_dv2_(double t, const double *x, const double *u, const s
 
 }
 
-int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, const ship_gimbal_params *p,
+SHIP_GIMBAL_FN int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, const ship_gimbal_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -511,7 +511,7 @@ int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, cons
     return ship_gimbal_all_finite_(acc, 2) ? SHIP_GIMBAL_OK : SHIP_GIMBAL_NONFINITE;
 }
 
-int ship_gimbal_linearize(double t, const double *x, const double *u, const ship_gimbal_params *p, double *A, double *B)
+SHIP_GIMBAL_FN int ship_gimbal_linearize(double t, const double *x, const double *u, const ship_gimbal_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -536,7 +536,7 @@ int ship_gimbal_linearize(double t, const double *x, const double *u, const ship
     return SHIP_GIMBAL_OK;
 }
 
-int ship_gimbal_rhs(double t, const double *x, const double *u, const ship_gimbal_params *p, double *xdot)
+SHIP_GIMBAL_FN int ship_gimbal_rhs(double t, const double *x, const double *u, const ship_gimbal_params *p, double *xdot)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -545,7 +545,7 @@ int ship_gimbal_rhs(double t, const double *x, const double *u, const ship_gimba
     return ship_gimbal_qdd(t, x, u, p, xdot + 2);
 }
 
-double ship_gimbal_energy(double t, const double *x, const ship_gimbal_params *p)
+SHIP_GIMBAL_FN double ship_gimbal_energy(double t, const double *x, const ship_gimbal_params *p)
 {
     double result;
     (void)p;
@@ -589,7 +589,7 @@ double ship_gimbal_energy(double t, const double *x, const ship_gimbal_params *p
     return result;
 }
 
-double ship_gimbal_momentum(double t, const double *x, const ship_gimbal_params *p)
+SHIP_GIMBAL_FN double ship_gimbal_momentum(double t, const double *x, const ship_gimbal_params *p)
 {
     double result;
     (void)p;
@@ -630,7 +630,7 @@ double ship_gimbal_momentum(double t, const double *x, const ship_gimbal_params 
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void ship_gimbal_sincos4_(const double *SHIP_GIMBAL_RESTRICT_ a, double *SHIP_GIMBAL_RESTRICT_ s, double *SHIP_GIMBAL_RESTRICT_ c)
+SHIP_GIMBAL_FN static void ship_gimbal_sincos4_(const double *SHIP_GIMBAL_RESTRICT_ a, double *SHIP_GIMBAL_RESTRICT_ s, double *SHIP_GIMBAL_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -676,7 +676,7 @@ static void ship_gimbal_sincos4_(const double *SHIP_GIMBAL_RESTRICT_ a, double *
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void ship_gimbal_sincos1_(const double *SHIP_GIMBAL_RESTRICT_ a, double *SHIP_GIMBAL_RESTRICT_ s, double *SHIP_GIMBAL_RESTRICT_ c)
+SHIP_GIMBAL_FN static void ship_gimbal_sincos1_(const double *SHIP_GIMBAL_RESTRICT_ a, double *SHIP_GIMBAL_RESTRICT_ s, double *SHIP_GIMBAL_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -724,7 +724,7 @@ static void ship_gimbal_sincos1_(const double *SHIP_GIMBAL_RESTRICT_ a, double *
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void ship_gimbal_sincos_(const double *a, double *s, double *c, int count)
+SHIP_GIMBAL_FN static void ship_gimbal_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -758,7 +758,7 @@ static void ship_gimbal_sincos_(const double *a, double *s, double *c, int count
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of ship_gimbal_rhs) or, with own, ship_gimbal_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void ship_gimbal_rhs_lane_(double t, int own, const double *SHIP_GIMBAL_RESTRICT_ X, const double *u,
+SHIP_GIMBAL_FN static void ship_gimbal_rhs_lane_(double t, int own, const double *SHIP_GIMBAL_RESTRICT_ X, const double *u,
                                 const ship_gimbal_params *p, double *SHIP_GIMBAL_RESTRICT_ XD, int *code)
 {
     double piv_[2], ok_[1];
@@ -891,7 +891,7 @@ static void ship_gimbal_rhs_lane_(double t, int own, const double *SHIP_GIMBAL_R
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of ship_gimbal_rhs) or, with own, ship_gimbal_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void ship_gimbal_rhs_lanes_(double t, int own, const double *SHIP_GIMBAL_RESTRICT_ X, const double *u,
+SHIP_GIMBAL_FN static void ship_gimbal_rhs_lanes_(double t, int own, const double *SHIP_GIMBAL_RESTRICT_ X, const double *u,
                                 const ship_gimbal_params *p, double *SHIP_GIMBAL_RESTRICT_ XD, int *code)
 {
     double piv_[16], ok_[8];
@@ -1053,7 +1053,7 @@ static void ship_gimbal_rhs_lanes_(double t, int own, const double *SHIP_GIMBAL_
  * 157 ops per rhs.  Newton is used when more sweeps than this are still needed. */
 #define SHIP_GIMBAL_NEWTON_SWEEPS 4
 
-static int ship_gimbal_eval_(double t, const double *x, const double *u, const ship_gimbal_params *p, double *xdot,
+SHIP_GIMBAL_FN static int ship_gimbal_eval_(double t, const double *x, const double *u, const ship_gimbal_params *p, double *xdot,
                             ship_gimbal_integrate_stats *st)
 {
     st->n_rhs++;
@@ -1062,7 +1062,7 @@ static int ship_gimbal_eval_(double t, const double *x, const double *u, const s
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void ship_gimbal_add_(double *x, double *cmp, const double *dx)
+SHIP_GIMBAL_FN static void ship_gimbal_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -1073,7 +1073,7 @@ static void ship_gimbal_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void ship_gimbal_copy_(double *dst, const double *src)
+SHIP_GIMBAL_FN static void ship_gimbal_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -1082,7 +1082,7 @@ static void ship_gimbal_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void ship_gimbal_ksum_(const double *w, int count, double k[][4], double hs, double *out)
+SHIP_GIMBAL_FN static void ship_gimbal_ksum_(const double *w, int count, double k[][4], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 4; ++i) {
@@ -1096,7 +1096,7 @@ static void ship_gimbal_ksum_(const double *w, int count, double k[][4], double 
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int ship_gimbal_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+SHIP_GIMBAL_FN static int ship_gimbal_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const ship_gimbal_params *p, double *X,
                               ship_gimbal_integrate_stats *st)
 {
@@ -1278,13 +1278,13 @@ static int ship_gimbal_dop853_(int nt, const double *tt, double h0, double rtol,
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int ship_gimbal_tolerances_ok_(double rtol, double atol)
+SHIP_GIMBAL_FN static int ship_gimbal_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double ship_gimbal_floor_(const double *x)
+SHIP_GIMBAL_FN static double ship_gimbal_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -1296,7 +1296,7 @@ static double ship_gimbal_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long ship_gimbal_nsteps_(double ta, double tb, double h)
+SHIP_GIMBAL_FN static long ship_gimbal_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -1310,7 +1310,7 @@ static long ship_gimbal_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (SHIP_GIMBAL_RK4_LANES), else libm's (SHIP_GIMBAL_RK4, ship_gimbal_fixed_'s bits). */
-static void ship_gimbal_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+SHIP_GIMBAL_FN static void ship_gimbal_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const ship_gimbal_params *p, double *const *X, ship_gimbal_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1425,7 +1425,7 @@ static void ship_gimbal_rk4_lane_(int own, int nt, const double *tt, double h, l
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (SHIP_GIMBAL_RK4_LANES), else libm's (SHIP_GIMBAL_RK4, ship_gimbal_fixed_'s bits). */
-static void ship_gimbal_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+SHIP_GIMBAL_FN static void ship_gimbal_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const ship_gimbal_params *p, double *const *X, ship_gimbal_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1539,7 +1539,7 @@ static void ship_gimbal_rk4_lanes_(int own, int nt, const double *tt, double h, 
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * ship_gimbal_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int ship_gimbal_rk4_step_(double t0, const double *x, double h, const double *u, const ship_gimbal_params *p,
+SHIP_GIMBAL_FN static inline int ship_gimbal_rk4_step_(double t0, const double *x, double h, const double *u, const ship_gimbal_params *p,
                                        double *dx, ship_gimbal_integrate_stats *st)
 {
     double k[4][4], y[4];
@@ -1564,7 +1564,7 @@ static inline int ship_gimbal_rk4_step_(double t0, const double *x, double h, co
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int ship_gimbal_lu_(double *A, int *piv, int m)
+SHIP_GIMBAL_FN static int ship_gimbal_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -1598,7 +1598,7 @@ static int ship_gimbal_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void ship_gimbal_lu_solve_(const double *A, const int *piv, int m, double *b)
+SHIP_GIMBAL_FN static void ship_gimbal_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -1622,7 +1622,7 @@ static void ship_gimbal_lu_solve_(const double *A, const int *piv, int m, double
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of ship_gimbal_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int ship_gimbal_gauss2_newton_(double t0, const double *x, double h, const double *u, const ship_gimbal_params *p,
+SHIP_GIMBAL_FN static int ship_gimbal_gauss2_newton_(double t0, const double *x, double h, const double *u, const ship_gimbal_params *p,
                                      double Z[2][4], double F[2][4], ship_gimbal_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1706,7 +1706,7 @@ static int ship_gimbal_gauss2_newton_(double t0, const double *x, double h, cons
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int ship_gimbal_gauss2_step_(double t0, const double *x, double h, double hp, int method, const double *u,
+SHIP_GIMBAL_FN static int ship_gimbal_gauss2_step_(double t0, const double *x, double h, double hp, int method, const double *u,
                                    const ship_gimbal_params *p, double F[2][4], double *dx, ship_gimbal_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -1789,7 +1789,7 @@ static int ship_gimbal_gauss2_step_(double t0, const double *x, double h, double
 
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant). */
-static int ship_gimbal_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+SHIP_GIMBAL_FN static int ship_gimbal_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const ship_gimbal_params *p, double *X,
                              ship_gimbal_integrate_stats *st)
 {
@@ -1839,7 +1839,7 @@ static int ship_gimbal_fixed_(int method, int nt, const double *tt, double h, lo
  * and the others NaN, *max_steps the budget.  SHIP_GIMBAL_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int ship_gimbal_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+SHIP_GIMBAL_FN static inline int ship_gimbal_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const ship_gimbal_params *p, double *X,
                                   ship_gimbal_integrate_stats *st)
 {
@@ -1887,7 +1887,7 @@ static inline int ship_gimbal_grid_start_(int method, int nt, const double *t, d
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int ship_gimbal_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+SHIP_GIMBAL_FN static inline int ship_gimbal_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const ship_gimbal_params *p,
                                    double *X, ship_gimbal_integrate_stats *stats)
 {
@@ -1911,7 +1911,7 @@ static inline int ship_gimbal_grid_(int method, int nt, const double *t, double 
     return ship_gimbal_fixed_(method == SHIP_GIMBAL_RK4_LANES ? SHIP_GIMBAL_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+SHIP_GIMBAL_FN int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const ship_gimbal_params *p,
                               double *X, ship_gimbal_integrate_stats *stats)
 {
@@ -1921,7 +1921,7 @@ int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, do
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int ship_gimbal_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+SHIP_GIMBAL_FN static int ship_gimbal_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const ship_gimbal_params *p, double *X, int *codes)
 {
     ship_gimbal_integrate_stats st;
@@ -1960,7 +1960,7 @@ static int ship_gimbal_rk4_batch_(int own, int nb, int nt, const double *t, doub
     return failed;
 }
 
-int ship_gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+SHIP_GIMBAL_FN int ship_gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const ship_gimbal_params *p, long p_stride, double *X, int *codes)
 {
@@ -1980,7 +1980,7 @@ int ship_gimbal_integrate_batch(int method, int nb, int nt, const double *t, dou
     return failed;
 }
 
-int ship_gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+SHIP_GIMBAL_FN int ship_gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const ship_gimbal_params *p, double *x1, long *n_rhs)
 {
     ship_gimbal_integrate_stats st;
@@ -2005,7 +2005,7 @@ int ship_gimbal_integrate(int method, double t0, double t1, double h, double rto
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int ship_gimbal_eval_variational_(double t, const double *y, const double *u, const ship_gimbal_params *p,
+SHIP_GIMBAL_FN static int ship_gimbal_eval_variational_(double t, const double *y, const double *u, const ship_gimbal_params *p,
                                    double *ydot, ship_gimbal_integrate_stats *st)
 {
     double dq[4], dv[4];
@@ -2042,7 +2042,7 @@ static int ship_gimbal_eval_variational_(double t, const double *y, const double
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void ship_gimbal_add_variational_(double *x, double *cmp, const double *dx)
+SHIP_GIMBAL_FN static void ship_gimbal_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2053,7 +2053,7 @@ static void ship_gimbal_add_variational_(double *x, double *cmp, const double *d
     }
 }
 
-static void ship_gimbal_copy_variational_(double *dst, const double *src)
+SHIP_GIMBAL_FN static void ship_gimbal_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2062,7 +2062,7 @@ static void ship_gimbal_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void ship_gimbal_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
+SHIP_GIMBAL_FN static void ship_gimbal_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 20; ++i) {
@@ -2076,7 +2076,7 @@ static void ship_gimbal_ksum_variational_(const double *w, int count, double k[]
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int ship_gimbal_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+SHIP_GIMBAL_FN static int ship_gimbal_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const ship_gimbal_params *p, double *X,
                               ship_gimbal_integrate_stats *st)
 {
@@ -2257,7 +2257,7 @@ static int ship_gimbal_dop853_variational_(int nt, const double *tt, double h0, 
 }
 
 
-int ship_gimbal_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+SHIP_GIMBAL_FN int ship_gimbal_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const ship_gimbal_params *p,
                                 double *x1, double *Phi, ship_gimbal_integrate_stats *stats)
 {

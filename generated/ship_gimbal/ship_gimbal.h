@@ -60,6 +60,14 @@
 extern "C" {
 #endif
 
+/* SHIP_GIMBAL_FN marks every function of ship_gimbal.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (ship_gimbal_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define SHIP_GIMBAL_FN __host__ __device__
+#else
+#define SHIP_GIMBAL_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define SHIP_GIMBAL_REAL double
 #define SHIP_GIMBAL_N 2
@@ -91,15 +99,15 @@ extern "C" {
 typedef struct ship_gimbal_params {
     double unused_;
 } ship_gimbal_params;
-int ship_gimbal_mass_matrix(const double *q, const ship_gimbal_params *p, double *M);
-int ship_gimbal_forces(double t, const double *x, const double *u, const ship_gimbal_params *p, double *f);
-int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimbal_params *p, double *qdd);
-int ship_gimbal_rhs(double t, const double *x, const double *u, const ship_gimbal_params *p, double *xdot);
-int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, const ship_gimbal_params *p,
+SHIP_GIMBAL_FN int ship_gimbal_mass_matrix(const double *q, const ship_gimbal_params *p, double *M);
+SHIP_GIMBAL_FN int ship_gimbal_forces(double t, const double *x, const double *u, const ship_gimbal_params *p, double *f);
+SHIP_GIMBAL_FN int ship_gimbal_qdd(double t, const double *x, const double *u, const ship_gimbal_params *p, double *qdd);
+SHIP_GIMBAL_FN int ship_gimbal_rhs(double t, const double *x, const double *u, const ship_gimbal_params *p, double *xdot);
+SHIP_GIMBAL_FN int ship_gimbal_qdd_derivatives(double t, const double *x, const double *u, const ship_gimbal_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int ship_gimbal_linearize(double t, const double *x, const double *u, const ship_gimbal_params *p, double *A, double *B);
-double ship_gimbal_energy(double t, const double *x, const ship_gimbal_params *p);
-double ship_gimbal_momentum(double t, const double *x, const ship_gimbal_params *p);
+SHIP_GIMBAL_FN int ship_gimbal_linearize(double t, const double *x, const double *u, const ship_gimbal_params *p, double *A, double *B);
+SHIP_GIMBAL_FN double ship_gimbal_energy(double t, const double *x, const ship_gimbal_params *p);
+SHIP_GIMBAL_FN double ship_gimbal_momentum(double t, const double *x, const ship_gimbal_params *p);
 typedef struct ship_gimbal_integrate_stats {
     double t;
     double x[4];
@@ -109,15 +117,15 @@ typedef struct ship_gimbal_integrate_stats {
     long n_iter;
     long n_newton;
 } ship_gimbal_integrate_stats;
-int ship_gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+SHIP_GIMBAL_FN int ship_gimbal_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const ship_gimbal_params *p, double *x1, long *n_rhs);
-int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+SHIP_GIMBAL_FN int ship_gimbal_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const ship_gimbal_params *p,
                         double *X, ship_gimbal_integrate_stats *stats);
-int ship_gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+SHIP_GIMBAL_FN int ship_gimbal_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const ship_gimbal_params *p, long p_stride, double *X, int *codes);
-int ship_gimbal_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+SHIP_GIMBAL_FN int ship_gimbal_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const ship_gimbal_params *p,
                                double *x1, double *Phi, ship_gimbal_integrate_stats *stats);
 

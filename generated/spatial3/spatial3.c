@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define SPATIAL3_PIVOT_TOL (3 * 2.220446049250313e-16)
 
-static int spatial3_all_finite_(const double *v, int count)
+SPATIAL3_FN static int spatial3_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int spatial3_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void spatial3_symmetrize_(double *M)
+SPATIAL3_FN static void spatial3_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 3; ++i) {
@@ -44,7 +44,7 @@ static void spatial3_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int spatial3_pivots_(const double *piv)
+SPATIAL3_FN static int spatial3_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int spatial3_pivots_(const double *piv)
 }
 
 
-int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M)
+SPATIAL3_FN int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M)
 {
     double LD[9];
     double v[3];
@@ -200,7 +200,7 @@ int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M)
     return SPATIAL3_OK;
 }
 
-int spatial3_forces(const double *x, const double *u, const spatial3_params *p, double *f)
+SPATIAL3_FN int spatial3_forces(const double *x, const double *u, const spatial3_params *p, double *f)
 {
     (void)p;
 
@@ -299,7 +299,7 @@ int spatial3_forces(const double *x, const double *u, const spatial3_params *p, 
     return spatial3_all_finite_(f, 3) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
 }
 
-int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, double *qdd)
+SPATIAL3_FN int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, double *qdd)
 {
     double M[9];
     double f[3];
@@ -527,7 +527,7 @@ int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, dou
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void spatial3_dq1_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
+SPATIAL3_FN static void spatial3_dq1_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -599,7 +599,7 @@ static void spatial3_dq1_(const double *x, const double *u, const spatial3_param
 
 /* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q2, reading the recursion's values it needs from b. */
-static void spatial3_dq2_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
+SPATIAL3_FN static void spatial3_dq2_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -726,7 +726,7 @@ static void spatial3_dq2_(const double *x, const double *u, const spatial3_param
 
 /* Column 3 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q3, reading the recursion's values it needs from b. */
-static void spatial3_dq3_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
+SPATIAL3_FN static void spatial3_dq3_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -883,7 +883,7 @@ static void spatial3_dq3_(const double *x, const double *u, const spatial3_param
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void spatial3_dv1_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
+SPATIAL3_FN static void spatial3_dv1_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -988,7 +988,7 @@ static void spatial3_dv1_(const double *x, const double *u, const spatial3_param
 
 /* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v2, reading the recursion's values it needs from b. */
-static void spatial3_dv2_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
+SPATIAL3_FN static void spatial3_dv2_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -1073,7 +1073,7 @@ static void spatial3_dv2_(const double *x, const double *u, const spatial3_param
 
 /* Column 3 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v3, reading the recursion's values it needs from b. */
-static void spatial3_dv3_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
+SPATIAL3_FN static void spatial3_dv3_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -1130,7 +1130,7 @@ static void spatial3_dv3_(const double *x, const double *u, const spatial3_param
 
 /* Column 1 of d phi''/d u: the forward-mode tangent of the recursion
  * along u1, reading the recursion's values it needs from b. */
-static void spatial3_du1_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
+SPATIAL3_FN static void spatial3_du1_(const double *x, const double *u, const spatial3_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -1180,7 +1180,7 @@ static void spatial3_du1_(const double *x, const double *u, const spatial3_param
 
 }
 
-int spatial3_qdd_derivatives(const double *x, const double *u, const spatial3_params *p,
+SPATIAL3_FN int spatial3_qdd_derivatives(const double *x, const double *u, const spatial3_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -1564,7 +1564,7 @@ int spatial3_qdd_derivatives(const double *x, const double *u, const spatial3_pa
     return spatial3_all_finite_(acc, 3) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
 }
 
-int spatial3_linearize(double t, const double *x, const double *u, const spatial3_params *p, double *A, double *B)
+SPATIAL3_FN int spatial3_linearize(double t, const double *x, const double *u, const spatial3_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -1598,7 +1598,7 @@ int spatial3_linearize(double t, const double *x, const double *u, const spatial
     return SPATIAL3_OK;
 }
 
-int spatial3_rhs(double t, const double *x, const double *u, const spatial3_params *p, double *xdot)
+SPATIAL3_FN int spatial3_rhs(double t, const double *x, const double *u, const spatial3_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -1608,7 +1608,7 @@ int spatial3_rhs(double t, const double *x, const double *u, const spatial3_para
     return spatial3_qdd(x, u, p, xdot + 3);
 }
 
-double spatial3_energy(const double *x, const spatial3_params *p)
+SPATIAL3_FN double spatial3_energy(const double *x, const spatial3_params *p)
 {
     double result;
     (void)p;
@@ -1700,7 +1700,7 @@ double spatial3_energy(const double *x, const spatial3_params *p)
 }
 
 /* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
-int spatial3_momenta(const double *x, const spatial3_params *p, double *pm)
+SPATIAL3_FN int spatial3_momenta(const double *x, const spatial3_params *p, double *pm)
 {
     (void)p;
 
@@ -1794,7 +1794,7 @@ int spatial3_momenta(const double *x, const spatial3_params *p, double *pm)
 }
 
 /* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
-int spatial3_velocities(const double *q, const double *pm, const spatial3_params *p, double *qd)
+SPATIAL3_FN int spatial3_velocities(const double *q, const double *pm, const spatial3_params *p, double *qd)
 {
     double M[9];
     double k[3];
@@ -1948,7 +1948,7 @@ int spatial3_velocities(const double *q, const double *pm, const spatial3_params
 
 /* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
  * dampers), computed as (dp/dphi) phidot + f. */
-int spatial3_pdot(const double *x, const double *u, const spatial3_params *p, double *pdot)
+SPATIAL3_FN int spatial3_pdot(const double *x, const double *u, const spatial3_params *p, double *pdot)
 {
     (void)p;
 
@@ -2155,7 +2155,7 @@ int spatial3_pdot(const double *x, const double *u, const spatial3_params *p, do
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void spatial3_sincos4_(const double *SPATIAL3_RESTRICT_ a, double *SPATIAL3_RESTRICT_ s, double *SPATIAL3_RESTRICT_ c)
+SPATIAL3_FN static void spatial3_sincos4_(const double *SPATIAL3_RESTRICT_ a, double *SPATIAL3_RESTRICT_ s, double *SPATIAL3_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -2201,7 +2201,7 @@ static void spatial3_sincos4_(const double *SPATIAL3_RESTRICT_ a, double *SPATIA
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void spatial3_sincos1_(const double *SPATIAL3_RESTRICT_ a, double *SPATIAL3_RESTRICT_ s, double *SPATIAL3_RESTRICT_ c)
+SPATIAL3_FN static void spatial3_sincos1_(const double *SPATIAL3_RESTRICT_ a, double *SPATIAL3_RESTRICT_ s, double *SPATIAL3_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -2249,7 +2249,7 @@ static void spatial3_sincos1_(const double *SPATIAL3_RESTRICT_ a, double *SPATIA
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void spatial3_sincos_(const double *a, double *s, double *c, int count)
+SPATIAL3_FN static void spatial3_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -2283,7 +2283,7 @@ static void spatial3_sincos_(const double *a, double *s, double *c, int count)
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of spatial3_rhs) or, with own, spatial3_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void spatial3_rhs_lane_(int own, const double *SPATIAL3_RESTRICT_ X, const double *u,
+SPATIAL3_FN static void spatial3_rhs_lane_(int own, const double *SPATIAL3_RESTRICT_ X, const double *u,
                                 const spatial3_params *p, double *SPATIAL3_RESTRICT_ XD, int *code)
 {
     double M_[9], f_[3], piv_[3], tol_[1], ok_[1];
@@ -2549,7 +2549,7 @@ static void spatial3_rhs_lane_(int own, const double *SPATIAL3_RESTRICT_ X, cons
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of spatial3_rhs) or, with own, spatial3_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void spatial3_rhs_lanes_(int own, const double *SPATIAL3_RESTRICT_ X, const double *u,
+SPATIAL3_FN static void spatial3_rhs_lanes_(int own, const double *SPATIAL3_RESTRICT_ X, const double *u,
                                 const spatial3_params *p, double *SPATIAL3_RESTRICT_ XD, int *code)
 {
     double M_[72], f_[24], piv_[24], tol_[8], ok_[8];
@@ -2852,7 +2852,7 @@ static void spatial3_rhs_lanes_(int own, const double *SPATIAL3_RESTRICT_ X, con
  * side, the LU of the 12 x 12 matrix and ~4 iterations. */
 #define SPATIAL3_NEWTON_SWEEPS_CANONICAL 8
 
-static int spatial3_eval_(const double *x, const double *u, const spatial3_params *p, double *xdot,
+SPATIAL3_FN static int spatial3_eval_(const double *x, const double *u, const spatial3_params *p, double *xdot,
                             spatial3_integrate_stats *st)
 {
     st->n_rhs++;
@@ -2861,7 +2861,7 @@ static int spatial3_eval_(const double *x, const double *u, const spatial3_param
 
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = spatial3_pdot.  One call costs 229 + 722 ops. */
-static int spatial3_eval_canonical_(const double *y, const double *u, const spatial3_params *p, double *ydot,
+SPATIAL3_FN static int spatial3_eval_canonical_(const double *y, const double *u, const spatial3_params *p, double *ydot,
                                       spatial3_integrate_stats *st)
 {
     double x[6];
@@ -2880,7 +2880,7 @@ static int spatial3_eval_canonical_(const double *y, const double *u, const spat
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void spatial3_to_state_(const double *y, const spatial3_params *p, double *x)
+SPATIAL3_FN static void spatial3_to_state_(const double *y, const spatial3_params *p, double *x)
 {
     int i;
     for (i = 0; i < 3; ++i) {
@@ -2895,7 +2895,7 @@ static void spatial3_to_state_(const double *y, const spatial3_params *p, double
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void spatial3_add_(double *x, double *cmp, const double *dx)
+SPATIAL3_FN static void spatial3_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 6; ++i) {
@@ -2906,7 +2906,7 @@ static void spatial3_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void spatial3_copy_(double *dst, const double *src)
+SPATIAL3_FN static void spatial3_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 6; ++i) {
@@ -2915,7 +2915,7 @@ static void spatial3_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void spatial3_ksum_(const double *w, int count, double k[][6], double hs, double *out)
+SPATIAL3_FN static void spatial3_ksum_(const double *w, int count, double k[][6], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 6; ++i) {
@@ -2929,7 +2929,7 @@ static void spatial3_ksum_(const double *w, int count, double k[][6], double hs,
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int spatial3_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+SPATIAL3_FN static int spatial3_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const spatial3_params *p, double *X,
                               spatial3_integrate_stats *st)
 {
@@ -3107,13 +3107,13 @@ static int spatial3_dop853_(int nt, const double *tt, double h0, double rtol, do
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int spatial3_tolerances_ok_(double rtol, double atol)
+SPATIAL3_FN static int spatial3_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double spatial3_floor_(const double *x)
+SPATIAL3_FN static double spatial3_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -3125,7 +3125,7 @@ static double spatial3_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long spatial3_nsteps_(double ta, double tb, double h)
+SPATIAL3_FN static long spatial3_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -3139,7 +3139,7 @@ static long spatial3_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (SPATIAL3_RK4_LANES), else libm's (SPATIAL3_RK4, spatial3_fixed_'s bits). */
-static void spatial3_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+SPATIAL3_FN static void spatial3_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const spatial3_params *p, double *const *X, spatial3_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -3253,7 +3253,7 @@ static void spatial3_rk4_lane_(int own, int nt, const double *tt, double h, long
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (SPATIAL3_RK4_LANES), else libm's (SPATIAL3_RK4, spatial3_fixed_'s bits). */
-static void spatial3_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+SPATIAL3_FN static void spatial3_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const spatial3_params *p, double *const *X, spatial3_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -3366,7 +3366,7 @@ static void spatial3_rk4_lanes_(int own, int nt, const double *tt, double h, lon
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * spatial3_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int spatial3_rk4_step_(const double *x, double h, const double *u, const spatial3_params *p,
+SPATIAL3_FN static inline int spatial3_rk4_step_(const double *x, double h, const double *u, const spatial3_params *p,
                                        double *dx, spatial3_integrate_stats *st)
 {
     double k[4][6], y[6];
@@ -3391,7 +3391,7 @@ static inline int spatial3_rk4_step_(const double *x, double h, const double *u,
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int spatial3_lu_(double *A, int *piv, int m)
+SPATIAL3_FN static int spatial3_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -3425,7 +3425,7 @@ static int spatial3_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void spatial3_lu_solve_(const double *A, const int *piv, int m, double *b)
+SPATIAL3_FN static void spatial3_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -3449,7 +3449,7 @@ static void spatial3_lu_solve_(const double *A, const int *piv, int m, double *b
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of spatial3_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int spatial3_gauss2_newton_(const double *x, double h, const double *u, const spatial3_params *p,
+SPATIAL3_FN static int spatial3_gauss2_newton_(const double *x, double h, const double *u, const spatial3_params *p,
                                      double Z[2][6], double F[2][6], spatial3_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -3533,7 +3533,7 @@ static int spatial3_gauss2_newton_(const double *x, double h, const double *u, c
  * differences of the canonical right side g (the converged solution does not depend on J, only the
  * rate does: differences are accurate enough and need nothing that is not emitted):
  *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
-static int spatial3_canonical_newton_(const double *y, double h, const double *u, const spatial3_params *p,
+SPATIAL3_FN static int spatial3_canonical_newton_(const double *y, double h, const double *u, const spatial3_params *p,
                                         double Z[2][6], double F[2][6], spatial3_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -3613,7 +3613,7 @@ static int spatial3_canonical_newton_(const double *y, double h, const double *u
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int spatial3_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+SPATIAL3_FN static int spatial3_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const spatial3_params *p, double F[2][6], double *dx, spatial3_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -3699,7 +3699,7 @@ static int spatial3_gauss2_step_(const double *x, double h, double hp, int metho
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
  * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
-static int spatial3_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+SPATIAL3_FN static int spatial3_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const spatial3_params *p, double *X,
                              spatial3_integrate_stats *st)
 {
@@ -3764,7 +3764,7 @@ static int spatial3_fixed_(int method, int nt, const double *tt, double h, long 
  * and the others NaN, *max_steps the budget.  SPATIAL3_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int spatial3_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+SPATIAL3_FN static inline int spatial3_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const spatial3_params *p, double *X,
                                   spatial3_integrate_stats *st)
 {
@@ -3813,7 +3813,7 @@ static inline int spatial3_grid_start_(int method, int nt, const double *t, doub
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int spatial3_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+SPATIAL3_FN static inline int spatial3_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const spatial3_params *p,
                                    double *X, spatial3_integrate_stats *stats)
 {
@@ -3837,7 +3837,7 @@ static inline int spatial3_grid_(int method, int nt, const double *t, double h, 
     return spatial3_fixed_(method == SPATIAL3_RK4_LANES ? SPATIAL3_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int spatial3_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+SPATIAL3_FN int spatial3_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const spatial3_params *p,
                               double *X, spatial3_integrate_stats *stats)
 {
@@ -3847,7 +3847,7 @@ int spatial3_integrate_grid(int method, int nt, const double *t, double h, doubl
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int spatial3_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+SPATIAL3_FN static int spatial3_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const spatial3_params *p, double *X, int *codes)
 {
     spatial3_integrate_stats st;
@@ -3886,7 +3886,7 @@ static int spatial3_rk4_batch_(int own, int nb, int nt, const double *t, double 
     return failed;
 }
 
-int spatial3_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+SPATIAL3_FN int spatial3_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const spatial3_params *p, long p_stride, double *X, int *codes)
 {
@@ -3906,7 +3906,7 @@ int spatial3_integrate_batch(int method, int nb, int nt, const double *t, double
     return failed;
 }
 
-int spatial3_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+SPATIAL3_FN int spatial3_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const spatial3_params *p, double *x1, long *n_rhs)
 {
     spatial3_integrate_stats st;
@@ -3931,7 +3931,7 @@ int spatial3_integrate(int method, double t0, double t1, double h, double rtol, 
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int spatial3_eval_variational_(const double *y, const double *u, const spatial3_params *p,
+SPATIAL3_FN static int spatial3_eval_variational_(const double *y, const double *u, const spatial3_params *p,
                                    double *ydot, spatial3_integrate_stats *st)
 {
     double dq[9], dv[9];
@@ -3968,7 +3968,7 @@ static int spatial3_eval_variational_(const double *y, const double *u, const sp
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void spatial3_add_variational_(double *x, double *cmp, const double *dx)
+SPATIAL3_FN static void spatial3_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 42; ++i) {
@@ -3979,7 +3979,7 @@ static void spatial3_add_variational_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void spatial3_copy_variational_(double *dst, const double *src)
+SPATIAL3_FN static void spatial3_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 42; ++i) {
@@ -3988,7 +3988,7 @@ static void spatial3_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void spatial3_ksum_variational_(const double *w, int count, double k[][42], double hs, double *out)
+SPATIAL3_FN static void spatial3_ksum_variational_(const double *w, int count, double k[][42], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 42; ++i) {
@@ -4002,7 +4002,7 @@ static void spatial3_ksum_variational_(const double *w, int count, double k[][42
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int spatial3_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+SPATIAL3_FN static int spatial3_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const spatial3_params *p, double *X,
                               spatial3_integrate_stats *st)
 {
@@ -4179,7 +4179,7 @@ static int spatial3_dop853_variational_(int nt, const double *tt, double h0, dou
 }
 
 
-int spatial3_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+SPATIAL3_FN int spatial3_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const spatial3_params *p,
                                 double *x1, double *Phi, spatial3_integrate_stats *stats)
 {

@@ -61,6 +61,14 @@
 extern "C" {
 #endif
 
+/* SPATIAL3_FN marks every function of spatial3.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (spatial3_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define SPATIAL3_FN __host__ __device__
+#else
+#define SPATIAL3_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define SPATIAL3_REAL double
 #define SPATIAL3_N 3
@@ -90,17 +98,17 @@ extern "C" {
 typedef struct spatial3_params {
     double unused_;
 } spatial3_params;
-int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M);
-int spatial3_forces(const double *x, const double *u, const spatial3_params *p, double *f);
-int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, double *qdd);
-int spatial3_rhs(double t, const double *x, const double *u, const spatial3_params *p, double *xdot);
-int spatial3_qdd_derivatives(const double *x, const double *u, const spatial3_params *p,
+SPATIAL3_FN int spatial3_mass_matrix(const double *q, const spatial3_params *p, double *M);
+SPATIAL3_FN int spatial3_forces(const double *x, const double *u, const spatial3_params *p, double *f);
+SPATIAL3_FN int spatial3_qdd(const double *x, const double *u, const spatial3_params *p, double *qdd);
+SPATIAL3_FN int spatial3_rhs(double t, const double *x, const double *u, const spatial3_params *p, double *xdot);
+SPATIAL3_FN int spatial3_qdd_derivatives(const double *x, const double *u, const spatial3_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int spatial3_linearize(double t, const double *x, const double *u, const spatial3_params *p, double *A, double *B);
-double spatial3_energy(const double *x, const spatial3_params *p);
-int spatial3_momenta(const double *x, const spatial3_params *p, double *pm);
-int spatial3_velocities(const double *q, const double *pm, const spatial3_params *p, double *qd);
-int spatial3_pdot(const double *x, const double *u, const spatial3_params *p, double *pdot);
+SPATIAL3_FN int spatial3_linearize(double t, const double *x, const double *u, const spatial3_params *p, double *A, double *B);
+SPATIAL3_FN double spatial3_energy(const double *x, const spatial3_params *p);
+SPATIAL3_FN int spatial3_momenta(const double *x, const spatial3_params *p, double *pm);
+SPATIAL3_FN int spatial3_velocities(const double *q, const double *pm, const spatial3_params *p, double *qd);
+SPATIAL3_FN int spatial3_pdot(const double *x, const double *u, const spatial3_params *p, double *pdot);
 typedef struct spatial3_integrate_stats {
     double t;
     double x[6];
@@ -110,15 +118,15 @@ typedef struct spatial3_integrate_stats {
     long n_iter;
     long n_newton;
 } spatial3_integrate_stats;
-int spatial3_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+SPATIAL3_FN int spatial3_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const spatial3_params *p, double *x1, long *n_rhs);
-int spatial3_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+SPATIAL3_FN int spatial3_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const spatial3_params *p,
                         double *X, spatial3_integrate_stats *stats);
-int spatial3_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+SPATIAL3_FN int spatial3_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const spatial3_params *p, long p_stride, double *X, int *codes);
-int spatial3_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+SPATIAL3_FN int spatial3_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const spatial3_params *p,
                                double *x1, double *Phi, spatial3_integrate_stats *stats);
 

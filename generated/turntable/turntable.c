@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define TURNTABLE_PIVOT_TOL (1 * 2.220446049250313e-16)
 
-static int turntable_all_finite_(const double *v, int count)
+TURNTABLE_FN static int turntable_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int turntable_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void turntable_symmetrize_(double *M)
+TURNTABLE_FN static void turntable_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 1; ++i) {
@@ -44,7 +44,7 @@ static void turntable_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int turntable_pivots_(const double *piv)
+TURNTABLE_FN static int turntable_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int turntable_pivots_(const double *piv)
 }
 
 
-int turntable_mass_matrix(const double *q, const turntable_params *p, double *M)
+TURNTABLE_FN int turntable_mass_matrix(const double *q, const turntable_params *p, double *M)
 {
     double LD[1];
     double v[1];
@@ -110,7 +110,7 @@ int turntable_mass_matrix(const double *q, const turntable_params *p, double *M)
     return TURNTABLE_OK;
 }
 
-int turntable_forces(const double *x, const double *u, const turntable_params *p, double *f)
+TURNTABLE_FN int turntable_forces(const double *x, const double *u, const turntable_params *p, double *f)
 {
     if (!p) {
         return TURNTABLE_NO_PARAMS;
@@ -135,7 +135,7 @@ int turntable_forces(const double *x, const double *u, const turntable_params *p
     return turntable_all_finite_(f, 1) ? TURNTABLE_OK : TURNTABLE_NONFINITE;
 }
 
-int turntable_qdd(const double *x, const double *u, const turntable_params *p, double *qdd)
+TURNTABLE_FN int turntable_qdd(const double *x, const double *u, const turntable_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[1];
@@ -174,7 +174,7 @@ int turntable_qdd(const double *x, const double *u, const turntable_params *p, d
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void turntable_dq1_(const double *x, const double *u, const turntable_params *p, const double *b, double *col)
+TURNTABLE_FN static void turntable_dq1_(const double *x, const double *u, const turntable_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -190,7 +190,7 @@ static void turntable_dq1_(const double *x, const double *u, const turntable_par
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void turntable_dv1_(const double *x, const double *u, const turntable_params *p, const double *b, double *col)
+TURNTABLE_FN static void turntable_dv1_(const double *x, const double *u, const turntable_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -201,7 +201,7 @@ static void turntable_dv1_(const double *x, const double *u, const turntable_par
 
 }
 
-int turntable_qdd_derivatives(const double *x, const double *u, const turntable_params *p,
+TURNTABLE_FN int turntable_qdd_derivatives(const double *x, const double *u, const turntable_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -271,7 +271,7 @@ int turntable_qdd_derivatives(const double *x, const double *u, const turntable_
     return turntable_all_finite_(acc, 1) ? TURNTABLE_OK : TURNTABLE_NONFINITE;
 }
 
-int turntable_linearize(double t, const double *x, const double *u, const turntable_params *p, double *A, double *B)
+TURNTABLE_FN int turntable_linearize(double t, const double *x, const double *u, const turntable_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -297,7 +297,7 @@ int turntable_linearize(double t, const double *x, const double *u, const turnta
     return TURNTABLE_OK;
 }
 
-int turntable_rhs(double t, const double *x, const double *u, const turntable_params *p, double *xdot)
+TURNTABLE_FN int turntable_rhs(double t, const double *x, const double *u, const turntable_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -307,7 +307,7 @@ int turntable_rhs(double t, const double *x, const double *u, const turntable_pa
     return turntable_qdd(x, u, p, xdot + 1);
 }
 
-double turntable_energy(const double *x, const turntable_params *p)
+TURNTABLE_FN double turntable_energy(const double *x, const turntable_params *p)
 {
     double result;
     if (!p) {
@@ -326,7 +326,7 @@ double turntable_energy(const double *x, const turntable_params *p)
     return result;
 }
 
-double turntable_jacobi(const double *x, const turntable_params *p)
+TURNTABLE_FN double turntable_jacobi(const double *x, const turntable_params *p)
 {
     double result;
     if (!p) {
@@ -348,7 +348,7 @@ double turntable_jacobi(const double *x, const turntable_params *p)
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void turntable_sincos4_(const double *TURNTABLE_RESTRICT_ a, double *TURNTABLE_RESTRICT_ s, double *TURNTABLE_RESTRICT_ c)
+TURNTABLE_FN static void turntable_sincos4_(const double *TURNTABLE_RESTRICT_ a, double *TURNTABLE_RESTRICT_ s, double *TURNTABLE_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -394,7 +394,7 @@ static void turntable_sincos4_(const double *TURNTABLE_RESTRICT_ a, double *TURN
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void turntable_sincos1_(const double *TURNTABLE_RESTRICT_ a, double *TURNTABLE_RESTRICT_ s, double *TURNTABLE_RESTRICT_ c)
+TURNTABLE_FN static void turntable_sincos1_(const double *TURNTABLE_RESTRICT_ a, double *TURNTABLE_RESTRICT_ s, double *TURNTABLE_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -442,7 +442,7 @@ static void turntable_sincos1_(const double *TURNTABLE_RESTRICT_ a, double *TURN
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void turntable_sincos_(const double *a, double *s, double *c, int count)
+TURNTABLE_FN static void turntable_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -476,7 +476,7 @@ static void turntable_sincos_(const double *a, double *s, double *c, int count)
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of turntable_rhs) or, with own, turntable_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void turntable_rhs_lane_(int own, const double *TURNTABLE_RESTRICT_ X, const double *u,
+TURNTABLE_FN static void turntable_rhs_lane_(int own, const double *TURNTABLE_RESTRICT_ X, const double *u,
                                 const turntable_params *p, double *TURNTABLE_RESTRICT_ XD, int *code)
 {
     double piv_[1], ok_[1];
@@ -554,7 +554,7 @@ static void turntable_rhs_lane_(int own, const double *TURNTABLE_RESTRICT_ X, co
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of turntable_rhs) or, with own, turntable_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void turntable_rhs_lanes_(int own, const double *TURNTABLE_RESTRICT_ X, const double *u,
+TURNTABLE_FN static void turntable_rhs_lanes_(int own, const double *TURNTABLE_RESTRICT_ X, const double *u,
                                 const turntable_params *p, double *TURNTABLE_RESTRICT_ XD, int *code)
 {
     double piv_[8], ok_[8];
@@ -661,7 +661,7 @@ static void turntable_rhs_lanes_(int own, const double *TURNTABLE_RESTRICT_ X, c
  * 9 ops per rhs.  Newton is used when more sweeps than this are still needed. */
 #define TURNTABLE_NEWTON_SWEEPS 4
 
-static int turntable_eval_(const double *x, const double *u, const turntable_params *p, double *xdot,
+TURNTABLE_FN static int turntable_eval_(const double *x, const double *u, const turntable_params *p, double *xdot,
                             turntable_integrate_stats *st)
 {
     st->n_rhs++;
@@ -670,7 +670,7 @@ static int turntable_eval_(const double *x, const double *u, const turntable_par
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void turntable_add_(double *x, double *cmp, const double *dx)
+TURNTABLE_FN static void turntable_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -681,7 +681,7 @@ static void turntable_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void turntable_copy_(double *dst, const double *src)
+TURNTABLE_FN static void turntable_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -690,7 +690,7 @@ static void turntable_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void turntable_ksum_(const double *w, int count, double k[][2], double hs, double *out)
+TURNTABLE_FN static void turntable_ksum_(const double *w, int count, double k[][2], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 2; ++i) {
@@ -704,7 +704,7 @@ static void turntable_ksum_(const double *w, int count, double k[][2], double hs
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int turntable_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+TURNTABLE_FN static int turntable_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const turntable_params *p, double *X,
                               turntable_integrate_stats *st)
 {
@@ -882,13 +882,13 @@ static int turntable_dop853_(int nt, const double *tt, double h0, double rtol, d
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int turntable_tolerances_ok_(double rtol, double atol)
+TURNTABLE_FN static int turntable_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double turntable_floor_(const double *x)
+TURNTABLE_FN static double turntable_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -900,7 +900,7 @@ static double turntable_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long turntable_nsteps_(double ta, double tb, double h)
+TURNTABLE_FN static long turntable_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -914,7 +914,7 @@ static long turntable_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (TURNTABLE_RK4_LANES), else libm's (TURNTABLE_RK4, turntable_fixed_'s bits). */
-static void turntable_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+TURNTABLE_FN static void turntable_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const turntable_params *p, double *const *X, turntable_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1028,7 +1028,7 @@ static void turntable_rk4_lane_(int own, int nt, const double *tt, double h, lon
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (TURNTABLE_RK4_LANES), else libm's (TURNTABLE_RK4, turntable_fixed_'s bits). */
-static void turntable_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+TURNTABLE_FN static void turntable_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const turntable_params *p, double *const *X, turntable_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1141,7 +1141,7 @@ static void turntable_rk4_lanes_(int own, int nt, const double *tt, double h, lo
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * turntable_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int turntable_rk4_step_(const double *x, double h, const double *u, const turntable_params *p,
+TURNTABLE_FN static inline int turntable_rk4_step_(const double *x, double h, const double *u, const turntable_params *p,
                                        double *dx, turntable_integrate_stats *st)
 {
     double k[4][2], y[2];
@@ -1166,7 +1166,7 @@ static inline int turntable_rk4_step_(const double *x, double h, const double *u
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int turntable_lu_(double *A, int *piv, int m)
+TURNTABLE_FN static int turntable_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -1200,7 +1200,7 @@ static int turntable_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void turntable_lu_solve_(const double *A, const int *piv, int m, double *b)
+TURNTABLE_FN static void turntable_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -1224,7 +1224,7 @@ static void turntable_lu_solve_(const double *A, const int *piv, int m, double *
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of turntable_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int turntable_gauss2_newton_(const double *x, double h, const double *u, const turntable_params *p,
+TURNTABLE_FN static int turntable_gauss2_newton_(const double *x, double h, const double *u, const turntable_params *p,
                                      double Z[2][2], double F[2][2], turntable_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1308,7 +1308,7 @@ static int turntable_gauss2_newton_(const double *x, double h, const double *u, 
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int turntable_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+TURNTABLE_FN static int turntable_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const turntable_params *p, double F[2][2], double *dx, turntable_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -1391,7 +1391,7 @@ static int turntable_gauss2_step_(const double *x, double h, double hp, int meth
 
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant). */
-static int turntable_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+TURNTABLE_FN static int turntable_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const turntable_params *p, double *X,
                              turntable_integrate_stats *st)
 {
@@ -1440,7 +1440,7 @@ static int turntable_fixed_(int method, int nt, const double *tt, double h, long
  * and the others NaN, *max_steps the budget.  TURNTABLE_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int turntable_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+TURNTABLE_FN static inline int turntable_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const turntable_params *p, double *X,
                                   turntable_integrate_stats *st)
 {
@@ -1490,7 +1490,7 @@ static inline int turntable_grid_start_(int method, int nt, const double *t, dou
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int turntable_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+TURNTABLE_FN static inline int turntable_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const turntable_params *p,
                                    double *X, turntable_integrate_stats *stats)
 {
@@ -1514,7 +1514,7 @@ static inline int turntable_grid_(int method, int nt, const double *t, double h,
     return turntable_fixed_(method == TURNTABLE_RK4_LANES ? TURNTABLE_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int turntable_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+TURNTABLE_FN int turntable_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const turntable_params *p,
                               double *X, turntable_integrate_stats *stats)
 {
@@ -1524,7 +1524,7 @@ int turntable_integrate_grid(int method, int nt, const double *t, double h, doub
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int turntable_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+TURNTABLE_FN static int turntable_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const turntable_params *p, double *X, int *codes)
 {
     turntable_integrate_stats st;
@@ -1563,7 +1563,7 @@ static int turntable_rk4_batch_(int own, int nb, int nt, const double *t, double
     return failed;
 }
 
-int turntable_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+TURNTABLE_FN int turntable_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const turntable_params *p, long p_stride, double *X, int *codes)
 {
@@ -1583,7 +1583,7 @@ int turntable_integrate_batch(int method, int nb, int nt, const double *t, doubl
     return failed;
 }
 
-int turntable_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+TURNTABLE_FN int turntable_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const turntable_params *p, double *x1, long *n_rhs)
 {
     turntable_integrate_stats st;
@@ -1608,7 +1608,7 @@ int turntable_integrate(int method, double t0, double t1, double h, double rtol,
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int turntable_eval_variational_(const double *y, const double *u, const turntable_params *p,
+TURNTABLE_FN static int turntable_eval_variational_(const double *y, const double *u, const turntable_params *p,
                                    double *ydot, turntable_integrate_stats *st)
 {
     double dq[1], dv[1];
@@ -1645,7 +1645,7 @@ static int turntable_eval_variational_(const double *y, const double *u, const t
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void turntable_add_variational_(double *x, double *cmp, const double *dx)
+TURNTABLE_FN static void turntable_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 6; ++i) {
@@ -1656,7 +1656,7 @@ static void turntable_add_variational_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void turntable_copy_variational_(double *dst, const double *src)
+TURNTABLE_FN static void turntable_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 6; ++i) {
@@ -1665,7 +1665,7 @@ static void turntable_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void turntable_ksum_variational_(const double *w, int count, double k[][6], double hs, double *out)
+TURNTABLE_FN static void turntable_ksum_variational_(const double *w, int count, double k[][6], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 6; ++i) {
@@ -1679,7 +1679,7 @@ static void turntable_ksum_variational_(const double *w, int count, double k[][6
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int turntable_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+TURNTABLE_FN static int turntable_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const turntable_params *p, double *X,
                               turntable_integrate_stats *st)
 {
@@ -1856,7 +1856,7 @@ static int turntable_dop853_variational_(int nt, const double *tt, double h0, do
 }
 
 
-int turntable_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+TURNTABLE_FN int turntable_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const turntable_params *p,
                                 double *x1, double *Phi, turntable_integrate_stats *stats)
 {

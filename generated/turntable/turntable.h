@@ -60,6 +60,14 @@
 extern "C" {
 #endif
 
+/* TURNTABLE_FN marks every function of turntable.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (turntable_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define TURNTABLE_FN __host__ __device__
+#else
+#define TURNTABLE_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define TURNTABLE_REAL double
 #define TURNTABLE_N 1
@@ -91,15 +99,15 @@ extern "C" {
 typedef struct turntable_params {
     double Omega;
 } turntable_params;
-int turntable_mass_matrix(const double *q, const turntable_params *p, double *M);
-int turntable_forces(const double *x, const double *u, const turntable_params *p, double *f);
-int turntable_qdd(const double *x, const double *u, const turntable_params *p, double *qdd);
-int turntable_rhs(double t, const double *x, const double *u, const turntable_params *p, double *xdot);
-int turntable_qdd_derivatives(const double *x, const double *u, const turntable_params *p,
+TURNTABLE_FN int turntable_mass_matrix(const double *q, const turntable_params *p, double *M);
+TURNTABLE_FN int turntable_forces(const double *x, const double *u, const turntable_params *p, double *f);
+TURNTABLE_FN int turntable_qdd(const double *x, const double *u, const turntable_params *p, double *qdd);
+TURNTABLE_FN int turntable_rhs(double t, const double *x, const double *u, const turntable_params *p, double *xdot);
+TURNTABLE_FN int turntable_qdd_derivatives(const double *x, const double *u, const turntable_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int turntable_linearize(double t, const double *x, const double *u, const turntable_params *p, double *A, double *B);
-double turntable_energy(const double *x, const turntable_params *p);
-double turntable_jacobi(const double *x, const turntable_params *p);
+TURNTABLE_FN int turntable_linearize(double t, const double *x, const double *u, const turntable_params *p, double *A, double *B);
+TURNTABLE_FN double turntable_energy(const double *x, const turntable_params *p);
+TURNTABLE_FN double turntable_jacobi(const double *x, const turntable_params *p);
 typedef struct turntable_integrate_stats {
     double t;
     double x[2];
@@ -109,15 +117,15 @@ typedef struct turntable_integrate_stats {
     long n_iter;
     long n_newton;
 } turntable_integrate_stats;
-int turntable_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+TURNTABLE_FN int turntable_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const turntable_params *p, double *x1, long *n_rhs);
-int turntable_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+TURNTABLE_FN int turntable_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const turntable_params *p,
                         double *X, turntable_integrate_stats *stats);
-int turntable_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+TURNTABLE_FN int turntable_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const turntable_params *p, long p_stride, double *X, int *codes);
-int turntable_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+TURNTABLE_FN int turntable_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const turntable_params *p,
                                double *x1, double *Phi, turntable_integrate_stats *stats);
 

@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define UR5_PIVOT_TOL (6 * 2.220446049250313e-16)
 
-static int ur5_all_finite_(const double *v, int count)
+UR5_FN static int ur5_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int ur5_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void ur5_symmetrize_(double *M)
+UR5_FN static void ur5_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 6; ++i) {
@@ -44,7 +44,7 @@ static void ur5_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int ur5_pivots_(const double *piv)
+UR5_FN static int ur5_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int ur5_pivots_(const double *piv)
 }
 
 
-int ur5_mass_matrix(const double *q, const ur5_params *p, double *M)
+UR5_FN int ur5_mass_matrix(const double *q, const ur5_params *p, double *M)
 {
     double LD[36];
     double v[6];
@@ -305,7 +305,7 @@ int ur5_mass_matrix(const double *q, const ur5_params *p, double *M)
     return UR5_OK;
 }
 
-int ur5_forces(const double *x, const double *u, const ur5_params *p, double *f)
+UR5_FN int ur5_forces(const double *x, const double *u, const ur5_params *p, double *f)
 {
     (void)p;
 
@@ -465,7 +465,7 @@ int ur5_forces(const double *x, const double *u, const ur5_params *p, double *f)
     return ur5_all_finite_(f, 6) ? UR5_OK : UR5_NONFINITE;
 }
 
-int ur5_qdd(const double *x, const double *u, const ur5_params *p, double *qdd)
+UR5_FN int ur5_qdd(const double *x, const double *u, const ur5_params *p, double *qdd)
 {
     double M[36];
     double f[6];
@@ -862,7 +862,7 @@ int ur5_qdd(const double *x, const double *u, const ur5_params *p, double *qdd)
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void ur5_dq1_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dq1_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -892,7 +892,7 @@ static void ur5_dq1_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q2, reading the recursion's values it needs from b. */
-static void ur5_dq2_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dq2_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -1091,7 +1091,7 @@ static void ur5_dq2_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 3 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q3, reading the recursion's values it needs from b. */
-static void ur5_dq3_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dq3_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -1311,7 +1311,7 @@ static void ur5_dq3_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 4 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q4, reading the recursion's values it needs from b. */
-static void ur5_dq4_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dq4_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -1542,7 +1542,7 @@ static void ur5_dq4_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 5 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q5, reading the recursion's values it needs from b. */
-static void ur5_dq5_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dq5_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -1765,7 +1765,7 @@ static void ur5_dq5_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 6 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q6, reading the recursion's values it needs from b. */
-static void ur5_dq6_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dq6_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -1977,7 +1977,7 @@ static void ur5_dq6_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void ur5_dv1_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dv1_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -2162,7 +2162,7 @@ static void ur5_dv1_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v2, reading the recursion's values it needs from b. */
-static void ur5_dv2_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dv2_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -2309,7 +2309,7 @@ static void ur5_dv2_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 3 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v3, reading the recursion's values it needs from b. */
-static void ur5_dv3_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dv3_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -2443,7 +2443,7 @@ static void ur5_dv3_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 4 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v4, reading the recursion's values it needs from b. */
-static void ur5_dv4_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dv4_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -2556,7 +2556,7 @@ static void ur5_dv4_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 5 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v5, reading the recursion's values it needs from b. */
-static void ur5_dv5_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dv5_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -2647,7 +2647,7 @@ static void ur5_dv5_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 6 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v6, reading the recursion's values it needs from b. */
-static void ur5_dv6_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_dv6_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -2732,7 +2732,7 @@ static void ur5_dv6_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 1 of d phi''/d u: the forward-mode tangent of the recursion
  * along u1, reading the recursion's values it needs from b. */
-static void ur5_du1_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_du1_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -2787,7 +2787,7 @@ static void ur5_du1_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 2 of d phi''/d u: the forward-mode tangent of the recursion
  * along u2, reading the recursion's values it needs from b. */
-static void ur5_du2_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_du2_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -2846,7 +2846,7 @@ static void ur5_du2_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 3 of d phi''/d u: the forward-mode tangent of the recursion
  * along u3, reading the recursion's values it needs from b. */
-static void ur5_du3_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_du3_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -2916,7 +2916,7 @@ static void ur5_du3_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 4 of d phi''/d u: the forward-mode tangent of the recursion
  * along u4, reading the recursion's values it needs from b. */
-static void ur5_du4_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_du4_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -2994,7 +2994,7 @@ static void ur5_du4_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 5 of d phi''/d u: the forward-mode tangent of the recursion
  * along u5, reading the recursion's values it needs from b. */
-static void ur5_du5_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_du5_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -3076,7 +3076,7 @@ static void ur5_du5_(const double *x, const double *u, const ur5_params *p, cons
 
 /* Column 6 of d phi''/d u: the forward-mode tangent of the recursion
  * along u6, reading the recursion's values it needs from b. */
-static void ur5_du6_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
+UR5_FN static void ur5_du6_(const double *x, const double *u, const ur5_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -3155,7 +3155,7 @@ static void ur5_du6_(const double *x, const double *u, const ur5_params *p, cons
 
 }
 
-int ur5_qdd_derivatives(const double *x, const double *u, const ur5_params *p,
+UR5_FN int ur5_qdd_derivatives(const double *x, const double *u, const ur5_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -3781,7 +3781,7 @@ int ur5_qdd_derivatives(const double *x, const double *u, const ur5_params *p,
     return ur5_all_finite_(acc, 6) ? UR5_OK : UR5_NONFINITE;
 }
 
-int ur5_linearize(double t, const double *x, const double *u, const ur5_params *p, double *A, double *B)
+UR5_FN int ur5_linearize(double t, const double *x, const double *u, const ur5_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -3815,7 +3815,7 @@ int ur5_linearize(double t, const double *x, const double *u, const ur5_params *
     return UR5_OK;
 }
 
-int ur5_rhs(double t, const double *x, const double *u, const ur5_params *p, double *xdot)
+UR5_FN int ur5_rhs(double t, const double *x, const double *u, const ur5_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -3825,7 +3825,7 @@ int ur5_rhs(double t, const double *x, const double *u, const ur5_params *p, dou
     return ur5_qdd(x, u, p, xdot + 6);
 }
 
-double ur5_energy(const double *x, const ur5_params *p)
+UR5_FN double ur5_energy(const double *x, const ur5_params *p)
 {
     double result;
     (void)p;
@@ -3966,7 +3966,7 @@ double ur5_energy(const double *x, const ur5_params *p)
     return result;
 }
 
-double ur5_momentum(const double *x, const ur5_params *p)
+UR5_FN double ur5_momentum(const double *x, const ur5_params *p)
 {
     double result;
     (void)p;
@@ -4088,7 +4088,7 @@ double ur5_momentum(const double *x, const ur5_params *p)
 }
 
 /* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
-int ur5_momenta(const double *x, const ur5_params *p, double *pm)
+UR5_FN int ur5_momenta(const double *x, const ur5_params *p, double *pm)
 {
     (void)p;
 
@@ -4228,7 +4228,7 @@ int ur5_momenta(const double *x, const ur5_params *p, double *pm)
 }
 
 /* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
-int ur5_velocities(const double *q, const double *pm, const ur5_params *p, double *qd)
+UR5_FN int ur5_velocities(const double *q, const double *pm, const ur5_params *p, double *qd)
 {
     double M[36];
     double k[6];
@@ -4492,7 +4492,7 @@ int ur5_velocities(const double *q, const double *pm, const ur5_params *p, doubl
 
 /* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
  * dampers), computed as (dp/dphi) phidot + f. */
-int ur5_pdot(const double *x, const double *u, const ur5_params *p, double *pdot)
+UR5_FN int ur5_pdot(const double *x, const double *u, const ur5_params *p, double *pdot)
 {
     (void)p;
 
@@ -4861,7 +4861,7 @@ int ur5_pdot(const double *x, const double *u, const ur5_params *p, double *pdot
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void ur5_sincos4_(const double *UR5_RESTRICT_ a, double *UR5_RESTRICT_ s, double *UR5_RESTRICT_ c)
+UR5_FN static void ur5_sincos4_(const double *UR5_RESTRICT_ a, double *UR5_RESTRICT_ s, double *UR5_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -4907,7 +4907,7 @@ static void ur5_sincos4_(const double *UR5_RESTRICT_ a, double *UR5_RESTRICT_ s,
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void ur5_sincos1_(const double *UR5_RESTRICT_ a, double *UR5_RESTRICT_ s, double *UR5_RESTRICT_ c)
+UR5_FN static void ur5_sincos1_(const double *UR5_RESTRICT_ a, double *UR5_RESTRICT_ s, double *UR5_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -4955,7 +4955,7 @@ static void ur5_sincos1_(const double *UR5_RESTRICT_ a, double *UR5_RESTRICT_ s,
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void ur5_sincos_(const double *a, double *s, double *c, int count)
+UR5_FN static void ur5_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -4989,7 +4989,7 @@ static void ur5_sincos_(const double *a, double *s, double *c, int count)
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of ur5_rhs) or, with own, ur5_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void ur5_rhs_lane_(int own, const double *UR5_RESTRICT_ X, const double *u,
+UR5_FN static void ur5_rhs_lane_(int own, const double *UR5_RESTRICT_ X, const double *u,
                                 const ur5_params *p, double *UR5_RESTRICT_ XD, int *code)
 {
     double M_[36], f_[6], piv_[6], tol_[1], ok_[1];
@@ -5426,7 +5426,7 @@ static void ur5_rhs_lane_(int own, const double *UR5_RESTRICT_ X, const double *
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of ur5_rhs) or, with own, ur5_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void ur5_rhs_lanes_(int own, const double *UR5_RESTRICT_ X, const double *u,
+UR5_FN static void ur5_rhs_lanes_(int own, const double *UR5_RESTRICT_ X, const double *u,
                                 const ur5_params *p, double *UR5_RESTRICT_ XD, int *code)
 {
     double M_[288], f_[48], piv_[48], tol_[8], ok_[8];
@@ -5900,7 +5900,7 @@ static void ur5_rhs_lanes_(int own, const double *UR5_RESTRICT_ X, const double 
  * side, the LU of the 24 x 24 matrix and ~4 iterations. */
 #define UR5_NEWTON_SWEEPS_CANONICAL 14
 
-static int ur5_eval_(const double *x, const double *u, const ur5_params *p, double *xdot,
+UR5_FN static int ur5_eval_(const double *x, const double *u, const ur5_params *p, double *xdot,
                             ur5_integrate_stats *st)
 {
     st->n_rhs++;
@@ -5909,7 +5909,7 @@ static int ur5_eval_(const double *x, const double *u, const ur5_params *p, doub
 
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = ur5_pdot.  One call costs 391 + 988 ops. */
-static int ur5_eval_canonical_(const double *y, const double *u, const ur5_params *p, double *ydot,
+UR5_FN static int ur5_eval_canonical_(const double *y, const double *u, const ur5_params *p, double *ydot,
                                       ur5_integrate_stats *st)
 {
     double x[12];
@@ -5928,7 +5928,7 @@ static int ur5_eval_canonical_(const double *y, const double *u, const ur5_param
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void ur5_to_state_(const double *y, const ur5_params *p, double *x)
+UR5_FN static void ur5_to_state_(const double *y, const ur5_params *p, double *x)
 {
     int i;
     for (i = 0; i < 6; ++i) {
@@ -5943,7 +5943,7 @@ static void ur5_to_state_(const double *y, const ur5_params *p, double *x)
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void ur5_add_(double *x, double *cmp, const double *dx)
+UR5_FN static void ur5_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 12; ++i) {
@@ -5954,7 +5954,7 @@ static void ur5_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void ur5_copy_(double *dst, const double *src)
+UR5_FN static void ur5_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 12; ++i) {
@@ -5963,7 +5963,7 @@ static void ur5_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void ur5_ksum_(const double *w, int count, double k[][12], double hs, double *out)
+UR5_FN static void ur5_ksum_(const double *w, int count, double k[][12], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 12; ++i) {
@@ -5977,7 +5977,7 @@ static void ur5_ksum_(const double *w, int count, double k[][12], double hs, dou
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int ur5_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+UR5_FN static int ur5_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const ur5_params *p, double *X,
                               ur5_integrate_stats *st)
 {
@@ -6155,13 +6155,13 @@ static int ur5_dop853_(int nt, const double *tt, double h0, double rtol, double 
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int ur5_tolerances_ok_(double rtol, double atol)
+UR5_FN static int ur5_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double ur5_floor_(const double *x)
+UR5_FN static double ur5_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -6173,7 +6173,7 @@ static double ur5_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long ur5_nsteps_(double ta, double tb, double h)
+UR5_FN static long ur5_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -6187,7 +6187,7 @@ static long ur5_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (UR5_RK4_LANES), else libm's (UR5_RK4, ur5_fixed_'s bits). */
-static void ur5_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+UR5_FN static void ur5_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const ur5_params *p, double *const *X, ur5_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -6301,7 +6301,7 @@ static void ur5_rk4_lane_(int own, int nt, const double *tt, double h, long max_
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (UR5_RK4_LANES), else libm's (UR5_RK4, ur5_fixed_'s bits). */
-static void ur5_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+UR5_FN static void ur5_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const ur5_params *p, double *const *X, ur5_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -6414,7 +6414,7 @@ static void ur5_rk4_lanes_(int own, int nt, const double *tt, double h, long max
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * ur5_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int ur5_rk4_step_(const double *x, double h, const double *u, const ur5_params *p,
+UR5_FN static inline int ur5_rk4_step_(const double *x, double h, const double *u, const ur5_params *p,
                                        double *dx, ur5_integrate_stats *st)
 {
     double k[4][12], y[12];
@@ -6439,7 +6439,7 @@ static inline int ur5_rk4_step_(const double *x, double h, const double *u, cons
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int ur5_lu_(double *A, int *piv, int m)
+UR5_FN static int ur5_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -6473,7 +6473,7 @@ static int ur5_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void ur5_lu_solve_(const double *A, const int *piv, int m, double *b)
+UR5_FN static void ur5_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -6497,7 +6497,7 @@ static void ur5_lu_solve_(const double *A, const int *piv, int m, double *b)
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of ur5_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int ur5_gauss2_newton_(const double *x, double h, const double *u, const ur5_params *p,
+UR5_FN static int ur5_gauss2_newton_(const double *x, double h, const double *u, const ur5_params *p,
                                      double Z[2][12], double F[2][12], ur5_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -6581,7 +6581,7 @@ static int ur5_gauss2_newton_(const double *x, double h, const double *u, const 
  * differences of the canonical right side g (the converged solution does not depend on J, only the
  * rate does: differences are accurate enough and need nothing that is not emitted):
  *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
-static int ur5_canonical_newton_(const double *y, double h, const double *u, const ur5_params *p,
+UR5_FN static int ur5_canonical_newton_(const double *y, double h, const double *u, const ur5_params *p,
                                         double Z[2][12], double F[2][12], ur5_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -6661,7 +6661,7 @@ static int ur5_canonical_newton_(const double *y, double h, const double *u, con
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int ur5_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+UR5_FN static int ur5_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const ur5_params *p, double F[2][12], double *dx, ur5_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -6747,7 +6747,7 @@ static int ur5_gauss2_step_(const double *x, double h, double hp, int method, co
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
  * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
-static int ur5_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+UR5_FN static int ur5_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const ur5_params *p, double *X,
                              ur5_integrate_stats *st)
 {
@@ -6812,7 +6812,7 @@ static int ur5_fixed_(int method, int nt, const double *tt, double h, long max_s
  * and the others NaN, *max_steps the budget.  UR5_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int ur5_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+UR5_FN static inline int ur5_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const ur5_params *p, double *X,
                                   ur5_integrate_stats *st)
 {
@@ -6861,7 +6861,7 @@ static inline int ur5_grid_start_(int method, int nt, const double *t, double h,
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int ur5_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+UR5_FN static inline int ur5_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const ur5_params *p,
                                    double *X, ur5_integrate_stats *stats)
 {
@@ -6885,7 +6885,7 @@ static inline int ur5_grid_(int method, int nt, const double *t, double h, doubl
     return ur5_fixed_(method == UR5_RK4_LANES ? UR5_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int ur5_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+UR5_FN int ur5_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const ur5_params *p,
                               double *X, ur5_integrate_stats *stats)
 {
@@ -6895,7 +6895,7 @@ int ur5_integrate_grid(int method, int nt, const double *t, double h, double rto
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int ur5_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+UR5_FN static int ur5_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const ur5_params *p, double *X, int *codes)
 {
     ur5_integrate_stats st;
@@ -6934,7 +6934,7 @@ static int ur5_rk4_batch_(int own, int nb, int nt, const double *t, double h, lo
     return failed;
 }
 
-int ur5_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+UR5_FN int ur5_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const ur5_params *p, long p_stride, double *X, int *codes)
 {
@@ -6954,7 +6954,7 @@ int ur5_integrate_batch(int method, int nb, int nt, const double *t, double h, d
     return failed;
 }
 
-int ur5_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+UR5_FN int ur5_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const ur5_params *p, double *x1, long *n_rhs)
 {
     ur5_integrate_stats st;
@@ -6979,7 +6979,7 @@ int ur5_integrate(int method, double t0, double t1, double h, double rtol, doubl
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int ur5_eval_variational_(const double *y, const double *u, const ur5_params *p,
+UR5_FN static int ur5_eval_variational_(const double *y, const double *u, const ur5_params *p,
                                    double *ydot, ur5_integrate_stats *st)
 {
     double dq[36], dv[36];
@@ -7016,7 +7016,7 @@ static int ur5_eval_variational_(const double *y, const double *u, const ur5_par
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void ur5_add_variational_(double *x, double *cmp, const double *dx)
+UR5_FN static void ur5_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 156; ++i) {
@@ -7027,7 +7027,7 @@ static void ur5_add_variational_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void ur5_copy_variational_(double *dst, const double *src)
+UR5_FN static void ur5_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 156; ++i) {
@@ -7036,7 +7036,7 @@ static void ur5_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void ur5_ksum_variational_(const double *w, int count, double k[][156], double hs, double *out)
+UR5_FN static void ur5_ksum_variational_(const double *w, int count, double k[][156], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 156; ++i) {
@@ -7050,7 +7050,7 @@ static void ur5_ksum_variational_(const double *w, int count, double k[][156], d
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int ur5_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+UR5_FN static int ur5_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const ur5_params *p, double *X,
                               ur5_integrate_stats *st)
 {
@@ -7227,7 +7227,7 @@ static int ur5_dop853_variational_(int nt, const double *tt, double h0, double r
 }
 
 
-int ur5_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+UR5_FN int ur5_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const ur5_params *p,
                                 double *x1, double *Phi, ur5_integrate_stats *stats)
 {

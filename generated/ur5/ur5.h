@@ -61,6 +61,14 @@
 extern "C" {
 #endif
 
+/* UR5_FN marks every function of ur5.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (ur5_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define UR5_FN __host__ __device__
+#else
+#define UR5_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define UR5_REAL double
 #define UR5_N 6
@@ -90,18 +98,18 @@ extern "C" {
 typedef struct ur5_params {
     double unused_;
 } ur5_params;
-int ur5_mass_matrix(const double *q, const ur5_params *p, double *M);
-int ur5_forces(const double *x, const double *u, const ur5_params *p, double *f);
-int ur5_qdd(const double *x, const double *u, const ur5_params *p, double *qdd);
-int ur5_rhs(double t, const double *x, const double *u, const ur5_params *p, double *xdot);
-int ur5_qdd_derivatives(const double *x, const double *u, const ur5_params *p,
+UR5_FN int ur5_mass_matrix(const double *q, const ur5_params *p, double *M);
+UR5_FN int ur5_forces(const double *x, const double *u, const ur5_params *p, double *f);
+UR5_FN int ur5_qdd(const double *x, const double *u, const ur5_params *p, double *qdd);
+UR5_FN int ur5_rhs(double t, const double *x, const double *u, const ur5_params *p, double *xdot);
+UR5_FN int ur5_qdd_derivatives(const double *x, const double *u, const ur5_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int ur5_linearize(double t, const double *x, const double *u, const ur5_params *p, double *A, double *B);
-double ur5_energy(const double *x, const ur5_params *p);
-double ur5_momentum(const double *x, const ur5_params *p);
-int ur5_momenta(const double *x, const ur5_params *p, double *pm);
-int ur5_velocities(const double *q, const double *pm, const ur5_params *p, double *qd);
-int ur5_pdot(const double *x, const double *u, const ur5_params *p, double *pdot);
+UR5_FN int ur5_linearize(double t, const double *x, const double *u, const ur5_params *p, double *A, double *B);
+UR5_FN double ur5_energy(const double *x, const ur5_params *p);
+UR5_FN double ur5_momentum(const double *x, const ur5_params *p);
+UR5_FN int ur5_momenta(const double *x, const ur5_params *p, double *pm);
+UR5_FN int ur5_velocities(const double *q, const double *pm, const ur5_params *p, double *qd);
+UR5_FN int ur5_pdot(const double *x, const double *u, const ur5_params *p, double *pdot);
 typedef struct ur5_integrate_stats {
     double t;
     double x[12];
@@ -111,15 +119,15 @@ typedef struct ur5_integrate_stats {
     long n_iter;
     long n_newton;
 } ur5_integrate_stats;
-int ur5_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+UR5_FN int ur5_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const ur5_params *p, double *x1, long *n_rhs);
-int ur5_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+UR5_FN int ur5_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const ur5_params *p,
                         double *X, ur5_integrate_stats *stats);
-int ur5_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+UR5_FN int ur5_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const ur5_params *p, long p_stride, double *X, int *codes);
-int ur5_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+UR5_FN int ur5_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const ur5_params *p,
                                double *x1, double *Phi, ur5_integrate_stats *stats);
 

@@ -20,7 +20,7 @@
 /* The smallest admissible LDL^T pivot, relative to the largest diagonal entry of M. */
 #define ZIEGLER_PIVOT_TOL (2 * 2.220446049250313e-16)
 
-static int ziegler_all_finite_(const double *v, int count)
+ZIEGLER_FN static int ziegler_all_finite_(const double *v, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -32,7 +32,7 @@ static int ziegler_all_finite_(const double *v, int count)
 }
 
 /* Copies the lower triangle of the symmetric M (row-major) onto the upper one. */
-static void ziegler_symmetrize_(double *M)
+ZIEGLER_FN static void ziegler_symmetrize_(double *M)
 {
     int i, j;
     for (i = 0; i < 2; ++i) {
@@ -44,7 +44,7 @@ static void ziegler_symmetrize_(double *M)
 
 /* The pivots D^k of the articulated recursion (M eliminated from the tip), tested against
  * PIVOT_TOL times the largest; a zero pivot makes the ones before it NaN. */
-static int ziegler_pivots_(const double *piv)
+ZIEGLER_FN static int ziegler_pivots_(const double *piv)
 {
     double tol = 0.0;
     int i;
@@ -66,7 +66,7 @@ static int ziegler_pivots_(const double *piv)
 }
 
 
-int ziegler_mass_matrix(const double *q, const ziegler_params *p, double *M)
+ZIEGLER_FN int ziegler_mass_matrix(const double *q, const ziegler_params *p, double *M)
 {
     double LD[4];
     double v[2];
@@ -123,7 +123,7 @@ int ziegler_mass_matrix(const double *q, const ziegler_params *p, double *M)
     return ZIEGLER_OK;
 }
 
-int ziegler_forces(const double *x, const double *u, const ziegler_params *p, double *f)
+ZIEGLER_FN int ziegler_forces(const double *x, const double *u, const ziegler_params *p, double *f)
 {
     if (!p) {
         return ZIEGLER_NO_PARAMS;
@@ -153,7 +153,7 @@ int ziegler_forces(const double *x, const double *u, const ziegler_params *p, do
     return ziegler_all_finite_(f, 2) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
 }
 
-int ziegler_qdd(const double *x, const double *u, const ziegler_params *p, double *qdd)
+ZIEGLER_FN int ziegler_qdd(const double *x, const double *u, const ziegler_params *p, double *qdd)
 {
     /* articulated bodies (O(n)): phi'' and the pivots D^k of M eliminated from the tip */
     double acc[2];
@@ -207,7 +207,7 @@ int ziegler_qdd(const double *x, const double *u, const ziegler_params *p, doubl
 
 /* Column 1 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q1, reading the recursion's values it needs from b. */
-static void ziegler_dq1_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
+ZIEGLER_FN static void ziegler_dq1_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -223,7 +223,7 @@ static void ziegler_dq1_(const double *x, const double *u, const ziegler_params 
 
 /* Column 2 of d phi''/d phi: the forward-mode tangent of the recursion
  * along q2, reading the recursion's values it needs from b. */
-static void ziegler_dq2_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
+ZIEGLER_FN static void ziegler_dq2_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -248,7 +248,7 @@ static void ziegler_dq2_(const double *x, const double *u, const ziegler_params 
 
 /* Column 1 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v1, reading the recursion's values it needs from b. */
-static void ziegler_dv1_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
+ZIEGLER_FN static void ziegler_dv1_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -269,7 +269,7 @@ static void ziegler_dv1_(const double *x, const double *u, const ziegler_params 
 
 /* Column 2 of d phi''/d phidot: the forward-mode tangent of the recursion
  * along v2, reading the recursion's values it needs from b. */
-static void ziegler_dv2_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
+ZIEGLER_FN static void ziegler_dv2_(const double *x, const double *u, const ziegler_params *p, const double *b, double *col)
 {
     (void)x;
     (void)u;
@@ -285,7 +285,7 @@ static void ziegler_dv2_(const double *x, const double *u, const ziegler_params 
 
 }
 
-int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_params *p,
+ZIEGLER_FN int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du)
 {
     /* phi'' by the articulated recursion, then the exact derivatives of that straight-line code
@@ -383,7 +383,7 @@ int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_para
     return ziegler_all_finite_(acc, 2) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
 }
 
-int ziegler_linearize(double t, const double *x, const double *u, const ziegler_params *p, double *A, double *B)
+ZIEGLER_FN int ziegler_linearize(double t, const double *x, const double *u, const ziegler_params *p, double *A, double *B)
 {
     /* xdot = (phidot, phi''(x, u)) linearised: A = [[0, I], [d phi''/d phi, d phi''/d phidot]],
      * B = [[0], [d phi''/d u]], row-major 2n x 2n and 2n x nu.  Either may be NULL. */
@@ -409,7 +409,7 @@ int ziegler_linearize(double t, const double *x, const double *u, const ziegler_
     return ZIEGLER_OK;
 }
 
-int ziegler_rhs(double t, const double *x, const double *u, const ziegler_params *p, double *xdot)
+ZIEGLER_FN int ziegler_rhs(double t, const double *x, const double *u, const ziegler_params *p, double *xdot)
 {
     int i;
     (void)t;
@@ -419,7 +419,7 @@ int ziegler_rhs(double t, const double *x, const double *u, const ziegler_params
     return ziegler_qdd(x, u, p, xdot + 2);
 }
 
-double ziegler_energy(const double *x, const ziegler_params *p)
+ZIEGLER_FN double ziegler_energy(const double *x, const ziegler_params *p)
 {
     double result;
     if (!p) {
@@ -439,7 +439,7 @@ double ziegler_energy(const double *x, const ziegler_params *p)
     return result;
 }
 
-double ziegler_momentum(const double *x, const ziegler_params *p)
+ZIEGLER_FN double ziegler_momentum(const double *x, const ziegler_params *p)
 {
     double result;
     if (!p) {
@@ -459,7 +459,7 @@ double ziegler_momentum(const double *x, const ziegler_params *p)
 }
 
 /* Hamilton's variables (gyrochain/derive/derivatives.py, Canonical): p = dL/dphidot = M phidot + k(phi). */
-int ziegler_momenta(const double *x, const ziegler_params *p, double *pm)
+ZIEGLER_FN int ziegler_momenta(const double *x, const ziegler_params *p, double *pm)
 {
     if (!p) {
         return ZIEGLER_NO_PARAMS;
@@ -481,7 +481,7 @@ int ziegler_momenta(const double *x, const ziegler_params *p, double *pm)
 }
 
 /* phidot from (phi, p): M(phi) phidot = p - k(phi), by LDL^T. */
-int ziegler_velocities(const double *q, const double *pm, const ziegler_params *p, double *qd)
+ZIEGLER_FN int ziegler_velocities(const double *q, const double *pm, const ziegler_params *p, double *qd)
 {
     double M[4];
     double k[2];
@@ -547,7 +547,7 @@ int ziegler_velocities(const double *q, const double *pm, const ziegler_params *
 
 /* The rate of the momenta, dp/dt = dL/dphi + the torques without a force function (controls,
  * dampers), computed as (dp/dphi) phidot + f. */
-int ziegler_pdot(const double *x, const double *u, const ziegler_params *p, double *pdot)
+ZIEGLER_FN int ziegler_pdot(const double *x, const double *u, const ziegler_params *p, double *pdot)
 {
     if (!p) {
         return ZIEGLER_NO_PARAMS;
@@ -582,7 +582,7 @@ int ziegler_pdot(const double *x, const double *u, const ziegler_params *p, doub
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
 /* sin a[i] and cos a[i] for i < 4, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void ziegler_sincos4_(const double *ZIEGLER_RESTRICT_ a, double *ZIEGLER_RESTRICT_ s, double *ZIEGLER_RESTRICT_ c)
+ZIEGLER_FN static void ziegler_sincos4_(const double *ZIEGLER_RESTRICT_ a, double *ZIEGLER_RESTRICT_ s, double *ZIEGLER_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -628,7 +628,7 @@ static void ziegler_sincos4_(const double *ZIEGLER_RESTRICT_ a, double *ZIEGLER_
 }
 
 /* sin a[i] and cos a[i] for i < 1, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void ziegler_sincos1_(const double *ZIEGLER_RESTRICT_ a, double *ZIEGLER_RESTRICT_ s, double *ZIEGLER_RESTRICT_ c)
+ZIEGLER_FN static void ziegler_sincos1_(const double *ZIEGLER_RESTRICT_ a, double *ZIEGLER_RESTRICT_ s, double *ZIEGLER_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < 1; ++i) {
@@ -676,7 +676,7 @@ static void ziegler_sincos1_(const double *ZIEGLER_RESTRICT_ a, double *ZIEGLER_
 /* s[i] = sin a[i], c[i] = cos a[i] for i < count: in blocks of four (vectorised: the throughput of
  * a batch's lanes), and one by one where there are fewer than eight (independent scalar chains: the
  * latency of a single trajectory's right side, where a vector of two is slower). */
-static void ziegler_sincos_(const double *a, double *s, double *c, int count)
+ZIEGLER_FN static void ziegler_sincos_(const double *a, double *s, double *c, int count)
 {
     int i = 0, far = 0;
     if (FLT_EVAL_METHOD != 0) {  /* (a constant: one branch is compiled) */
@@ -710,7 +710,7 @@ static void ziegler_sincos_(const double *a, double *s, double *c, int count)
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of ziegler_rhs) or, with own, ziegler_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void ziegler_rhs_lane_(int own, const double *ZIEGLER_RESTRICT_ X, const double *u,
+ZIEGLER_FN static void ziegler_rhs_lane_(int own, const double *ZIEGLER_RESTRICT_ X, const double *u,
                                 const ziegler_params *p, double *ZIEGLER_RESTRICT_ XD, int *code)
 {
     double piv_[2], ok_[1];
@@ -805,7 +805,7 @@ static void ziegler_rhs_lane_(int own, const double *ZIEGLER_RESTRICT_ X, const 
  * every lane in turn, so that the compiler vectorises across the lanes; the sines and cosines
  * libm's (the bits of ziegler_rhs) or, with own, ziegler_sincos_'s (within 1 ulp of libm's,
  * vectorised too). */
-static void ziegler_rhs_lanes_(int own, const double *ZIEGLER_RESTRICT_ X, const double *u,
+ZIEGLER_FN static void ziegler_rhs_lanes_(int own, const double *ZIEGLER_RESTRICT_ X, const double *u,
                                 const ziegler_params *p, double *ZIEGLER_RESTRICT_ XD, int *code)
 {
     double piv_[16], ok_[8];
@@ -937,7 +937,7 @@ static void ziegler_rhs_lanes_(int own, const double *ZIEGLER_RESTRICT_ X, const
  * side, the LU of the 8 x 8 matrix and ~4 iterations. */
 #define ZIEGLER_NEWTON_SWEEPS_CANONICAL 10
 
-static int ziegler_eval_(const double *x, const double *u, const ziegler_params *p, double *xdot,
+ZIEGLER_FN static int ziegler_eval_(const double *x, const double *u, const ziegler_params *p, double *xdot,
                             ziegler_integrate_stats *st)
 {
     st->n_rhs++;
@@ -946,7 +946,7 @@ static int ziegler_eval_(const double *x, const double *u, const ziegler_params 
 
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = ziegler_pdot.  One call costs 18 + 33 ops. */
-static int ziegler_eval_canonical_(const double *y, const double *u, const ziegler_params *p, double *ydot,
+ZIEGLER_FN static int ziegler_eval_canonical_(const double *y, const double *u, const ziegler_params *p, double *ydot,
                                       ziegler_integrate_stats *st)
 {
     double x[4];
@@ -965,7 +965,7 @@ static int ziegler_eval_canonical_(const double *y, const double *u, const ziegl
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void ziegler_to_state_(const double *y, const ziegler_params *p, double *x)
+ZIEGLER_FN static void ziegler_to_state_(const double *y, const ziegler_params *p, double *x)
 {
     int i;
     for (i = 0; i < 2; ++i) {
@@ -980,7 +980,7 @@ static void ziegler_to_state_(const double *y, const ziegler_params *p, double *
 
 /* DOP853 of the state x (kernels/dop853.c; x += dx compensated, copies of the state) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void ziegler_add_(double *x, double *cmp, const double *dx)
+ZIEGLER_FN static void ziegler_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -991,7 +991,7 @@ static void ziegler_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void ziegler_copy_(double *dst, const double *src)
+ZIEGLER_FN static void ziegler_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 4; ++i) {
@@ -1000,7 +1000,7 @@ static void ziegler_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void ziegler_ksum_(const double *w, int count, double k[][4], double hs, double *out)
+ZIEGLER_FN static void ziegler_ksum_(const double *w, int count, double k[][4], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 4; ++i) {
@@ -1014,7 +1014,7 @@ static void ziegler_ksum_(const double *w, int count, double k[][4], double hs, 
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int ziegler_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+ZIEGLER_FN static int ziegler_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const ziegler_params *p, double *X,
                               ziegler_integrate_stats *st)
 {
@@ -1192,13 +1192,13 @@ static int ziegler_dop853_(int nt, const double *tt, double h0, double rtol, dou
 
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int ziegler_tolerances_ok_(double rtol, double atol)
+ZIEGLER_FN static int ziegler_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double ziegler_floor_(const double *x)
+ZIEGLER_FN static double ziegler_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -1210,7 +1210,7 @@ static double ziegler_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long ziegler_nsteps_(double ta, double tb, double h)
+ZIEGLER_FN static long ziegler_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -1224,7 +1224,7 @@ static long ziegler_nsteps_(double ta, double tb, double h)
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (ZIEGLER_RK4_LANES), else libm's (ZIEGLER_RK4, ziegler_fixed_'s bits). */
-static void ziegler_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+ZIEGLER_FN static void ziegler_rk4_lane_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const ziegler_params *p, double *const *X, ziegler_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1338,7 +1338,7 @@ static void ziegler_rk4_lane_(int own, int nt, const double *tt, double h, long 
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (ZIEGLER_RK4_LANES), else libm's (ZIEGLER_RK4, ziegler_fixed_'s bits). */
-static void ziegler_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+ZIEGLER_FN static void ziegler_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const ziegler_params *p, double *const *X, ziegler_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};
@@ -1451,7 +1451,7 @@ static void ziegler_rk4_lanes_(int own, int nt, const double *tt, double h, long
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * ziegler_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int ziegler_rk4_step_(const double *x, double h, const double *u, const ziegler_params *p,
+ZIEGLER_FN static inline int ziegler_rk4_step_(const double *x, double h, const double *u, const ziegler_params *p,
                                        double *dx, ziegler_integrate_stats *st)
 {
     double k[4][4], y[4];
@@ -1476,7 +1476,7 @@ static inline int ziegler_rk4_step_(const double *x, double h, const double *u, 
 
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int ziegler_lu_(double *A, int *piv, int m)
+ZIEGLER_FN static int ziegler_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -1510,7 +1510,7 @@ static int ziegler_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void ziegler_lu_solve_(const double *A, const int *piv, int m, double *b)
+ZIEGLER_FN static void ziegler_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -1534,7 +1534,7 @@ static void ziegler_lu_solve_(const double *A, const int *piv, int m, double *b)
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of ziegler_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int ziegler_gauss2_newton_(const double *x, double h, const double *u, const ziegler_params *p,
+ZIEGLER_FN static int ziegler_gauss2_newton_(const double *x, double h, const double *u, const ziegler_params *p,
                                      double Z[2][4], double F[2][4], ziegler_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1618,7 +1618,7 @@ static int ziegler_gauss2_newton_(const double *x, double h, const double *u, co
  * differences of the canonical right side g (the converged solution does not depend on J, only the
  * rate does: differences are accurate enough and need nothing that is not emitted):
  *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
-static int ziegler_canonical_newton_(const double *y, double h, const double *u, const ziegler_params *p,
+ZIEGLER_FN static int ziegler_canonical_newton_(const double *y, double h, const double *u, const ziegler_params *p,
                                         double Z[2][4], double F[2][4], ziegler_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -1698,7 +1698,7 @@ static int ziegler_canonical_newton_(const double *y, double h, const double *u,
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int ziegler_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
+ZIEGLER_FN static int ziegler_gauss2_step_(const double *x, double h, double hp, int method, const double *u,
                                    const ziegler_params *p, double F[2][4], double *dx, ziegler_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -1784,7 +1784,7 @@ static int ziegler_gauss2_step_(const double *x, double h, double hp, int method
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant).  GAUSS2_SYMPLECTIC
  * steps y = (phi, p) and gives (phi, phidot) at the output times and in st->x. */
-static int ziegler_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+ZIEGLER_FN static int ziegler_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const ziegler_params *p, double *X,
                              ziegler_integrate_stats *st)
 {
@@ -1849,7 +1849,7 @@ static int ziegler_fixed_(int method, int nt, const double *tt, double h, long m
  * and the others NaN, *max_steps the budget.  ZIEGLER_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int ziegler_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+ZIEGLER_FN static inline int ziegler_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const ziegler_params *p, double *X,
                                   ziegler_integrate_stats *st)
 {
@@ -1900,7 +1900,7 @@ static inline int ziegler_grid_start_(int method, int nt, const double *t, doubl
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int ziegler_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+ZIEGLER_FN static inline int ziegler_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const ziegler_params *p,
                                    double *X, ziegler_integrate_stats *stats)
 {
@@ -1924,7 +1924,7 @@ static inline int ziegler_grid_(int method, int nt, const double *t, double h, d
     return ziegler_fixed_(method == ZIEGLER_RK4_LANES ? ZIEGLER_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int ziegler_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+ZIEGLER_FN int ziegler_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const ziegler_params *p,
                               double *X, ziegler_integrate_stats *stats)
 {
@@ -1934,7 +1934,7 @@ int ziegler_integrate_grid(int method, int nt, const double *t, double h, double
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: 8 trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int ziegler_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+ZIEGLER_FN static int ziegler_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const ziegler_params *p, double *X, int *codes)
 {
     ziegler_integrate_stats st;
@@ -1973,7 +1973,7 @@ static int ziegler_rk4_batch_(int own, int nb, int nt, const double *t, double h
     return failed;
 }
 
-int ziegler_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+ZIEGLER_FN int ziegler_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const ziegler_params *p, long p_stride, double *X, int *codes)
 {
@@ -1993,7 +1993,7 @@ int ziegler_integrate_batch(int method, int nb, int nt, const double *t, double 
     return failed;
 }
 
-int ziegler_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+ZIEGLER_FN int ziegler_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const ziegler_params *p, double *x1, long *n_rhs)
 {
     ziegler_integrate_stats st;
@@ -2018,7 +2018,7 @@ int ziegler_integrate(int method, double t0, double t1, double h, double rtol, d
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int ziegler_eval_variational_(const double *y, const double *u, const ziegler_params *p,
+ZIEGLER_FN static int ziegler_eval_variational_(const double *y, const double *u, const ziegler_params *p,
                                    double *ydot, ziegler_integrate_stats *st)
 {
     double dq[4], dv[4];
@@ -2055,7 +2055,7 @@ static int ziegler_eval_variational_(const double *y, const double *u, const zie
 
 /* DOP853 of (x, Phi) (kernels/dop853.c) */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void ziegler_add_variational_(double *x, double *cmp, const double *dx)
+ZIEGLER_FN static void ziegler_add_variational_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2066,7 +2066,7 @@ static void ziegler_add_variational_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void ziegler_copy_variational_(double *dst, const double *src)
+ZIEGLER_FN static void ziegler_copy_variational_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < 20; ++i) {
@@ -2075,7 +2075,7 @@ static void ziegler_copy_variational_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void ziegler_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
+ZIEGLER_FN static void ziegler_ksum_variational_(const double *w, int count, double k[][20], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < 20; ++i) {
@@ -2089,7 +2089,7 @@ static void ziegler_ksum_variational_(const double *w, int count, double k[][20]
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int ziegler_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+ZIEGLER_FN static int ziegler_dop853_variational_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const ziegler_params *p, double *X,
                               ziegler_integrate_stats *st)
 {
@@ -2266,7 +2266,7 @@ static int ziegler_dop853_variational_(int nt, const double *tt, double h0, doub
 }
 
 
-int ziegler_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+ZIEGLER_FN int ziegler_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const ziegler_params *p,
                                 double *x1, double *Phi, ziegler_integrate_stats *stats)
 {

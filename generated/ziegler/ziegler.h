@@ -66,6 +66,14 @@
 extern "C" {
 #endif
 
+/* ZIEGLER_FN marks every function of ziegler.c and of this header: nothing for a C or C++
+ * compiler, __host__ __device__ for a CUDA compiler, so that a kernel calls them
+ * (ziegler_gpu.cu, generate --gpu). */
+#if defined(__CUDACC__)
+#define ZIEGLER_FN __host__ __device__
+#else
+#define ZIEGLER_FN
+#endif
 /* the floating type of every argument and result: double, or float (generate --real float) */
 #define ZIEGLER_REAL double
 #define ZIEGLER_N 2
@@ -97,18 +105,18 @@ extern "C" {
 typedef struct ziegler_params {
     double P;
 } ziegler_params;
-int ziegler_mass_matrix(const double *q, const ziegler_params *p, double *M);
-int ziegler_forces(const double *x, const double *u, const ziegler_params *p, double *f);
-int ziegler_qdd(const double *x, const double *u, const ziegler_params *p, double *qdd);
-int ziegler_rhs(double t, const double *x, const double *u, const ziegler_params *p, double *xdot);
-int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_params *p,
+ZIEGLER_FN int ziegler_mass_matrix(const double *q, const ziegler_params *p, double *M);
+ZIEGLER_FN int ziegler_forces(const double *x, const double *u, const ziegler_params *p, double *f);
+ZIEGLER_FN int ziegler_qdd(const double *x, const double *u, const ziegler_params *p, double *qdd);
+ZIEGLER_FN int ziegler_rhs(double t, const double *x, const double *u, const ziegler_params *p, double *xdot);
+ZIEGLER_FN int ziegler_qdd_derivatives(const double *x, const double *u, const ziegler_params *p,
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
-int ziegler_linearize(double t, const double *x, const double *u, const ziegler_params *p, double *A, double *B);
-double ziegler_energy(const double *x, const ziegler_params *p);
-double ziegler_momentum(const double *x, const ziegler_params *p);
-int ziegler_momenta(const double *x, const ziegler_params *p, double *pm);
-int ziegler_velocities(const double *q, const double *pm, const ziegler_params *p, double *qd);
-int ziegler_pdot(const double *x, const double *u, const ziegler_params *p, double *pdot);
+ZIEGLER_FN int ziegler_linearize(double t, const double *x, const double *u, const ziegler_params *p, double *A, double *B);
+ZIEGLER_FN double ziegler_energy(const double *x, const ziegler_params *p);
+ZIEGLER_FN double ziegler_momentum(const double *x, const ziegler_params *p);
+ZIEGLER_FN int ziegler_momenta(const double *x, const ziegler_params *p, double *pm);
+ZIEGLER_FN int ziegler_velocities(const double *q, const double *pm, const ziegler_params *p, double *qd);
+ZIEGLER_FN int ziegler_pdot(const double *x, const double *u, const ziegler_params *p, double *pdot);
 typedef struct ziegler_integrate_stats {
     double t;
     double x[4];
@@ -118,15 +126,15 @@ typedef struct ziegler_integrate_stats {
     long n_iter;
     long n_newton;
 } ziegler_integrate_stats;
-int ziegler_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+ZIEGLER_FN int ziegler_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                    const double *x0, const double *u, const ziegler_params *p, double *x1, long *n_rhs);
-int ziegler_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+ZIEGLER_FN int ziegler_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                         long max_steps, const double *x0, const double *u, const ziegler_params *p,
                         double *X, ziegler_integrate_stats *stats);
-int ziegler_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+ZIEGLER_FN int ziegler_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const ziegler_params *p, long p_stride, double *X, int *codes);
-int ziegler_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+ZIEGLER_FN int ziegler_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const ziegler_params *p,
                                double *x1, double *Phi, ziegler_integrate_stats *stats);
 

@@ -14,12 +14,12 @@
 #define sys_dop853_ model_dop853_
 #define sys_eval_ model_eval_stub_
 #define MODEL_EPS 2.220446049250313e-16  /* kernels/integrate.c's */
-int model_eval_stub_(MODEL_T(double t, )const double *x, const double *u, const model_params *p, double *xdot,
+MODEL_FN int model_eval_stub_(MODEL_T(double t, )const double *x, const double *u, const model_params *p, double *xdot,
                      model_integrate_stats *st);
 #endif
 /* @kernel */
 /* x += dx with the running compensation cmp (Kahan): the low part each sum loses is carried on. */
-static void sys_add_(double *x, double *cmp, const double *dx)
+MODEL_FN static void sys_add_(double *x, double *cmp, const double *dx)
 {
     int i;
     for (i = 0; i < SYS_DIM; ++i) {
@@ -30,7 +30,7 @@ static void sys_add_(double *x, double *cmp, const double *dx)
     }
 }
 
-static void sys_copy_(double *dst, const double *src)
+MODEL_FN static void sys_copy_(double *dst, const double *src)
 {
     int i;
     for (i = 0; i < SYS_DIM; ++i) {
@@ -39,7 +39,7 @@ static void sys_copy_(double *dst, const double *src)
 }
 
 /* out = hs sum_{j < count} w_j k_j: a stage point's increment, or a dense-output coefficient. */
-static void sys_ksum_(const double *w, int count, double k[][SYS_DIM], double hs, double *out)
+MODEL_FN static void sys_ksum_(const double *w, int count, double k[][SYS_DIM], double hs, double *out)
 {
     int i, j;
     for (i = 0; i < SYS_DIM; ++i) {
@@ -53,7 +53,7 @@ static void sys_ksum_(const double *w, int count, double k[][SYS_DIM], double hs
 
 /* DOP853 over the output times tt[0..nt-1] (monotone): steps chosen by the error estimate, output
  * times inside a step from the dense output.  h0 > 0 is the first step, else it is estimated. */
-static int sys_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
+MODEL_FN static int sys_dop853_(int nt, const double *tt, double h0, double rtol, double atol, long max_steps,
                               const double *u, const model_params *p, double *X,
                               model_integrate_stats *st)
 {

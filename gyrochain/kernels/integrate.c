@@ -68,7 +68,7 @@
 #endif
 #endif
 
-static int model_eval_(MODEL_T(double t, )const double *x, const double *u, const model_params *p, double *xdot,
+MODEL_FN static int model_eval_(MODEL_T(double t, )const double *x, const double *u, const model_params *p, double *xdot,
                             model_integrate_stats *st)
 {
     st->n_rhs++;
@@ -78,7 +78,7 @@ static int model_eval_(MODEL_T(double t, )const double *x, const double *u, cons
 #if MODEL_CANONICAL
 /* GAUSS2_SYMPLECTIC's right side: Hamilton's equations in y = (phi, p), phi' = M^-1 (p - k(phi)),
  * p' = model_pdot.  One call costs MODEL_V_OPS_VELOCITIES + MODEL_V_OPS_PDOT ops. */
-static int model_eval_canonical_(const double *y, const double *u, const model_params *p, double *ydot,
+MODEL_FN static int model_eval_canonical_(const double *y, const double *u, const model_params *p, double *ydot,
                                       model_integrate_stats *st)
 {
     double x[MODEL_V_DIM];
@@ -97,7 +97,7 @@ static int model_eval_canonical_(const double *y, const double *u, const model_p
 }
 
 /* (phi, p) -> (phi, phidot); NaN where phidot cannot be had (a singular M). */
-static void model_to_state_(const double *y, const model_params *p, double *x)
+MODEL_FN static void model_to_state_(const double *y, const model_params *p, double *x)
 {
     int i;
     for (i = 0; i < MODEL_V_N; ++i) {
@@ -127,13 +127,13 @@ static void model_to_state_(const double *y, const model_params *p, double *x)
 #undef sys_eval_
 
 /* DOP853's tolerances: finite, not negative, not both zero. */
-static int model_tolerances_ok_(double rtol, double atol)
+MODEL_FN static int model_tolerances_ok_(double rtol, double atol)
 {
     return rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0 && rtol < HUGE_VAL && atol < HUGE_VAL;
 }
 
 /* The round-off level of GAUSS2's stage corrections at the state x (see GAUSS_FLOOR). */
-static double model_floor_(const double *x)
+MODEL_FN static double model_floor_(const double *x)
 {
     double big = 1.0;
     int i;
@@ -145,7 +145,7 @@ static double model_floor_(const double *x)
 
 /* The steps of a fixed-step method between two output times: the largest count m with
  * |tb - ta| / m <= |h| (to a relative 1e-10, so that h = T/m gives m steps of T/m). */
-static long model_nsteps_(double ta, double tb, double h)
+MODEL_FN static long model_nsteps_(double ta, double tb, double h)
 {
     const double r = fabs(tb - ta) / fabs(h);
     double m = ceil(r * (1.0 - 1e-10));
@@ -176,7 +176,7 @@ static long model_nsteps_(double ta, double tb, double h)
 /* One classical RK4 step of size h from x: dx = the increment.  (inline: gcc -O3 inlines
  * model_fixed_ into NAME_integrate_grid, and this step then into neither without the hint, which
  * made a single RK4 call 1.2x slower at -O3 -march=native.) */
-static inline int model_rk4_step_(MODEL_T(double t0, )const double *x, double h, const double *u, const model_params *p,
+MODEL_FN static inline int model_rk4_step_(MODEL_T(double t0, )const double *x, double h, const double *u, const model_params *p,
                                        double *dx, model_integrate_stats *st)
 {
     double k[4][MODEL_V_DIM], y[MODEL_V_DIM];
@@ -202,7 +202,7 @@ static inline int model_rk4_step_(MODEL_T(double t0, )const double *x, double h,
 #if MODEL_NEWTON
 /* LU with partial pivoting of the m x m row-major A, in place; piv the row order.  0 when a pivot
  * is zero (the Newton matrix is singular: h far too long). */
-static int model_lu_(double *A, int *piv, int m)
+MODEL_FN static int model_lu_(double *A, int *piv, int m)
 {
     int i, j, k, r;
     for (k = 0; k < m; ++k) {
@@ -236,7 +236,7 @@ static int model_lu_(double *A, int *piv, int m)
     return 1;
 }
 
-static void model_lu_solve_(const double *A, const int *piv, int m, double *b)
+MODEL_FN static void model_lu_solve_(const double *A, const int *piv, int m, double *b)
 {
     int i, j;
     for (i = 0; i < m; ++i) {
@@ -260,7 +260,7 @@ static void model_lu_solve_(const double *A, const int *piv, int m, double *b)
  * Zq_s = h (c_s v + sum_j a_sj Zv_j), so Newton runs on Zv alone (2n unknowns) with the exact
  * Jacobian Dq = d phi''/d phi, Dv = d phi''/d phidot of model_qdd_derivatives at the step's start:
  *   sum_k (delta_sk I - h a_sk Dv - h^2 (A^2)_sk Dq) dZv_k = -(Zv_s - h sum_j a_sj phi''_j). */
-static int model_gauss2_newton_(MODEL_T(double t0, )const double *x, double h, const double *u, const model_params *p,
+MODEL_FN static int model_gauss2_newton_(MODEL_T(double t0, )const double *x, double h, const double *u, const model_params *p,
                                      double Z[2][MODEL_V_DIM], double F[2][MODEL_V_DIM], model_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -345,7 +345,7 @@ static int model_gauss2_newton_(MODEL_T(double t0, )const double *x, double h, c
  * differences of the canonical right side g (the converged solution does not depend on J, only the
  * rate does: differences are accurate enough and need nothing that is not emitted):
  *   sum_k (delta_sk I - h a_sk J) dZ_k = -(Z_s - h sum_j a_sj g(y + Z_j)). */
-static int model_canonical_newton_(const double *y, double h, const double *u, const model_params *p,
+MODEL_FN static int model_canonical_newton_(const double *y, double h, const double *u, const model_params *p,
                                         double Z[2][MODEL_V_DIM], double F[2][MODEL_V_DIM], model_integrate_stats *st)
 {
     static const double a[2][2] = {{0.25, -0.038675134594812866}, {0.5386751345948129, 0.25}};
@@ -427,7 +427,7 @@ static int model_canonical_newton_(const double *y, double h, const double *u, c
  * step, of size hp (0: none; F = f(x) then), and on return those of this one.  The starting
  * guess extrapolates the previous step's collocation polynomial w (w(0) = 0, w(c_i) = Z_i):
  * Z_i = w(1 + c_i h/hp) - w(1) (Hairer, Lubich, Wanner, Geometric Numerical Integration VIII.6). */
-static int model_gauss2_step_(MODEL_T(double t0, )const double *x, double h, double hp, int method, const double *u,
+MODEL_FN static int model_gauss2_step_(MODEL_T(double t0, )const double *x, double h, double hp, int method, const double *u,
                                    const model_params *p, double F[2][MODEL_V_DIM], double *dx, model_integrate_stats *st)
 {
     static const double a11 = 0.25, a12 = -0.038675134594812866, a21 = 0.5386751345948129, a22 = 0.25;
@@ -535,7 +535,7 @@ static int model_gauss2_step_(MODEL_T(double t0, )const double *x, double h, dou
 /* RK4 or GAUSS2 over the output times tt[0..nt-1]: steps of at most |h|, uniform between two
  * output times (so output times that are multiples of h keep the step constant). */
 #endif
-static int model_fixed_(int method, int nt, const double *tt, double h, long max_steps,
+MODEL_FN static int model_fixed_(int method, int nt, const double *tt, double h, long max_steps,
                              const double *u, const model_params *p, double *X,
                              model_integrate_stats *st)
 {
@@ -626,7 +626,7 @@ static int model_fixed_(int method, int nt, const double *tt, double h, long max
  * and the others NaN, *max_steps the budget.  MODEL_OK when the integration can start.  inline:
  * gcc -O3 otherwise calls it, and one RK4 step by NAME_integrate costs ~100 instructions more
  * than before it was split off (bench/releases.py --instructions). */
-static inline int model_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
+MODEL_FN static inline int model_grid_start_(int method, int nt, const double *t, double h, double rtol, double atol,
                                   long *max_steps, const double *x0, const model_params *p, double *X,
                                   model_integrate_stats *st)
 {
@@ -685,7 +685,7 @@ static inline int model_grid_start_(int method, int nt, const double *t, double 
 }
 
 /* NAME_integrate_grid, inline in NAME_integrate too (a single step's call costs what it did). */
-static inline int model_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
+MODEL_FN static inline int model_grid_(int method, int nt, const double *t, double h, double rtol, double atol,
                                    long max_steps, const double *x0, const double *u, const model_params *p,
                                    double *X, model_integrate_stats *stats)
 {
@@ -711,7 +711,7 @@ static inline int model_grid_(int method, int nt, const double *t, double h, dou
     return model_fixed_(method == MODEL_RK4_LANES ? MODEL_RK4 : method, nt, t, h, max_steps, u, p, X, st);
 }
 
-int model_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
+MODEL_FN int model_integrate_grid(int method, int nt, const double *t, double h, double rtol, double atol,
                               long max_steps, const double *x0, const double *u, const model_params *p,
                               double *X, model_integrate_stats *stats)
 {
@@ -722,7 +722,7 @@ int model_integrate_grid(int method, int nt, const double *t, double h, double r
 /* NAME_integrate_batch's RK4 (own 0) or RK4_LANES (own 1) when every trajectory has the same u and
  * p: MODEL_V_LANES trajectories at a time in lanes, the last ones alone, each the single call's
  * bits. */
-static int model_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
+MODEL_FN static int model_rk4_batch_(int own, int nb, int nt, const double *t, double h, long max_steps, const double *x0,
                                  const double *u, const model_params *p, double *X, int *codes)
 {
     model_integrate_stats st;
@@ -762,7 +762,7 @@ static int model_rk4_batch_(int own, int nb, int nt, const double *t, double h, 
 }
 
 #endif
-int model_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
+MODEL_FN int model_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                                long max_steps, const double *x0, const double *u, long u_stride,
                                const model_params *p, long p_stride, double *X, int *codes)
 {
@@ -784,7 +784,7 @@ int model_integrate_batch(int method, int nb, int nt, const double *t, double h,
     return failed;
 }
 
-int model_integrate(int method, double t0, double t1, double h, double rtol, double atol,
+MODEL_FN int model_integrate(int method, double t0, double t1, double h, double rtol, double atol,
                          const double *x0, const double *u, const model_params *p, double *x1, long *n_rhs)
 {
     model_integrate_stats st;
@@ -810,7 +810,7 @@ int model_integrate(int method, double t0, double t1, double h, double rtol, dou
  * too: one call a stage), integrated by DOP853 with one step-size control over all components,
  * so that Phi(t1) is the tangent map of the emitted dynamics at the tolerances given.
  * --------------------------------------------------------------------------------------- */
-static int model_eval_variational_(MODEL_T(double t, )const double *y, const double *u, const model_params *p,
+MODEL_FN static int model_eval_variational_(MODEL_T(double t, )const double *y, const double *u, const model_params *p,
                                    double *ydot, model_integrate_stats *st)
 {
     double dq[MODEL_V_NN], dv[MODEL_V_NN];
@@ -860,7 +860,7 @@ static int model_eval_variational_(MODEL_T(double t, )const double *y, const dou
 #undef sys_dop853_
 #undef sys_eval_
 
-int model_integrate_variational(double t0, double t1, double h, double rtol, double atol,
+MODEL_FN int model_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const model_params *p,
                                 double *x1, double *Phi, model_integrate_stats *stats)
 {

@@ -19,6 +19,7 @@
 #ifndef MODEL_VARIATIONAL
 #define MODEL_VARIATIONAL 1
 #endif
+#define MODEL_FN  /* the header's function qualifier: __host__ __device__ under CUDA */
 #define MODEL_RESTRICT_ restrict  /* the template's: restrict in C, __restrict__ in g++ */
 #ifndef MODEL_LANES
 #define MODEL_LANES 1

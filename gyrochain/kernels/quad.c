@@ -51,14 +51,14 @@ typedef struct {
 } model_orbit_;
 
 /* J(phi), C(phi), A, U(phi), beta(phi) of the spec (generated). */
-static void model_quad_terms_(double phi, const model_params *p, double *out)
+MODEL_FN static void model_quad_terms_(double phi, const model_params *p, double *out)
 {
     (void)p;
     out[0] = phi; /* @generated quad_terms: this line becomes the model's printed J, C, A, U, beta */
 }
 
 /* P, P', P'' at phi from the Fourier coefficients. */
-static void model_pfour_(const double *c, double phi, double *d)
+MODEL_FN static void model_pfour_(const double *c, double phi, double *d)
 {
     const double c1 = cos(phi), s1 = sin(phi);
     double ck = c1, sk = s1, t;
@@ -77,7 +77,7 @@ static void model_pfour_(const double *c, double phi, double *d)
 }
 
 /* P(r + x) - P(r) = sum_j 2 sin(j x/2) (c_sj cos j(r + x/2) - c_cj sin j(r + x/2)), accurate for small x. */
-static double model_pdelta_(const double *c, double r, double x)
+MODEL_FN static double model_pdelta_(const double *c, double r, double x)
 {
     const double m = r + 0.5 * x, cm = cos(m), sm = sin(m);
     double ck = cm, sk = sm, t, sum = 0.0;
@@ -95,7 +95,7 @@ static double model_pdelta_(const double *c, double r, double x)
  * with p_j = c_sj cos js - c_cj sin js, q_j = c_cj cos js + c_sj sin js it is
  * sum_j (sin jx - j sin x) p_j - 2 sin^2(jx/2) q_j, and sin 2x - 2 sin x = -4 sin x sin^2(x/2),
  * sin 3x - 3 sin x = -4 sin^3 x: no term is linear in x, so nothing cancels near s. */
-static double model_pbump_(const double *c, double s, double x)
+MODEL_FN static double model_pbump_(const double *c, double s, double x)
 {
     const double cs = cos(s), ss = sin(s), sx = sin(x), h1 = sin(0.5 * x);
     const double c2 = cs * cs - ss * ss, s2 = 2.0 * ss * cs, c3 = c2 * cs - s2 * ss, s3 = s2 * cs + c2 * ss;
@@ -108,7 +108,7 @@ static double model_pbump_(const double *c, double s, double x)
 /* The first root of P from a (P(a) > 0) in the sense sig within dmax: returns 1 and *root, 0 when
  * P > 0 all the way, -1 when the walk does not converge.  *pmin, *argmin: the least local minimum
  * of P passed (located by bisection on P'). */
-static int model_walk_(const model_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin, double *argmin)
+MODEL_FN static int model_walk_(const model_orbit_ *o, double a, double sig, double dmax, double *root, double *pmin, double *argmin)
 {
     double d[3], dn[3], gone = 0.0, step, lo, hi, mid, dm[3];
     int it, i, last;
@@ -159,7 +159,7 @@ static int model_walk_(const model_orbit_ *o, double a, double sig, double dmax,
 }
 
 /* dt, dpsi_K, dpsi_C per unit parameter b of quarter q (the turn when rotating). */
-static int model_integrand_(const model_orbit_ *o, int q, double b, double *f, double *phi_out, double *g_out)
+MODEL_FN static int model_integrand_(const model_orbit_ *o, int q, double b, double *f, double *phi_out, double *g_out)
 {
     double t[5], phi, dphi, P = 0.0, D, g, K, s2 = 0.0, x;
     if (o->kind == MODEL_ROTATION) {
@@ -203,7 +203,7 @@ static int model_integrand_(const model_orbit_ *o, int q, double b, double *f, d
 }
 
 /* Gauss-Kronrod 7/15 on [a, b]: v = the three integrals, e = |K15 - G7| of each. */
-static int model_kronrod_(const model_orbit_ *o, int q, double a, double b, double *v, double *e)
+MODEL_FN static int model_kronrod_(const model_orbit_ *o, int q, double a, double b, double *v, double *e)
 {
     static const double xk[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
         0.864864423359769072789712788640926, 0.741531185599394439863864773280788, 0.586087235467691130294144845693013,
@@ -255,7 +255,7 @@ static int model_kronrod_(const model_orbit_ *o, int q, double a, double b, doub
 }
 
 /* Adaptive panels over [0, end] of quarter q; sorted, with cumulative integrals. */
-static int model_panels_(model_orbit_ *o, int q, double end, int start)
+MODEL_FN static int model_panels_(model_orbit_ *o, int q, double end, int start)
 {
     model_panel_ *pan = o->pan[q], tmp;
     double e[3], err[3], size[3], ab[3], worst;
@@ -341,7 +341,7 @@ static int model_panels_(model_orbit_ *o, int q, double end, int start)
 }
 
 /* The integrals from the start of quarter q to parameter b. */
-static int model_partial_(const model_orbit_ *o, int q, double b, double *v)
+MODEL_FN static int model_partial_(const model_orbit_ *o, int q, double b, double *v)
 {
     const model_panel_ *pan = o->pan[q];
     double part[3], e[3];
@@ -362,7 +362,7 @@ static int model_partial_(const model_orbit_ *o, int q, double b, double *v)
 }
 
 /* The parameter b of quarter q at which the time from its start is tau (Newton, bracketed). */
-static int model_invert_(const model_orbit_ *o, int q, double tau, double *b, double *v)
+MODEL_FN static int model_invert_(const model_orbit_ *o, int q, double tau, double *b, double *v)
 {
     const model_panel_ *pan = o->pan[q];
     double x, xn, lo_x, hi_x, F, g, f[3], e[3], part[3];
@@ -412,7 +412,7 @@ static int model_invert_(const model_orbit_ *o, int q, double tau, double *b, do
 }
 
 /* The motion from x0: constants, Fourier coefficients of P, turning points, panels. */
-static int model_orbit_init_(const double *x0, const model_params *p, model_orbit_ *o)
+MODEL_FN static int model_orbit_init_(const double *x0, const model_params *p, model_orbit_ *o)
 {
     double t[5], ej[8], kk[8], d[3], root, pmin, argmin, phi, D0, ang, e_end;
     const double phi0 = x0[1], phid0 = x0[3];
@@ -534,7 +534,7 @@ static int model_orbit_init_(const double *x0, const model_params *p, model_orbi
     return rc;
 }
 
-int model_quad_motion(const double *x0, const model_params *p, model_quad_info *info)
+MODEL_FN int model_quad_motion(const double *x0, const model_params *p, model_quad_info *info)
 {
     model_orbit_ o;
     int rc = model_orbit_init_(x0, p, &o);
@@ -563,7 +563,7 @@ int model_quad_motion(const double *x0, const model_params *p, model_quad_info *
     return MODEL_OK;
 }
 
-int model_quad_period(const double *x0, const model_params *p, double *period)
+MODEL_FN int model_quad_period(const double *x0, const model_params *p, double *period)
 {
     model_quad_info info;
     int rc = model_quad_motion(x0, p, &info);
@@ -580,7 +580,7 @@ int model_quad_period(const double *x0, const model_params *p, double *period)
 /* Phase time (from phi_- with phidot > 0) and psi gained, at the point with integrals v on
  * segment seg of a libration: 1 phi_- -> mid and 2 mid -> phi_+ (phidot > 0), 3 phi_+ -> mid and
  * 4 mid -> phi_- (phidot < 0).  psi gains K dt/J - C dphi/J: the C part flips with phidot. */
-static void model_lib_phase_(const model_orbit_ *o, int seg, const double *v, double *phase, double *psir)
+MODEL_FN static void model_lib_phase_(const model_orbit_ *o, int seg, const double *v, double *phase, double *psir)
 {
     const double *Im = o->tot[0], *Ip = o->tot[1];
     const double up = Im[1] - Im[2] + Ip[1] - Ip[2];   /* psi gained over segments 1 and 2 */
@@ -604,7 +604,7 @@ static void model_lib_phase_(const model_orbit_ *o, int seg, const double *v, do
     }
 }
 
-int model_quad_state(double t, const double *x0, const model_params *p, double *x)
+MODEL_FN int model_quad_state(double t, const double *x0, const model_params *p, double *x)
 {
     model_orbit_ o;
     double T, n, rem, tau, b, v[3], phase0, psir0, phase, psir, phi, g, f[3], tt[5], phid, b0;
@@ -698,7 +698,7 @@ int model_quad_state(double t, const double *x0, const model_params *p, double *
     return MODEL_OK;
 }
 
-int model_quad_functions(double phi, const double *x0, const model_params *p, double *out)
+MODEL_FN int model_quad_functions(double phi, const double *x0, const model_params *p, double *out)
 {
     double t[5], E, k, P, D;
 #if MODEL_HAS_PARAMS

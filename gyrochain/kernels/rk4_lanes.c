@@ -12,14 +12,14 @@
 #define sys_rk4_lanes_ model_rk4_lanes_
 #define sys_rhs_lanes_ model_rhs_lanes_
 #define model_nsteps_ model_nsteps_stub_
-long model_nsteps_stub_(double ta, double tb, double h);  /* kernels/integrate.c's */
+MODEL_FN long model_nsteps_stub_(double ta, double tb, double h);  /* kernels/integrate.c's */
 #endif
 /* @kernel */
 /* RK4 over the output times tt[0..nt-1] (steps as model_fixed_ takes them) for SYS_L
  * trajectories: lane l starts from row 0 of X[l] and fills its rows j < nt; code[l] is its
  * result, st[l] its statistics (and last finite state) when st is not NULL.  own: the sines and
  * cosines from kernels/trig.c (MODEL_RK4_LANES), else libm's (MODEL_RK4, model_fixed_'s bits). */
-static void sys_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
+MODEL_FN static void sys_rk4_lanes_(int own, int nt, const double *tt, double h, long max_steps, const double *u,
                            const model_params *p, double *const *X, model_integrate_stats *const *st, int *code)
 {
     static const double cs[3] = {0.5, 0.5, 1.0};

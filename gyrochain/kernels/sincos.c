@@ -10,7 +10,7 @@
 #endif
 /* @kernel */
 /* sin a[i] and cos a[i] for i < SYS_W, the reduction and polynomials of kernels/trig.c (|a| < 1e6). */
-static void sys_sincos_block_(const double *MODEL_RESTRICT_ a, double *MODEL_RESTRICT_ s, double *MODEL_RESTRICT_ c)
+MODEL_FN static void sys_sincos_block_(const double *MODEL_RESTRICT_ a, double *MODEL_RESTRICT_ s, double *MODEL_RESTRICT_ c)
 {
     int i;
     for (i = 0; i < SYS_W; ++i) {

@@ -137,7 +137,10 @@ class CTarget:
         ctx["lanes"] = lane_functions(model, ctx["fn"]["qdd"], ctx["real"], CPrinter)
         ctx["lanes_count"] = LANES
         ctx.update(layout_data(ctx, env))
-        ctx["decls"] = env.get_template("_decls.jinja").render(ctx)
+        # the prototypes: the header's carry NAME_FN (a CUDA compiler's __host__ __device__), cffi's none
+        decls = env.get_template("_decls.jinja")
+        ctx["decls"] = decls.render(ctx, fn=f"{ctx['NAME']}_FN ")
+        ctx["cdef_decls"] = decls.render(ctx, fn="")
         # the package files for C and C++ builds: a CMake library NAME::NAME and a pkg-config file
         package = dict(ctx, package_version=__version__, pc_description=build_text(model.spec.description or name))
         return {

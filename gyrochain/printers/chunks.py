@@ -38,9 +38,9 @@ LOCAL_OUTPUTS = {
 }
 
 NOINLINE = """#if defined(__GNUC__)
-#define {NAME}_PART_ static __attribute__((noinline)) void
+#define {NAME}_PART_ {NAME}_FN static __attribute__((noinline)) void
 #else
-#define {NAME}_PART_ static void
+#define {NAME}_PART_ {NAME}_FN static void
 #endif
 """
 
