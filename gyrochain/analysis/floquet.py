@@ -524,6 +524,36 @@ def sweep_setup(compiled, model, x, first_params, u, varied_states, what: str = 
     return DrivenAnalysis(cm, model, first_params, u, what=what).cyclic
 
 
+def sweep_moduli_batch(gm, cm, model, X0, params, u, cyclic) -> tuple[np.ndarray, np.ndarray]:
+    """sweep_moduli with the monodromy matrices of all the points in one batch
+    (``gm.integrate_variational_batch``: the GPU's kernel, each point to its own period); the
+    periods and the equilibrium test are sweep_moduli's, on the C model ``cm``."""
+    nb = len(X0)
+    mu = np.full(nb, np.nan)
+    codes = np.zeros(nb, dtype=np.int32)
+    T = np.full(nb, np.nan)
+    for k, x in enumerate(X0):
+        try:
+            T[k], _ = time_period(model, params[k], "--measure floquet")
+        except SpecError:  # no period at this point (a frequency of t is 0 there)
+            continue
+        for t in T[k] * np.arange(SAMPLES) / SAMPLES:
+            q, dq, _, _ = cm.qdd_derivatives(x, u, params[k], t=t)
+            if np.max(np.abs(q)) > 1e-9 * max(1.0, np.max(np.abs(dq))):
+                T[k] = np.nan  # not an equilibrium for all t
+                break
+    live = np.flatnonzero(np.isfinite(T))
+    if len(live):
+        prm = [params[k] for k in live] if params[0] is not None else None
+        _, Phi, c = gm.integrate_variational_batch(0.0, T[live], X0[live], u=u, params=prm, rtol=RTOL, atol=ATOL)
+        codes[live] = c
+        for j, k in enumerate(live):
+            if c[j] == 0:
+                m = multipliers(Phi[j], cyclic and cm.n > 1)
+                mu[k] = float(np.max(np.abs(m))) if len(m) else 1.0
+    return mu, codes
+
+
 def sweep_moduli(cm, model, X0, params, u, cyclic) -> tuple[np.ndarray, np.ndarray]:
     """max |μ| at each start state X0[k] (an equilibrium) with params[k]: NaN where it is not an
     equilibrium for all t there or the drive stops (a frequency 0); the integrators' codes."""

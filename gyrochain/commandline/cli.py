@@ -56,7 +56,7 @@ def cmd_generate(args) -> int:
     result = generate.run(spec, target, Path(args.spec).name, build=not args.no_build, force=args.force,
                           qdd_form=args.qdd_form, der_form=args.derivative_form, progress=_Progress(args.quiet),
                           real=args.real, source=Path(args.spec), regressor=args.regressor, paper=args.paper,
-                          pdf=args.pdf)
+                          pdf=args.pdf, gpu=args.gpu)
     for line in generate.report(result):
         print(line)
     print(f"done in {time.perf_counter() - t0:.2f} s")
@@ -217,6 +217,17 @@ def cmd_sweep(args) -> int:
         raise SpecError("--chunk", f"must be at least 1 point, got {args.chunk}")
     if args.workers is not None and args.workers < 1:
         raise SpecError("--workers", f"{args.workers} workers: give 1 or more (without --workers the sweep runs on threads here)")
+    if args.device == "cuda":
+        from .. import gpu
+
+        if args.workers or args.scheduler or args.threads is not None:
+            option = "--workers" if args.workers else "--scheduler" if args.scheduler else "--threads"
+            raise SpecError(option, "is the CPU's; --device cuda runs every trajectory on this machine's GPU")
+        if args.method not in gpu.device.GPU_METHODS:
+            raise SpecError("--method", f"{args.method} has no GPU kernel; with --device cuda give rk4 or dop853")
+        why = gpu.unavailable()
+        if why:
+            raise SpecError("--device", f"cuda: {why}")
     if args.threads is not None and (args.workers or args.scheduler):
         raise SpecError("--threads", "are this machine's; with --workers or --scheduler the Dask workers do the work")
     lyap = 0.1 if args.lyap_interval is None else args.lyap_interval
@@ -256,13 +267,13 @@ def cmd_sweep(args) -> int:
     if note:  # once the sweep is known to run
         print(note, file=sys.stderr)
     t0 = time.perf_counter()
-    where = (f"the Dask scheduler {args.scheduler}" if args.scheduler else f"a local Dask cluster of {args.workers} worker processes"
+    where = ("the GPU" if args.device == "cuda" else f"the Dask scheduler {args.scheduler}" if args.scheduler else f"a local Dask cluster of {args.workers} worker processes"
              if args.workers else f"{args.threads or os.cpu_count()} thread(s)")
     points = int(np.prod(plan.shape))
     print(f"sweep of {plan.spec.name}: {points} point{'s' * (points != 1)} in {plan.n_chunks} chunk{'s' * (plan.n_chunks != 1)} "
           f"on {where} -> {args.output}", file=sys.stderr)
     counts = sw.run(sweep, args.output, threads=args.threads, workers=args.workers or 0, scheduler=args.scheduler,
-                    progress=not args.quiet, plan=plan)
+                    progress=not args.quiet, plan=plan, device=args.device)
     done = counts["written"]
     print(f"{done} chunk{'s' if done != 1 else ''} computed, {counts['skipped']} already done, in "
           f"{time.perf_counter() - t0:.1f} s", file=sys.stderr)

@@ -107,6 +107,8 @@ def _derive(sub) -> None:
                    help="the page of the LaTeX document: a4 (the default) or letter (US)")
     g.add_argument("--pdf", action="store_true", help="also typeset the LaTeX into NAME.pdf with LuaLaTeX, two passes "
                    "(default: the .tex only)")
+    g.add_argument("--gpu", action="store_true", help="also NAME_gpu.cu: CUDA kernels of one thread per trajectory that "
+                   "run NAME.c's RK4, DOP853 and variational equations (NAME_integrate_batch on a GPU; default: without)")
     c = sub.add_parser("check", help="validate a spec without generating")
     _spec(c)
     s = sub.add_parser("simulate", help="integrate a spec with the emitted C (CSV to stdout: t, phi, phidot, energy)")
@@ -205,6 +207,9 @@ def _sweep(sub) -> None:
     sw.add_argument("--param", action="append", metavar="NAME=VALUE", help=PARAM)
     sw.add_argument("--chunk", type=int, default=1024, help="points per chunk, whole rows of the grid (default 1024)")
     sw.add_argument("--threads", type=int, default=None, help="threads on this machine (default: one per core)")
+    sw.add_argument("--device", choices=("cpu", "cuda"), default="cpu", help="where the trajectories run: cpu (threads "
+                    "or Dask; the default) or cuda, one GPU thread per trajectory (--method rk4 or dop853; needs CuPy "
+                    "and a CUDA device: pip install 'gyrochain[gpu]')")
     sw.add_argument("--workers", type=int, default=None, metavar="N", help="start a local Dask cluster of N worker "
                     "processes (default: threads here)")
     sw.add_argument("--scheduler", default="", metavar="ADDRESS", help="an existing Dask scheduler, tcp://host:8786 "

@@ -26,7 +26,9 @@ import numpy as np
 from ..models import pipeline
 from ..printers.codes import METHODS
 from ..analysis import floquet
-from .measures import angles_of, energies, flip_times, joint_angles, link_signs, lyapunov, lyapunov_spectrum, pairing
+from .. import gpu
+from .measures import (angles_of, energies, flip_times, joint_angles, link_signs, lyapunov, lyapunov_spectrum,
+                       lyapunov_spectrum_batch, pairing)
 from ..chainspec.physical import check_values, run_values
 from ..chainspec.errors import did_you_mean
 from ..chainspec.spec import SpecError
@@ -348,12 +350,18 @@ def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
         lam, c = lyapunov(model, X0, sw, kw, prm)
         out["lyapunov"] = lam
         codes = np.maximum(codes, c)
+    batched = hasattr(model, "integrate_variational_batch")  # the GPU's model: the variational kernel
     if "lyapunov_spectrum" in sw.measures:
-        lam, c = lyapunov_spectrum(model, X0, sw.t1, sw.lyap_interval, prm, u, sw.rtol, sw.atol)
+        spectrum = lyapunov_spectrum_batch if batched else lyapunov_spectrum
+        lam, c = spectrum(model, X0, sw.t1, sw.lyap_interval, prm, u, sw.rtol, sw.atol)
         out["lyapunov_spectrum"] = lam
         codes = np.maximum(codes, c)
     if "floquet" in sw.measures:
-        out["floquet"], c = floquet.sweep_moduli(model, plan.model, X0, per_point or [params or None] * nb, u, plan.cyclic)
+        every = per_point or [params or None] * nb
+        if batched:
+            out["floquet"], c = floquet.sweep_moduli_batch(model, model.cpu, plan.model, X0, every, u, plan.cyclic)
+        else:
+            out["floquet"], c = floquet.sweep_moduli(model, plan.model, X0, every, u, plan.cyclic)
         codes = np.maximum(codes, c)
     shape = plan.chunk_shape(i)
     res = {k: v.reshape(shape + v.shape[1:]) for k, v in out.items()}
@@ -386,10 +394,12 @@ _PLANS_LOCK = threading.Lock()
 # --------------------------------------------------------------------------- running
 def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: int = 0, scheduler: str = "",
         progress: bool = True, plan: Plan | None = None, stop_after: int | None = None, on_written=None,
-        note=None) -> dict:
+        note=None, device: str = "cpu") -> dict:
     """Run (or resume) a sweep into ``store``; returns counts.  ``stop_after``: stop once that many
     chunks were written; ``on_written(i)`` is called after chunk i is in the store; ``note(line)``
-    is told what happened on the way (a Dask worker lost; default: a line on stderr)."""
+    is told what happened on the way (a Dask worker lost; default: a line on stderr).  ``device``
+    "cuda": the chunks' trajectories on the GPU (gyrochain.gpu; a chunk is one launch); "host": the
+    kernels' host form, every GPU thread in turn on this CPU (how the tests check the GPU's path)."""
     plan = plan or Plan(sweep)
     store = Path(store)
     created = not store.exists()
@@ -400,9 +410,12 @@ def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: in
         todo = [i for i in range(plan.n_chunks) if not done[i]]
         if not todo:  # nothing to do: no derivation, no cluster
             return dict(chunks=plan.n_chunks, skipped=int(done.sum()), written=0)
-        files, _ = pipeline.derive_and_render(plan.spec, targets=("c",))
+        files, _ = pipeline.derive_and_render(plan.spec, targets=("c",), gpu=device != "cpu")
         bar = _bar(plan.n_chunks, int(done.sum()), progress)
-        if workers or scheduler:
+        if device != "cpu":
+            cpu = pipeline.compile({k: v for k, v in files.items() if not k.endswith(".cu")}, plan.spec.name)
+            results = _thread_results(gpu.GpuModel(cpu, files, host=device == "host"), plan, todo, 1)
+        elif workers or scheduler:
             results = _dask_results(plan, sweep, files, todo, workers, scheduler, note or _stderr)
         else:
             results = _thread_results(pipeline.compile(files, plan.spec.name), plan, todo, threads or os.cpu_count() or 1)

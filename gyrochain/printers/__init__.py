@@ -19,14 +19,16 @@ from ..derive import integrals, loopform, world
 from ..derive.assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
                         time_dependent, variational_stack_bytes)
 from .c import CTarget
+from .cuda import CudaTarget
 from .common import c_comment, environment, py_docstring
 from .latex import LatexTarget
 from .python import PythonTarget
 from .real import single_precision
 
-TARGETS = {"c": CTarget, "python": PythonTarget, "latex": LatexTarget}
+# in the order they are printed; "cuda" (generate --gpu) only when asked
+TARGETS = {"c": CTarget, "cuda": CudaTarget, "python": PythonTarget, "latex": LatexTarget}
 REALS = ("double", "float")  # generate --real: the floating type of the C
-ALL = tuple(TARGETS)
+ALL = ("c", "python", "latex")  # what generate writes by default
 
 
 def regenerate_command(spec_label: str, options=(), real: str = "double") -> str:
@@ -142,14 +144,14 @@ def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "d
     context["paper"] = paper
     env = environment(compiled)
     files: dict[str, str] = {}
-    for key in ALL:  # in one order, whatever the order asked
+    for key in TARGETS:  # in one order, whatever the order asked
         if key in targets:
             files.update(TARGETS[key]().files(model, context, env))
             if key == "c" and real == "float":
                 files = single_precision(files, model.spec.name)
             if key == "c" and on_c is not None:
                 on_c(dict(files))
-    if set(targets) == set(ALL):
+    if set(ALL) <= set(targets):
         spec = model.spec
         manifest = dict(
             spec=spec_label,
