@@ -136,6 +136,17 @@ def test_every_module_sits_in_a_subpackage_with_a_layer():
     assert modules - _layers(1) == set(), sorted(modules - _layers(1))
 
 
+def test_every_subpackage_and_data_folder_ships_in_the_wheel():
+    """pyproject.toml names the packages the wheel holds: a subpackage left out of that list
+    imports in the checkout but not from an installed wheel."""
+    import tomllib
+
+    shipped = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    folders = {f"gyrochain.{p.name}" for p in (ROOT / "gyrochain").iterdir()
+               if p.is_dir() and p.name != "__pycache__"}
+    assert folders - shipped == set(), sorted(folders - shipped)
+
+
 def test_every_subpackage_says_its_job_and_what_it_may_import():
     for init in sorted(_code("*/__init__.py")):
         doc = ast.get_docstring(ast.parse(init.read_text()))
