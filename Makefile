@@ -85,7 +85,7 @@ plot: $(VENV)/.plot-installed
 	$(VPY) examples/furuta_lqr.py docs/img/furuta_lqr.png
 	rm -rf build/flip_map.zarr
 	$(VPY) -m gyrochain sweep specs/double_pendulum.toml --vary link1=-3.14:3.14:300 --vary link2=-3.14:3.14:300 \
-		--t1 10 --measure flip_time -q -o build/flip_map.zarr
+		--t1 10 --measure flip_time --device auto -q -o build/flip_map.zarr
 	$(VPY) -m gyrochain plot build/flip_map.zarr --log -o docs/img/double_pendulum_flip.png
 	$(VPY) -m gyrochain generate -q specs/kapitza.toml >/dev/null
 	$(VPY) examples/kapitza_chart.py docs/img/kapitza_chart.png

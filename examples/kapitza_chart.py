@@ -3,7 +3,8 @@ Floquet multiplier over the pivot's amplitude a and frequency ω by `gyrochain s
 floquet`, the stable region shaded, with the transition curves of the Mathieu equation drawn over
 it in the same units (the Ince–Strutt diagram: α = −4g/(lω²) = a₀(q) and b₁(q), q = 2a/l, from
 scipy.special) and the averaged criterion a²ω² = 2gl of Kapitza's effective potential.
-Writes docs/img/kapitza_chart.png; run by `make plot` (about a minute on two cores)."""
+Writes docs/img/kapitza_chart.png; run by `make plot` (about a minute on two cores; on a GPU where
+one is there)."""
 from __future__ import annotations
 
 import shutil
@@ -48,7 +49,7 @@ def main(out: Path, store: Path = ROOT / "build" / "kapitza_floquet.zarr", na: i
     sw = sweep.Sweep(spec_text=(ROOT / "specs" / "kapitza.toml").read_text(),
                      vary=[("a", 0.0, A_MAX, na), ("w", W_MIN, W_MAX, nw)], t1=1.0, measures=["floquet"],
                      phi=[float(np.pi)], phidot=[0.0])
-    sweep.run(sw, store, progress=False)
+    sweep.run(sw, store, progress=False, device="auto")  # on a GPU where one can run it
     data = sweep.read(store)
     a, w, mu = data["coords"]["a"], data["coords"]["w"], data["floquet"]
     stable = np.isfinite(mu) & (mu <= 1 + MU_TOL)

@@ -39,6 +39,7 @@ from ..chainspec.spec import T as TIME
 SAMPLES = 16  # times of a period at which Newton asks φ̈ = 0
 MAX_OWN_CYCLES = 1e5  # the pendulum's own oscillations in one drive period past which steady refuses the work
 CHECKS = 64  # further random times at which an equilibrium must hold
+EQUILIBRIUM_TOL = 1e-9  # |φ̈| at most this times max(1, |∂φ̈/∂φ|) at every sample: an equilibrium for all t
 MU_TOL = 1e-6  # |μ| − 1 beyond this is off the unit circle (Φ is good to ~1e-10 at the tolerances used)
 RTOL = ATOL = 1e-12  # of the variational integration over a period
 MAX_DENOMINATOR = 1000  # frequency ratios are rational with denominators up to this, or incommensurate
@@ -129,6 +130,14 @@ def time_period(model, params: dict | None, what: str = "steady") -> tuple[float
             omegas.append(abs(float(sp.sympify(w).subs(values))))
         except TypeError:
             raise SpecError("--param", f"the frequency {w} needs a value for {', '.join(map(str, w.free_symbols))}") from None
+    omega = common_frequency(omegas, what)
+    names = ", ".join(sp.sstr(w) for w in dep.frequencies)
+    return 2 * math.pi / omega, f"2 pi/{omega:.10g} from the frequencies of t in the spec's expressions ({names} rad/s)"
+
+
+def common_frequency(omegas, what: str) -> float:
+    """The frequency whose period is the period of all the |ωᵢ| given (their rationals' gcd):
+    SpecError where one is not finite, all are 0, or two are incommensurate."""
     if any(not math.isfinite(w) for w in omegas):
         raise SpecError("--param", "a frequency of t is not finite")
     omegas = [w for w in omegas if w > 0.0]
@@ -145,9 +154,28 @@ def time_period(model, params: dict | None, what: str = "steady") -> tuple[float
     # gcd of the rationals: gcd of the numerators over the lcm of the denominators
     den = math.lcm(*(r.denominator for r in ratios))
     num = math.gcd(*(int(r * den) for r in ratios))
-    omega = base * num / den
-    names = ", ".join(sp.sstr(w) for w in dep.frequencies)
-    return 2 * math.pi / omega, f"2 pi/{omega:.10g} from the frequencies of t in the spec's expressions ({names} rad/s)"
+    return base * num / den
+
+
+def time_periods(model, params: list) -> np.ndarray:
+    """time_period at many points at once (``params``: a dict per point, or None for all): the
+    frequencies evaluated over all the points as arrays, the gcd once per distinct set of them;
+    NaN where a point has no period (a frequency 0 or not finite there, or incommensurate ones)."""
+    dep = time_dependence(model)
+    if dep.why or not dep.frequencies:
+        return np.full(len(params), np.nan)
+    syms = sorted(set().union(*(sp.sympify(w).free_symbols for w in dep.frequencies)), key=str)
+    columns = [np.array([p[k] for p in params], float) for k in map(str, syms)]  # (the sweep checked they have values)
+    W = np.abs(np.stack([np.broadcast_to(np.asarray(sp.lambdify(syms, w, "numpy")(*columns), float), (len(params),))
+                         for w in dep.frequencies], axis=1))
+    distinct, which = np.unique(W, axis=0, return_inverse=True)
+    T = np.full(len(distinct), np.nan)
+    for k, omegas in enumerate(distinct):
+        try:
+            T[k] = 2 * math.pi / common_frequency([float(w) for w in omegas], "floquet")
+        except SpecError:
+            pass
+    return T[np.ravel(which)]
 
 
 def check_period(cm, T: float, params, u, what: str = "--period") -> None:
@@ -487,13 +515,20 @@ def largest_multiplier(cm, model, x, params, u=None, cyclic: bool = False, what:
     spec's expressions give there; NaN where x is not an equilibrium for all t at these values (φ̈
     not 0, to 1e-9 of the scale of ∂φ̈/∂φ, at SAMPLES times of the period)."""
     T, _ = time_period(model, params, what)
-    n = cm.n
+    if not held_for_all_t(cm, x, T, params, u):
+        return float("nan")
+    mu = multipliers(monodromy(cm, np.asarray(x, float), T, params, u), cyclic and cm.n > 1)
+    return float(np.max(np.abs(mu))) if len(mu) else 1.0
+
+
+def held_for_all_t(cm, x, T: float, params, u) -> bool:
+    """Whether φ̈(x) = 0 at SAMPLES times of the period T, to EQUILIBRIUM_TOL of the scale of ∂φ̈/∂φ
+    (the GPU's floquet kernel asks the same at the same times)."""
     for t in T * np.arange(SAMPLES) / SAMPLES:
         q, dq, _, _ = cm.qdd_derivatives(x, u, params, t=t)
-        if np.max(np.abs(q)) > 1e-9 * max(1.0, np.max(np.abs(dq))):
-            return float("nan")
-    mu = multipliers(monodromy(cm, np.asarray(x, float), T, params, u), cyclic and n > 1)
-    return float(np.max(np.abs(mu))) if len(mu) else 1.0
+        if np.max(np.abs(q)) > EQUILIBRIUM_TOL * max(1.0, np.max(np.abs(dq))):
+            return False
+    return True
 
 
 def sweep_setup(compiled, model, x, first_params, u, varied_states, what: str = "--measure floquet") -> bool:
@@ -524,33 +559,18 @@ def sweep_setup(compiled, model, x, first_params, u, varied_states, what: str = 
     return DrivenAnalysis(cm, model, first_params, u, what=what).cyclic
 
 
-def sweep_moduli_batch(gm, cm, model, X0, params, u, cyclic) -> tuple[np.ndarray, np.ndarray]:
-    """sweep_moduli with the monodromy matrices of all the points in one batch
-    (``gm.integrate_variational_batch``: the GPU's kernel, each point to its own period); the
-    periods and the equilibrium test are sweep_moduli's, on the C model ``cm``."""
+def sweep_moduli_batch(gm, model, X0, params, u, cyclic) -> tuple[np.ndarray, np.ndarray]:
+    """sweep_moduli with all the points of a chunk in one launch of the GPU's floquet kernel
+    (``gm.floquet_batch``): the periods evaluated over the points at once (time_periods), the
+    equilibrium test and the monodromy matrix in each thread, the eigenvalues of all at once."""
     nb = len(X0)
     mu = np.full(nb, np.nan)
-    codes = np.zeros(nb, dtype=np.int32)
-    T = np.full(nb, np.nan)
-    for k, x in enumerate(X0):
-        try:
-            T[k], _ = time_period(model, params[k], "--measure floquet")
-        except SpecError:  # no period at this point (a frequency of t is 0 there)
-            continue
-        for t in T[k] * np.arange(SAMPLES) / SAMPLES:
-            q, dq, _, _ = cm.qdd_derivatives(x, u, params[k], t=t)
-            if np.max(np.abs(q)) > 1e-9 * max(1.0, np.max(np.abs(dq))):
-                T[k] = np.nan  # not an equilibrium for all t
-                break
-    live = np.flatnonzero(np.isfinite(T))
-    if len(live):
-        prm = [params[k] for k in live] if params[0] is not None else None
-        _, Phi, c = gm.integrate_variational_batch(0.0, T[live], X0[live], u=u, params=prm, rtol=RTOL, atol=ATOL)
-        codes[live] = c
-        for j, k in enumerate(live):
-            if c[j] == 0:
-                m = multipliers(Phi[j], cyclic and cm.n > 1)
-                mu[k] = float(np.max(np.abs(m))) if len(m) else 1.0
+    T = time_periods(model, params) if params[0] is not None else np.full(nb, time_periods(model, [{}])[0])
+    prm = params if params[0] is not None else None
+    Phi, held, codes = gm.floquet_batch(T, X0, SAMPLES, EQUILIBRIUM_TOL, u=u, params=prm, rtol=RTOL, atol=ATOL)
+    ok = (held == 1) & (codes == 0)
+    P = Phi[ok][:, 1:, 1:] if cyclic and gm.n > 1 else Phi[ok]
+    mu[ok] = np.max(np.abs(np.linalg.eigvals(P)), axis=1) if P.shape[1] else 1.0
     return mu, codes
 
 

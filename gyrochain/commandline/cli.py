@@ -217,6 +217,7 @@ def cmd_sweep(args) -> int:
         raise SpecError("--chunk", f"must be at least 1 point, got {args.chunk}")
     if args.workers is not None and args.workers < 1:
         raise SpecError("--workers", f"{args.workers} workers: give 1 or more (without --workers the sweep runs on threads here)")
+    args.device = sw.resolve_device(args.device, args.method, bool(args.workers or args.scheduler or args.threads is not None))
     if args.device == "cuda":
         from .. import gpu
 

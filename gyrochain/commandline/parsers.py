@@ -207,9 +207,9 @@ def _sweep(sub) -> None:
     sw.add_argument("--param", action="append", metavar="NAME=VALUE", help=PARAM)
     sw.add_argument("--chunk", type=int, default=1024, help="points per chunk, whole rows of the grid (default 1024)")
     sw.add_argument("--threads", type=int, default=None, help="threads on this machine (default: one per core)")
-    sw.add_argument("--device", choices=("cpu", "cuda"), default="cpu", help="where the trajectories run: cpu (threads "
-                    "or Dask; the default) or cuda, one GPU thread per trajectory (--method rk4 or dop853; needs CuPy "
-                    "and a CUDA device: pip install 'gyrochain[gpu]')")
+    sw.add_argument("--device", choices=("cpu", "cuda", "auto"), default="cpu", help="where the trajectories run: cpu "
+                    "(threads or Dask; the default), cuda, one GPU thread per trajectory (--method rk4 or dop853; needs "
+                    "CuPy and a CUDA device: pip install 'gyrochain[gpu]'), or auto: cuda where it can run, else cpu")
     sw.add_argument("--workers", type=int, default=None, metavar="N", help="start a local Dask cluster of N worker "
                     "processes (default: threads here)")
     sw.add_argument("--scheduler", default="", metavar="ADDRESS", help="an existing Dask scheduler, tcp://host:8786 "

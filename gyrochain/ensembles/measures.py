@@ -141,29 +141,12 @@ def lyapunov_spectrum(model, X0, t1: float, interval: float, prm, u=None, rtol: 
 
 def lyapunov_spectrum_batch(model, X0, t1: float, interval: float, prm, u=None, rtol: float = 1e-8,
                             atol: float = 1e-10) -> tuple[np.ndarray, np.ndarray]:
-    """lyapunov_spectrum with every trajectory's tangent basis carried on in one batch per interval
-    (``model.integrate_variational_batch``: the GPU's kernel) and the QR factors of all of them at
-    once; a trajectory that fails keeps its code and NaN exponents, the others go on."""
-    nb, dim = X0.shape
+    """lyapunov_spectrum with every trajectory's QR steps in one launch of the GPU's kernel
+    (``model.lyapunov_batch``: Gram-Schmidt, twice, in each thread, so that only the sums of
+    log Rᵢᵢ come back); a trajectory that fails keeps its code and NaN exponents."""
     steps = max(1, int(round(t1 / interval)))
-    dt = t1 / steps
-    lam = np.zeros((nb, dim))
-    codes = np.zeros(nb, dtype=np.int32)
-    x, Q = np.array(X0, float), np.tile(np.eye(dim), (nb, 1, 1))
-    for s in range(steps):
-        live = np.flatnonzero(codes == 0)
-        if not len(live):
-            break
-        p = [prm[b] for b in live] if isinstance(prm, list) else prm
-        x1, Phi, c = model.integrate_variational_batch(s * dt, (s + 1) * dt, x[live], Phi0=Q[live], u=u, params=p,
-                                                       rtol=rtol, atol=atol)
-        codes[live] = c
-        ok = live[c == 0]
-        Qk, R = np.linalg.qr(Phi[c == 0])
-        d = np.diagonal(R, axis1=1, axis2=2)
-        lam[ok] += np.log(np.abs(d))
-        Q[ok] = Qk * np.sign(d)[:, None, :]  # keep the basis oriented as Φ (R with a positive diagonal)
-        x[ok] = x1[c == 0]
+    sums, codes = model.lyapunov_batch(np.asarray(X0, float), t1 / steps, steps, u=u, params=prm, rtol=rtol, atol=atol)
+    lam = np.array(sums, float)
     lam[codes != 0] = np.nan
     return lam / t1, codes
 
@@ -173,3 +156,25 @@ def pairing(lam: np.ndarray) -> tuple[float, float]:
     largest |λᵢ + λ₂ₙ₊₁₋ᵢ| (the pairing error) and |Σ λᵢ| of one spectrum (sorted decreasing)."""
     lam = np.sort(np.asarray(lam, float))[::-1]
     return float(np.max(np.abs(lam + lam[::-1]))), float(abs(np.sum(lam)))
+
+
+def pairing_summary(lam: np.ndarray, energy_reasons, conservative: bool) -> str:
+    """What spectra (one a row) say of their pairing: the largest max|λᵢ + λ₂ₙ₊₁₋ᵢ| and |Σλᵢ| over
+    the rows, and whether the model pairs them (``conservative``: its energy is an integral;
+    ``energy_reasons``: why it is not, the derivation's integrals.energy_reasons)."""
+    ok = lam[np.all(np.isfinite(lam), axis=1)]
+    if not len(ok):
+        return "lyapunov_spectrum: no point has a spectrum (every integration failed)"
+    errs = np.array([pairing(s) for s in ok])
+    # a moving platform and constant joint torques leave the flow Hamiltonian (L depends on t; a constant
+    # torque has the potential -u phi), so symplectic: only the other reasons break the pairing
+    reasons = [r for r in energy_reasons if not r.startswith("base") and "control" not in r]
+    if conservative:
+        why = "the model is conservative: its spectra come in pairs ±lambda summing to 0 as t1 grows"
+    elif not reasons:
+        why = ("the energy (23) is not conserved here (the platform moves or a torque acts), but the flow is still "
+               "Hamiltonian: its spectra come in pairs ±lambda summing to 0 as t1 grows")
+    else:
+        why = f"the flow is not Hamiltonian ({', '.join(reasons)}): no pairing is expected"
+    return (f"lyapunov_spectrum: over {len(ok)} points the largest pairing error max|lambda_i + lambda_(2n+1-i)| is "
+            f"{errs[:, 0].max():.2g} /s and the largest |sum of lambda_i| {errs[:, 1].max():.2g} /s; {why}")

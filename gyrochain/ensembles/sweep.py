@@ -28,7 +28,7 @@ from ..printers.codes import METHODS
 from ..analysis import floquet
 from .. import gpu
 from .measures import (angles_of, energies, flip_times, joint_angles, link_signs, lyapunov, lyapunov_spectrum,
-                       lyapunov_spectrum_batch, pairing)
+                       lyapunov_spectrum_batch, pairing_summary)
 from ..chainspec.physical import check_values, run_values
 from ..chainspec.errors import did_you_mean
 from ..chainspec.spec import SpecError
@@ -350,7 +350,7 @@ def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
         lam, c = lyapunov(model, X0, sw, kw, prm)
         out["lyapunov"] = lam
         codes = np.maximum(codes, c)
-    batched = hasattr(model, "integrate_variational_batch")  # the GPU's model: the variational kernel
+    batched = hasattr(model, "floquet_batch")  # the GPU's model: the floquet and lyapunov kernels
     if "lyapunov_spectrum" in sw.measures:
         spectrum = lyapunov_spectrum_batch if batched else lyapunov_spectrum
         lam, c = spectrum(model, X0, sw.t1, sw.lyap_interval, prm, u, sw.rtol, sw.atol)
@@ -359,7 +359,7 @@ def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
     if "floquet" in sw.measures:
         every = per_point or [params or None] * nb
         if batched:
-            out["floquet"], c = floquet.sweep_moduli_batch(model, model.cpu, plan.model, X0, every, u, plan.cyclic)
+            out["floquet"], c = floquet.sweep_moduli_batch(model, plan.model, X0, every, u, plan.cyclic)
         else:
             out["floquet"], c = floquet.sweep_moduli(model, plan.model, X0, every, u, plan.cyclic)
         codes = np.maximum(codes, c)
@@ -392,6 +392,14 @@ _PLANS_LOCK = threading.Lock()
 
 # --------------------------------------------------------------------------- the store
 # --------------------------------------------------------------------------- running
+def resolve_device(device: str, method: str, cpu_option: bool = False) -> str:
+    """``device`` "auto": "cuda" where a GPU can run the sweep (CuPy and a CUDA device, a kernel for
+    ``method``, no option of the CPU's given: ``cpu_option``), else "cpu"; any other as it is."""
+    if device != "auto":
+        return device
+    return "cpu" if cpu_option or method not in gpu.device.GPU_METHODS or gpu.unavailable() else "cuda"
+
+
 def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: int = 0, scheduler: str = "",
         progress: bool = True, plan: Plan | None = None, stop_after: int | None = None, on_written=None,
         note=None, device: str = "cpu") -> dict:
@@ -399,7 +407,9 @@ def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: in
     chunks were written; ``on_written(i)`` is called after chunk i is in the store; ``note(line)``
     is told what happened on the way (a Dask worker lost; default: a line on stderr).  ``device``
     "cuda": the chunks' trajectories on the GPU (gyrochain.gpu; a chunk is one launch); "host": the
-    kernels' host form, every GPU thread in turn on this CPU (how the tests check the GPU's path)."""
+    kernels' host form, every GPU thread in turn on this CPU (how the tests check the GPU's path);
+    "auto": "cuda" where a GPU can run it, else "cpu" (resolve_device)."""
+    device = resolve_device(device, sweep.method, bool(threads or workers or scheduler))
     plan = plan or Plan(sweep)
     store = Path(store)
     created = not store.exists()
@@ -571,24 +581,6 @@ def _bar(total: int, initial: int, show: bool):
 
 # --------------------------------------------------------------------------- reading
 def spectrum_summary(store: str | Path, plan: Plan) -> str:
-    """What the stored spectra say of their pairing: the largest max|λᵢ + λ₂ₙ₊₁₋ᵢ| and |Σλᵢ| over
-    the points, and whether the model is conservative (where a spectrum comes in ± pairs)."""
+    """What the stored spectra say of their pairing (measures.pairing_summary)."""
     lam = np.asarray(read(store)["lyapunov_spectrum"]).reshape(-1, 2 * plan.n)
-    ok = lam[np.all(np.isfinite(lam), axis=1)]
-    if not len(ok):
-        return "lyapunov_spectrum: no point has a spectrum (every integration failed)"
-    errs = np.array([pairing(s) for s in ok])
-    ints = pipeline.derive(plan.spec, latex=False).integrals
-    # a moving platform and constant joint torques leave the flow Hamiltonian (L depends on t; a constant
-    # torque has the potential -u phi), so symplectic: only the other reasons break the pairing
-    reasons = [r for r in ints.energy_reasons if not r.startswith("base") and "control" not in r]
-    if plan._has_energy():
-        why = "the model is conservative: its spectra come in pairs ±lambda summing to 0 as t1 grows"
-    elif not reasons:
-        why = ("the energy (23) is not conserved here (the platform moves or a torque acts), but the flow is still "
-               "Hamiltonian: its spectra come in pairs ±lambda summing to 0 as t1 grows")
-    else:
-        why = f"the flow is not Hamiltonian ({', '.join(reasons)}): no pairing is expected"
-    return (f"lyapunov_spectrum: over {len(ok)} points the largest pairing error max|lambda_i + lambda_(2n+1-i)| is "
-            f"{errs[:, 0].max():.2g} /s and the largest |sum of lambda_i| {errs[:, 1].max():.2g} /s; {why}")
-
+    return pairing_summary(lam, pipeline.derive(plan.spec, latex=False).integrals.energy_reasons, plan._has_energy())

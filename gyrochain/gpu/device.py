@@ -11,9 +11,11 @@ import ctypes
 import ctypes.util
 import hashlib
 import importlib.util
+import os
 import re
 import shutil
 import subprocess
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +33,7 @@ NVRTC_HEADERS = {
 ARCH = "90"  # the architecture compile checks use without a card (H100, H200)
 BLOCK = 128  # threads per block
 GPU_METHODS = ("rk4", "dop853")  # the kernels of NAME_gpu.cu (RK4_LANES is the CPU's vector form of RK4)
+VARIATIONAL_KERNELS = ("variational", "floquet", "lyapunov")  # where NAME_integrate_variational is (n <= 16)
 
 
 class GpuUnavailable(RuntimeError):
@@ -151,18 +154,20 @@ def _host_kernels(files: dict[str, str], name: str):
     folder = pipeline.cache_root() / "gpu" / f"{name}-{key}"
     lib = folder / f"lib{name}_gpu.so"
     if not lib.exists():
-        folder.mkdir(parents=True, exist_ok=True)
-        for k in (f"{name}_gpu.cu", f"{name}.c", f"{name}.h"):
-            (folder / k).write_text(files[k])
         cxx = shutil.which("g++") or shutil.which("c++")
         if cxx is None:
             raise GpuUnavailable("the kernels' host form needs a C++ compiler (g++)")
-        tmp = folder / f"lib{name}_gpu.tmp.so"
-        run = subprocess.run([cxx, "-x", "c++", "-std=c++11", "-O2", "-fno-tree-slp-vectorize", "-fPIC", "-shared",
-                              str(folder / f"{name}_gpu.cu"), "-o", str(tmp), "-lm"], capture_output=True, text=True)
-        if run.returncode != 0:
-            raise RuntimeError(f"{cxx}: {name}_gpu.cu does not compile:\n{run.stderr}")
-        tmp.replace(lib)
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryDirectory(dir=folder) as work:  # (processes building the same kernels at once
+            work = Path(work)                                    # each compile in their own folder)
+            for k in (f"{name}_gpu.cu", f"{name}.c", f"{name}.h"):
+                (work / k).write_text(files[k])
+            run = subprocess.run([cxx, "-x", "c++", "-std=c++11", "-O2", "-fno-tree-slp-vectorize", "-fPIC", "-shared",
+                                  str(work / f"{name}_gpu.cu"), "-o", str(work / lib.name), "-lm"],
+                                 capture_output=True, text=True)
+            if run.returncode != 0:
+                raise RuntimeError(f"{cxx}: {name}_gpu.cu does not compile:\n{run.stderr}")
+            (work / lib.name).replace(lib)
     return ctypes.CDLL(str(lib))
 
 
@@ -188,7 +193,7 @@ class GpuModel:
         if host:
             self.cp = np
             lib = _host_kernels(files, self.name)
-            self.kernels = {m: lib[f"{self.name}_gpu_{m}"] for m in (*GPU_METHODS, "variational")[:3 if cpu.has_variational else 2]}
+            self.kernels = {m: lib[f"{self.name}_gpu_{m}"] for m in self._kernel_names()}
             return
         why = unavailable()
         if why:
@@ -204,17 +209,18 @@ class GpuModel:
         folder.mkdir(parents=True, exist_ok=True)
         path = folder / f"{self.name}-{key}.ptx"
         if not path.exists():
-            tmp = path.with_suffix(".tmp")
+            tmp = path.with_suffix(f".{os.getpid()}.tmp")
             tmp.write_text(compile_ptx(source, headers, arch, f"{self.name}_gpu.cu"))
             tmp.replace(path)
         self.module = cupy.RawModule(path=str(path))
-        self.kernels = {m: self.module.get_function(f"{self.name}_gpu_{m}") for m in GPU_METHODS}
-        if cpu.has_variational:
-            self.kernels["variational"] = self.module.get_function(f"{self.name}_gpu_variational")
+        self.kernels = {m: self.module.get_function(f"{self.name}_gpu_{m}") for m in self._kernel_names()}
         stack = max(k.local_size_bytes for k in self.kernels.values())
         limit = cupy.cuda.runtime.cudaLimitStackSize
         if cupy.cuda.runtime.deviceGetLimit(limit) < stack + 1024:
             cupy.cuda.runtime.deviceSetLimit(limit, stack + 1024)
+
+    def _kernel_names(self) -> tuple:
+        return (*GPU_METHODS, *(VARIATIONAL_KERNELS if self.cpu.has_variational else ()))
 
     def __getattr__(self, attr):  # n, nu, dtype, energy, qdd_derivatives, ...: the C model's
         return getattr(self.cpu, attr)
@@ -228,9 +234,14 @@ class GpuModel:
         if not isinstance(params, dict) and len(rows) != nb:
             raise ValueError(f"params: {len(rows)} parameter sets for {nb} trajectories")
         P = np.zeros((len(rows), len(self.fields)), self.dtype)
-        for i, d in enumerate(rows):
-            for k, v in d.items():
-                P[i, self.fields.index(k)] = float(v)
+        names = list(rows[0]) if rows else []
+        table = [[d[k] for k in names] for d in rows if len(d) == len(names)] if set(names) <= set(self.fields) else []
+        if len(table) == len(rows):  # a sweep's points: every row has the same names (one array operation)
+            P[:, [self.fields.index(k) for k in names]] = np.array(table, dtype=self.dtype).reshape(len(rows), len(names))
+        else:
+            for i, d in enumerate(rows):
+                for k, v in d.items():
+                    P[i, self.fields.index(k)] = float(v)
         return self.cp.asarray(P), 0 if isinstance(params, dict) else 1
 
     def _inputs(self, u, nb):
@@ -280,19 +291,47 @@ class GpuModel:
     def integrate_variational_batch(self, t0, t1, X0, Phi0=None, u=None, params=None, rtol=1e-10, atol=1e-12, h=0.0):
         """NAME_integrate_variational of each trajectory b from t0 to t1[b] (an array, or one end for
         all): x1 (nb, 2N), Phi (nb, 2N, 2N) (Phi0: the identity by default) and the codes."""
+        nb, X0d, U, us, P, ps = self._variational_args(X0, u, params)
+        cp, real, dim = self.cp, np.dtype(self.dtype).type, 2 * self.n
+        T1 = cp.asarray(np.ascontiguousarray(np.broadcast_to(np.asarray(t1, self.dtype), (nb,))))
+        Phi = np.array(np.broadcast_to(np.eye(dim) if Phi0 is None else Phi0, (nb, dim, dim)), dtype=self.dtype, order="C")
+        x1, Pd, codes = cp.empty((nb, dim), self.dtype), cp.asarray(Phi), cp.zeros(nb, dtype=np.int32)
+        self._launch("variational", nb, (np.int64(nb), real(t0), T1, real(h), real(rtol), real(atol), X0d, U, us, P, ps,
+                                         x1, Pd, codes))
+        return self._out(x1), self._out(Pd), self._out(codes)
+
+    def _variational_args(self, X0, u, params):
         if "variational" not in self.kernels:
             raise ValueError(f"{self.name}: no NAME_integrate_variational (emitted up to n = 16; n = {self.n})")
-        cp, real, dim = self.cp, np.dtype(self.dtype).type, 2 * self.n
         X0 = np.ascontiguousarray(X0, dtype=self.dtype)
         nb = X0.shape[0]
-        T1 = np.ascontiguousarray(np.broadcast_to(np.asarray(t1, self.dtype), (nb,)))
-        Phi = np.array(np.broadcast_to(np.eye(dim) if Phi0 is None else Phi0, (nb, dim, dim)), dtype=self.dtype, order="C")
         U, u_stride = self._inputs(u, nb)
         P, p_stride = self._params(params, nb)
-        x1, Pd, codes = cp.empty((nb, dim), self.dtype), cp.asarray(Phi), cp.zeros(nb, dtype=np.int32)
-        self._launch("variational", nb, (np.int64(nb), real(t0), cp.asarray(T1), real(h), real(rtol), real(atol),
-                                         cp.asarray(X0), U, np.int64(u_stride), P, np.int64(p_stride), x1, Pd, codes))
-        return self._out(x1), self._out(Pd), self._out(codes)
+        return nb, self.cp.asarray(X0), U, np.int64(u_stride), P, np.int64(p_stride)
+
+    def floquet_batch(self, T, X0, samples: int, tol: float, u=None, params=None, rtol=1e-12, atol=1e-12, h=0.0):
+        """sweep --measure floquet's kernel: for each point b whether X0[b] is an equilibrium for all t
+        (|φ̈| ≤ tol · max(1, |∂φ̈/∂φ|) at ``samples`` times of the period T[b]) and, where it is, the
+        monodromy matrix over T[b]; T[b] NaN: no period there (not an equilibrium, nothing
+        integrated).  Returns Phi (nb, 2N, 2N), the equilibrium flags (nb,) and the codes."""
+        nb, X0d, U, us, P, ps = self._variational_args(X0, u, params)
+        cp, real, dim = self.cp, np.dtype(self.dtype).type, 2 * self.n
+        Td = cp.asarray(np.ascontiguousarray(np.broadcast_to(np.asarray(T, self.dtype), (nb,))))
+        x1, Phi = cp.empty((nb, dim), self.dtype), cp.full((nb, dim, dim), np.nan, self.dtype)
+        eq, codes = cp.zeros(nb, dtype=np.int32), cp.zeros(nb, dtype=np.int32)
+        self._launch("floquet", nb, (np.int64(nb), Td, np.int32(samples), real(tol), real(h), real(rtol), real(atol),
+                                     X0d, U, us, P, ps, x1, Phi, eq, codes))
+        return self._out(Phi), self._out(eq), self._out(codes)
+
+    def lyapunov_batch(self, X0, dt: float, steps: int, u=None, params=None, rtol=1e-8, atol=1e-10):
+        """The Lyapunov spectrum's QR steps in the kernel (every dt, ``steps`` times, from t = 0):
+        the sums of log Rᵢᵢ (nb, 2N), in the order of Gram-Schmidt's columns, and the codes."""
+        nb, X0d, U, us, P, ps = self._variational_args(X0, u, params)
+        cp, real, dim = self.cp, np.dtype(self.dtype).type, 2 * self.n
+        x1, sums, codes = cp.empty((nb, dim), self.dtype), cp.empty((nb, dim), self.dtype), cp.zeros(nb, dtype=np.int32)
+        self._launch("lyapunov", nb, (np.int64(nb), real(dt), np.int64(steps), real(rtol), real(atol), X0d, U, us, P, ps,
+                                      x1, sums, codes))
+        return self._out(sums), self._out(codes)
 
 
 def gpu_model(spec, cpu=None) -> GpuModel:

@@ -15,7 +15,7 @@ import pytest
 from gyrochain import gpu
 from gyrochain.models import pipeline
 from gyrochain.spec import load_spec
-from conftest import EXAMPLES, ROOT, example_params
+from conftest import EXAMPLES, ONE_ARM, ROOT, SHORT_EXAMPLES, example_params
 
 STRICT = ["-Wall", "-Wextra", "-Wpedantic", "-Werror"]
 
@@ -84,6 +84,33 @@ def test_a_thread_is_the_batch_s_trajectory_bit_for_bit(name, hosts, rng):
     assert list(codes) == list(cc) and np.array_equal(X[ok], Xc[ok], equal_nan=True)
 
 
+def _float_thread_is_the_float_batch(name, rng):
+    files = _files(name, "float")
+    cm = pipeline.compile({k: v for k, v in files.items() if not k.endswith(".cu")}, name)
+    gm = gpu.GpuModel(cm, files, host=True)
+    assert cm.dtype == np.float32
+    X0, params, U = _case(cm, name, rng)
+    t = np.linspace(0.0, 0.5, 6)
+    ok = np.arange(len(X0)) != 3
+    for method, kw in (("rk4", dict(h=0.01)), ("dop853", dict(rtol=1e-5, atol=1e-6))):
+        X, codes = gm.integrate_batch(t, X0, method=method, u=U, params=params, **kw)
+        Xc, cc = cm.integrate_batch(t, X0, method=method, u=U, params=params, **kw)
+        assert X.dtype == np.float32 and list(codes) == list(cc), (method, codes, cc)
+        assert np.array_equal(X[ok], Xc[ok], equal_nan=True), (method, np.nanmax(np.abs(X[ok] - Xc[ok])))
+
+
+def test_a_float_thread_is_the_float_batch_s_trajectory_bit_for_bit(rng):
+    """--real float: the kernels are written in NAME_REAL, so a float build's threads are its
+    float NAME_integrate_batch's trajectories bit for bit (every short example: the extended tier)."""
+    _float_thread_is_the_float_batch("double_pendulum", rng)
+
+
+@pytest.mark.extended
+@pytest.mark.parametrize("name", [e for e in SHORT_EXAMPLES if e in ONE_ARM and e != "double_pendulum"])
+def test_every_float_build_s_threads_are_its_batch_s(name, rng):
+    _float_thread_is_the_float_batch(name, rng)
+
+
 @pytest.mark.parametrize("name", [e for e in EXAMPLES if e != "cable64"])
 def test_a_thread_of_the_variational_kernel_is_integrate_variational(name, hosts, rng):
     cm, gm = hosts(name)
@@ -95,6 +122,63 @@ def test_a_thread_of_the_variational_kernel_is_integrate_variational(name, hosts
         x, F = cm.integrate_variational(0.0, t1[b], X0[b], u=None if U is None else U[b],
                                         params=None if params is None else params[b])
         assert codes[b] == 0 and np.array_equal(x1[b], x) and np.array_equal(Phi[b], F)
+
+
+def test_the_floquet_kernel_asks_what_the_cpu_asks(hosts):
+    """Per point: the equilibrium test at the same times with the same tolerance as
+    floquet.held_for_all_t, and there NAME_integrate_variational's monodromy matrix bit for bit;
+    a point with no period (T NaN) or off its equilibrium integrates nothing."""
+    from gyrochain.analysis import floquet
+
+    cm, gm = hosts("kapitza")
+    base = example_params("kapitza")
+    params = [dict(base, a=a, w=w) for a, w in ((0.01, 250.0), (0.002, 200.0), (0.01, 250.0), (0.0, 250.0))]
+    X0 = np.array([[np.pi, 0.0], [np.pi, 0.0], [1.0, 0.0], [0.0, 0.0]])
+    T = np.array([2 * np.pi / 250.0, 2 * np.pi / 200.0, 2 * np.pi / 250.0, np.nan])
+    Phi, held, codes = gm.floquet_batch(T, X0, floquet.SAMPLES, floquet.EQUILIBRIUM_TOL, params=params,
+                                        rtol=floquet.RTOL, atol=floquet.ATOL)
+    assert list(codes) == [0, 0, 0, 0] and list(held) == [1, 1, 0, 0]
+    for b in range(3):
+        assert bool(held[b]) == floquet.held_for_all_t(cm, X0[b], T[b], params[b], None)
+    for b in range(2):
+        assert np.array_equal(Phi[b], floquet.monodromy(cm, X0[b], T[b], params[b]))
+    assert np.isnan(Phi[2:]).all()
+
+
+def test_the_periods_of_many_points_are_time_period_s():
+    from gyrochain.analysis import floquet
+    from gyrochain.chainspec.errors import SpecError
+    from gyrochain.models import pipeline as pl
+
+    model = pl.derive(load_spec(ROOT / "specs" / "kapitza.toml"))
+    rng = np.random.default_rng(5)
+    params = [dict(example_params("kapitza"), w=w) for w in rng.uniform(-300.0, 300.0, 50)] + \
+             [dict(example_params("kapitza"), w=0.0), dict(example_params("kapitza"), w=np.inf)]
+    T = floquet.time_periods(model, params)
+    for p, t in zip(params, T):
+        try:
+            assert t == floquet.time_period(model, p, "floquet")[0]
+        except SpecError:
+            assert np.isnan(t)
+    assert np.isnan(T[-2:]).all() and np.isfinite(T[:-2]).all()
+
+
+@pytest.mark.parametrize("name", ["double_pendulum", "kapitza"])
+def test_the_lyapunov_kernel_is_the_qr_method_s(name, hosts, rng):
+    """The QR steps in each thread (Gram-Schmidt, twice) give lyapunov_spectrum's exponents (NumPy's
+    Householder QR on the host) to 1e-10; a NaN start its code and NaN exponents."""
+    from gyrochain.ensembles.measures import lyapunov_spectrum, lyapunov_spectrum_batch
+
+    cm, gm = hosts(name)
+    X0 = rng.uniform(-1.0, 1.0, (3, 2 * cm.n))
+    X0[1, 0] = np.nan
+    prm = example_params(name)
+    lam, codes = lyapunov_spectrum_batch(gm, X0, 2.0, 0.25, prm, rtol=1e-10, atol=1e-10)
+    ref, rc = lyapunov_spectrum(cm, X0, 2.0, 0.25, prm, rtol=1e-10, atol=1e-10)
+    assert list(codes) == list(rc) and codes[1] == getattr(cm.lib, f"{name.upper()}_NONFINITE")
+    assert np.isnan(lam[1]).all() and np.isnan(ref[1]).all()
+    assert np.max(np.abs(lam[[0, 2]] - ref[[0, 2]])) < 1e-10, np.max(np.abs(lam[[0, 2]] - ref[[0, 2]]))
+    assert np.max(np.abs(lam[[0, 2]])) > 0.1  # (a spectrum, not zeros)
 
 
 def test_the_kernels_exist_only_where_the_c_has_their_functions():
@@ -115,7 +199,7 @@ def test_nvrtc_and_ptxas_compile_the_kernels_for_sm_90(real, capsys):
     files = _files(name, real)
     ptx = gpu.compile_ptx(files[f"{name}_gpu.cu"], {f"{name}.c": files[f"{name}.c"], f"{name}.h": files[f"{name}.h"]})
     report = gpu.ptxas_report(ptx)
-    assert set(report) == {f"{name}_gpu_rk4", f"{name}_gpu_dop853", f"{name}_gpu_variational"}
+    assert set(report) == {f"{name}_gpu_{k}" for k in (*gpu.device.GPU_METHODS, *gpu.device.VARIATIONAL_KERNELS)}
     # RK4 keeps its state in registers: no spills (the figure of the throughput)
     assert report[f"{name}_gpu_rk4"]["spill_stores"] == 0, report
     with capsys.disabled():
