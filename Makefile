@@ -34,7 +34,7 @@ all: generate
 $(VENV)/.installed: pyproject.toml
 	$(PY) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q -e '.[test,sweep,view,browser,docs,robots]'
+	$(VPY) -m pip install -q -e '.[test,sweep,view,browser,docs,robots,casadi]'
 	touch $@
 
 setup: $(VENV)/.installed

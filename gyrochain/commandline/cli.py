@@ -51,12 +51,16 @@ def cmd_generate(args) -> int:
         raise SpecError("-o", "is empty; name a folder (default generated/<name>)")
     target = Path(args.output) if args.output is not None else Path("generated") / spec.name
     generate.check(spec, target, args.force, Path(args.spec), args.derivative_form, args.pdf)  # before any line: one line
+    if args.casadi:
+        from ..printers import casadi
+
+        casadi.check(spec, args.real)
     if not args.quiet:
         print(f"generating {spec.name} (n = {spec.n}) from {args.spec}", file=sys.stderr)
     result = generate.run(spec, target, Path(args.spec).name, build=not args.no_build, force=args.force,
                           qdd_form=args.qdd_form, der_form=args.derivative_form, progress=_Progress(args.quiet),
                           real=args.real, source=Path(args.spec), regressor=args.regressor, paper=args.paper,
-                          pdf=args.pdf, gpu=args.gpu)
+                          pdf=args.pdf, gpu=args.gpu, casadi=args.casadi)
     for line in generate.report(result):
         print(line)
     print(f"done in {time.perf_counter() - t0:.2f} s")

@@ -109,6 +109,9 @@ def _derive(sub) -> None:
                    "(default: the .tex only)")
     g.add_argument("--gpu", action="store_true", help="also NAME_gpu.cu: CUDA kernels of one thread per trajectory that "
                    "run NAME.c's RK4, DOP853 and variational equations (NAME_integrate_batch on a GPU; default: without)")
+    g.add_argument("--casadi", action="store_true", help="also NAME_casadi.c: the dynamics, one RK4 step, the mass "
+                   "matrix and the energy as CasADi external functions, with the exact Jacobians (optimal control; "
+                   "a spec with a control; default: without)")
     c = sub.add_parser("check", help="validate a spec without generating")
     _spec(c)
     s = sub.add_parser("simulate", help="integrate a spec with the emitted C (CSV to stdout: t, phi, phidot, energy)")

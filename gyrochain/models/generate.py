@@ -41,7 +41,7 @@ class Result:
 
 def run(spec, target: Path, label: str, build: bool = True, force: bool = False, qdd_form: str = "auto",
         der_form: str = "auto", progress=None, real: str = "double", source: Path | None = None,
-        regressor: bool = False, paper: str = "a4", pdf: bool = False, gpu: bool = False) -> Result:
+        regressor: bool = False, paper: str = "a4", pdf: bool = False, gpu: bool = False, casadi: bool = False) -> Result:
     """Derive, print and write ``spec`` into ``target`` (built unless ``build`` is False).  A
     folder this generator did not write is written into only with ``force``, and its other files
     are kept; a folder that holds ``source``, the spec file, never.  ``pdf``: the LaTeX typeset too."""
@@ -52,7 +52,8 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     try:
         try:
             files, model = pipeline.derive_and_render(spec, label, say, qdd_form=qdd_form, der_form=der_form, on_c=ahead,
-                                                      real=real, regressor=regressor, paper=paper, gpu=gpu)
+                                                      real=real, regressor=regressor, paper=paper, gpu=gpu,
+                                                      casadi=casadi)
         except pipeline.FormNotApplicable as exc:
             raise SpecError("--derivative-form", str(exc)) from None
         if build:

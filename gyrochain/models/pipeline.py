@@ -171,18 +171,21 @@ def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on
 def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_form: str = "auto",
                       der_form: str = "auto", targets=printers.ALL, loops: str = "auto", on_c=None,
                       real: str = "double", regressor: bool = False, paper: str = "a4",
-                      gpu: bool = False) -> tuple[dict[str, str], Model]:
-    """``derive`` then ``render``: the files and the model (``gpu``: NAME_gpu.cu too)."""
+                      gpu: bool = False, casadi: bool = False) -> tuple[dict[str, str], Model]:
+    """``derive`` then ``render``: the files and the model (``gpu``: NAME_gpu.cu too; ``casadi``:
+    NAME_casadi.c too)."""
     targets = (*targets, "cuda") if gpu and "cuda" not in targets else targets
+    targets = (*targets, "casadi") if casadi and "casadi" not in targets else targets
     model = derive(spec, qdd_form, der_form, latex="latex" in targets, progress=progress, loops=loops,
                    regressor=regressor)
     say = progress or (lambda msg: None)
-    say("printing " + ", ".join({"c": "C", "cuda": "CUDA", "python": "Python", "latex": "LaTeX"}[t]
+    say("printing " + ", ".join({"c": "C", "cuda": "CUDA", "casadi": "CasADi", "python": "Python", "latex": "LaTeX"}[t]
                                 for t in printers.TARGETS if t in targets))
     options = [*(("--qdd-form", qdd_form) if qdd_form != "auto" else ()),
                *(("--derivative-form", der_form) if der_form != "auto" else ()),
                *(("--regressor",) if regressor else ()),
                *(("--gpu",) if "cuda" in targets else ()),
+               *(("--casadi",) if "casadi" in targets else ()),
                *(("--paper", paper) if paper != "a4" else ())]
     return render(model, spec_label, targets, on_c, real, options, paper), model
 

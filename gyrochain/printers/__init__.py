@@ -19,14 +19,15 @@ from ..derive import integrals, loopform, world
 from ..derive.assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
                         time_dependent, variational_stack_bytes)
 from .c import CTarget
+from .casadi import CasadiTarget
 from .cuda import CudaTarget
 from .common import c_comment, environment, py_docstring
 from .latex import LatexTarget
 from .python import PythonTarget
 from .real import single_precision
 
-# in the order they are printed; "cuda" (generate --gpu) only when asked
-TARGETS = {"c": CTarget, "cuda": CudaTarget, "python": PythonTarget, "latex": LatexTarget}
+# in the order they are printed; "cuda" (generate --gpu) and "casadi" (generate --casadi) only when asked
+TARGETS = {"c": CTarget, "cuda": CudaTarget, "casadi": CasadiTarget, "python": PythonTarget, "latex": LatexTarget}
 REALS = ("double", "float")  # generate --real: the floating type of the C
 ALL = ("c", "python", "latex")  # what generate writes by default
 

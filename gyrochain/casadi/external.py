@@ -1,0 +1,139 @@
+"""``functions(spec_or_folder)``: CasADi functions of a model's NAME_casadi.c, compiled with its
+NAME.c into one shared library kept in the private model cache (by the sources' hash), loaded by
+``casadi.external``; and the parameter values p0 that go with them."""
+from __future__ import annotations
+
+import hashlib
+import re
+import shutil
+import subprocess
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..chainspec.errors import SpecError
+from ..chainspec.spec import load_spec
+from ..models import pipeline
+from ..printers import casadi as target
+
+CFLAGS = ["-O2", "-fPIC", "-shared"]
+# f's and F's second derivatives (IPOPT's exact Hessian asks for them): CasADi's finite differences
+# of the exact Jacobians, jac_NAME_f and jac_NAME_F (the first derivatives stay exact)
+SECOND_ORDER = {"der_options": {"enable_fd": True}}
+
+
+class CasadiUnavailable(RuntimeError):
+    """CasADi is not installed (the optional extra gyrochain[casadi])."""
+
+
+def _casadi():
+    try:
+        import casadi
+    except ImportError:
+        raise CasadiUnavailable("CasADi is not installed: pip install 'gyrochain[casadi]'") from None
+    return casadi
+
+
+@dataclass
+class CasadiModel:
+    """The CasADi functions of one model: ``f`` (x, u, p) -> xdot, ``F`` (x, u, p, h) -> xnext (one
+    RK4 step), ``M`` (q, p) -> M, ``E`` (x, p) -> E; ``p0`` the parameter values (the spec's
+    [values], overridden by those given), ``library`` the shared library they are loaded from."""
+
+    name: str
+    n: int
+    nu: int
+    params: list
+    p0: np.ndarray
+    library: Path
+    f: object = field(repr=False)
+    F: object = field(repr=False)
+    M: object = field(repr=False)
+    E: object = field(repr=False)
+
+
+def build_library(files: dict[str, str], name: str) -> Path:
+    """lib NAME_casadi.so from NAME_casadi.c, NAME.c and NAME.h (cc -O2), kept in the model cache."""
+    sources = (f"{name}_casadi.c", f"{name}.c", f"{name}.h")
+    key = hashlib.sha256("\0".join([*CFLAGS, *(files[k] for k in sources)]).encode()).hexdigest()[:24]
+    folder = pipeline.cache_root() / "casadi" / f"{name}-{key}"
+    lib = folder / f"lib{name}_casadi.so"
+    if lib.exists():
+        return lib
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if cc is None:
+        raise SpecError("--casadi", "needs a C compiler (cc) to build the library")
+    folder.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=folder) as work:  # (two processes at once: each its own folder)
+        work = Path(work)
+        for k in sources:
+            (work / k).write_text(files[k])
+        run = subprocess.run([cc, *CFLAGS, str(work / sources[0]), str(work / sources[1]), "-o", str(work / lib.name),
+                              "-lm"], capture_output=True, text=True)
+        if run.returncode != 0:
+            raise RuntimeError(f"{cc}: {name}_casadi.c does not compile:\n{run.stderr}")
+        (work / lib.name).replace(lib)
+    return lib
+
+
+@dataclass(frozen=True)
+class _Source:
+    files: dict
+    name: str
+    n: int
+    nu: int
+    params: list  # the parameters' names, in NAME_params' order
+    values: dict  # their values where known (a spec's [values]; a folder holds none)
+
+
+def _folder(folder: Path) -> _Source:
+    """What `generate --casadi` wrote into ``folder``: the sources, and the sizes and parameter
+    names its header declares."""
+    found = sorted(folder.glob("*_casadi.c"))
+    if not found:
+        raise SpecError(str(folder), "holds no NAME_casadi.c (write one with gyrochain generate SPEC --casadi)")
+    name = found[0].name[: -len("_casadi.c")]
+    missing = [k for k in (f"{name}.c", f"{name}.h") if not (folder / k).exists()]
+    if missing:
+        raise SpecError(str(folder), f"lacks {missing[0]} beside {name}_casadi.c")
+    files = {k: (folder / k).read_text() for k in (f"{name}_casadi.c", f"{name}.c", f"{name}.h")}
+    header = files[f"{name}.h"]
+    sizes = {k: int(v) for k, v in re.findall(rf"#define {name.upper()}_(N|NU) (\d+)\n", header)}
+    struct = re.search(rf"typedef struct {name}_params {{\n(.*?)\n}} {name}_params;", header, re.S)
+    if len(sizes) != 2 or struct is None:
+        raise SpecError(str(folder), f"{name}.h is not a header gyrochain wrote")
+    params = [f for f in re.findall(r"double (\w+);", struct.group(1)) if f != "unused_"]
+    return _Source(files, name, sizes["N"], sizes["NU"], params, {})
+
+
+def _source(spec_or_folder) -> _Source:
+    """The sources of a spec (object or file: derived and printed here) or of a generated folder."""
+    if isinstance(spec_or_folder, (str, Path)) and Path(spec_or_folder).is_dir():
+        return _folder(Path(spec_or_folder))
+    spec = load_spec(spec_or_folder) if isinstance(spec_or_folder, (str, Path)) else spec_or_folder
+    target.check(spec)
+    files, _ = pipeline.derive_and_render(spec, targets=("c", "casadi"))  # (the target refuses a model depending on t)
+    return _Source(files, spec.name, spec.n, len(spec.controls), [str(p) for p in spec.params],
+                   dict(getattr(spec, "values", None) or {}))
+
+
+def functions(spec_or_folder, params: dict | None = None) -> CasadiModel:
+    """The CasADi functions of a spec (a ChainSpec or a spec file: derived, printed and built here)
+    or of a folder ``generate --casadi`` wrote; ``params`` override the spec's [values] in ``p0``."""
+    casadi = _casadi()
+    src = _source(spec_or_folder)
+    given = dict(params or {})
+    unknown = [k for k in given if k not in src.params]
+    if unknown:
+        raise SpecError(f"--param {unknown[0]}", "unknown parameter (the model's are: " + (", ".join(src.params) or "none") + ")")
+    values = {**src.values, **given}
+    missing = [k for k in src.params if k not in values]
+    if missing:
+        raise SpecError("--param", "no value for " + ", ".join(missing) + " (give params={...}, or a [values] table in "
+                                   "the spec: a generated folder holds no values)")
+    lib = build_library(src.files, src.name)
+    made = {k: casadi.external(f"{src.name}_{k}", str(lib), SECOND_ORDER if k in "fF" else {}) for k in ("f", "F", "M", "E")}
+    return CasadiModel(src.name, src.n, src.nu, list(src.params), np.array([float(values[k]) for k in src.params]), lib,
+                       **made)

@@ -1,0 +1,113 @@
+"""The CasADi target (``generate --casadi``): NAME_casadi.c, the model as CasADi external functions
+(CasADi's C API for ``casadi.external``), with the exact Jacobians of the emitted derivatives:
+
+- ``NAME_f(x, u, p) -> xdot`` the continuous dynamics (NAME_rhs), and ``jac_NAME_f`` its Jacobian
+  with respect to x and u, with the true sparsity (the entries the forward-mode derivative
+  leaves structurally zero, as a cyclic coordinate's column, are not stored);
+- ``NAME_F(x, u, p, h) -> xnext`` one classical RK4 step of the control held over it, and
+  ``jac_NAME_F`` its Jacobian with respect to x, u and h by the chain rule through the four stages;
+- ``NAME_M(q, p) -> M`` the mass matrix and ``NAME_E(x, p) -> E`` the energy (23), without
+  derivatives.
+
+The parameters p (the spec's symbolic parameters, in their order) are an input CasADi does not
+differentiate (NAME_f_diff_in): they are the problem's data, not its unknowns.  The target is
+written for autonomous models with a control, up to CASADI_MAX_N joints, in double (``check``)."""
+from __future__ import annotations
+
+from ..chainspec.errors import SpecError
+from ..derive import derivatives
+
+CASADI_MAX_N = 16  # the RK4 step's Jacobian keeps three 2n x (3n + nu + 1) arrays on the stack
+
+
+def structure(model) -> list[list[bool]]:
+    """``nz[k][j]``: whether ∂φ̈ᵏ⁺¹/∂(direction j) can be nonzero (directions φ, φ̇, u): the
+    forward-mode derivative's structural zeros, or every entry where the derivative has another
+    form (the world form or one generic tangent: a superset of the true pattern)."""
+    spec = model.spec
+    ndir = 2 * spec.n + len(spec.controls)
+    if isinstance(model.der, derivatives.Derivatives):
+        return [[not e.is_zero() for e in row] for row in model.der.dqdd]
+    return [[True] * ndir for _ in range(spec.n)]
+
+
+def jacobian_of_f(model) -> dict:
+    """The CCS pattern of ∂f/∂x and ∂f/∂u (f = (φ̇, φ̈)) and, in the same order, the C expression
+    of each stored entry (in the blocks Dq, Dv, Du of NAME_qdd_derivatives)."""
+    n, nu = model.spec.n, len(model.spec.controls)
+    nz = structure(model)
+    blocks = {}
+    for key, ncol, entry in (("x", 2 * n, lambda k, j: (f"Dq[{k * n + j}]" if j < n else f"Dv[{k * n + j - n}]")),
+                             ("u", nu, lambda k, j: f"Du[{k * nu + j}]")):
+        colind, rows, values = [0], [], []
+        for j in range(ncol):
+            if key == "x" and j >= n:  # d(phidot)/d(phidot): the identity
+                rows.append(j - n)
+                values.append("1.0")
+            for k in range(n):
+                if nz[k][j if key == "x" else 2 * n + j]:
+                    rows.append(n + k)
+                    values.append(entry(k, j))
+            colind.append(len(rows))
+        blocks[key] = dict(sparsity=[2 * n, ncol, *colind, *rows], values=values)
+    return blocks
+
+
+def check(spec, real: str = "double", time_dependent: bool = False) -> None:
+    """SpecError where the CasADi target cannot be written for ``spec``."""
+    if not spec.controls:
+        raise SpecError("--casadi", "the spec has no control torque (a [[body]] with control = true): an optimal "
+                                    "control problem needs one")
+    if spec.n > CASADI_MAX_N:
+        raise SpecError("--casadi", f"is written up to n = {CASADI_MAX_N} joints (n = {spec.n})")
+    if real != "double":
+        raise SpecError("--casadi", "CasADi computes in double: leave out --real float")
+    if time_dependent:
+        raise SpecError("--casadi", "the model depends on t (a moving platform or a time-varying load): its "
+                                    "external functions are written for autonomous models")
+
+
+class CasadiTarget:
+    """Lays out NAME_casadi.c (the template holds the C; the patterns and entries are decided here)."""
+
+    suffixes = ("_casadi.c",)
+
+    def files(self, model, context: dict, env) -> dict[str, str]:
+        name = model.spec.name
+        check(model.spec, context["real"], context["time_dependent"])
+        n, nu = model.spec.n, len(model.spec.controls)
+        data = dict(context, jac_f=jacobian_of_f(model), casadi=signatures(model), np=len(model.spec.params), nu=nu,
+                    cols=2 * n + nu + 1)
+        return {f"{name}_casadi.c": env.get_template("model_casadi.c.jinja").render(data)}
+
+
+def _dense(nrow: int, ncol: int) -> list[int]:
+    return [nrow, ncol, 1]
+
+
+def _empty(nrow: int, ncol: int) -> list[int]:
+    return [nrow, ncol, *([0] * (ncol + 1))]
+
+
+def signatures(model) -> dict:
+    """Every external function's inputs and outputs: name, sparsity (CasADi's compressed form) and
+    whether CasADi may differentiate with respect to it (x, u and h: yes; p: no)."""
+    n, nu, np_ = model.spec.n, len(model.spec.controls), len(model.spec.params)
+    d = 2 * n
+    arg = lambda name, sp, diff=1: dict(name=name, sparsity=sp, diff=diff)  # noqa: E731
+    f_in = [arg("x", _dense(d, 1)), arg("u", _dense(nu, 1)), arg("p", _dense(np_, 1), 0)]
+    F_in = [*f_in, arg("h", _dense(1, 1))]
+    jac = jacobian_of_f(model)
+    out = dict(
+        f_in=f_in, f_out=[arg("xdot", _dense(d, 1))],
+        jac_f_in=[*f_in, arg("out_xdot", _empty(d, 1), 0)],
+        jac_f_out=[arg("jac_xdot_x", jac["x"]["sparsity"]), arg("jac_xdot_u", jac["u"]["sparsity"]),
+                   arg("jac_xdot_p", _empty(d, np_))],
+        F_in=F_in, F_out=[arg("xnext", _dense(d, 1))],
+        jac_F_in=[*F_in, arg("out_xnext", _empty(d, 1), 0)],
+        jac_F_out=[arg("jac_xnext_x", _dense(d, d)), arg("jac_xnext_u", _dense(d, nu)),
+                   arg("jac_xnext_p", _empty(d, np_)), arg("jac_xnext_h", _dense(d, 1))],
+        M_in=[arg("q", _dense(n, 1)), arg("p", _dense(np_, 1), 0)], M_out=[arg("M", _dense(n, n))],
+        E_in=[arg("x", _dense(d, 1)), arg("p", _dense(np_, 1), 0)], E_out=[arg("E", _dense(1, 1))],
+    )
+    return out

@@ -1,0 +1,274 @@
+"""`generate --casadi`: the model as CasADi external functions.  f and its Jacobian equal NAME_rhs
+and NAME_linearize for every example with a control, the Jacobian is CasADi's own finite
+differences' and has the true sparsity, the RK4 step's Jacobian is its central differences', and
+the Furuta pendulum's f equals an independent model typed from the literature in CasADi SX
+(Cazzolato & Prime 2011): so does its swing-up's optimum.  Bad input is one line."""
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from gyrochain.spec import load_spec
+from conftest import EXAMPLES, ROOT, example_params
+
+casadi = pytest.importorskip("casadi", reason="CasADi is not installed (the test extra installs gyrochain[casadi])")
+from gyrochain import casadi as gc  # noqa: E402
+
+CONTROLLED = [e for e in EXAMPLES if load_spec(ROOT / "specs" / f"{e}.toml").controls]
+
+
+@pytest.fixture(scope="module")
+def models(example):
+    built = {}
+
+    def get(name):
+        if name not in built:
+            built[name] = (gc.functions(ROOT / "specs" / f"{name}.toml"), example(name).c)
+        return built[name]
+    return get
+
+
+def _points(m, rng, k=100):
+    X = np.concatenate([rng.uniform(-np.pi, np.pi, (k, m.n)), rng.normal(size=(k, m.n))], axis=1)
+    return X, rng.normal(size=(k, m.nu))
+
+
+@pytest.mark.parametrize("name", CONTROLLED)
+def test_f_and_its_jacobian_are_rhs_and_linearize(name, models, rng):
+    m, cm = models(name)
+    jac = m.f.jacobian()
+    prm = example_params(name)
+    worst = 0.0
+    for x, u in zip(*_points(m, rng)):
+        xdot = np.asarray(m.f(x, u, m.p0)).ravel()
+        ref = cm.rhs(0.0, x, u, prm)
+        A, B = cm.linearize(x, u, prm)
+        Jx, Ju, Jp = (np.asarray(casadi.DM(b).full()) for b in jac(x, u, m.p0, xdot))
+        scale = max(1.0, np.max(np.abs(A)), np.max(np.abs(B)))
+        worst = max(worst, np.max(np.abs(xdot - ref)) / max(1.0, np.max(np.abs(ref))),
+                    np.max(np.abs(Jx - A)) / scale, np.max(np.abs(Ju - B)) / scale)
+        assert Jp.shape == (2 * m.n, len(m.params)) and not np.any(Jp)
+    assert worst <= 1e-14, worst
+
+
+def test_the_jacobian_is_casadi_s_finite_differences_and_has_the_true_sparsity(models, rng):
+    """CasADi's own central differences of f (its jacobian of the external without ours) agree
+    to 1e-6; the stored pattern leaves out exactly the columns the derivative has structurally
+    zero (the Furuta arm's angle, which no force depends on)."""
+    m, _ = models("furuta")
+    fd = casadi.external("furuta_f", str(m.library), dict(enable_fd=True, enable_jacobian=False, enable_forward=False,
+                                                        enable_reverse=False, fd_method="central"))
+    x, u = (casadi.SX.sym(k, d) for k, d in (("x", 4), ("u", 1)))
+    ours = casadi.Function("J", [x, u], [casadi.jacobian(m.f(x, u, m.p0), x)])
+    theirs = casadi.Function("J", [x, u], [casadi.jacobian(fd(x, u, m.p0), x)])
+    for xv, uv in zip(*_points(m, rng, 20)):
+        a, b = ours(xv, uv).full(), theirs(xv, uv).full()
+        assert np.max(np.abs(a - b)) < 1e-6 * max(1.0, np.max(np.abs(a))), np.max(np.abs(a - b))
+    sp = m.f.jacobian().sparsity_out(0)
+    stored = set(zip(sp.row(), sp.get_col()))
+    assert stored == {(2, 1), (3, 1), (0, 2), (2, 2), (3, 2), (1, 3), (2, 3), (3, 3)}, sorted(stored)
+
+
+@pytest.mark.parametrize("name", ["furuta", "ur5"])
+def test_the_rk4_step_and_its_jacobian(name, models, rng):
+    m, cm = models(name)
+    prm = example_params(name)
+    jac = m.F.jacobian()
+    h, eps = 0.01, 1e-6
+    for x, u in zip(*_points(m, rng, 5)):
+        k1 = cm.rhs(0, x, u, prm)
+        k2 = cm.rhs(0, x + h / 2 * k1, u, prm)
+        k3 = cm.rhs(0, x + h / 2 * k2, u, prm)
+        k4 = cm.rhs(0, x + h * k3, u, prm)
+        xn = np.asarray(m.F(x, u, m.p0, h)).ravel()
+        assert np.max(np.abs(xn - (x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)))) < 1e-14 * max(1.0, np.max(np.abs(xn)))
+        Jx, Ju, Jp, Jh = (np.asarray(casadi.DM(b).full()) for b in jac(x, u, m.p0, h, xn))
+
+        def step(dx=0.0, du=0.0, dh=0.0):
+            return np.asarray(m.F(x + dx, u + du, m.p0, h + dh)).ravel()
+        fd = [(step(dx=e) - step(dx=-e)) / (2 * eps) for e in np.eye(2 * m.n) * eps]
+        fd += [(step(du=e) - step(du=-e)) / (2 * eps) for e in np.eye(m.nu) * eps]
+        fd += [(step(dh=eps) - step(dh=-eps)) / (2 * eps)]
+        J = np.hstack([Jx, Ju, Jh])
+        assert J.shape == (2 * m.n, 2 * m.n + m.nu + 1) and not np.any(Jp)
+        err = np.max(np.abs(np.array(fd).T - J)) / max(1.0, np.max(np.abs(J)))
+        assert err < 1e-7, (name, err)
+
+
+# --------------------------------------------------------------------------- an independent model
+def cazzolato_prime(spec_values=None):
+    """The Furuta pendulum of specs/furuta.toml typed into CasADi SX from the literature: Cazzolato &
+    Prime, "On the dynamics of the Furuta pendulum", J. Control Sci. Eng. 2011, the full model of
+    principal inertias without friction, with the arm's angle theta1 (positive the other way from
+    this tool's phi1, so u = -tau1) and the pendulum's theta2 = phi2 (0 hanging).  The spec's inertias
+    about the hinge points A give the paper's: the arm about its vertical axis J0 = A1_11 + m2 L1^2, the
+    pendulum about the two axes across it J2 = A2_11 = A2_22 and about its length J2x = A2_33."""
+    g, m2, L1, l2 = 9.81, 0.1, 0.2, 0.15
+    J0, J2, J2x = 0.0042 + m2 * L1 ** 2, 0.003, 0.00001
+    x, u = casadi.SX.sym("x", 4), casadi.SX.sym("u", 1)
+    th2, dth1, dth2, tau1 = x[1], -x[2], x[3], -u[0]
+    s, c = casadi.sin(th2), casadi.cos(th2)
+    M = casadi.vertcat(casadi.horzcat(J0 + J2 * s ** 2 + J2x * c ** 2, m2 * L1 * l2 * c),
+                       casadi.horzcat(m2 * L1 * l2 * c, J2))
+    dM11 = (J2 - J2x) * 2 * s * c  # d M11 / d theta2
+    rhs = casadi.vertcat(tau1 - dM11 * dth1 * dth2 + m2 * L1 * l2 * s * dth2 ** 2,
+                         0.5 * dM11 * dth1 ** 2 - g * m2 * l2 * s)
+    dd = casadi.solve(M, rhs)
+    xdot = casadi.vertcat(x[2], x[3], -dd[0], dd[1])
+    return casadi.Function("furuta_sx", [x, u], [xdot])
+
+
+def test_f_is_the_literature_s_furuta_pendulum(models, rng):
+    """Our external f and its Jacobian equal the SX model of Cazzolato & Prime at random points
+    (to 1e-13 of their scale)."""
+    m, _ = models("furuta")
+    sx = cazzolato_prime()
+    x, u = casadi.SX.sym("x", 4), casadi.SX.sym("u", 1)
+    J_sx = casadi.Function("J", [x, u], [casadi.jacobian(sx(x, u), casadi.vertcat(x, u))])
+    J_us = casadi.Function("J", [x, u], [casadi.jacobian(m.f(x, u, m.p0), casadi.vertcat(x, u))])
+    worst = 0.0
+    for xv, uv in zip(*_points(m, rng)):
+        a, b = np.asarray(m.f(xv, uv, m.p0)).ravel(), np.asarray(sx(xv, uv)).ravel()
+        A, B = J_us(xv, uv).full(), J_sx(xv, uv).full()
+        worst = max(worst, np.max(np.abs(a - b)) / max(1.0, np.max(np.abs(b))), np.max(np.abs(A - B)) / max(1.0, np.max(np.abs(B))))
+    assert worst < 1e-13, worst
+
+
+def swing_up(step, N: int = 60, T: float = 1.5):
+    """The Furuta pendulum from hanging to upright in T seconds at least effort (the integral of
+    u^2), by direct multiple shooting over N steps of ``step(x, u, h)``, IPOPT with exact Hessians."""
+    h = T / N
+    opti = casadi.Opti()
+    X, U = opti.variable(4, N + 1), opti.variable(1, N)
+    opti.minimize(h * casadi.sumsqr(U))
+    opti.subject_to(X[:, 0] == 0)
+    opti.subject_to(X[1:, N] == casadi.DM([np.pi, 0.0, 0.0]))
+    for k in range(N):
+        opti.subject_to(X[:, k + 1] == step(X[:, k], U[:, k], h))
+    opti.set_initial(X[1, :], np.linspace(0.0, np.pi, N + 1))
+    opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "tol": 1e-12, "sb": "yes"})
+    sol = opti.solve()
+    return sol.value(opti.f), sol.value(X), sol.value(U), sol.stats()["iter_count"]
+
+
+def test_the_swing_up_s_optimum_is_the_literature_model_s(models):
+    """The same optimal control problem over our RK4 step (its Hessian: CasADi's differences of our
+    exact Jacobian) and over the SX model's RK4 (CasADi's exact Hessian) from the same initial
+    guess: the same cost to 1e-8, the same torques and motion to 1e-6."""
+    m, _ = models("furuta")
+    sx = cazzolato_prime()
+
+    def rk4(x, u, h):
+        k1 = sx(x, u)
+        k2 = sx(x + h / 2 * k1, u)
+        k3 = sx(x + h / 2 * k2, u)
+        return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + sx(x + h * k3, u))
+    J1, X1, U1, it1 = swing_up(lambda x, u, h: m.F(x, u, m.p0, h))
+    J2, X2, U2, it2 = swing_up(rk4)
+    print(f"\nswing-up: cost {J1!r} (ours, {it1} iterations), {J2!r} (SX, {it2} iterations)")
+    assert abs(J1 - J2) <= 1e-8 * abs(J2)
+    assert np.max(np.abs(X1 - X2)) < 1e-6 and np.max(np.abs(U1 - U2)) < 1e-6 * max(1.0, np.max(np.abs(U2)))
+
+
+# --------------------------------------------------------------------------- bad input
+def _generate(tmp_path, spec, *extra):
+    out = tmp_path / "out"
+    res = subprocess.run([sys.executable, "-m", "gyrochain", "generate", str(spec), "--casadi", "-q", "-o", str(out), *extra],
+                         capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    return res, out
+
+
+def test_generate_casadi_refuses_in_one_line_and_writes_nothing(tmp_path):
+    timed = tmp_path / "driven.toml"  # Kapitza's pendulum with a torque: the model depends on t
+    timed.write_text((ROOT / "specs" / "kapitza.toml").read_text().replace("m = 0.1\n", "m = 0.1\ncontrol = true\n", 1))
+    for spec, extra, why in ((ROOT / "specs" / "double_pendulum.toml", (), "no control torque"),
+                             (ROOT / "specs" / "furuta.toml", ("--real", "float"), "double"),
+                             (timed, (), "depends on t")):
+        res, out = _generate(tmp_path, spec, *extra)
+        assert res.returncode == 2 and res.stderr.count("\n") == 1, res.stderr
+        assert res.stderr.startswith("error: --casadi:") and why in res.stderr, res.stderr
+        assert not out.exists()
+
+
+def test_a_folder_generate_wrote_gives_the_same_functions(tmp_path, models):
+    res, out = _generate(tmp_path, ROOT / "specs" / "furuta.toml", "--no-build")
+    assert res.returncode == 0, res.stderr
+    assert (out / "furuta_casadi.c").exists()
+    m, _ = models("furuta")
+    mf = gc.functions(out)
+    assert mf.library == m.library  # the same sources: the same library
+    from gyrochain.chainspec.errors import SpecError
+
+    with pytest.raises(SpecError, match="no NAME_casadi.c"):
+        gc.functions(tmp_path)
+
+
+def test_a_parameter_without_a_value_and_no_casadi_are_one_line(tmp_path, monkeypatch):
+    from gyrochain.chainspec.errors import SpecError
+
+    text = (ROOT / "specs" / "furuta_sym.toml").read_text()
+    bare = tmp_path / "bare.toml"
+    bare.write_text(text.split("[values]")[0])
+    with pytest.raises(SpecError, match="no value for") as err:
+        gc.functions(bare)
+    assert "\n" not in str(err.value)
+    m = gc.functions(bare, params=dict(zip(["g0", "m1", "r", "J1", "J1z", "m2", "l", "J2", "J2z"],
+                                           [9.81, 0.3, 0.2, 0.004, 0.0002, 0.1, 0.15, 0.00075, 1e-5])))
+    assert list(m.params) == ["g0", "m1", "r", "J1", "J1z", "m2", "l", "J2", "J2z"] and m.p0[0] == 9.81
+    monkeypatch.setitem(sys.modules, "casadi", None)  # as where CasADi is not installed
+    with pytest.raises(gc.CasadiUnavailable, match=r"pip install 'gyrochain\[casadi\]'"):
+        gc.functions(ROOT / "specs" / "furuta.toml")
+
+
+DRIVER = r"""
+#include <math.h>
+#include <stdio.h>
+#define casadi_int long long int
+int NAME_f(const double **arg, double **res, casadi_int *iw, double *w, int mem);
+int jac_NAME_f(const double **arg, double **res, casadi_int *iw, double *w, int mem);
+int NAME_F(const double **arg, double **res, casadi_int *iw, double *w, int mem);
+int jac_NAME_F(const double **arg, double **res, casadi_int *iw, double *w, int mem);
+const casadi_int *jac_NAME_f_sparsity_out(casadi_int i);
+int main(void)
+{
+    double x[2 * DRV_N], u[DRV_NU], h = 0.01, xdot[2 * DRV_N], xn[2 * DRV_N], Jx[4 * DRV_N * DRV_N], Ju[2 * DRV_N * DRV_NU], Jh[2 * DRV_N], Jfx[4 * DRV_N * DRV_N], Jfu[2 * DRV_N * DRV_NU];
+    const double *a[5] = {x, u, 0, &h, 0};  /* p NULL: CasADi's zero input */
+    double *r1[1] = {xdot}, *r2[1] = {xn}, *rj[4] = {Jx, Ju, 0, Jh}, *rf[3] = {Jfx, Jfu, 0};
+    int i, bad = 0;
+    for (i = 0; i < 2 * DRV_N; ++i) x[i] = 0.1 * (i + 1);
+    for (i = 0; i < DRV_NU; ++i) u[i] = 0.05 * (i + 1);
+    bad |= NAME_f(a, r1, 0, 0, 0) | NAME_F(a, r2, 0, 0, 0) | jac_NAME_F(a, rj, 0, 0, 0) | jac_NAME_f(a, rf, 0, 0, 0);
+    for (i = 0; i < 2 * DRV_N; ++i) bad |= !isfinite(xdot[i]) || !isfinite(xn[i]) || !isfinite(Jh[i]);
+    for (i = 0; i < 4 * DRV_N * DRV_N; ++i) bad |= !isfinite(Jx[i]);
+    a[0] = 0;  /* x all zeros, given as NULL */
+    bad |= NAME_f(a, r1, 0, 0, 0);
+    printf("%d %lld\n", bad, jac_NAME_f_sparsity_out(0)[2 + 2 * DRV_N]);
+    return bad;
+}
+"""
+
+
+@pytest.mark.parametrize("name", ["furuta", "ur5"])
+def test_the_c_is_strict_c99_and_clean_under_the_sanitizers(name, models, tmp_path):
+    """NAME_casadi.c by C alone, as acados or a user's own solver calls it (no CasADi): -std=c99
+    -Wall -Wextra -Wpedantic -Werror, and every function run under ASan and UBSan, a NULL input
+    read as zeros."""
+    from gyrochain.models import pipeline
+
+    files, _ = pipeline.derive_and_render(load_spec(ROOT / "specs" / f"{name}.toml"), targets=("c", "casadi"))
+    for k in (f"{name}_casadi.c", f"{name}.c", f"{name}.h"):
+        (tmp_path / k).write_text(files[k])
+    m, _ = models(name)
+    (tmp_path / "main.c").write_text(DRIVER.replace("NAME", name))
+    res = subprocess.run(["cc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-g", "-O1",
+                          "-fsanitize=address,undefined", "-fno-sanitize-recover=all", f"-DDRV_N={m.n}", f"-DDRV_NU={m.nu}",
+                          "main.c", f"{name}_casadi.c", f"{name}.c", "-lm", "-o", "run"], cwd=tmp_path, capture_output=True,
+                         text=True)
+    assert res.returncode == 0, res.stderr
+    res = subprocess.run(["./run"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert res.returncode == 0 and not res.stderr, (res.stdout, res.stderr)
+    nnz = int(res.stdout.split()[1])
+    assert 0 < nnz < 4 * m.n * m.n  # the stored entries of df/dx: fewer than dense
