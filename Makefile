@@ -74,7 +74,7 @@ fuzz: setup
 	FUZZ_SECONDS=$(FUZZ_SECONDS) $(VPY) -m pytest -q -s tests/tools/test_fuzz.py -k fuzz_for_a_while
 
 $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
-	$(VPY) -m pip install -q -e '.[test,plot,sweep,view,rollout]'
+	$(VPY) -m pip install -q -e '.[test,plot,sweep,view,rollout,casadi]'
 	touch $@
 
 plot: $(VENV)/.plot-installed
@@ -83,6 +83,7 @@ plot: $(VENV)/.plot-installed
 	$(VPY) examples/plot_gimbal.py docs/img/gimbal_quadrature.png
 	$(VPY) -m gyrochain generate -q specs/furuta.toml >/dev/null
 	$(VPY) examples/furuta_lqr.py docs/img/furuta_lqr.png
+	$(VPY) examples/furuta_swing_up.py docs/img/furuta_swing_up.png
 	rm -rf build/flip_map.zarr
 	$(VPY) -m gyrochain sweep specs/double_pendulum.toml --vary link1=-3.14:3.14:300 --vary link2=-3.14:3.14:300 \
 		--t1 10 --measure flip_time --device auto -q -o build/flip_map.zarr
