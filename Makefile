@@ -127,6 +127,7 @@ bench-speed: bench-setup
 	$(VPY) bench/derivatives.py
 	$(VPY) bench/robots.py
 	$(VPY) bench/releases.py --instructions
+	$(VPY) bench/casadi_ocp.py
 
 # the LaTeX typeset by LuaLaTeX (Debian: texlive-luatex, texlive-latex-recommended, fonts-dejavu-core), two passes
 # for the tables' widths; PAPER=letter for US letter

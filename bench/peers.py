@@ -15,14 +15,23 @@ def _R2(theta: float) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------- CasADi
-def casadi_aba(ch, name: str):
+def casadi_aba(ch, name: str, torques: bool = False):
     """Featherstone's articulated-body algorithm in CasADi SX (spatial 6-vectors [w; v],
-    numbers folded in), returned as a casadi Function x -> qdd."""
+    numbers folded in), returned as a casadi Function x -> qdd; with ``torques``, (x, u) -> qdd,
+    u the torques of the controlled joints and the joints' viscous damping (a chain with no other
+    general term: no springs, loads or moving platform)."""
     import casadi as ca
 
     n = ch.n
     x = ca.SX.sym("x", 2 * n)
     q, qd = x[:n], x[n:]
+    tau = [0] * n
+    if torques:
+        uc = ca.SX.sym("u", len(ch.controls))
+        for i, joint in enumerate(ch.controls):
+            tau[joint - 1] = uc[i]
+        if ch.general is not None:
+            tau = [tau[k] - float(ch.general.damping[k]) * qd[k] for k in range(n)]
 
     def skew(v):
         return ca.vertcat(ca.horzcat(0, -v[2], v[1]), ca.horzcat(v[2], 0, -v[0]), ca.horzcat(-v[1], v[0], 0))
@@ -56,7 +65,7 @@ def casadi_aba(ch, name: str):
     for k in range(n - 1, -1, -1):
         U[k] = IA[k][:, 0]
         D[k] = U[k][0]
-        u[k] = -pA[k][0]
+        u[k] = tau[k] - pA[k][0]
         if k > 0:
             Ia = IA[k] - ca.mtimes(U[k], U[k].T) / D[k]
             pa = pA[k] + ca.mtimes(Ia, c[k]) + U[k] * u[k] / D[k]
@@ -69,7 +78,7 @@ def casadi_aba(ch, name: str):
         a = ca.mtimes(X[k], a0 if k == 0 else a) + c[k]
         qdd[k] = (u[k] - ca.mtimes(U[k].T, a)) / D[k]
         a = a + S * qdd[k]
-    return ca.Function(name, [x], [ca.vertcat(*qdd)], {"cse": True})
+    return ca.Function(name, [x, uc] if torques else [x], [ca.vertcat(*qdd)], {"cse": True})
 
 
 def skew_np(v) -> np.ndarray:

@@ -188,6 +188,14 @@ def _lanes(rs):
     return header, body
 
 
+def _casadi_ocp(rs):
+    header = ["problem", "model", "IPOPT iterations", "ms per iteration", "constraints (µs)", "their Jacobian (µs)",
+              "Lagrangian's Hessian (µs)", "per iteration, to CasADi SX", "setup before IPOPT (s)"]
+    body = [[r["problem"], r["model"], r["iterations"], r["per_iteration_ms"], r["constraints_us"], r["jacobian_us"],
+             r["hessian_us"], f"{num(r, 'ratio'):.2f}×", r["setup_s"]] for r in rs]
+    return header, body
+
+
 def _measured(f: str, flags: str | None = None) -> str:
     """Machine, date and flags of a file of bench/results/, for a row of the summary; ``flags`` where
     the row's are not the file's (a file whose rows name their own)."""
@@ -243,6 +251,7 @@ TABLES: dict[str, Table] = {
     "loops": Table(("loops.csv",), _loops),
     "ensemble": Table(("ensemble.csv",), _ensemble),
     "lanes": Table(("lanes.csv",), _lanes),
+    "casadi-ocp": Table(("casadi_ocp.csv",), _casadi_ocp),
 }
 
 _BLOCK = re.compile(r"(<!-- table: ([\w-]+) -->\n)(.*?)(<!-- /table -->)", re.S)

@@ -20,8 +20,8 @@ from ..printers import casadi as target
 
 CFLAGS = ["-O2", "-fPIC", "-shared"]
 # f's and F's second derivatives (IPOPT's exact Hessian asks for them): CasADi's finite differences
-# of the exact Jacobians, jac_NAME_f and jac_NAME_F (the first derivatives stay exact)
-SECOND_ORDER = {"der_options": {"enable_fd": True}}
+# (forward differences) of the exact Jacobians, jac_NAME_f and jac_NAME_F (the first derivatives stay exact)
+SECOND_ORDER = {"der_options": {"enable_fd": True, "fd_method": "forward"}}
 
 
 class CasadiUnavailable(RuntimeError):
