@@ -133,6 +133,9 @@ def functions(spec_or_folder, params: dict | None = None) -> CasadiModel:
     if missing:
         raise SpecError("--param", "no value for " + ", ".join(missing) + " (give params={...}, or a [values] table in "
                                    "the spec: a generated folder holds no values)")
+    bad = [k for k in src.params if not np.isfinite(float(values[k]))]
+    if bad:
+        raise SpecError(f"--param {bad[0]}", f"{values[bad[0]]} is not a finite number")
     lib = build_library(src.files, src.name)
     made = {k: casadi.external(f"{src.name}_{k}", str(lib), SECOND_ORDER if k in "fF" else {}) for k in ("f", "F", "M", "E")}
     return CasadiModel(src.name, src.n, src.nu, list(src.params), np.array([float(values[k]) for k in src.params]), lib,

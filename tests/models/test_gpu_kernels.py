@@ -60,7 +60,7 @@ def test_the_host_form_compiles_without_a_warning(tmp_path):
     assert res.returncode == 0 and not res.stderr, res.stderr
 
 
-@pytest.mark.parametrize("name", EXAMPLES)
+@pytest.mark.parametrize("name", [pytest.param(e, marks=pytest.mark.extended) if e == "cable64" else e for e in EXAMPLES])
 def test_a_thread_is_the_batch_s_trajectory_bit_for_bit(name, hosts, rng):
     cm, gm = hosts(name)
     X0, params, U = _case(cm, name, rng)
@@ -192,6 +192,7 @@ def _nvrtc_or_skip():
         pytest.skip("NVRTC or ptxas is not installed (the test extra installs nvidia-cuda-nvrtc-cu12 and nvidia-cuda-nvcc-cu12)")
 
 
+@pytest.mark.extended  # (ptxas on the spilling variational kernels: 13 s each)
 @pytest.mark.parametrize("real", ["double", "float"])
 def test_nvrtc_and_ptxas_compile_the_kernels_for_sm_90(real, capsys):
     _nvrtc_or_skip()

@@ -18,6 +18,8 @@ casadi = pytest.importorskip("casadi", reason="CasADi is not installed (the test
 from gyrochain import casadi as gc  # noqa: E402
 
 CONTROLLED = [e for e in EXAMPLES if load_spec(ROOT / "specs" / f"{e}.toml").controls]
+# make test checks two of them (a planar arm and a 6-joint arm); the rest, a library build each, are the extended tier's
+EVERY_CONTROLLED = [e if e in ("furuta", "ur5") else pytest.param(e, marks=pytest.mark.extended) for e in CONTROLLED]
 
 
 @pytest.fixture(scope="module")
@@ -36,7 +38,7 @@ def _points(m, rng, k=100):
     return X, rng.normal(size=(k, m.nu))
 
 
-@pytest.mark.parametrize("name", CONTROLLED)
+@pytest.mark.parametrize("name", EVERY_CONTROLLED)
 def test_f_and_its_jacobian_are_rhs_and_linearize(name, models, rng):
     m, cm = models(name)
     jac = m.f.jacobian()
@@ -54,19 +56,21 @@ def test_f_and_its_jacobian_are_rhs_and_linearize(name, models, rng):
     assert worst <= 1e-14, worst
 
 
-@pytest.mark.parametrize("name", CONTROLLED)
+@pytest.mark.parametrize("name", EVERY_CONTROLLED)
 def test_the_jacobian_is_casadi_s_finite_differences(name, models, rng):
     """CasADi's own central differences of f (the external loaded without our Jacobian) agree with
     our Jacobian in x and u to 1e-6 of its scale."""
     m, _ = models(name)
     fd = casadi.external(f"{name}_f", str(m.library), dict(enable_fd=True, enable_jacobian=False, enable_forward=False,
-                                                          enable_reverse=False, fd_method="central"))
-    x, u = casadi.SX.sym("x", 2 * m.n), casadi.SX.sym("u", m.nu)
-    xu = casadi.vertcat(x, u)
-    ours = casadi.Function("J", [x, u], [casadi.jacobian(m.f(x, u, m.p0), xu)])
-    theirs = casadi.Function("J", [x, u], [casadi.jacobian(fd(x, u, m.p0), xu)])
+                                                          enable_reverse=False, fd_method="central")).forward(1)
+    jac = m.f.jacobian()
+    d = 2 * m.n
     for xv, uv in zip(*_points(m, rng, 10)):
-        a, b = ours(xv, uv).full(), theirs(xv, uv).full()
+        xdot = np.asarray(m.f(xv, uv, m.p0)).ravel()
+        a = np.hstack([casadi.DM(b).full() for b in jac(xv, uv, m.p0, xdot)[:2]])
+        seeds = np.eye(d + m.nu)  # one forward direction of CasADi's differences per column of (x, u)
+        b = np.column_stack([np.asarray(fd(xv, uv, m.p0, xdot, e[:d], e[d:], np.zeros(len(m.params)))).ravel()
+                             for e in seeds])
         assert np.max(np.abs(a - b)) < 1e-6 * max(1.0, np.max(np.abs(a))), np.max(np.abs(a - b))
 
 
@@ -225,6 +229,10 @@ def test_a_parameter_without_a_value_and_no_casadi_are_one_line(tmp_path, monkey
     m = gc.functions(bare, params=dict(zip(["g0", "m1", "r", "J1", "J1z", "m2", "l", "J2", "J2z"],
                                            [9.81, 0.3, 0.2, 0.004, 0.0002, 0.1, 0.15, 0.00075, 1e-5])))
     assert list(m.params) == ["g0", "m1", "r", "J1", "J1z", "m2", "l", "J2", "J2z"] and m.p0[0] == 9.81
+    with pytest.raises(SpecError, match="--param m1: nan is not a finite number"):
+        gc.functions(ROOT / "specs" / "furuta_sym.toml", params={"m1": float("nan")})
+    with pytest.raises(SpecError, match="--param mass: unknown parameter"):
+        gc.functions(ROOT / "specs" / "furuta_sym.toml", params={"mass": 1.0})
     monkeypatch.setitem(sys.modules, "casadi", None)  # as where CasADi is not installed
     with pytest.raises(gc.CasadiUnavailable, match=r"pip install 'gyrochain\[casadi\]'"):
         gc.functions(ROOT / "specs" / "furuta.toml")
@@ -258,6 +266,7 @@ int main(void)
 """
 
 
+@pytest.mark.extended
 @pytest.mark.parametrize("name", ["furuta", "ur5"])
 def test_the_c_is_strict_c99_and_clean_under_the_sanitizers(name, models, tmp_path):
     """NAME_casadi.c by C alone, as acados or a user's own solver calls it (no CasADi): -std=c99
