@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from gyrochain.spec import load_spec
-from conftest import EXAMPLES, ROOT, example_params
+from conftest import EXAMPLES, ROOT, example_params, example_script
 
 casadi = pytest.importorskip("casadi", reason="CasADi is not installed (the test extra installs gyrochain[casadi])")
 from gyrochain import casadi as gc  # noqa: E402
@@ -148,23 +148,6 @@ def test_f_is_the_literature_s_furuta_pendulum(models, rng):
     assert worst < 1e-13, worst
 
 
-def swing_up(step, N: int = 60, T: float = 1.5):
-    """The Furuta pendulum from hanging to upright in T seconds at least effort (the integral of
-    u^2), by direct multiple shooting over N steps of ``step(x, u, h)``, IPOPT with exact Hessians."""
-    h = T / N
-    opti = casadi.Opti()
-    X, U = opti.variable(4, N + 1), opti.variable(1, N)
-    opti.minimize(h * casadi.sumsqr(U))
-    opti.subject_to(X[:, 0] == 0)
-    opti.subject_to(X[1:, N] == casadi.DM([np.pi, 0.0, 0.0]))
-    for k in range(N):
-        opti.subject_to(X[:, k + 1] == step(X[:, k], U[:, k], h))
-    opti.set_initial(X[1, :], np.linspace(0.0, np.pi, N + 1))
-    opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "tol": 1e-12, "sb": "yes"})
-    sol = opti.solve()
-    return sol.value(opti.f), sol.value(X), sol.value(U), sol.stats()["iter_count"]
-
-
 def test_the_swing_up_s_optimum_is_the_literature_model_s(models):
     """The same optimal control problem over our RK4 step (its Hessian: CasADi's differences of our
     exact Jacobian) and over the SX model's RK4 (CasADi's exact Hessian) from the same initial
@@ -177,11 +160,14 @@ def test_the_swing_up_s_optimum_is_the_literature_model_s(models):
         k2 = sx(x + h / 2 * k1, u)
         k3 = sx(x + h / 2 * k2, u)
         return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + sx(x + h * k3, u))
-    J1, X1, U1, it1 = swing_up(lambda x, u, h: m.F(x, u, m.p0, h))
-    J2, X2, U2, it2 = swing_up(rk4)
-    print(f"\nswing-up: cost {J1!r} (ours, {it1} iterations), {J2!r} (SX, {it2} iterations)")
-    assert abs(J1 - J2) <= 1e-8 * abs(J2)
-    assert np.max(np.abs(X1 - X2)) < 1e-6 and np.max(np.abs(U1 - U2)) < 1e-6 * max(1.0, np.max(np.abs(U2)))
+    swing_up = example_script("furuta_swing_up").swing_up  # the docs' problem (examples/furuta_swing_up.py)
+    ours = swing_up(lambda x, u, h: m.F(x, u, m.p0, h), tol=1e-12)
+    theirs = swing_up(rk4, tol=1e-12)
+    print(f"\nswing-up: cost {ours['cost']!r} (ours, {ours['iterations']} iterations), {theirs['cost']!r} "
+          f"(SX, {theirs['iterations']} iterations)")
+    assert abs(ours["cost"] - theirs["cost"]) <= 1e-8 * abs(theirs["cost"])
+    assert np.max(np.abs(ours["X"] - theirs["X"])) < 1e-6
+    assert np.max(np.abs(ours["U"] - theirs["U"])) < 1e-6 * max(1.0, np.max(np.abs(theirs["U"])))
 
 
 # --------------------------------------------------------------------------- bad input
