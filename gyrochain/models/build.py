@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import functools
+import os
 import importlib.util
 import re
 import shutil
@@ -21,6 +22,14 @@ from ..printers.codes import METHODS, MOTIONS, status_text
 CFLAGS = ["-std=c99", "-O2", "-fno-tree-slp-vectorize", "-g0", "-Wall", "-Wextra"]
 
 
+def compiler() -> str:
+    """The C compiler cffi's build runs: $CC where it is set (setuptools takes it before Python's
+    own), else the one Python was built with."""
+    import sysconfig
+
+    return os.environ.get("CC") or sysconfig.get_config_var("CC") or "cc"
+
+
 @functools.cache
 def lto_flags() -> tuple[list[str], list[str]]:
     """(compile, link) flags that spread gcc's work over every core: the C is compiled to GIMPLE
@@ -29,16 +38,32 @@ def lto_flags() -> tuple[list[str], list[str]]:
     time on two cores (n = 32: gcc 21 s on one core, 11 s on two; docs/benchmarks.md, "Long
     chains").  Empty with a compiler that is not gcc."""
     import subprocess
-    import sysconfig
 
-    cc = (sysconfig.get_config_var("CC") or "cc").split()
+    cc = compiler().split()
     try:
         banner = subprocess.run([*cc, "--version"], capture_output=True, text=True, timeout=30).stdout
     except (OSError, subprocess.SubprocessError):
         return [], []
-    if "Free Software Foundation" not in banner or "clang" in banner.lower():
+    if "Free Software Foundation" not in banner or "clang" in banner.lower() or not _gcc_has_lto(cc):
         return [], []
     return ["-flto"], ["-flto=auto", *CFLAGS]
+
+
+def _gcc_has_lto(cc: list[str]) -> bool:
+    """Whether this gcc links an -flto object into a shared library: a gcc installed without its
+    link-time optimiser (lto-wrapper, lto1) or with a linker that lacks its plugin fails there, and
+    the model is then built without LTO.  Tried once per process on a one-line C file (~0.1 s)."""
+    import subprocess
+
+    with tempfile.TemporaryDirectory(prefix="gyrochain-lto-") as tmp:
+        src = Path(tmp, "probe.c")
+        src.write_text("int gyrochain_probe(int x) { return x + 1; }\n")
+        try:
+            run = subprocess.run([*cc, "-fPIC", "-shared", "-O2", "-flto", "-flto=auto", str(src), "-o",
+                                  str(Path(tmp, "probe.so"))], capture_output=True, timeout=60)
+        except (OSError, subprocess.SubprocessError):
+            return False
+        return run.returncode == 0 and Path(tmp, "probe.so").is_file()
 
 
 def module_name(name: str) -> str:
@@ -71,7 +96,7 @@ def key_of(sources: list[bytes], extra_cflags=()) -> str:
         h.update(_PROVENANCE.sub(b"", text))
         h.update(b"\0")
     lto_compile, lto_link = lto_flags()
-    parts = [*CFLAGS, *extra_cflags, *lto_compile, *lto_link, str(sysconfig.get_config_var("CC")), str(sysconfig.get_config_var("EXT_SUFFIX")),
+    parts = [*CFLAGS, *extra_cflags, *lto_compile, *lto_link, compiler(), str(sysconfig.get_config_var("EXT_SUFFIX")),
              cffi.__version__, sys.version]
     h.update("\0".join(parts).encode("utf-8"))
     return h.hexdigest()

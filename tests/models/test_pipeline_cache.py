@@ -95,3 +95,39 @@ def test_no_build_ahead_beside_another_thread(tmp_path):
     finally:
         stop.set()
         other.join()
+
+
+NO_LTO_GCC = """#!/bin/sh
+# gcc as some images install it: no lto-wrapper, so an -flto object cannot be linked
+for a in "$@"; do
+    case "$a" in -flto*) lto=1 ;; -shared) shared=1 ;; esac
+done
+if [ -n "$lto" ] && [ -n "$shared" ]; then
+    echo "/usr/bin/ld: error: could not run lto-wrapper" >&2
+    exit 1
+fi
+exec gcc "$@"
+"""
+
+
+def test_a_gcc_without_its_link_time_optimiser_still_builds_the_model(tmp_path):
+    """$CC is the compiler the build runs (setuptools takes it before Python's own): where that gcc
+    cannot link -flto objects, the model is built without LTO instead of failing at the link."""
+    cc = tmp_path / "gcc"
+    cc.write_text(NO_LTO_GCC)
+    cc.chmod(0o755)
+    env = {"GYROCHAIN_CACHE": str(tmp_path / "cache"), "PATH": "/usr/bin:/bin", "PYTHONPATH": str(ROOT), "CC": str(cc)}
+    code = ("from gyrochain import build, pipeline\nfrom gyrochain.spec import load_spec\n"
+            "print(build.lto_flags())\n"
+            "files, _ = pipeline.derive_and_render(load_spec('specs/double_pendulum.toml'), targets=('c',))\n"
+            "print(float(pipeline.compile(files, 'double_pendulum').qdd([0.3, 0.2, 1.0, -0.5])[0]))\n")
+    run = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr[-2000:]
+    flags, qdd = run.stdout.splitlines()
+    assert flags == "([], [])"
+    float(qdd)
+    # and the same gcc with LTO (the system's) keeps the parallel link
+    env.pop("CC")
+    run = subprocess.run([sys.executable, "-c", "from gyrochain import build; print(build.lto_flags()[0])"], cwd=ROOT,
+                         env=env, capture_output=True, text=True, timeout=60)
+    assert run.stdout.strip() == "['-flto']", run.stderr
