@@ -5,4 +5,4 @@ as the compiled C model, so that a sweep writes the same store on either (``swee
 May import: ``models`` and below (the pipeline's files and cache), never the commands.
 """
 from .device import (GpuModel, GpuUnavailable, NVRTC_HEADERS, compile_ptx, gpu_model, nvrtc_library,  # noqa: F401
-                     ptxas_report, unavailable)
+                     nvrtc_version, ptxas_report, unavailable)

@@ -49,12 +49,29 @@ def _package_file(package: str, *parts: str) -> Path | None:
 
 
 def nvrtc_library() -> Path | None:
-    """libnvrtc: the nvidia-cuda-nvrtc-cu12 wheel's, else the system's; None where there is none."""
-    found = _package_file("nvidia.cuda_nvrtc", "lib", "libnvrtc.so.12")
-    if found:
-        return found
+    """libnvrtc: the nvidia-cuda-nvrtc-cu12 wheel's, else CUDA 13's wheel (nvidia/cu13, beside
+    cupy-cuda13x), else a CUDA toolkit's (CUDA_HOME, CUDA_PATH, /usr/local/cuda), else the one the
+    system's loader knows; None where there is none."""
+    for found in (_package_file("nvidia.cuda_nvrtc", "lib", "libnvrtc.so.12"),
+                  _package_file("nvidia.cu13", "lib", "libnvrtc.so.13")):
+        if found:
+            return found
+    homes = [os.environ.get(v) for v in ("CUDA_HOME", "CUDA_PATH")] + ["/usr/local/cuda"]
+    for home in filter(None, homes):
+        for lib in sorted(Path(home).glob("lib*/libnvrtc.so.1[2-9]")):
+            return lib
     name = ctypes.util.find_library("nvrtc")
     return Path(name) if name else None
+
+
+def nvrtc_version() -> str | None:
+    """NVRTC's version ("12.4"), or None without NVRTC."""
+    lib = nvrtc_library()
+    if lib is None:
+        return None
+    major, minor = ctypes.c_int(), ctypes.c_int()
+    ctypes.CDLL(str(lib)).nvrtcVersion(ctypes.byref(major), ctypes.byref(minor))
+    return f"{major.value}.{minor.value}"
 
 
 def ptxas_path() -> Path | None:
@@ -345,5 +362,5 @@ def gpu_model(spec, cpu=None) -> GpuModel:
     return GpuModel(cpu, files)
 
 
-__all__ = ["GpuModel", "GpuUnavailable", "NVRTC_HEADERS", "compile_ptx", "gpu_model", "nvrtc_library", "ptxas_path",
-           "ptxas_report", "unavailable"]
+__all__ = ["GpuModel", "GpuUnavailable", "NVRTC_HEADERS", "compile_ptx", "gpu_model", "nvrtc_library", "nvrtc_version",
+           "ptxas_path", "ptxas_report", "unavailable"]

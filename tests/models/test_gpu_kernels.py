@@ -207,6 +207,20 @@ def test_nvrtc_and_ptxas_compile_the_kernels_for_sm_90(real, capsys):
         print(f"\n{name} ({real}) on sm_90:", {k.split("_gpu_")[1]: v for k, v in report.items()})
 
 
+def test_nvrtc_is_found_from_cuda_12_or_13(monkeypatch, tmp_path):
+    """The cu12 wheel's NVRTC first, then CUDA 13's wheel (beside cupy-cuda13x), then a toolkit's."""
+    wheels = {"nvidia.cuda_nvrtc": tmp_path / "cu12.so", "nvidia.cu13": tmp_path / "cu13.so"}
+    monkeypatch.setattr(gpu.device, "_package_file", lambda package, *parts: wheels.get(package))
+    assert gpu.nvrtc_library() == tmp_path / "cu12.so"
+    wheels.pop("nvidia.cuda_nvrtc")
+    assert gpu.nvrtc_library() == tmp_path / "cu13.so"
+    wheels.clear()
+    (tmp_path / "cuda" / "lib64").mkdir(parents=True)
+    (tmp_path / "cuda" / "lib64" / "libnvrtc.so.13").write_text("")
+    monkeypatch.setenv("CUDA_HOME", str(tmp_path / "cuda"))
+    assert gpu.nvrtc_library() == tmp_path / "cuda" / "lib64" / "libnvrtc.so.13"
+
+
 def test_a_source_that_does_not_compile_is_nvrtc_s_log():
     _nvrtc_or_skip()
     with pytest.raises(RuntimeError, match="undefined"):
