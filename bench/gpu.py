@@ -107,8 +107,10 @@ def main(nb: int) -> None:
     card = cupy.cuda.runtime.getDeviceProperties(0)["name"].decode()
     rng = np.random.default_rng(2026)
     rows = []
+    start = time.perf_counter()
     for name, spec in models():
         gm = gpu.gpu_model(spec)
+        print(f"{name}: C and kernels built at {time.perf_counter() - start:.0f} s", flush=True)
         cm = gm.cpu
         worst, same = exactness(gm, cm, spec, rng)
         g = gpu_rate(gm, cm.n, nb)
@@ -130,7 +132,7 @@ def main(nb: int) -> None:
           f"1,000 points: {worst:.1e}")
     from provenance import write
 
-    write(ROOT / "bench" / "results" / "gpu.csv", rows, flags=f"NVRTC --fmad=false; {card}")
+    write(ROOT / "bench" / "results" / "gpu.csv", rows, flags=f"NVRTC {gpu.nvrtc_version()} --fmad=false; {card}")
 
 
 def cores_of() -> int:

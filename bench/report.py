@@ -27,7 +27,7 @@ from provenance import RESULTS, read as read_machines  # noqa: E402
 PAGE = ROOT / "docs" / "benchmarks.md"
 QDD = r"$\ddot\varphi$"
 JACOBIAN = r"$\partial\ddot\varphi/\partial(\varphi, \dot\varphi)$"
-MACHINES = {"AMD EPYC": "A", "Intel Xeon": "B"}  # the letter each machine has on the page
+MACHINES = {"AMD EPYC": "A", "Intel Xeon": "B", "Intel(R) Xeon(R) Processor": "C"}  # each machine's letter on the page
 
 
 def rows(*files: str) -> list[dict]:
@@ -196,6 +196,19 @@ def _casadi_ocp(rs):
     return header, body
 
 
+def _gpu(rs):
+    header = ["model", "n", "real", "GPU (trajectory-steps/s)", "all CPU cores (trajectory-steps/s)", "GPU / CPU",
+              "largest difference from the CPU", "same codes"]
+    names = {"double_pendulum": "double pendulum", "ur5": "UR5", "panda": "Panda", "random16": "random spatial chain"}
+    def rate(v):
+        return f"{float(v):.3g}".replace("e+0", "e").replace("e+", "e")
+    body = [[names.get(r["model"], r["model"]), r["n"], r["real"], rate(r["gpu_steps_per_s"]),
+             f"{rate(r['cpu_steps_per_s'])} ({r['cores']} cores)" if r["cpu_steps_per_s"] else "—",
+             f"**{r['ratio']}×**" if r["ratio"] else "—", r["max_rel_diff"], "yes" if r["codes_equal"] == "True" else "no"]
+            for r in rs]
+    return header, body
+
+
 def _measured(f: str, flags: str | None = None) -> str:
     """Machine, date and flags of a file of bench/results/, for a row of the summary; ``flags`` where
     the row's are not the file's (a file whose rows name their own)."""
@@ -252,6 +265,7 @@ TABLES: dict[str, Table] = {
     "ensemble": Table(("ensemble.csv",), _ensemble),
     "lanes": Table(("lanes.csv",), _lanes),
     "casadi-ocp": Table(("casadi_ocp.csv",), _casadi_ocp),
+    "gpu": Table(("gpu.csv",), _gpu),
 }
 
 _BLOCK = re.compile(r"(<!-- table: ([\w-]+) -->\n)(.*?)(<!-- /table -->)", re.S)
