@@ -30,13 +30,26 @@ def compiler() -> str:
     return os.environ.get("CC") or sysconfig.get_config_var("CC") or "cc"
 
 
+# the size of C from which LTO's parallel link builds sooner (2 cores, gcc 12, the best of two each:
+# a 100 KB double pendulum 2.7 s with LTO, 2.1 s without; 240 KB 3.0 s and 3.1 s; the UR5's 370 KB
+# 3.3 s and 5.1 s; a 1.1 MB cable 6.9 s and 10.9 s).  Below it LTO only adds its streaming.
+LTO_MIN_BYTES = 250_000
+
+
+def lto_flags(c_size: int | None = None) -> tuple[list[str], list[str]]:
+    """(compile, link) flags that spread gcc's work over every core for a C file of ``c_size``
+    bytes (None: a long one): the C is compiled to GIMPLE (-flto, quick) and the link step
+    optimises and generates code in parallel partitions (-flto=auto).  gcc's time is all in that
+    second half, so a long chain builds in about half the time on two cores (n = 32: gcc 21 s on
+    one core, 11 s on two; docs/benchmarks.md, "Long chains").  Empty below LTO_MIN_BYTES, where
+    the parallel link gains less than LTO costs, and with a compiler that is not gcc."""
+    if c_size is not None and c_size < LTO_MIN_BYTES:
+        return [], []
+    return _gcc_lto_flags()
+
+
 @functools.cache
-def lto_flags() -> tuple[list[str], list[str]]:
-    """(compile, link) flags that spread gcc's work over every core: the C is compiled to GIMPLE
-    (-flto, quick) and the link step optimises and generates code in parallel partitions
-    (-flto=auto).  gcc's time is all in that second half, so a long chain builds in about half the
-    time on two cores (n = 32: gcc 21 s on one core, 11 s on two; docs/benchmarks.md, "Long
-    chains").  Empty with a compiler that is not gcc."""
+def _gcc_lto_flags() -> tuple[list[str], list[str]]:
     import subprocess
 
     cc = compiler().split()
@@ -95,7 +108,7 @@ def key_of(sources: list[bytes], extra_cflags=()) -> str:
     for text in sources:
         h.update(_PROVENANCE.sub(b"", text))
         h.update(b"\0")
-    lto_compile, lto_link = lto_flags()
+    lto_compile, lto_link = lto_flags(len(sources[0]))
     parts = [*CFLAGS, *extra_cflags, *lto_compile, *lto_link, compiler(), str(sysconfig.get_config_var("EXT_SUFFIX")),
              cffi.__version__, sys.version]
     h.update("\0".join(parts).encode("utf-8"))
@@ -146,7 +159,7 @@ def compile_model(src_dir: str | Path, name: str, out_dir: str | Path | None = N
     out_dir = Path(out_dir or src_dir).resolve()
     ffi = cffi.FFI()
     ffi.cdef((src_dir / f"{name}.cdef").read_text())
-    lto_compile, lto_link = lto_flags()
+    lto_compile, lto_link = lto_flags((src_dir / f"{name}.c").stat().st_size)
     ffi.set_source(
         module_name(name),
         f'#include "{name}.h"',
