@@ -154,10 +154,16 @@ def _literal(text: str, numbers: list[str] | None) -> str:
         return re.escape(text)
     out, at = [], 0
     for m in re.finditer(r"(?<![\w.])" + NUMBER + r"(?![\w.])", text):
-        out += [re.escape(text[at:m.start()]), f"({NUMBER})"]
+        out += [_spaced(text[at:m.start()]), f"({NUMBER})"]
         numbers.append(m.group(0))
         at = m.end()
-    return "".join(out) + re.escape(text[at:])
+    return "".join(out) + _spaced(text[at:])
+
+
+def _spaced(text: str) -> str:
+    """A piece of text between numbers as a pattern: its words exact, each run of spaces one or
+    more (a column of numbers is aligned by the width of the numbers printed in it)."""
+    return re.sub(r"(?:\\ )+", lambda m: "[ \t]+", re.escape(text))
 
 
 def _pattern(shown: list[str], numbers: list[str] | None = None) -> re.Pattern:

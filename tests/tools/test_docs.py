@@ -259,6 +259,11 @@ def test_numbers_within_a_tolerance(tmp_path):
     assert not docrun.matches(shown, "beta1  Axx2 + Azz2   0.0141   2.1e-05   0.15%\ncond 12.3 done\n", 0.05)
     assert docrun.matches(["x 0.0030"], "x 0.00304\n", 0.0) and not docrun.matches(["x 0.0030"], "x 0.0031\n", 0.0)
     assert not docrun.matches(["x 0.0141"], "x 0.01412\n")  # without the mark, exact
+    # a column aligned by its numbers' width: the spaces before a number follow the printed number
+    shown = ["  beta6  Axz2   1.49029e-05    9.98e-06      67%"]
+    assert docrun.matches(shown, "  beta6  Axz2   1.48296e-05       1e-05      67%\n", 0.05)
+    assert not docrun.matches(shown, "  beta6  Axz2   1.48296e-05       1e-05      67%  extra\n", 0.05)
+    assert not docrun.matches(["a b 1.0"], "ab 1.0\n", 0.05)  # a space is still needed where one is shown
     page = tmp_path / "p.md"
     page.write_text("<!-- docs-test: numbers within 2% -->\n```console\n$ gyrochain --version\n```\n")
     assert docrun.blocks(page)[0].within == 0.02
