@@ -6,7 +6,9 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+import shutil
 import signal
+import subprocess
 import sys
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -87,6 +89,22 @@ def generate(spec: ChainSpec, folder: Path, params=None, qdd_form: str = "auto",
         _cache[key] = Generated(spec, build.load_python(target), pipeline.compile(files, spec.name),
                                 reference.numeric(spec, params), params, target)
     return _cache[key]
+
+
+# The strict compiles of the generated C.  gcc at -O2, keeping the object: the warnings of the middle
+# end (-Wmaybe-uninitialized, -Warray-bounds, ...) need the optimiser, and they are the same for
+# the same code in C++.  g++ (and clang, where installed) for what another front end adds (C++'s
+# casts and keywords): that needs no optimiser and no object, -fsyntax-only.
+STRICT_COMPILERS = [("gcc", ["-std=c99", "-O2", "-c"]), ("g++", ["-x", "c++", "-std=c++11", "-fsyntax-only"])]
+if shutil.which("clang"):
+    STRICT_COMPILERS += [("clang", ["-std=c99", "-fsyntax-only"])]
+
+
+def strict_compile(cc: str, flags: list[str], warnings: list[str], src: Path, obj: Path) -> subprocess.CompletedProcess:
+    """``cc`` on ``src`` with STRICT_COMPILERS' ``flags`` and ``warnings``; the object in ``obj``
+    where the flags make one."""
+    out = ["-o", str(obj)] if "-c" in flags else []
+    return subprocess.run([cc, *flags, *warnings, str(src), *out], capture_output=True, text=True)
 
 
 def _session_dir(tmp_path_factory) -> Path:

@@ -13,13 +13,12 @@ import pytest
 from gyrochain import reference
 from gyrochain.build import ModelError
 from gyrochain.spec import load_spec
-from conftest import EXAMPLES, ONE_ARM, ROOT, SHORT_EXAMPLES, example_params, printer_setting
+from conftest import (EXAMPLES, ONE_ARM, ROOT, SHORT_EXAMPLES, STRICT_COMPILERS, example_params, printer_setting,
+                      strict_compile)
 
 GEN = ROOT / "generated"
 STRICT = ["-Wall", "-Wextra", "-Wpedantic", "-Werror"]
-COMPILERS = [("gcc", ["-std=c99"]), ("g++", ["-x", "c++", "-std=c++11"])]
-if shutil.which("clang"):
-    COMPILERS += [("clang", ["-std=c99"])]
+COMPILERS = STRICT_COMPILERS
 
 
 def _run(cmd, **kw):
@@ -38,7 +37,7 @@ def test_compiles_warning_free(name, cc, flags, objects, tmp_path):
     if not shutil.which(cc):
         pytest.skip(f"{cc} is not installed")
     obj = objects / f"{name}.o" if cc == "gcc" else tmp_path / "m.o"
-    res = _run([cc, *flags, *STRICT, "-O2", "-c", str(GEN / name / f"{name}.c"), "-o", str(obj)])
+    res = strict_compile(cc, flags, STRICT, GEN / name / f"{name}.c", obj)
     assert res.returncode == 0 and not res.stderr, res.stderr
 
 
@@ -176,7 +175,7 @@ def test_world_and_loop_forms_compile_warning_free(world_model, world_inverse_mo
              "loops, moving base": loop_models[1]}[form]
     src = model.folder / f"{model.spec.name}.c"
     assert {"world": "ldlt_columns_", "world-inverse": "world_products_"}.get(form, "ldlt_checked_") in src.read_text()
-    res = _run([cc, *flags, *STRICT, "-O2", "-c", str(src), "-o", str(tmp_path / "m.o")])
+    res = strict_compile(cc, flags, STRICT, src, tmp_path / "m.o")
     assert res.returncode == 0 and not res.stderr, res.stderr
 
 
@@ -403,7 +402,7 @@ def test_parts_compile_warning_free(cut_models, cc, flags, tmp_path):
     if not shutil.which(cc):
         pytest.skip(f"{cc} is not installed")
     _spec, folder, *_ = cut_models
-    res = _run([cc, *flags, *STRICT, "-O2", "-c", str(folder / "cut4.c"), "-o", str(tmp_path / "m.o")])
+    res = strict_compile(cc, flags, STRICT, folder / "cut4.c", tmp_path / "m.o")
     assert res.returncode == 0 and not res.stderr, res.stderr
 
 
@@ -422,5 +421,5 @@ def test_a_uniformly_moving_platform_compiles_warning_free(make_model, cc, flags
     model = make_model(text.replace('name = "kapitza"', 'name = "drift"'), example_params("kapitza"))
     src = model.folder / "drift.c"
     assert "DRIFT_TIME_DEPENDENT 1" in (model.folder / "drift.h").read_text()
-    res = _run([cc, *flags, *STRICT, "-O2", "-c", str(src), "-o", str(tmp_path / "m.o")])
+    res = strict_compile(cc, flags, STRICT, src, tmp_path / "m.o")
     assert res.returncode == 0 and not res.stderr, res.stderr

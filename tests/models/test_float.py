@@ -15,10 +15,9 @@ import pytest
 from gyrochain import pipeline
 from gyrochain.printers import real
 from gyrochain.spec import load_spec
-from conftest import LONG_EXAMPLES, ONE_ARM, ROOT, SHORT_EXAMPLES, example_params
+from conftest import ONE_ARM, ROOT, SHORT_EXAMPLES, STRICT_COMPILERS, example_params, strict_compile
 
 STRICT = ["-Wall", "-Wextra", "-Wpedantic", "-Wdouble-promotion", "-Wfloat-conversion", "-Werror"]
-COMPILERS = [("gcc", ["-std=c99"]), ("g++", ["-x", "c++", "-std=c++11"])]
 # the agreement of φ̈ and of ∂φ̈/∂(φ, φ̇) with the double model over 200 random states of each short
 # example, relative to the largest entry (docs/embedding.md: the median and the 99th percentile
 # over all examples; bench/float_accuracy.py prints them per example)
@@ -39,12 +38,10 @@ def test_float_c_compiles_without_promotion(name, tmp_path):
     src = files[f"{name}.c"]
     assert not re.search(r"\bdouble\b", re.sub(r"/\*.*?\*/", "", src, flags=re.S))  # none left outside comments
     assert f"#define {name.upper()}_REAL float" in files[f"{name}.h"]
-    for cc, flags in COMPILERS:
-        if not shutil.which(cc) or (cc == "g++" and name in LONG_EXAMPLES):  # (the cable's C++ compile: 20 s; its
-            continue  # double C++ compile is test_c_quality's)
-        res = subprocess.run([cc, *flags, *STRICT, "-O2", "-c", str(tmp_path / f"{name}.c"), "-o", str(tmp_path / "m.o")],
-                             capture_output=True, text=True)
-        assert res.returncode == 0 and not res.stderr, (cc, res.stderr)
+    for cc, flags in STRICT_COMPILERS:
+        if shutil.which(cc):
+            res = strict_compile(cc, flags, STRICT, tmp_path / f"{name}.c", tmp_path / "m.o")
+            assert res.returncode == 0 and not res.stderr, (cc, res.stderr)
 
 
 def test_the_precision_constants_take_floats_values():
