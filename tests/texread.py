@@ -65,13 +65,25 @@ def recursion(tex: str) -> list[tuple[str, str]]:
     return out
 
 
+class NameTable:
+    """A document's names ready for the parser, built once for all its formulas: the \\mathrm{...}
+    names (a long chain's recursion has thousands) by lookup, the others by their first token (a
+    control word, or one character), longest first in each; a name that starts the text at i
+    starts with the token there."""
+
+    def __init__(self, names: dict):
+        self.mathrm = {k: v for k, v in names.items() if MATHRM.fullmatch(k)}
+        self.by_token: dict[str, list] = {}
+        for k, v in sorted(((k, v) for k, v in names.items() if k not in self.mathrm), key=lambda kv: -len(kv[0])):
+            self.by_token.setdefault(_token(k, 0), []).append((k, v))
+
+
 class Parser:
-    def __init__(self, text: str, names: dict):
+    def __init__(self, text: str, names: dict | NameTable):
         self.s = text
         self.i = 0
-        # \mathrm{...} names (a long chain's recursion has thousands) by lookup, the rest longest first
-        self.mathrm = {k: v for k, v in names.items() if MATHRM.fullmatch(k)}
-        self.names = sorted(((k, v) for k, v in names.items() if k not in self.mathrm), key=lambda kv: -len(kv[0]))
+        prepared = table(names)
+        self.mathrm, self.names = prepared.mathrm, prepared.by_token
 
     # ---- lexing helpers
     def ws(self) -> None:
@@ -197,7 +209,7 @@ class Parser:
         if m and m.group() in self.mathrm:
             self.i = m.end()
             return self.mathrm[m.group()]
-        for tex, sym in self.names:
+        for tex, sym in self.names.get(_token(self.s, self.i), ()):
             if self.s.startswith(tex, self.i):
                 after = self.s[self.i + len(tex):self.i + len(tex) + 1]
                 if tex[-1].isalpha() and after.isalpha():
@@ -207,7 +219,21 @@ class Parser:
         return None
 
 
-def parse(text: str, names: dict) -> sp.Expr:
+CONTROL_WORD = re.compile(r"\\[A-Za-z]+")
+
+
+def _token(text: str, i: int) -> str:
+    """The first token of text[i:]: a control word (a backslash and its letters), else one character."""
+    m = CONTROL_WORD.match(text, i)
+    return m.group() if m else text[i:i + 1]
+
+
+def table(names: dict | NameTable) -> NameTable:
+    """``names`` ready for the parser (a helper that parses many formulas builds it once)."""
+    return names if isinstance(names, NameTable) else NameTable(names)
+
+
+def parse(text: str, names: dict | NameTable) -> sp.Expr:
     return Parser(text, names).parse()
 
 
@@ -249,7 +275,7 @@ def pmatrix(text: str, names: dict) -> list[list[sp.Expr]]:
     head, tail = r"\begin{pmatrix}", r"\end{pmatrix}"
     if not (text.startswith(head) and text.endswith(tail)):
         raise TexSyntaxError(f"not a pmatrix: {text[:40]!r}")
-    body = text[len(head):-len(tail)]
+    body, names = text[len(head):-len(tail)], table(names)
     return [[parse(cell, names) for cell in row.split("&")] for row in body.split(r"\\")]
 
 
@@ -264,7 +290,7 @@ def body_table(tex: str, names: dict) -> list[dict]:
     the document prints them (expressions), the control flag, and A from the table of the inertia
     tensors (its six components, or the matrix)."""
     head = r"$k$ & $\theta^k$ & $m^k$ & $\mathbf c^k$ & $\mathbf s^k$ & $\boldsymbol\lambda^k$ & control"
-    start = tex.index(head) + len(head)
+    start, names = tex.index(head) + len(head), table(names)
     rows = []
     for line in tex[start:tex.index(r"\end{longtable}", start)].splitlines():
         cells = re.findall(r"\$(.*?)\$", line)
@@ -294,6 +320,7 @@ def body_table(tex: str, names: dict) -> list[dict]:
 def direction_cosines(tex: str, names: dict) -> dict[int, list[list[sp.Expr]]]:
     r"""α^{k,k−1} of the direction cosines' section, by k."""
     found = re.findall(r"\\alpha\^\{(\d+),(\d+)\} &= (\\begin\{pmatrix\}.*?\\end\{pmatrix\})", tex, flags=re.S)
+    names = table(names)
     return {int(k): pmatrix(m, names) for k, j, m in found if int(j) == int(k) - 1}
 
 
