@@ -134,8 +134,11 @@ LAYERS = ("unit", "models", "physics", "tools")  # the folders of tests/, each a
 
 # The extended tier (make test-all, CI): the product as others see it, beyond the derivation, accuracy,
 # physics and command tests of make test: the installed wheel, the Cortex-M4 under QEMU, the static
-# analysers, the fuzz lanes, the documentation site and every test that drives a browser, and TeX
-# typesetting every document.
+# analysers and the sanitizers, the fuzz lanes, the documentation's pages (their commands run, the
+# site, every test that drives a browser), and TeX typesetting every document.  Where a check costs
+# a build per example and takes the same printer's path on each (the FMUs, the GPU threads, the
+# CasADi functions, the LaTeX read back from random general specs), make test runs it on the
+# examples that take its every branch and make test-all on all: those tests mark their own.
 EXTENDED_FILES = {"test_install.py", "test_m4.py", "test_static_checks.py", "test_fuzz.py"}
 EXTENDED_FIXTURES = {"browser", "site"}
 

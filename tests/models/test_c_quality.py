@@ -135,6 +135,7 @@ int main(void)
 
 # a 64-link cable took 150 s under the sanitizers; the loop form and the functions in parts are
 # checked on the loop_models and cut_models below
+@pytest.mark.extended  # (the sanitizers: make test-all, with the static analysers)
 @pytest.mark.parametrize("name", [e for e in SHORT_EXAMPLES if e in ONE_ARM])
 def test_sanitizers_clean(name, tmp_path):
     _sanitized_driver(GEN / name, load_spec(ROOT / "specs" / f"{name}.toml"), example_params(name), tmp_path)
@@ -179,6 +180,7 @@ def test_world_and_loop_forms_compile_warning_free(world_model, world_inverse_mo
     assert res.returncode == 0 and not res.stderr, res.stderr
 
 
+@pytest.mark.extended  # (the sanitizers: make test-all, with the static analysers)
 @pytest.mark.parametrize("form", ["world", "world-inverse", "loops", "loops, moving base"])
 def test_world_and_loop_forms_sanitizers_clean(world_model, world_inverse_model, loop_models, form, tmp_path):
     model = {"world": world_model, "world-inverse": world_inverse_model, "loops": loop_models[0],
@@ -226,6 +228,7 @@ def _sanitized_driver(folder, spec, params, tmp_path):
     assert run.returncode == 0 and run.stdout.strip() == "0" and not run.stderr, (run.stdout, run.stderr)
 
 
+@pytest.mark.extended  # (the sanitizers: make test-all, with the static analysers)
 def test_both_loop_ldlt_forms_give_the_same_bits_under_the_sanitizers(tmp_path):
     """The loop form's LDLᵀ in velocities one sum per entry (short chains, and mass_matrix's pivot
     test always) or by columns (from loopform.LDLT_COLUMNS_MIN_N joints on): the
@@ -406,6 +409,7 @@ def test_parts_compile_warning_free(cut_models, cc, flags, tmp_path):
     assert res.returncode == 0 and not res.stderr, res.stderr
 
 
+@pytest.mark.extended  # (the sanitizers: make test-all, with the static analysers)
 def test_parts_sanitizers_clean(cut_models, tmp_path):
     spec, folder, *_ = cut_models
     _sanitized_driver(folder, spec, None, tmp_path)

@@ -252,6 +252,7 @@ def test_base_parameters_match_pinocchio(name, tmp_path):
     assert worst <= 1e-10
 
 
+@pytest.mark.extended  # (the sanitizers: make test-all, with the static analysers)
 def test_the_regressor_c_is_strict_and_clean_under_the_sanitizers(tmp_path):
     """Kapitza's pendulum (t first, symbolic parameters) with --regressor: warning-free under the
     strict flags, and every new function, with tau0 and e0 NULL and the error codes, clean under

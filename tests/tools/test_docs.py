@@ -19,7 +19,10 @@ import docrun  # noqa: E402
 PAGES = docrun.pages()
 
 
-@pytest.mark.parametrize("page", PAGES, ids=[str(p.relative_to(ROOT)) for p in PAGES])
+# make test runs the README's blocks, the first page a user reads; make test-all every page's (a
+# documentation page's commands are the commands' own tests, shown)
+@pytest.mark.parametrize("page", [p if p.name == "README.md" else pytest.param(p, marks=pytest.mark.extended)
+                                  for p in PAGES], ids=[str(p.relative_to(ROOT)) for p in PAGES])
 def test_every_block_of_the_page_runs(page, tmp_path):
     counts = docrun.run_page(page, tmp_path / "work")
     assert sum(counts[k] for k in docrun.KINDS) + counts["skipped"] + counts["installed"] == len(docrun.blocks(page))
