@@ -35,6 +35,7 @@ import sympy as sp
 from ..derive.algebra import Poly
 from ..chainspec.errors import SpecError
 from ..chainspec.spec import T as TIME
+from ..models.paramtable import ParamTable
 
 SAMPLES = 16  # times of a period at which Newton asks φ̈ = 0
 MAX_OWN_CYCLES = 1e5  # the pendulum's own oscillations in one drive period past which steady refuses the work
@@ -165,10 +166,15 @@ def time_periods(model, params: list) -> np.ndarray:
     if dep.why or not dep.frequencies:
         return np.full(len(params), np.nan)
     syms = sorted(set().union(*(sp.sympify(w).free_symbols for w in dep.frequencies)), key=str)
-    columns = [np.array([p[k] for p in params], float) for k in map(str, syms)]  # (the sweep checked they have values)
+    columns = [params.column(k) if isinstance(params, ParamTable) else np.array([p[k] for p in params], float)
+               for k in map(str, syms)]  # (the sweep checked they have values)
     W = np.abs(np.stack([np.broadcast_to(np.asarray(sp.lambdify(syms, w, "numpy")(*columns), float), (len(params),))
                          for w in dep.frequencies], axis=1))
-    distinct, which = np.unique(W, axis=0, return_inverse=True)
+    if W.shape[1] == 1:  # one frequency (a drive): NumPy's 1-D unique, many times quicker than by rows
+        values, which = np.unique(W[:, 0], return_inverse=True)
+        distinct = values[:, None]
+    else:
+        distinct, which = np.unique(W, axis=0, return_inverse=True)
     T = np.full(len(distinct), np.nan)
     for k, omegas in enumerate(distinct):
         try:

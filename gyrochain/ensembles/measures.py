@@ -8,6 +8,8 @@ import math
 import numpy as np
 import sympy as sp
 
+from ..models.paramtable import ParamTable
+
 
 def energies(model, X: np.ndarray, params) -> np.ndarray:
     """T − U at every state of X (nb, nt, 2N) by the C NAME_energy, through cffi pointers (NaN
@@ -16,7 +18,7 @@ def energies(model, X: np.ndarray, params) -> np.ndarray:
     X = np.ascontiguousarray(X)
     ffi, f = model.ffi, model._fn("energy")
     base = ffi.cast(model._ptr, ffi.from_buffer(X))
-    per_point = isinstance(params, list)
+    per_point = isinstance(params, (list, ParamTable))
     p = None if per_point else model._p(params)
     out = np.empty(nb * nt)
     for b in range(nb):
@@ -93,7 +95,8 @@ def lyapunov(model, X0, sw, kw: dict, prm) -> tuple[np.ndarray, np.ndarray]:
     codes = np.zeros(nb, dtype=np.int32)
     steps = max(1, int(round(sw.t1 / sw.lyap_interval)))
     dt = sw.t1 / steps
-    both_p = (list(prm) * 2) if isinstance(prm, list) else prm
+    both_p = (ParamTable(prm.base, prm.names, np.vstack([prm.values] * 2)) if isinstance(prm, ParamTable)
+              else list(prm) * 2 if isinstance(prm, list) else prm)
     for s in range(steps):
         t = np.array([s * dt, (s + 1) * dt])
         XY, c = model.integrate_batch(t, np.vstack([x, y]), **dict(kw, params=both_p))
@@ -125,7 +128,7 @@ def lyapunov_spectrum(model, X0, t1: float, interval: float, prm, u=None, rtol: 
     codes = np.zeros(nb, dtype=np.int32)
     for b in range(nb):
         x, Q = np.array(X0[b], float), np.eye(dim)
-        p = prm[b] if isinstance(prm, list) else prm
+        p = prm[b] if isinstance(prm, (list, ParamTable)) else prm
         try:
             for s in range(steps):
                 x, Phi = model.integrate_variational(s * dt, (s + 1) * dt, x, Phi0=Q, u=u, params=p, rtol=rtol, atol=atol)

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..models import pipeline
+from ..models.paramtable import ParamTable
 from ..printers.codes import METHODS
 from ..analysis import floquet
 from .. import gpu
@@ -326,7 +327,7 @@ def compute_chunk(model, plan: Plan, i: int) -> dict[str, np.ndarray]:
     per_point = None
     varied_params = [(j, name) for j, name in enumerate(plan.names) if name in plan.param_names]
     if varied_params:
-        per_point = [dict(params, **{name: float(pts[k, j]) for j, name in varied_params}) for k in range(nb)]
+        per_point = ParamTable(params, [name for _, name in varied_params], pts[:, [j for j, _ in varied_params]])
     prm = per_point if per_point is not None else (params or None)
     u = np.array(sw.u, float) if sw.u else None
     kw = dict(method=sw.method, h=sw.h, rtol=sw.rtol, atol=sw.atol, u=u, params=prm)

@@ -11,6 +11,7 @@ import ctypes
 import ctypes.util
 import hashlib
 import importlib.util
+import operator
 import os
 import re
 import shutil
@@ -21,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..models import pipeline
+from ..models.paramtable import ParamTable
 
 # NVRTC has no C library: NAME.c's #include <math.h> and <float.h> read these (its math functions
 # are NVRTC's own; the macros are the IEEE values C99 gives them)
@@ -247,13 +249,23 @@ class GpuModel:
         """(device array, p_stride in structs): NULL (0) for None, one struct for a dict, nb for a list."""
         if params is None:
             return np.uint64(0), 0
-        rows = [params] if isinstance(params, dict) else list(params)
+        rows = [params] if isinstance(params, dict) else params if isinstance(params, ParamTable) else list(params)
         if not isinstance(params, dict) and len(rows) != nb:
             raise ValueError(f"params: {len(rows)} parameter sets for {nb} trajectories")
         P = np.zeros((len(rows), len(self.fields)), self.dtype)
+        if isinstance(params, ParamTable) and set(params.keys()) <= set(self.fields):
+            for k in params.keys():
+                P[:, self.fields.index(k)] = params.column(k)
+            return self.cp.asarray(P), 1
         names = list(rows[0]) if rows else []
-        table = [[d[k] for k in names] for d in rows if len(d) == len(names)] if set(names) <= set(self.fields) else []
-        if len(table) == len(rows):  # a sweep's points: every row has the same names (one array operation)
+        table = []
+        if names and set(names) <= set(self.fields) and all(len(d) == len(names) for d in rows):
+            try:  # a sweep's points: every row has the same names (one array operation)
+                get = operator.itemgetter(*names)
+                table = [get(d) for d in rows]
+            except KeyError:
+                table = []
+        if len(table) == len(rows):
             P[:, [self.fields.index(k) for k in names]] = np.array(table, dtype=self.dtype).reshape(len(rows), len(names))
         else:
             for i, d in enumerate(rows):

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..printers.codes import METHODS, MOTIONS, status_text
+from .paramtable import ParamTable
 
 # after Python's own flags, which carry -g and -O3: -O2 as everywhere in this project, and no debug
 # information (for a 128-link chain's 12 MB of C it cost a gigabyte and a fifth of gcc's time).
@@ -469,9 +470,15 @@ class CModel:
             if len(params) != nb:
                 raise ValueError(f"params: {len(params)} parameter sets for {nb} trajectories")
             pp, p_stride = self.ffi.new(f"{self.name}_params[]", nb), 1
-            for i, d in enumerate(params):
-                for k, v in d.items():
-                    setattr(pp[i], k, float(v))
+            if isinstance(params, ParamTable):  # the struct's fields are REALs: an (nb, fields) array
+                fields = [f for f, _ in self.ffi.typeof(f"{self.name}_params").fields]
+                P = np.frombuffer(self.ffi.buffer(pp), dtype=self.dtype).reshape(nb, len(fields))
+                for k in params.keys():
+                    P[:, fields.index(k)] = params.column(k)
+            else:
+                for i, d in enumerate(params):
+                    for k, v in d.items():
+                        setattr(pp[i], k, float(v))
         X = np.empty((nb, len(ts), 2 * self.n), self.dtype)
         codes = np.zeros(nb, dtype=np.intc)
         dp = lambda a: self.ffi.cast(self._ptr, self.ffi.from_buffer(a))  # noqa: E731

@@ -84,6 +84,26 @@ def test_a_thread_is_the_batch_s_trajectory_bit_for_bit(name, hosts, rng):
     assert list(codes) == list(cc) and np.array_equal(X[ok], Xc[ok], equal_nan=True)
 
 
+@pytest.mark.parametrize("real", ["double", "float"])
+def test_a_table_of_parameters_is_its_list_of_dicts(real, rng):
+    """A sweep's points as columns (ParamTable) pack into NAME_integrate_batch's structs and the
+    kernels' array as the list of dicts they stand for: the same trajectories, bit for bit."""
+    from gyrochain.models.paramtable import ParamTable
+
+    files = _files("kapitza", real)
+    cm = pipeline.compile({k: v for k, v in files.items() if not k.endswith(".cu")}, "kapitza")
+    gm = gpu.GpuModel(cm, files, host=True)
+    base = dict(example_params("kapitza"))
+    table = ParamTable(base, ["w", "a"], np.column_stack([rng.uniform(200, 300, 5), rng.uniform(0, 0.012, 5)]))
+    X0 = np.tile([np.pi - 0.1, 0.0], (5, 1))
+    t = np.linspace(0.0, 0.2, 3)
+    for model in (cm, gm):
+        X, codes = model.integrate_batch(t, X0, method="rk4", h=1e-3, params=table)
+        Xd, cd = model.integrate_batch(t, X0, method="rk4", h=1e-3, params=list(table))
+        assert np.array_equal(X, Xd) and np.array_equal(codes, cd)
+        assert len({float(x) for x in X[:, -1, 0]}) == 5  # (each trajectory its own parameters)
+
+
 def _float_thread_is_the_float_batch(name, rng):
     files = _files(name, "float")
     cm = pipeline.compile({k: v for k, v in files.items() if not k.endswith(".cu")}, name)
