@@ -110,16 +110,24 @@ MOVED = {
 
 
 class _MovedLoader:
+    """Loads an old name as the module it became.  The import system gives the module it returns
+    the old name's spec; exec_module gives it its own back, so that a relative import inside it
+    resolves by its own package (where __package__ and __spec__.parent differ, Python 3.12 warns
+    and a later Python takes the spec's)."""
+
     def __init__(self, target: str):
         self.target = target
+        self.own_spec = None
 
     def create_module(self, spec):
         import importlib
 
-        return importlib.import_module(self.target)
+        module = importlib.import_module(self.target)
+        self.own_spec = module.__spec__
+        return module
 
     def exec_module(self, module) -> None:
-        pass
+        module.__spec__ = self.own_spec
 
 
 class _MovedFinder:
