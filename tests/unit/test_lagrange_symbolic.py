@@ -30,19 +30,39 @@ def symbolic_two_body_spec():
 
 def reduce_trig(expr, angles):
     """Replace cos, sin of each angle by symbols and reduce modulo s² + c² − 1: the result is 0
-    exactly when the trigonometric identity holds."""
-    reps, ideal, gens = {}, [], []
+    exactly when the trigonometric identity holds.  The expression is multiplied out in sympy's
+    sparse polynomial ring over the rationals (its tree evaluated there node by node, many times
+    quicker than expand), and divided by the s² + c² − 1, a Gröbner basis (their leading terms
+    s² have no common factor)."""
+    reps, gens = {}, []
     for i, a in enumerate(angles):
         c, s = sp.Symbol(f"C{i}"), sp.Symbol(f"S{i}")
         reps[sp.cos(a)], reps[sp.sin(a)] = c, s
-        ideal.append(s**2 + c**2 - 1)
         gens += [s, c]
-    poly = sp.expand(expr.xreplace(reps))
-    if poly == 0:
-        return poly
+    poly = expr.xreplace(reps)
     assert not poly.atoms(sp.sin, sp.cos), "trig left after substitution"
-    _, rem = sp.reduced(poly, ideal, *gens)
-    return sp.expand(rem)
+    rest = sorted(poly.free_symbols - set(gens), key=str)
+    R, *xs = sp.ring(gens + rest, sp.QQ, sp.lex)
+    of = dict(zip(gens + rest, xs))
+
+    def value(e):
+        if e.is_Symbol:
+            return of[e]
+        if e.is_Rational:
+            return R(e)
+        if e.is_Add:
+            return sum((value(a) for a in e.args), R.zero)
+        if e.is_Mul:
+            out = R.one
+            for a in e.args:
+                out *= value(a)
+            return out
+        if e.is_Pow and e.exp.is_Integer and e.exp >= 0:
+            return value(e.base) ** int(e.exp)
+        raise AssertionError(f"not a polynomial: {e}")
+
+    ideal = [of[gens[2 * i]] ** 2 + of[gens[2 * i + 1]] ** 2 - 1 for i in range(len(angles))]
+    return value(poly).rem(ideal)
 
 
 def test_symbolic_two_body_equals_lagrange():
