@@ -85,10 +85,14 @@ def ptxas_path() -> Path | None:
     return Path(which) if which else None
 
 
-def compile_ptx(source: str, headers: dict[str, str], arch: str = ARCH, name: str = "model_gpu.cu") -> str:
+def compile_ptx(source: str, headers: dict[str, str], arch: str = ARCH, name: str = "model_gpu.cu",
+                debug: bool = False) -> str:
     """The PTX of ``source`` (a NAME_gpu.cu) for compute_``arch``, ``headers`` the files it includes
-    (NAME.c, NAME.h) besides NVRTC_HEADERS.  Raises GpuUnavailable without NVRTC, RuntimeError with
-    NVRTC's log when the source does not compile, or when NVRTC warns."""
+    (NAME.c, NAME.h) besides NVRTC_HEADERS.  ``debug``: NVRTC's -G, device code unoptimised (the
+    same front end and code generation in a second where the optimiser takes half a minute to
+    minutes: a check that a model's kernels compile, not code to run).  Raises GpuUnavailable
+    without NVRTC, RuntimeError with NVRTC's log when the source does not compile, or when NVRTC
+    warns."""
     lib = nvrtc_library()
     if lib is None:
         raise GpuUnavailable("NVRTC is not installed (pip install 'gyrochain[gpu]', or a CUDA toolkit)")
@@ -105,6 +109,8 @@ def compile_ptx(source: str, headers: dict[str, str], arch: str = ARCH, name: st
         # EDG says of the few variables a model's facts leave unread (an empty array of the world
         # form's terms, GAUSS2's Newton flag where Newton is not emitted) despite their (void) casts
         opts = [f"--gpu-architecture=compute_{arch}", "-std=c++17", "--fmad=false", "-diag-suppress=550"]
+        if debug:
+            opts.append("-G")
         arr = (ctypes.c_char_p * len(opts))(*[o.encode() for o in opts])
         rc = nv.nvrtcCompileProgram(prog, len(opts), arr)
         size = ctypes.c_size_t()
