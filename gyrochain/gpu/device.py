@@ -260,8 +260,7 @@ class GpuModel:
             raise ValueError(f"params: {len(rows)} parameter sets for {nb} trajectories")
         P = np.zeros((len(rows), len(self.fields)), self.dtype)
         if isinstance(params, ParamTable) and set(params.keys()) <= set(self.fields):
-            for k in params.keys():
-                P[:, self.fields.index(k)] = params.column(k)
+            params.fill(P, self.fields)
             return self.cp.asarray(P), 1
         names = list(rows[0]) if rows else []
         table = []

@@ -472,9 +472,7 @@ class CModel:
             pp, p_stride = self.ffi.new(f"{self.name}_params[]", nb), 1
             if isinstance(params, ParamTable):  # the struct's fields are REALs: an (nb, fields) array
                 fields = [f for f, _ in self.ffi.typeof(f"{self.name}_params").fields]
-                P = np.frombuffer(self.ffi.buffer(pp), dtype=self.dtype).reshape(nb, len(fields))
-                for k in params.keys():
-                    P[:, fields.index(k)] = params.column(k)
+                params.fill(np.frombuffer(self.ffi.buffer(pp), dtype=self.dtype).reshape(nb, len(fields)), fields)
             else:
                 for i, d in enumerate(params):
                     for k, v in d.items():

@@ -40,5 +40,11 @@ class ParamTable(Sequence):
             return self.values[:, self.names.index(name)]
         return np.full(len(self), float(self.base[name]))
 
+    def fill(self, P: np.ndarray, fields: list[str]) -> None:
+        """Write the table into ``P``, an (len(self), len(fields)) array of parameter structs'
+        fields (NAME_params, whose members are all REALs): each name's column at its field."""
+        for k in self.keys():
+            P[:, fields.index(k)] = self.column(k)
+
 
 __all__ = ["ParamTable"]

@@ -31,8 +31,8 @@ def symbolic_two_body_spec():
 def reduce_trig(expr, angles):
     """Replace cos, sin of each angle by symbols and reduce modulo s² + c² − 1: the result is 0
     exactly when the trigonometric identity holds.  The expression is multiplied out in sympy's
-    sparse polynomial ring over the rationals (its tree evaluated there node by node, many times
-    quicker than expand), and divided by the s² + c² − 1, a Gröbner basis (their leading terms
+    sparse polynomial ring over the rationals (from_expr evaluates its tree there node by node,
+    many times quicker than expand), and divided by the s² + c² − 1, a Gröbner basis (their leading terms
     s² have no common factor)."""
     reps, gens = {}, []
     for i, a in enumerate(angles):
@@ -43,26 +43,8 @@ def reduce_trig(expr, angles):
     assert not poly.atoms(sp.sin, sp.cos), "trig left after substitution"
     rest = sorted(poly.free_symbols - set(gens), key=str)
     R, *xs = sp.ring(gens + rest, sp.QQ, sp.lex)
-    of = dict(zip(gens + rest, xs))
-
-    def value(e):
-        if e.is_Symbol:
-            return of[e]
-        if e.is_Rational:
-            return R(e)
-        if e.is_Add:
-            return sum((value(a) for a in e.args), R.zero)
-        if e.is_Mul:
-            out = R.one
-            for a in e.args:
-                out *= value(a)
-            return out
-        if e.is_Pow and e.exp.is_Integer and e.exp >= 0:
-            return value(e.base) ** int(e.exp)
-        raise AssertionError(f"not a polynomial: {e}")
-
-    ideal = [of[gens[2 * i]] ** 2 + of[gens[2 * i + 1]] ** 2 - 1 for i in range(len(angles))]
-    return value(poly).rem(ideal)
+    ideal = [xs[2 * i] ** 2 + xs[2 * i + 1] ** 2 - 1 for i in range(len(angles))]
+    return R.from_expr(poly).rem(ideal)
 
 
 def test_symbolic_two_body_equals_lagrange():

@@ -18,3 +18,11 @@ def test_a_table_reads_as_its_list_of_dicts():
     assert np.array_equal(table.column("g"), np.full(3, 9.81))  # a shared value, over every trajectory
     assert all(type(v) is float for d in table for v in d.values())
     assert not ParamTable({}, ["a"], np.empty((0, 1)))
+
+
+def test_a_table_fills_an_array_of_parameter_structs_by_field():
+    table = ParamTable({"g": 9.81, "m": 2.0}, ["w"], np.array([[200.0], [250.0]]))
+    P = np.zeros((2, 4))
+    table.fill(P, ["w", "x", "m", "g"])  # the struct's order, a field the table does not set left alone
+    assert np.array_equal(P, [[200.0, 0.0, 2.0, 9.81], [250.0, 0.0, 2.0, 9.81]])
+    assert list(map(list, P[:, [3, 2, 0]])) == [[d["g"], d["m"], d["w"]] for d in table]
