@@ -21,6 +21,11 @@ from .paramtable import ParamTable
 # sixth of gcc's time and won nothing (n = 32: gcc 10.0 -> 8.2 s; qdd and the Jacobian as fast;
 # docs/benchmarks.md, "Long chains").  The loops' vectoriser stays on.
 CFLAGS = ["-std=c99", "-O2", "-fno-tree-slp-vectorize", "-g0", "-Wall", "-Wextra"]
+# cffi's wrapper (Python.h and about 100 KB of argument conversion) is compiled apart, without the
+# optimiser: at -O2 it took longer than a short model's C (the gimbal's: 0.77 s of CPU, 0.28 s at
+# -O0), and a call through it costs about the same (gimbal_rhs from Python: 0.38 us, 0.37 at -O2;
+# CModel.rhs 2.8 us either way).  The model's C keeps CFLAGS.
+WRAPPER_CFLAGS = ["-std=c99", "-O0", "-g0"]
 
 
 def compiler() -> str:
@@ -110,8 +115,8 @@ def key_of(sources: list[bytes], extra_cflags=()) -> str:
         h.update(_PROVENANCE.sub(b"", text))
         h.update(b"\0")
     lto_compile, lto_link = lto_flags(len(sources[0]))
-    parts = [*CFLAGS, *extra_cflags, *lto_compile, *lto_link, compiler(), str(sysconfig.get_config_var("EXT_SUFFIX")),
-             cffi.__version__, sys.version]
+    parts = [*CFLAGS, *extra_cflags, *lto_compile, *lto_link, *WRAPPER_CFLAGS, compiler(),
+             str(sysconfig.get_config_var("EXT_SUFFIX")), cffi.__version__, sys.version]
     h.update("\0".join(parts).encode("utf-8"))
     return h.hexdigest()
 
@@ -153,30 +158,54 @@ def reuse_extension(old_dir: str | Path, new_dir: str | Path, name: str) -> bool
 
 def compile_model(src_dir: str | Path, name: str, out_dir: str | Path | None = None, extra_cflags=()) -> Path:
     """Build the extension from ``<name>.c``/``.h``/``.cdef`` in src_dir; returns the .so path
-    (placed in out_dir, default src_dir).  The cffi wrapper source stays in a temporary folder."""
+    (placed in out_dir, default src_dir).  The model's C is compiled to an object with CFLAGS (and
+    Python's own flags, as cffi would), cffi's wrapper with WRAPPER_CFLAGS, and cffi links the two;
+    the wrapper's source and the object stay in a temporary folder."""
     import cffi
 
     src_dir = Path(src_dir).resolve()
     out_dir = Path(out_dir or src_dir).resolve()
-    ffi = cffi.FFI()
-    ffi.cdef((src_dir / f"{name}.cdef").read_text())
     lto_compile, lto_link = lto_flags((src_dir / f"{name}.c").stat().st_size)
-    ffi.set_source(
-        module_name(name),
-        f'#include "{name}.h"',
-        sources=[str(src_dir / f"{name}.c")],
-        include_dirs=[str(src_dir)],
-        extra_compile_args=list(CFLAGS) + list(extra_cflags) + lto_compile,
-        extra_link_args=lto_link + list(extra_cflags),
-        libraries=["m"],
-    )
     with tempfile.TemporaryDirectory(prefix="gyrochain-build-") as tmp:
+        obj = Path(tmp, f"{name}.o")
+        _compile_object(src_dir / f"{name}.c", obj, [f"-I{src_dir}", *CFLAGS, *extra_cflags, *lto_compile])
+        ffi = cffi.FFI()
+        ffi.cdef((src_dir / f"{name}.cdef").read_text())
+        ffi.set_source(
+            module_name(name),
+            f'#include "{name}.h"',
+            include_dirs=[str(src_dir)],
+            extra_objects=[str(obj)],
+            extra_compile_args=[*WRAPPER_CFLAGS, *extra_cflags],
+            extra_link_args=lto_link + list(extra_cflags),
+            libraries=["m"],
+        )
         so = Path(ffi.compile(tmpdir=tmp, verbose=False))
         target = out_dir / so.name
         shutil.copy2(so, target)
     if out_dir == src_dir:
         key_path(out_dir, name).write_text(build_key(src_dir, name, extra_cflags) + "\n")
     return target
+
+
+def _compile_object(src: Path, obj: Path, flags: list[str]) -> None:
+    """``src`` compiled to the position-independent object ``obj`` as setuptools compiles an
+    extension's source (the compiler, Python's CFLAGS and CCSHARED, $CFLAGS, $CPPFLAGS), then
+    ``flags``; a failure raises cffi's VerificationError with the compiler's messages."""
+    import shlex
+    import subprocess
+    import sysconfig
+
+    from cffi import VerificationError
+
+    given = [sysconfig.get_config_var("CFLAGS"), sysconfig.get_config_var("CCSHARED"), os.environ.get("CFLAGS"), os.environ.get("CPPFLAGS")]
+    cmd = [*shlex.split(compiler()), *shlex.split(" ".join(f for f in given if f)), "-c", str(src), "-o", str(obj), *flags]
+    try:
+        run = subprocess.run(cmd, capture_output=True, text=True)
+    except OSError as exc:
+        raise VerificationError(f"CompileError: {cmd[0]}: {exc.strerror}") from None
+    if run.returncode != 0:
+        raise VerificationError(f"CompileError: command '{cmd[0]}' failed with exit code {run.returncode}\n{run.stderr}")
 
 
 def load_module(so_path: str | Path):
