@@ -91,6 +91,33 @@ def generate(spec: ChainSpec, folder: Path, params=None, qdd_form: str = "auto",
     return _cache[key]
 
 
+def cli_in_process(*args, cwd: Path = ROOT) -> subprocess.CompletedProcess:
+    """``gyrochain ARGS`` run by cli.main in this process, from ``cwd``: the exit status, stdout and
+    stderr as a subprocess gives them (argparse's exit included).  For the many tests of what a
+    command answers to a mistake, which need no process of their own (each would pay a second of
+    interpreter start and imports); what only a process shows (the console script, the exit
+    status through ``python -m``, Ctrl-C, no traceback on stderr) is tested with real processes
+    (tests/tools/test_cli.py, test_help.py, test_second_wave.py)."""
+    import contextlib
+    import io
+
+    from gyrochain.cli import main
+
+    words = [str(a) for a in args]
+    out, err = io.StringIO(), io.StringIO()
+    here = os.getcwd()
+    os.chdir(cwd)
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code = main(words)
+            except SystemExit as exc:  # argparse
+                code = exc.code
+    finally:
+        os.chdir(here)
+    return subprocess.CompletedProcess(["gyrochain", *words], code, out.getvalue(), err.getvalue())
+
+
 # The strict compiles of the generated C.  gcc at -O2, keeping the object: the warnings of the middle
 # end (-Wmaybe-uninitialized, -Warray-bounds, ...) need the optimiser, and they are the same for
 # the same code in C++.  g++ (and clang, where installed) for what another front end adds (C++'s

@@ -20,7 +20,7 @@ from scipy.special import mathieu_a, mathieu_b
 
 from gyrochain import floquet, pipeline
 from gyrochain.spec import load_spec
-from conftest import ROOT, perturbed_c
+from conftest import ROOT, cli_in_process, perturbed_c
 
 G, L = 9.81, 0.2  # the example's gravity and the bob's distance from the pivot
 
@@ -176,12 +176,9 @@ KAPITZA = (ROOT / "specs" / "kapitza.toml").read_text()
     ('["a*cos(w*t)*t", 0, 0]', "steady", "not periodic in t"),
 ])
 def test_a_model_that_is_not_periodic_is_one_line(tmp_path, position, field, words):
-    import subprocess
-    import sys
-
     spec = tmp_path / "drift.toml"
     spec.write_text(KAPITZA.replace('position = ["a*cos(w*t)", 0, 0]', f"position = {position}"))
-    res = subprocess.run([sys.executable, "-m", "gyrochain", "steady", str(spec)], capture_output=True, text=True, cwd=ROOT)
+    res = cli_in_process("steady", spec)
     assert res.returncode == 2 and res.stdout == "", (res.stdout, res.stderr)
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and field in lines[0] and words in lines[0], res.stderr
@@ -203,8 +200,7 @@ def test_the_period_of_several_frequencies(example):
     res = subprocess.run([sys.executable, "-m", "gyrochain", "steady", "specs/ship_gimbal.toml"], capture_output=True,
                          text=True, cwd=ROOT)
     assert res.returncode == 0 and "equilibria for all t: 0 found" in res.stdout
-    res = subprocess.run([sys.executable, "-m", "gyrochain", "steady", "specs/ship_gimbal.toml", "--start", "0,0.3"],
-                         capture_output=True, text=True, cwd=ROOT)
+    res = cli_in_process("steady", "specs/ship_gimbal.toml", "--start", "0,0.3")
     assert res.returncode == 2 and len(res.stderr.strip().splitlines()) == 1 and "--start 0,0.3" in res.stderr
 
 

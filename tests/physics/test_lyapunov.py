@@ -17,7 +17,7 @@ import pytest
 
 from gyrochain import sweep
 from gyrochain.measures import lyapunov, lyapunov_spectrum, pairing
-from conftest import ROOT, perturbed_c
+from conftest import ROOT, cli_in_process, perturbed_c
 
 REGULAR, CHAOTIC = [0.3, 0.2, 0.0, 0.0], [2.5, -2.0, 0.0, 0.0]
 
@@ -104,7 +104,7 @@ def test_the_sweep_measures(tmp_path, capsys, monkeypatch):
     assert np.all(np.isfinite(lam)) and np.all(np.diff(lam, axis=1) <= 0)
     res = _run("plot", str(store), "--component", "3", "-o", str(tmp_path / "l.png"))
     assert res.returncode == 0 and (tmp_path / "l.png").stat().st_size > 1000, res.stderr
-    res = _run("plot", str(store), "--component", "4", "-o", str(tmp_path / "l.png"))
+    res = cli_in_process("plot", store, "--component", "4", "-o", tmp_path / "l.png")
     assert res.returncode == 2 and "--component" in res.stderr
 
     store = tmp_path / "floquet.zarr"
@@ -141,7 +141,7 @@ def test_the_sweep_measures(tmp_path, capsys, monkeypatch):
     (("specs/double_pendulum.toml", "--vary", "phi1=0:3:3", "--measure", "lyapunov_spectra"), "--measure"),
 ])
 def test_sweep_measure_mistakes(tmp_path, args, field):
-    res = _run("sweep", *args, "-q", "-o", str(tmp_path / "s.zarr"))
+    res = cli_in_process("sweep", *args, "-q", "-o", tmp_path / "s.zarr")
     assert res.returncode == 2 and res.stdout == "", (res.stdout, res.stderr)
     assert len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, res.stderr
     assert not (tmp_path / "s.zarr").exists()

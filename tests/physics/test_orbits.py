@@ -14,7 +14,7 @@ import pytest
 
 from gyrochain import orbits, pipeline, reference, steady
 from gyrochain.spec import load_spec
-from conftest import ROOT, perturbed_c
+from conftest import ROOT, cli_in_process, perturbed_c
 
 G, L = 9.81, 1.0
 
@@ -120,7 +120,7 @@ def test_the_command_and_its_mistakes():
                         (("specs/double_pendulum_point.toml", "--vary", "m=1:2:3"), "--vary m"),
                         (("specs/furuta.toml", "--u", "0.5"), "orbits"),
                         (("specs/nosuch.toml",), "nosuch")):
-        res = _cli(*args)
+        res = cli_in_process("orbits", *args)
         assert res.returncode == 2 and res.stdout == "", (args, res.stdout, res.stderr)
         assert len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, (args, res.stderr)
 
@@ -130,6 +130,6 @@ def test_more_mistakes_are_one_line():
     for args, field in ((("orbits", "specs/cable64.toml"), "orbits"),
                         (("orbits", "specs/double_pendulum_point.toml", "--omega", "abc"), "--omega"),
                         (("steady", "specs/kapitza.toml", "--vary", "w=0:100:3"), "--vary w")):
-        res = subprocess.run([sys.executable, "-m", "gyrochain", *args], capture_output=True, text=True, cwd=ROOT, timeout=60)
+        res = cli_in_process(*args)
         assert res.returncode == 2 and res.stdout == "", (args, res.stdout, res.stderr)
         assert len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, (args, res.stderr)

@@ -11,7 +11,7 @@ from scipy.linalg import eigh
 
 from gyrochain import reference, steady
 from gyrochain.spec import load_spec, parse_spec
-from conftest import ROOT
+from conftest import ROOT, cli_in_process
 
 CARDAN = '''
 name = "cardan_up"
@@ -151,7 +151,7 @@ def test_cli_output_and_bad_input():
                         (("specs/gimbal.toml", "--omega", "5:1:3"), "--omega"),
                         (("specs/furuta_sym.toml", "--u", "0", "--param", "m2=-1"), "body[2].m"),
                         (("specs/furuta_sym.toml", "--param", "m=1"), "--param m")):
-        res = _cli(*args)
+        res = cli_in_process("steady", *args)
         assert res.returncode == 2 and res.stdout == "", (args, res.stdout, res.stderr)
         assert len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, (args, res.stderr)
 

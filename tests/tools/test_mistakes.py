@@ -3,8 +3,6 @@
 mistake at all (a negative list, no --u, no --param) is gone."""
 from __future__ import annotations
 
-import contextlib
-import io
 import os
 import re
 import subprocess
@@ -17,21 +15,16 @@ import pytest
 
 from gyrochain import __version__, cli, pipeline
 from gyrochain.cli import main
-from conftest import ROOT
+from conftest import ROOT, cli_in_process
 
 SPECS = ROOT / "specs"
 
 
 def run(*args):
     """The command in this process (as `python -m gyrochain` runs it): status, stdout, stderr, seconds."""
-    out, err = io.StringIO(), io.StringIO()
     t0 = time.perf_counter()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            code = main([str(a) for a in args])
-        except SystemExit as exc:  # argparse
-            code = exc.code
-    return code, out.getvalue(), err.getvalue(), time.perf_counter() - t0
+    res = cli_in_process(*args, cwd=Path.cwd())
+    return res.returncode, res.stdout, res.stderr, time.perf_counter() - t0
 
 
 def refused(field: str, *args, words: str = "", within: float = 30.0) -> str:
