@@ -202,8 +202,8 @@ def _compile_object(src: Path, obj: Path, flags: list[str]) -> None:
     cmd = [*shlex.split(compiler()), *shlex.split(" ".join(f for f in given if f)), "-c", str(src), "-o", str(obj), *flags]
     try:
         run = subprocess.run(cmd, capture_output=True, text=True)
-    except OSError as exc:
-        raise VerificationError(f"CompileError: {cmd[0]}: {exc.strerror}") from None
+    except OSError as exc:  # no such compiler: the command says so in one line, naming it
+        raise OSError(exc.errno, f"{exc.strerror} (the C compiler{' of $CC' if os.environ.get('CC') else ''})", cmd[0]) from None
     if run.returncode != 0:
         raise VerificationError(f"CompileError: command '{cmd[0]}' failed with exit code {run.returncode}\n{run.stderr}")
 

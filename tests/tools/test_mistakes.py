@@ -194,6 +194,15 @@ def test_a_file_system_error_is_one_line(tmp_path, store):
     refused(str(tmp_path / "file"), "plot", store, "-o", tmp_path / "file" / "m.png")
 
 
+def test_a_compiler_that_is_not_there_is_named_in_one_line(tmp_path, monkeypatch):
+    """$CC naming no program: the model's build says which compiler it could not run, exit 2, and
+    generate writes nothing (was: an internal error from cffi's VerificationError)."""
+    monkeypatch.setenv("CC", "no-such-cc")
+    refused("no-such-cc", "generate", "-q", SPECS / "gimbal.toml", "-o", tmp_path / "out",
+            words="No such file or directory (the C compiler of $CC)")
+    nothing_in(tmp_path)
+
+
 # --------------------------------------------------------------------------- what was friction
 def test_negative_numbers_in_every_list_option(tmp_path):
     """Was: argparse's "expected one argument" for --phi -1,0."""
