@@ -33,6 +33,31 @@ SHORT_EXAMPLES = [e for e in EXAMPLES if e not in LONG_EXAMPLES]
 # cppcheck, the float build, pdflatex, the animation) run on one of them, the UR5: the Panda's and
 # the two-link pendulum's code comes from the same printers and adds minutes, not coverage.
 ONE_ARM = [e for e in EXAMPLES if e not in ("panda", "planar2dof")]
+# The examples make test runs a per-example check on (make test-all: on every example).  Together
+# they run every line and branch of the derivation and printers that the sixteen examples run
+# (coverage.py, branch mode), but for the 64-rod cable's long-chain forms (loops, M⁻¹ formed), the
+# Panda's functions cut in parts, joint damping, the quadratures' refusal of a tilted first axis and
+# a few number formats of the LaTeX.  Those run in make test through test_fresh (every example
+# derived, printed and compared byte for byte with generated/); the long-chain forms' C through the
+# long random chains of test_scale.py, damping through the general random chains.
+# They are the gimbal (the integrable case and its quadratures), gyrostat2 (rotors in both bodies,
+# an inclined axis with an offset), the symbolic Furuta pendulum, Kapitza's pendulum (a
+# time-dependent platform), the ship's gimbal (a rotating platform with springs), the turntable,
+# Ziegler's follower force and the UR5 (an arm imported from URDF, with controls).
+QUICK_EXAMPLES = ("furuta_sym", "gimbal", "gyrostat2", "kapitza", "ship_gimbal", "turntable", "ur5", "ziegler")
+
+
+def tiered(cases, quick, key=None, rows: bool = False) -> list:
+    """The cases of a test repeated over examples or random specs: those whose ``key`` (the case
+    itself by default) is in ``quick`` run in make test, the others in make test-all only (marked
+    extended).  ``rows``: each case is a tuple of a multi-argument parametrize's values."""
+    out = []
+    for c in cases:
+        if (c if key is None else key(c)) in quick:
+            out.append(c)
+        else:
+            out.append(pytest.param(*(c if rows else (c,)), marks=pytest.mark.extended))
+    return out
 
 
 def example_script(name: str):
@@ -164,8 +189,9 @@ LAYERS = ("unit", "models", "physics", "tools")  # the folders of tests/, each a
 # analysers and the sanitizers, the fuzz lanes, the documentation's pages (their commands run, the
 # site, every test that drives a browser), and TeX typesetting every document.  Where a check costs
 # a build per example and takes the same printer's path on each (the FMUs, the GPU threads, the
-# CasADi functions, the LaTeX read back from random general specs), make test runs it on the
-# examples that take its every branch and make test-all on all: those tests mark their own.
+# CasADi functions, the LaTeX read back from random general specs), and where a check is repeated
+# over the examples or over random specs, make test runs it on the cases that take its every branch
+# (QUICK_EXAMPLES, each test's own choice of random specs) and make test-all on all: tiered().
 EXTENDED_FILES = {"test_install.py", "test_m4.py", "test_static_checks.py", "test_fuzz.py"}
 EXTENDED_FIXTURES = {"browser", "site"}
 

@@ -10,14 +10,14 @@ import pytest
 
 from gyrochain.build import IntegrationError
 from gyrochain.randspec import random_spec_text
-from conftest import EXAMPLES, richardson
+from conftest import EXAMPLES, QUICK_EXAMPLES, richardson, tiered
 from lagrange import lagrangian_np
-from test_models import CASES, IDS
+from test_models import CASES, IDS, QUICK
 
 GYRO_X0 = np.array([0.0, 0.8, 1.5, 0.0])  # specs/gyrostat2.toml's [initial]
 
 
-@pytest.fixture(params=list(zip(CASES, IDS)), ids=IDS, scope="module")
+@pytest.fixture(params=tiered(list(zip(CASES, IDS)), QUICK, key=lambda c: c[1]), ids=IDS, scope="module")
 def case(request, make_model):
     (n, planar, gyro, controls, theta1), cid = request.param
     rng = np.random.default_rng(sum(map(ord, cid)))
@@ -58,7 +58,7 @@ def test_momenta_and_their_rate_equal_the_lagrangians(case):
             assert np.max(np.abs(qd - x[n:])) <= 1e-11 * max(1.0, np.max(np.abs(x[n:])))
 
 
-@pytest.mark.parametrize("name", EXAMPLES)
+@pytest.mark.parametrize("name", tiered(EXAMPLES, QUICK_EXAMPLES))
 def test_examples_momenta_move_as_pdot_says(example, name):
     """d/dt p(x(t)) (Richardson differences of the emitted momenta along the emitted flow) equals
     NAME_pdot, springs, dampers and loads included; p₁ is the momentum (27).  Models with a moving

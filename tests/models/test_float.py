@@ -15,7 +15,7 @@ import pytest
 from gyrochain import pipeline
 from gyrochain.printers import real
 from gyrochain.spec import load_spec
-from conftest import ONE_ARM, ROOT, SHORT_EXAMPLES, STRICT_COMPILERS, example_params, strict_compile
+from conftest import ONE_ARM, QUICK_EXAMPLES, ROOT, tiered, SHORT_EXAMPLES, STRICT_COMPILERS, example_params, strict_compile
 
 STRICT = ["-Wall", "-Wextra", "-Wpedantic", "-Wdouble-promotion", "-Wfloat-conversion", "-Werror"]
 # the agreement of φ̈ and of ∂φ̈/∂(φ, φ̇) with the double model over 200 random states of each short
@@ -30,7 +30,7 @@ def _float_files(name: str) -> dict:
     return files
 
 
-@pytest.mark.parametrize("name", ONE_ARM)
+@pytest.mark.parametrize("name", tiered(ONE_ARM, QUICK_EXAMPLES))
 def test_float_c_compiles_without_promotion(name, tmp_path):
     files = _float_files(name)
     for fname in (f"{name}.c", f"{name}.h"):

@@ -15,7 +15,7 @@ import pytest
 from gyrochain import gpu
 from gyrochain.models import pipeline
 from gyrochain.spec import load_spec
-from conftest import EXAMPLES, ONE_ARM, ROOT, SHORT_EXAMPLES, example_params
+from conftest import EXAMPLES, ONE_ARM, QUICK_EXAMPLES, ROOT, SHORT_EXAMPLES, example_params, tiered
 
 STRICT = ["-Wall", "-Wextra", "-Wpedantic", "-Werror"]
 
@@ -60,7 +60,7 @@ def test_the_host_form_compiles_without_a_warning(tmp_path):
     assert res.returncode == 0 and not res.stderr, res.stderr
 
 
-@pytest.mark.parametrize("name", [pytest.param(e, marks=pytest.mark.extended) if e == "cable64" else e for e in EXAMPLES])
+@pytest.mark.parametrize("name", tiered(EXAMPLES, QUICK_EXAMPLES))
 def test_a_thread_is_the_batch_s_trajectory_bit_for_bit(name, hosts, rng):
     cm, gm = hosts(name)
     X0, params, U = _case(cm, name, rng)
@@ -131,7 +131,7 @@ def test_every_float_build_s_threads_are_its_batch_s(name, rng):
     _float_thread_is_the_float_batch(name, rng)
 
 
-@pytest.mark.parametrize("name", [e for e in EXAMPLES if e != "cable64"])
+@pytest.mark.parametrize("name", tiered([e for e in EXAMPLES if e != "cable64"], QUICK_EXAMPLES))
 def test_a_thread_of_the_variational_kernel_is_integrate_variational(name, hosts, rng):
     cm, gm = hosts(name)
     X0, params, U = _case(cm, name, rng, nb=4)

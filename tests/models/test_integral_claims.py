@@ -12,7 +12,7 @@ import pytest
 from gyrochain import pipeline
 from gyrochain.randspec import random_general_spec_text, random_spec_text
 from gyrochain.spec import load_spec, parse_spec
-from conftest import EXAMPLES, ROOT, example_params
+from conftest import EXAMPLES, QUICK_EXAMPLES, ROOT, example_params, tiered
 
 CLAIM = "The {what} is an integral of this model"
 DENIAL = "The {what} is not an integral of this model"
@@ -59,7 +59,7 @@ def _spec(case: str):
     return load_spec(ROOT / "specs" / f"{case}.toml") if case in EXAMPLES else parse_spec(RANDOM[case])
 
 
-@pytest.mark.parametrize("case", EXAMPLES + sorted(RANDOM))
+@pytest.mark.parametrize("case", tiered(EXAMPLES, QUICK_EXAMPLES) + sorted(RANDOM))
 def test_the_document_claims_an_integral_exactly_when_the_code_has_it(case):
     spec = _spec(case)
     files, model = pipeline.derive_and_render(spec, targets=("c", "latex"))
@@ -81,7 +81,7 @@ def _params(case: str, spec) -> dict | None:
     return params
 
 
-@pytest.mark.parametrize("case", EXAMPLES + sorted(RANDOM))
+@pytest.mark.parametrize("case", tiered(EXAMPLES, QUICK_EXAMPLES) + sorted(RANDOM))
 def test_claimed_integrals_are_conserved_and_denied_ones_change(case, rng):
     spec = _spec(case)
     files, model = pipeline.derive_and_render(spec, targets=("c", "latex"))

@@ -13,7 +13,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT
+from conftest import QUICK_EXAMPLES, ROOT, tiered
 from gyrochain.build import IntegrationError
 from gyrochain.printers import lanes
 
@@ -180,7 +180,7 @@ int main(void)
 
 
 @pytest.mark.parametrize("own", [0, 1], ids=["libm", "own"])
-@pytest.mark.parametrize("name", MODELS[:-1])  # (not ur5, whose C takes 4 s to compile: the batch test has it)
+@pytest.mark.parametrize("name", tiered(MODELS[:-1], QUICK_EXAMPLES))  # (not ur5, whose C takes 4 s to compile: the batch test has it)
 def test_lane_rhs_is_the_scalar_rhs_bit_for_bit(example, name, own, tmp_path):
     """The lanes' right side (LANES lanes and one) against NAME_rhs at 8000 random states with t, u
     and parameters, with libm's sin and cos (RK4's) and with the lanes' own (RK4_LANES's; NAME_rhs

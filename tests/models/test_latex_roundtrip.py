@@ -22,7 +22,7 @@ import texread
 from gyrochain import reference
 from gyrochain.spec import T, phi_symbol, phidot_symbol
 from gyrochain.randspec import random_general_spec_text, random_spec_text
-from conftest import EXAMPLES, ROOT, example_params
+from conftest import EXAMPLES, QUICK_EXAMPLES, ROOT, example_params, tiered
 
 TOL = 1e-9
 
@@ -486,7 +486,7 @@ def _example(name, make_model):
     return make_model(load_spec(ROOT / "specs" / f"{name}.toml"), example_params(name), latex=True)
 
 
-@pytest.mark.parametrize("name", EXAMPLES)
+@pytest.mark.parametrize("name", tiered(EXAMPLES, QUICK_EXAMPLES))
 def test_printed_formulas_of_every_example_are_the_code(name, make_model):
     """generated/NAME/NAME.tex as committed — what a reader of the repository opens, the same bytes
     as a fresh render (tests/models/test_fresh.py) — reads back as the code."""

@@ -9,7 +9,7 @@ from scipy.integrate import solve_ivp
 
 from gyrochain import reference
 from gyrochain.randspec import random_spec_text
-from conftest import EXAMPLES, LONG_EXAMPLES, check_derivatives
+from conftest import EXAMPLES, LONG_EXAMPLES, QUICK_EXAMPLES, check_derivatives, tiered
 
 # (n, planar, gyrostats, controlled joints, θ¹ or None for random)
 CASES = [
@@ -30,9 +30,12 @@ CASES = [
 ]
 IDS = [f"n{n}-{'planar' if pl else 'spatial'}-{'gyro' if gy else 'nogyro'}-u{''.join(map(str, u)) or '0'}-{'vert' if t1 == 0 else 'tilt'}"
        for n, pl, gy, u, t1 in CASES]
+# make test's cases: planar and spatial, with and without gyrostats, no control, the last joint's
+# and the first joint's, l¹ vertical and tilted, the single body; make test-all: all fourteen
+QUICK = {"n1-spatial-gyro-u1-vert", "n2-planar-nogyro-u0-tilt", "n3-spatial-gyro-u3-vert", "n4-spatial-nogyro-u1-tilt"}
 
 
-@pytest.fixture(params=list(zip(CASES, IDS)), ids=IDS, scope="module")
+@pytest.fixture(params=tiered(list(zip(CASES, IDS)), QUICK, key=lambda c: c[1]), ids=IDS, scope="module")
 def case(request, make_model):
     (n, planar, gyro, controls, theta1), cid = request.param
     rng = np.random.default_rng(sum(map(ord, cid)))  # stable across runs (no hash())
@@ -120,7 +123,7 @@ def test_integrals_conserved(case):
         assert not model.c.has_momentum and not hasattr(model.py, "momentum")
 
 
-@pytest.mark.parametrize("name", EXAMPLES)
+@pytest.mark.parametrize("name", tiered(EXAMPLES, QUICK_EXAMPLES))
 def test_example_integrals_conserved_along_the_reference_solution(example, name):
     """Every example spec: along the reference model's DOP853 solution (rtol 1e-13, zero control
     torque), the generated energy stays constant to 1e-10 relative and, where l¹ is vertical, the

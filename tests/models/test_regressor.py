@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import EXAMPLES, LONG_EXAMPLES, ROOT, example_params
+from conftest import EXAMPLES, LONG_EXAMPLES, QUICK_EXAMPLES, ROOT, example_params, tiered
 from gyrochain import pipeline, reference
 from gyrochain.randspec import random_general_spec_text, random_spec_text
 from gyrochain.spec import SpecError, load_spec, parse_spec
@@ -77,7 +77,7 @@ def _t(mod, t):
     return (t,) if getattr(mod, "TIME_DEPENDENT", False) else ()
 
 
-@pytest.mark.parametrize("name", SHORT + sorted(RANDOM))
+@pytest.mark.parametrize("name", tiered(SHORT, QUICK_EXAMPLES) + sorted(RANDOM))
 def test_regressor_is_the_inverse_dynamics_of_the_c(name):
     """The generated regressor (its Python printing here; the C is the same straight line, checked
     against it below) against the inverse dynamics of the generated C, the energy regressor

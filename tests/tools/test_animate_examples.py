@@ -13,14 +13,14 @@ from gyrochain import animate  # noqa: E402
 from gyrochain.cli import main  # noqa: E402
 from gyrochain.spec import load_spec  # noqa: E402
 
-from conftest import ONE_ARM, example_params  # noqa: E402
+from conftest import ONE_ARM, QUICK_EXAMPLES, example_params, tiered  # noqa: E402
 from test_animate import changed, frames_of, param_args  # noqa: E402
 
 SPECS = Path(__file__).resolve().parents[2] / "specs"
 
 
 # --------------------------------------------------------------------------- every example, GIF and HTML
-@pytest.mark.parametrize("name", ONE_ARM)
+@pytest.mark.parametrize("name", tiered(ONE_ARM, QUICK_EXAMPLES))
 def test_every_example_animates(name, tmp_path, capsys):
     """One command per example: a GIF whose frames move (every example is set moving with φ̇ = 1
     where its spec has no initial state) and a self-contained page."""
@@ -40,7 +40,7 @@ def test_every_example_animates(name, tmp_path, capsys):
     assert text.count('"frames":') == 1 and animate.MARKER in text
 
 
-@pytest.mark.parametrize("name", ONE_ARM)
+@pytest.mark.parametrize("name", tiered(ONE_ARM, QUICK_EXAMPLES))
 def test_every_still_is_framed_and_its_labels_apart(name, tmp_path):
     """A still of every example (at t = 1.5 s, with the last 2 s of the tip's path): everything drawn
     — bodies, rings, the platform, the path, the labels — lies inside the canvas, the scene between
