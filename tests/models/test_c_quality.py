@@ -13,7 +13,7 @@ import pytest
 from gyrochain import reference
 from gyrochain.build import ModelError
 from gyrochain.spec import load_spec
-from conftest import (EXAMPLES, ONE_ARM, ROOT, SHORT_EXAMPLES, STRICT_COMPILERS, example_params, printer_setting,
+from conftest import (EXAMPLES, ONE_ARM, QUICK_EXAMPLES, tiered, ROOT, SHORT_EXAMPLES, STRICT_COMPILERS, example_params, printer_setting,
                       strict_compile)
 
 GEN = ROOT / "generated"
@@ -32,7 +32,7 @@ def objects(tmp_path_factory):
 
 
 @pytest.mark.parametrize("cc,flags", COMPILERS, ids=[c for c, _ in COMPILERS])
-@pytest.mark.parametrize("name", EXAMPLES)
+@pytest.mark.parametrize("name", tiered(EXAMPLES, QUICK_EXAMPLES))
 def test_compiles_warning_free(name, cc, flags, objects, tmp_path):
     if not shutil.which(cc):
         pytest.skip(f"{cc} is not installed")
@@ -41,23 +41,25 @@ def test_compiles_warning_free(name, cc, flags, objects, tmp_path):
     assert res.returncode == 0 and not res.stderr, res.stderr
 
 
-def test_only_libm_and_no_globals(objects):
-    for name in EXAMPLES:
-        src = (GEN / name / f"{name}.c").read_text()
-        # math.h, and float.h (a freestanding header, no library: FLT_EVAL_METHOD) where RK4 has lanes
-        assert set(re.findall(r"#include\s*[<\"]([^>\"]+)", src)) - {"float.h"} == {f"{name}.h", "math.h"}
-        assert ("float.h" in src) == (f"{name}_rk4_lanes_(" in src)
-        assert "malloc" not in src
-        # no mutable static variables (function-local static const tables are read-only data)
-        assert not re.search(r"^\s*static\s+(?!const\b)[\w ]+\b\w+\s*(\[[^\]]*\])?\s*(=|;)", src, re.M)
-        obj = objects / f"{name}.o"
-        if not obj.exists():  # the strict compile did not run (a -k selection)
-            assert _run(["gcc", "-std=c99", "-O2", "-c", str(GEN / name / f"{name}.c"), "-o", str(obj)]).returncode == 0
-        syms = _run(["nm", str(obj)]).stdout
-        data = [ln for ln in syms.splitlines() if re.search(r"\s[BbDdCc]\s", ln)]
-        assert not data, f"{name} has data symbols: {data}"
-        undefined = {ln.split()[-1] for ln in syms.splitlines() if " U " in ln}
-        assert undefined <= {"sin", "cos", "sincos", "sqrt", "fabs", "pow", "asin", "floor", "sinh", "cosh", "asinh", "ceil", "fmin", "fmax", "log"}, undefined  # libm only
+@pytest.mark.parametrize("name", tiered(EXAMPLES, QUICK_EXAMPLES))
+def test_only_libm_and_no_globals(objects, name):
+    """Each example's C includes its header and math.h only, allocates nothing, keeps no mutable
+    static and calls libm only (its -O2 object's symbols)."""
+    src = (GEN / name / f"{name}.c").read_text()
+    # math.h, and float.h (a freestanding header, no library: FLT_EVAL_METHOD) where RK4 has lanes
+    assert set(re.findall(r"#include\s*[<\"]([^>\"]+)", src)) - {"float.h"} == {f"{name}.h", "math.h"}
+    assert ("float.h" in src) == (f"{name}_rk4_lanes_(" in src)
+    assert "malloc" not in src
+    # no mutable static variables (function-local static const tables are read-only data)
+    assert not re.search(r"^\s*static\s+(?!const\b)[\w ]+\b\w+\s*(\[[^\]]*\])?\s*(=|;)", src, re.M)
+    obj = objects / f"{name}.o"
+    if not obj.exists():  # the strict compile did not run (a -k selection)
+        assert _run(["gcc", "-std=c99", "-O2", "-c", str(GEN / name / f"{name}.c"), "-o", str(obj)]).returncode == 0
+    syms = _run(["nm", str(obj)]).stdout
+    data = [ln for ln in syms.splitlines() if re.search(r"\s[BbDdCc]\s", ln)]
+    assert not data, f"{name} has data symbols: {data}"
+    undefined = {ln.split()[-1] for ln in syms.splitlines() if " U " in ln}
+    assert undefined <= {"sin", "cos", "sincos", "sqrt", "fabs", "pow", "asin", "floor", "sinh", "cosh", "asinh", "ceil", "fmin", "fmax", "log"}, undefined  # libm only
 
 
 DRIVER = r"""

@@ -15,7 +15,7 @@ import pytest
 
 from gyrochain import build
 from gyrochain.build import ModelError
-from conftest import FURUTA_SYM_PARAMS, ROOT, SHORT_EXAMPLES, check_derivatives, example_script, printer_setting
+from conftest import FURUTA_SYM_PARAMS, ROOT, SHORT_EXAMPLES, check_derivatives, example_script, printer_setting, tiered
 
 
 def _state(rng, n):
@@ -146,7 +146,12 @@ def _world_pair(make_model, n, planar, gyro, controls, springs, columns="world")
     return fwd, wld, rng
 
 
-@pytest.mark.parametrize("n, planar, gyro, controls, springs", WORLD_CASES,
+# make test: the planar chain without rotors, with springs and no control, and the spatial n = 10 with
+# rotors and a control (the solve's blocks; its models serve the two bit tests below); make test-all: all
+QUICK_WORLD = {(2, True), (10, False)}
+
+
+@pytest.mark.parametrize("n, planar, gyro, controls, springs", tiered(WORLD_CASES, QUICK_WORLD, key=lambda c: c[:2], rows=True),
                          ids=[f"n{c[0]}-{'planar' if c[1] else 'spatial'}-{'gyro' if c[2] else 'nogyro'}-u{len(c[3])}"
                               + ("-springs" if c[4] else "") for c in WORLD_CASES])
 def test_world_form_matches_forward_mode(make_model, n, planar, gyro, controls, springs):
@@ -170,7 +175,8 @@ def test_world_form_matches_forward_mode(make_model, n, planar, gyro, controls, 
 INVERSE_CASES = [c for c in WORLD_CASES if c[0] in (1, 4, 7, 10)]
 
 
-@pytest.mark.parametrize("n, planar, gyro, controls, springs", INVERSE_CASES,
+@pytest.mark.parametrize("n, planar, gyro, controls, springs",  # (make test: n = 1 and 4, springs; make test-all: 7, 10)
+                         tiered(INVERSE_CASES, {1, 4}, key=lambda c: c[0], rows=True),
                          ids=[f"n{c[0]}-u{len(c[3])}" + ("-springs" if c[4] else "") for c in INVERSE_CASES])
 def test_world_inverse_matches_forward_mode(make_model, n, planar, gyro, controls, springs):
     """The world form with M⁻¹ formed and its products by prefix sums (long chains choose it; forced
@@ -283,41 +289,49 @@ def _printed_derivatives(folder, name: str, xs, exe, flags=("-O2",)) -> str:
     return subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout
 
 
-@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+@pytest.fixture(scope="module")
+def n10_world(make_model, tmp_path_factory):
+    """The n = 10 chain's world form as emitted (the factor row by row: FACTOR_COLUMNS_MIN_N is
+    above 10), states (four random, and zero, where M is singular for the factor's verdict) and
+    every output at them from a driver built at -O2: what the two bit tests below compare with."""
+    from gyrochain import world
+
+    if shutil.which("gcc") is None:
+        pytest.skip("needs gcc")
+    assert world.FACTOR_COLUMNS_MIN_N > 10
+    _, wld, rng = _world_pair(make_model, 10, False, True, (3,), False)
+    xs = [_state(rng, 10) for _ in range(4)] + [np.zeros(20)]
+    exe = tmp_path_factory.mktemp("n10") / "plain"
+    return wld, xs, _printed_derivatives(wld.folder, wld.spec.name, xs, exe)
+
+
 @pytest.mark.skipif(not _avx(), reason="this CPU has no AVX to run the vector form of the column solve on")
-def test_both_forms_of_the_column_solve_give_the_same_bits(make_model, tmp_path):
+def test_both_forms_of_the_column_solve_give_the_same_bits(n10_world, tmp_path):
     """The world form's column solve (short chains) in blocks of four rows by eight columns in
     vector registers with AVX (GNU C's vector types) and eight scalar sums without; each entry's
     products are added in the same order, so -O2 and -O2 -mavx give the same bits (n = 10: two
     blocks of four rows and two rows left over, a block of eight columns and two left over)."""
-    _, wld, rng = _world_pair(make_model, 10, False, True, (3,), False)
+    wld, xs, plain = n10_world
     name = wld.spec.name
     assert "#if defined(__GNUC__) && defined(__AVX__)" in (wld.folder / f"{name}.c").read_text()
-    xs = [_state(rng, 10) for _ in range(4)]
-    outs = [_printed_derivatives(wld.folder, name, xs, tmp_path / "plain"),
-            _printed_derivatives(wld.folder, name, xs, tmp_path / "avx", ("-O2", "-mavx"))]
-    assert outs[0].startswith("0") and outs[0] == outs[1]
+    avx = _printed_derivatives(wld.folder, name, xs, tmp_path / "avx", ("-O2", "-mavx"))
+    assert plain.startswith("0") and plain == avx
 
 
-@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
-def test_both_forms_of_the_factor_give_the_same_bits(make_model, tmp_path):
+def test_both_forms_of_the_factor_give_the_same_bits(n10_world, tmp_path):
     """The world form's LDLᵀ of M row by row (short chains) and column by column (from
     world.FACTOR_COLUMNS_MIN_N joints on: contiguous updates, four k at a time) sums each entry in
     the same order: the n = 10 chain emitted both ways gives the same bits (φ̈ and every block, the
     factor's verdict on a singular M too)."""
     from gyrochain import pipeline, world
 
-    _, wld, rng = _world_pair(make_model, 10, False, True, (3,), False)
+    wld, xs, rows = n10_world
     name = wld.spec.name
-    xs = [_state(rng, 10) for _ in range(4)] + [np.zeros(20)]
-    outs = {}
-    for label, threshold in (("rows", 10**6), ("columns", 10)):
-        with printer_setting(world, "FACTOR_COLUMNS_MIN_N", threshold):
-            files, _ = pipeline.derive_and_render(wld.spec, targets=("c",), der_form="world")
-        assert ("four k at a time, each sum" in files[f"{name}.c"]) == (label == "columns")
-        d = tmp_path / label
-        d.mkdir()
-        for k in (f"{name}.c", f"{name}.h"):
-            (d / k).write_text(files[k])
-        outs[label] = _printed_derivatives(d, name, xs, d / "main")
-    assert outs["rows"].count("\n") == 5 and outs["rows"].startswith("0") and outs["rows"] == outs["columns"]
+    assert "four k at a time, each sum" not in (wld.folder / f"{name}.c").read_text()
+    with printer_setting(world, "FACTOR_COLUMNS_MIN_N", 10):
+        files, _ = pipeline.derive_and_render(wld.spec, targets=("c",), der_form="world")
+    assert "four k at a time, each sum" in files[f"{name}.c"]
+    for k in (f"{name}.c", f"{name}.h"):
+        (tmp_path / k).write_text(files[k])
+    columns = _printed_derivatives(tmp_path, name, xs, tmp_path / "main")
+    assert rows.count("\n") == 5 and rows.startswith("0") and rows == columns
