@@ -1,7 +1,8 @@
 # make generate [SPEC=specs/x.toml]   derive and emit generated/<name>/ (default: the gimbal)
 # make test                           set up .venv and run every derivation, accuracy, physics and command test (before a commit)
 # make test-all                       everything CI runs: make test, and the installed wheel, QEMU, the static analysers, the
-#                                     fuzz lanes, the documentation site in a browser, TeX (the extended tier, tests/conftest.py)
+#                                     fuzz lanes, the documentation site in a browser, TeX, and on every example and random spec
+#                                     the checks make test runs on a few (the extended tier, tests/conftest.py)
 # make test-fast                      the unit layer only: the stages, printers, pipeline and architecture, no compiler (< 1 min)
 # make test-install                   the package as users install it: sdist and wheel built, installed into a fresh venv,
 #                                     the tour run from an empty folder (part of make test-all; needs the package index)
