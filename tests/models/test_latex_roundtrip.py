@@ -507,8 +507,7 @@ def test_printed_formulas_of_every_example_are_the_code(name, make_model):
 EXTENDED_CASES = {"rt_general1", "rt_general2", "rt_general3", "rt_general4", "rt_gparams2"}
 
 
-@pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.extended) if c in EXTENDED_CASES else c
-                                  for c in sorted(RANDOM)])
+@pytest.mark.parametrize("case", tiered(sorted(RANDOM), set(RANDOM) - EXTENDED_CASES))
 def test_printed_formulas_of_random_specs_are_the_code(case, make_model):
     text, params = RANDOM[case]
     model = make_model(text, params, latex=True)

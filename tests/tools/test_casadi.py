@@ -12,14 +12,14 @@ import numpy as np
 import pytest
 
 from gyrochain.spec import load_spec
-from conftest import EXAMPLES, ROOT, example_params, example_script
+from conftest import EXAMPLES, ROOT, example_params, example_script, tiered
 
 casadi = pytest.importorskip("casadi", reason="CasADi is not installed (the test extra installs gyrochain[casadi])")
 from gyrochain import casadi as gc  # noqa: E402
 
 CONTROLLED = [e for e in EXAMPLES if load_spec(ROOT / "specs" / f"{e}.toml").controls]
 # make test checks two of them (a planar arm and a 6-joint arm); the rest, a library build each, are the extended tier's
-EVERY_CONTROLLED = [e if e in ("furuta", "ur5") else pytest.param(e, marks=pytest.mark.extended) for e in CONTROLLED]
+EVERY_CONTROLLED = tiered(CONTROLLED, {"furuta", "ur5"})
 
 
 @pytest.fixture(scope="module")

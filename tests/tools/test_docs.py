@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, tiered
 
 sys.path.insert(0, str(ROOT / "tests"))
 import docrun  # noqa: E402
@@ -21,8 +21,7 @@ PAGES = docrun.pages()
 
 # make test runs the README's blocks, the first page a user reads; make test-all every page's (a
 # documentation page's commands are the commands' own tests, shown)
-@pytest.mark.parametrize("page", [p if p.name == "README.md" else pytest.param(p, marks=pytest.mark.extended)
-                                  for p in PAGES], ids=[str(p.relative_to(ROOT)) for p in PAGES])
+@pytest.mark.parametrize("page", tiered(PAGES, {"README.md"}, key=lambda p: p.name), ids=[str(p.relative_to(ROOT)) for p in PAGES])
 def test_every_block_of_the_page_runs(page, tmp_path):
     counts = docrun.run_page(page, tmp_path / "work")
     assert sum(counts[k] for k in docrun.KINDS) + counts["skipped"] + counts["installed"] == len(docrun.blocks(page))

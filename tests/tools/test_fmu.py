@@ -17,7 +17,7 @@ from gyrochain import fmu, pipeline
 from gyrochain.cli import main
 from gyrochain.randspec import random_spec_text
 from gyrochain.spec import load_spec, parse_spec
-from conftest import ROOT, example_params
+from conftest import ROOT, example_params, tiered
 
 fmpy = pytest.importorskip("fmpy", reason="FMPy (pip install fmpy; make test installs it) reads the FMUs")
 from fmpy import read_model_description  # noqa: E402
@@ -69,8 +69,7 @@ def built(tmp_path_factory):
 # platform (ship_gimbal), a motor (furuta), an imported arm (ur5) and a random spatial chain with two
 # motors (chain8); make test-all every example (a build of C each, the 64-rod cable's 30 s)
 QUICK = {"gimbal", "kapitza", "ship_gimbal", "furuta", "ur5", "chain8"}
-CASES = [(name, fmi) if name in QUICK else pytest.param(name, fmi, marks=pytest.mark.extended)
-         for name in EXAMPLES for fmi in VERSIONS]
+CASES = tiered([(name, fmi) for name in EXAMPLES for fmi in VERSIONS], QUICK, key=lambda c: c[0], rows=True)
 
 
 @pytest.mark.parametrize("name, fmi", CASES)
