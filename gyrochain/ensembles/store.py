@@ -74,24 +74,27 @@ def open_store(path: Path, plan):
     tmp = path.parent / f".{path.name}.tmp-{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
     path.parent.mkdir(parents=True, exist_ok=True)
-    g = zarr.open_group(str(tmp), mode="w")
-    rows = plan.rows
-    chunks = (rows,) + tuple(plan.shape[1:])
-    checked = _checksummed(zarr)  # every chunk carries its CRC-32C: a damaged one is found when read
-    for name, (dims, values) in plan.coords.items():
-        a = g.create_array(name, shape=values.shape, dtype="f8", dimension_names=dims, chunks=values.shape,
-                           compressors=checked)
-        a[...] = values
-    for m in plan.sweep.measures:
-        extra = (2 * plan.n,) if m in EXTRA_DIM else ()
-        g.create_array(m, shape=plan.shape + extra, chunks=chunks + extra, dtype="f8", fill_value=np.nan,
-                       dimension_names=plan.dims + ([EXTRA_DIM[m]] if extra else []), compressors=checked)
-    g.create_array("code", shape=plan.shape, chunks=chunks, dtype="i4", fill_value=-1, dimension_names=plan.dims,
-                   compressors=checked)
-    g.create_array("done", shape=(plan.n_chunks,), chunks=(1,), dtype="bool", fill_value=False, dimension_names=["chunk"],
-                   compressors=checked)
-    g.attrs["gyrochain_sweep"] = want
-    tmp.rename(path)
+    try:
+        g = zarr.open_group(str(tmp), mode="w")
+        rows = plan.rows
+        chunks = (rows,) + tuple(plan.shape[1:])
+        checked = _checksummed(zarr)  # every chunk carries its CRC-32C: a damaged one is found when read
+        for name, (dims, values) in plan.coords.items():
+            a = g.create_array(name, shape=values.shape, dtype="f8", dimension_names=dims, chunks=values.shape,
+                               compressors=checked)
+            a[...] = values
+        for m in plan.sweep.measures:
+            extra = (2 * plan.n,) if m in EXTRA_DIM else ()
+            g.create_array(m, shape=plan.shape + extra, chunks=chunks + extra, dtype="f8", fill_value=np.nan,
+                           dimension_names=plan.dims + ([EXTRA_DIM[m]] if extra else []), compressors=checked)
+        g.create_array("code", shape=plan.shape, chunks=chunks, dtype="i4", fill_value=-1, dimension_names=plan.dims,
+                       compressors=checked)
+        g.create_array("done", shape=(plan.n_chunks,), chunks=(1,), dtype="bool", fill_value=False, dimension_names=["chunk"],
+                       compressors=checked)
+        g.attrs["gyrochain_sweep"] = want
+        tmp.rename(path)
+    finally:  # Ctrl-C or an error while it is made: nothing half-made stays beside it
+        shutil.rmtree(tmp, ignore_errors=True)
     return zarr.open_group(str(path), mode="r+")
 
 

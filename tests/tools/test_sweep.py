@@ -217,6 +217,35 @@ def test_two_sweeps_at_once_on_one_scheduler_keep_their_own_models(tmp_path):
         same(tmp_path / f"{name}_threads.zarr", tmp_path / f"{name}_dask.zarr")
 
 
+def test_ctrl_c_while_the_store_is_made_leaves_nothing(tmp_path, monkeypatch):
+    """Ctrl-C at each array of a new store's making: neither the store nor its temporary folder
+    stays; then the same sweep makes it whole."""
+    import zarr
+
+    from gyrochain.ensembles import store
+
+    plan, path = sweep.Plan(small()), tmp_path / "s.zarr"
+    real, calls = zarr.Group.create_array, {"n": 0, "at": 0}
+
+    def create_array(self, *a, **kw):
+        calls["n"] += 1
+        if calls["n"] == calls["at"]:
+            raise KeyboardInterrupt
+        return real(self, *a, **kw)
+
+    monkeypatch.setattr(zarr.Group, "create_array", create_array)
+    arrays = len(plan.coords) + len(plan.sweep.measures) + 2
+    for at in range(1, arrays + 1):
+        calls.update(n=0, at=at)
+        with pytest.raises(KeyboardInterrupt):
+            store.open_store(path, plan)
+        assert not list(tmp_path.iterdir()), (at, list(tmp_path.iterdir()))
+    calls.update(n=0, at=0)
+    g = store.open_store(path, plan)
+    assert calls["n"] == arrays and sorted(p.name for p in tmp_path.iterdir()) == ["s.zarr"]
+    assert g.attrs["gyrochain_sweep"] and not g["done"][...].any()
+
+
 # --------------------------------------------------------------------------- the measures
 def test_measures(tmp_path):
     """final against the independent reference model; flip_time (a link's absolute angle passing
