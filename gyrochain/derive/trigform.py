@@ -191,7 +191,9 @@ def _order(pair) -> tuple:
     return _atom_key(pair[0])
 
 
+@functools.lru_cache(maxsize=None)
 def exact_power(const, e: int):
+    """const**e, exact (kept: a Surd is never changed)."""
     out = 1
     one = Surd({(const,): Fraction(1)})
     for _ in range(e):
@@ -231,8 +233,9 @@ def _eliminate(table: dict, drop: int) -> dict:
     return out
 
 
-def _laurent(a: int, b: int) -> dict:
-    """cᵃ sᵇ as {m: (re, im)} with c = (z + 1/z)/2, s = (z − 1/z)/2i."""
+@functools.lru_cache(maxsize=None)
+def _laurent(a: int, b: int) -> tuple:
+    """cᵃ sᵇ as ((m, (re, im)), …) with c = (z + 1/z)/2, s = (z − 1/z)/2i (kept: read, never changed)."""
     out: dict = {}
     unit = [(1, 0), (0, -1), (-1, 0), (0, 1)][b % 4]  # (1/i)^b
     scale = Fraction(1, 2 ** (a + b))
@@ -242,20 +245,24 @@ def _laurent(a: int, b: int) -> dict:
             q = scale * comb(a, i) * comb(b, j) * (-1) ** j
             re, im = out.get(m, (0, 0))
             out[m] = (re + q * unit[0], im + q * unit[1])
-    return out
+    return tuple(out.items())
 
 
 def _fourier(table: dict, n: int) -> dict:
     """Form f: {((kind, m), rest): number}, kind "cos" or "sin", m with its first nonzero entry > 0."""
     acc: dict = {}
+    expansions: dict = {}  # exponents → their multiple-angle series (many terms share them)
     for (exps, rest), number in table.items():
-        series = {(): (Fraction(1), Fraction(0))}
-        for k in range(n):
-            nxt = {}
-            for mm, (r1, i1) in series.items():
-                for m, (r2, i2) in _laurent(exps[2 * k], exps[2 * k + 1]).items():
-                    nxt[mm + (m,)] = (r1 * r2 - i1 * i2, r1 * i2 + i1 * r2)
-            series = nxt
+        series = expansions.get(exps)
+        if series is None:
+            series = {(): (Fraction(1), Fraction(0))}
+            for k in range(n):
+                nxt = {}
+                for mm, (r1, i1) in series.items():
+                    for m, (r2, i2) in _laurent(exps[2 * k], exps[2 * k + 1]):
+                        nxt[mm + (m,)] = (r1 * r2 - i1 * i2, r1 * i2 + i1 * r2)
+                series = nxt
+            expansions[exps] = series
         for m, (re, im) in series.items():
             first = next((x for x in m if x), 0)
             plus = tuple(-x for x in m) if first < 0 else m
