@@ -3,6 +3,7 @@ CRC-32C of every chunk, the chunks found damaged, and reading it back with what 
 sweep.py computes the chunks; this module is all that touches the files."""
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
@@ -73,6 +74,7 @@ def open_store(path: Path, plan):
     # built beside its place and renamed into it: a run killed now leaves no half-made store
     tmp = path.parent / f".{path.name}.tmp-{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
+    new_parents = [p for p in path.parents if not p.exists()]  # the folders this call makes above the store
     path.parent.mkdir(parents=True, exist_ok=True)
     try:
         g = zarr.open_group(str(tmp), mode="w")
@@ -93,8 +95,12 @@ def open_store(path: Path, plan):
                        compressors=checked)
         g.attrs["gyrochain_sweep"] = want
         tmp.rename(path)
-    finally:  # Ctrl-C or an error while it is made: nothing half-made stays beside it
+    except BaseException:  # Ctrl-C or an error while it is made: nothing half-made stays, nor the folders made for it
         shutil.rmtree(tmp, ignore_errors=True)
+        for folder in new_parents:  # innermost first
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+        raise
     return zarr.open_group(str(path), mode="r+")
 
 

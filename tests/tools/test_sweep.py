@@ -218,13 +218,13 @@ def test_two_sweeps_at_once_on_one_scheduler_keep_their_own_models(tmp_path):
 
 
 def test_ctrl_c_while_the_store_is_made_leaves_nothing(tmp_path, monkeypatch):
-    """Ctrl-C at each array of a new store's making: neither the store nor its temporary folder
-    stays; then the same sweep makes it whole."""
+    """Ctrl-C at each array of a new store's making: neither the store, nor its temporary folder,
+    nor the folder made for it stays; then the same sweep makes it whole."""
     import zarr
 
     from gyrochain.ensembles import store
 
-    plan, path = sweep.Plan(small()), tmp_path / "s.zarr"
+    plan, path = sweep.Plan(small()), tmp_path / "new" / "s.zarr"
     real, calls = zarr.Group.create_array, {"n": 0, "at": 0}
 
     def create_array(self, *a, **kw):
@@ -242,7 +242,8 @@ def test_ctrl_c_while_the_store_is_made_leaves_nothing(tmp_path, monkeypatch):
         assert not list(tmp_path.iterdir()), (at, list(tmp_path.iterdir()))
     calls.update(n=0, at=0)
     g = store.open_store(path, plan)
-    assert calls["n"] == arrays and sorted(p.name for p in tmp_path.iterdir()) == ["s.zarr"]
+    assert calls["n"] == arrays and [p.relative_to(tmp_path).as_posix() for p in tmp_path.iterdir()] == ["new"]
+    assert [p.name for p in path.parent.iterdir()] == ["s.zarr"]
     assert g.attrs["gyrochain_sweep"] and not g["done"][...].any()
 
 
