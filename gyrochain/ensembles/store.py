@@ -3,7 +3,6 @@ CRC-32C of every chunk, the chunks found damaged, and reading it back with what 
 sweep.py computes the chunks; this module is all that touches the files."""
 from __future__ import annotations
 
-import contextlib
 import json
 import os
 import shutil
@@ -14,6 +13,7 @@ import numpy as np
 
 from .. import __version__
 from ..chainspec.errors import SpecError
+from ..models.files import folders_for
 
 STORE_KIND = "gyrochain-sweep"
 EXTRA_DIM = {"final": "state", "lyapunov_spectrum": "exponent"}  # measures with a trailing dimension
@@ -74,34 +74,34 @@ def open_store(path: Path, plan):
     # built beside its place and renamed into it: a run killed now leaves no half-made store
     tmp = path.parent / f".{path.name}.tmp-{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
-    new_parents = [p for p in path.parents if not p.exists()]  # the folders this call makes above the store
-    path.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        g = zarr.open_group(str(tmp), mode="w")
-        rows = plan.rows
-        chunks = (rows,) + tuple(plan.shape[1:])
-        checked = _checksummed(zarr)  # every chunk carries its CRC-32C: a damaged one is found when read
-        for name, (dims, values) in plan.coords.items():
-            a = g.create_array(name, shape=values.shape, dtype="f8", dimension_names=dims, chunks=values.shape,
-                               compressors=checked)
-            a[...] = values
-        for m in plan.sweep.measures:
-            extra = (2 * plan.n,) if m in EXTRA_DIM else ()
-            g.create_array(m, shape=plan.shape + extra, chunks=chunks + extra, dtype="f8", fill_value=np.nan,
-                           dimension_names=plan.dims + ([EXTRA_DIM[m]] if extra else []), compressors=checked)
-        g.create_array("code", shape=plan.shape, chunks=chunks, dtype="i4", fill_value=-1, dimension_names=plan.dims,
-                       compressors=checked)
-        g.create_array("done", shape=(plan.n_chunks,), chunks=(1,), dtype="bool", fill_value=False, dimension_names=["chunk"],
-                       compressors=checked)
-        g.attrs["gyrochain_sweep"] = want
-        tmp.rename(path)
-    except BaseException:  # Ctrl-C or an error while it is made: nothing half-made stays, nor the folders made for it
-        shutil.rmtree(tmp, ignore_errors=True)
-        for folder in new_parents:  # innermost first
-            with contextlib.suppress(OSError):
-                folder.rmdir()
-        raise
+    with folders_for(path):
+        try:
+            _make(zarr, tmp, plan, want)
+            tmp.rename(path)
+        finally:  # Ctrl-C or an error while it is made: nothing half-made stays beside it
+            shutil.rmtree(tmp, ignore_errors=True)
     return zarr.open_group(str(path), mode="r+")
+
+
+def _make(zarr, folder: Path, plan, attrs: dict) -> None:
+    """A new, empty store of ``plan`` in ``folder``: the coordinates written, every measure's array
+    and the codes at their fill values, no chunk done."""
+    g = zarr.open_group(str(folder), mode="w")
+    chunks = (plan.rows,) + tuple(plan.shape[1:])
+    checked = _checksummed(zarr)  # every chunk carries its CRC-32C: a damaged one is found when read
+    for name, (dims, values) in plan.coords.items():
+        a = g.create_array(name, shape=values.shape, dtype="f8", dimension_names=dims, chunks=values.shape,
+                           compressors=checked)
+        a[...] = values
+    for m in plan.sweep.measures:
+        extra = (2 * plan.n,) if m in EXTRA_DIM else ()
+        g.create_array(m, shape=plan.shape + extra, chunks=chunks + extra, dtype="f8", fill_value=np.nan,
+                       dimension_names=plan.dims + ([EXTRA_DIM[m]] if extra else []), compressors=checked)
+    g.create_array("code", shape=plan.shape, chunks=chunks, dtype="i4", fill_value=-1, dimension_names=plan.dims,
+                   compressors=checked)
+    g.create_array("done", shape=(plan.n_chunks,), chunks=(1,), dtype="bool", fill_value=False, dimension_names=["chunk"],
+                   compressors=checked)
+    g.attrs["gyrochain_sweep"] = attrs
 
 
 def _checksummed(zarr) -> list:

@@ -1,10 +1,27 @@
 """A file the user asked for (a spec, a robot description, an FMU), written whole or not at all."""
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 
 from ..chainspec.errors import SpecError
+
+
+@contextlib.contextmanager
+def folders_for(path: Path):
+    """The folder of ``path`` made (its missing parents too) for the block; when the block ends
+    with an exception (Ctrl-C included) the folders made here are removed again, innermost first,
+    where they are empty: an interrupted first run leaves no empty folder behind."""
+    made = [p for p in Path(path).parents if not p.exists()]
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    try:
+        yield
+    except BaseException:
+        for folder in made:
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+        raise
 
 
 def write_new(path: Path, text: str | bytes, force: bool = False) -> None:

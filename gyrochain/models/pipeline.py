@@ -13,7 +13,6 @@ for it and load its build.
 """
 from __future__ import annotations
 
-import contextlib
 import fcntl
 import hashlib
 import os
@@ -26,6 +25,7 @@ from pathlib import Path
 from .. import DISTRIBUTION, printers
 from ..derive import assemble, dynamics, integrals, kinematics, loopform
 from . import build
+from .files import folders_for
 from ..chainspec.errors import SpecError
 from ..derive.assemble import FormNotApplicable, Model, Stages  # noqa: F401  (the pipeline's vocabulary)
 from ..derive.program import Program
@@ -397,43 +397,38 @@ def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str, a
     (``extension``: compiled now only if no process built it before, ``ahead``'s child included):
     returns "compiled", "reused" or None (no build)."""
     target = Path(target)
-    new_parents = [p for p in target.parents if not p.exists()]  # the folders this call makes above the target
-    target.parent.mkdir(parents=True, exist_ok=True)
-    made = not target.exists()
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
-    how = None
-    try:
-        for rel, text in sorted(files.items()):
-            with open(tmp / rel, "w", encoding="utf-8", newline="\n") as fh:
-                fh.write(text)
-        if build_it:  # the folder's own extension if it is current, else the cache's (built now if need be)
-            if target.is_dir() and build.reuse_extension(target, tmp, name):
-                how = "reused"
-            else:
-                built_ahead = ahead is not None and ahead.built()
-                so, built = extension(files, name)
-                built = built or built_ahead
-                shutil.copy2(so, tmp / so.name)
-                build.key_path(tmp, name).write_text(build.build_key(tmp, name) + "\n")
-                how = "compiled" if built else "reused"
-        file_mode = umask_mode(0o666)
-        for f in tmp.iterdir():
-            os.chmod(f, file_mode | (0o111 & umask_mode() if f.suffix == ".so" else 0))
-        if made:
-            target.mkdir(mode=umask_mode())
-        stale = ours_in(target, name) - {f.name for f in tmp.iterdir()}
-        for f in sorted(tmp.iterdir(), key=lambda f: f.name == "MANIFEST.json"):  # the manifest last
-            f.replace(target / f.name)
-        for rel in sorted(stale):
-            (target / rel).unlink(missing_ok=True)
-    except BaseException:
-        if made and target.exists():
-            shutil.rmtree(target, ignore_errors=True)  # only what this call put there
-        shutil.rmtree(tmp, ignore_errors=True)
-        for folder in new_parents:  # innermost first: an interrupted first run leaves no empty generated/
-            with contextlib.suppress(OSError):
-                folder.rmdir()
-        raise
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+    with folders_for(target):  # an interrupted first run leaves no empty generated/
+        made = not target.exists()
+        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+        how = None
+        try:
+            for rel, text in sorted(files.items()):
+                with open(tmp / rel, "w", encoding="utf-8", newline="\n") as fh:
+                    fh.write(text)
+            if build_it:  # the folder's own extension if it is current, else the cache's (built now if need be)
+                if target.is_dir() and build.reuse_extension(target, tmp, name):
+                    how = "reused"
+                else:
+                    built_ahead = ahead is not None and ahead.built()
+                    so, built = extension(files, name)
+                    built = built or built_ahead
+                    shutil.copy2(so, tmp / so.name)
+                    build.key_path(tmp, name).write_text(build.build_key(tmp, name) + "\n")
+                    how = "compiled" if built else "reused"
+            file_mode = umask_mode(0o666)
+            for f in tmp.iterdir():
+                os.chmod(f, file_mode | (0o111 & umask_mode() if f.suffix == ".so" else 0))
+            if made:
+                target.mkdir(mode=umask_mode())
+            stale = ours_in(target, name) - {f.name for f in tmp.iterdir()}
+            for f in sorted(tmp.iterdir(), key=lambda f: f.name == "MANIFEST.json"):  # the manifest last
+                f.replace(target / f.name)
+            for rel in sorted(stale):
+                (target / rel).unlink(missing_ok=True)
+        except BaseException:
+            if made and target.exists():
+                shutil.rmtree(target, ignore_errors=True)  # only what this call put there
+            raise
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
     return how
