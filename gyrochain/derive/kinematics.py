@@ -62,6 +62,11 @@ class Joint:
         self._double = None  # (cos 2φ, sin 2φ), named when a tensor is first turned
         self._double_cost = 0  # their operations, until a tensor rotation uses them
 
+    def is_planar(self) -> bool:
+        """Whether R₂(θᵏ) is the identity: θᵏ = 0, the axis parallel to the one before and
+        pointing the same way.  θᵏ = ±π (sin θ = 0 too) is R₂ = diag(−1, 1, −1), not the identity."""
+        return self.st.is_zero() and self.ct.constant() == 1
+
     def _tmp(self, value: Poly, of: str | None, tex: str | None = None) -> Poly:
         self._n += 1
         return self.P.let(f"j{self.k}r{self._n}", value, tex or of and in_frame(of, rf"\bar{{{self.k}}}") + "_{3}")
@@ -98,7 +103,7 @@ class Joint:
             self._double_cost = _cost(P.defs[start:])
         start = len(P.defs)
         X = _plane_sym(P, I, 1, 2, (self.cp, self.sp), self._double, f"{name}dr", of and in_frame(of, rf"\bar{{{k}}}"))
-        if not self.st.is_zero():
+        if not self.is_planar():
             ct, st = self.ct, -self.st  # R₂(θ) is a plane rotation of (e₁, e₃) by −θ
             X = _plane_sym(P, X, 0, 2, (ct, st), (ct * ct - st * st, 2 * ct * st), f"{name}d", of and in_frame(of, str(k - 1)))
         if _cost(P.defs[start:]) + self._double_cost < cost_plain:

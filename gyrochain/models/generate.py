@@ -10,6 +10,7 @@ write is touched.
 """
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -37,14 +38,18 @@ class Result:
     files: tuple  # the file names written
     build: str | None  # "compiled", "reused" or None (--no-build)
     pdf: tuple | None = None  # (the PDF, its pages) with --pdf
+    checked: str | None = None  # what the self-check compared (``verify``), None without it
 
 
 def run(spec, target: Path, label: str, build: bool = True, force: bool = False, qdd_form: str = "auto",
         der_form: str = "auto", progress=None, real: str = "double", source: Path | None = None,
-        regressor: bool = False, paper: str = "a4", pdf: bool = False, gpu: bool = False, casadi: bool = False) -> Result:
+        regressor: bool = False, paper: str = "a4", pdf: bool = False, gpu: bool = False, casadi: bool = False,
+        check_model: bool = True) -> Result:
     """Derive, print and write ``spec`` into ``target`` (built unless ``build`` is False).  A
     folder this generator did not write is written into only with ``force``, and its other files
-    are kept; a folder that holds ``source``, the spec file, never.  ``pdf``: the LaTeX typeset too."""
+    are kept; a folder that holds ``source``, the spec file, never.  ``pdf``: the LaTeX typeset too.
+    ``check_model``: the emitted model held to the independent one before anything is written
+    (``verify``)."""
     target = Path(target)
     check(spec, target, force, source, der_form, pdf)
     say = progress or (lambda msg: None)
@@ -58,7 +63,9 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
             raise SpecError("--derivative-form", str(exc)) from None
         if build:
             say("the cffi extension: the folder's if built from the same C and flags, else the model cache's (compiled if new)")
-        how = pipeline.write_tree(files, target, build, spec.name, ahead)
+        checked = []
+        how = pipeline.write_tree(files, target, build, spec.name, ahead, verify=None if not check_model else
+                                  lambda folder: checked.append(verify(spec, model, files, folder, build, say)))
     finally:
         if ahead is not None:
             ahead.close()
@@ -66,7 +73,32 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     if pdf:
         say("the PDF: LuaLaTeX, two passes")
         made = typeset.pdf(target / f"{spec.name}.tex")
-    return Result(spec, model, target, tuple(sorted(files)), how, made)
+    return Result(spec, model, target, tuple(sorted(files)), how, made, checked[0] if checked else None)
+
+
+def verify(spec, model: Model, files: dict, folder: Path, built: bool, say=None) -> None:
+    """The emitted model in ``folder`` held to the independent model (selfcheck.py): the compiled C
+    when it was ``built``, and the Python mirror; an EmittedModelError if they differ, else the
+    line ``generate`` reports."""
+    from . import build as builder
+    from . import selfcheck
+
+    (say or (lambda msg: None))(f"the self-check: the emitted {'C and ' if built else ''}Python against the "
+                                f"independent model at {selfcheck.STATES} random states")
+    functions = {}
+    if built:
+        c = pipeline.load_built(folder, files, spec.name)
+        functions.update(dict.fromkeys(selfcheck.check(spec, c, "C")))
+    module = builder.load_python(folder, spec.name)
+    try:
+        functions.update(dict.fromkeys(selfcheck.check(spec, selfcheck.PythonMirror(module, time_dependent(model)), "Python")))
+    finally:
+        sys.modules.pop(module.__name__, None)  # a module of a temporary folder: nothing imports it again
+    single = built and c.real == "float"
+    tol, dtol = (f"{v:.0e}".replace("e-0", "e-") for v in selfcheck.tolerances(single))
+    return (f"self-check: the emitted {'C and ' if built else ''}Python equal the independent model at {selfcheck.STATES} "
+            f"random states ({', '.join(functions)}; relative tolerance {tol}{' for the C, 1e-9 for the Python' if single else ''}, "
+            f"{dtol} against its differences and integrations)")
 
 
 def check(spec, target: Path, force: bool = False, source: Path | None = None, der_form: str = "auto",
@@ -115,6 +147,8 @@ def report(result: Result) -> list[str]:
         out.append(motion_line(spec, result.target))
     built = {None: "", "compiled": " + cffi extension",
              "reused": " + cffi extension (not recompiled: the C, the header and the compiler flags are those it was built from)"}[result.build]
+    if result.checked is not None:
+        out.append(result.checked)
     out.append(f"wrote {result.target}/: " + ", ".join(result.files) + built)
     if result.pdf is not None:
         out.append(f"typeset {result.pdf[0]}: {result.pdf[1]} pages")

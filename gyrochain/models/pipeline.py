@@ -329,12 +329,24 @@ class BuildAhead:
 def compile(files: dict[str, str], name: str) -> build.CModel:  # noqa: A001  (the pipeline's verb)
     """The compiled model of these sources (the C, header and cdef of ``files``; others are
     ignored), built once per user in the cache and loaded once per process."""
+    return _loaded(files, name, lambda sources: extension(sources, name)[0])
+
+
+def load_built(folder: Path, files: dict[str, str], name: str) -> build.CModel:
+    """The extension of ``files`` that ``folder`` holds (write_tree's temporary folder, say),
+    loaded once per process as ``compile`` loads it."""
+    return _loaded(files, name, lambda sources: build.extensions(folder, name)[0])
+
+
+def _loaded(files: dict[str, str], name: str, so_of) -> build.CModel:
+    """The model of these sources loaded in this process (its content hash the key), else loaded
+    from the extension ``so_of(sources)`` gives."""
     sources = _sources(files)
     memo = hashlib.sha256("\0".join(f"{k}\0{sources[k]}" for k in sorted(sources)).encode("utf-8")).hexdigest()
     with _LOCK:
         if memo in _LOADED:
             return _LOADED[memo]
-    model = build.CModel(extension(sources, name)[0], name)
+    model = build.CModel(so_of(sources), name)
     with _LOCK:
         return _LOADED.setdefault(memo, model)
 
@@ -387,7 +399,8 @@ def umask_mode(mode: int = 0o777) -> int:
     return mode & ~mask
 
 
-def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str, ahead: BuildAhead | None = None) -> str | None:
+def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str, ahead: BuildAhead | None = None,
+               verify=None) -> str | None:
     """Write every file into a temporary folder beside ``target`` with its extension, then move
     them into ``target`` one by one (a rename each: no file is ever half-written) and remove the
     files of the previous generation that are no longer produced.  Nothing else in ``target`` is
@@ -395,7 +408,9 @@ def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str, a
     the user's umask.  The extension is the folder's own when it was built from the same C,
     header and cdef with the same flags and compiler (build.build_key), else the model cache's
     (``extension``: compiled now only if no process built it before, ``ahead``'s child included):
-    returns "compiled", "reused" or None (no build)."""
+    returns "compiled", "reused" or None (no build).  ``verify``: called with the temporary folder once
+    every file and the extension are there, before anything moves into ``target``; what it raises
+    leaves ``target`` as it was."""
     target = Path(target)
     with folders_for(target):  # an interrupted first run leaves no empty generated/
         made = not target.exists()
@@ -415,6 +430,8 @@ def write_tree(files: dict[str, str], target: Path, build_it: bool, name: str, a
                     shutil.copy2(so, tmp / so.name)
                     build.key_path(tmp, name).write_text(build.build_key(tmp, name) + "\n")
                     how = "compiled" if built else "reused"
+            if verify is not None:
+                verify(tmp)
             file_mode = umask_mode(0o666)
             for f in tmp.iterdir():
                 os.chmod(f, file_mode | (0o111 & umask_mode() if f.suffix == ".so" else 0))
