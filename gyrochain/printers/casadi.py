@@ -9,8 +9,10 @@
 - ``NAME_M(q, p) -> M`` the mass matrix and ``NAME_E(x, p) -> E`` the energy (23), without
   derivatives.
 
-The parameters p (the spec's symbolic parameters, in their order) are an input CasADi does not
-differentiate (NAME_f_diff_in): they are the problem's data, not its unknowns.  The target is
+The parameters p (the spec's symbolic parameters, in their order) are an input whose derivatives
+are not emitted: the p blocks of jac_NAME_f and jac_NAME_F are NaN (CasADi's jacobian with respect
+to p is NaN, never zeros that would say the dynamics do not depend on a mass), and M and E, which
+have no derivatives, CasADi refuses to differentiate.  The target is
 written for autonomous models with a control, up to CASADI_MAX_N joints, in double (``check``)."""
 from __future__ import annotations
 
@@ -91,23 +93,24 @@ def _empty(nrow: int, ncol: int) -> list[int]:
 
 def signatures(model) -> dict:
     """Every external function's inputs and outputs: name, sparsity (CasADi's compressed form) and
-    whether CasADi may differentiate with respect to it (x, u and h: yes; p: no)."""
+    whether CasADi may differentiate with respect to it (x, u, h and p; the p blocks are NaN, and an
+    output's seed is not an input to differentiate)."""
     n, nu, np_ = model.spec.n, len(model.spec.controls), len(model.spec.params)
     d = 2 * n
     arg = lambda name, sp, diff=1: dict(name=name, sparsity=sp, diff=diff)  # noqa: E731
-    f_in = [arg("x", _dense(d, 1)), arg("u", _dense(nu, 1)), arg("p", _dense(np_, 1), 0)]
+    f_in = [arg("x", _dense(d, 1)), arg("u", _dense(nu, 1)), arg("p", _dense(np_, 1))]
     F_in = [*f_in, arg("h", _dense(1, 1))]
     jac = jacobian_of_f(model)
     out = dict(
         f_in=f_in, f_out=[arg("xdot", _dense(d, 1))],
         jac_f_in=[*f_in, arg("out_xdot", _empty(d, 1), 0)],
         jac_f_out=[arg("jac_xdot_x", jac["x"]["sparsity"]), arg("jac_xdot_u", jac["u"]["sparsity"]),
-                   arg("jac_xdot_p", _empty(d, np_))],
+                   arg("jac_xdot_p", _dense(d, np_))],
         F_in=F_in, F_out=[arg("xnext", _dense(d, 1))],
         jac_F_in=[*F_in, arg("out_xnext", _empty(d, 1), 0)],
         jac_F_out=[arg("jac_xnext_x", _dense(d, d)), arg("jac_xnext_u", _dense(d, nu)),
-                   arg("jac_xnext_p", _empty(d, np_)), arg("jac_xnext_h", _dense(d, 1))],
-        M_in=[arg("q", _dense(n, 1)), arg("p", _dense(np_, 1), 0)], M_out=[arg("M", _dense(n, n))],
-        E_in=[arg("x", _dense(d, 1)), arg("p", _dense(np_, 1), 0)], E_out=[arg("E", _dense(1, 1))],
+                   arg("jac_xnext_p", _dense(d, np_)), arg("jac_xnext_h", _dense(d, 1))],
+        M_in=[arg("q", _dense(n, 1)), arg("p", _dense(np_, 1))], M_out=[arg("M", _dense(n, n))],
+        E_in=[arg("x", _dense(d, 1)), arg("p", _dense(np_, 1))], E_out=[arg("E", _dense(1, 1))],
     )
     return out

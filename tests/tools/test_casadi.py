@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from gyrochain.spec import load_spec
-from conftest import EXAMPLES, ROOT, example_params, example_script, tiered
+from conftest import EXAMPLES, FURUTA_SYM_PARAMS, ROOT, example_params, example_script, tiered
 
 casadi = pytest.importorskip("casadi", reason="CasADi is not installed (the test extra installs gyrochain[casadi])")
 from gyrochain import casadi as gc  # noqa: E402
@@ -52,8 +52,31 @@ def test_f_and_its_jacobian_are_rhs_and_linearize(name, models, rng):
         scale = max(1.0, np.max(np.abs(A)), np.max(np.abs(B)))
         worst = max(worst, np.max(np.abs(xdot - ref)) / max(1.0, np.max(np.abs(ref))),
                     np.max(np.abs(Jx - A)) / scale, np.max(np.abs(Ju - B)) / scale)
-        assert Jp.shape == (2 * m.n, len(m.params)) and not np.any(Jp)
+        assert Jp.shape == (2 * m.n, len(m.params)) and np.all(np.isnan(Jp))  # not emitted: NaN, never zeros
     assert worst <= 1e-14, worst
+
+
+def test_a_derivative_in_p_is_never_a_silent_zero(models):
+    """The parameters' derivatives are not emitted: CasADi's jacobian of f and of the RK4 step F in
+    p is NaN in every entry (a zero would say the dynamics do not depend on the masses), and M and
+    E, which have no derivatives, CasADi refuses to differentiate, naming them; the derivatives in
+    x and u and IPOPT's Hessian (CasADi's differences of the exact Jacobian) are what they were."""
+    m, cm = models("furuta_sym")
+    x, u, p = casadi.MX.sym("x", 2 * m.n), casadi.MX.sym("u", m.nu), casadi.MX.sym("p", len(m.params))
+    q = casadi.MX.sym("q", m.n)
+    xv, uv = np.array([0.3, -0.7, 0.2, 1.1]), np.array([0.4])
+    for out in (m.f(x, u, p), m.F(x, u, p, 0.01)):
+        Jp = np.asarray(casadi.Function("Jp", [x, u, p], [casadi.jacobian(out, p)])(xv, uv, m.p0).full())
+        assert Jp.shape == (2 * m.n, len(m.params)) and np.all(np.isnan(Jp)), Jp
+    for fn, args in (("M", (q, p)), ("E", (x, p))):
+        with pytest.raises(RuntimeError, match=f"Derivatives cannot be calculated for furuta_sym_{fn}"):
+            casadi.jacobian(getattr(m, fn)(*args), p)
+    Jx = casadi.Function("Jx", [x, u, p], [casadi.jacobian(m.f(x, u, p), x)])(xv, uv, m.p0).full()
+    A, _ = cm.linearize(xv, uv, FURUTA_SYM_PARAMS)
+    assert np.max(np.abs(Jx - A)) <= 1e-14 * np.max(np.abs(A))
+    lam = np.array([0.2, -0.1, 0.5, 0.3])
+    H = casadi.Function("H", [x, u, p], [casadi.hessian(casadi.dot(lam, m.f(x, u, p)), x)[0]])(xv, uv, m.p0).full()
+    assert np.all(np.isfinite(H)) and np.max(np.abs(H - H.T)) <= 1e-5 * np.max(np.abs(H))
 
 
 @pytest.mark.parametrize("name", EVERY_CONTROLLED)
@@ -104,7 +127,7 @@ def test_the_rk4_step_and_its_jacobian(name, models, rng):
         fd += [(step(du=e) - step(du=-e)) / (2 * eps) for e in np.eye(m.nu) * eps]
         fd += [(step(dh=eps) - step(dh=-eps)) / (2 * eps)]
         J = np.hstack([Jx, Ju, Jh])
-        assert J.shape == (2 * m.n, 2 * m.n + m.nu + 1) and not np.any(Jp)
+        assert J.shape == (2 * m.n, 2 * m.n + m.nu + 1) and Jp.size == 0 == len(m.params)
         err = np.max(np.abs(np.array(fd).T - J)) / max(1.0, np.max(np.abs(J)))
         assert err < 1e-7, (name, err)
 
