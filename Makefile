@@ -13,7 +13,8 @@
 # make animations                     the README's animations: the gimbal and a chaotic 3-link chain (docs/)
 # make gallery                        the pictures of docs/gallery.md, each drawn by the commands its card shows (docs/img/gallery/)
 # make docs                           the documentation site from docs/ into site/ (MkDocs, warnings are errors; works from file://, offline)
-# make fuzz                           the commands fuzzed with fresh random inputs for FUZZ_SECONDS (default 600)
+# make fuzz                           the commands fuzzed with fresh random inputs, then fresh chains of the geometry users write
+#                                     through every emitted target, each for FUZZ_SECONDS (default 600)
 # make bench                          integrators against scipy: work-precision, 1e5-period drift, rhs cost; ensembles against
 #                                     scipy and MuJoCo's rollout on 1 and 2 cores and a local Dask cluster; the variational
 #                                     equations against scipy (bench/results/)
@@ -72,7 +73,7 @@ docs: setup
 
 FUZZ_SECONDS ?= 600
 fuzz: setup
-	FUZZ_SECONDS=$(FUZZ_SECONDS) $(VPY) -m pytest -q -s tests/tools/test_fuzz.py -k fuzz_for_a_while
+	FUZZ_SECONDS=$(FUZZ_SECONDS) $(VPY) -m pytest -q -s tests/tools/test_fuzz.py tests/models/test_geometry.py -k fuzz_for_a_while
 
 $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,plot,sweep,view,rollout,casadi]'

@@ -28,8 +28,10 @@ def _frozen(gen, t: float):
     return replace(gen, rotations=rotations, r0=[lambda _t, v=r: v, lambda _t: np.zeros(3), lambda _t: np.zeros(3)])
 
 
-def groups(ch: reference.NumericChain, x, t: float) -> dict[str, np.ndarray]:
-    """{"Q", "Gamma", "G"} and, in the general case, {"Pi", "Lamdot", "W", "tau"}: each (n,) at (x, t)."""
+def groups(ch: reference.NumericChain, x, t: float, platform_in_q: bool = False) -> dict[str, np.ndarray]:
+    """{"Q", "Gamma", "G"} and, in the general case, {"Pi", "Lamdot", "W", "tau"}: each (n,) at (x, t).
+    ``platform_in_q``: the platform's terms not apart but where a document that does not expand them
+    (n ≥ 3) has them, through ω⁰, ε⁰ and v̇₀ in Q and through ωᵏ (ω⁰ included) in Γ; Π is then 0."""
     n, x = ch.n, np.asarray(x, float)
 
     def f(c):
@@ -53,4 +55,10 @@ def groups(ch: reference.NumericChain, x, t: float) -> dict[str, np.ndarray]:
     out["G"] = f(base) - f(replace(base, g=0.0))
     out["Gamma"] = -(f(base) - f(no_lam))
     out["Q"] = -f(replace(no_lam, g=0.0))
+    if gen is not None and platform_in_q:
+        # the platform's share without rotors (λ = 0 and λ̊ = 0 with the platform moving, then frozen) is Q's,
+        # the rest of it Γ's (ω⁰ × λ and the like)
+        bare = replace(ch, lam=np.zeros((n, 3)), general=replace(gen, lam=[(lambda _t: zero, lambda _t: zero)] * n))
+        pi_bare = -(f(bare) - f(replace(bare, general=_frozen(bare.general, t))))
+        out["Q"], out["Gamma"], out["Pi"] = out["Q"] + pi_bare, out["Gamma"] + out["Pi"] - pi_bare, np.zeros(n)
     return out

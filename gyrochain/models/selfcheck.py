@@ -39,7 +39,7 @@ SEED = 20261128
 TOL = 1e-9  # relative, double precision
 FLOAT_TOL = 2e-3  # relative, single precision (about 1e4 of its rounding unit: M, f and the solve each add some)
 DERIVATIVE_FACTOR = 1e3  # the derivatives' tolerance over TOL: the differences of the independent model (O(h⁴), h = 1e-3)
-STEP = 1e-3  # the RK4 step checked
+STEP = 1e-2  # the RK4 step checked (long enough that its increment stands above float's rounding of the state)
 QUAD_T = 0.7  # the time the quadratures' state is checked at
 
 
