@@ -3,16 +3,16 @@ again, and four models of DeepMind's Control Suite (tests/mjcf) give the φ̈ of
 ``mj_forward`` on the same file to 1e-10.  Where the chain is part of a larger model (the cart of
 the cart-pole held at its place), MuJoCo's equations are cut to the chain's joints, the others at
 rest: M_cc φ̈ = τ + passive − bias.  The spec is evaluated by the independent model
-(gyrochain/derive/reference.py)."""
+(gyrochain/derive/reference.py) and, in ``make test-all``, by its emitted C."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from gyrochain import exchange, reference, robot
+from gyrochain import exchange, pipeline, reference, robot
 from gyrochain.errors import SpecError
 from gyrochain.spec import load_spec, parse_spec
-from conftest import ROOT, example_params
+from conftest import ROOT, example_params, tiered
 from simulators import Mj
 
 mujoco = pytest.importorskip("mujoco", reason="MuJoCo (pip install mujoco; make test installs it) compiles MJCF")
@@ -27,23 +27,35 @@ def _elsewhere(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # MuJoCo may write MUJOCO_LOG.TXT in the working folder
 
 
-def worst(path, **kw) -> tuple[float, int]:
+def worst(path, target: str = "reference", **kw) -> tuple[float, int]:
+    """The largest relative difference of φ̈ from MuJoCo's over the states: of the imported spec
+    evaluated by the independent model ("reference") or of its emitted C ("C")."""
     text, _ = exchange.import_text(path, **kw)
     spec = parse_spec(text)
     ch = reference.numeric(spec)
+    if target == "C":
+        cm, _ = pipeline.compiled(spec)
+        assert len(spec.controls) == spec.n, "every joint of an imported chain has its torque"
+        ours = lambda x, tau: cm.qdd(x, tau)  # noqa: E731
+    else:
+        ours = lambda x, tau: reference.qdd(ch, x, tau)  # noqa: E731
     names = [b.joint.name for b in robot.chain(exchange.read_description(path), kw.get("base"), kw.get("tip")).bodies]
     theirs = Mj.of_file(path, names)
     rng, n, out = np.random.default_rng(n_ := spec.n), spec.n, 0.0
     for _ in range(STATES):
         x = np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.normal(size=n) * 2.0])
         tau = rng.normal(size=n) * 0.5
-        a, b = reference.qdd(ch, x, tau), theirs.qdd(x, tau)
+        a, b = ours(x, tau), theirs.qdd(x, tau)
         out = max(out, float(np.max(np.abs(a - b)) / np.max(np.abs(b))))
     return out, n_
 
 
-@pytest.mark.parametrize("name", EXPORTABLE)
-def test_an_exported_example_comes_back_as_mujoco_simulates_it(name, tmp_path):
+TARGETS = ("reference", "C")  # make test: the independent model; make test-all: the emitted C too (a build each)
+
+
+@pytest.mark.parametrize("name, target", tiered([(e, t) for e in EXPORTABLE for t in TARGETS], {"reference"},
+                                                key=lambda c: c[1], rows=True))
+def test_an_exported_example_comes_back_as_mujoco_simulates_it(name, target, tmp_path):
     spec = load_spec(ROOT / "specs" / f"{name}.toml")
     values = example_params(name) or {}
     try:
@@ -53,16 +65,19 @@ def test_an_exported_example_comes_back_as_mujoco_simulates_it(name, tmp_path):
         pytest.skip(str(exc))
     path = tmp_path / f"{name}.xml"
     path.write_text(text)
-    err, n = worst(path)
-    print(f"{name}.xml: n = {n}, MuJoCo {err:.1e}")
+    err, n = worst(path, target)
+    print(f"{name}.xml ({target}): n = {n}, MuJoCo {err:.1e}")
     assert err <= 1e-10
 
 
-@pytest.mark.parametrize("file, kw", [("pendulum.xml", {}), ("acrobot.xml", {}), ("reacher.xml", {}),
-                                      ("cartpole.xml", {"base": "cart"})])
-def test_control_suite_models_are_mujoco_s(file, kw):
-    err, n = worst(SUITE / file, **kw)
-    print(f"{file}: n = {n}, MuJoCo {err:.1e}")
+SUITE_MODELS = [("pendulum.xml", {}), ("acrobot.xml", {}), ("reacher.xml", {}), ("cartpole.xml", {"base": "cart"})]
+
+
+@pytest.mark.parametrize("file, kw, target", tiered([(*m, t) for m in SUITE_MODELS for t in TARGETS], {"reference"},
+                                                    key=lambda c: c[-1], rows=True))
+def test_control_suite_models_are_mujoco_s(file, kw, target):
+    err, n = worst(SUITE / file, target, **kw)
+    print(f"{file} ({target}): n = {n}, MuJoCo {err:.1e}")
     assert err <= 1e-10
 
 
