@@ -126,11 +126,12 @@ def random_general_spec_text(
 # wrong: structural angles 0, ±π/2, ±π (anti-parallel consecutive axes: what ``import`` writes for
 # a flipped axis), ±π/4, 3π/4 and numbers of either sign; exact zeros in c and s; inertia tensors
 # full, diagonal, symmetric about the joint axis, of a point mass, of a slender rod, and massless
-# frames; rotors along the joint axis or anywhere; joint offsets (0, a number, π); springs,
-# dampers, controls; gravity or none; a fixed or moving platform and loads on the bodies.
+# frames; rotors along the joint axis, anywhere or spinning up; joint offsets (0, a number, π);
+# springs, dampers, torque expressions of t and the state, controls; gravity or none; a fixed or
+# moving platform (its motion written with π) and loads on the bodies.
 THETAS = ("0", "pi/2", "-pi/2", "pi", "-pi", "pi/4", "-pi/4", "3*pi/4", "number")
 INERTIAS = ("full", "diagonal", "axial", "point", "rod", "massless")
-ROTORS = ("none", "axis", "full")
+ROTORS = ("none", "axis", "full", "spin")
 OFFSETS = ("none", "number", "pi")
 BASES = ("fixed", "translate", "rotate", "both")
 
@@ -148,6 +149,7 @@ class BodyPlan:
     spring: bool = False
     damping: bool = False
     control: bool = False
+    torque: bool = False  # a torque expression of t and the state (with π in it)
 
 
 @dataclass(frozen=True)
@@ -190,7 +192,7 @@ def random_plan(rng: np.random.Generator, n: int, general: bool = False) -> Chai
                                zero_s=tuple(bool(b) for b in rng.random(3) < 0.3),
                                rotor=str(rng.choice(ROTORS)), offset=str(rng.choice(OFFSETS)),
                                spring=bool(rng.random() < 0.3), damping=bool(rng.random() < 0.3),
-                               control=bool(rng.random() < 0.4)))
+                               control=bool(rng.random() < 0.4), torque=bool(rng.random() < 0.2)))
     base = str(rng.choice(BASES)) if general else "fixed"
     return ChainPlan(tuple(bodies), int(rng.integers(2**31)), base, bool(general and rng.random() < 0.5),
                      bool(rng.random() < 0.85))
@@ -229,6 +231,9 @@ def geometry_spec_text(plan: ChainPlan, name: str = "geom") -> str:
             lines.append(f"lambda = [{_decimal(_short(rng, -0.5, 0.5))}, 0, 0]")
         elif b.rotor == "full":
             lines.append("lambda = [" + ", ".join(_decimal(_short(rng, -0.5, 0.5)) for _ in range(3)) + "]")
+        elif b.rotor == "spin":  # λ(t): a rotor's motor spinning it up
+            lines.append("lambda = [" + ", ".join(f'"{_decimal(_short(rng, -0.3, 0.3))} + {_decimal(_short(rng, -0.2, 0.2))}*t"'
+                                                  for _ in range(3)) + "]")
         if b.offset == "number":
             lines.append(f"offset = {_decimal(_short(rng, -3.0, 3.0, 3))}")
         elif b.offset == "pi":
@@ -239,6 +244,8 @@ def geometry_spec_text(plan: ChainPlan, name: str = "geom") -> str:
             lines.append(f"damping = {_decimal(_short(rng, 0.01, 0.2))}")
         if b.control:
             lines.append("control = true")
+        if b.torque:
+            lines.append(f'torque = "{_decimal(_short(rng, -0.3, 0.3))}*sin(pi*t) - 0.05*phidot{k}*cos(phi{k} + pi/6)"')
         lines.append("")
         if plan.loads:
             lines += _load_lines(rng, k)
@@ -278,7 +285,7 @@ def _base_lines(rng: np.random.Generator, translate: bool, rotate: bool) -> list
     out = ["[base]"]
     if translate:
         amp, om = rng.uniform(0.05, 0.3, 3), rng.uniform(0.5, 3.0, 3)
-        out.append("position = [" + ", ".join(f'"{amp[i]:.3f}*sin({om[i]:.3f}*t + {i})"' for i in range(3)) + "]")
+        out.append("position = [" + ", ".join(f'"{amp[i]:.3f}*sin({om[i]:.3f}*pi*t + {i})"' for i in range(3)) + "]")
     if rotate:
         rots = []
         for _ in range(int(rng.integers(1, 4))):

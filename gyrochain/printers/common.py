@@ -37,6 +37,14 @@ class NumbersAsDoubles:
             return self._print(item)
         return super().parenthesize(item, level, strict)
 
+    def _print(self, expr, **kwargs):
+        # a constant that is not a rational (π/4 of an offset, √2 of an expression: the C and Python
+        # printers' own spellings M_PI_4, M_SQRT2 and math.pi are not C99's, nor the spec's folded
+        # numbers) is its correctly rounded double
+        if isinstance(expr, sp.Expr) and not expr.is_Number and expr.is_number and expr.is_extended_real:
+            return literal(sp.N(expr, 40))
+        return super()._print(expr, **kwargs)
+
     def _print_Float(self, expr):
         return literal(expr)
 

@@ -129,6 +129,8 @@ class TexWriter:
 
     def factor(self, base, e: int) -> str:
         pw = "" if e == 1 else f"^{{{e}}}"
+        if base is sp.pi:
+            return rf"\pi{pw}"
         if self._turned(base):
             return rf"{FUNCTIONS[type(base)]}{pw}\left({self.sum_text(-base.args[0])}\right)"
         if isinstance(base, sp.Symbol):

@@ -12,7 +12,7 @@ a fixed or moving platform with loads), and every target is held to the independ
 
 - the C in double and in float and the Python mirror: M, f, φ̈, its derivatives, the energy, the
   momentum, an RK4 step, the quadratures (gyrochain/models/selfcheck.py, at more states than
-  ``generate``'s own check and at others);
+  ``generate``'s own check and at others); the C strict C99 (gcc -std=c99 -Wpedantic -Werror);
 - the integrators (DOP853, RK4, the symmetric and the symplectic GAUSS2) against the independent
   model under scipy, and the variational equations against differences of the C's trajectories;
 - the LaTeX read back (tests/models/test_latex_roundtrip.py) and compared with the C;
@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import subprocess
 import tempfile
 import time
 import zipfile
@@ -61,7 +62,7 @@ def body_plans():
                      zero_c=st.tuples(st.booleans(), st.booleans(), st.booleans()),
                      zero_s=st.tuples(st.booleans(), st.booleans(), st.booleans()),
                      rotor=st.sampled_from(randspec.ROTORS), offset=st.sampled_from(randspec.OFFSETS),
-                     spring=st.booleans(), damping=st.booleans(), control=st.booleans())
+                     spring=st.booleans(), damping=st.booleans(), control=st.booleans(), torque=st.booleans())
 
 
 def chain_plans(max_n: int = 5, long: bool = True):
@@ -91,16 +92,30 @@ def _states(spec, rng, count=4):
 def _der_form(spec, der_form):
     """The derivative form asked, or the automatic one where it does not apply to the spec (the
     world form needs a fixed base, constant rotors and no loads)."""
-    if der_form.startswith("world") and (spec.general and (spec.base is not None and spec.base.moves or
-                                                           any(b.loaded for b in spec.bodies))):
+    if der_form.startswith("world") and (spec.base is not None and spec.base.moves or any(b.loaded for b in spec.bodies)
+                                         or any(c != 0 for b in spec.bodies for c in b.lam_dot)):
         return "auto"
     return der_form
 
 
+def strict_c99(files: dict, name: str) -> None:
+    """gcc's front end on the C as C99 with every warning an error (an identifier that is not C99's,
+    as M_PI, fails)."""
+    with tempfile.TemporaryDirectory() as d:
+        for k in (f"{name}.c", f"{name}.h"):
+            (Path(d) / k).write_text(files[k])
+        run = subprocess.run(["gcc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fsyntax-only",
+                              str(Path(d) / f"{name}.c")], capture_output=True, text=True)
+    assert run.returncode == 0 and not run.stderr, run.stderr[:2000]
+
+
 def check_c_and_python(spec, qdd_form="auto", der_form="auto"):
-    """The C in double, the Python mirror and the C in float against the independent model."""
+    """The C in double, the Python mirror and the C in float against the independent model; the C
+    strict C99."""
     der_form = _der_form(spec, der_form)
     files, model = pipeline.derive_and_render(spec, targets=("c", "python"), qdd_form=qdd_form, der_form=der_form)
+    if shutil.which("gcc"):
+        strict_c99(files, spec.name)
     cm = pipeline.compile(files, spec.name)
     selfcheck.check(spec, cm, "C", count=STATES, seed=SEED)
     with tempfile.TemporaryDirectory() as d:
@@ -293,7 +308,7 @@ FIXED = {
                                  B("-pi/2", "axial", zero_c=(False, True, False), rotor="axis"),
                                  B("pi/4", "diagonal", zero_s=(False, True, True), spring=True),
                                  B("3*pi/4", "full", zero_c=(True, True, False), control=True)), seed=12),
-                      "composite", "forward", ("c", "integrators", "latex", "casadi")),
+                      "composite", "forward", ("c", "integrators", "latex", "casadi", "fmu")),
     # point masses and slender rods (a tensor with zero moments), a flipped axis, negative angles; the
     # world form of the derivatives
     "point_masses": (ChainPlan((B("-pi/4", "rod"), B("pi", "point", zero_c=(False, True, False)), B("number", "rod", offset="pi"),
@@ -308,8 +323,8 @@ FIXED = {
                        "articulated", "auto", ("c", "integrators", "casadi")),
     # a moving, turning platform with loads on the bodies, flipped axes and quarter turns; every target
     # but CasADi (a model of t)
-    "moving_base": (ChainPlan((B("pi", "full", rotor="full", spring=True), B("-pi/2", "point", damping=True, control=True),
-                               B("-pi", "full", rotor="axis", offset="number")), seed=16, base="both", loads=True),
+    "moving_base": (ChainPlan((B("pi", "full", rotor="full", spring=True), B("-pi/2", "point", damping=True, control=True, torque=True),
+                               B("-pi", "full", rotor="spin", offset="number")), seed=16, base="both", loads=True),
                     "articulated", "auto", TARGETS),
     # the first axis vertical and pointing up (θ¹ = π): the momentum (27) and the quadratures (30)
     "vertical_up": (ChainPlan((B("pi", "axial", zero_c=(True, True, True), zero_s=(True, True, True)),
@@ -336,6 +351,8 @@ SHORTCUTS = {
     "no loads / constant lambda: the Phi and Lamdot recursions left out": "moving_base against the rest",
     "sin theta1 = 0: the axis l1 vertical, momentum (27) and quadratures (30) emitted": "vertical_up",
     "g = 0: no gravity terms": "planar_flipped",
+    "pi in an expression (an offset, the platform's motion, a torque): printed as M_PI, M_PI_4 (not C99)": "moving_base, point_masses",
+    "lambda(t) and a torque expression of t and the state": "moving_base",
     "the loop form of long chains (loopform.py)": "long_chain",
 }
 
