@@ -52,6 +52,36 @@ def test_a_float_model_on_the_card_follows_its_float_c(rng):
     assert _relative(X, Xc) < 1e-4, _relative(X, Xc)  # (seen: 1.7e-5 on an H200)
 
 
+@pytest.mark.parametrize("case", ["antiparallel", "moving_base", "planar_flipped", "long_chain"])
+def test_the_geometry_users_write_on_the_card(case, rng):
+    """Chains of tests/models/test_geometry.py's fixed set on the card: flipped axes (θ = ±π), point
+    masses, massless frames, a moving platform with loads and λ(t), the loop form of a long chain.
+    RK4 and DOP853 from 1,000 states follow the CPU's batch, codes and all; the variational kernel
+    follows NAME_integrate_variational."""
+    from test_geometry import FIXED, _der_form, _spec
+
+    plan, qdd_form, der_form, _ = FIXED[case]
+    spec = _spec(plan, f"card_{case}")
+    files, _ = pipeline.derive_and_render(spec, targets=("c",), qdd_form=qdd_form, der_form=_der_form(spec, der_form), gpu=True)
+    cm = pipeline.compile({k: v for k, v in files.items() if not k.endswith(".cu")}, spec.name)
+    gm = gpu.GpuModel(cm, files)
+    X0 = rng.uniform(-1.0, 1.0, (1000, 2 * spec.n))
+    U = rng.normal(size=(1000, len(spec.controls))) if spec.controls else None
+    t = np.linspace(0.0, 0.5, 6)
+    for method, h, tol in (("rk4", 1e-3, 1e-12), ("dop853", 0.0, 1e-9)):
+        X, codes = gm.integrate_batch(t, X0, method=method, h=h, u=U)
+        Xc, cc = cm.integrate_batch(t, X0, method=method, h=h, u=U)
+        ok = cc == 0
+        assert np.array_equal(codes, cc) and ok.sum() > 900, (method, np.unique(codes, return_counts=True))
+        print(f"{case} {method}: {_relative(X[ok], Xc[ok]):.1e} from the CPU")
+        assert _relative(X[ok], Xc[ok]) < tol, (method, _relative(X[ok], Xc[ok]))
+    if cm.has_variational:
+        x1, Phi, codes = gm.integrate_variational_batch(0.0, 0.3, X0[:50], u=None if U is None else U[:50])
+        for i in range(0, 50, 7):
+            xc, Pc = cm.integrate_variational(0.0, 0.3, X0[i], u=None if U is None else U[i])
+            assert codes[i] == 0 and _relative(x1[i], xc) < 1e-9 and _relative(Phi[i], Pc) < 1e-8, i
+
+
 def test_a_floquet_chart_on_the_card_is_the_cpu_s(tmp_path):
     import zarr
 
