@@ -383,7 +383,7 @@ def run_chunk_task(payload: dict, i: int) -> dict:
         plan = _PLANS.get(key)
         if plan is None:
             plan = _PLANS[key] = Plan(Sweep(**payload["sweep"]))
-    model = pipeline.compile(payload["files"], payload["name"])
+    model = pipeline.checked(plan.spec, pipeline.compile(payload["files"], payload["name"]))
     return compute_chunk(model, plan, i)
 
 
@@ -424,12 +424,14 @@ def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: in
         files, _ = pipeline.derive_and_render(plan.spec, targets=("c",), gpu=device != "cpu")
         bar = _bar(plan.n_chunks, int(done.sum()), progress)
         if device != "cpu":
-            cpu = pipeline.compile({k: v for k, v in files.items() if not k.endswith(".cu")}, plan.spec.name)
+            cpu = pipeline.checked(plan.spec, pipeline.compile({k: v for k, v in files.items() if not k.endswith(".cu")},
+                                                               plan.spec.name))
             results = _thread_results(gpu.GpuModel(cpu, files, host=device == "host"), plan, todo, 1)
         elif workers or scheduler:
             results = _dask_results(plan, sweep, files, todo, workers, scheduler, note or _stderr)
         else:
-            results = _thread_results(pipeline.compile(files, plan.spec.name), plan, todo, threads or os.cpu_count() or 1)
+            results = _thread_results(pipeline.checked(plan.spec, pipeline.compile(files, plan.spec.name)), plan, todo,
+                                      threads or os.cpu_count() or 1)
         try:
             for i, res in results:  # as chunks finish, wherever they ran; the client alone writes
                 _write(g, plan, i, res, on_written)

@@ -275,7 +275,7 @@ def render(spec, spec_label: str, values: dict, asked: Asked) -> tuple[dict, lis
     fmi, version = asked.fmi, VERSIONS[asked.fmi]
     model = pipeline.derive(spec, latex=False)
     files = pipeline.render(model, spec_label, targets=("c",))
-    cm = pipeline.compile(files, spec.name)
+    cm = pipeline.checked(spec, pipeline.compile(files, spec.name))
     vs = variables(spec, model, values, asked)
     st = structure(spec, cm, vs, values)
     name = spec.name

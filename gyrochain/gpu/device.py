@@ -375,7 +375,7 @@ def gpu_model(spec, cpu=None) -> GpuModel:
     if why:
         raise GpuUnavailable(why)
     files, _ = pipeline.derive_and_render(spec, targets=("c", "cuda"))
-    cpu = cpu or pipeline.compile({k: v for k, v in files.items() if not k.endswith(".cu")}, spec.name)
+    cpu = cpu or pipeline.checked(spec, pipeline.compile({k: v for k, v in files.items() if not k.endswith(".cu")}, spec.name))
     return GpuModel(cpu, files)
 
 

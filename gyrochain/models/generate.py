@@ -86,14 +86,18 @@ def verify(spec, model: Model, files: dict, folder: Path, built: bool, say=None)
     (say or (lambda msg: None))(f"the self-check: the emitted {'C and ' if built else ''}Python against the "
                                 f"independent model at {selfcheck.STATES} random states")
     functions = {}
-    if built:
-        c = pipeline.load_built(folder, files, spec.name)
-        functions.update(dict.fromkeys(selfcheck.check(spec, c, "C")))
-    module = builder.load_python(folder, spec.name)
     try:
-        functions.update(dict.fromkeys(selfcheck.check(spec, selfcheck.PythonMirror(module, time_dependent(model)), "Python")))
-    finally:
-        sys.modules.pop(module.__name__, None)  # a module of a temporary folder: nothing imports it again
+        if built:
+            c = pipeline.load_built(folder, files, spec.name)
+            functions.update(dict.fromkeys(pipeline.self_check(spec, c)))
+        module = builder.load_python(folder, spec.name)
+        try:
+            functions.update(dict.fromkeys(selfcheck.check(spec, selfcheck.PythonMirror(module, time_dependent(model)),
+                                                           "Python")))
+        finally:
+            sys.modules.pop(module.__name__, None)  # a module of a temporary folder: nothing imports it again
+    except selfcheck.EmittedModelError as exc:
+        raise selfcheck.EmittedModelError(f"{exc}; nothing was written") from None
     single = built and c.real == "float"
     tol, dtol = (f"{v:.0e}".replace("e-0", "e-") for v in selfcheck.tolerances(single))
     return (f"self-check: the emitted {'C and ' if built else ''}Python equal the independent model at {selfcheck.STATES} "

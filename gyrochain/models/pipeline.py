@@ -24,7 +24,7 @@ from pathlib import Path
 
 from .. import DISTRIBUTION, printers
 from ..derive import assemble, dynamics, integrals, kinematics, loopform
-from . import build
+from . import build, selfcheck
 from .files import folders_for
 from ..chainspec.errors import SpecError
 from ..derive.assemble import FormNotApplicable, Model, Stages  # noqa: F401  (the pipeline's vocabulary)
@@ -354,10 +354,33 @@ def _loaded(files: dict[str, str], name: str, so_of) -> build.CModel:
 def compiled(spec, qdd_form: str = "auto", der_form: str = "auto", loops: str = "auto",
              regressor: bool = False) -> tuple[build.CModel, Model]:
     """A parsed spec's compiled model and its derivation (without the LaTeX); with ``regressor``,
-    the model with its regressor functions."""
+    the model with its regressor functions.  The model is held to the independent model once per
+    process (``checked``): every command that runs a model runs a checked one."""
     files, model = derive_and_render(spec, targets=("c",), qdd_form=qdd_form, der_form=der_form, loops=loops,
                                      regressor=regressor)
-    return compile(files, spec.name), model
+    return checked(spec, compile(files, spec.name)), model
+
+
+_CHECKED: dict = {}  # id of a compiled model (kept in _LOADED) → what the self-check compared
+
+
+def checked(spec, cm: build.CModel) -> build.CModel:
+    """``cm``, the compiled model of ``spec``, held to the independent model (selfcheck.py) the first
+    time this process meets it; an EmittedModelError if they differ."""
+    self_check(spec, cm)
+    return cm
+
+
+def self_check(spec, cm: build.CModel) -> dict[str, float]:
+    """The functions of ``cm`` the self-check compared with the independent model of ``spec``,
+    each with its margin (selfcheck.check), checked once per process."""
+    with _LOCK:
+        found = _CHECKED.get(id(cm))
+    if found is None:
+        found = selfcheck.check(spec, cm, "C")
+        with _LOCK:
+            _CHECKED[id(cm)] = found
+    return found
 
 
 # --------------------------------------------------------------------------- write

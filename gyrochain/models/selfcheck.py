@@ -147,7 +147,7 @@ class _Checker:
         where = f" at {state.text(self.n, self.target.time_dependent)}" if state is not None else ""
         raise EmittedModelError(
             f"the emitted {self.what} {self.prefix}_{fn} differs from the independent model by {diff:.3g} "
-            f"(relative; tolerance {tol:.1g}){detail}{where}: the generated files are wrong, nothing was written")
+            f"(relative; tolerance {tol:.1g}){detail}{where}: a defect of the generator")
 
     def close(self, fn: str, state, got, want, scale: float, tol: float | None = None, detail: str = "") -> None:
         tol = self.tol if tol is None else tol
