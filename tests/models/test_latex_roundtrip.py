@@ -25,6 +25,7 @@ from gyrochain.randspec import random_general_spec_text, random_spec_text
 from conftest import EXAMPLES, QUICK_EXAMPLES, ROOT, example_params, tiered
 
 TOL = 1e-9
+NOT_SHOWN = re.compile(r"\\text\{\(\d+ terms when expanded; not shown\)\}")
 
 # what the document prints and this test does not evaluate, and why (docs/latex.md says the same)
 NOT_CHECKED = {
@@ -100,6 +101,11 @@ class Doc:
         self.names = texread.document_names(tex, n)
         self.eqs = texread.equations(tex)
         self.eqs.update(texread.recursion(tex))  # a long chain's quantities, written in the text
+        # a formula too long to print is said to be so ("(442 terms when expanded; not shown)"): there is
+        # nothing to read back, and every check that needs it is left out
+        self.not_shown = {lhs for lhs, rhs in self.eqs.items() if NOT_SHOWN.fullmatch(rhs.strip())}
+        for lhs in self.not_shown:
+            del self.eqs[lhs]
         self.params = {sp.Symbol("param_" + k): v for k, v in (params or {}).items()}
         self.recursion = [lhs for lhs, _ in texread.recursion(tex)]  # a long chain's quantities, in order
         # a long chain's M is stated once as z^k · ξ^r; every component is printed or said to be zero
@@ -196,6 +202,8 @@ def mismatches(doc: Doc, model, params, rng, points: int = 20) -> list[str]:
                 check(f"M_{{{k + 1}{r + 1}}}", *_mass_entry(doc, env, k + 1, r + 1), M[k, r])
         f = c.forces(x, uc, params, t)
         for k in range(1, n + 1):
+            if any(f"{name}_{{{k}}}" in doc.not_shown for name, _ in GROUPS):
+                continue  # a group of joint k too long to print
             total, scale = float(u[k]), abs(float(u[k]))
             for name, sign, required in (("G", 1, True), ("W", 1, False), (r"\tau", 1, False), ("Q", -1, True),
                                          (r"\Gamma", -1, True), (r"\Pi", -1, False), (r"\mathring\Lambda", -1, False)):
@@ -214,7 +222,8 @@ def mismatches(doc: Doc, model, params, rng, points: int = 20) -> list[str]:
         check("U (against the independent model)", U, Us, reference.potential(ch, x, t))
         T2 = 0.5 * x[n:] @ M @ x[n:]
         if model.spec.base is not None and model.spec.base.moves:  # T = T2 + T1 + T0, the absolute kinetic energy
-            assert doc.has("T_{1} + T_{0}") or model.spec.name not in EXAMPLES, "an example of a moving base without T1 + T0"
+            assert doc.has("T_{1} + T_{0}") or model.spec.name not in EXAMPLES or "T_{1} + T_{0}" in doc.not_shown, \
+                "an example of a moving base without T1 + T0"
             if doc.has("T_{1} + T_{0}"):
                 T10, T10s = doc.value("T_{1} + T_{0}", env)
                 check("T - U (23), moving base", T2 + T10 - U, abs(T2) + T10s + Us, c.energy(x, params, t))
@@ -262,6 +271,8 @@ def _group_mismatches(doc: Doc, ch, x, t, check) -> list[str]:
     for tex, key in GROUPS:
         for k in range(1, doc.n + 1):
             lhs = f"{tex}_{{{k}}}"
+            if lhs in doc.not_shown:
+                continue
             got, scale = doc.value(lhs, env) if doc.has(lhs) else (0.0, 0.0)
             if key in want:
                 check(f"{lhs} alone (the independent model's {key})", got, scale, want[key][k - 1])
