@@ -83,7 +83,11 @@ def _spec(p) -> None:
 
 
 def _derive(sub) -> None:
-    g = sub.add_parser("generate", help="derive and emit C, Python and LaTeX for a spec")
+    g = sub.add_parser("generate", help="derive and emit C, Python and LaTeX for a spec",
+                       description="Derive the equations of a spec and write them as C, Python and LaTeX into a folder. "
+                                   "Before a file is written, the emitted C (when built) and Python are compared with an "
+                                   "independent numeric model of the spec at random states; a difference is an internal "
+                                   "error and nothing is written.")
     _spec(g)
     g.add_argument("-o", "--output", metavar="DIR", help="output folder (default generated/NAME)")
     g.add_argument("--no-build", action="store_true", help="do not compile the cffi extension (default: compile it)")

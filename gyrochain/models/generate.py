@@ -76,7 +76,7 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
     return Result(spec, model, target, tuple(sorted(files)), how, made, checked[0] if checked else None)
 
 
-def verify(spec, model: Model, files: dict, folder: Path, built: bool, say=None) -> None:
+def verify(spec, model: Model, files: dict, folder: Path, built: bool, say=None) -> str:
     """The emitted model in ``folder`` held to the independent model (selfcheck.py): the compiled C
     when it was ``built``, and the Python mirror; an EmittedModelError if they differ, else the
     line ``generate`` reports."""
