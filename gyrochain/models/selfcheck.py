@@ -39,7 +39,9 @@ SEED = 20261128
 TOL = 1e-9  # relative, double precision
 FLOAT_TOL = 2e-3  # relative, single precision (about 1e4 of its rounding unit: M, f and the solve each add some)
 DERIVATIVE_FACTOR = 1e3  # the derivatives' tolerance over TOL: the differences of the independent model (O(h⁴), h = 1e-3)
-STEP = 1e-2  # the RK4 step checked (long enough that its increment stands above float's rounding of the state)
+# the RK4 step checked: long enough that its increment stands above float's rounding of the state,
+# short enough that it moves the state by STEP_MOVE at most (a stiff chain's stages stay near it)
+STEP, STEP_MOVE = 1e-2, 1e-3
 QUAD_T = 0.7  # the time the quadratures' state is checked at
 
 
@@ -244,14 +246,19 @@ class _Checker:
         T = self.target
         if not hasattr(T, "integrate"):
             return
-        h, x, u, p = STEP, s.x, s.u, self.params
+        x, u, p = s.x, s.u, self.params
         f = lambda t, y: reference.rhs(self.ch, t, y, u)  # noqa: E731
-        k1 = f(s.t, x)
-        k2 = f(s.t + h / 2, x + h / 2 * k1)
-        k3 = f(s.t + h / 2, x + h / 2 * k2)
-        k4 = f(s.t + h, x + h * k3)
+        real = getattr(T, "dtype", np.float64)
+        t0 = float(real(s.t))  # the times the C's grid holds, and the step between them exactly
+        k1 = f(t0, x)
+        h = min(STEP, STEP_MOVE * max(1.0, float(np.max(np.abs(x)))) / max(float(np.max(np.abs(k1))), 1e-300))
+        t1 = float(real(t0 + h))
+        h = t1 - t0
+        k2 = f(t0 + h / 2, x + h / 2 * k1)
+        k3 = f(t0 + h / 2, x + h / 2 * k2)
+        k4 = f(t1, x + h * k3)
         want = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-        got = T.integrate([s.t, s.t + h], x, "rk4", h=h, u=u, params=p)[-1]
+        got = T.integrate([t0, t1], x, "rk4", h=h, u=u, params=p)[-1]
         scale = h * max(float(np.max(np.abs(k1))), 1e-300)
         self.close("integrate", s, got, want, scale, self.dtol, " (one RK4 step)")
 
