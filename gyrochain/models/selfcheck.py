@@ -258,6 +258,9 @@ class _Checker:
         t0 = float(real(s.t))  # the times the C's grid holds, and the step between them exactly
         k1 = f(t0, x)
         h = min(STEP, STEP_MOVE * max(1.0, float(np.max(np.abs(x)))) / max(float(np.max(np.abs(k1))), 1e-300))
+        if h < 1e3 * float(np.finfo(real).eps) * abs(t0):  # a step lost in t's digits (a stiff chain, in float): from t = 0
+            t0 = 0.0
+            k1 = f(t0, x)
         t1 = float(real(t0 + h))
         h = t1 - t0
         k2 = f(t0 + h / 2, x + h / 2 * k1)
