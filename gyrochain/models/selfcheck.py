@@ -4,8 +4,9 @@
 derive/reference.py (Newton–Euler in numpy, rotation matrices straight from the structural angles,
 no symbolic algebra, no shortcut on exact values) shares nothing with that route but the spec.
 Before the files are moved into place, the emitted model itself — the compiled C through cffi when
-the command builds it, else the Python mirror — is evaluated at a few random states and compared
-with the independent model:
+the command builds it, and the Python mirror — is evaluated at a few random states and compared
+with the independent model (and every other command that runs a model checks its compiled C so,
+once per process: pipeline.checked):
 
 - the mass matrix M and the forces f of M φ̈ = f, entry by entry, relative to their size (a torque's
   size at least ‖M‖ times 1 rad/s², so that a torque zero by the chain's shape is zero to rounding);
@@ -23,7 +24,7 @@ run): φ uniform in [−π, π], φ̇ and u standard normal, t uniform in [0, 3]
 on it; a symbolic parameter the spec gives no value is drawn from [0.5, 1.5] (a state where the
 drawn values make M indefinite checks M and f only).  Any difference beyond ``TOL`` (``FLOAT_TOL``
 for a model in single precision) is an ``EmittedModelError`` naming the function, the state and
-the difference; ``generate`` then writes nothing.
+the difference; ``generate`` then writes nothing, and no command runs the model.
 """
 from __future__ import annotations
 
@@ -77,7 +78,6 @@ class PythonMirror:
     def __init__(self, module, time_dependent: bool):
         self.mod, self.time_dependent = module, time_dependent
         self.n, self.nu = module.N, len(module.CONTROLS)
-        self.name = "the Python mirror's"
         self.has_momentum = hasattr(module, "momentum")
         self.real = "double"
 
