@@ -140,7 +140,14 @@ class _Checker:
     def __init__(self, spec, target, ch, params, what: str):
         self.spec, self.target, self.ch, self.params, self.what = spec, target, ch, params, what
         self.n = spec.n
-        self.tol, self.dtol = tolerances(getattr(target, "real", "double") == "float")
+        single = getattr(target, "real", "double") == "float"
+        self.tol, self.dtol = tolerances(single)
+        # where M's smallest eigenvalue is below this of its largest, the emitted model may call M singular
+        # (its pivots at rounding; float's rounding is 1e9 times double's)
+        self.singular = 1e-4 if single else 1e-9
+        # a value of φ̈ (not its residual) is good to about eps / (M's smallest eigenvalue over its largest):
+        # the RK4 step is compared where that is 1e-3 or better
+        self.conditioned = 1e3 * float(np.finfo(np.float32 if single else np.float64).eps)
         self.prefix = spec.name
         self.floor = 1e-300  # the state's ‖M‖ (run)
         self.worst: dict = {}  # function → its largest difference over its tolerance, in the order compared
@@ -169,38 +176,46 @@ class _Checker:
         return reference.forces(self.ch, x, u, t)
 
     def run(self, rng: np.random.Generator, count: int) -> None:
-        T, n, p = self.target, self.n, self.params
         drawn = states(self.spec, rng, count)
         for s in drawn:
             M_ref, f_ref = self.M(s.x), self.f(s.x, s.u, s.t)
             # ‖M‖ is also the floor of every torque's scale (the torque of 1 rad/s²): a torque that
             # is zero by the chain's shape (a body on its own axis) is zero to rounding, not to 1e-9 of itself
             self.floor = scale_M = max(float(np.max(np.abs(M_ref))), 1e-300)
-            self.close("mass_matrix", s, T.mass_matrix(s.x[:n], p), M_ref, scale_M)
-            self.close("forces", s, T.forces(s.x, s.u, p, t=s.t), f_ref, max(float(np.max(np.abs(f_ref))), scale_M))
-            E_ref, U_ref = reference.energy(self.ch, s.x, s.t), reference.potential(self.ch, s.x, s.t)
-            # relative to |T| + |U|: T − U may cancel to far less than either
-            self.close("energy", s, T.energy(s.x, p, t=s.t), E_ref, max(abs(E_ref + U_ref) + abs(U_ref), 1e-300))
-            if T.has_momentum:
-                K_ref = reference.momentum(self.ch, s.x, s.t)
-                self.close("momentum", s, T.momentum(s.x, p, t=s.t), K_ref,
-                           max(abs(K_ref), scale_M * float(np.max(np.abs(s.x[n:])))))
             smallest = float(np.linalg.eigvalsh((M_ref + M_ref.T) / 2)[0]) / scale_M
-            if smallest <= 1e-12:
-                continue  # drawn parameter values that make M indefinite here: M and f only
             try:
-                qdd = T.qdd(s.x, s.u, p, t=s.t)
-            except ArithmeticError as exc:  # SINGULAR: M's pivots at rounding where its smallest eigenvalue is not
-                if smallest <= 1e-9:
-                    continue  # a configuration next to a singular one (a ball joint's lock): φ̈ is not defined to 1e-9 there
-                self.fail("qdd", s, math.inf, self.tol, f" ({exc}, where M's smallest eigenvalue is {smallest:.3g} of its largest)")
-            self._residual("qdd", s, M_ref, qdd, f_ref)
-            self.close("rhs", s, T.rhs(s.t, s.x, s.u, p), np.concatenate([s.x[n:], qdd]),
-                       max(float(np.max(np.abs(qdd))), float(np.max(np.abs(s.x[n:]))), 1e-300))
-            self._derivatives(s, M_ref, f_ref, qdd, rng)
-            self._regressor(s, qdd)
-            self._rk4_step(s)
+                self._state(s, M_ref, f_ref, smallest, rng)
+            except ArithmeticError as exc:  # SINGULAR or NONFINITE from the emitted model
+                if smallest <= self.singular:
+                    continue  # next to a singular configuration (a ball joint's lock): M's pivots at its rounding
+                where = s.text(self.n, self.target.time_dependent)
+                raise EmittedModelError(
+                    f"the emitted {self.what} model refused a state the independent model computes ({exc}; M's smallest "
+                    f"eigenvalue is {smallest:.3g} of its largest) at {where}: a defect of the generator") from None
         self._quadratures(drawn[0])
+
+    def _state(self, s, M_ref, f_ref, smallest, rng) -> None:
+        """Every comparison at the state ``s``."""
+        T, n, p, scale_M = self.target, self.n, self.params, self.floor
+        self.close("mass_matrix", s, T.mass_matrix(s.x[:n], p), M_ref, scale_M)
+        self.close("forces", s, T.forces(s.x, s.u, p, t=s.t), f_ref, max(float(np.max(np.abs(f_ref))), scale_M))
+        E_ref, U_ref = reference.energy(self.ch, s.x, s.t), reference.potential(self.ch, s.x, s.t)
+        # relative to |T| + |U|: T − U may cancel to far less than either
+        self.close("energy", s, T.energy(s.x, p, t=s.t), E_ref, max(abs(E_ref + U_ref) + abs(U_ref), 1e-300))
+        if T.has_momentum:
+            K_ref = reference.momentum(self.ch, s.x, s.t)
+            self.close("momentum", s, T.momentum(s.x, p, t=s.t), K_ref,
+                       max(abs(K_ref), scale_M * float(np.max(np.abs(s.x[n:])))))
+        if smallest <= 1e-12:
+            return  # drawn parameter values that make M indefinite here: M and f only
+        qdd = T.qdd(s.x, s.u, p, t=s.t)
+        self._residual("qdd", s, M_ref, qdd, f_ref)
+        self.close("rhs", s, T.rhs(s.t, s.x, s.u, p), np.concatenate([s.x[n:], qdd]),
+                   max(float(np.max(np.abs(qdd))), float(np.max(np.abs(s.x[n:]))), 1e-300))
+        self._derivatives(s, M_ref, f_ref, qdd, rng)
+        self._regressor(s, qdd)
+        if smallest > self.conditioned:  # the step compares values, not residuals: where the precision holds them
+            self._rk4_step(s)
 
     def _residual(self, fn, s, M, qdd, f, tol=None, detail=""):
         """M φ̈ − f relative to ‖M‖‖φ̈‖ + ‖f‖ (the backward error of φ̈)."""
@@ -279,6 +294,9 @@ class _Checker:
         if not has:
             return
         x0 = np.concatenate([s.x[: self.n], 0.5 * s.x[self.n:]])
+        M = self.M(x0)
+        if np.linalg.eigvalsh((M + M.T) / 2)[0] <= self.conditioned * np.max(np.abs(M)):
+            return  # values, not residuals: where the precision holds them
         try:
             got = T.quad_state(QUAD_T, x0, self.params)
         except ArithmeticError:  # a motion on the separatrix, which the quadratures refuse
