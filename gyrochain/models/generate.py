@@ -90,7 +90,7 @@ def verify(spec, model: Model, files: dict, folder: Path, built: bool, say=None)
         if built:
             c = pipeline.load_built(folder, files, spec.name)
             functions.update(dict.fromkeys(pipeline.self_check(spec, c)))
-        module = builder.load_python(folder, spec.name)
+        module = builder.load_python(folder, spec.name, bytecode=False)
         try:
             functions.update(dict.fromkeys(selfcheck.check(spec, selfcheck.PythonMirror(module, time_dependent(model)),
                                                            "Python")))
