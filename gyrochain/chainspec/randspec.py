@@ -127,7 +127,7 @@ def random_general_spec_text(
 # a flipped axis), ±π/4, 3π/4 and numbers of either sign; exact zeros in c and s; inertia tensors
 # full, diagonal, symmetric about the joint axis, of a point mass, of a slender rod, and massless
 # frames; rotors along the joint axis, anywhere or spinning up; joint offsets (0, a number, π);
-# springs, dampers, torque expressions of t and the state, controls; gravity or none; a fixed or
+# springs, dampers, motor armature, torque expressions of t and the state, controls; gravity or none; a fixed or
 # moving platform (its motion written with π) and loads on the bodies.
 THETAS = ("0", "pi/2", "-pi/2", "pi", "-pi", "pi/4", "-pi/4", "3*pi/4", "number")
 INERTIAS = ("full", "diagonal", "axial", "point", "rod", "massless")
@@ -150,6 +150,7 @@ class BodyPlan:
     damping: bool = False
     control: bool = False
     torque: bool = False  # a torque expression of t and the state (with π in it)
+    armature: bool = False  # a motor's reflected inertia on the joint
 
 
 @dataclass(frozen=True)
@@ -192,7 +193,8 @@ def random_plan(rng: np.random.Generator, n: int, general: bool = False) -> Chai
                                zero_s=tuple(bool(b) for b in rng.random(3) < 0.3),
                                rotor=str(rng.choice(ROTORS)), offset=str(rng.choice(OFFSETS)),
                                spring=bool(rng.random() < 0.3), damping=bool(rng.random() < 0.3),
-                               control=bool(rng.random() < 0.4), torque=bool(rng.random() < 0.2)))
+                               control=bool(rng.random() < 0.4), torque=bool(rng.random() < 0.2),
+                               armature=bool(rng.random() < 0.25)))
     base = str(rng.choice(BASES)) if general else "fixed"
     return ChainPlan(tuple(bodies), int(rng.integers(2**31)), base, bool(general and rng.random() < 0.5),
                      bool(rng.random() < 0.85))
@@ -242,6 +244,8 @@ def geometry_spec_text(plan: ChainPlan, name: str = "geom") -> str:
             lines += [f"spring = {_decimal(_short(rng, 0.2, 2.0))}", f"rest = {_decimal(_short(rng, -0.5, 0.5))}"]
         if b.damping:
             lines.append(f"damping = {_decimal(_short(rng, 0.01, 0.2))}")
+        if b.armature:
+            lines.append(f"armature = {_decimal(_short(rng, 0.001, 0.5, 3))}")
         if b.control:
             lines.append("control = true")
         if b.torque:

@@ -92,6 +92,7 @@ class BodySpec:
     forces: tuple[LoadSpec, ...] = ()
     moments: tuple[LoadSpec, ...] = ()
     offset: sp.Expr = sp.Integer(0)  # the joint's zero: the paper's φᵏ is the spec's joint angle + offset
+    armature: sp.Expr = sp.Integer(0)  # the joint's reflected motor inertia, added to M_kk (MuJoCo's armature)
 
     @property
     def lam_dot(self) -> tuple:
@@ -297,8 +298,8 @@ def _matrix(value, where: str, names: dict, state: dict | None = None) -> tuple:
 
 # --------------------------------------------------------------------------- the spec
 TOP_FIELDS = {"name", "description", "g", "body", "initial", "base", "values"}
-BODY_FIELDS = {"theta", "m", "c", "A", "I_c", "s", "lambda", "rotor", "control", "spring", "rest", "damping", "torque",
-               "force", "moment", "offset"}
+BODY_FIELDS = {"theta", "m", "c", "A", "I_c", "s", "lambda", "rotor", "control", "spring", "rest", "damping", "torque", "force",
+               "moment", "offset", "armature"}
 BODY_REQUIRED = ("theta", "m", "c")
 ROTOR_FIELDS = ("axis", "inertia", "speed")
 SYMMETRY_TOL = 1e-12  # a 3×3 tensor whose A_ij, A_ji differ by at most this × its largest entry is symmetrised
@@ -306,8 +307,7 @@ ZERO3 = (sp.Integer(0),) * 3
 
 
 def _fields(raw: dict, at: str, allowed, required, expected: str) -> None:
-    """Every key of a table known and every required one present; the field named otherwise
-    (``at`` "" for the top level)."""
+    """Every key of a table known and every required one present, else the field named (``at`` "": the top)."""
     name = (lambda key: f"{at}.{key}") if at else (lambda key: key)
     for key in raw:
         if key not in allowed:
@@ -461,7 +461,7 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
     const, time, state = (_state_names(n, kind) for kind in ("const", "time", "state"))
     for key, value in raw.items():
         where = f"{at}.{key}"
-        if key in ("theta", "offset", "m", "spring", "rest", "damping"):
+        if key in ("theta", "offset", "m", "spring", "rest", "damping", "armature"):
             vals[key] = _scalar(value, where, names, const)
         elif key in ("c", "s"):
             vals[key] = _vector(value, where, names, const)
@@ -487,6 +487,8 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
         v = vals.get(key)
         if v is not None and v.is_number and v < 0:
             raise SpecError(f"{at}.{key}", f"a negative {what} ({float(v):g}) would feed energy into the joint")
+    if (arm := vals.get("armature", sp.Integer(0))).is_number and arm < 0:
+        raise SpecError(f"{at}.armature", f"a motor's reflected inertia is not negative, got {float(arm):g}")
     m, c = vals["m"], vals["c"]
     if m.is_number and m < 0:
         raise SpecError(f"{at}.m", f"mass must be positive, got {float(m):g} (or 0: a massless frame between two joints)")
@@ -511,6 +513,7 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
         forces=vals.get("force", ()),
         moments=vals.get("moment", ()),
         offset=vals.get("offset", sp.Integer(0)),
+        armature=arm,
     )
 
 

@@ -84,8 +84,9 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
     if der_form not in DER_FORMS:
         raise ValueError(f"der_form must be one of {', '.join(DER_FORMS)}, not {der_form!r}")
     if der_form.startswith("world") and not world.applies(spec, kin, dyn):
-        raise FormNotApplicable("the world form needs a fixed base, constant rotors and no body loads; this spec has "
-                                + ("a moving platform" if kin.platform is not None else "rotors that change" if dyn.Lamdot else "body loads"))
+        raise FormNotApplicable("the world form needs a fixed base, constant rotors, no body loads and no armature; this spec has "
+                                + ("a moving platform" if kin.platform is not None else "rotors that change" if dyn.Lamdot
+                                   else "body loads" if dyn.Phi else "motor armature"))
     n = spec.n
     say = progress or (lambda msg: None)
     loops = dyn.loops is not None

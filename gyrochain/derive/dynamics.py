@@ -49,6 +49,7 @@ class Dynamics:
     loads: tuple = ()  # (force, moment about Oᵏ) of the external loads on body k, frame k
     force_vectors: tuple = ()  # per body, each [[body.force]] in frame k
     loops: object = None  # loopform.LoopForm of a long chain (M is then z1ᵏ·Sʲ in frame 0), else None
+    armature: tuple = ()  # per joint the reflected motor inertia aᵏ on M_kk (ZERO where none); () when none
 
     @property
     def torques(self) -> tuple:
@@ -244,6 +245,14 @@ def _backward_step(kin: Kinematics, k: int, bd: _Inertial, acc: tuple, nxt: _Sub
     return _SubChain(F=F, N=N, Gm=Gm, Lam=Lam, h=h, Fb=Fb, Nb=Nb, Ld=Ld, Fl=Fl, Nl=Nl, m=mc, I=I)
 
 
+def armature(spec: ChainSpec, kin: Kinematics) -> tuple:
+    """aᵏ per joint as Poly (a motor's inertia reflected through its gear: ½aᵏ(φ̇ᵏ)² of kinetic
+    energy, aᵏφ̈ᵏ in joint k's equation alone), () when every aᵏ is 0."""
+    if all(b.armature == 0 for b in spec.bodies):
+        return ()
+    return tuple(kin.prog.from_sympy(b.armature) for b in spec.bodies)
+
+
 def _mass_matrix(kin: Kinematics, s: list, I_c: list, h_c: list) -> list:
     """Composite-rigid-body pass: a unit φ̈ᵏ, all else at rest, needs the force e¹ × hᵏ and the
     moment Iᵏ e¹ about Oᵏ; carried back joint by joint, their moment about Oʲ projected on eʲ is
@@ -278,6 +287,11 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, loops: bool = False)
         nxt = _backward_step(kin, k, bd, acc, nxt, out)
     lf = loopform.derive(spec, kin) if loops else None
     M = lf.mass_matrix() if loops else _mass_matrix(kin, bd.s, out["I"], out["h"])
+    arm = armature(spec, kin)
+    if arm:  # the motors' reflected inertias: aᵏ on the diagonal alone (the loop form is not taken then)
+        assert not loops, "the loop form has no armature"
+        for k in range(n):
+            M[k][k] = M[k][k] + arm[k]
     joint = tuple(joint_torque(spec, kin, k) for k in range(1, n + 1))
     return Dynamics(
         M=M if loops else tuple(tuple(row) for row in M),
@@ -288,5 +302,6 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, loops: bool = False)
         loads=tuple(e[:2] for e in bd.ext[1:]),
         force_vectors=tuple(e[2] for e in bd.ext[1:]),
         loops=lf,
+        armature=arm,
         **{key: tuple(out[key][1:]) for key in ("Q", "Gamma", "G", "bias", "m_c", "h", "I", "Lam", "body_bias")},
     )

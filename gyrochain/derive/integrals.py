@@ -252,16 +252,17 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> In
         U = U + term
     if pm is None:
         T = T2
-    else:
+    else:  # the absolute velocities, and the motors' ½aᵏ(φ̇ᵏ)² (M's diagonal alone: in T₂ already)
         vel = _velocities(spec, kin, "abs", transport=False)
-        T = _kinetic(spec, kin, vel)
+        T = _kinetic(spec, kin, vel) + 0.5 * sum((a * q * q for a, q in zip(dyn.armature, qd)), ZERO)
     vertical = vertical_axis(spec)
     momentum, condition = None, None
     if vertical is not False:
         if subchain:
             momentum = subchain[0][2][0]
         else:
-            momentum = Mq[0] + dyn.Lam[0][0] if pm is None else _abs_momentum(spec, kin, vel)[0][0][0]
+            momentum = Mq[0] + dyn.Lam[0][0] if pm is None else \
+                _abs_momentum(spec, kin, vel)[0][0][0] + (dyn.armature[0] * qd[0] if dyn.armature else ZERO)
     if vertical is None:
         th = spec.bodies[0].theta
         condition = f"sin(theta1) = 0 (theta1 = {th} is a parameter: conserved only for theta1 = 0 or pi)"

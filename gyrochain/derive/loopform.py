@@ -47,11 +47,15 @@ LDLT_COLUMNS_MIN_N = 32
 LOOP_FORMS = ("auto", "straight", "loops")
 
 
-def uses_loops(n: int, form: str = "auto") -> bool:
-    """Whether a chain of n joints gets the loop form (``form`` forces it either way)."""
+def uses_loops(n: int, form: str = "auto", armature: bool = False) -> bool:
+    """Whether a chain of n joints gets the loop form (``form`` forces it either way).  A chain
+    with motor armature keeps the straight-line forms at every n (the loop form's M is the
+    template's sum of pairs, which has no diagonal term of its own)."""
     if form not in LOOP_FORMS:
         raise ValueError(f"loop form must be one of {', '.join(LOOP_FORMS)}, not {form!r}")
-    return form == "loops" or (form == "auto" and n >= LOOP_MIN_N)
+    if armature and form == "loops":
+        raise ValueError("the loop form does not take motor armature (the straight-line forms do, at every n)")
+    return form == "loops" or (form == "auto" and n >= LOOP_MIN_N and not armature)
 
 
 @dataclass(frozen=True)

@@ -55,6 +55,7 @@ class NumericChain:
     lam: np.ndarray  # (n, 3) (at t = 0 when λ depends on t)
     controls: tuple  # 1-based joints with a torque
     general: object = field(default=None)  # _General: platform, λ(t), loads, springs (None: none)
+    armature: np.ndarray | None = None  # (n,): the joints' reflected motor inertias on M's diagonal (None: none)
 
     @property
     def n(self) -> int:
@@ -186,6 +187,7 @@ def numeric(spec: ChainSpec, params: dict | None = None) -> NumericChain:
         lam=np.array([[ev(x.subs(T, 0)) for x in b.lam] for b in B]),
         controls=spec.controls,
         general=general,
+        armature=np.array([ev(b.armature) for b in B]) if any(b.armature != 0 for b in B) else None,
     )
 
 
@@ -325,6 +327,8 @@ def inverse_dynamics(ch: NumericChain, phi, phidot, phiddot, torque=None, t: flo
     tau = np.einsum("ki,...ki->...k", mo["e"], totals)
     spring, other = joint_torque_terms(ch, t, np.asarray(phi, float), np.asarray(phidot, float))
     tau = tau - spring - other
+    if ch.armature is not None:  # a motor's reflected inertia: aᵏ φ̈ᵏ in joint k alone
+        tau = tau + ch.armature * np.asarray(phiddot, float)
     if torque is not None:
         tau = tau - torque
     return tau
@@ -379,6 +383,8 @@ def energy(ch: NumericChain, x, t: float = 0.0) -> float:
         0.5 * ch.m[k] * vO[k] @ vO[k] + ch.m[k] * vO[k] @ cross(omega[k], c[k]) + 0.5 * omega[k] @ A[k] @ omega[k]
         for k in range(n)
     )
+    if ch.armature is not None:
+        T += 0.5 * float(ch.armature @ x[n:] ** 2)
     return float(T - _force_function(ch, x, t, mo))
 
 
@@ -435,7 +441,7 @@ def momentum(ch: NumericChain, x, t: float = 0.0) -> float:
     for p in range(n):
         vG = vO[p] + cross(omega[p], c[p])
         K += A[p] @ omega[p] + lam[p] + ch.m[p] * cross(O[p] - O[0], vG) + ch.m[p] * cross(c[p], vO[p])
-    return float(e[0] @ K)
+    return float(e[0] @ K) + (float(ch.armature[0] * x[n]) if ch.armature is not None else 0.0)
 
 
 def simulate(ch: NumericChain, x0, t_eval, u=None, rtol=1e-12, atol=1e-12):
@@ -457,7 +463,7 @@ def regressor(ch: NumericChain, params, phi, phidot, phiddot, t: float = 0.0) ->
     column from the fixed-frame vectors of ``_motion``: each parameter's unit value gives body k
     a force and a moment about Oᵏ, and row j is eʲ · (that moment carried to Oʲ).  ``params``:
     (kind, body, index) of each column (regressor.parameters): kind m, h, A (body-frame
-    components), lam or b."""
+    components), lam, b (damping) or a (armature)."""
     phi, phidot, phiddot = (np.asarray(v, dtype=float) for v in (phi, phidot, phiddot))
     mo = _motion(ch, phi, phidot, phiddot, t)
     R, O, omega, eps, e = mo["R"], mo["O"], mo["omega"], mo["eps"], mo["e"]
@@ -466,8 +472,8 @@ def regressor(ch: NumericChain, params, phi, phidot, phiddot, t: float = 0.0) ->
     for col, (kind, k, index) in enumerate(params):
         p = k - 1
         F = N = np.zeros(3)
-        if kind == "b":
-            Y[p, col] = phidot[p]
+        if kind in ("b", "a"):
+            Y[p, col] = (phidot if kind == "b" else phiddot)[p]
             continue
         if kind == "m":
             F = acc[p]

@@ -45,8 +45,8 @@ _AXES = "xyz"
 
 @dataclass(frozen=True)
 class Parameter:
-    """One standard parameter: its name (``m2``, ``hz2``, ``Axy1``, ``lamz2``, ``b1``), the
-    body (joint) it belongs to, its kind (``m``, ``h``, ``A``, ``lam``, ``b``), the component
+    """One standard parameter: its name (``m2``, ``hz2``, ``Axy1``, ``lamz2``, ``b1``, ``a1``), the
+    body (joint) it belongs to, its kind (``m``, ``h``, ``A``, ``lam``, ``b``, ``a``), the component
     indices (0-based), and its value in the spec (sympy)."""
 
     name: str
@@ -66,6 +66,8 @@ class Parameter:
             return rf"A^{{{k}}}_{{{self.index[0] + 1}{self.index[1] + 1}}}"
         if self.kind == "lam":
             return rf"\lambda^{{{k}}}_{{{self.index[0] + 1}}}"
+        if self.kind == "a":
+            return rf"a^{{{k}}}"
         return rf"b^{{{k}}}"
 
 
@@ -81,7 +83,8 @@ class Regressor:
 
 def parameters(spec: ChainSpec) -> tuple:
     """The standard parameters of this spec: per body m, h = m c (3), A about Oᵏ (6), λ (3, only
-    for a body with a rotor), then the damping bᵏ of each joint the spec gives one."""
+    for a body with a rotor), then the damping bᵏ of each joint the spec gives one, then the
+    armature aᵏ of each joint the spec gives one."""
     out = []
     for k, b in enumerate(spec.bodies, start=1):
         h = [sp.expand(b.m * x) for x in b.c]
@@ -93,6 +96,9 @@ def parameters(spec: ChainSpec) -> tuple:
     for k, b in enumerate(spec.bodies, start=1):
         if b.damping is not None:
             out.append(Parameter(f"b{k}", k, "b", (), b.damping))
+    for k, b in enumerate(spec.bodies, start=1):
+        if b.armature != 0:
+            out.append(Parameter(f"a{k}", k, "a", (), b.armature))
     return tuple(out)
 
 
@@ -150,8 +156,8 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, ints:
     s = [None] + [[num(x) for x in b.s] for b in spec.bodies]
     for col, p in enumerate(params):
         k = p.body
-        if p.kind == "b":
-            Y[k - 1][col] = kin.qd[k]
+        if p.kind in ("b", "a"):  # damping bᵏφ̇ᵏ, armature aᵏφ̈ᵏ: joint k alone
+            Y[k - 1][col] = kin.qd[k] if p.kind == "b" else P.input(phidd[k])
             continue
         F, N = _wrench(p, kin.omega[k], eps[k], acc[k])
         F, N = P.vec(f"rF{p.name}", F), P.vec(f"rN{p.name}", N)
@@ -171,7 +177,7 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, ints:
 
 def _energy(spec: ChainSpec, kin: Kinematics, ints: Integrals, params: tuple) -> tuple:
     """T − U = h π + e₀: per body ½v² − g (ê⁰₁·Oᵏ) for m, v·(ω × eᵢ) − g γᵏᵢ for hᵢ, ½ ω·Eᵢⱼω for
-    Aᵢⱼ (the velocities absolute, frame k); λ and b do not enter."""
+    Aᵢⱼ (the velocities absolute, frame k), ½(φ̇ᵏ)² for aᵏ; λ and b do not enter."""
     P, J, num = kin.prog, kin.joint, kin.prog.from_sympy
     g = num(spec.g)
     vel = _velocities(spec, kin, "rabs", transport=False)
@@ -191,6 +197,8 @@ def _energy(spec: ChainSpec, kin: Kinematics, ints: Integrals, params: tuple) ->
         elif p.kind == "A":
             i, j = p.index
             h.append(w[i] * w[j] * (ONE if i != j else 0.5))
+        elif p.kind == "a":
+            h.append(0.5 * kin.qd[k] * kin.qd[k])
         else:
             h.append(ZERO)
     e0 = ZERO

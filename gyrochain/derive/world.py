@@ -84,8 +84,9 @@ class World:
 
 
 def applies(spec, kin, dyn) -> bool:
-    """A fixed base, constant λ and no body loads: ID is rigid bodies, rotors and gravity."""
-    return kin.platform is None and not dyn.Lamdot and not dyn.Phi
+    """A fixed base, constant λ, no body loads and no armature: ID is rigid bodies, rotors and
+    gravity (its M is the template's sum of pairs)."""
+    return kin.platform is None and not dyn.Lamdot and not dyn.Phi and not dyn.armature
 
 
 def _dmul(D, m6) -> list:

@@ -60,14 +60,14 @@ def consistent(model, beta: np.ndarray, se: np.ndarray, pi0: np.ndarray) -> tupl
     centre of mass positive definite and satisfying the triangle inequalities) with base
     parameters as near ``beta`` as they can be, in standard errors, and near the spec's π₀ in the
     directions the motion does not determine: min Σ((Kπ − β)/se)² + 10⁻⁸ Σ((π − π₀)/unit)² over
-    the log-Cholesky parameters of every body (λ and damping free).  Returns π and the largest
+    the log-Cholesky parameters of every body (λ, damping and armature free).  Returns π and the largest
     |Kπ − β|/se (0 when consistent bodies give these β exactly)."""
     from scipy.optimize import least_squares
 
     params = model.reg.params
     K = model.base.matrix(len(params))
     cols = _body_columns(params)
-    free = [j for j, p in enumerate(params) if p.kind in ("lam", "b")]
+    free = [j for j, p in enumerate(params) if p.kind in ("lam", "b", "a")]
     # the pull towards π₀ in each kind's own unit (the largest of the spec's values of that kind)
     unit = {kind: max([abs(v) for v, q in zip(pi0, params) if q.kind == kind] + [0.0]) or 1.0 for kind in {q.kind for q in params}}
     scale = np.array([unit[p.kind] for p in params])

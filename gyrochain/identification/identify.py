@@ -121,6 +121,8 @@ def identified_spec(spec, model, pi: np.ndarray, note: str) -> str:
             body["lambda"] = [own[f"lam{i}"] for i in range(3)]
         if "b" in own:
             body["damping"] = own["b"]
+        if "a" in own:
+            body["armature"] = own["a"]
     values = dict(raw.get("values", {}))
     values.update({names[p.name]: float(v) for p, v in zip(params, pi)})
     used = {str(p) for p in parse_spec(tomli_w.dumps({**raw, "values": {}})).params}
@@ -130,7 +132,7 @@ def identified_spec(spec, model, pi: np.ndarray, note: str) -> str:
     return text
 
 
-REWRITTEN = ("m", "c", "A", "I_c", "lambda", "rotor", "damping")  # the body fields identify writes as symbols
+REWRITTEN = ("m", "c", "A", "I_c", "lambda", "rotor", "damping", "armature")  # the body fields identify writes as symbols
 
 
 def _used_beside_the_bodies(raw: dict) -> set:

@@ -588,18 +588,13 @@ def load(directory: str | Path, name: str | None = None) -> CModel:
     return CModel(so, name)
 
 
-def load_python(directory: str | Path, name: str | None = None, bytecode: bool = True):
-    """The generated pure-Python module of a generated folder; with ``bytecode`` False the folder
-    gains no __pycache__ (a folder being written, whose files alone move into place)."""
+def load_python(directory: str | Path, name: str | None = None):
+    """The generated pure-Python module of a generated folder."""
     directory = Path(directory)
     name = name or directory.name
     path = directory / f"{name}.py"
     spec = importlib.util.spec_from_file_location(f"generated_{name}_{abs(hash(str(path)))}", path)
     mod = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = mod
-    was, sys.dont_write_bytecode = sys.dont_write_bytecode, sys.dont_write_bytecode or not bytecode
-    try:
-        spec.loader.exec_module(mod)
-    finally:
-        sys.dont_write_bytecode = was
+    spec.loader.exec_module(mod)
     return mod

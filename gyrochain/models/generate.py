@@ -10,6 +10,7 @@ write is touched.
 """
 from __future__ import annotations
 
+import shutil
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -90,12 +91,13 @@ def verify(spec, model: Model, files: dict, folder: Path, built: bool, say=None)
         if built:
             c = pipeline.load_built(folder, files, spec.name)
             functions.update(dict.fromkeys(pipeline.self_check(spec, c)))
-        module = builder.load_python(folder, spec.name, bytecode=False)
+        module = builder.load_python(folder, spec.name)
         try:
             functions.update(dict.fromkeys(selfcheck.check(spec, selfcheck.PythonMirror(module, time_dependent(model)),
                                                            "Python")))
         finally:
             sys.modules.pop(module.__name__, None)  # a module of a temporary folder: nothing imports it again
+            shutil.rmtree(folder / "__pycache__", ignore_errors=True)  # only the emitted files move into place
     except selfcheck.EmittedModelError as exc:
         raise selfcheck.EmittedModelError(f"{exc}; nothing was written") from None
     single = built and c.real == "float"

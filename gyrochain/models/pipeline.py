@@ -51,7 +51,7 @@ def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = T
     ("straight", "loops"; tests and benchmarks compare the two).  ``regressor``: also the
     regressor, the energy's and the base parameters (regressor.py, baseparams.py)."""
     key = (spec.source, qdd_form, der_form) + (() if loops == "auto" else (loops,)) + (("regressor",) if regressor else ())
-    use_loops = loopform.uses_loops(spec.n, loops)
+    use_loops = loopform.uses_loops(spec.n, loops, armature=any(b.armature != 0 for b in spec.bodies))
     with _LOCK:
         found = _DERIVED.get(key)
     if found is not None:

@@ -75,9 +75,9 @@ def import_text(path, base: str | None = None, tip: str | None = None, locks=Non
     if ch.locked:
         lines.append(f"  locked at the values given: {', '.join(f'{k} = {v}' for k, v in ch.locked.items())}")
     if ch.auto_locked:
-        lines.append(f"  locked at their zero (off the chain, or sliding): {_few(ch.auto_locked)}")
+        lines.append(f"  locked at their zero (off the chain, or sliding): {_few(robot.posed(ch.desc, ch.auto_locked))}")
     if ch.held:
-        lines.append(f"  held at their zero (between the root and the base): {_few(ch.held)}")
+        lines.append(f"  held at their zero (between the root and the base): {_few(robot.posed(ch.desc, ch.held))}")
     lines += [f"  {line}" for line in ch.repairs]
     dropped = [b.joint.name for b in ch.bodies if float(b.joint.friction) != 0]
     if dropped:
@@ -113,7 +113,8 @@ def export_text(spec, spec_label: str, to: str, values: dict) -> tuple[str, list
     rows = [dict(xyz=robotspec.numbers(link.xyz), rpy=robotspec.numbers(robotspec.rpy_of(link.R)), quat=robotspec.numbers(robotspec.quat_of(link.R)),
                  c=robotspec.numbers(link.c), m=robotspec.numbers([link.m]), I=robotspec.numbers(link.Ic).split(),
                  damping=robotspec.numbers([link.damping]) if link.damping else "",
-                 spring=robotspec.numbers([link.spring]) if link.spring else "", rest=robotspec.numbers([link.rest]))
+                 spring=robotspec.numbers([link.spring]) if link.spring else "", rest=robotspec.numbers([link.rest]),
+                 armature=robotspec.numbers([link.armature]) if link.armature else "")
             for link in links]
     notes = [f"The spec's parameters at: {', '.join(f'{k} = {v:g}' for k, v in values.items())}."] if values else []
     if to == "urdf" and spec.controls:

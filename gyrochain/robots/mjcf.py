@@ -145,15 +145,13 @@ def _joints_of(model, i: int, bodies: list, where: str, links: dict, joints: dic
             links[child] = None
         dof, qadr = int(model.jnt_dofadr[k]), int(model.jnt_qposadr[k])
         hinge_or_slide = kind in ("revolute", "prismatic")
-        if hinge_or_slide and float(model.qpos0[qadr]) != 0:
-            raise SpecError(f"{where}: joint {jn!r}", f"ref = {float(model.qpos0[qadr]):g}: the import measures a joint "
-                            "from the model's pose, which is its qpos 0 only with ref = 0")
         limit = {"lower": _s(model.jnt_range[k][0]), "upper": _s(model.jnt_range[k][1])} if model.jnt_limited[k] else {}
         joints[jn] = Joint(jn, kind, parent, child, _text(xyz), rot,
                            tuple(_s(x) for x in model.jnt_axis[k]) if hinge_or_slide else ("1", "0", "0"),
                            _s(model.dof_damping[dof]), _s(model.dof_frictionloss[dof]), limit,
                            armature=_s(model.dof_armature[dof]), spring=_s(model.jnt_stiffness[k]),
-                           rest=_s(model.qpos_spring[qadr]) if hinge_or_slide else "0")
+                           rest=_s(model.qpos_spring[qadr]) if hinge_or_slide else "0",
+                           ref=_s(model.qpos0[qadr]) if hinge_or_slide else "0")
         parent, prev = child, p
     if not all(x == 0 for x in prev):
         jn = joint_name("", f"{name}_at")

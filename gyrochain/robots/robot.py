@@ -65,6 +65,7 @@ class Joint:
     armature: object = 0  # MJCF: a rotor's inertia added to the joint's diagonal of M
     spring: object = 0  # MJCF: the joint's stiffness, about ``rest``
     rest: object = 0
+    ref: object = 0  # MJCF: the joint's value in the pose the file writes (its zero is that pose turned by −ref)
 
 
 @dataclass(frozen=True)
@@ -275,15 +276,22 @@ def _attitude(desc: Description, parent_of: dict, base: str, locks: dict, used: 
         used.update([j.name] if j.name in locks else [])
         if j.kind != "fixed" and j.name not in locks:
             held.append(j.name)
-        pose = _placed(pose, j, locks.get(j.name, 0))
+        pose = _placed(pose, j, locks.get(j.name))
     return (pose[0], mp.matrix([0, 0, 0])), held
+
+
+def posed(desc: Description, names) -> list[str]:
+    """Joints held where the file puts them: each name, with its ref where that is not 0."""
+    return [n if mp.mpf(desc.joints[n].ref) == 0 else f"{n} (at its ref {desc.joints[n].ref})" for n in names]
 
 
 def _placed(parent: tuple, j: Joint, q) -> tuple:
     """The child link's pose (rotation, origin) from its parent's, with the joint at ``q`` (a
-    floating or planar joint, which cannot be locked at one value, at its origin)."""
+    floating or planar joint, which cannot be locked at one value, at its origin; q None: as the
+    file writes it).  The file writes the pose at the joint's ``ref``: q is measured from ref's
+    turn back."""
     R, p = parent
-    Rj, O, q = R * _rpy(*j.rpy), p + R * _v(j.xyz), mp.mpf(q)
+    Rj, O, q = R * _rpy(*j.rpy), p + R * _v(j.xyz), (mp.mpf(q) - mp.mpf(j.ref) if q is not None else mp.mpf(0))
     if q == 0 or j.kind not in LOCKABLE:
         return Rj, O
     if j.kind == "prismatic":
@@ -325,9 +333,6 @@ class _Walk:
         if j.mimic is not None:
             fail(self.desc, f"joint {j.name!r}", f"mimics {j.mimic!r}: the paper's joints are independent "
                  f"(lock it with --lock {j.name}=VALUE)")
-        if mp.mpf(j.armature) != 0:
-            fail(self.desc, f"joint {j.name!r}", f"armature {j.armature}: a motor's inertia on the joint's diagonal of M "
-                 f"has no field in a spec (lock the joint with --lock {j.name}=VALUE, or set armature to 0)")
         if j.kind not in CHAIN_KINDS:
             hint = (f" (lock it with --lock {j.name}=VALUE)" if j.kind in LOCKABLE
                     else f" (give --base {j.child} or a link below it: the chain then starts there)")
@@ -347,7 +352,7 @@ class _Walk:
                 if self.moves(j):
                     out.append(j)
                 else:
-                    self.place(j, self.locks.get(j.name, 0))
+                    self.place(j, self.locks.get(j.name))
                     todo.append(j.child)
         return links, out
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import mpmath as mp
 
-from .robot import DIGITS, EXACT, GRAVITY, Chain, _cross, _dot, _norm, _row, _unit
+from .robot import DIGITS, EXACT, GRAVITY, Chain, _cross, _dot, _norm, _row, _unit, posed
 from ..chainspec.spec import IDENT
 
 
@@ -118,6 +118,8 @@ def spec_text(ch: Chain, name: str | None = None, g=GRAVITY, controls: bool = Tr
             fields.append(("s", _vec(pb.s)))
         if mp.mpf(j.damping) > 0:
             fields.append(("damping", number(j.damping)))
+        if mp.mpf(j.armature) != 0:
+            fields.append(("armature", number(j.armature)))
         if mp.mpf(j.spring) != 0:
             fields.append(("spring", number(j.spring)))
             if mp.mpf(j.rest) != 0:
@@ -127,6 +129,8 @@ def spec_text(ch: Chain, name: str | None = None, g=GRAVITY, controls: bool = Tr
         comments = []
         if len(b.links) > 1:
             comments.append(f"with {', '.join(b.links[1:])} (fixed or locked to {b.links[0]})")
+        if mp.mpf(j.ref) != 0:
+            comments.append(f"ref {j.ref}: the angle is MuJoCo's qpos (the file writes the pose at qpos = {j.ref})")
         if j.limit:
             comments.append("limits (not enforced by the model): " + ", ".join(f"{k} {v}" for k, v in j.limit.items()))
         if mp.mpf(j.friction) != 0:
@@ -153,9 +157,9 @@ def facts(ch: Chain) -> list[str]:
         out.append("locked at the values given: " + ", ".join(f"{k} = {v}" for k, v in ch.locked.items()))
     if ch.auto_locked:
         out.append(f"locked at their zero (off the chain from {ch.base} to {ch.tip}, or sliding): "
-                   + ", ".join(ch.auto_locked))
+                   + ", ".join(posed(ch.desc, ch.auto_locked)))
     if ch.held:
-        out.append(f"held at their zero (between the root and the base {ch.base}, so the platform): " + ", ".join(ch.held))
+        out.append(f"held at their zero (between the root and the base {ch.base}, so the platform): " + ", ".join(posed(ch.desc, ch.held)))
     out += list(ch.repairs)
     if ch.platform:
         out.append(f"the platform (fixed): {', '.join(ch.platform)}")
@@ -187,6 +191,7 @@ class Link:
     spring: object
     rest: object
     control: bool
+    armature: object = 0
 
 
 def refusals(spec, to: str) -> str | None:
@@ -207,6 +212,8 @@ def refusals(spec, to: str) -> str | None:
                 return f"{at}.{key}: a load has no element in a robot description"
         if b.spring is not None and to == "urdf":
             return f"{at}.spring: URDF has no joint stiffness (MJCF has: --to mjcf)"
+        if b.armature != 0 and to == "urdf":
+            return f"{at}.armature: URDF has no motor armature (MJCF has: --to mjcf)"
     return None
 
 
@@ -234,7 +241,7 @@ def links_of(spec, values: dict) -> list[Link]:
         Ic = A - m * (_dot(c, c) * mp.eye(3) - c * c.T)
         out.append(Link(tuple(prev_s), R, m, tuple(c), (Ic[0, 0], Ic[1, 1], Ic[2, 2], Ic[0, 1], Ic[0, 2], Ic[1, 2]),
                         num(b.damping) if b.damping is not None else 0, num(b.spring) if b.spring is not None else 0,
-                        num(b.rest), b.control))
+                        num(b.rest), b.control, num(b.armature)))
         prev_s = mp.matrix([num(x) for x in b.s])
     return out
 

@@ -365,10 +365,21 @@ FIXED = {
                                                                       ["full", "diagonal", "point", "full", "rod", "axial", "full",
                                                                        "massless", "full", "diagonal", "full", "point"]))), seed=18),
                    "articulated", "auto", ("c",)),
+    # motor armature (a term on M's diagonal alone): the articulated form's pivots, flipped axes and rotors;
+    # every target
+    "armature": (ChainPlan((B("pi", "full", armature=True, control=True), B("pi/2", "diagonal", armature=True, damping=True),
+                            B("-pi/2", "full", rotor="full", armature=True, control=True)), seed=19),
+                 "articulated", "forward", TARGETS),
+    # armature on a moving platform (the energy from absolute velocities, the momentum), the composite form
+    "armature_platform": (ChainPlan((B("0", "full", armature=True), B("pi/2", "point", zero_c=(False, True, False), armature=True,
+                                                                     control=True)), seed=20, base="both"),
+                          "composite", "auto", ("c", "integrators", "latex")),
 }
 # the shortcuts of the derivation and the printers (or the exact values they met) and the fixed case
 # that exercises each; the note of this change lists them with their places in the code
 SHORTCUTS = {
+    "armature on M's diagonal alone; the articulated pivot D = U1 + a (W1 != 1, row 1 of the inertia passed on kept); "
+    "the loop and world forms not taken": "armature, armature_platform",
     "R2(theta) skipped where theta = 0 (kinematics.Joint.is_planar): theta = +-pi": "antiparallel, planar_flipped, long_chain",
     "cos theta = 0, sin theta = +-1, sqrt(2)/2 folded exactly (exact.py)": "quarter_turns, point_masses",
     "a zero offset delta^k left out of the angle (kinematics.derive)": "every case but antiparallel's first body",

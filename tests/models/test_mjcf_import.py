@@ -71,6 +71,7 @@ def test_an_exported_example_comes_back_as_mujoco_simulates_it(name, target, tmp
 
 
 SUITE_MODELS = [("pendulum.xml", {}), ("acrobot.xml", {}), ("reacher.xml", {}), ("cartpole.xml", {"base": "cart"})]
+STYLED = ROOT / "tests" / "mjcf" / "styled"  # models written as Menagerie's and the Control Suite's are
 
 
 @pytest.mark.parametrize("file, kw, target", tiered([(*m, t) for m in SUITE_MODELS for t in TARGETS], {"reference"},
@@ -82,16 +83,12 @@ def test_control_suite_models_are_mujoco_s(file, kw, target):
 
 
 def test_what_the_spec_cannot_hold_is_said(tmp_path):
-    """The cart-pole's slider above the base is held; a joint's armature is refused on the chain;
-    gravity not along −z is refused; MuJoCo's own compiler errors are one line."""
+    """The cart-pole's slider above the base is held; gravity not along −z is refused; MuJoCo's own
+    compiler errors are one line."""
     text, lines = exchange.import_text(SUITE / "cartpole.xml", base="cart")
     assert "slider" in text and "held at their zero" in text
     f = tmp_path / "arm.xml"
-    body = '<body name="a" pos="0 0 0"><joint name="j" axis="0 1 0" armature="0.1"/><geom size=".1" pos="0 0 -.5"/></body>'
-    f.write_text(f"<mujoco><worldbody>{body}</worldbody></mujoco>")
-    with pytest.raises(SpecError, match="joint 'j': armature 0.1"):
-        exchange.import_text(f)
-    plain = body.replace(' armature="0.1"', "")
+    plain = '<body name="a" pos="0 0 0"><joint name="j" axis="0 1 0"/><geom size=".1" pos="0 0 -.5"/></body>'
     f.write_text(f'<mujoco><option gravity="0 -9.81 0"/><worldbody>{plain}</worldbody></mujoco>')
     with pytest.raises(SpecError, match="<option gravity>: \\(0 -9.81 0\\) is not along -z"):
         exchange.import_text(f)
@@ -115,3 +112,47 @@ def test_two_joints_in_one_body_and_a_joint_off_the_origin(tmp_path):
       </body></worldbody></mujoco>""")
     err, n = worst(f)
     assert n == 3 and err <= 1e-10, err
+
+
+@pytest.mark.parametrize("file, target", tiered([(f, t) for f in ("arm_armature.xml", "cheetah_leg.xml") for t in TARGETS],
+                                                {"reference"}, key=lambda c: c[-1], rows=True))
+def test_armature_and_reference_poses_as_the_authors_wrote_them(file, target):
+    """Joint classes with motor armature (Menagerie's arms), ``ref`` poses and springs about
+    springref (the Control Suite's cheetah): imported as written, the spec's angles are MuJoCo's
+    qpos, and φ̈ is ``mj_forward``'s qacc."""
+    text, _ = exchange.import_text(STYLED / file)
+    assert "armature = " in text and "ref " in text
+    err, n = worst(STYLED / file, target)
+    print(f"{file} ({target}): n = {n}, MuJoCo {err:.1e}")
+    assert err <= 1e-10
+
+
+def test_armature_goes_back_out_to_mjcf(tmp_path):
+    """A spec's armature is written to MJCF's joints (MuJoCo's φ̈ equal to the spec's again), and
+    refused for URDF, which has no element for it."""
+    spec = parse_spec(exchange.import_text(STYLED / "arm_armature.xml")[0])
+    text, _ = exchange.export_text(spec, "arm.toml", "mjcf", {})
+    assert text.count('armature="') == spec.n
+    path = tmp_path / "back.xml"
+    path.write_text(text)
+    err, n = worst(path)
+    assert n == spec.n and err <= 1e-10, err
+    with pytest.raises(SpecError, match=r"body\[1\]\.armature: URDF has no motor armature"):
+        exchange.export_text(spec, "arm.toml", "urdf", {})
+
+
+def test_a_reference_pose_off_the_chain_or_locked_is_no_refusal(tmp_path):
+    """A joint's ref off the chain (held at its zero) or locked (at the value given, in MuJoCo's
+    qpos) stops nothing."""
+    f = tmp_path / "two.xml"
+    f.write_text("""<mujoco><compiler angle="radian"/><worldbody>
+      <body name="target" pos=".1 0 .5"><joint name="tx" type="slide" axis="1 0 0" ref="0.1"/>
+        <joint name="ty" axis="0 0 1" ref="0.2"/><geom size=".01" mass=".1"/></body>
+      <body name="arm" pos="0 0 1"><joint name="a1" axis="0 1 0" ref="0.3"/><geom type="capsule" fromto="0 0 0 .3 0 0" size=".02"/>
+        <body name="hand" pos=".3 0 0"><joint name="a2" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 .2 0 0" size=".02"/></body>
+      </body></worldbody></mujoco>""")
+    for kw in ({"tip": "hand"}, {"tip": "hand", "locks": ["tx=0.1", "ty=0.2"]}):
+        text, _ = exchange.import_text(f, **kw)
+        assert "ref 0.3" in text
+    err, n = worst(f, tip="hand")
+    assert n == 2 and err <= 1e-10, err
