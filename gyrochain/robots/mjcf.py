@@ -90,13 +90,18 @@ def _text(xs) -> tuple:
     return tuple(x if isinstance(x, str) else mp.nstr(x, 20) for x in xs)
 
 
+GRAVITY_TILT = 1e-4  # gravity whose horizontal part is at most this fraction of it: along -z, the part left out said
+
+
 def describe(model, where: str) -> Description:
     """A compiled ``mjModel`` as a Description (links named after the bodies, joints after the joints)."""
     mp.mp.dps = DIGITS
     g = [float(x) for x in model.opt.gravity]
-    if g[0] != 0 or g[1] != 0 or g[2] > 0:
-        raise SpecError(f"{where}: <option gravity>", f"({' '.join(f'{x:g}' for x in g)}) is not along -z: the import "
-                        "reads gravity along the model's -z (turn the model so that it is)")
+    tilt = (g[0] ** 2 + g[1] ** 2) ** 0.5
+    if g[2] > 0 or tilt > GRAVITY_TILT * (tilt ** 2 + g[2] ** 2) ** 0.5:
+        raise SpecError(f"{where}: <option gravity>", f"({' '.join(f'{x:g}' for x in g)}) is not along -z: the spec's "
+                        "gravity acts along the model's -z (--g sets only its magnitude); turn the model so that "
+                        "gravity is along -z, or write <option gravity=\"0 0 -g\"/>")
     link_name, joint_name = _Names(), _Names()
     bodies = [link_name(model.body(i).name, f"body{i}") for i in range(model.nbody)]
     links: dict = {}
@@ -107,7 +112,9 @@ def describe(model, where: str) -> Description:
                                tuple(_s(x) for x in model.body_inertia[i]) + ("0", "0", "0")) if m > 0 else None
         if i > 0:
             _joints_of(model, i, bodies, where, links, joints, link_name, joint_name)
-    notes = [f"ignored: the medium's {what} ({float(value):g}): its drag has no field in a spec"
+    notes = [f"gravity ({' '.join(f'{x:g}' for x in g)}) read as {-g[2]:g} along -z: its horizontal part, "
+             f"{tilt / abs(g[2]):.1g} of it, left out"] if tilt else []
+    notes += [f"ignored: the medium's {what} ({float(value):g}): its drag has no field in a spec"
              for what, value in (("density", model.opt.density), ("viscosity", model.opt.viscosity)) if float(value) != 0]
     if any(float(x) != 0 for x in model.body_gravcomp):
         notes.append("ignored: gravity compensation (gravcomp) of some bodies")

@@ -334,8 +334,11 @@ class _Walk:
             fail(self.desc, f"joint {j.name!r}", f"mimics {j.mimic!r}: the paper's joints are independent "
                  f"(lock it with --lock {j.name}=VALUE)")
         if j.kind not in CHAIN_KINDS:
+            name, ends = Path(self.desc.source).name, _ends(self.children, [j.child])
             hint = (f" (lock it with --lock {j.name}=VALUE)" if j.kind in LOCKABLE
-                    else f" (give --base {j.child} or a link below it: the chain then starts there)")
+                    else f" (the chain starts below it: `import {name} --base {j.child}"
+                    + (f" --tip LINK`, LINK one of {', '.join(ends[:6])}{' …' if len(ends) > 6 else ''})" if len(ends) > 1
+                       else "`)"))
             fail(self.desc, f"joint {j.name!r}", f"a {j.kind} joint: the paper's chain has revolute joints only{hint}")
         return True
 
@@ -365,6 +368,10 @@ def _below(children, head: str, target: str) -> bool:
             return True
         todo += [j.child for j in children[link]]
     return False
+
+
+def _joint_to(desc: Description, link: str) -> str:
+    return next(j.name for j in desc.joints.values() if j.child == link)
 
 
 def _ends(children, heads) -> list:
@@ -400,21 +407,32 @@ def tree_text(desc: Description, base: str | None = None) -> str:
              + (f" and {mimics} mimic joint{'s' if mimics != 1 else ''}" if mimics else "")]
     leaves = []
     for top in ([base] if base else roots):
-        todo = [(top, None, "", 0)]
+        todo = [(top, None, "", 0, None)]
         while todo:
-            link, j, indent, turning = todo.pop()
+            link, j, indent, turning, below = todo.pop()  # below: the link under the last joint no chain can hold
             what = "" if j is None else f"  ({j.name}: {j.kind}" + (f", mimics {j.mimic}" if j.mimic else "") + ")"
             lines.append(f"  {indent}{link}{what}")
             kids = children[link]
             if not kids and turning:
-                leaves.append((link, turning))
+                leaves.append((link, turning, below))
             for k in reversed(kids):
-                todo.append((k.child, k, indent + "  ", turning + (k.kind in CHAIN_KINDS and k.mimic is None)))
+                if k.kind in LOCKABLE or k.kind == "fixed":
+                    todo.append((k.child, k, indent + "  ", turning + (k.kind in CHAIN_KINDS and k.mimic is None), below))
+                else:  # a floating, planar or ball joint: a chain starts below it (--base)
+                    todo.append((k.child, k, indent + "  ", 0, k.child))
     name = Path(desc.source).name
-    if leaves:
-        lines.append(f"leaves a chain can end at (`import {name} --tip LINK`; the number of revolute joints "
-                     f"from {base or (roots[0] if len(roots) == 1 else 'its root')}):")
-        lines += [f"  {leaf} ({n})" for leaf, n in leaves]
+    bases = {below for *_, below in leaves}
+    if leaves and len(bases) == 1:
+        (below,) = bases
+        start = below or base or (roots[0] if len(roots) == 1 else "its root")
+        lines.append(f"leaves a chain can end at (`import {name} {f'--base {below} ' if below else ''}--tip LINK`"
+                     + (f", the chain below the {desc.joints[_joint_to(desc, below)].kind} joint" if below else "")
+                     + f"; the number of revolute joints from {start}):")
+        lines += [f"  {leaf} ({n})" for leaf, n, _ in leaves]
+    elif leaves:
+        lines.append(f"leaves a chain can end at (`import {name} [--base BASE] --tip LINK`; the number of revolute joints "
+                     "from the base, and the --base it needs below a floating, planar or ball joint):")
+        lines += [f"  {leaf} ({n}{f'; --base {below}' if below else ''})" for leaf, n, below in leaves]
     else:
         lines.append("no leaf is reached by a revolute or continuous joint: nothing for a chain to turn")
     return "\n".join(lines)

@@ -90,7 +90,14 @@ def test_what_the_spec_cannot_hold_is_said(tmp_path):
     f = tmp_path / "arm.xml"
     plain = '<body name="a" pos="0 0 0"><joint name="j" axis="0 1 0"/><geom size=".1" pos="0 0 -.5"/></body>'
     f.write_text(f'<mujoco><option gravity="0 -9.81 0"/><worldbody>{plain}</worldbody></mujoco>')
-    with pytest.raises(SpecError, match="<option gravity>: \\(0 -9.81 0\\) is not along -z"):
+    with pytest.raises(SpecError, match="<option gravity>: \\(0 -9.81 0\\) is not along -z: .*--g sets only its magnitude"):
+        exchange.import_text(f)
+    # gymnasium's inverted double pendulum: a hair off −z, read along −z and said so
+    f.write_text(f'<mujoco><option gravity="1e-05 0 -9.81"/><worldbody>{plain}</worldbody></mujoco>')
+    text, _ = exchange.import_text(f)
+    assert float(parse_spec(text).g) == 9.81 and "# gravity (1e-05 0 -9.81) read as 9.81 along -z: its horizontal part, 1e-06 of it, left out" in text
+    f.write_text(f'<mujoco><option gravity="2e-3 0 -9.81"/><worldbody>{plain}</worldbody></mujoco>')
+    with pytest.raises(SpecError, match="is not along -z"):
         exchange.import_text(f)
     f.write_text("<mujoco><worldbody><body><joint type='hinge' axis='0 0 0'/></body></worldbody></mujoco>")
     with pytest.raises(SpecError, match="MuJoCo does not compile it") as err:

@@ -120,3 +120,45 @@ def test_the_format_as_it_is_written(tmp_path):
     assert parse_spec(text).n == 1 and "left out (not below the base a): c, d" in text
     tree = exchange.tree_text(f)
     assert "1 degree of freedom" in tree and "  b (1)" in tree
+
+
+def _legged(tmp_path, second_root: str | None = None):
+    """A trunk on a floating joint with two legs (a quadruped's root), and a tail on the world
+    whose root joint is ``second_root`` (None: no tail)."""
+    leg = lambda side, y: f"""
+  <link name="{side}_hip"><inertial><mass value="0.5"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="{side}_hip_joint" type="revolute"><parent link="trunk"/><child link="{side}_hip"/><origin xyz="0.2 {y} 0"/><axis xyz="1 0 0"/></joint>
+  <link name="{side}_calf"><inertial><origin xyz="0 0 -0.1"/><mass value="0.3"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="{side}_knee" type="revolute"><parent link="{side}_hip"/><child link="{side}_calf"/><origin xyz="0 0 -0.2"/><axis xyz="0 1 0"/></joint>"""  # noqa: E731
+    tail = "" if second_root is None else f"""  <link name="tail"><inertial><mass value="0.1"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="tail_root" type="{second_root}"><parent link="world"/><child link="tail"/></joint>
+  <link name="tip"><inertial><origin xyz="0 0 -0.1"/><mass value="0.1"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="tail_joint" type="revolute"><parent link="tail"/><child link="tip"/><axis xyz="0 1 0"/></joint>
+"""
+    f = tmp_path / "legged.urdf"
+    f.write_text(f"""<robot name="legged"><link name="world"/>
+  <link name="trunk"><inertial><mass value="5"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="root" type="floating"><parent link="world"/><child link="trunk"/></joint>{leg("FL", 0.1)}{leg("FR", -0.1)}
+{tail}</robot>""")
+    return f
+
+
+def test_a_floating_root_is_shown_with_the_base_it_needs(tmp_path):
+    """Below a floating joint a chain needs --base: --list shows a command that works, and a plain
+    import or a --tip alone names the same command, with the leaves it can end at."""
+    f = _legged(tmp_path, second_root="floating")
+    tree = exchange.tree_text(f)
+    assert "(`import legged.urdf [--base BASE] --tip LINK`" in tree
+    rows = tree.split("leaves a chain can end at", 1)[1].splitlines()[1:]
+    assert "  FL_calf (2; --base trunk)" in rows and "  tip (1; --base tail)" in rows
+    for row in rows:  # each as the list says
+        leaf, rest = row.strip().split(" (", 1)
+        text, _ = exchange.import_text(f, base=rest.split("--base ")[1][:-1], tip=leaf)
+        assert parse_spec(text).n == int(rest.split(";")[0])
+    one = _legged(tmp_path)  # every leaf below the trunk's floating joint
+    tree = exchange.tree_text(one)
+    assert "(`import legged.urdf --base trunk --tip LINK`, the chain below the floating joint; " in tree
+    for tip in (None, "FL_calf"):
+        with pytest.raises(SpecError, match=r"joint 'root': a floating joint: .*\(the chain starts below it: "
+                                            r"`import legged.urdf --base trunk --tip LINK`, LINK one of FR_calf, FL_calf\)"):
+            exchange.import_text(one, tip=tip)
