@@ -21,6 +21,9 @@ HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
 HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+# the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
+# data for an optimiser or a controller, not enforced by the model
+LIMITS = {}
 OP_COUNTS = { "energy": 2141, "forces": 1768, "linearize": 758602, "mass_matrix": 25837, "momenta": 2193, "pdot": 3069, "qdd": 5742, "qdd_derivatives": 758602, "rhs": 5742, "velocities": 123469, }
 PIVOT_TOL = 64 * 2.220446049250313e-16
 

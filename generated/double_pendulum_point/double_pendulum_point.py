@@ -21,6 +21,9 @@ HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
 HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+# the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
+# data for an optimiser or a controller, not enforced by the model
+LIMITS = {}
 OP_COUNTS = { "energy": 24, "forces": 24, "linearize": 84, "mass_matrix": 4, "momenta": 9, "pdot": 31, "qdd": 28, "qdd_derivatives": 84, "rhs": 28, "velocities": 17, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 

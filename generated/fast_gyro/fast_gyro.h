@@ -101,6 +101,7 @@ extern "C" {
 #define FAST_GYRO_LIBRATION 1
 #define FAST_GYRO_ROTATION 2
 #define FAST_GYRO_STEADY 3
+#define FAST_GYRO_HAS_LIMITS 0
 typedef struct fast_gyro_params {
     double unused_;
 } fast_gyro_params;

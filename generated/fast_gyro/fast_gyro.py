@@ -21,6 +21,9 @@ HAS_MOMENTUM_INTEGRAL = True
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = True
 HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+# the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
+# data for an optimiser or a controller, not enforced by the model
+LIMITS = {}
 OP_COUNTS = { "energy": 16, "forces": 21, "linearize": 89, "mass_matrix": 8, "momenta": 12, "momentum": 11, "pdot": 32, "qdd": 30, "qdd_derivatives": 89, "quad_terms": 10, "rhs": 30, "velocities": 22, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 

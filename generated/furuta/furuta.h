@@ -95,6 +95,7 @@ extern "C" {
 #define FURUTA_RK4_LANES 6
 #define FURUTA_HAS_CANONICAL 1
 #define FURUTA_HAS_VARIATIONAL 1
+#define FURUTA_HAS_LIMITS 0
 typedef struct furuta_params {
     double unused_;
 } furuta_params;

@@ -21,6 +21,9 @@ HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
 HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+# the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
+# data for an optimiser or a controller, not enforced by the model
+LIMITS = {}
 OP_COUNTS = { "energy": 23, "forces": 37, "linearize": 165, "mass_matrix": 9, "momenta": 16, "momentum": 12, "pdot": 52, "qdd": 55, "qdd_derivatives": 165, "rhs": 55, "velocities": 22, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 

@@ -21,6 +21,9 @@ HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
 HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+# the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
+# data for an optimiser or a controller, not enforced by the model
+LIMITS = {}
 OP_COUNTS = { "energy": 31, "forces": 66, "linearize": 294, "mass_matrix": 18, "momenta": 24, "momentum": 20, "pdot": 91, "qdd": 93, "qdd_derivatives": 294, "rhs": 93, "velocities": 31, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 

@@ -101,6 +101,7 @@ extern "C" {
 #define GIMBAL_LIBRATION 1
 #define GIMBAL_ROTATION 2
 #define GIMBAL_STEADY 3
+#define GIMBAL_HAS_LIMITS 0
 typedef struct gimbal_params {
     double unused_;
 } gimbal_params;

@@ -101,6 +101,7 @@ extern "C" {
 #define GYROSTAT2_LIBRATION 1
 #define GYROSTAT2_ROTATION 2
 #define GYROSTAT2_STEADY 3
+#define GYROSTAT2_HAS_LIMITS 0
 typedef struct gyrostat2_params {
     double unused_;
 } gyrostat2_params;

@@ -21,6 +21,9 @@ HAS_MOMENTUM_INTEGRAL = True
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = True
 HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+# the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
+# data for an optimiser or a controller, not enforced by the model
+LIMITS = {}
 OP_COUNTS = { "energy": 47, "forces": 111, "linearize": 520, "mass_matrix": 32, "momenta": 46, "momentum": 42, "pdot": 153, "qdd": 152, "qdd_derivatives": 520, "quad_terms": 41, "rhs": 152, "velocities": 51, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 

@@ -21,6 +21,9 @@ HAS_MOMENTUM_INTEGRAL = False
 MOMENTUM_CONDITION = None  # when (27) depends on a parameter
 HAS_QUADRATURES = False
 HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
+# the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
+# data for an optimiser or a controller, not enforced by the model
+LIMITS = {}
 OP_COUNTS = { "energy": 222, "forces": 376, "linearize": 3424, "mass_matrix": 183, "momenta": 215, "pdot": 722, "qdd": 584, "qdd_derivatives": 3424, "rhs": 584, "velocities": 229, }
 PIVOT_TOL = 3 * 2.220446049250313e-16
 

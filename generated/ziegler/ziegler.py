@@ -23,6 +23,9 @@ HAS_QUADRATURES = False
 HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
 HAS_JACOBI_INTEGRAL = False
 TIME_DEPENDENT = False  # forces, qdd, energy, momentum take t first
+# the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
+# data for an optimiser or a controller, not enforced by the model
+LIMITS = {}
 OP_COUNTS = { "energy": 20, "forces": 24, "linearize": 98, "mass_matrix": 5, "momenta": 11, "momentum": 8, "pdot": 33, "qdd": 38, "qdd_derivatives": 98, "rhs": 38, "velocities": 18, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 

@@ -15,6 +15,7 @@ import numpy as np
 
 from ..chainspec.errors import SpecError
 from ..chainspec.spec import load_spec
+from ..chainspec.tables import spec_limits
 from ..models import pipeline
 from ..printers import casadi as target
 
@@ -36,11 +37,34 @@ def _casadi():
     return casadi
 
 
+@dataclass(frozen=True)
+class Bounds:
+    """Box bounds from the spec's joint limits, for Opti (``opti.subject_to(opti.bounded(lbx, X[:, k],
+    ubx))``) or rockit: the state x = (φ, φ̇) between ``lbx`` and ``ubx`` (the range, ± the speed),
+    the inputs u between ``lbu`` and ``ubu`` (± the effort of each controlled joint); ±inf where
+    the spec gives none.  The model itself does not enforce them."""
+
+    lbx: np.ndarray
+    ubx: np.ndarray
+    lbu: np.ndarray
+    ubu: np.ndarray
+
+
+def bounds_of(limits: dict, n: int, controls) -> Bounds:
+    """``limits`` as tables.spec_limits gives them; ``controls`` the 1-based controlled joints."""
+    def row(key, sign):
+        return np.array([sign * np.inf if v is None else float(v) for v in limits.get(key, [None] * n)])
+    speed = row("velocity", 1)
+    effort = row("effort", 1)[[k - 1 for k in controls]]
+    return Bounds(np.concatenate([row("lower", -1), -speed]), np.concatenate([row("upper", 1), speed]), -effort, effort)
+
+
 @dataclass
 class CasadiModel:
     """The CasADi functions of one model: ``f`` (x, u, p) -> xdot, ``F`` (x, u, p, h) -> xnext (one
     RK4 step), ``M`` (q, p) -> M, ``E`` (x, p) -> E; ``p0`` the parameter values (the spec's
-    [values], overridden by those given), ``library`` the shared library they are loaded from."""
+    [values], overridden by those given), ``library`` the shared library they are loaded from,
+    ``bounds`` the spec's joint limits as box bounds on x and u (Bounds)."""
 
     name: str
     n: int
@@ -52,6 +76,7 @@ class CasadiModel:
     F: object = field(repr=False)
     M: object = field(repr=False)
     E: object = field(repr=False)
+    bounds: Bounds = field(default=None, repr=False)
 
 
 def build_library(files: dict[str, str], name: str) -> Path:
@@ -86,6 +111,7 @@ class _Source:
     nu: int
     params: list  # the parameters' names, in NAME_params' order
     values: dict  # their values where known (a spec's [values]; a folder holds none)
+    bounds: Bounds
 
 
 def _folder(folder: Path) -> _Source:
@@ -105,7 +131,25 @@ def _folder(folder: Path) -> _Source:
     if len(sizes) != 2 or struct is None:
         raise SpecError(str(folder), f"{name}.h is not a header gyrochain wrote")
     params = [f for f in re.findall(r"double (\w+);", struct.group(1)) if f != "unused_"]
-    return _Source(files, name, sizes["N"], sizes["NU"], params, {})
+    return _Source(files, name, sizes["N"], sizes["NU"], params, {}, _header_bounds(folder, name, header, sizes["N"], sizes["NU"]))
+
+
+def _header_bounds(folder: Path, name: str, header: str, n: int, nu: int) -> Bounds:
+    """The limits' initializers of a generated header (NAME_PHI_LOWER, …) as Bounds; the
+    controlled joints from the folder's NAME.py (CONTROLS), else every joint."""
+    from ..printers.c import LIMIT_MACROS
+
+    limits = {}
+    for key, (macro, _) in LIMIT_MACROS.items():
+        found = re.search(rf"#define {name.upper()}_{macro} \{{(.*?)\}}\n", header)
+        if found:
+            limits[key] = [None if "HUGE_VAL" in v else float(v) for v in found.group(1).split(",")]
+    py = folder / f"{name}.py"
+    controls = re.search(r"^CONTROLS = \(([\d, ]*)\)", py.read_text(), re.M) if py.exists() else None
+    if controls is None:  # which joints u drives is not known here: no bound on u
+        limits.pop("effort", None)
+        return bounds_of(limits, n, range(1, nu + 1))
+    return bounds_of(limits, n, [int(k) for k in controls.group(1).replace(" ", "").split(",") if k])
 
 
 def _source(spec_or_folder) -> _Source:
@@ -116,7 +160,7 @@ def _source(spec_or_folder) -> _Source:
     target.check(spec)
     files, _ = pipeline.derive_and_render(spec, targets=("c", "casadi"))  # (the target refuses a model depending on t)
     return _Source(files, spec.name, spec.n, len(spec.controls), [str(p) for p in spec.params],
-                   dict(getattr(spec, "values", None) or {}))
+                   dict(getattr(spec, "values", None) or {}), bounds_of(spec_limits(spec), spec.n, spec.controls))
 
 
 def functions(spec_or_folder, params: dict | None = None) -> CasadiModel:
@@ -139,4 +183,4 @@ def functions(spec_or_folder, params: dict | None = None) -> CasadiModel:
     lib = build_library(src.files, src.name)
     made = {k: casadi.external(f"{src.name}_{k}", str(lib), SECOND_ORDER if k in "fF" else {}) for k in ("f", "F", "M", "E")}
     return CasadiModel(src.name, src.n, src.nu, list(src.params), np.array([float(values[k]) for k in src.params]), lib,
-                       **made)
+                       **made, bounds=src.bounds)

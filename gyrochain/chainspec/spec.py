@@ -21,6 +21,7 @@ import sympy as sp
 from .errors import SpecError, did_you_mean
 from .names import (C_KEYWORDS, GENERATED_NAMES, GENERATED_PATTERN, RESERVED_NAMES, RESERVED_PATTERN,  # noqa: F401
                     model_name_clash)
+from .tables import parse_initial, parse_limits, parse_values
 from .physical import check_physical, check_values
 
 __all__ = ["SpecError", "BodySpec", "ChainSpec", "BaseSpec", "LoadSpec", "load_spec", "parse_spec", "parse_expression",
@@ -93,6 +94,7 @@ class BodySpec:
     moments: tuple[LoadSpec, ...] = ()
     offset: sp.Expr = sp.Integer(0)  # the joint's zero: the paper's φᵏ is the spec's joint angle + offset
     armature: sp.Expr = sp.Integer(0)  # the joint's reflected motor inertia, added to M_kk (MuJoCo's armature)
+    limits: tuple = ()  # ((key, value), …) of limits.KEYS: data for the optimiser, not enforced by the model
 
     @property
     def lam_dot(self) -> tuple:
@@ -299,7 +301,7 @@ def _matrix(value, where: str, names: dict, state: dict | None = None) -> tuple:
 # --------------------------------------------------------------------------- the spec
 TOP_FIELDS = {"name", "description", "g", "body", "initial", "base", "values"}
 BODY_FIELDS = {"theta", "m", "c", "A", "I_c", "s", "lambda", "rotor", "control", "spring", "rest", "damping", "torque", "force",
-               "moment", "offset", "armature"}
+               "moment", "offset", "armature", "limits"}
 BODY_REQUIRED = ("theta", "m", "c")
 ROTOR_FIELDS = ("axis", "inertia", "speed")
 SYMMETRY_TOL = 1e-12  # a 3×3 tensor whose A_ij, A_ji differ by at most this × its largest entry is symmetrised
@@ -387,9 +389,10 @@ def parse_spec(text: str) -> ChainSpec:
 
     initial = data.get("initial")
     if initial is not None:
-        initial = _initial(initial, n)
+        initial = parse_initial(initial, n, lambda v, at: _scalar(v, at, {}))
     params = tuple(names.values())
-    values = _values(data["values"], params) if "values" in data else {}
+    number = lambda v, at: _scalar(v, at, {}, _state_names(0, "const"))  # noqa: E731
+    values = parse_values(data["values"], params, number) if "values" in data else {}
 
     spec = ChainSpec(
         name=name,
@@ -473,6 +476,8 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
             vals[key] = _tensor(value, where, names, const)
         elif key == "rotor":
             vals["lambda"] = _rotor(value, where, names, const, time)
+        elif key == "limits":
+            vals[key] = parse_limits(value, where, lambda v, at: _scalar(v, at, {}, const))
         elif key == "control":
             if not isinstance(value, bool):
                 raise SpecError(where, "expected true or false")
@@ -514,6 +519,7 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
         moments=vals.get("moment", ()),
         offset=vals.get("offset", sp.Integer(0)),
         armature=arm,
+        limits=vals.get("limits", ()),
     )
 
 
@@ -560,41 +566,3 @@ def _rotor(value, where: str, names: dict, const: dict, time: dict) -> tuple:
         raise SpecError(f"{where}.axis", "a zero axis has no direction")
     norm = sp.sqrt(norm2)
     return tuple(inertia * speed * x / norm if x != 0 else sp.Integer(0) for x in axis)
-
-
-def _values(raw, params: tuple) -> dict:
-    """[values]: a number (or an expression of numbers) for some or all symbolic parameters, in the
-    spec's order of parameters."""
-    if not isinstance(raw, dict):
-        raise SpecError("values", "expected a table of parameter = number")
-    names = [str(p) for p in params]
-    out = {}
-    for key, v in raw.items():
-        if key not in names:
-            raise SpecError(f"values.{key}", "not a parameter of the spec (its parameters are: " + (", ".join(names) or "none") + ")")
-        if isinstance(v, (list, dict)):
-            raise SpecError(f"values.{key}", "expected a number")
-        e = _scalar(v, f"values.{key}", {}, _state_names(0, "const"))
-        if e.free_symbols:
-            raise SpecError(f"values.{key}", "must be a number (not an expression of parameters)")
-        out[key] = float(e)
-    return {k: out[k] for k in names if k in out}
-
-
-def _initial(raw, n: int) -> dict:
-    if not isinstance(raw, dict):
-        raise SpecError("initial", "expected a table with phi and phidot")
-    _fields(raw, "initial", ("phi", "phidot"), ("phi", "phidot"), "phi, phidot")
-    out = {}
-    for key in ("phi", "phidot"):
-        v = raw[key]
-        if not isinstance(v, list) or len(v) != n:
-            raise SpecError(f"initial.{key}", f"expected a list of {n} numbers")
-        vals = []
-        for i, x in enumerate(v):
-            e = _scalar(x, f"initial.{key}[{i + 1}]", {})
-            if e.free_symbols:
-                raise SpecError(f"initial.{key}[{i + 1}]", "must be a number")
-            vals.append(float(e))
-        out[key] = tuple(vals)
-    return out

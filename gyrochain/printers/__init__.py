@@ -15,6 +15,7 @@ from pathlib import Path
 import sympy as sp
 
 from .. import __version__
+from ..chainspec.tables import spec_limits
 from ..derive import integrals, loopform, world
 from ..derive.assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
                         time_dependent, variational_stack_bytes)
@@ -76,6 +77,7 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         has_momentum_integral=int(ints.has_momentum_integral),
         momentum_condition=ints.momentum_condition and c_comment(ints.momentum_condition).replace('"', "'"),
         quad=model.quad is not None,
+        limits=spec_limits(spec),
         der_store=[a.name for a in model.der_store],
         der_dirs=[(lab, lab[0], int(lab[1:]) - 1, j) for j, lab in enumerate(model.der.labels)] if model.der else [],
         der_generic="d_jvp" in model.lines,
@@ -127,6 +129,11 @@ def regressor_context(model: Model) -> dict:
     )
 
 
+def _limits_json(spec) -> list:
+    """Per joint its limits as the spec gives them (MANIFEST.json's "limits"; not enforced by the model)."""
+    return [{"joint": k, **dict(b.limits)} for k, b in enumerate(spec.bodies, start=1)]
+
+
 def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "double", options=(),
            compiled: Path | None = None, paper: str = "a4") -> dict[str, str]:
     """The emitted files of the asked targets, by file name.  With every target, also
@@ -161,6 +168,7 @@ def render(model: Model, spec_label: str, targets=ALL, on_c=None, real: str = "d
             **({"real": real} if real != "double" else {}),
             sympy=sp.__version__,
             op_counts=counts,
+            **({"limits": _limits_json(spec)} if spec_limits(spec) else {}),
             files={k: hashlib.sha256(v.encode("utf-8")).hexdigest() for k, v in sorted(files.items())},
         )
         files["MANIFEST.json"] = json.dumps(manifest, indent=2, sort_keys=True) + "\n"

@@ -37,7 +37,24 @@ def defines(ctx: dict) -> list[tuple]:
         out += [("NPI", ctx["npi"]), ("NBASE", ctx["nbase"])]
     if ctx["quad"]:
         out += [(k, STATUS[k]) for k in QUAD_STATUS] + [(k.upper(), v) for k, v in MOTIONS.items()]
+    out += limit_defines(ctx["limits"])
     return [d if len(d) == 3 else (*d, "") for d in out]
+
+
+# the header's initializer of each kind of joint limit (tables.KEYS), and what stands where a joint has none
+LIMIT_MACROS = {"lower": ("PHI_LOWER", "-HUGE_VAL"), "upper": ("PHI_UPPER", "HUGE_VAL"),
+                "velocity": ("PHIDOT_MAX", "HUGE_VAL"), "effort": ("EFFORT_MAX", "HUGE_VAL")}
+
+
+def limit_defines(limits: dict) -> list[tuple]:
+    """NAME_HAS_LIMITS and, for each kind of limit some joint has, an initializer of n doubles
+    (``static const double lo[NAME_N] = NAME_PHI_LOWER;``)."""
+    out = [("HAS_LIMITS", int(bool(limits)), "the spec's joint limits (rad, rad/s, N m): data for an optimiser or a "
+            "controller, not enforced by the model; HUGE_VAL (<math.h>) where a joint has none" if limits else "")]
+    for key, (macro, none) in LIMIT_MACROS.items():
+        if key in limits:
+            out.append((macro, "{" + ", ".join(none if v is None else repr(float(v)) for v in limits[key]) + "}", ""))
+    return out
 
 
 def ldlt_factor_lines(A: str, n: int, NAME: str) -> list[str]:
@@ -140,7 +157,8 @@ class CTarget:
         # the prototypes: the header's carry NAME_FN (a CUDA compiler's __host__ __device__), cffi's none
         decls = env.get_template("_decls.jinja")
         ctx["decls"] = decls.render(ctx, fn=f"{ctx['NAME']}_FN ")
-        ctx["cdef_decls"] = decls.render(ctx, fn="")
+        # (cffi reads integer #defines only: the limits' initializers stay in the header)
+        ctx["cdef_decls"] = decls.render(dict(ctx, defines=[d for d in ctx["defines"] if not str(d[1]).startswith("{")]), fn="")
         # the package files for C and C++ builds: a CMake library NAME::NAME and a pkg-config file
         package = dict(ctx, package_version=__version__, pc_description=build_text(model.spec.description or name))
         return {

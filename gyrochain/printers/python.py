@@ -36,6 +36,7 @@ class PythonTarget:
         ctx = dict(context, py=functions(model, PyPrinter, "py", array_printer_cls=NumpyPrinter))
         ctx["py_bool"] = {k: repr(bool(ctx[k])) for k in ("has_energy_integral", "has_momentum_integral", "quad", "canonical",
                                                           "has_jacobi", "time_dependent")}
+        ctx["limits_py"] = repr({k: [None if v is None else float(v) for v in vs] for k, vs in ctx["limits"].items()})
         ctx["momentum_condition_py"] = f'"{ctx["momentum_condition"]}"' if ctx["momentum_condition"] else "None"
         if ctx["quad"]:
             part = env.from_string('{% from "_py.jinja" import prologue, straight with context %}{{ prologue(False) }}\n'

@@ -101,6 +101,17 @@ def spec_name(text: str) -> str:
     return out if IDENT.fullmatch(out) else "robot"
 
 
+def limits_kept(j) -> dict:
+    """The joint's limits a spec holds, in tables.KEYS' order: a range where lower < upper (not for
+    a continuous joint), a speed and an effort where positive (URDF writes 0 for "none")."""
+    lim = {k: mp.mpf(v) for k, v in j.limit.items()}
+    out = {}
+    if j.kind != "continuous" and "lower" in lim and "upper" in lim and lim["lower"] < lim["upper"]:
+        out.update(lower=lim["lower"], upper=lim["upper"])
+    out.update({k: lim[k] for k in ("velocity", "effort") if k in lim and lim[k] > 0})
+    return out
+
+
 def spec_text(ch: Chain, name: str | None = None, g=GRAVITY, controls: bool = True) -> str:
     """The chain as a spec (TOML), with comments saying where every body came from and what was
     merged, locked, left out or dropped."""
@@ -109,7 +120,7 @@ def spec_text(ch: Chain, name: str | None = None, g=GRAVITY, controls: bool = Tr
     name = name or spec_name(ch.desc.name)
     bodies = []
     for k, (b, pb) in enumerate(zip(ch.bodies, paper(ch)), start=1):
-        j = b.joint
+        j, comments = b.joint, []
         fields = [("theta", angle(pb.theta))]
         if angle(pb.offset) != "0.0":
             fields.append(("offset", angle(pb.offset)))
@@ -124,15 +135,20 @@ def spec_text(ch: Chain, name: str | None = None, g=GRAVITY, controls: bool = Tr
             fields.append(("spring", number(j.spring)))
             if mp.mpf(j.rest) != 0:
                 fields.append(("rest", number(j.rest)))
+        kept = limits_kept(j)
+        if kept:
+            fields.append(("limits", "{" + ", ".join(f"{k} = {number(v)}" for k, v in kept.items()) + "}"))
+            comments.append("limits: data for an optimiser or a controller; the model does not enforce them")
+        if set(kept) != set(j.limit):
+            comments.append("limits as written: " + ", ".join(f"{k} {v}" for k, v in j.limit.items())
+                            + " (" + ("a continuous joint has no range; " if j.kind == "continuous" else "")
+                            + "an empty range, or a zero speed or effort, means none)")
         if controls:
             fields.append(("control", "true"))
-        comments = []
         if len(b.links) > 1:
             comments.append(f"with {', '.join(b.links[1:])} (fixed or locked to {b.links[0]})")
         if mp.mpf(j.ref) != 0:
             comments.append(f"ref {j.ref}: the angle is MuJoCo's qpos (the file writes the pose at qpos = {j.ref})")
-        if j.limit:
-            comments.append("limits (not enforced by the model): " + ", ".join(f"{k} {v}" for k, v in j.limit.items()))
         if mp.mpf(j.friction) != 0:
             comments.append(f"dropped: <dynamics friction=\"{j.friction}\"> (Coulomb friction has no field in a spec)")
         bodies.append(dict(joint=j.name, title=f"joint {j.name} ({j.kind}), link {b.links[0]}", fields=fields,

@@ -148,8 +148,9 @@ class Doc:
         for key, tex in (("omega", r"\omega^{0}"), ("epsilon", r"\varepsilon^{0}"), ("vdot", r"\dot v_{0"), ("gamma", r"\gamma^{0}")):
             for i in range(1, 4):
                 lhs = f"{tex},{i}}}" if key == "vdot" else f"{tex}_{{{i}}}"
-                if self.has(lhs):
-                    env[sp.Symbol(f"{key}0_{i}")] = self.value(lhs, env)[0]
+                if self.has(lhs):  # with its scale: ω⁰ = a + b cos(ct) may cancel to far below its terms
+                    sym = sp.Symbol(f"{key}0_{i}")
+                    env[sym], env[("scale", sym)] = self.value(lhs, env)
         for lhs in self.recursion:
             sym = self.names[lhs]
             env[sym], env[("scale", sym)] = self.value(lhs, env)
@@ -170,7 +171,8 @@ class Doc:
         terms = fn(*[env[s] for s in syms])
         # a recursion quantity carries the rounding of the printed numbers it was computed from:
         # its scale is its formula evaluated with every term's magnitude (a forward error bound)
-        mags = fn(*[env.get(("scale", s), env[s]) for s in syms]) if self.recursion else terms
+        scaled = any(("scale", s) in env for s in syms)
+        mags = fn(*[env.get(("scale", s), env[s]) for s in syms]) if scaled else terms
         return math.fsum(terms), math.fsum(abs(v) for v in mags)
 
 

@@ -226,6 +226,44 @@ def test_a_folder_generate_wrote_gives_the_same_functions(tmp_path, models):
         gc.functions(tmp_path)
 
 
+LIMITED = (ROOT / "specs" / "furuta.toml").read_text().replace(
+    "control = true           # motor torque on the arm", 'control = true\nlimits = {lower = "-pi/2", upper = 1.5, effort = 0.8}') + \
+    'limits = {velocity = 12}\n'
+
+
+def test_the_spec_s_limits_reach_the_header_the_manifest_and_the_bounds(tmp_path):
+    """A spec's joint limits, as data: the header's initializers (HUGE_VAL where a joint has none,
+    compiled as a user's C99 would use them), MANIFEST.json, the Python module, and the CasADi
+    model's box bounds on x and u, from the spec and from the folder generate wrote alike."""
+    import json
+
+    spec_path = tmp_path / "furuta.toml"
+    spec_path.write_text(LIMITED)
+    res, out = _generate(tmp_path, spec_path, "--no-build")
+    assert res.returncode == 0, res.stderr
+    header = (out / "furuta.h").read_text()
+    for line in ("#define FURUTA_HAS_LIMITS 1", "#define FURUTA_PHI_LOWER {-1.5707963267948966, -HUGE_VAL}",
+                 "#define FURUTA_PHI_UPPER {1.5, HUGE_VAL}", "#define FURUTA_PHIDOT_MAX {HUGE_VAL, 12.0}",
+                 "#define FURUTA_EFFORT_MAX {0.8, HUGE_VAL}"):
+        assert line + "\n" in header, line
+    assert json.loads((out / "MANIFEST.json").read_text())["limits"] == [
+        {"joint": 1, "lower": -np.pi / 2, "upper": 1.5, "effort": 0.8}, {"joint": 2, "velocity": 12.0}]
+    assert "LIMITS = {'lower': [-1.5707963267948966, None], 'upper': [1.5, None], 'velocity': [None, 12.0], " \
+           "'effort': [0.8, None]}" in (out / "furuta.py").read_text()
+    user = tmp_path / "user.c"
+    user.write_text('#include <math.h>\n#include "furuta.h"\nint main(void)\n{\n    static const double lo[FURUTA_N] = FURUTA_PHI_LOWER;\n'
+                    "    static const double hi[FURUTA_N] = FURUTA_PHI_UPPER;\n    return lo[0] < hi[0] && isinf(lo[1]) ? 0 : 1;\n}\n")
+    cc = subprocess.run(["cc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-I", str(out), str(user), "-o",
+                         str(tmp_path / "user"), "-lm"], capture_output=True, text=True)
+    assert cc.returncode == 0, cc.stderr
+    assert subprocess.run([str(tmp_path / "user")]).returncode == 0
+    inf = np.inf
+    for m in (gc.functions(spec_path), gc.functions(out)):
+        b = m.bounds
+        assert np.array_equal(b.lbx, [-np.pi / 2, -inf, -inf, -12.0]) and np.array_equal(b.ubx, [1.5, inf, inf, 12.0])
+        assert np.array_equal(b.lbu, [-0.8]) and np.array_equal(b.ubu, [0.8])
+
+
 def test_a_parameter_without_a_value_and_no_casadi_are_one_line(tmp_path, monkeypatch):
     from gyrochain.chainspec.errors import SpecError
 

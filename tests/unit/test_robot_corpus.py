@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
 import pytest
 
 from gyrochain import exchange, robot
@@ -162,3 +163,61 @@ def test_a_floating_root_is_shown_with_the_base_it_needs(tmp_path):
         with pytest.raises(SpecError, match=r"joint 'root': a floating joint: .*\(the chain starts below it: "
                                             r"`import legged.urdf --base trunk --tip LINK`, LINK one of FR_calf, FL_calf\)"):
             exchange.import_text(one, tip=tip)
+
+
+VENDORED = CORPUS + sorted((ROOT / "specs" / "robots").glob("*.urdf"))
+
+
+def _written_limits(path, joint: str) -> dict:
+    """The <limit> of ``joint`` as the file writes it, read here with ElementTree: what a spec keeps
+    of it (a range where lower < upper, not for a continuous joint; a positive speed and effort)."""
+    import xml.etree.ElementTree as ET
+
+    el = next(j for j in ET.parse(path).getroot().findall("joint") if j.get("name") == joint)
+    lim = el.find("limit")
+    got = {k: float(lim.get(k)) for k in ("lower", "upper", "velocity", "effort") if lim is not None and lim.get(k) is not None}
+    out = {}
+    if el.get("type") != "continuous" and "lower" in got and "upper" in got and got["lower"] < got["upper"]:
+        out.update(lower=got["lower"], upper=got["upper"])
+    return {**out, **{k: got[k] for k in ("velocity", "effort") if k in got and got[k] > 0}}
+
+
+def test_the_limits_of_every_vendored_urdf_are_data_of_its_spec():
+    """Every vendored URDF, imported (to its first leaf where the tree branches): each joint's
+    <limit> is the spec's ``limits``, and the header's initializers, MANIFEST.json's rows and the
+    CasADi model's bounds are made from them (one full generate of a robot checks the files in
+    tests/tools/test_casadi.py)."""
+    from gyrochain.casadi.external import bounds_of
+    from gyrochain.chainspec.tables import spec_limits
+    from gyrochain.printers import _limits_json
+    from gyrochain.printers.c import limit_defines
+
+    seen = 0
+    for path in VENDORED:
+        try:
+            tip = (leaves(path) or [(None, 0)])[0][0]
+            text, _ = exchange.import_text(path, tip=tip)
+        except SpecError:
+            continue  # a description the chain cannot be (test_every_description_answers_in_one_line_or_a_spec)
+        spec = parse_spec(text)
+        names = [b.joint.name for b in robot.chain(exchange.read_description(path), None, tip).bodies]
+        written = [_written_limits(path, j) for j in names]
+        assert [dict(b.limits) for b in spec.bodies] == written, path
+        lim = spec_limits(spec)
+        defines = {key: value for key, value, _ in limit_defines(lim)}
+        assert defines["HAS_LIMITS"] == int(any(written))
+        for key, macro, none in (("lower", "PHI_LOWER", "-HUGE_VAL"), ("upper", "PHI_UPPER", "HUGE_VAL"),
+                                 ("velocity", "PHIDOT_MAX", "HUGE_VAL"), ("effort", "EFFORT_MAX", "HUGE_VAL")):
+            if any(key in w for w in written):
+                assert defines[macro] == "{" + ", ".join(repr(w[key]) if key in w else none for w in written) + "}", (path, key)
+            else:
+                assert macro not in defines
+        assert [{k: v for k, v in row.items() if k != "joint"} for row in _limits_json(spec)] == written
+        b = bounds_of(lim, spec.n, spec.controls)
+        n = spec.n
+        for k, w in enumerate(written):
+            assert (b.lbx[k], b.ubx[k]) == (w.get("lower", -np.inf), w.get("upper", np.inf))
+            assert (b.lbx[n + k], b.ubx[n + k]) == (-w.get("velocity", np.inf), w.get("velocity", np.inf))
+            assert (b.lbu[k], b.ubu[k]) == (-w.get("effort", np.inf), w.get("effort", np.inf))  # every joint controlled
+        seen += any(written)
+    assert seen >= 40, seen

@@ -139,6 +139,14 @@ CASES = [
     ("expr-long", replace_body1("m", 'm = "' + "1+" * 100_000 + '1"'), "body[1].m", "longer than"),
     ("expr-deep-negative", replace_body1("m", 'm = "' + "-(" * 65 + "1" + ")" * 65 + '"'), "body[1].m", "mass must be positive"),
     ("rod-triangle", replace_body1("A", "I_c = [0.0, 0.001, 0.003, 0, 0, 0]"), "body[1].I_c", "triangle inequality"),
+    ("armature-negative", replace_body1("armature", "armature = -0.1"), "body[1].armature", "not negative"),
+    ("limits-not-table", replace_body1("limits", "limits = [-1, 1]"), "body[1].limits", "expected a table"),
+    ("limits-typo", replace_body1("limits", "limits = {lower = -1, uper = 1}"), "body[1].limits.uper", "did you mean upper?"),
+    ("limits-empty-range", replace_body1("limits", "limits = {lower = 1, upper = -1}"), "body[1].limits.upper", "not above lower"),
+    ("limits-speed", replace_body1("limits", "limits = {velocity = 0}"), "body[1].limits.velocity", "must be positive"),
+    ("limits-effort", replace_body1("limits", "limits = {effort = -5}"), "body[1].limits.effort", "must be positive"),
+    ("limits-parameter", replace_body1("limits", 'limits = {upper = "qmax"}'), "body[1].limits.upper", "limits are data"),
+    ("limits-inf", replace_body1("limits", "limits = {upper = inf}"), "body[1].limits.upper", "finite"),
 ]
 
 
