@@ -346,6 +346,9 @@ def load_spec(path: str | Path) -> ChainSpec:
         raise SpecError(str(path), f"cannot read: not UTF-8 text (byte {exc.start})") from None
     except OSError as exc:
         raise SpecError(str(path), f"cannot read: {exc.strerror or exc}") from None
+    if text.lstrip("\ufeff \t\r\n").startswith("<"):  # XML: a URDF or MJCF file given where a spec goes
+        raise SpecError(str(path), f"is a robot description (XML), not a spec: `gyrochain import {path.name} -o "
+                                   f"{path.stem}.toml` makes a spec of it")
     return parse_spec(text)
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import re
 import sys
 import time
 import warnings
@@ -143,9 +144,10 @@ def cmd_steady(args) -> int:
             raise SpecError(option, "--at asks for the one equilibrium Newton finds from there; drop one of them")
     if args.omega and args.no_rotations:
         raise SpecError("--omega", "is the grid of the steady rotations, which --no-rotations leaves out; give one of them")
-    for option, value, least in (("--max-equilibria", args.max_equilibria, 1), ("--digits", args.digits, 1)):
-        if value is not None and not least <= value <= 17:
-            raise SpecError(option, f"{value}: expected {least} to 17")
+    if args.max_equilibria is not None and args.max_equilibria < 1:
+        raise SpecError("--max-equilibria", f"{args.max_equilibria}: expected at least 1 (leave it out to print them all)")
+    if args.digits is not None and not 1 <= args.digits <= 17:
+        raise SpecError("--digits", f"{args.digits}: expected 1 to 17 (a double holds 17 significant digits)")
     at = cliargs.at_phi(args.at, spec.n) if args.at else None
     args.vary = (args.vary or [""])[0]
     try:
@@ -195,6 +197,9 @@ def cmd_orbits(args) -> int:
                 if isinstance(exc, (SpecError, steady.SteadyError)):
                     raise
                 raise SpecError("--omega", "expected a rate W or a grid lo:hi:N, for example 1:10:10") from None
+            if np.any(omegas == 0):
+                raise SpecError("--omega", "0: a rotation at rate 0 is an equilibrium, whose period has no end, not a "
+                                           "periodic orbit (`gyrochain steady` finds the equilibria); give rates other than 0")
     except steady.SteadyError as exc:
         what, _, why = str(exc).partition(": ")
         raise SpecError(what, why) from None
@@ -435,7 +440,7 @@ def main(argv=None) -> int:
     except OSError as exc:  # the file system: a folder that cannot be made, a disk full, no permission
         if _ours(exc):  # a file of the package itself (a template, a kernel): not the user's doing
             return _internal(exc, debug)
-        where = exc.filename or args.cmd  # a file the user named, else the command that met it
+        where = users_path(exc.filename) if exc.filename else args.cmd  # a file the user named, else the command
         print(f"error: {where}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:  # the stack has unwound: every clean-up ran, nothing half-written is left
@@ -466,6 +471,21 @@ def _interrupted() -> int:
     print("error: interrupted", file=sys.stderr)
     _exit_if_held(130)
     return 130
+
+
+# .NAME.tmp-XXXX (.STEM.tmp-PID.EXT, .NAME.tmp): where a command writes NAME before renaming it
+TEMPORARY = re.compile(r"^\.(.+?)\.tmp(?:-[^./]*)?(\.[^/]*)?$")
+
+
+def users_path(filename) -> str:
+    """The file or folder the user named for a path of ours beside it: a temporary (.NAME.tmp-…,
+    or a file inside one) is said as NAME, the output it stands for."""
+    parts = Path(os.fsdecode(filename)).parts
+    for i, part in enumerate(parts):
+        m = TEMPORARY.match(part)
+        if m:
+            return str(Path(*parts[:i], m[1] + (m[2] or "")))
+    return os.fsdecode(filename)
 
 
 def _ours(exc: OSError) -> bool:

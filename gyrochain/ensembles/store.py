@@ -13,7 +13,7 @@ import numpy as np
 
 from .. import __version__
 from ..chainspec.errors import SpecError
-from ..models.files import folders_for
+from ..models.files import folders_for, writable
 
 STORE_KIND = "gyrochain-sweep"
 EXTRA_DIM = {"final": "state", "lyapunov_spectrum": "exponent"}  # measures with a trailing dimension
@@ -46,7 +46,8 @@ def stored_attrs(path: str | Path) -> dict | None:
 
 
 def check_store(path: Path, plan) -> None:
-    """A one-line error unless ``path`` is free or a store of this spec and sweep (reads only)."""
+    """A one-line error unless ``path`` is free or a store of this spec and sweep (reads only), in
+    a folder this user may write in."""
     want = _attrs(plan)
     if path.exists():
         have = stored_attrs(path)
@@ -56,6 +57,7 @@ def check_store(path: Path, plan) -> None:
             if have.get(key) != want[key]:
                 what = {"spec": "a different spec", "args": "a different sweep (other arguments)", "gyrochain": f"gyrochain {have.get('gyrochain')}"}[key]
                 raise SpecError("-o", f"{path} belongs to {what}; choose another path or delete it")
+    writable(path / "x" if path.is_dir() else path)
 
 
 def open_store(path: Path, plan):

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..models import pipeline
+from ..models.files import writable
 from ..models.paramtable import ParamTable
 from ..printers.codes import METHODS
 from ..analysis import floquet
@@ -414,6 +415,7 @@ def run(sweep: Sweep, store: str | Path, threads: int | None = None, workers: in
     plan = plan or Plan(sweep)
     store = Path(store)
     created = not store.exists()
+    writable(store / "x" if store.is_dir() else store)  # the folder the store is (or is made in)
     g = open_store(store, plan)
     written = 0
     try:

@@ -248,7 +248,8 @@ def check_options(period: float = 10.0, harmonics: int = 5, samples: int = 200, 
     for what, value, ok, want in (
             ("--period", period, period > 0, "a positive number of seconds"),
             ("--harmonics", harmonics, harmonics >= 1, "at least 1"),
-            ("--samples", samples, samples >= 2, "at least 2"),
+            ("--samples", samples, samples >= 2 * harmonics + 1,
+             f"at least {2 * harmonics + 1} (more than two per period of the highest of the {harmonics} harmonics)"),
             ("--evaluations", evaluations, evaluations >= 1, "at least 1"),
             ("--experiment", experiment, experiment is None or experiment > 0, "a positive number of seconds"),
             ("--rate", rate, rate > 0, "a positive number of samples per second"),
@@ -275,6 +276,12 @@ def run_excite(spec, source: str, values: dict, output: str, force: bool, limits
     recording = tuple(default if value is None else value for value, default in zip(recording, RECORDING))
     check_options(options.get("period", 10.0), options.get("harmonics", 5), options.get("samples", 200),
                   options.get("evaluations", 1), experiment, recording)
+    if not spec.controls:  # the cheap checks before the model is built
+        raise SpecError("excite", "the spec has no control torque: no motion can be imposed (give a joint control = true)")
+    if limits.get("u_max") is not None and len(spec.controls) == spec.n:
+        raise SpecError("--u-max", f"applies to a chain with passive joints (excite designs their torques); every joint of "
+                                   f"{spec.name} is driven, so it designs the joints' trajectories within --phi-max and "
+                                   "--phidot-max: drop --u-max")
     default = f"{spec.name}_{'experiment' if experiment is not None else 'excite'}.csv"
     if output != "-":
         files.target(output, default, force, source)

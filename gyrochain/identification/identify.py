@@ -181,7 +181,20 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     motion = read(data, spec, data, how)
     held = read(validate, spec, "--validate", how) if validate else None
     A, y = stack(cm, motion, params)
+    pi0 = cm.standard_parameters(params)
+    beta0 = cm.base_parameters(pi0)
     est = estimate(A, y, spec.n, data)
+    _units_and_signs(A, y, beta0, spec, data)  # before anything is printed
+    _explains(A, y, est.beta, spec, data, "the estimates")
+    pi, moved = consistent(model, est.beta, est.se, pi0)
+    beta = cm.base_parameters(pi) if physical else est.beta
+    if physical:
+        _explains(A, y, beta, spec, data, "the physically consistent estimates", est.rms)
+    elif moved > FAR:
+        raise SpecError(out_path.name, f"not written, and no estimate printed: the estimates are {moved:.3g} standard "
+                                       "errors from any physically possible bodies (model error, data in other units "
+                                       "or signs, or too little excitation); --physical writes the nearest, or record "
+                                       "a longer or richer motion (gyrochain excite)")
     n = spec.n
     passive = [k for k in range(1, n + 1) if k not in spec.controls]
     say(f"identify {spec.name} from {data}: {motion.rows} samples of {n} joints, {len(motion.t)} used (the filter's)"
@@ -190,13 +203,6 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     say(f"filter: {motion.how}")
     say(f"weighted least squares: {est.rows} equations, {model.base.count} base parameters, cond {est.cond:.4g}; "
         "residual RMS " + ", ".join(f"joint {k + 1} {r:.3g}" for k, r in enumerate(est.rms)) + " N m")
-    _explains(A, y, est.beta, spec, data, "the estimates")
-    pi0 = cm.standard_parameters(params)
-    beta0 = cm.base_parameters(pi0)
-    pi, moved = consistent(model, est.beta, est.se, pi0)
-    beta = cm.base_parameters(pi) if physical else est.beta
-    if physical:
-        _explains(A, y, beta, spec, data, "the physically consistent estimates", est.rms)
     if physical:
         say(f"physically consistent (--physical): every body possible; the estimates moved by at most {moved:.3g} "
             "standard errors" + (" (the unconstrained ones were already consistent)" if moved < 1e-3 else ""))
@@ -205,11 +211,6 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
         + (f"its cutoff ({how.cutoff:g} Hz)" if how.kind == "butter" else
            f"its window ({how.window:g} s; the Savitzky-Golay derivative filters are not its smoothing filter)")
         + " adds, beyond them (--validate on held-out data checks it)")
-    if moved > FAR and not physical:
-        raise SpecError(out_path.name, f"not written: the estimates are {moved:.3g} standard errors from any physically "
-                                       "possible bodies (model error, data in other units or signs, or too little "
-                                       "excitation); --physical writes the nearest, or record a longer or richer motion "
-                                       "(gyrochain excite)")
     note = (f"{spec.name} with the parameters identified by gyrochain identify from {data}\n"
             f"(physically possible bodies whose base parameters are the estimates' to {moved:.2g} standard errors;\n"
             f"the parameters the motion does not determine chosen near {spec.name}'s values)")
@@ -221,6 +222,30 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     if held is not None:
         figures.update(_validate(cm, model, beta, held, params, validate, plot, say))
     return figures
+
+
+UNITS = 30.0  # measured torques this many times the spec's model's (or this fraction of them): other units
+
+
+def _units_and_signs(A, y, beta0, spec, data: str) -> None:
+    """Each driven joint's measured torque against what the spec's own parameters give for the
+    measured motion: the factor s of the best fit y ≈ s ŷ must be positive (a torque of the wrong
+    sign) and within UNITS of 1 (N mm or kN m for N m)."""
+    n = spec.n
+    meas, model = y.reshape(-1, n), (A @ beta0).reshape(-1, n)
+    for k in spec.controls:
+        m, p = meas[:, k - 1], model[:, k - 1]
+        if float(p @ p) <= 0 or float(m @ m) <= 0:
+            continue
+        s = float(m @ p) / float(p @ p)
+        if s <= 0:
+            raise SpecError(data, f"joint {k}'s measured torque runs against what the spec's parameters give for this "
+                                  f"motion (the best factor between them is {s:.3g}): a torque of the wrong sign or "
+                                  f"column? No estimate is printed")
+        if not 1 / UNITS <= s <= UNITS:
+            raise SpecError(data, f"joint {k}'s measured torque is {s:.3g} times what the spec's parameters give for this "
+                                  "motion: the CSV's units are N m, rad, rad/s and s (N mm would be 1000 times)? No "
+                                  "estimate is printed")
 
 
 EXPLAINED = 0.9  # a fit must explain this fraction of each driven joint's torque variance to be printed
@@ -327,7 +352,7 @@ def _plot(held: Motion, pred, meas, sim, path: str) -> None:
     ax[0, 0].legend(fontsize=9)
     ax[1, 0].legend(fontsize=9)
     fig.tight_layout()
-    tmp = f"{path}.tmp.png"
-    fig.savefig(tmp, dpi=110)
+    tmp = f"{path}.tmp"  # written beside and renamed, in the format its name says
+    fig.savefig(tmp, dpi=110, format=Path(path).suffix.lower().lstrip("."))
     plt.close(fig)
     os.replace(tmp, path)

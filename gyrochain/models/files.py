@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 from pathlib import Path
 
 from ..chainspec.errors import SpecError
@@ -87,10 +88,13 @@ def writable(path: Path) -> None:
         raise SpecError(str(folder), "is not a folder")
     if not os.access(folder, os.W_OK | os.X_OK):
         shown = folder if str(folder) not in (".", "") else Path.cwd()
-        raise SpecError(str(path), f"cannot be written: the folder {shown} is not writable (permission denied)")
+        why = "a read-only file system" if os.statvfs(folder).f_flag & os.ST_RDONLY else "permission denied"
+        raise SpecError(str(path), f"cannot be written: the folder {shown} is not writable ({why})")
 
 
 MAX_TABLE_BYTES = 512 << 20  # a CSV larger than this is refused (a device never ends)
+READ_RATE = 50 << 20  # bytes per second numpy reads a CSV of numbers (measured: 56 MiB/s, 2026-11-29)
+LONG_TABLE_BYTES = 2 * READ_RATE  # a CSV that takes longer than 2 s to read is announced
 
 
 def read_table(path: str, what: str, required: list[str], expected: str) -> tuple[list[str], object]:
@@ -112,8 +116,13 @@ def _read_table(path: str, fail, required: list[str], expected: str) -> tuple[li
     try:
         if not stat.S_ISREG(os.stat(path).st_mode):
             raise fail(f"not a file (a CSV of {expected})")
-        if os.stat(path).st_size > MAX_TABLE_BYTES:
+        size = os.stat(path).st_size
+        if size > MAX_TABLE_BYTES:
             raise fail(f"larger than {MAX_TABLE_BYTES >> 20} MiB; thin it out (every k-th row)")
+        if size > LONG_TABLE_BYTES:  # more than about two seconds of reading: said first, with its bound
+            import sys
+
+            print(f"reading {path}: {size / 2**20:.0f} MiB, about {size / READ_RATE:.0f} s", file=sys.stderr, flush=True)
         with open(path, encoding="utf-8-sig") as f, warnings.catch_warnings():  # Excel's byte-order mark
             warnings.simplefilter("ignore")  # numpy's "input contained no data": said below as one line
             names = [h.strip() for h in f.readline().strip().split(",")]
@@ -121,7 +130,11 @@ def _read_table(path: str, fail, required: list[str], expected: str) -> tuple[li
     except SpecError:
         raise
     except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise fail(f"{getattr(exc, 'strerror', None) or exc}") from None
+        said = f"{getattr(exc, 'strerror', None) or exc}"
+        row = re.search(r"at row (\d+)", said)  # numpy counts the rows of numbers from 0: said as the file's line
+        if row:
+            said = said.replace(row[0], f"on line {_file_line(path, int(row[1]))}")
+        raise fail(said) from None
     missing = [c for c in required if c not in names]
     if missing:
         raise fail(f"no column {missing[0]!r} (expected {expected})")
@@ -130,9 +143,23 @@ def _read_table(path: str, fail, required: list[str], expected: str) -> tuple[li
     bad = np.argwhere(~np.isfinite(data))
     if len(bad):
         r, c = bad[0]
-        raise fail(f"row {r + 2}, column {names[c]!r} is not finite ({data[r, c]})")
+        raise fail(f"line {_file_line(path, r)}, column {names[c]!r} is not finite ({data[r, c]})")
     if "t" in required:
         dt = np.diff(data[:, names.index("t")])
         if np.any(dt <= 0):
-            raise fail(f"t does not increase at row {int(np.argmax(dt <= 0)) + 3}")
+            raise fail(f"t does not increase on line {_file_line(path, int(np.argmax(dt <= 0)) + 1)}")
     return names, data
+
+
+def _file_line(path: str, row: int) -> int:
+    """The line of the file (1 the header, as an editor counts) that holds data row ``row`` (0 the
+    first): numpy's reader skips blank lines and # comments."""
+    with open(path, encoding="utf-8-sig") as f:
+        f.readline()
+        for number, line in enumerate(f, start=2):
+            text = line.split("#", 1)[0].strip()
+            if text:
+                if row == 0:
+                    return number
+                row -= 1
+    return number

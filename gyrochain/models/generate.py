@@ -15,7 +15,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import pipeline, typeset
+from . import files, pipeline, typeset
 from ..derive.assemble import Model, op_counts, time_dependent
 from ..derive.integrals import energy_verdict, momentum_verdict
 from ..chainspec.spec import SpecError
@@ -125,13 +125,15 @@ def check(spec, target: Path, force: bool = False, source: Path | None = None, d
     if not pipeline.is_ours(target) and not force:
         raise SpecError("-o", f"{target} exists and was not written by gyrochain; choose another folder or pass --force "
                               "(its other files are kept)")
+    files.writable(target / "x" if target.is_dir() else target)  # the folder it writes in (or makes)
     pipeline.check_mass_matrix(spec)
     if der_form.startswith("world"):  # said before the first progress line, from the spec (assemble checks it again)
         why = ("a moving platform" if spec.base is not None and spec.base.moves
                else "rotors that change" if any(any(c != 0 for c in b.lam_dot) for b in spec.bodies)
-               else "body loads" if any(b.loaded for b in spec.bodies) else "")
+               else "body loads" if any(b.loaded for b in spec.bodies)
+               else "motor armature" if any(b.armature != 0 for b in spec.bodies) else "")
         if why:
-            raise SpecError("--derivative-form", f"the world form needs a fixed base, constant rotors and no body loads; "
+            raise SpecError("--derivative-form", f"the world form needs a fixed base, constant rotors, no body loads and no armature; "
                                                  f"this spec has {why}")
 
 

@@ -124,6 +124,7 @@ class Output:
             raise SpecError("-o", f"{self.path} is a folder")
         if self.path.exists() and not force and not is_ours(self.path):
             raise SpecError("-o", f"{self.path} exists and was not written by animate; choose another path or give --force")
+        files.writable(self.path)
         self.tmp = self.path.parent / f".{self.path.stem}.tmp-{os.getpid()}{ext}"
 
     def __enter__(self):

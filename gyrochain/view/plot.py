@@ -45,6 +45,9 @@ def store(path: str | Path, output: str | Path, measure: str = "", component: in
     names = [v[0] for v in a["vary"]]
     if len(names) > 2:
         raise SpecError("store", f"plot shows one or two varied quantities; this sweep varies {len(names)}")
+    if not names:
+        raise SpecError("store", f"{path} holds one run (its sweep varied nothing): plot draws a measure over one or two "
+                        "varied quantities (sweep --vary NAME=lo:hi:N); `gyrochain animate` shows one motion")
     if len(names) == 1 and cmap:
         raise SpecError("--cmap", "a curve has no colours (the sweep varies one quantity)")
     plt, colormap = _matplotlib(cmap or ("OrRd" if measure == "floquet" else "viridis"))

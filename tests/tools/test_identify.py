@@ -109,8 +109,8 @@ def test_the_gimbal_rotor_momentum_is_identified(tmp_path):
 
 @pytest.mark.parametrize("case, rows, words", [
     ("missing column", "t,phi1,u1\n0,0,0\n", "no column 'phi2'"),
-    ("t not increasing", "t,phi1,phi2,u1\n0,0,0,0\n0.001,0,0,0\n0.001,0,0,0\n", "t does not increase at row 4"),
-    ("NaN", "t,phi1,phi2,u1\n0,0,0,0\n0.001,nan,0,0\n", "row 3, column 'phi1' is not finite"),
+    ("t not increasing", "t,phi1,phi2,u1\n0,0,0,0\n0.001,0,0,0\n0.001,0,0,0\n", "t does not increase on line 4"),
+    ("NaN", "t,phi1,phi2,u1\n0,0,0,0\n0.001,nan,0,0\n", "line 3, column 'phi1' is not finite"),
     ("not uniform", "t,phi1,phi2,u1\n" + "".join(f"{t},0,0,0\n" for t in (0, 0.001, 0.003, 0.004)), "not sampled uniformly"),
     ("too few samples", "t,phi1,phi2,u1\n" + "".join(f"{i / 1000},0,0,0\n" for i in range(300)), "samples; the filter's edges"),
     ("too few for the rank", "t,phi1,phi2,u1\n" + "".join(f"{i / 1000},{np.sin(i / 100)},{np.cos(i / 90)},{np.sin(i / 50)}\n"

@@ -71,7 +71,7 @@ def test_an_excitation_respects_the_limits_it_is_given(tmp_path):
 
 @pytest.mark.parametrize("file, words", [
     ("degps.csv", "column 'phidot1' is not the derivative of phi1"),
-    ("degrees.csv", "the data contradict the model"),  # φ² in degrees: the pendulum's equation no longer balances
+    ("degrees.csv", "the CSV's units are N m, rad, rad/s and s"),  # φ in degrees: the spec's torques 170 times the measured
     ("passive_u.csv", "column 'u2': the spec has 1 control torque"),
     ("ms.csv", "is t in seconds"),
 ])
@@ -83,7 +83,7 @@ def test_data_in_other_units_or_columns_are_refused_not_fitted(bench, file, word
 
 def test_contradictory_data_print_no_estimates_even_with_physical(bench):
     err = refused("identify", "furuta.toml", "flipped.csv", "--physical", "-o", "out.toml", cwd=bench,
-                  words="the physically consistent estimates explain")
+                  words="joint 1's measured torque runs against what the spec's parameters give")
     assert "No estimate is printed" in err and not (bench / "out.toml").exists()
 
 
