@@ -376,11 +376,13 @@ def _identify(sub) -> None:
     exc.add_argument("--period", type=float, default=10.0, help="the period, s (default 10)")
     exc.add_argument("--harmonics", type=int, default=5, help="harmonics per joint (default 5)")
     exc.add_argument("--phi-max", default="", metavar="A or A1,..", help="|phi - centre| limits, rad: one number or one "
-                     "per joint (default 1)")
-    exc.add_argument("--phidot-max", default="", metavar="W or W1,..", help="|phidot| limits, rad/s (default 2)")
+                     "per joint (default: 90%% of the way to the spec's range, else 1)")
+    exc.add_argument("--phidot-max", default="", metavar="W or W1,..", help="|phidot| limits, rad/s (default: 90%% of the "
+                     "spec's velocity limit, else 2)")
     exc.add_argument("--u-max", default="", metavar="U or U1,..", help="|u| limits of a chain with passive joints, N m "
-                     "(default 1)")
-    exc.add_argument("--center", default="", metavar="C or C1,..", help="the centre of the motion, rad (default 0)")
+                     "(default: 90%% of the spec's effort limit, else 1)")
+    exc.add_argument("--center", default="", metavar="C or C1,..", help="the centre of the motion, rad (default: the "
+                     "middle of the spec's range, else 0)")
     exc.add_argument("--samples", type=int, default=200, help="samples per period (default 200)")
     exc.add_argument("--evaluations", type=int, default=2000, help="the optimiser's budget (default 2000)")
     exc.add_argument("--seed", type=int, default=0, help="the start's seed (default 0)")

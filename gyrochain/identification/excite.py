@@ -15,6 +15,7 @@ import numpy as np
 
 from ..models import files
 from ..chainspec.errors import SpecError
+from ..chainspec.tables import spec_limits
 from .measured import columns, compiled, same_geometry
 
 
@@ -48,8 +49,36 @@ def fourier(coef: np.ndarray, t: np.ndarray, wf: float) -> tuple[np.ndarray, np.
     return q, qd, qdd
 
 
-def _limits(value, n: int, what: str, default: float) -> np.ndarray:
-    v = np.full(n, default) if value is None else np.asarray(value, dtype=float)
+MARGIN = 0.9  # the defaults keep this fraction of the way to a limit the spec gives
+
+
+def spec_defaults(spec, center=None, phi_max=None, phidot_max=None, u_max=None) -> tuple:
+    """(centre, phi_max, phidot_max, u_max) per joint (u_max per control): those given, else from
+    the spec's joint limits (the middle of a range, MARGIN of the way to its ends, of the velocity
+    and of the effort), else 0, 1 rad, 2 rad/s and 1 N m.  A centre outside a joint's range is one line."""
+    n, lim = spec.n, spec_limits(spec)
+    lo, hi = (lim.get(k, [None] * n) for k in ("lower", "upper"))
+    ranged = [a is not None and b is not None for a, b in zip(lo, hi)]
+    if center is None:
+        centre = np.array([(a + b) / 2 if r else 0.0 for a, b, r in zip(lo, hi, ranged)])
+    else:
+        centre = np.asarray(center, dtype=float)
+        centre = np.full(n, centre[0]) if centre.shape == (1,) else centre
+        if centre.shape != (n,):
+            raise SpecError("--center", f"expected one number or {n} of them (one per joint)")
+    for k in range(n):
+        if ranged[k] and not lo[k] < centre[k] < hi[k]:
+            raise SpecError("--center", f"{centre[k]:g} lies outside joint {k + 1}'s range, {lo[k]:g} to {hi[k]:g} rad "
+                                        "(the spec's limits)")
+    reach = [MARGIN * min(centre[k] - lo[k], hi[k] - centre[k]) if ranged[k] else 1.0 for k in range(n)]
+    speed = [MARGIN * v if v is not None else 2.0 for v in lim.get("velocity", [None] * n)]
+    effort = [MARGIN * e if e is not None else 1.0 for e in lim.get("effort", [None] * n)]
+    return (centre, _limits(phi_max, n, "--phi-max", reach), _limits(phidot_max, n, "--phidot-max", speed),
+            _limits(u_max, len(spec.controls), "--u-max", [effort[k - 1] for k in spec.controls]))
+
+
+def _limits(value, n: int, what: str, default) -> np.ndarray:
+    v = np.array(default, dtype=float) * np.ones(n) if value is None else np.asarray(value, dtype=float)
     if v.shape == (1,):
         v = np.full(n, v[0])
     if v.shape != (n,) or not np.all(v > 0):
@@ -129,12 +158,8 @@ def excite(spec, cm, period: float = 10.0, harmonics: int = 5, phi_max=None, phi
     check_options(period, harmonics, samples, evaluations)
     if not spec.controls:
         raise SpecError("excite", "the spec has no control torque: no motion can be imposed (give a joint control = true)")
-    centre = np.zeros(n) if center is None else np.asarray(center, dtype=float)
-    if centre.shape != (n,):
-        raise SpecError("--center", f"expected {n} numbers")
-    pb = _Problem(spec, cm, period, harmonics, samples, _limits(phi_max, n, "--phi-max", 1.0),
-                  _limits(phidot_max, n, "--phidot-max", 2.0), _limits(u_max, len(spec.controls), "--u-max", 1.0), centre,
-                  params)
+    centre, pmax, vmax, umax = spec_defaults(spec, center, phi_max, phidot_max, u_max)
+    pb = _Problem(spec, cm, period, harmonics, samples, pmax, vmax, umax, centre, params)
     shape = (n if pb.full else len(spec.controls), harmonics, 2)
     x0 = (np.random.default_rng(seed).normal(size=shape) / np.arange(1, harmonics + 1)[None, :, None]).ravel()
     start = pb.cost(x0)
@@ -179,10 +204,10 @@ def _within_limits(pb: _Problem, x) -> str:
     return f"; the torques scaled to {lo:.3g} of --u-max to keep phi and phidot within their limits"
 
 
-def _beyond(phi: np.ndarray, limits: dict, n: int) -> str:
+def _beyond(phi: np.ndarray, limits: dict, spec) -> str:
     """Where a recorded φ leaves |φ − centre| ≤ phi_max: the joints and how far ("" if nowhere)."""
-    pmax = _limits(limits.get("phi_max"), n, "--phi-max", 1.0)
-    centre = np.zeros(n) if limits.get("center") is None else np.asarray(limits["center"], float)
+    n = spec.n
+    centre, pmax, _, _ = spec_defaults(spec, limits.get("center"), limits.get("phi_max"))
     reach = np.abs(phi - centre).max(axis=0)
     return ", ".join(f"|phi{k + 1} - centre| reaches {reach[k]:.4g} rad, --phi-max {pmax[k]:g}"
                      for k in range(n) if reach[k] > pmax[k] * (1 + 1e-9))
@@ -299,11 +324,16 @@ def run_excite(spec, source: str, values: dict, output: str, force: bool, limits
     path = files.deliver(text, output, default, force, source)
     tell = say if path is not None else (lambda line: print(line, file=sys.stderr))
     tell(f"excite {spec.name}: {d.mode}; cond of the base regressor {d.cond:.4g} over the period")
+    taken = [f"--{k.replace('_', '-')}" for k, key in (("center", "lower"), ("phi_max", "lower"), ("phidot_max", "velocity"),
+                                                     ("u_max", "effort")) if limits.get(k) is None and key in spec_limits(spec)]
+    if taken:
+        tell(f"  from the spec's joint limits: {', '.join(taken)} (the middle of each range, {100 * MARGIN:.0f}% of the way "
+             "to its ends, its velocity and its effort)")
     if path is not None and rows is not None:
         rate, noise, counts = recording
         tell(f"wrote {path}: a simulated measurement of {experiment:g} s at {rate:g} Hz (t, phi, u): noise {100 * noise:g}% "
              "of u's RMS, " + (f"phi quantised to {counts} counts per turn" if counts else "phi exact"))
-        left = _beyond(rows[:, 1:1 + spec.n], limits, spec.n)
+        left = _beyond(rows[:, 1:1 + spec.n], limits, spec)
         if left:
             tell(f"  the recording leaves the design's limits ({left}): the motion from its start is not the designed "
                  "period; a bench's limits must allow for it, or record fewer periods")

@@ -100,6 +100,7 @@ def read(path: str, spec, what: str, how: Filter = Filter()) -> Motion:
     for i, k in enumerate(spec.controls):
         u[:, k - 1] = col(us[i])
     rate = np.column_stack([col(c) for c in rates]) if all(c in names for c in rates) else None
+    _within_the_spec_limits(spec, phi, rate, u, what, path)
     edge, keep, derive, said = (_butter if how.kind == "butter" else _savgol)(how, step, len(t), path, what)
     phi_f, phidot, phidd = derive(phi)
     if rate is not None:
@@ -119,6 +120,36 @@ def read(path: str, spec, what: str, how: Filter = Filter()) -> Motion:
 
 
 RATE_TOL = 0.2  # a measured phidot may differ from the filtered dphi/dt by this fraction of its RMS
+RANGE_SLACK = 0.1  # rad a recorded angle may pass a range the spec gives (a soft limit, an encoder's offset)
+BEYOND = 2.0  # times a velocity or effort limit a recorded rate or torque may not reach
+
+
+def _within_the_spec_limits(spec, phi, rate, u, what: str, path: str) -> None:
+    """A robot does not leave its joints' ranges, nor run at twice their velocity or effort limits:
+    data that do are in other units or columns (degrees, N mm, another joint's), one line."""
+    from ..chainspec.tables import spec_limits
+
+    lim = spec_limits(spec)
+    n = spec.n
+    for k in range(n):
+        lo, hi = lim.get("lower", [None] * n)[k], lim.get("upper", [None] * n)[k]
+        if lo is not None and hi is not None:
+            far = float(np.max(np.maximum(phi[:, k] - hi, lo - phi[:, k])))
+            if far > RANGE_SLACK:
+                x = phi[np.argmax(np.maximum(phi[:, k] - hi, lo - phi[:, k])), k]
+                raise _fail(what, path, f"phi{k + 1} reaches {x:.4g} rad, beyond joint {k + 1}'s range {lo:g} to {hi:g} rad "
+                                        "(the spec's limits): degrees, or another joint's column?")
+    for key, data, name, unit in (("velocity", rate, "phidot", "rad/s"), ("effort", u, "u", "N m")):
+        for k in range(n):
+            bound = lim.get(key, [None] * n)[k]
+            if data is None or bound is None or (key == "effort" and k + 1 not in spec.controls):
+                continue
+            top = float(np.max(np.abs(data[:, k])))
+            if top > BEYOND * bound:
+                column = f"{name}{k + 1}" if key == "velocity" else f"u{spec.controls.index(k + 1) + 1}"
+                raise _fail(what, path, f"{column} reaches {top:.4g} {unit}, {top / bound:.3g} times joint {k + 1}'s {key} "
+                                        f"limit {bound:g} {unit} (the spec's limits): {'deg/s' if key == 'velocity' else 'N mm'}, "
+                                        "or another joint's column?")
 
 
 def _no_foreign_columns(names: list, spec, what: str, path: str) -> None:

@@ -176,3 +176,23 @@ def test_a_store_of_one_run_is_not_a_plot(tmp_path):
     code, _, err = gyro("sweep", "gimbal.toml", "--t1", "0.1", "-o", "one.zarr", cwd=tmp_path)
     assert code == 0, err
     refused("plot", "one.zarr", "-o", "p.png", cwd=tmp_path, words="holds one run (its sweep varied nothing)")
+
+
+def test_the_spec_s_limits_set_excite_s_defaults_and_check_identify_s_data(units):
+    """A spec with joint limits: excite's design stays within 90 % of the way to them by default
+    (and says so); identify refuses a recording that leaves a range or runs at twice an effort
+    limit, before any fit."""
+    limited = (units / "furuta.toml").read_text().replace(
+        "control = true           # motor torque on the arm", "control = true\nlimits = {lower = -1.0, upper = 3.0, effort = 0.3}")
+    (units / "limited.toml").write_text(limited)
+    code, out, err = gyro("excite", "limited.toml", "--harmonics", "3", "--evaluations", "60", "-o", "lim.csv", "--force",
+                          cwd=units)
+    assert code == 0, err
+    assert "from the spec's joint limits: --center, --phi-max, --u-max (the middle of each range, 90% of the way" in out
+    d = np.genfromtxt(units / "lim.csv", delimiter=",", names=True)
+    assert np.all(np.abs(d["phi1"] - 1.0) <= 0.9 * 2.0 + 1e-9) and np.all(np.abs(d["u1"]) <= 0.9 * 0.3 + 1e-12)
+    assert abs(d["phi1"] - 1.0).max() > 1.0  # it uses the range, beyond the 1 rad of a spec without limits
+    refused("identify", "limited.toml", "degrees.csv", cwd=units, words="beyond joint 1's range -1 to 3 rad (the spec's limits)")
+    refused("identify", "limited.toml", "nmm.csv", cwd=units, words="times joint 1's effort limit 0.3 N m (the spec's limits): N mm")
+    code, out, err = gyro("identify", "limited.toml", "data.csv", "-o", "lim_id.toml", cwd=units)
+    assert code == 0, err
