@@ -17,6 +17,7 @@ MuJoCo composes them.  The model's pose (``qpos0``) is the description's zero.
 from __future__ import annotations
 
 import os
+from dataclasses import replace
 from pathlib import Path
 
 import mpmath as mp
@@ -96,7 +97,8 @@ GRAVITY_TILT = 1e-4  # gravity whose horizontal part is at most this fraction of
 def describe(model, where: str) -> Description:
     """A compiled ``mjModel`` as a Description (links named after the bodies, joints after the joints)."""
     mp.mp.dps = DIGITS
-    g = [float(x) for x in model.opt.gravity]
+    off = _disabled(model)
+    g = [0.0, 0.0, 0.0] if "gravity" in off else [float(x) for x in model.opt.gravity]
     tilt = (g[0] ** 2 + g[1] ** 2) ** 0.5
     if g[2] > 0 or tilt > GRAVITY_TILT * (tilt ** 2 + g[2] ** 2) ** 0.5:
         raise SpecError(f"{where}: <option gravity>", f"({' '.join(f'{x:g}' for x in g)}) is not along -z: the spec's "
@@ -123,7 +125,25 @@ def describe(model, where: str) -> Description:
     if model.neq:
         notes.append(f"ignored: {model.neq} equality constraint(s)")
     title = model.names[:model.names.index(b"\0")].decode() if model.names[:1] != b"\0" else Path(where).stem
-    return Description(title, where, links, joints, tuple(notes), -g[2])
+    if "gravity" in off:  # <flag gravity="disable"/>: the model's gravity vector stays, MuJoCo applies none
+        notes.append("gravity 0: the model disables it (<flag gravity=\"disable\"/>)")
+    for what, field in (("spring", "spring"), ("damper", "damping")):
+        if what in off and any(float(getattr(j, field)) != 0 for j in joints.values()):
+            notes.append(f"no joint {field}: the model disables its {what}s (<flag {what}=\"disable\"/>)")
+            joints = {k: replace(j, **{field: "0"}) for k, j in joints.items()}
+    return Description(title, where, links, joints, tuple(notes), -g[2] if g[2] else 0.0)
+
+
+def _disabled(model) -> set:
+    """What the model's <option><flag .../> switches off of what the chain's equations hold."""
+    import mujoco
+
+    flags, bits = int(model.opt.disableflags), mujoco.mjtDisableBit
+    out = {name for name in ("gravity", "spring", "damper")
+           if hasattr(bits, f"mjDSBL_{name.upper()}") and flags & int(getattr(bits, f"mjDSBL_{name.upper()}"))}
+    if hasattr(bits, "mjDSBL_PASSIVE") and flags & int(bits.mjDSBL_PASSIVE):  # MuJoCo before 3.1: one flag for both
+        out |= {"spring", "damper"}
+    return out
 
 
 def _joints_of(model, i: int, bodies: list, where: str, links: dict, joints: dict, link_name, joint_name) -> None:

@@ -1,5 +1,5 @@
 """MJCF in, through MuJoCo's own compiler: every example that MJCF can hold, exported and imported
-again, and four models of DeepMind's Control Suite (tests/mjcf) give the φ̈ of MuJoCo's
+again, and nine models of DeepMind's Control Suite (tests/mjcf) give the φ̈ of MuJoCo's
 ``mj_forward`` on the same file to 1e-10.  Where the chain is part of a larger model (the cart of
 the cart-pole held at its place), MuJoCo's equations are cut to the chain's joints, the others at
 rest: M_cc φ̈ = τ + passive − bias.  The spec is evaluated by the independent model
@@ -70,7 +70,12 @@ def test_an_exported_example_comes_back_as_mujoco_simulates_it(name, target, tmp
     assert err <= 1e-10
 
 
-SUITE_MODELS = [("pendulum.xml", {}), ("acrobot.xml", {}), ("reacher.xml", {}), ("cartpole.xml", {"base": "cart"})]
+SUITE_MODELS = [("pendulum.xml", {}), ("acrobot.xml", {}), ("reacher.xml", {}), ("cartpole.xml", {"base": "cart"}),
+                # motor armature (and springs, dampers, limits) as the authors wrote them
+                ("cheetah.xml", {"base": "torso", "tip": "bfoot"}), ("hopper.xml", {"base": "torso", "tip": "foot"}),
+                ("walker.xml", {"base": "torso", "tip": "left_foot"}),
+                # joints' reference poses (ref), and a model that disables gravity
+                ("finger.xml", {"tip": "distal"}), ("manipulator.xml", {"tip": "fingertip"})]
 STYLED = ROOT / "tests" / "mjcf" / "styled"  # models written as Menagerie's and the Control Suite's are
 
 
