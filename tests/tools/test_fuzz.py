@@ -112,7 +112,8 @@ def mutated_spec(draw):
     """One example spec, mutated one to four times."""
     data = tomllib.loads(draw(st.sampled_from(EXAMPLES)).read_text())
     for _ in range(draw(st.integers(1, 4))):
-        kind = draw(st.sampled_from(["drop", "rename", "duplicate", "value", "shape", "n0", "n40", "values", "unknown"]))
+        kind = draw(st.sampled_from(["drop", "rename", "duplicate", "value", "shape", "n0", "n40", "values", "unknown",
+                                     "armature", "limits"]))
         paths = [p for p, _ in _leaves(data) if p]
         if kind == "n0":
             data["body"] = []
@@ -128,6 +129,12 @@ def mutated_spec(draw):
             continue
         if kind == "unknown":
             data[draw(st.sampled_from(["colour", "Body", "bodies", "n"]))] = 1
+            continue
+        if kind in ("armature", "limits") and isinstance(data.get("body"), list) and data["body"]:
+            body = data["body"][draw(st.integers(0, len(data["body"]) - 1))]
+            if isinstance(body, dict):  # a motor's inertia, or a joint's limits (any keys, any values)
+                body[kind] = draw(VALUES) if kind == "armature" or draw(st.booleans()) else draw(st.dictionaries(
+                    st.sampled_from(["lower", "upper", "velocity", "effort", "uper", ""]), VALUES, max_size=4))
             continue
         if not paths:
             continue
@@ -222,10 +229,12 @@ OPTIONS.update({
 ROBOTS = SPECS / "robots"
 CORPUS = sorted((ROOT / "tests" / "robots").glob("*/*.urdf")) + sorted((ROOT / "tests" / "mjcf" / "dm_control").glob("*.xml"))
 URDF_ARG = st.sampled_from([ROBOTS / "ur5_robot.urdf", ROBOTS / "panda.urdf", ROBOTS / "double_pendulum.urdf", ROBOTS / "xarm7.urdf",
-                            ROBOTS / "missing.urdf", ROBOTS, SPECS / "gimbal.toml", ROBOTS / "README.md", *CORPUS])
+                            ROBOTS / "missing.urdf", ROBOTS, SPECS / "gimbal.toml", ROBOTS / "README.md", *CORPUS,
+                            *sorted((ROOT / "tests" / "mjcf" / "styled").glob("*.xml"))])  # MJCF written with armature and ref
 OPTIONS.update({
     "import": {"--tip": st.sampled_from(["wrist_3_link", "panda_link7", "panda_lnk7", "link1", "base_link", "", "FL_FOOT",
-                                         "FL_foot", "LF_FOOT", "left_hand_link", "arm_left_7_link", "l_sole", "lower_arm"]),
+                                         "FL_foot", "LF_FOOT", "left_hand_link", "arm_left_7_link", "l_sole", "lower_arm",
+                                         "bfoot", "foot", "distal", "fingertip", "wrist3", "left_foot", "pole"]),
                "--base": st.sampled_from(["world", "shoulder_link", "nowhere", "panda_link0", "", "torso", "base", "cart"]),
                "--lock": st.sampled_from(["panda_finger_joint1=0.02", "panda_finger_joint2=0.02", "joint1=0.3", "elbow_joint=x",
                                           "nope=1", "=1", "panda_finger_joint1=nan", "shoulder_pan_joint=1e300",
