@@ -36,6 +36,7 @@ class Estimate:
     rms: np.ndarray  # residual RMS per joint (N m)
     sigma: np.ndarray  # the weights' standard deviations per joint
     rows: int
+    filter_bias: bool = False  # se includes the change with a wider Savitzky–Golay window
 
 
 def estimate(A: np.ndarray, y: np.ndarray, n: int, what: str = "data") -> Estimate:
@@ -185,6 +186,8 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     beta0 = cm.base_parameters(pi0)
     est = estimate(A, y, spec.n, data)
     _units_and_signs(A, y, beta0, spec, data)  # before anything is printed
+    if how.kind == "savgol":  # its derivative filters are not its smoother: their bias joins the standard errors
+        est = _with_filter_bias(est, cm, spec, data, how, params)
     _explains(A, y, est.beta, spec, data, "the estimates")
     pi, moved = consistent(model, est.beta, est.se, pi0)
     beta = cm.base_parameters(pi) if physical else est.beta
@@ -207,10 +210,15 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
         say(f"physically consistent (--physical): every body possible; the estimates moved by at most {moved:.3g} "
             "standard errors" + (" (the unconstrained ones were already consistent)" if moved < 1e-3 else ""))
     _table(model, beta, est.se, beta0, say)
-    say("standard errors: of the noise the residuals show; they assume the filter adds no bias, which a motion near "
-        + (f"its cutoff ({how.cutoff:g} Hz)" if how.kind == "butter" else
-           f"its window ({how.window:g} s; the Savitzky-Golay derivative filters are not its smoothing filter)")
-        + " adds, beyond them (--validate on held-out data checks it)")
+    if est.filter_bias:
+        say(f"standard errors: of the noise the residuals show, and of the filter's bias (the estimates' change with a "
+            f"window of {how.window * SAVGOL_SPREAD:g} s: the Savitzky-Golay derivative filters are not its smoothing "
+            "filter); --validate on held-out data checks them")
+    else:
+        say("standard errors: of the noise the residuals show; they assume the filter adds no bias, which a motion near "
+            + (f"its cutoff ({how.cutoff:g} Hz)" if how.kind == "butter" else
+               f"its window ({how.window:g} s; the Savitzky-Golay derivative filters are not its smoothing filter)")
+            + " adds, beyond them (--validate on held-out data checks it)")
     note = (f"{spec.name} with the parameters identified by gyrochain identify from {data}\n"
             f"(physically possible bodies whose base parameters are the estimates' to {moved:.2g} standard errors;\n"
             f"the parameters the motion does not determine chosen near {spec.name}'s values)")
@@ -222,6 +230,24 @@ def run(spec, data: str, values: dict, output: str, force: bool, validate: str |
     if held is not None:
         figures.update(_validate(cm, model, beta, held, params, validate, plot, say))
     return figures
+
+
+SAVGOL_SPREAD = 1.5  # the second Savitzky-Golay fit's window, in windows of the first
+
+
+def _with_filter_bias(est: Estimate, cm, spec, data: str, how: Filter, params) -> Estimate:
+    """The estimates' change with a window SAVGOL_SPREAD times as long added to their standard
+    errors (in quadrature): the Savitzky–Golay derivative filters' bias grows as the window's
+    square, so the change bounds it, where the residuals' noise does not see it (exact data)."""
+    from dataclasses import replace
+
+    wide = Filter(kind="savgol", window=how.window * SAVGOL_SPREAD, order=how.order)
+    try:
+        A2, y2 = stack(cm, read(data, spec, data, wide), params)
+        other = estimate(A2, y2, spec.n, data)
+    except SpecError:  # a recording too short for the wider window: the first fit's errors as they are
+        return est
+    return replace(est, se=np.sqrt(est.se ** 2 + (other.beta - est.beta) ** 2), filter_bias=True)
 
 
 UNITS = 30.0  # measured torques this many times the spec's model's (or this fraction of them): other units

@@ -196,3 +196,22 @@ def test_the_spec_s_limits_set_excite_s_defaults_and_check_identify_s_data(units
     refused("identify", "limited.toml", "nmm.csv", cwd=units, words="times joint 1's effort limit 0.3 N m (the spec's limits): N mm")
     code, out, err = gyro("identify", "limited.toml", "data.csv", "-o", "lim_id.toml", cwd=units)
     assert code == 0, err
+
+
+def test_the_savitzky_golay_bias_is_in_the_standard_errors(bench, tmp_path):  # noqa: F811
+    """Exact data (no noise, exact angles) and --filter savgol: the derivative filters' bias left
+    estimates 30 standard errors from the spec's values with exit 0; the standard errors now hold
+    the estimates' change with a longer window, and the truth lies within three of them."""
+    from gyrochain import identify
+    from gyrochain.identification.measured import Filter
+    from gyrochain.spec import load_spec
+
+    code, _, err = gyro("excite", "furuta.toml", "--u-max", "0.05", "--period", "5", "--harmonics", "3", "--evaluations",
+                        "60", "--experiment", "30", "--noise", "0", "--encoder", "0", "-o", tmp_path / "exact.csv", cwd=bench)
+    assert code == 0, err
+    said = []
+    fig = identify.run(load_spec(bench / "furuta.toml"), str(tmp_path / "exact.csv"), {}, str(tmp_path / "id.toml"), False,
+                       how=Filter(kind="savgol"), say=said.append)
+    far = np.abs(fig["beta"] - fig["beta_spec"]) / fig["se"]
+    assert far.max() <= 3.0, far
+    assert any("and of the filter's bias (the estimates' change with a window of 0.3 s" in line for line in said)
