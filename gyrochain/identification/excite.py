@@ -263,6 +263,7 @@ def simulate_recording(spec, cm, d: Design, duration: float, rate: float, noise:
 
 
 MAX_SAMPLES = 2_000_000  # a simulated recording longer than this is refused
+COND_HOPELESS = 1e6  # a design whose base regressor is worse conditioned than this is refused (good ones: 10 to 1e4)
 RECORDING = (1000.0, 0.01, 4096)  # --experiment's defaults: samples per second, the torques' noise, encoder counts
 
 
@@ -314,6 +315,11 @@ def run_excite(spec, source: str, values: dict, output: str, force: bool, limits
     same_geometry(model, values)
     d = excite(spec, cm, phi_max=limits["phi_max"], phidot_max=limits["phidot_max"], u_max=limits["u_max"],
                center=limits["center"], params=values or None, **options)
+    if not d.cond <= COND_HOPELESS:
+        raise SpecError("excite", f"the best design found has cond {d.cond:.3g} of the base regressor: its motion does not "
+                                  "determine the base parameters (a fit would multiply the data's errors by that much); "
+                                  "widen --phi-max and --phidot-max, or give more --harmonics, a longer --period or more "
+                                  "--evaluations")
     rows = None
     if experiment is not None:
         rows = simulate_recording(spec, cm, d, experiment, *recording, options.get("seed", 0), params=values or None)
