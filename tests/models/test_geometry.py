@@ -374,12 +374,17 @@ FIXED = {
     "armature_platform": (ChainPlan((B("0", "full", armature=True), B("pi/2", "point", zero_c=(False, True, False), armature=True,
                                                                      control=True)), seed=20, base="both"),
                           "composite", "auto", ("c", "integrators", "latex")),
+    # a long chain with armature: the straight-line forms at n >= 12 (the loop form has no diagonal term)
+    "armature_long": (ChainPlan(tuple(B(th, "full", armature=i % 2 == 0, control=i == 3)
+                                      for i, th in enumerate(["pi", "pi/2", "0", "-pi/2", "number", "pi", "pi/4", "-pi", "pi/2",
+                                                              "0", "number", "pi", "-pi/2"])), seed=5),
+                      "auto", "auto", ("c",)),
 }
 # the shortcuts of the derivation and the printers (or the exact values they met) and the fixed case
 # that exercises each; the note of this change lists them with their places in the code
 SHORTCUTS = {
     "armature on M's diagonal alone; the articulated pivot D = U1 + a (W1 != 1, row 1 of the inertia passed on kept); "
-    "the loop and world forms not taken": "armature, armature_platform",
+    "the loop and world forms not taken": "armature, armature_platform, armature_long",
     "R2(theta) skipped where theta = 0 (kinematics.Joint.is_planar): theta = +-pi": "antiparallel, planar_flipped, long_chain",
     "cos theta = 0, sin theta = +-1, sqrt(2)/2 folded exactly (exact.py)": "quarter_turns, point_masses",
     "a zero offset delta^k left out of the angle (kinematics.derive)": "every case but antiparallel's first body",
