@@ -80,6 +80,9 @@ def check_values(spec, values: dict, label: str = "") -> None:
             if e is not None and num(e, f"{at}.{key}") < 0:
                 raise SpecError(f"{at}.{key}", f"a negative {what} would feed energy into the joint{label}")
         num(b.rest, f"{at}.rest")
+        if num(b.armature, f"{at}.armature") < 0:
+            raise SpecError(f"{at}.armature", f"a motor's reflected inertia is not negative, got "
+                                              f"{num(b.armature, f'{at}.armature'):g}{label}")
         _check_tensor(f"{at}.A", m, c, A, label)
 
 

@@ -54,27 +54,42 @@ MARGIN = 0.9  # the defaults keep this fraction of the way to a limit the spec g
 
 def spec_defaults(spec, center=None, phi_max=None, phidot_max=None, u_max=None) -> tuple:
     """(centre, phi_max, phidot_max, u_max) per joint (u_max per control): those given, else from
-    the spec's joint limits (the middle of a range, MARGIN of the way to its ends, of the velocity
-    and of the effort), else 0, 1 rad, 2 rad/s and 1 N m.  A centre outside a joint's range is one line."""
+    the spec's joint limits, else 0, 1 rad, 2 rad/s and 1 N m.  A range: the middle, MARGIN of the
+    way to its ends; one bound alone: 1 rad, the centre moved inside it where 0 is too near; the
+    velocity and the effort: MARGIN of them.  A centre outside a joint's bounds, or a given
+    --phi-max that reaches past them, is one line."""
     n, lim = spec.n, spec_limits(spec)
-    lo, hi = (lim.get(k, [None] * n) for k in ("lower", "upper"))
-    ranged = [a is not None and b is not None for a, b in zip(lo, hi)]
+    lo = [-np.inf if v is None else v for v in lim.get("lower", [None] * n)]
+    hi = [np.inf if v is None else v for v in lim.get("upper", [None] * n)]
     if center is None:
-        centre = np.array([(a + b) / 2 if r else 0.0 for a, b, r in zip(lo, hi, ranged)])
+        centre = np.array([(a + b) / 2 if np.isfinite(a) and np.isfinite(b) else
+                           max(0.0, a + 1.0 / MARGIN) if np.isfinite(a) else min(0.0, b - 1.0 / MARGIN) if np.isfinite(b)
+                           else 0.0 for a, b in zip(lo, hi)])
     else:
         centre = np.asarray(center, dtype=float)
         centre = np.full(n, centre[0]) if centre.shape == (1,) else centre
         if centre.shape != (n,):
             raise SpecError("--center", f"expected one number or {n} of them (one per joint)")
     for k in range(n):
-        if ranged[k] and not lo[k] < centre[k] < hi[k]:
-            raise SpecError("--center", f"{centre[k]:g} lies outside joint {k + 1}'s range, {lo[k]:g} to {hi[k]:g} rad "
+        if not lo[k] < centre[k] < hi[k]:
+            raise SpecError("--center", f"{centre[k]:g} lies outside joint {k + 1}'s range, {_range(lo[k], hi[k])} "
                                         "(the spec's limits)")
-    reach = [MARGIN * min(centre[k] - lo[k], hi[k] - centre[k]) if ranged[k] else 1.0 for k in range(n)]
+    room = [min(centre[k] - lo[k], hi[k] - centre[k]) for k in range(n)]
+    reach = [MARGIN * room[k] if np.isfinite(lo[k]) and np.isfinite(hi[k]) else min(1.0, MARGIN * room[k]) for k in range(n)]
+    pmax = _limits(phi_max, n, "--phi-max", reach)
+    for k in range(n):
+        if phi_max is not None and pmax[k] > room[k]:
+            raise SpecError("--phi-max", f"{pmax[k]:g} about the centre {centre[k]:g} reaches past joint {k + 1}'s range, "
+                                         f"{_range(lo[k], hi[k])} (the spec's limits)")
     speed = [MARGIN * v if v is not None else 2.0 for v in lim.get("velocity", [None] * n)]
     effort = [MARGIN * e if e is not None else 1.0 for e in lim.get("effort", [None] * n)]
-    return (centre, _limits(phi_max, n, "--phi-max", reach), _limits(phidot_max, n, "--phidot-max", speed),
+    return (centre, pmax, _limits(phidot_max, n, "--phidot-max", speed),
             _limits(u_max, len(spec.controls), "--u-max", [effort[k - 1] for k in spec.controls]))
+
+
+def _range(lo: float, hi: float) -> str:
+    return (f"{lo:g} to {hi:g} rad" if np.isfinite(lo) and np.isfinite(hi) else
+            f"at least {lo:g} rad" if np.isfinite(lo) else f"at most {hi:g} rad")
 
 
 def _limits(value, n: int, what: str, default) -> np.ndarray:
@@ -315,6 +330,14 @@ def run_excite(spec, source: str, values: dict, output: str, force: bool, limits
     same_geometry(model, values)
     d = excite(spec, cm, phi_max=limits["phi_max"], phidot_max=limits["phidot_max"], u_max=limits["u_max"],
                center=limits["center"], params=values or None, **options)
+    if len(spec.controls) == spec.n:  # every joint driven: the torques follow from the design, checked against the efforts
+        effort = spec_limits(spec).get("effort", [None] * spec.n)
+        for k in range(spec.n):
+            top = float(np.max(np.abs(d.u[:, k])))
+            if effort[k] is not None and top > effort[k]:
+                raise SpecError("excite", f"the design's torque u{k + 1} reaches {top:.4g} N m, beyond joint {k + 1}'s effort "
+                                          f"limit {effort[k]:g} N m (the spec's limits): narrow --phi-max or --phidot-max, or "
+                                          "give a longer --period")
     if not d.cond <= COND_HOPELESS:
         raise SpecError("excite", f"the best design found has cond {d.cond:.3g} of the base regressor: its motion does not "
                                   "determine the base parameters (a fit would multiply the data's errors by that much); "
@@ -330,11 +353,14 @@ def run_excite(spec, source: str, values: dict, output: str, force: bool, limits
     path = files.deliver(text, output, default, force, source)
     tell = say if path is not None else (lambda line: print(line, file=sys.stderr))
     tell(f"excite {spec.name}: {d.mode}; cond of the base regressor {d.cond:.4g} over the period")
-    taken = [f"--{k.replace('_', '-')}" for k, key in (("center", "lower"), ("phi_max", "lower"), ("phidot_max", "velocity"),
-                                                     ("u_max", "effort")) if limits.get(k) is None and key in spec_limits(spec)]
+    have = spec_limits(spec)
+    taken = [f"--{k.replace('_', '-')}" for k, keys in (("center", ("lower", "upper")), ("phi_max", ("lower", "upper")),
+                                                      ("phidot_max", ("velocity",)), ("u_max", ("effort",)))
+             if limits.get(k) is None and any(key in have for key in keys) and (k != "u_max" or len(spec.controls) < spec.n)]
     if taken:
         tell(f"  from the spec's joint limits: {', '.join(taken)} (the middle of each range, {100 * MARGIN:.0f}% of the way "
-             "to its ends, its velocity and its effort)")
+             "to its ends, its velocity and its effort)" + ("; the torques the design needs are within the efforts"
+                                                            if len(spec.controls) == spec.n and "effort" in have else ""))
     if path is not None and rows is not None:
         rate, noise, counts = recording
         tell(f"wrote {path}: a simulated measurement of {experiment:g} s at {rate:g} Hz (t, phi, u): noise {100 * noise:g}% "

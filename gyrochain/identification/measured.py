@@ -133,12 +133,15 @@ def _within_the_spec_limits(spec, phi, rate, u, what: str, path: str) -> None:
     n = spec.n
     for k in range(n):
         lo, hi = lim.get("lower", [None] * n)[k], lim.get("upper", [None] * n)[k]
-        if lo is not None and hi is not None:
-            far = float(np.max(np.maximum(phi[:, k] - hi, lo - phi[:, k])))
-            if far > RANGE_SLACK:
-                x = phi[np.argmax(np.maximum(phi[:, k] - hi, lo - phi[:, k])), k]
-                raise _fail(what, path, f"phi{k + 1} reaches {x:.4g} rad, beyond joint {k + 1}'s range {lo:g} to {hi:g} rad "
-                                        "(the spec's limits): degrees, or another joint's column?")
+        if lo is None and hi is None:
+            continue
+        past = np.maximum(phi[:, k] - (np.inf if hi is None else hi), (-np.inf if lo is None else lo) - phi[:, k])
+        if float(np.max(past)) > RANGE_SLACK:
+            side = (f"range {lo:g} to {hi:g} rad" if lo is not None and hi is not None else
+                    f"lower limit {lo:g} rad" if lo is not None else f"upper limit {hi:g} rad")
+            raise _fail(what, path, f"phi{k + 1} reaches {phi[np.argmax(past), k]:.4g} rad, beyond joint {k + 1}'s {side} "
+                                    f"by more than {RANGE_SLACK:g} rad (the spec's limits): other units (degrees?), "
+                                    "another joint's column, or limits the spec states too tightly?")
     for key, data, name, unit in (("velocity", rate, "phidot", "rad/s"), ("effort", u, "u", "N m")):
         for k in range(n):
             bound = lim.get(key, [None] * n)[k]
@@ -148,8 +151,9 @@ def _within_the_spec_limits(spec, phi, rate, u, what: str, path: str) -> None:
             if top > BEYOND * bound:
                 column = f"{name}{k + 1}" if key == "velocity" else f"u{spec.controls.index(k + 1) + 1}"
                 raise _fail(what, path, f"{column} reaches {top:.4g} {unit}, {top / bound:.3g} times joint {k + 1}'s {key} "
-                                        f"limit {bound:g} {unit} (the spec's limits): {'deg/s' if key == 'velocity' else 'N mm'}, "
-                                        "or another joint's column?")
+                                        f"limit {bound:g} {unit} (the spec's limits): other units "
+                                        f"({'deg/s' if key == 'velocity' else 'N mm'}?), another joint's column, or limits the "
+                                        "spec states too tightly?")
 
 
 def _no_foreign_columns(names: list, spec, what: str, path: str) -> None:

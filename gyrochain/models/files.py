@@ -72,6 +72,8 @@ def target(output: str, default: str, force: bool = False, source=None, option: 
     for src in sources:
         if src is not None and path.resolve() == Path(src).resolve():
             raise SpecError(f"{option} {path}", "is a file the command reads; name another file")
+    if path.is_dir():
+        raise SpecError(str(path), "is a folder: name a file")
     if path.exists() and not force:
         raise SpecError(str(path), "exists; pass --force to replace it")
     writable(path)

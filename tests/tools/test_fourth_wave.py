@@ -194,10 +194,32 @@ def test_the_spec_s_limits_set_excite_s_defaults_and_check_identify_s_data(units
     d = np.genfromtxt(units / "lim.csv", delimiter=",", names=True)
     assert np.all(np.abs(d["phi1"] - 1.0) <= 0.9 * 2.0 + 1e-9) and np.all(np.abs(d["u1"]) <= 0.9 * 0.3 + 1e-12)
     assert abs(d["phi1"] - 1.0).max() > 1.0  # it uses the range, beyond the 1 rad of a spec without limits
-    refused("identify", "limited.toml", "degrees.csv", cwd=units, words="beyond joint 1's range -1 to 3 rad (the spec's limits)")
-    refused("identify", "limited.toml", "nmm.csv", cwd=units, words="times joint 1's effort limit 0.3 N m (the spec's limits): N mm")
+    refused("identify", "limited.toml", "degrees.csv", cwd=units, words="beyond joint 1's range -1 to 3 rad by more than 0.1 rad")
+    refused("identify", "limited.toml", "nmm.csv", cwd=units, words="times joint 1's effort limit 0.3 N m (the spec's limits): "
+                                                                     "other units (N mm?)")
+    one_sided = limited.replace("limits = {lower = -1.0, upper = 3.0, effort = 0.3}", "limits = {lower = 0.5}")
+    (units / "one_sided.toml").write_text(one_sided)  # one bound alone: the design stays above it, the data must too
+    code, out, err = gyro("excite", "one_sided.toml", "--harmonics", "3", "--evaluations", "60", "-o", "one.csv", "--force",
+                          cwd=units)
+    assert code == 0, err
+    assert np.genfromtxt(units / "one.csv", delimiter=",", names=True)["phi1"].min() >= 0.5
+    refused("identify", "one_sided.toml", "data.csv", cwd=units, words="beyond joint 1's lower limit 0.5 rad")
+    refused("excite", "limited.toml", "--phi-max", "2.5", cwd=units, words="--phi-max: 2.5 about the centre 1 reaches past "
+                                                                             "joint 1's range, -1 to 3 rad")
     code, out, err = gyro("identify", "limited.toml", "data.csv", "-o", "lim_id.toml", cwd=units)
     assert code == 0, err
+
+
+def test_a_design_of_driven_joints_keeps_their_effort_limits(tmp_path):
+    """Every joint driven: the torques follow from the designed trajectories; beyond a joint's
+    effort limit the design is refused (it was written, and said to keep the limit)."""
+    spec = (SPECS / "planar2dof.toml").read_text()
+    body = spec.index("[[body]]")
+    end = spec.index("[[body]]", body + 1)
+    first = spec[body:end].rstrip("\n") + "\nlimits = {lower = -2, upper = 2, velocity = 3, effort = 0.01}\n\n"
+    (tmp_path / "weak.toml").write_text(spec[:body] + first + spec[end:])
+    refused("excite", "weak.toml", "--evaluations", "60", cwd=tmp_path, words="the design's torque u1 reaches")
+    assert not (tmp_path / "weak_excite.csv").exists()
 
 
 def test_the_savitzky_golay_bias_is_in_the_standard_errors(bench, tmp_path):  # noqa: F811
