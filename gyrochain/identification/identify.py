@@ -378,7 +378,12 @@ def _plot(held: Motion, pred, meas, sim, path: str) -> None:
     ax[0, 0].legend(fontsize=9)
     ax[1, 0].legend(fontsize=9)
     fig.tight_layout()
-    tmp = f"{path}.tmp"  # written beside and renamed, in the format its name says
-    fig.savefig(tmp, dpi=110, format=Path(path).suffix.lower().lstrip("."))
-    plt.close(fig)
-    os.replace(tmp, path)
+    target = Path(path)
+    tmp = target.parent / f".{target.name}.tmp"  # written beside and renamed, in the format its name says
+    with files.folders_for(target):
+        try:
+            fig.savefig(tmp, dpi=110, format=target.suffix.lower().lstrip("."))
+            os.replace(tmp, target)
+        finally:
+            plt.close(fig)
+            tmp.unlink(missing_ok=True)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import hashlib
 import math
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -60,13 +61,28 @@ def import_text(path, base: str | None = None, tip: str | None = None, locks=Non
                 controls: bool = True, g: float | None = None) -> tuple[str, list[str]]:
     """The spec text of the chain in the description at ``path``, and lines that say what was done
     (``g``: the gravity along the description's −z; default the description's own, else 9.81)."""
+    if g is not None and not g >= 0:
+        raise SpecError(f"--g {g:g}", "gravity's magnitude along the model's -z: expected 0 or more")
     desc = read_description(path)
+    if g is not None and desc.g is not None:  # the file's gravity (or its disabling) replaced by --g
+        desc = replace(desc, notes=tuple(f"gravity {g:g} (--g), where the file has {desc.g:g}" if n.startswith("gravity ")
+                                         else n for n in desc.notes))
     g = g if g is not None else desc.g if desc.g is not None else robot.GRAVITY
     if name is not None and not robotspec.spec_name(name) == name:
         raise SpecError(f"--name {name}", "expected a C identifier (letters, digits, _; not starting with a digit)")
     ch = robot.chain(desc, base, tip, locks_of(locks))
     text = robotspec.spec_text(ch, name, g=g, controls=controls)
-    spec = parse_spec(text)  # what is written is a spec the other commands accept
+    try:
+        spec = parse_spec(text)  # what is written is a spec the other commands accept
+    except SpecError as exc:  # said of what the user gave: the file's joint, or --name
+        field, _, why = str(exc).partition(": ")
+        k = re.match(r"body\[(\d+)\]", field)
+        if k:
+            raise SpecError(f"{path}: joint {ch.bodies[int(k[1]) - 1].joint.name!r}", why) from None
+        if field == "name":
+            raise SpecError(f"--name {name}" if name else f"{path}: robot name {ch.desc.name!r}",
+                            why + ("" if name else " (give --name NAME)")) from None
+        raise
     joints = [b.joint.name for b in ch.bodies]
     lines = [f"imported {spec.name} from {Path(path).name}: {len(joints)} joint{'s' if len(joints) > 1 else ''} from {ch.base} to {ch.tip} "
              f"({', '.join(joints)})"]

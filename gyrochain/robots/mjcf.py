@@ -47,11 +47,21 @@ def read(path) -> Description:
     if not path.is_file():
         raise SpecError(where, "is not a regular file")
     mujoco = _mujoco()
+    warned: list = []
+    # MuJoCo's warnings (a deprecated attribute) go to the spec's comments, not to stderr and
+    # MUJOCO_LOG.TXT in the user's folder
+    previous = mujoco.get_mju_user_warning() if hasattr(mujoco, "set_mju_user_warning") else None
+    if previous is not None or hasattr(mujoco, "set_mju_user_warning"):
+        mujoco.set_mju_user_warning(lambda text: warned.append(" ".join(str(text).split())))
     try:
         model = mujoco.MjModel.from_xml_path(os.fspath(path))
     except ValueError as exc:  # MuJoCo's compiler: "XML Error: ... Element 'x', line 3"
         raise SpecError(where, "MuJoCo does not compile it: " + " ".join(str(exc).split())) from None
-    return describe(model, where)
+    finally:
+        if hasattr(mujoco, "set_mju_user_warning"):
+            mujoco.set_mju_user_warning(previous)
+    desc = describe(model, where)
+    return replace(desc, notes=desc.notes + tuple(f"MuJoCo's compiler warned: {w}" for w in dict.fromkeys(warned)))
 
 
 def _s(x) -> str:

@@ -335,7 +335,10 @@ class _Walk:
                  f"(lock it with --lock {j.name}=VALUE)")
         if j.kind not in CHAIN_KINDS:
             name, ends = Path(self.desc.source).name, _ends(self.children, [j.child])
+            turns = _turning_below(self.children, j.child)
             hint = (f" (lock it with --lock {j.name}=VALUE)" if j.kind in LOCKABLE
+                    else f" (nothing turns below it: --tip LINK takes a chain that avoids it; `import {name} --list` "
+                    "shows the leaves)" if not turns
                     else f" (the chain starts below it: `import {name} --base {j.child}"
                     + (f" --tip LINK`, LINK one of {', '.join(ends[:6])}{' …' if len(ends) > 6 else ''})" if len(ends) > 1
                        else "`)"))
@@ -367,6 +370,17 @@ def _below(children, head: str, target: str) -> bool:
         if link == target:
             return True
         todo += [j.child for j in children[link]]
+    return False
+
+
+def _turning_below(children, head: str) -> bool:
+    """Whether a revolute or continuous joint (not a mimic) lies below ``head``."""
+    todo = [head]
+    while todo:
+        for j in children[todo.pop()]:
+            if j.kind in CHAIN_KINDS and j.mimic is None:
+                return True
+            todo.append(j.child)
     return False
 
 

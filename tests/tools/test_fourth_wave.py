@@ -239,3 +239,35 @@ def test_the_savitzky_golay_bias_is_in_the_standard_errors(bench, tmp_path):  # 
     far = np.abs(fig["beta"] - fig["beta_spec"]) / fig["se"]
     assert far.max() <= 3.0, far
     assert any("and of the filter's bias (the estimates' change with a window of 0.3 s" in line for line in said)
+
+
+def test_an_import_s_mistakes_name_what_the_user_gave(tmp_path):
+    """A bad value in the file is said of its joint (not body[1] of a spec the user never saw); a
+    clashing name asks for --name; --g is named; --g over a file that disables gravity is said so;
+    MuJoCo's warnings become comments, not stderr lines and a MUJOCO_LOG.TXT in the user's folder."""
+    pytest.importorskip("mujoco", reason="MuJoCo compiles MJCF")
+    body = '<body name="l1" pos="0 0 1"><joint name="j1" axis="0 1 0"{extra}/><geom type="capsule" fromto="0 0 0 .3 0 0" size=".02"/></body>'
+    negative = body.format(extra=' armature="-0.1"')
+    (tmp_path / "neg.xml").write_text(f'<mujoco model="negarm"><worldbody>{negative}</worldbody></mujoco>')
+    refused("import", "neg.xml", cwd=tmp_path, words="error: neg.xml: joint 'j1': a motor's reflected inertia is not negative")
+    (tmp_path / "r.xml").write_text(f'<mujoco model="r"><worldbody>{body.format(extra="")}</worldbody></mujoco>')
+    refused("import", "r.xml", cwd=tmp_path, words="error: r.xml: robot name 'r': ")
+    refused("import", "r.xml", "--name", "if", cwd=tmp_path, words="error: --name if: ")
+    refused("import", "r.xml", "--name", "arm", "--g", "-1", cwd=tmp_path, words="error: --g -1: ")
+    (tmp_path / "off.xml").write_text('<mujoco model="off"><option><flag gravity="disable"/></option><worldbody>'
+                                      f'{body.format(extra="")}</worldbody></mujoco>')
+    code, out, err = gyro("import", "off.xml", "--name", "arm", "--g", "9.81", "-o", "-", cwd=tmp_path)
+    assert code == 0 and "# gravity 9.81 (--g), where the file has 0" in out and "\ng = 9.81\n" in out, (out, err)
+    code, out, err = gyro("import", ROOT / "tests" / "mjcf" / "dm_control" / "cheetah.xml", "--base", "torso", "--tip", "ffoot",
+                          "-o", "c.toml", cwd=tmp_path)
+    assert code == 0 and "WARNING" not in err and not (tmp_path / "MUJOCO_LOG.TXT").exists(), err
+    assert "# MuJoCo's compiler warned: compiler attribute 'settotalmass' is deprecated" in (tmp_path / "c.toml").read_text()
+
+
+def test_a_plot_goes_where_it_is_told(bench):  # noqa: F811
+    """identify --plot into a folder that does not exist yet: made, as every command makes it (it
+    failed after the fit, naming a temporary file)."""
+    code, out, err = gyro("identify", "furuta.toml", "data.csv", "--validate", "held.csv", "--plot", "new/plots/fit.png",
+                          "-o", "new/fit.toml", cwd=bench)
+    assert code == 0, err
+    assert (bench / "new" / "plots" / "fit.png").read_bytes()[:4] == b"\x89PNG"

@@ -221,3 +221,16 @@ def test_the_limits_of_every_vendored_urdf_are_data_of_its_spec():
             assert (b.lbu[k], b.ubu[k]) == (-w.get("effort", np.inf), w.get("effort", np.inf))  # every joint controlled
         seen += any(written)
     assert seen >= 40, seen
+
+
+def test_a_free_object_beside_the_arm_is_not_offered_as_a_base(tmp_path):
+    """A scene: an arm on the world, and an object on a floating joint with nothing below it. The
+    plain import's line must not suggest --base OBJECT (nothing turns there), and --tip works."""
+    f = tmp_path / "scene.urdf"
+    inertial = '<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>'
+    f.write_text(f"""<robot name="scene"><link name="world"/><link name="arm">{inertial}</link><link name="box">{inertial}</link>
+  <joint name="shoulder" type="revolute"><parent link="world"/><child link="arm"/><axis xyz="0 1 0"/></joint>
+  <joint name="free" type="floating"><parent link="world"/><child link="box"/></joint></robot>""")
+    with pytest.raises(SpecError, match="joint 'free': a floating joint: .*nothing turns below it: --tip LINK takes a chain"):
+        exchange.import_text(f)
+    assert parse_spec(exchange.import_text(f, tip="arm")[0]).n == 1
