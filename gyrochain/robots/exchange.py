@@ -101,6 +101,16 @@ def import_text(path, base: str | None = None, tip: str | None = None, locks=Non
     return text, lines
 
 
+def _limit_attributes(lim: dict) -> dict:
+    """A joint's limits as the templates write them: ``range`` (lower upper) where both are given,
+    ``effort`` and ``velocity`` where given ("" where not)."""
+    both = "lower" in lim and "upper" in lim
+    return dict(range=robotspec.numbers([lim["lower"], lim["upper"]]) if both else "",
+                lower=robotspec.numbers([lim["lower"]]) if both else "", upper=robotspec.numbers([lim["upper"]]) if both else "",
+                effort=robotspec.numbers([lim["effort"]]) if "effort" in lim else "",
+                velocity=robotspec.numbers([lim["velocity"]]) if "velocity" in lim else "")
+
+
 def _few(names, most: int = 8) -> str:
     """A list of names for a line on the terminal: the first ``most``, then how many more (the spec lists all)."""
     names = list(names)
@@ -130,7 +140,8 @@ def export_text(spec, spec_label: str, to: str, values: dict) -> tuple[str, list
                  c=robotspec.numbers(link.c), m=robotspec.numbers([link.m]), I=robotspec.numbers(link.Ic).split(),
                  damping=robotspec.numbers([link.damping]) if link.damping else "",
                  spring=robotspec.numbers([link.spring]) if link.spring else "", rest=robotspec.numbers([link.rest]),
-                 armature=robotspec.numbers([link.armature]) if link.armature else "")
+                 armature=robotspec.numbers([link.armature]) if link.armature else "",
+                 **_limit_attributes(dict(link.limits)))
             for link in links]
     notes = [f"The spec's parameters at: {', '.join(f'{k} = {v:g}' for k, v in values.items())}."] if values else []
     if to == "urdf" and spec.controls:
@@ -142,6 +153,8 @@ def export_text(spec, spec_label: str, to: str, values: dict) -> tuple[str, list
         spec_sha=hashlib.sha256(spec.source.encode("utf-8")).hexdigest()[:16], g=robotspec.numbers([g]), links=rows,
         notes=[n.replace("--", "- -") for n in notes], motors=list(spec.controls) if to == "mjcf" else [])
     said = [f"exported {spec.name} as {to.upper()}: {len(links)} joints (joint1..joint{len(links)} = phi1..phi{len(links)})"]
+    if to == "mjcf" and any("velocity" in dict(link.limits) for link in links):
+        said.append("  dropped: the joints' velocity limits (MJCF has no element for them)")
     if to == "urdf" and g != robot.GRAVITY:
         said.append(f"  gravity {g:g} is in a comment only: URDF has no element for it (set it in the simulator)")
     return text, said

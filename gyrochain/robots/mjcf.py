@@ -183,6 +183,8 @@ def _joints_of(model, i: int, bodies: list, where: str, links: dict, joints: dic
         dof, qadr = int(model.jnt_dofadr[k]), int(model.jnt_qposadr[k])
         hinge_or_slide = kind in ("revolute", "prismatic")
         limit = {"lower": _s(model.jnt_range[k][0]), "upper": _s(model.jnt_range[k][1])} if model.jnt_limited[k] else {}
+        if getattr(model, "jnt_actfrclimited", None) is not None and model.jnt_actfrclimited[k]:  # actuatorfrcrange
+            limit["effort"] = _s(max(abs(float(x)) for x in model.jnt_actfrcrange[k]))
         joints[jn] = Joint(jn, kind, parent, child, _text(xyz), rot,
                            tuple(_s(x) for x in model.jnt_axis[k]) if hinge_or_slide else ("1", "0", "0"),
                            _s(model.dof_damping[dof]), _s(model.dof_frictionloss[dof]), limit,

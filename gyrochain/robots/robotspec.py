@@ -208,6 +208,7 @@ class Link:
     rest: object
     control: bool
     armature: object = 0
+    limits: tuple = ()  # the spec's ((key, value), ...)
 
 
 def refusals(spec, to: str) -> str | None:
@@ -257,7 +258,7 @@ def links_of(spec, values: dict) -> list[Link]:
         Ic = A - m * (_dot(c, c) * mp.eye(3) - c * c.T)
         out.append(Link(tuple(prev_s), R, m, tuple(c), (Ic[0, 0], Ic[1, 1], Ic[2, 2], Ic[0, 1], Ic[0, 2], Ic[1, 2]),
                         num(b.damping) if b.damping is not None else 0, num(b.spring) if b.spring is not None else 0,
-                        num(b.rest), b.control, num(b.armature)))
+                        num(b.rest), b.control, num(b.armature), b.limits))
         prev_s = mp.matrix([num(x) for x in b.s])
     return out
 

@@ -168,3 +168,20 @@ def test_a_reference_pose_off_the_chain_or_locked_is_no_refusal(tmp_path):
         assert "ref 0.3" in text
     err, n = worst(f, tip="hand")
     assert n == 2 and err <= 1e-10, err
+
+
+def test_limits_go_out_and_come_back(tmp_path):
+    """The spec's limits exported: MJCF's range and actuatorfrcrange (velocity said dropped),
+    URDF's revolute <limit>; imported again, the spec's limits are the same (φ̈ too)."""
+    spec = load_spec(ROOT / "specs" / "panda.toml")
+    want = [dict(b.limits) for b in spec.bodies]
+    for to, keep in (("mjcf", ("lower", "upper", "effort")), ("urdf", ("lower", "upper", "effort", "velocity"))):
+        text, said = exchange.export_text(spec, "panda.toml", to, {})
+        assert ("dropped: the joints' velocity limits" in "\n".join(said)) == (to == "mjcf")
+        path = tmp_path / f"panda.{'xml' if to == 'mjcf' else 'urdf'}"
+        path.write_text(text)
+        back = parse_spec(exchange.import_text(path)[0])
+        assert [dict(b.limits) for b in back.bodies] == [{k: v for k, v in w.items() if k in keep} for w in want], to
+        if to == "mjcf":
+            err, _ = worst(path)
+            assert err <= 1e-10, err
