@@ -102,13 +102,16 @@ def import_text(path, base: str | None = None, tip: str | None = None, locks=Non
 
 
 def _limit_attributes(lim: dict) -> dict:
-    """A joint's limits as the templates write them: ``range`` (lower upper) where both are given,
-    ``effort`` and ``velocity`` where given ("" where not)."""
+    """A joint's limits as the templates write them: MJCF's ``range`` (lower upper) where both are
+    given and its ``effort``; URDF's joint type (revolute with a range, else continuous) and the
+    attributes of its <limit> (0 for an effort or a velocity the spec does not give: URDF's "none")."""
     both = "lower" in lim and "upper" in lim
+    num = lambda key: robotspec.numbers([lim[key]]) if key in lim else "0"  # noqa: E731
+    urdf = " ".join(f'{k}="{num(k)}"' for k in (("lower", "upper") if both else ()) + ("effort", "velocity"))
     return dict(range=robotspec.numbers([lim["lower"], lim["upper"]]) if both else "",
-                lower=robotspec.numbers([lim["lower"]]) if both else "", upper=robotspec.numbers([lim["upper"]]) if both else "",
                 effort=robotspec.numbers([lim["effort"]]) if "effort" in lim else "",
-                velocity=robotspec.numbers([lim["velocity"]]) if "velocity" in lim else "")
+                urdf_type="revolute" if both else "continuous",
+                urdf_limit=urdf if both or "effort" in lim or "velocity" in lim else "")
 
 
 def _few(names, most: int = 8) -> str:
