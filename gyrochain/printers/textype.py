@@ -36,6 +36,7 @@ _SYMBOLS = {"\u2248": r"\approx", "\u2264": r"\le", "\u2265": r"\ge", "\u2260": 
 _GREEK_CHARS = {chr(0x3B1 + i): n for i, n in enumerate(
     "alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi rho varsigma sigma tau upsilon "
     "phi chi psi omega".split())}
+_MATH_LETTERS = {"ê": r"\hat{e}", "ℓ": r"\ell"}  # letters of the paper's notation a formula may hold as written
 _SUPER = dict(zip("⁰¹²³⁴⁵⁶⁷⁸⁹", "0123456789"))
 _SUB = dict(zip("₀₁₂₃₄₅₆₇₈₉", "0123456789"))
 
@@ -83,7 +84,8 @@ def formula(text: str, params: dict) -> str:
                 if depth == 0:
                     break
                 k += 1
-            return "(" + formula(" ".join(toks[j + 1:k]), params) + ")", k + 1
+            # a bracket the run does not close is closed by the text after it, not here
+            return "(" + formula(" ".join(toks[j + 1:k]), params) + (")" if k < len(toks) else ""), k + 1
         return piece(toks[j]), j + 1
 
     def piece(tok: str) -> str:
@@ -91,6 +93,8 @@ def formula(text: str, params: dict) -> str:
             return tok
         if re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", tok):
             return ("\\" + tok) if tok in FUNCTIONS else _ident(tok, params)
+        if len(tok) == 1 and (tok in _MATH_LETTERS or _unicode(tok) is not None):  # λ, ², ₃, ≈, ê as written
+            return _MATH_LETTERS.get(tok) or _unicode(tok)
         return {"!=": r"\ne", "<=": r"\le", ">=": r"\ge", "-+": r"\mp", "+-": r"\pm", "*": r"\,", "<": "<", ">": ">"}.get(
             tok, tex_escape(tok) if tok not in "+-=/()[],;:." else tok)
 
@@ -113,7 +117,7 @@ def formula(text: str, params: dict) -> str:
         out.append(piece(tok))
         i += 1
     text_out = " ".join(out)
-    return re.sub(r" \^", "^", text_out).replace(" ,", ",")
+    return re.sub(r" ([\^_])\{", r"\1{", text_out).replace(" ,", ",")
 
 
 def _unicode(ch: str) -> str | None:
@@ -158,6 +162,11 @@ def _is_formula_token(tok: str, params: dict) -> bool:
     bare = tok.strip(",;.")
     if not bare:
         return False
+    if bare in _SYMBOLS:
+        return True  # ≈, ≠, ≤: a relation between formula words
+    if any(ch in _SUPER or ch in _SUB or ch in _GREEK_CHARS for ch in bare) and all(ch.isascii() and ch.isalnum() or _unicode(ch) or ch in _MATH_LETTERS
+                                                            or ch in "()" for ch in bare):
+        return True  # a²w², λ², m²: written with the characters of mathematics
     if any(ch in _OPERATORS or ch in "()" for ch in bare) or bare in ("-", "+", "-+", "+-", "!="):
         return True
     if bare in params:
@@ -236,14 +245,17 @@ def _plain(text: str, params: dict) -> str:
         while run and _split_tail(run[-1])[0].strip("()") in UNITS and len(run) > 1:
             units.insert(0, run.pop())
         operator = any(any(ch in _OPERATORS for ch in w) or re.search(r"[A-Za-z]\(", w) or w in ("-+", "+-", "!=")
-                       for w in run)
+                       or w.strip(",;.") in _SYMBOLS for w in run)
         lone = len(run) == 1 and _lone_symbol(_split_tail(run[0])[0], params)
         if run and (operator or lone) and not _only_units(run):
             body, tail = _split_tail(" ".join(run))
+            whole = " ".join(run)
+            # a bracket the run opens and the text closes ("(λ² = 0.3 kg m²/s along ê²₃)") stays the text's
+            opened = "(" if whole.startswith("(") and whole.count("(") > whole.count(")") else ""
             if units:  # "w = 198.09 rad/s,": the unit and the punctuation after the formula, as words
-                out.append("$" + formula(" ".join(run), params) + "$~" + " ".join(_word_text(u) for u in units))
+                out.append(opened + "$" + formula(whole[len(opened):], params) + "$~" + " ".join(_word_text(u) for u in units))
             else:
-                out.append("$" + formula(body, params) + "$" + tex_escape(tail))
+                out.append(opened + "$" + formula(body[len(opened):], params) + "$" + tex_escape(tail))
             i = j
             continue
         out.append(_word_text(words[i]))

@@ -163,7 +163,13 @@ def test_text_is_set_as_code_math_or_words():
         r"from \texttt{panda\_link0} in \texttt{panda.urdf}, $P_{\mathrm{cr}} = 2 k / l$")
     assert typeset("rotor at 555 rad/s; quotes `x_1 = {y}` & 50% of $5") == (
         r"rotor at 555 rad/s; quotes \texttt{x\_1 = \{y\}} \& 50\% of \$5")
-    assert typeset("axis ê²₃ at φ¹ ≈ 0") == r"axis ê$^{2}_{3}$ at $\varphi^{1}$ $\approx$ 0"
+    assert typeset("axis ê²₃ at φ¹ ≈ 0") == r"axis ê$^{2}_{3}$ at $\varphi^{1} \approx 0$"
+    # the description's own characters of mathematics, kept as written (they were set as "? ?"), and a
+    # bracket the formula opens and the text closes left to the text (it was closed twice)
+    assert typeset("the rotor (λ² = 0.3 kg m²/s along ê²₃) spins") == (
+        r"the rotor ($\lambda^{2} = 0.3 \mathrm{kg} m^{2} / s$ along ê$^{2}_{3}$) spins")
+    assert typeset("a²w² > 2 g A11/(m l)") == r"$a^{2} w^{2} > 2 g A_{11} / (m l)$"
+    assert typeset("ω = 3 rad/s, ≠ 0") == r"$\omega = 3$~rad/s, $\ne 0$"
     assert typeset("base.rotation (l1 does not stay vertical), e.g. 2 kg") == (
         r"\texttt{base.rotation} ($l^{1}$ does not stay vertical), e.g. 2 kg")
 
