@@ -499,6 +499,8 @@ def _tex(model: Model) -> dict:
         alpha_per_row=per_row([b["alpha"] for b in bodies], TEXT_WIDTH),
         offsets=[(k, texscene.angle_text(b.offset, doc.w, fold_numbers)) for k, b in enumerate(spec.bodies, start=1)
                  if b.offset != 0],
+        armature=[(k, doc.w.sum_text(fold_numbers(b.armature))) for k, b in enumerate(spec.bodies, start=1)
+                  if b.armature != 0],
         scene=texscene.scene(spec, doc.w, fold_numbers),
         # the one form of the angles' functions, stated where the equations are written in closed form
         form_text=texscene.FORM_TEXT.get(doc.form) if closed else None,
