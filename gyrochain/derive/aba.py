@@ -88,20 +88,20 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> Ar
         p = [P.let(f"pA{k}_{i + 1}", p[i]) for i in range(6)]
         U = [X[i][0] for i in range(6)]
         a = dyn.armature[k - 1] if dyn.armature else ZERO  # the motor's reflected inertia: Dᵏ = Uᵏ₁ + aᵏ
-        D[k] = U[0] if a.is_zero() else P.let(f"D{k}", U[0] + a)
+        armed = not a.is_zero()
+        D[k] = P.let(f"D{k}", U[0] + a) if armed else U[0]
         rD[k] = P.reciprocal(f"rD{k}", D[k])
         tau = dyn.torques[k - 1]
         u[k] = P.let(f"u{k}", tau - p[0])
         # U/Dᵏ (its first entry 1 without armature)
-        W[k] = [ONE if a.is_zero() else P.let(f"W{k}_1", U[0] * rD[k])] + [P.let(f"W{k}_{i + 1}", U[i] * rD[k]) for i in range(1, 6)]
+        W[k] = [P.let(f"W{k}_1", U[0] * rD[k]) if armed else ONE] + [P.let(f"W{k}_{i + 1}", U[i] * rD[k]) for i in range(1, 6)]
         if k == 1:
             break
         # what k…n passes to joint k−1: X − W Uᵀ and p + W u; without armature row and column 1 are
         # zero and the first moment is Lᵏ
-        first = 0 if a.is_zero() else 6
-        Xa = [[ZERO if (i == 0 or j == 0) and not first else X[i][j] - W[k][i] * U[j] for j in range(6)] for i in range(6)]
+        Xa = [[ZERO if (i == 0 or j == 0) and not armed else X[i][j] - W[k][i] * U[j] for j in range(6)] for i in range(6)]
         Xa = _name6(P, f"Ja{k}", Xa)
-        pa = [tau if not first else P.let(f"pa{k}_1", p[0] + W[k][0] * u[k])] + \
+        pa = [P.let(f"pa{k}_1", p[0] + W[k][0] * u[k]) if armed else tau] + \
             [P.let(f"pa{k}_{i + 1}", p[i] + W[k][i] * u[k]) for i in range(1, 6)]
         carried = _carry(P, J[k], s[k - 1], k, Xa, pa)
 

@@ -49,6 +49,7 @@ def fourier(coef: np.ndarray, t: np.ndarray, wf: float) -> tuple[np.ndarray, np.
     return q, qd, qdd
 
 
+NO_CONTROLS = "the spec has no control torque: no motion can be imposed (give a joint control = true)"
 MARGIN = 0.9  # the defaults keep this fraction of the way to a limit the spec gives
 
 
@@ -172,7 +173,7 @@ def excite(spec, cm, period: float = 10.0, harmonics: int = 5, phi_max=None, phi
     n = spec.n
     check_options(period, harmonics, samples, evaluations)
     if not spec.controls:
-        raise SpecError("excite", "the spec has no control torque: no motion can be imposed (give a joint control = true)")
+        raise SpecError("excite", NO_CONTROLS)
     centre, pmax, vmax, umax = spec_defaults(spec, center, phi_max, phidot_max, u_max)
     pb = _Problem(spec, cm, period, harmonics, samples, pmax, vmax, umax, centre, params)
     shape = (n if pb.full else len(spec.controls), harmonics, 2)
@@ -318,7 +319,7 @@ def run_excite(spec, source: str, values: dict, output: str, force: bool, limits
     check_options(options.get("period", 10.0), options.get("harmonics", 5), options.get("samples", 200),
                   options.get("evaluations", 1), experiment, recording)
     if not spec.controls:  # the cheap checks before the model is built
-        raise SpecError("excite", "the spec has no control torque: no motion can be imposed (give a joint control = true)")
+        raise SpecError("excite", NO_CONTROLS)
     if limits.get("u_max") is not None and len(spec.controls) == spec.n:
         raise SpecError("--u-max", f"applies to a chain with passive joints (excite designs their torques); every joint of "
                                    f"{spec.name} is driven, so it designs the joints' trajectories within --phi-max and "
