@@ -28,6 +28,8 @@ def document_names(tex: str, n: int) -> dict[str, sp.Symbol]:
         names[rf"\dot\varphi^{{{k}}}"] = sp.Symbol(f"phidot{k}")
         names[rf"\ddot\varphi^{{{k}}}"] = sp.Symbol(f"qdd{k}")
         names[rf"L^{{{k}}}"] = sp.Symbol(f"u{k}")
+    if n == 2:  # the quadratures call the angle of joint 2 φ
+        names[r"\varphi"], names[r"\dot\varphi"] = sp.Symbol("phi2"), sp.Symbol("phidot2")
     for i in range(1, 4):
         names[rf"\omega^{{0}}_{{{i}}}"] = sp.Symbol(f"omega0_{i}")
         names[rf"\varepsilon^{{0}}_{{{i}}}"] = sp.Symbol(f"epsilon0_{i}")
@@ -41,10 +43,29 @@ def document_names(tex: str, n: int) -> dict[str, sp.Symbol]:
             names[t] = sp.Symbol("param_" + name.replace(r"\_", "_"))
     for lhs, _ in recursion(tex):
         names[lhs] = sp.Symbol("rec" + re.sub(r"\W+", "_", lhs))
+    # the printed quantities by name (the equations of motion written with them) and the coefficients
+    # Q^{hr}_k, Γ^{r}_k that a long velocity group is written with
+    sep = "," if n > 9 else ""
+    for k in range(1, n + 1):
+        for r in range(1, n + 1):
+            names[f"M_{{{k}{sep}{r}}}"] = sp.Symbol(f"M_{k}_{r}")
+        for g in QUANTITIES:
+            names[f"{g}_{{{k}}}"] = sp.Symbol("q" + re.sub(r"\W+", "_", g) + f"_{k}")
+    for lhs in coefficients(tex):
+        names[lhs] = sp.Symbol("c" + re.sub(r"\W+", "_", lhs))
     offsets = next((ln for ln in tex.splitlines() if ln.startswith("Joint offsets")), "")
     for k, value in re.findall(r"\$\\delta\^\{(\d+)\} = ([^$]+)\$", offsets):  # the joints' offsets δᵏ, as printed
         names[rf"\delta^{{{k}}}"] = parse(value, names)
     return names
+
+
+QUANTITIES = ("Q", r"\Gamma", "G", r"\Pi", r"\mathring\Lambda", "W", r"\tau")
+COEFFICIENT = re.compile(r"(?:Q|\\Gamma)\^\{[\d,]+\}_\{\d+\}")  # Q^{hr}_k, Γ^{r}_k
+
+
+def coefficients(tex: str) -> list[str]:
+    """The coefficients a long velocity group is written with (Q^{hr}_k, Γ^{r}_k), as printed."""
+    return [lhs for lhs in equations(tex) if COEFFICIENT.fullmatch(lhs)]
 
 
 def recursion(tex: str) -> list[tuple[str, str]]:
@@ -249,7 +270,7 @@ def equations(tex: str) -> dict[str, str]:
         if r"\begin{pmatrix}" in block:  # the direction cosines' matrices (direction_cosines reads them)
             continue
         current = None
-        for chunk in re.split(r"\\\\", TAG.sub("", block)):
+        for chunk in re.split(r"\\\\\*?", TAG.sub("", block)):
             chunk = chunk.strip()
             if not chunk:
                 continue
@@ -368,12 +389,23 @@ def platform_motion(tex: str, names: dict) -> dict | None:
 
 
 def initial_state(tex: str) -> tuple[list[float], list[float]] | None:
-    r"""The scene's initial state, φ and φ̇, as printed; None where the spec gives none."""
-    m = re.search(r"Initial state \(\\texttt\{\[initial\]\}\): \$\\varphi = \((.*?)\)\$, \$\\dot\\varphi = \((.*?)\)\$", tex)
-    if m is None:
+    r"""The scene's initial state, φ and φ̇, as printed (a vector of equal entries said once, "$\varphi^k =
+    0.5$ for $k = 1, \dots, 64$"); None where the spec gives none."""
+    line = next((ln for ln in tex.splitlines() if ln.startswith("Initial state: ")), None)
+    if line is None:
         return None
-    read = lambda s: [float(v) for v in s.replace(r"\allowbreak", "").split(",")]  # noqa: E731
-    return read(m.group(1)), read(m.group(2))
+    out = []
+    for sym in (r"\varphi", r"\dot\varphi"):
+        m = re.search(r"(?<![\w\\])\$" + re.escape(sym) + r" = \((.*?)\)\$", line)
+        if m:
+            out.append([float(v) for v in m.group(1).replace(r"\allowbreak", "").split(",")])
+            continue
+        m = re.search(r"\$" + re.escape(sym) + r"\^k = ([^$]+)\$ for every (?:other )?\$k \\le (\d+)\$", line)
+        vec = [float(m.group(1))] * int(m.group(2))
+        for k, x in re.findall(r"(?<![\w\\])\$" + re.escape(sym) + r"\^\{(\d+)\} = ([^$]+)\$", line):
+            vec[int(k) - 1] = float(x)
+        out.append(vec)
+    return out[0], out[1]
 
 
 def motion_equations(tex: str) -> dict[int, tuple[str, str]]:
@@ -384,8 +416,46 @@ def motion_equations(tex: str) -> dict[int, tuple[str, str]]:
     for k, body in re.findall(r"^% the equation of motion of joint (\d+)\n\\begin\{equation\*\}\n\\begin\{split\}\n(.*?)\\end\{split\}",
                               tex, flags=re.S | re.M):
         text = " ".join(line.strip().lstrip("&").removesuffix(r"\\").replace(r"\quad", " ") for line in body.splitlines())
+        # a long chain's row, Σ_r M_kr φ̈ʳ, as its n terms
+        text = re.sub(r"\\sum_\{r=1\}\^\{(\d+)\} M_\{(\d+),?r\} \\, \\ddot\\varphi\^\{r\}",
+                      lambda m: " + ".join(f"M_{{{m.group(2)}{',' if int(m.group(1)) > 9 else ''}{r}}} \\, \\ddot\\varphi^{{{r}}}"
+                                     for r in range(1, int(m.group(1)) + 1)), text)
         left, eq, right = text.partition(" = ")
         if not eq or " = " in right:
             raise TexSyntaxError(f"the equation of joint {k} has not one '=': {text[:80]!r}")
         out[int(k)] = (left.strip(), right.strip())
     return out
+
+
+def check_at_one_state(tex: str) -> dict | None:
+    """The document's check at one state: the columns' heads, the rows (k, φ, φ̇, the groups, φ̈) as
+    numbers, M (a matrix, or its diagonal), and the stated asymmetry, eigenvalues and residual."""
+    if "% the check at one state" not in tex:
+        return None
+    part = tex.split("% the check at one state", 1)[1].split(r"\section*", 1)[0]
+    table = part.split(r"\begin{longtable}", 1)[1].split(r"\end{longtable}", 1)[0]
+    heads = re.findall(r"\$([^$]+)\$", table.split(r"\midrule", 1)[0])
+    rows = []
+    for line in table.split(r"\endfoot", 1)[1].splitlines():
+        cells = re.findall(r"\$([^$]*)\$", line)
+        if cells and cells[0] != r"\vdots":
+            rows.append([_number(c) for c in cells])
+    out = dict(heads=heads, rows=rows, M=None, entries={})
+    for k, r, v in re.findall(r"\$M_\{(\d)(\d)\} = ([^$]+)\$", part):
+        out["entries"][(int(k), int(r))] = _number(v)
+    m = re.search(r"M = \\begin\{pmatrix\}\n(.*?)\n\\end\{pmatrix\}", part, flags=re.S)
+    if m:
+        out["M"] = [[_number(c) for c in row.split("&")] for row in m.group(1).split(r"\\")]
+    facts = re.search(r"symmetric to \$(.*?)\$.*?from \$(.*?)\$ to \$(.*?)\$.*?= (.*?)\$ for this", part, flags=re.S)
+    out.update(asymmetry=_number(facts.group(1)), eig=(_number(facts.group(2)), _number(facts.group(3))),
+               residual=_number(facts.group(4)))
+    return out
+
+
+def _number(text: str) -> float:
+    """A printed number: -0.25, 4.3 \\cdot 10^{-5}, 2.0 \\times 10^{-16}, 0."""
+    text = text.strip().replace(" ", "")
+    m = re.fullmatch(r"(-?[\d.]+)(?:\\(?:cdot|times)10\^\{(-?\d+)\})?", text)
+    if not m:
+        raise TexSyntaxError(f"not a number: {text!r}")
+    return float(m.group(1)) * (10.0 ** int(m.group(2)) if m.group(2) else 1.0)

@@ -10,7 +10,12 @@ LaTeX shows each quantity in one of three canonical forms, each unique for the f
   ``f``  multiple angles: cos and sin of integer combinations m·φ = m₁φ¹ + m₂φ² + … (the Fourier
          form, cₖ = (zₖ + 1/zₖ)/2, sₖ = (zₖ − 1/zₖ)/2i),
 
-whichever has the fewest terms (ties go to c, then s, then f).  The reduction is exact: the
+  ``C``, ``S``  the forms c and s in the cumulative angles of runs of parallel axes: where joint k's
+         axis is parallel to joint k−1's (sin θᵏ = 0), the bodies of the run turn by sums such as
+         ψ = φ² + φ³ + φ⁴ (φᵏ − ψ for an axis that points the other way), and cos ψ, sin ψ take the
+         place of cos φᵏ, sin φᵏ (a planar arm's mass matrix has cos(φ² + φ³), not its four products);
+
+whichever has the fewest terms (ties go to c, then s, then C, S, f).  The reduction is exact: the
 coefficients are exact numbers until the end, where each is folded to its correctly rounded
 double, and a coefficient that is zero in exact arithmetic is not shown.
 """
@@ -26,7 +31,7 @@ import sympy as sp
 
 from .exact import Surd, const_of, exact, to_float, to_sympy
 
-FORMS = ("c", "s", "f")
+FORMS = ("c", "s", "C", "S", "f")
 
 
 @dataclass(frozen=True)
@@ -279,23 +284,36 @@ def _folded(table: dict) -> dict:
     return {k: v for k, v in table.items() if not isinstance(v, Surd) or to_float(v) != 0.0}
 
 
-def canonical(expr: sp.Expr, phis: list, form: str | None = None) -> Canonical:
-    """``expr`` (cos φᵏ, sin φᵏ as sympy functions; irrational constants as exact.ConstSymbols)
-    in the canonical form with the fewest terms, or in ``form`` (the LaTeX keeps one form per
-    document)."""
-    table = _split(expr, phis)
-    has_trig = any(any(exps) for exps, _ in table)
-    if not has_trig:
-        folded = _folded(table)
-        out = sp.Add(*(to_sympy(v) * rest for (_, rest), v in folded.items()))
-        return Canonical(out, None, len(folded), {})
-    n = len(phis)
-    forms = {"c": _folded(_eliminate(table, 1)), "s": _folded(_eliminate(table, 0)), "f": _folded(_fourier(table, n))}
-    counts = {k: len(v) for k, v in forms.items()}
-    if form is None:
-        form = min(FORMS, key=lambda k: (counts[k], FORMS.index(k)))
+def _cumulative(expr: sp.Expr, phis: list, links: dict) -> tuple[sp.Expr, list, dict]:
+    """``expr`` in the cumulative angles ψ of the runs of parallel axes (``links``: φᵏ → (φᵏ⁻¹, σ),
+    σ = cos θᵏ = ±1): ψᵏ = φᵏ + σψᵏ⁻¹ along a run, ψ = φ at its start, so that φᵏ = ψᵏ − σψᵏ⁻¹ and
+    cos φᵏ, sin φᵏ are the difference formulas.  Returns the expression in the ψ, the ψ, and each
+    ψ's sum of angles."""
+    psis, sums = [], {}
+    for phi in phis:
+        psi = sp.Symbol("psi_" + phi.name[4:], real=True)
+        prev = links.get(phi)
+        sums[psi] = phi + (prev[1] * sums[_psi_of(prev[0])] if prev and _psi_of(prev[0]) in sums else 0)
+        psis.append(psi)
+    rep = {}
+    for phi, psi in zip(phis, psis):
+        prev = links.get(phi)
+        if prev is None or _psi_of(prev[0]) not in sums:
+            rep[sp.cos(phi)], rep[sp.sin(phi)] = sp.cos(psi), sp.sin(psi)
+            continue
+        q, sigma = _psi_of(prev[0]), prev[1]
+        rep[sp.cos(phi)] = sp.cos(psi) * sp.cos(q) + sigma * sp.sin(psi) * sp.sin(q)
+        rep[sp.sin(phi)] = sp.sin(psi) * sp.cos(q) - sigma * sp.cos(psi) * sp.sin(q)
+    return expr.xreplace(rep), psis, sums
+
+
+def _psi_of(phi: sp.Symbol) -> sp.Symbol:
+    return sp.Symbol("psi_" + phi.name[4:], real=True)
+
+
+def _terms(form: str, table: dict, phis: list) -> sp.Expr:
     terms = []
-    for key, v in forms[form].items():
+    for key, v in table.items():
         trig, rest = key
         if form == "f":
             kind, m = trig
@@ -304,4 +322,32 @@ def canonical(expr: sp.Expr, phis: list, form: str | None = None) -> Canonical:
         else:
             factor = sp.Mul(*(f(phi) ** e for k, phi in enumerate(phis) for f, e in ((sp.cos, trig[2 * k]), (sp.sin, trig[2 * k + 1]))))
         terms.append(to_sympy(v) * factor * rest)
-    return Canonical(sp.Add(*terms), form, counts[form], counts)
+    return sp.Add(*terms)
+
+
+def canonical(expr: sp.Expr, phis: list, form: str | None = None, links: dict | None = None) -> Canonical:
+    """``expr`` (cos φᵏ, sin φᵏ as sympy functions; irrational constants as exact.ConstSymbols)
+    in the canonical form with the fewest terms, or in ``form``.  ``links`` (φᵏ → (φᵏ⁻¹, cos θᵏ)
+    for each axis parallel to the one before) allows the cumulative forms C and S."""
+    table = _split(expr, phis)
+    has_trig = any(any(exps) for exps, _ in table)
+    if not has_trig:
+        folded = _folded(table)
+        out = sp.Add(*(to_sympy(v) * rest for (_, rest), v in folded.items()))
+        return Canonical(out, None, len(folded), {})
+    n = len(phis)
+    forms = {"c": _folded(_eliminate(table, 1)), "s": _folded(_eliminate(table, 0)), "f": _folded(_fourier(table, n))}
+    linked = [phi for phi in phis if phi in links and links[phi][0] in phis] if links else []
+    if linked:
+        moved, psis, sums = _cumulative(expr, phis, links)
+        cum = _split(moved, psis)
+        forms.update(C=_folded(_eliminate(cum, 1)), S=_folded(_eliminate(cum, 0)))
+    counts = {k: len(v) for k, v in forms.items()}
+    if form is None or form not in forms:
+        form = min(forms, key=lambda k: (counts[k], FORMS.index(k)))
+    if form in ("C", "S"):
+        out = _terms(form, forms[form], psis).xreplace({sp.cos(p): sp.cos(sums[p]) for p in psis}
+                                                      | {sp.sin(p): sp.sin(sums[p]) for p in psis})
+    else:
+        out = _terms(form, forms[form], phis)
+    return Canonical(out, form, counts[form], counts)

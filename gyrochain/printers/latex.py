@@ -17,23 +17,10 @@ from ..derive.assemble import Model
 from ..derive.exact import Fraction, is_negative, is_unit, to_float
 from ..derive.kinematics import Kinematics, platform_symbols
 from ..chainspec.spec import T as TIME
-from . import texlisting, texrecursion, texscene, texsources, textype
+from . import texcheck, texeom, texlisting, texrecursion, texscene, texsources, textype
 from .texlayout import DISPLAY_WIDTH, TEXT_WIDTH, Numbers, TexEquation, block, per_row, term_counts
 from .common import one_line, tex_escape
-from .texterms import TexWriter, breaks, join, number_text, param_tex, visible
-
-
-def fold_numbers(expr: sp.Expr) -> sp.Expr:
-    """Evaluate every subexpression made of numbers only (sqrt(3)/2, cos(3/10), …) to a Float;
-    rationals stay exact (they print as the spec wrote them)."""
-    if expr.is_Atom:
-        return expr
-    if expr.is_number:
-        return expr if expr.is_Rational else sp.Float(expr.evalf(30), 30)
-    args = [fold_numbers(a) for a in expr.args]
-    return expr.func(*args) if any(a is not b for a, b in zip(args, expr.args)) else expr
-
-
+from .texterms import TexWriter, breaks, fold_numbers, join, number_text, param_tex, visible
 
 
 def writer_for(spec, kin: Kinematics) -> TexWriter:
@@ -84,31 +71,36 @@ def _angles(expr: sp.Expr) -> list:
     return sorted(found, key=lambda s: int(s.name[4:]))
 
 
+def parallel_links(spec, kin) -> dict:
+    """φᵏ → (φᵏ⁻¹, cos θᵏ) for each joint whose axis is parallel to the one before (sin θᵏ = 0,
+    no offset): the runs whose bodies turn by sums of angles (trigform's forms C and S)."""
+    out = {}
+    for k in range(2, spec.n + 1):
+        b = spec.bodies[k - 1]
+        if sp.sin(b.theta) == 0 and b.offset == 0:
+            out[kin.phi[k]] = (kin.phi[k - 1], int(sp.cos(b.theta)))
+    return out
+
+
 class Doc:
-    """One document's printing: its writer and the one trigonometric form it keeps (trigform.py),
-    chosen as the form with the fewest terms over the equations of motion."""
+    """One document's printing: its writer, and each quantity in its own normal form
+    (trigform.py): the form with the fewest terms, so that the same function prints the same way
+    in every document."""
 
-    def __init__(self, writer: TexWriter):
-        self.w, self.form, self.counts = writer, None, {}
+    def __init__(self, writer: TexWriter, links: dict | None = None):
+        self.w, self.links = writer, links or {}
         self.width = DISPLAY_WIDTH  # ems of a display's line (texterms.visible)
-        self._seen: dict = {}  # expr → its Canonical in its own shortest form (from choose)
-
-    def choose(self, exprs) -> None:
-        totals = dict.fromkeys(trigform.FORMS, 0)
-        for e in exprs:
-            can = self._seen[e] = trigform.canonical(e, _angles(e))
-            for f in totals:
-                totals[f] += can.terms_by_form.get(f, can.terms)
-        self.form = min(trigform.FORMS, key=lambda f: (totals[f], trigform.FORMS.index(f)))
-        self.counts = totals
+        self._seen: dict = {}  # expr → its Canonical
+        self.used: dict = {}  # form → how many printed quantities have it
 
     def canonical(self, expr: sp.Expr) -> trigform.Canonical:
-        """``expr`` in the document's form (reduced once: choose's result is reused when its own
-        shortest form is the document's)."""
+        """``expr`` in its normal form (reduced once)."""
         can = self._seen.get(expr)
-        if can is not None and can.form in (None, self.form):
-            return can
-        return trigform.canonical(expr, _angles(expr), self.form)
+        if can is None:
+            can = self._seen[expr] = trigform.canonical(expr, _angles(expr), links=self.links)
+            if can.form is not None:
+                self.used[can.form] = self.used.get(can.form, 0) + 1
+        return can
 
     def lines(self, expr: sp.Expr, width: float = 0, expand: bool = True, count: int | None = None) -> Shown:
         """A sum printed term by term and broken into lines: expanded into the document's
@@ -190,6 +182,25 @@ def _bracketed(inner: list[str], factor: str, width: float) -> list[str]:
 
 T10_MAX_TERMS = 20  # T₁ + T₀ is written out up to this many terms of the program's algebra (ship_gimbal: 15)
 CLOSED_FORM_MAX_N_GENERAL = 2  # the same for a spec with platform motion or loads (more symbols)
+
+
+CLOSED_FORM_MAX_TERMS = 1000  # M's upper triangle in the program's algebra, before the trigonometric reduction
+
+
+def _closed(spec, kin, dyn) -> bool:
+    """Whether the document prints closed forms: up to n = 3 always (n = 2 with a moving
+    platform, whose symbols multiply the terms), and for a longer chain without the loop form and
+    without platform motion when its mass matrix is small enough to reduce (a UR5's upper triangle
+    has 286 terms before the reduction, a Panda's 3,258: its document shows the recursion)."""
+    n = spec.n
+    if dyn.loops is not None:
+        return False
+    if spec.general and kin.platform is not None:
+        return n <= CLOSED_FORM_MAX_N_GENERAL
+    if n <= CLOSED_FORM_MAX_N:
+        return True
+    raw = kin.prog.inline_poly([dyn.M[k][r] for k in range(n) for r in range(k, n)])
+    return sum(len(p.terms) for p in raw) <= CLOSED_FORM_MAX_TERMS
 
 
 def _split_platform(prog, p: Poly, platform: set) -> tuple[sp.Expr, sp.Expr]:
@@ -311,6 +322,32 @@ def _bodies(spec, kin, doc: Doc) -> list[dict]:
             for k, b in enumerate(spec.bodies, start=1)]
 
 
+GROUP_MAX_LINES = 3  # a velocity group longer than this is printed by its coefficients
+
+
+def _by_coefficients(doc: Doc, name: str, k: int, expr: sp.Expr, gens: list) -> tuple[TexEquation, list]:
+    """A velocity group as the sum of its coefficients times the monomials of φ̇ (Q_k =
+    Σ_{h≤r} Q^{hr}_k φ̇ʰφ̇ʳ, Γ_k = Σ_r Γ^r_k φ̇ʳ): the group's line, and each coefficient in its own
+    normal form as a named quantity."""
+    n = len(gens)
+    sep = "," if n > 9 else ""
+    groups: dict = {}
+    for term in sp.Add.make_args(doc.canonical(expr).expr):
+        coeff, mono = term.as_independent(*gens, as_Add=False)
+        groups[mono] = groups.get(mono, 0) + coeff
+    pieces, rows, terms = [], [], 0
+    for mono in sorted(groups, key=lambda m: sp.Poly(m, *gens).monoms()[0][::-1] if m != 1 else ()):
+        can = doc.canonical(sp.expand(groups[mono]))
+        if can.terms == 0:
+            continue
+        index = sep.join(str(i + 1) for i, e in enumerate(sp.Poly(mono, *gens).monoms()[0]) for _ in range(e))
+        cname = f"{name}^{{{index}}}_{{{k}}}"
+        rows.append(TexEquation(cname, doc.lines(can.expr, expand=False, count=can.terms)))
+        pieces.append(cname + r" \, " + doc.w.term(mono)[1])
+        terms += can.terms
+    return TexEquation(f"{name}_{{{k}}}", Shown.of(breaks(pieces, 0.8 * doc.width) if pieces else ["0"], terms)), rows
+
+
 def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: bool = False) -> dict:
     """M, Q, Γ, G, Π, Λ̊, W, τ, U and k as printed: closed forms (small n) or the recursion's
     quantities (their definitions listed in the recursion section)."""
@@ -322,11 +359,21 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
     if pair_form:  # per joint S^k then z^k (six components each), as _mass_targets lists them
         names = [f"{v}^{{{k + 1}}}_{{{i + 1}}}" for k in range(n) for v in (r"\xi", "z") for i in range(6)]
     else:
-        names = [f"M_{{{k + 1}{r + 1}}}" for k in range(n) for r in range(k, n)]
+        names = [texeom.m_name(k + 1, r + 1, n) for k in range(n) for r in range(k, n)]
+    coefficients = {"Q": [], "Gamma": []}
+
+    def velocity_group(key, name, k, v):
+        shown = grouped(v)
+        if not closed or len(shown) <= GROUP_MAX_LINES:
+            return TexEquation(f"{name}_{{{k}}}", shown)
+        eq, rows = _by_coefficients(doc, name, k, v, gens)
+        coefficients[key] += rows
+        return eq
+
     out = dict(
         M=[TexEquation(lhs, lines(v)) for lhs, v in zip(names, vals["M"])],
-        Q=[TexEquation(f"Q_{{{k + 1}}}", grouped(v)) for k, v in enumerate(vals["Q"])],
-        Gamma=[TexEquation(rf"\Gamma_{{{k + 1}}}", grouped(v)) for k, v in enumerate(vals["Gamma"])],
+        Q=[velocity_group("Q", "Q", k + 1, v) for k, v in enumerate(vals["Q"])],
+        Gamma=[velocity_group("Gamma", r"\Gamma", k + 1, v) for k, v in enumerate(vals["Gamma"])],
         G=[TexEquation(f"G_{{{k + 1}}}", lines(v)) for k, v in enumerate(vals["G"])],
         Pi=[TexEquation(rf"\Pi_{{{k + 1}}}", grouped(v)) for k, v in enumerate(vals["Pi"] or [])],
         Lamdot=[TexEquation(rf"\mathring\Lambda_{{{k + 1}}}", lines(v)) for k, v in enumerate(vals["Lamdot"])],
@@ -336,52 +383,12 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
     counts = term_counts([(sym, sum(eq.lines.terms or 0 for eq in out[key])) for sym, key in
                            (("M", "M"), ("Q", "Q"), (r"\Gamma", "Gamma"), ("G", "G"))])
     blocks = {key: block(eqs) if eqs else None for key, eqs in out.items()}
+    blocks.update({key + "_coefficients": block(rows) if rows else None for key, rows in coefficients.items()})
     U = TexEquation("U", lines(vals["U"]), "22")
     T10 = TexEquation("T_{1} + T_{0}", lines(vals["T10"])) if vals.get("T10") is not None else None
     K = TexEquation(r"\ell", grouped(vals["K"]), "27") if vals["K"] is not None else None
     printed = sum(eq.lines.terms or 0 for key in ("M", "Q", "Gamma", "G") for eq in out[key]) if closed else None
     return dict(blocks, U=U, T10=T10, K=K, term_counts=counts, printed_terms=printed)
-
-
-EOM_MAX_LINES = 6  # the equations of motion are written out when each fits this many lines
-
-
-def _assembled(spec, vals: dict, doc: Doc, kin) -> dict:
-    """Each joint's equation of motion written out, Σᵣ M_kr φ̈ʳ + Q_k + Γ_k (+ Π_k + Λ̊_k) = G_k + Lᵏ
-    (+ W_k + τ_k), the left side collected by φ̈ʳ and the monomials of φ̇: the lines of each (the
-    right side's first line starts with "= "), or the reason they are not written out."""
-    n = spec.n
-    acc = doc.accelerations(n)
-    gens = acc + kin.phidot[1:]
-    joint = dict(vals["joint"])
-    rows = []
-    for k in range(n):
-        left = sum((vals["M"][_m_index(n, k, r)] * acc[r] for r in range(n)), sp.Integer(0))
-        extra = [vals[key][k] for key in ("Pi", "Lamdot") if vals[key]]
-        left += vals["Q"][k] + vals["Gamma"][k] + sum(extra, sp.Integer(0))
-        right = vals["G"][k] + (vals["Phi"][k] if vals["Phi"] else 0) + joint.get(k, 0)
-        pieces = doc.grouped_pieces(left, gens, free_last=True)
-        rhs = doc.w.pieces(fold_numbers(doc.canonical(sp.sympify(right)).expr)) if right != 0 else []
-        if k + 1 in spec.controls:
-            rhs = [p for p in rhs if p != "0"] + [rf"L^{{{k + 1}}}"]
-        rhs = rhs or ["0"]
-        lines = breaks(pieces, doc.width)
-        lines[1:] = [r"\quad " + ln for ln in lines[1:]]
-        right_lines = breaks(rhs, doc.width - 2)
-        if visible(lines[-1]) + visible(right_lines[0]) + 2 < doc.width and len(right_lines) == 1:
-            lines[-1] += " = " + right_lines[0]
-        else:
-            lines += ["\\quad = " + right_lines[0]] + ["\\quad " + ln for ln in right_lines[1:]]
-        if len(lines) > EOM_MAX_LINES:
-            return dict(rows=None, reason=f"the equation of joint {k + 1} alone would take {len(lines)} lines")
-        rows.append(dict(k=k + 1, lines=lines))
-    return dict(rows=rows, count="one equation per joint" if n > 1 else "one equation")
-
-
-def _m_index(n: int, k: int, r: int) -> int:
-    """Where M_kr is in the printed upper triangle (k, r from 0)."""
-    k, r = min(k, r), max(k, r)
-    return k * n - k * (k - 1) // 2 + (r - k)
 
 
 def _quadratures(model: Model, doc: Doc) -> dict | None:
@@ -390,6 +397,11 @@ def _quadratures(model: Model, doc: Doc) -> dict | None:
         return None
     kin = model.kin
     J, C, A, U2, beta = kin.prog.inline(model.quad.terms, symbolic=True)
+    # written in φ, the name the quadratures give the angle of joint 2 (J(φ), not J in φ²)
+    w = doc.w
+    inner = Doc(TexWriter({**w.names, kin.phi[2]: r"\varphi", kin.phidot[2]: r"\dot\varphi"}, w.rank, w.angles), doc.links)
+    inner._seen, inner.used = doc._seen, doc.used  # the same forms, counted once for the document
+    doc = inner
     return dict(J=tuple(doc.lines(J)), C=tuple(doc.lines(C)), A=tuple(doc.lines(A)), U=tuple(doc.lines(U2)),
                 beta=tuple(doc.lines(beta)), nikolai=model.quad.nikolai, U_const=not (U2.free_symbols & {kin.phi[2]}))
 
@@ -408,7 +420,7 @@ def _jacobi(model: Model, doc: Doc, closed: bool):
 def _joined(reasons, params: dict) -> str:
     """The facts' reasons (plain text, as the CLI prints them) in the document's type (textype):
     O1, l1 as $O^1$, $l^1$, a field such as body[2].force[1] as code."""
-    return textype.typeset("; ".join(reasons), params)
+    return textype.typeset("; ".join(textype.in_words(reasons)), params)
 
 
 def integral_statements(model: Model) -> dict:
@@ -465,11 +477,9 @@ def _tex(model: Model) -> dict:
     stages = model.symbolic if spec.general else model
     kin, dyn = stages.kin, stages.dyn
     ints = model.symbolic.ints if spec.general else model.integrals
-    closed = n <= (CLOSED_FORM_MAX_N_GENERAL if spec.general else CLOSED_FORM_MAX_N)
-    doc = Doc(writer_for(spec, kin))
+    closed = _closed(spec, kin, dyn)
+    doc = Doc(writer_for(spec, kin), parallel_links(spec, kin))
     vals = _values(spec, kin, dyn, ints, closed)
-    if closed:  # one trigonometric form for the whole document: the shortest over the equations of motion
-        doc.choose(vals["M"] + vals["Q"] + vals["Gamma"] + vals["G"] + (vals["Pi"] or []))
     pair_form = dyn.loops is not None
     recursion, aux = [], False
     if not closed:  # the printed quantities in the recursion's named quantities (Appendix A)
@@ -493,8 +503,9 @@ def _tex(model: Model) -> dict:
         recursion=texrecursion.paragraphs(recursion),
         recursion_gamma=any(r.lhs.startswith(r"\Gamma^{") for r in recursion),
         recursion_aux=aux,
-        eom=_assembled(spec, vals, doc, kin) if closed else dict(rows=None, reason=""),
+        eom=texeom.eom(spec, vals, doc, kin, eqs, closed, pair_form),
         quad=_quadratures(model, doc),
+        check=texcheck.check(spec, kin, dyn, texcheck.groups(spec, kin, dyn, vals["Pi"] is not None)),
         bodies=bodies,
         alpha_per_row=per_row([b["alpha"] for b in bodies], TEXT_WIDTH),
         offsets=[(k, texscene.angle_text(b.offset, doc.w, fold_numbers)) for k, b in enumerate(spec.bodies, start=1)
@@ -503,8 +514,6 @@ def _tex(model: Model) -> dict:
                   if b.armature != 0],
         scene=texscene.scene(spec, doc.w, fold_numbers),
         # the one form of the angles' functions, stated where the equations are written in closed form
-        form_text=texscene.FORM_TEXT.get(doc.form) if closed else None,
-        form_counts=texscene.form_counts(doc.form, doc.counts),
         g=doc.w.sum_text(fold_numbers(spec.g)),
         closed=closed,
         pair_form=pair_form,
@@ -516,17 +525,25 @@ def _tex(model: Model) -> dict:
         base=texsources.base_parameters(model),
         references=texsources.reference_texts(model, __version__),
     )
+    out["form_text"] = texscene.forms_text(doc.used)
     out["notation"] = texscene.notation(model, out, [doc.w.name(p) for p in spec.params])
     return out
 
 
 def initial_text(spec) -> str:
-    """The spec's [initial] state as the document states it (E and k of the quadratures are its values)."""
+    """The spec's initial state as the document states it (E and k of the quadratures are its
+    values); a vector whose entries are all the same is said once."""
     if spec.initial is None:
-        return r"The spec gives no initial state (\texttt{[initial]})."
-    fmt = lambda v: r",\allowbreak ".join(f"{float(x):.10g}" for x in v)  # noqa: E731  (a long chain's state wraps)
-    return (rf"Initial state (\texttt{{[initial]}}): $\varphi = ({fmt(spec.initial['phi'])})$, "
-            rf"$\dot\varphi = ({fmt(spec.initial['phidot'])})$.")
+        return "The spec gives no initial state."
+
+    def vec(sym, v):
+        values = [f"{float(x):.10g}" for x in v]
+        common = max(values, key=values.count)
+        if len(values) > 8 and values.count(common) > len(values) - 4:  # a long chain's state: the exceptions, then the rest
+            odd = [rf"${sym}^{{{k}}} = {x}$, " for k, x in enumerate(values, start=1) if x != common]
+            return "".join(odd) + rf"${sym}^k = {common}$ for {'every other' if odd else 'every'} $k \le {len(values)}$"
+        return rf"${sym} = (" + r",\allowbreak ".join(values) + ")$"  # a long chain's state wraps
+    return "Initial state: " + vec(r"\varphi", spec.initial["phi"]) + ", " + vec(r"\dot\varphi", spec.initial["phidot"]) + "."
 
 
 PAPERS = {"a4": "25mm", "letter": "1in"}  # generate --paper: the page and its margins
@@ -560,4 +577,8 @@ class LatexTarget:
             paper=context["paper"], margin=PAPERS[context["paper"]],
             listing=texlisting.listing(spec.source.rstrip("\n")),
         )
-        return {f"{spec.name}.tex": env.get_template("model.tex.jinja").render(tex)}
+        template = env.get_template("model.tex.jinja")
+        first = template.render(tex)
+        tex["notation"] = texscene.used_rows(tex["notation"], first)  # only the symbols the document writes
+        tex["eq"] = Numbers()  # the equations numbered afresh
+        return {f"{spec.name}.tex": template.render(tex)}

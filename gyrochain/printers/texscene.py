@@ -2,6 +2,8 @@
 platform's motion, the parameters) and the notation table."""
 from __future__ import annotations
 
+import re
+
 import sympy as sp
 
 from ..derive.assemble import Model
@@ -9,20 +11,23 @@ from .common import tex_escape
 from .texterms import number_text
 
 FORM_TEXT = {
-    "c": r"products of $\cos\varphi^k$ and $\sin\varphi^k$ with no $\sin^2\varphi^k$ ($\sin^2\varphi^k = 1 - \cos^2\varphi^k$ used)",
-    "s": r"products of $\cos\varphi^k$ and $\sin\varphi^k$ with no $\cos^2\varphi^k$ ($\cos^2\varphi^k = 1 - \sin^2\varphi^k$ used)",
-    "f": r"cosines and sines of integer combinations of the angles, such as $\cos(\varphi^1 - 2\varphi^2)$, each written with its first angle's multiple positive (no products of them)",
+    "c": r"products of $\cos\varphi^k$ and $\sin\varphi^k$ with no $(\sin\varphi^k)^2$ (it is $1 - (\cos\varphi^k)^2$)",
+    "s": r"products of $\cos\varphi^k$ and $\sin\varphi^k$ with no $(\cos\varphi^k)^2$ (it is $1 - (\sin\varphi^k)^2$)",
+    "C": r"the same with no $\sin^2$, in the sums of the angles of parallel axes, such as $\cos(\varphi^{2} + \varphi^{3})$, where consecutive axes are parallel",
+    "S": r"the same with no $\cos^2$, in the sums of the angles of parallel axes",
+    "f": r"cosines and sines of integer combinations of the angles, such as $\cos(\varphi^{1} - 2\varphi^{2})$, each with its first angle's multiple positive (no products of them)",
 }
 
-FORM_NAMES = {"c": r"with no $\sin^2$", "s": r"with no $\cos^2$", "f": "in multiple angles"}
 
-
-def form_counts(form: str | None, counts: dict) -> str:
-    """Why this form: the term counts of M, Q, Γ, G in it and in the other two."""
-    if form is None:
-        return ""
-    others = " and ".join(f"{counts[f]} {FORM_NAMES[f]}" for f in counts if f != form)
-    return rf"$M$, $Q$, $\Gamma$, $G$ have {counts[form]} terms in this form, {others}"
+def forms_text(used: dict) -> str | None:
+    """The normal forms the document's quantities are printed in, and how many of each: every
+    quantity is in the form with the fewest terms (ties in the order of FORM_TEXT)."""
+    if not used:
+        return None
+    order = [f for f in FORM_TEXT if used.get(f)]
+    listed = "; ".join(f"{FORM_TEXT[f]} ({used[f]} {'quantity' if used[f] == 1 else 'quantities'})" for f in order)
+    return ("Each function of the joint angles is written in the one of these normal forms that has the fewest terms "
+            "(a tie goes to the first), so that a function prints the same in every document: " + listed + ".")
 
 
 def angle_text(theta: sp.Expr, w, fold) -> str:
@@ -145,7 +150,7 @@ def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str
     if doc["momentum_intro"] is not None:
         rows.append((r"$\mathbf K_{O^1}$, $\ell$", r"kg\,m$^2$/s", r"the angular momentum about $O^1$; the value of the momentum (27)"))
     if doc["quad"] is not None:
-        rows.append((r"$\psi$, $\psi_0$", "rad", r"$\psi = \varphi^1$ and $\varphi = \varphi^2$ in the quadratures (28)--(30); "
+        rows.append((r"$\psi$, $\psi_0$", "rad", r"$\psi = \varphi^{1}$ and $\varphi = \varphi^{2}$ in the quadratures (28)--(30); "
                      r"$\varphi_0$, $\psi_0$ initial angles; $\varphi_-$, $\varphi_+$ turning points (simple roots of $\mathcal E(\varphi)J - K^2$)"))
         rows.append((r"$J$, $C$", r"kg\,m$^2$", r"the coefficients of (28), (29)"))
         rows.append((r"$\mathcal E(\varphi)$", "J", r"$2(E + U)$, the right side of (28)"))
@@ -160,3 +165,18 @@ def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str
         rows.append((", ".join(f"${w}$" for w in param_names), "as the spec",
                      r"symbolic parameters (table below; set in sans serif)"))
     return rows
+
+
+def used_rows(rows: list, tex: str) -> list:
+    """The notation rows whose symbols the rendered document uses outside the table: a symbol
+    counts where its head (without its indices) is written with an index as in the row, or alone."""
+    body = re.sub(r"\\begin\{longtable\}\{@\{\}>.*?\\end\{longtable\}", " ", tex, count=1, flags=re.S)
+    return [row for row in rows if any(_written(sym, body) for sym in re.findall(r"\$([^$]+)\$", row[0]))]
+
+
+def _written(sym: str, body: str) -> bool:
+    head = re.split(r"[\^_]", sym, maxsplit=1)[0].strip()
+    indexed = head != sym.strip()
+    before = r"(?<![A-Za-z\\])(?<!\\mathcal )(?<!\\mathbf )(?<!\\boldsymbol)(?<!\\dot)(?<!\\ddot)"
+    pattern = before + re.escape(head) + (r"(?:\s*[\^_]|(?![A-Za-z{]))" if indexed else r"(?![A-Za-z])")
+    return re.search(pattern, body) is not None

@@ -277,3 +277,14 @@ def param_tex(name: str) -> str:
         return head
     tail = tail if tail.isdigit() else rf"\mathrm{{{tex_escape(tail)}}}"
     return f"{head}_{{{tail}}}"
+
+
+def fold_numbers(expr: sp.Expr) -> sp.Expr:
+    """Evaluate every subexpression made of numbers only (sqrt(3)/2, cos(3/10), …) to a Float;
+    rationals stay exact (they print as the spec wrote them)."""
+    if expr.is_Atom:
+        return expr
+    if expr.is_number:
+        return expr if expr.is_Rational else sp.Float(expr.evalf(30), 30)
+    args = [fold_numbers(a) for a in expr.args]
+    return expr.func(*args) if any(a is not b for a, b in zip(args, expr.args)) else expr

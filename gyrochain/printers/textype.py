@@ -281,3 +281,39 @@ def _only_units(run: list[str]) -> bool:
     """"555 rad/s": a number and its unit are words, not a formula."""
     bare = [w.strip(",;.()") for w in run]
     return all(re.fullmatch(r"\d+(\.\d+)?", w) or w in UNITS for w in bare) and any(w in UNITS for w in bare)
+
+
+_FIELD_WORDS = [  # the facts' field names (the CLI prints them as the spec's keys) in the document's words
+    (r"base \(the platform moves\)", "the platform's motion"),
+    (r"base\.rotation \((.*)\)", r"the platform's rotation (\1)"),
+    (r"base\.position \((.*)\)", r"the platform's translation (\1)"),
+    (r"body\[(\d+)\]\.lambda \(changes in time\)", r"the rotor of body \1, spinning up"),
+    (r"body\[(\d+)\]\.damping", r"the damper of joint \1"),
+    (r"body\[(\d+)\]\.spring", r"the spring of joint \1"),
+    (r"body\[(\d+)\]\.torque", r"the torque expression of joint \1"),
+    (r"body\[(\d+)\]\.force\[(\d+)\]", r"force \2 on body \1"),
+    (r"body\[(\d+)\]\.moment\[(\d+)\]", r"moment \2 on body \1"),
+]
+
+
+def in_words(reasons: list[str]) -> list[str]:
+    """The facts' reasons with their field names said in words ("the damper of joint 3"), and a
+    run of the same kind for several joints said once ("the dampers of joints 1, 2, 3")."""
+    out: list[str] = []
+    runs: dict = {}
+    for r in reasons:
+        for pattern, words in _FIELD_WORDS:
+            if re.fullmatch(pattern + r"(?: \(.*\))?", r) or re.match(pattern, r):
+                r = re.sub(pattern, words, r, count=1)
+                break
+        m = re.fullmatch(r"the (damper|spring|torque expression) of joint (\d+)", r)
+        if m:
+            if m.group(1) in runs:
+                runs[m.group(1)][1].append(m.group(2))
+                continue
+            runs[m.group(1)] = (len(out), [m.group(2)])
+        out.append(r)
+    for kind, (i, joints) in runs.items():
+        if len(joints) > 1:
+            out[i] = f"the {kind}s of joints " + ", ".join(joints)
+    return out

@@ -30,7 +30,8 @@ NOT_SHOWN = re.compile(r"\\text\{\(\d+ terms when expanded; not shown\)\}")
 # what the document prints and this test does not evaluate, and why (docs/latex.md says the same)
 NOT_CHECKED = {
     "the paper's general formulas in the text (the sums defining Gamma_k, G_k, W_k, Lamdot_k, T, H)":
-        "they are the definitions; their expansions for this spec are what is checked",
+        "they are the definitions; their expansions for this spec are what is checked (M_kr's: evaluated as written "
+        "in test_the_printed_index_formula_of_m_is_the_model)",
     "the linearisation's calA and calB": "blocks of dphidd/dx and M^-1, checked through dR/dx and M",
     "Appendix A's operation counts": "facts of the emitted code (the header states the same), not formulas",
     "the base parameters beta (generate --regressor)": "checked in tests/models/test_regressor.py",
@@ -108,6 +109,7 @@ class Doc:
             del self.eqs[lhs]
         self.params = {sp.Symbol("param_" + k): v for k, v in (params or {}).items()}
         self.recursion = [lhs for lhs, _ in texread.recursion(tex)]  # a long chain's quantities, in order
+        self.coefficients = texread.coefficients(tex)  # Q^{hr}_k, Γ^r_k of a long velocity group
         # a long chain's M is stated once as z^k · ξ^r; every component is printed or said to be zero
         self.pair_form = r"M_{kr} = M_{rk} = z^k\cdot \xi^r" in tex
         if self.pair_form:
@@ -151,9 +153,25 @@ class Doc:
                 if self.has(lhs):  # with its scale: ω⁰ = a + b cos(ct) may cancel to far below its terms
                     sym = sp.Symbol(f"{key}0_{i}")
                     env[sym], env[("scale", sym)] = self.value(lhs, env)
-        for lhs in self.recursion:
+        for lhs in self.recursion + self.coefficients:
             sym = self.names[lhs]
             env[sym], env[("scale", sym)] = self.value(lhs, env)
+        return env
+
+    def with_quantities(self, env: dict) -> dict:
+        """``env`` with the printed quantities by name (M_kr, Q_k, Γ_k, G_k, …): the equations of
+        motion of a long chain are written with them."""
+        env = dict(env)
+        sep = "," if self.n > 9 else ""
+        for k in range(1, self.n + 1):
+            for r in range(1, self.n + 1):
+                sym = self.names[f"M_{{{k}{sep}{r}}}"]
+                env[sym], env[("scale", sym)] = _mass_entry(self, env, min(k, r), max(k, r))
+            for g in texread.QUANTITIES:
+                lhs = f"{g}_{{{k}}}"
+                if self.has(lhs):
+                    sym = self.names[lhs]
+                    env[sym], env[("scale", sym)] = self.value(lhs, env)
         return env
 
     def value(self, lhs: str, env: dict) -> tuple[float, float]:
@@ -185,6 +203,7 @@ def mismatches(doc: Doc, model, params, rng, points: int = 20) -> list[str]:
     doc.spec = model.spec
     out += scene_mismatches(doc, ch, np.random.default_rng(49))  # its own draws: the points below stay those of rng
     out += inputs_mismatches(doc, model.spec, params, np.random.default_rng(50))
+    out += check_mismatches(doc, model.spec)
 
     def check(what, got, scale, want):
         if not abs(got - want) <= TOL * max(scale, abs(want)) + 1e-13:
@@ -242,6 +261,68 @@ def mismatches(doc: Doc, model, params, rng, points: int = 20) -> list[str]:
     return out
 
 
+HEADS = {"Q_k": "Q", r"\Gamma_k": "Gamma", "G_k": "G", r"\Pi_k": "Pi", r"\mathring\Lambda_k": "Lamdot", "W_k": "W",
+         r"\tau_k": "tau"}
+
+
+def check_mismatches(doc: Doc, spec) -> list[str]:
+    """The check at one state against the independent model at the state the text states (φᵏ =
+    ±0.1(k + 2), φ̇ᵏ = ∓0.1(k + 1), t = 0, no control torque, the spec's parameter values): each
+    group, φ̈, M; the stated residual, asymmetry and eigenvalues recomputed."""
+    table = texread.check_at_one_state(doc.tex)
+    if table is None:
+        assert spec.params and "No check at one state is printed" in doc.tex, "a document without its check at one state"
+        return []
+    out, n = [], doc.n
+    params = {p.name: float(spec.values[p.name]) for p in spec.params}
+    k = np.arange(1, n + 1)
+    sign = np.where(k % 2 == 1, 1.0, -1.0)
+    phi, phidot = sign * 0.1 * (k + 2), -sign * 0.1 * (k + 1)
+    ch = reference.numeric(spec, params)
+    x = np.concatenate([phi, phidot])
+    want = groups.groups(ch, x, 0.0, platform_in_q="the platform terms are not expanded" in doc.tex)
+    M = reference.mass_matrix(ch, phi)
+    qdd = reference.qdd(ch, x, np.zeros(len(spec.controls)) if spec.controls else None, 0.0)
+
+    def close(what, got, want_, scale=1.0):
+        # the printed digits: 10 significant ones
+        if not abs(got - want_) <= 1e-9 * max(abs(want_), 1e-3 * scale) + 1e-15:
+            out.append(f"check at one state, {what}: document {got!r}, independent model {want_!r}")
+
+    heads = table["heads"]
+    assert heads[:3] == ["k", r"\varphi^k", r"\dot\varphi^k"] and heads[-1] == r"\ddot\varphi^k", heads
+    present = {HEADS.get(h) for h in heads[3:-1]}
+    for key in want:
+        if np.any(np.abs(want[key]) > 1e-12 * max(1.0, float(np.max(np.abs(M))))) and key not in present:
+            out.append(f"check at one state: the group {key} is not in the table")
+    for row in table["rows"]:
+        j = int(row[0]) - 1
+        close(f"phi^{j + 1}", row[1], phi[j]), close(f"phidot^{j + 1}", row[2], phidot[j])
+        scale = float(np.max(np.abs(M @ qdd))) + 1.0
+        for h, v in zip(heads[3:-1], row[3:-1]):
+            if h == "M_{kk}":
+                close(f"M_{j + 1}{j + 1}", v, M[j, j], float(np.max(np.abs(M))))
+            else:
+                close(f"{h} of joint {j + 1}", v, want[HEADS[h]][j], scale)
+        close(f"phidd^{j + 1}", row[-1], qdd[j], float(np.max(np.abs(qdd))))
+    if table["M"] is not None:
+        for i in range(n):
+            for j in range(n):
+                close(f"M_{i + 1}{j + 1}", table["M"][i][j], M[i, j], float(np.max(np.abs(M))))
+    elif table["entries"]:
+        assert len(table["entries"]) == n * (n + 1) // 2, "the check at one state lists not every entry of M"
+        for (i, j), v in table["entries"].items():
+            close(f"M_{i}{j}", v, M[i - 1, j - 1], float(np.max(np.abs(M))))
+    else:
+        assert "M_{kk}" in heads, "neither M nor its diagonal in the check at one state"
+    eig = np.linalg.eigvalsh(M)
+    close("smallest eigenvalue of M", table["eig"][0], eig[0], float(eig[-1]))
+    close("largest eigenvalue of M", table["eig"][1], eig[-1], float(eig[-1]))
+    if not (table["residual"] < 1e-10 and table["asymmetry"] <= 1e-12 * float(eig[-1])):
+        out.append(f"check at one state: residual {table['residual']}, asymmetry {table['asymmetry']}")
+    return out
+
+
 def _motion_mismatches(doc: Doc, ch, x, uc, t, env, check) -> None:
     """Each joint's equation of motion as the document writes it out, left side − right side as a
     function of φ̈ (linear): its coefficients of φ̈ʳ are the row of the independent model's M, its
@@ -251,6 +332,7 @@ def _motion_mismatches(doc: Doc, ch, x, uc, t, env, check) -> None:
         return
     M, f = reference.mass_matrix(ch, x[:n]), reference.forces(ch, x, uc, t)
     zero = {sp.Symbol(f"qdd{r}"): 0.0 for r in range(1, n + 1)}
+    env = doc.with_quantities(env)
     for k in range(1, n + 1):
         lhs = f"equation of motion {k}"
         assert doc.has(lhs), f"the equations of motion are written out for some joints, not for joint {k}"
@@ -415,7 +497,7 @@ def _platform_mismatches(doc: Doc, ch, t: float, env: dict, check) -> None:
 def _mass_entry(doc: Doc, env: dict, k: int, r: int) -> tuple[float, float]:
     """M_kr (k ≤ r) as the document gives it: printed, or for a long chain z^r · S^k of the
     six components each joint's S and z list (the pair formula the section states)."""
-    lhs = f"M_{{{k}{r}}}"
+    lhs = f"M_{{{k}{',' if doc.n > 9 else ''}{r}}}"
     if doc.has(lhs):
         return doc.value(lhs, env)
     assert doc.pair_form, f"{lhs} is neither printed nor said to be zero"
@@ -509,7 +591,7 @@ def test_printed_formulas_of_every_example_are_the_code(name, make_model):
     if name in ("kapitza", "gimbal", "furuta"):  # each joint's equation of motion written out, as one numbered display
         assert all(doc.has(f"equation of motion {k}") for k in range(1, model.spec.n + 1))
         assert len(re.findall(r"^% the equation of motion of joint \d+\n\\begin\{equation\*\}\n\\begin\{split\}\n.*?"
-                              r"\\end\{split\} \\tag\{\d+\}", tex, flags=re.M | re.S)) == model.spec.n
+                              r"\\end\{split\} \\tag\*\{\(\d+\)\\quad\\text\{\[paper \(\d+\)\]\}\}", tex, flags=re.M | re.S)) == model.spec.n
     rng = np.random.default_rng(25)
     assert mismatches(doc, model, model.params, rng) == []
 
@@ -543,11 +625,15 @@ def _planted(tex: str, lhs: str) -> str:
 
 
 @pytest.mark.parametrize("case,lhs", [("rt_fixed3", "Q_{2}"), ("rt_general0", r"\Pi_{1}"), ("rt_fixed2", "M_{11}"),
-                                      ("rt_recursion4", "I^{3}_{11}"), ("rt_recursion4", "N^{2}_{1}"),
+                                      ("panda", "I^{3}_{11}"), ("panda", "N^{2}_{1}"), ("ur5", "Q^{23}_{1}"),
                                       ("rt_recursion12", r"\xi^{2}_{2}"), ("rt_recursion12", "z^{2}_{1}")])
 def test_a_misprinted_coefficient_fails(case, lhs, make_model):
-    text, params = RANDOM[case]
-    model = make_model(text, params, latex=True)
+    if case in EXAMPLES:
+        model = _example(case, make_model)
+        params = model.params
+    else:
+        text, params = RANDOM[case]
+        model = make_model(text, params, latex=True)
     tex = (model.folder / f"{case}.tex").read_text()
     bad = Doc(_planted(tex, lhs), model.spec.n, params)
     found = mismatches(bad, model, params, np.random.default_rng(27))
@@ -570,7 +656,7 @@ PLANTED = [
     ("kapitza", r"$\varphi = (3.041592654)$", r"$\varphi = (3.141592654)$"),
     # the equations of motion written out, against the independent model: a coefficient of φ̈, a term
     # of the right side, a velocity term
-    ("furuta", r"+ 0.003 \, \ddot\varphi^{2} -", r"+ 0.0031 \, \ddot\varphi^{2} -"),
+    ("furuta", r"+ 0.003 \, \ddot\varphi^{2} \\", r"+ 0.0031 \, \ddot\varphi^{2} \\"),
     ("kapitza", r"= - 0.1962 \sin\varphi^{1}" + "\n", r"= - 0.1963 \sin\varphi^{1}" + "\n"),
     ("gimbal", r"0.006 \, \ddot\varphi^{2} + 0.5 \sin", r"0.006 \, \ddot\varphi^{2} - 0.5 \sin"),
 ]
@@ -602,3 +688,72 @@ def test_an_edit_of_a_committed_document_fails(make_model):
     tex = (ROOT / "generated" / "spatial3" / "spatial3.tex").read_text()
     bad = _planted(tex, "M_{11}")
     assert mismatches(Doc(bad, model.spec.n, model.params), model, model.params, np.random.default_rng(30))
+
+
+def test_the_coefficients_are_the_christoffel_symbols_of_m(make_model):
+    """What the document says of Q^{hr}_k for a fixed base: Q^{hh}_k = ∂M_kh/∂φʰ − ½ ∂M_hh/∂φᵏ and,
+    h < r, Q^{hr}_k = ∂M_kh/∂φʳ + ∂M_kr/∂φʰ − ∂M_hr/∂φᵏ, checked on ur5's printed coefficients
+    against central differences of the independent model's M."""
+    model = _example("ur5", make_model)
+    tex = (ROOT / "generated" / "ur5" / "ur5.tex").read_text()
+    doc, n = Doc(tex, 6, None), 6
+    coeffs = [c for c in doc.coefficients if c.startswith("Q^")]
+    assert len(coeffs) > 50
+    ch = reference.numeric(model.spec, {})
+    rng = np.random.default_rng(31)
+    for _ in range(3):
+        x = np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n)])
+        env = doc.at(0.0, x, None)
+        step = 1e-5
+        dM = []
+        for j in range(n):
+            e = np.zeros(n)
+            e[j] = step
+            dM.append((reference.mass_matrix(ch, x[:n] + e) - reference.mass_matrix(ch, x[:n] - e)) / (2 * step))
+        for c in coeffs:
+            h, r, k = (int(v) - 1 for v in re.fullmatch(r"Q\^\{(\d)(\d)\}_\{(\d)\}", c).groups())
+            if h == r:
+                want = dM[h][k, h] - 0.5 * dM[k][h, h]
+            else:
+                want = dM[r][k, h] + dM[h][k, r] - dM[k][h, r]
+            got, _ = doc.value(c, env)
+            assert got == pytest.approx(want, abs=1e-6), c
+
+
+def _paper_mass_matrix(ch, phi) -> np.ndarray:
+    """M_kr by the index formula the documents print (the first line of the paper's (17)–(19)),
+    transcribed term by term, the direction cosines from the independent model's frames."""
+    n, R = ch.n, reference.frames(ch, phi)
+
+    def a(k, p):  # α^{kp}_{ij}
+        return R[k] @ R[p].T
+
+    def a4(k, p, r, l, i, j):  # α^{kprl}_{1i1j} = α^{kr}_{11} α^{pl}_{ij} − α^{kl}_{1j} α^{pr}_{i1}
+        return a(k, r)[0, 0] * a(p, l)[i, j] - a(k, l)[0, j] * a(p, r)[i, 0]
+
+    ij = [(i, j) for i in range(3) for j in range(3)]
+    M = np.zeros((n, n))
+    for k in range(n):
+        for r in range(n):
+            v = sum(a(k, p)[0] @ ch.A[p] @ a(r, p)[0] for p in range(max(k, r), n))
+            v += sum(ch.m[p] * ch.c[p][i] * ch.s[l][j] * a4(k, p, r, l, i, j) for p in range(k, n) for l in range(r, p) for i, j in ij)
+            for p in range(k, n - 1):
+                for q in range(max(p + 1, r), n):
+                    v += ch.m[q] * sum(ch.s[p][i] * (sum(ch.s[l][j] * a4(k, p, r, l, i, j) for l in range(r, q))
+                                                     + ch.c[q][j] * a4(k, p, r, q, i, j)) for i, j in ij)
+            M[k, r] = v + (ch.armature[k] if ch.armature is not None and k == r else 0.0)
+    return M
+
+
+@pytest.mark.parametrize("name", ["spatial3", "ur5", "panda", "gyrostat2"])
+def test_the_printed_index_formula_of_m_is_the_model(name):
+    """The formula of M_kr every document prints, evaluated as written, is the independent model's M."""
+    from gyrochain.spec import load_spec
+
+    spec = load_spec(ROOT / "specs" / f"{name}.toml")
+    tex = (ROOT / "generated" / name / f"{name}.tex").read_text()
+    assert r"M_{kr} = \sum_{p=\max(k,r)}^{n} A^p_{ij}\alpha^{kp}_{1i}\alpha^{rp}_{1j} + \sum_{p=k}^{n} m^p\sum_{l=r}^{p-1}" in tex
+    ch = reference.numeric(spec, example_params(name))
+    phi = np.random.default_rng(32).uniform(-3, 3, spec.n)
+    want = reference.mass_matrix(ch, phi)
+    assert np.max(np.abs(_paper_mass_matrix(ch, phi) - want)) <= 1e-12 * np.max(np.abs(want))
