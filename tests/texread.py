@@ -44,7 +44,7 @@ def document_names(tex: str, n: int) -> dict[str, sp.Symbol]:
     for lhs, _ in recursion(tex):
         names[lhs] = sp.Symbol("rec" + re.sub(r"\W+", "_", lhs))
     # the printed quantities by name (the equations of motion written with them) and the coefficients
-    # Q^{hr}_k, Γ^{r}_k that a long velocity group is written with
+    # Q_{k,hr}, Γ_{k,r} that a long velocity group is written with
     sep = "," if n > 9 else ""
     for k in range(1, n + 1):
         for r in range(1, n + 1):
@@ -60,11 +60,11 @@ def document_names(tex: str, n: int) -> dict[str, sp.Symbol]:
 
 
 QUANTITIES = ("Q", r"\Gamma", "G", r"\Pi", r"\mathring\Lambda", "W", r"\tau")
-COEFFICIENT = re.compile(r"(?:Q|\\Gamma)\^\{[\d,]+\}_\{\d+\}")  # Q^{hr}_k, Γ^{r}_k
+COEFFICIENT = re.compile(r"(?:Q|\\Gamma)_\{\d+,[\d,]+\}")  # Q_{k,hr}, Γ_{k,r}
 
 
 def coefficients(tex: str) -> list[str]:
-    """The coefficients a long velocity group is written with (Q^{hr}_k, Γ^{r}_k), as printed."""
+    """The coefficients a long velocity group is written with (Q_{k,hr}, Γ_{k,r}), as printed."""
     return [lhs for lhs in equations(tex) if COEFFICIENT.fullmatch(lhs)]
 
 
@@ -203,7 +203,7 @@ class Parser:
             inner = self.sum()
             self.expect("}")
             return self.power(sp.sqrt(inner))
-        for opener, closer in ((r"\left(", r"\right)"), (r"\Big(", r"\Big)")):
+        for opener, closer in ((r"\left(", r"\right)"), (r"\Big(", r"\Big)"), (r"\Bigl(", r"\Bigr)")):
             if self.take(opener):
                 inner = self.sum()
                 self.expect(closer)
@@ -318,9 +318,10 @@ def body_table(tex: str, names: dict) -> list[dict]:
         if len(cells) != 6:
             continue
         k, theta, m, c, s, lam = cells
-        rows.append(dict(k=int(k), theta=parse(theta, names), m=parse(m, names), c=_vector(c, names),
-                         s=None if s.startswith(r"\text") else _vector(s, names), lam=_vector(lam, names),
-                         control=re.sub(r"\\\\(\[[^]]*\])?\s*$", "", line).rsplit("&", 1)[1].strip()))
+        for k in _ks(k):
+            rows.append(dict(k=k, theta=parse(theta, names), m=parse(m, names), c=_vector(c, names),
+                             s=None if s.startswith(r"\text") else _vector(s, names), lam=_vector(lam, names),
+                             control=re.sub(r"\\\\(\[[^]]*\])?\s*$", "", line).rsplit("&", 1)[1].strip()))
     inertia = {}
     for head in (r"$k$ & $A^k_{11}$ & $A^k_{22}$ & $A^k_{33}$ & $A^k_{12}$ & $A^k_{13}$ & $A^k_{23}$", r"$k$ & $\mathbf A^k$"):
         if head not in tex:
@@ -330,12 +331,20 @@ def body_table(tex: str, names: dict) -> list[dict]:
             cells = re.findall(r"\$(.*?)\$", line)
             if len(cells) == 7:
                 a11, a22, a33, a12, a13, a23 = (parse(x, names) for x in cells[1:])
-                inertia[int(cells[0])] = [[a11, a12, a13], [a12, a22, a23], [a13, a23, a33]]
+                for k in _ks(cells[0]):
+                    inertia[k] = [[a11, a12, a13], [a12, a22, a23], [a13, a23, a33]]
             elif len(cells) == 2:
-                inertia[int(cells[0])] = pmatrix(cells[1], names)
+                for k in _ks(cells[0]):
+                    inertia[k] = pmatrix(cells[1], names)
     for row in rows:
         row["A"] = inertia[row["k"]]
     return rows
+
+
+def _ks(cell: str) -> list[int]:
+    """A table's k: one body, or a run "a,\\dots,b" of bodies with the same row."""
+    m = re.fullmatch(r"(\d+),\\dots,(\d+)", cell.strip())
+    return list(range(int(m.group(1)), int(m.group(2)) + 1)) if m else [int(cell)]
 
 
 def direction_cosines(tex: str, names: dict) -> dict[int, list[list[sp.Expr]]]:
@@ -440,13 +449,16 @@ def check_at_one_state(tex: str) -> dict | None:
         cells = re.findall(r"\$([^$]*)\$", line)
         if cells and cells[0] != r"\vdots":
             rows.append([_number(c) for c in cells])
-    out = dict(heads=heads, rows=rows, M=None, entries={})
+    out = dict(heads=heads, rows=rows, M=None, entries={}, state=None)
+    st = re.search(r"\$\\varphi = \((.*?)\)\$, \$\\dot\\varphi = \((.*?)\)\$", part.split("\n\n", 1)[0])
+    if st:
+        out["state"] = [[_number(v) for v in g.replace(r"\allowbreak", "").split(",")] for g in st.groups()]
     for k, r, v in re.findall(r"\$M_\{(\d)(\d)\} = ([^$]+)\$", part):
         out["entries"][(int(k), int(r))] = _number(v)
     m = re.search(r"M = \\begin\{pmatrix\}\n(.*?)\n\\end\{pmatrix\}", part, flags=re.S)
     if m:
         out["M"] = [[_number(c) for c in row.split("&")] for row in m.group(1).split(r"\\")]
-    facts = re.search(r"symmetric to \$(.*?)\$.*?from \$(.*?)\$ to \$(.*?)\$.*?= (.*?)\$ for this", part, flags=re.S)
+    facts = re.search(r"M_\{rk\}\|\$ is \$(.*?)\$.*?between \$(.*?)\$ and \$(.*?)\$.*?\|f_k\|\) = (.*?)\$", part, flags=re.S)
     out.update(asymmetry=_number(facts.group(1)), eig=(_number(facts.group(2)), _number(facts.group(3))),
                residual=_number(facts.group(4)))
     return out

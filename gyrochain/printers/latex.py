@@ -71,17 +71,6 @@ def _angles(expr: sp.Expr) -> list:
     return sorted(found, key=lambda s: int(s.name[4:]))
 
 
-def parallel_links(spec, kin) -> dict:
-    """φᵏ → (φᵏ⁻¹, cos θᵏ) for each joint whose axis is parallel to the one before (sin θᵏ = 0,
-    no offset): the runs whose bodies turn by sums of angles (trigform's forms C and S)."""
-    out = {}
-    for k in range(2, spec.n + 1):
-        b = spec.bodies[k - 1]
-        if sp.sin(b.theta) == 0 and b.offset == 0:
-            out[kin.phi[k]] = (kin.phi[k - 1], int(sp.cos(b.theta)))
-    return out
-
-
 class Doc:
     """One document's printing: its writer, and each quantity in its own normal form
     (trigform.py): the form with the fewest terms, so that the same function prints the same way
@@ -174,10 +163,11 @@ class Doc:
 
 def _bracketed(inner: list[str], factor: str, width: float) -> list[str]:
     r"""A multi-term coefficient of a velocity monomial in brackets: one piece, or for a long one a
-    piece per term (the line breaker may then split it, \Big( and \Big) pairing across lines)."""
+    piece per term (the line breaker may then split it, \Bigl( and \Bigr) pairing across lines: an opening
+    and a closing delimiter, so that a minus after the bracket is a sign)."""
     if visible(join(inner)) < 0.8 * width:
         return [r"\left(" + join(inner) + r"\right) \, " + factor]
-    return [r"\Big(" + inner[0], *inner[1:-1], inner[-1] + r"\Big) \, " + factor]
+    return [r"\Bigl(" + inner[0], *inner[1:-1], inner[-1] + r"\Bigr) \, " + factor]
 
 
 T10_MAX_TERMS = 20  # T₁ + T₀ is written out up to this many terms of the program's algebra (ship_gimbal: 15)
@@ -327,8 +317,8 @@ GROUP_MAX_LINES = 3  # a velocity group longer than this is printed by its coeff
 
 def _by_coefficients(doc: Doc, name: str, k: int, expr: sp.Expr, gens: list) -> tuple[TexEquation, list]:
     """A velocity group as the sum of its coefficients times the monomials of φ̇ (Q_k =
-    Σ_{h≤r} Q^{hr}_k φ̇ʰφ̇ʳ, Γ_k = Σ_r Γ^r_k φ̇ʳ): the group's line, and each coefficient in its own
-    normal form as a named quantity."""
+    Σ_{h≤r} Q_{k,hr} φ̇ʰφ̇ʳ, Γ_k = Σ_r Γ_{k,r} φ̇ʳ; every index a subscript, so none reads as a power): the
+    group's line, and each coefficient in its own normal form as a named quantity."""
     n = len(gens)
     sep = "," if n > 9 else ""
     groups: dict = {}
@@ -341,11 +331,24 @@ def _by_coefficients(doc: Doc, name: str, k: int, expr: sp.Expr, gens: list) -> 
         if can.terms == 0:
             continue
         index = sep.join(str(i + 1) for i, e in enumerate(sp.Poly(mono, *gens).monoms()[0]) for _ in range(e))
-        cname = f"{name}^{{{index}}}_{{{k}}}"
+        cname = f"{name}_{{{k},{index}}}"
         rows.append(TexEquation(cname, doc.lines(can.expr, expand=False, count=can.terms)))
         pieces.append(cname + r" \, " + doc.w.term(mono)[1])
         terms += can.terms
     return TexEquation(f"{name}_{{{k}}}", Shown.of(breaks(pieces, 0.8 * doc.width) if pieces else ["0"], terms)), rows
+
+
+def _momentum_lines(spec, vals: dict, doc: Doc, gens: list, grouped, by_name: bool) -> Shown:
+    """ℓ collected by φ̇; where that is longer than a few lines, as Σ_r M_1r φ̇ʳ (the printed M by
+    name) plus the rest (the rotors' share), so that the mass matrix is not written twice."""
+    shown = grouped(vals["K"])
+    if not by_name or len(shown) <= GROUP_MAX_LINES:
+        return shown
+    n = spec.n
+    rest = sp.expand(vals["K"] - sum((vals["M"][r] * gens[r] for r in range(n)), sp.Integer(0)))
+    pieces = [texeom.m_name(1, r + 1, n) + r" \, " + doc.w.name(gens[r]) for r in range(n) if vals["M"][r] != 0]
+    extra = doc.grouped_pieces(rest, gens) if rest != 0 else []
+    return Shown.of(breaks(pieces + extra, 0.8 * doc.width))
 
 
 def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: bool = False) -> dict:
@@ -386,7 +389,7 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
     blocks.update({key + "_coefficients": block(rows) if rows else None for key, rows in coefficients.items()})
     U = TexEquation("U", lines(vals["U"]), "22")
     T10 = TexEquation("T_{1} + T_{0}", lines(vals["T10"])) if vals.get("T10") is not None else None
-    K = TexEquation(r"\ell", grouped(vals["K"]), "27") if vals["K"] is not None else None
+    K = TexEquation(r"\ell", _momentum_lines(spec, vals, doc, gens, grouped, closed and not pair_form), "27") if vals["K"] is not None else None
     printed = sum(eq.lines.terms or 0 for key in ("M", "Q", "Gamma", "G") for eq in out[key]) if closed else None
     return dict(blocks, U=U, T10=T10, K=K, term_counts=counts, printed_terms=printed)
 
@@ -478,7 +481,7 @@ def _tex(model: Model) -> dict:
     kin, dyn = stages.kin, stages.dyn
     ints = model.symbolic.ints if spec.general else model.integrals
     closed = _closed(spec, kin, dyn)
-    doc = Doc(writer_for(spec, kin), parallel_links(spec, kin))
+    doc = Doc(writer_for(spec, kin), texscene.parallel_links(spec, kin))
     vals = _values(spec, kin, dyn, ints, closed)
     pair_form = dyn.loops is not None
     recursion, aux = [], False
@@ -507,6 +510,7 @@ def _tex(model: Model) -> dict:
         quad=_quadratures(model, doc),
         check=texcheck.check(spec, kin, dyn, texcheck.groups(spec, kin, dyn, vals["Pi"] is not None)),
         bodies=bodies,
+        body_rows=texscene.runs(bodies),
         alpha_per_row=per_row([b["alpha"] for b in bodies], TEXT_WIDTH),
         offsets=[(k, texscene.angle_text(b.offset, doc.w, fold_numbers)) for k, b in enumerate(spec.bodies, start=1)
                  if b.offset != 0],

@@ -112,9 +112,9 @@ def check(spec, kin, dyn, groups: dict) -> dict | None:
             continue
         diagonal = [_num(M[k, k])] if n > ROWS_SHOWN else []
         rows.append(dict(k=k + 1, phi=_num(phi[k]), phidot=_num(phidot[k]),
-                         cells=diagonal + [_num(values[key][k]) for _, key in cols], qdd=_num(qdd[k])))
+                         cells=diagonal + [_num(values[key][k]) for _, key in cols], f=_num(f[k]), qdd=_num(qdd[k])))
     return dict(
-        phi=phi, rows=rows, params_tex=[(param_tex(k), _num(v)) for k, v in params.items()], heads=(["M_{kk}"] if n > ROWS_SHOWN else []) + [sym for sym, _ in cols], params=params,
+        phi=phi, rows=rows, state=None if n > ROWS_SHOWN else [r",\allowbreak ".join(_num(v) for v in vec) for vec in (phi, phidot)], params_tex=[(param_tex(k), _num(v)) for k, v in params.items()], heads=(["M_{kk}"] if n > ROWS_SHOWN else []) + [sym for sym, _ in cols], params=params,
         M=[[_num(v) for v in row] for row in M] if n <= MATRIX_MAX_N else None, long=n > ROWS_SHOWN,
         entries=[(f"M_{{{k + 1}{r + 1}}}", _num(M[k, r])) for k in range(n) for r in range(k, n)]
         if MATRIX_MAX_N < n <= ROWS_SHOWN else None,

@@ -8,7 +8,7 @@ import sympy as sp
 from .texterms import breaks, fold_numbers, visible
 
 
-TAG_WIDTH = 10  # ems the equation's number and the paper's take at the right
+TAG_WIDTH = 7  # ems the equation's number and the paper's take at the right
 EOM_MAX_LINES = 6  # the equations of motion are written out when each fits this many lines
 
 
@@ -66,7 +66,7 @@ def _named(spec, eqs: dict, doc, pair_form: bool, reason: str) -> dict:
         right = [f"{name}_{{{k}}}" for _, name in RIGHT[:1] if f"{name}_{{{k}}}" in printed]
         right += [rf"L^{{{k}}}"] if k in spec.controls else []
         right += [f"{name}_{{{k}}}" for _, name in RIGHT[1:] if f"{name}_{{{k}}}" in printed]
-        lines = breaks(left, 0.8 * (doc.width - TAG_WIDTH))  # a name with its φ̈ is wider than its text's estimate
+        lines = breaks(left, 0.9 * (doc.width - TAG_WIDTH))  # a name with its φ̈ is wider than its text's estimate
         lines[1:] = [r"\quad " + ln for ln in lines[1:]]
         lines[-1] += " = " + (" + ".join(right) or "0")
         rows.append(dict(k=k, lines=lines))

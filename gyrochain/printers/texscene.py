@@ -96,15 +96,16 @@ def notation(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str,
          r"the angular velocity and acceleration of body $k$ ($k = 0$: the platform), components in its frame"
          + (r" (in the recursion $\varepsilon^k$ is taken at $\ddot\varphi = 0$)" if recursion else "")),
         (r"$M_{kr}$", r"kg\,m$^2$", r"the mass matrix: the coefficient of $\ddot\varphi^r$ in the equation of joint $k$"),
-        (r"$Q_k$, $\Gamma_k$, $G_k$", r"N\,m", r"velocity-quadratic, gyroscopic and gravity terms of (17)--(19)"
+        (r"$Q_k$, $\Gamma_k$, $G_k$", r"N\,m", r"velocity-quadratic, gyroscopic and gravity terms of the paper's (17)--(19)"
          + (r" (in the recursion $\Gamma^k$ is the sub-chain's gyroscopic moment)" if recursion else "")),
+        (r"$\mathbf B^{lr}(\mathbf x)$, $\mathbf x$", "", r"the velocity terms of the paper's (6) that $Q_k$'s formula collects, of a vector $\mathbf x$ fixed in body $l$"),
         (r"$L^k$", r"N\,m", r"the control torque of joint $k$"),
         (r"$f_k$, $R_k$", r"N\,m", r"the right side less the left side's terms without $\ddot\varphi$; the residual $\sum_r M_{kr}\ddot\varphi^r - f_k$"),
         (r"$x$, $\Delta$", r"rad, rad/s", r"the state $(\varphi, \dot\varphi)$; $\Delta x$, $\Delta L$ small deviations of the state and the controls"),
         (r"$\mathcal A$, $\mathcal B$", "", r"the matrices of the linearisation"),
         (r"$T$" + (r", $T_2$, $T_1$, $T_0$" if moving else ""), "J",
          "kinetic energy" + (r" (absolute); $T_2$, $T_1$, $T_0$ its parts quadratic, linear and free of $\dot\varphi$" if moving else "")),
-        (r"$U$, $E$", "J", r"force function ($-U$ the potential energy), the energy constant (23)"),
+        (r"$U$, $E$", "J", r"force function ($-U$ the potential energy), the energy constant of the paper's (23)"),
         (r"$g$", r"m/s$^2$", r"gravity, along $\hat{\mathbf e}^0_1$ (down)"),
         (r"$\mathbf h^k$, $h^k_i$, $\mathbf I^k$, $I^k_{ij}$", r"kg\,m, kg\,m$^2$",
          r"first moment of mass and inertia tensor of the sub-chain $k,\dots,n$ about $O^k$ (Appendix A)"),
@@ -118,7 +119,7 @@ def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str
     if general:
         rows.append((r"$\Pi_k$, $\mathring\Lambda_k$, $W_k$, $\tau_k$", r"N\,m",
                      r"platform terms, rotors spinning up, generalized forces of the loads, joint torques of springs, "
-                     r"dampers and torque expressions (this document's names for the groups of (8)--(10))"))
+                     r"dampers and torque expressions (this document's names for the groups of the paper's (8)--(10))"))
     if doc["scene"]["joints"] or any("spring" in w for w, _ in model.integrals.U_extra):
         rows.append((r"$\kappa^k$, $b^k$", r"N\,m/rad, N\,m\,s/rad",
                      r"stiffness and damping of joint $k$ (rest angle $\varphi^k_{\mathrm{rest}}$)"))
@@ -148,13 +149,13 @@ def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str
     if doc["jacobi"] is not None:
         rows.append((r"$H$", "J", r"Jacobi's integral"))
     if doc["momentum_intro"] is not None:
-        rows.append((r"$\mathbf K_{O^1}$, $\ell$", r"kg\,m$^2$/s", r"the angular momentum about $O^1$; the value of the momentum (27)"))
+        rows.append((r"$\mathbf K_{O^1}$, $\ell$", r"kg\,m$^2$/s", r"the angular momentum about $O^1$; the value of the paper's momentum (27)"))
     if doc["quad"] is not None:
-        rows.append((r"$\psi$, $\psi_0$", "rad", r"$\psi = \varphi^{1}$ and $\varphi = \varphi^{2}$ in the quadratures (28)--(30); "
+        rows.append((r"$\psi$, $\psi_0$", "rad", r"$\psi = \varphi^{1}$ and $\varphi = \varphi^{2}$ in the paper's quadratures (28)--(30); "
                      r"$\varphi_0$, $\psi_0$ initial angles; $\varphi_-$, $\varphi_+$ turning points (simple roots of $\mathcal E(\varphi)J - K^2$)"))
-        rows.append((r"$J$, $C$", r"kg\,m$^2$", r"the coefficients of (28), (29)"))
-        rows.append((r"$\mathcal E(\varphi)$", "J", r"$2(E + U)$, the right side of (28)"))
-        rows.append((r"$K(\varphi)$", r"kg\,m$^2$/s", r"the right side of (29)"))
+        rows.append((r"$J$, $C$", r"kg\,m$^2$", r"the coefficients of the paper's (28), (29)"))
+        rows.append((r"$\mathcal E(\varphi)$", "J", r"$2(E + U)$, the right side of the paper's (28)"))
+        rows.append((r"$K(\varphi)$", r"kg\,m$^2$/s", r"the right side of the paper's (29)"))
         rows.append((r"$\Phi$", "s/rad", r"the integrand of (30), $dt/d\varphi$"))
     if doc.get("recursion_aux"):
         rows.append((r"$\zeta_j$", "", r"a function of the angles or the parameters the recursion computes once, defined by its line"))
@@ -180,3 +181,34 @@ def _written(sym: str, body: str) -> bool:
     before = r"(?<![A-Za-z\\])(?<!\\mathcal )(?<!\\mathbf )(?<!\\boldsymbol)(?<!\\dot)(?<!\\ddot)"
     pattern = before + re.escape(head) + (r"(?:\s*[\^_]|(?![A-Za-z{]))" if indexed else r"(?![A-Za-z])")
     return re.search(pattern, body) is not None
+
+
+def runs(bodies: list[dict]) -> list[dict]:
+    """The bodies' table rows: a run of three or more consecutive bodies with the same row (a
+    cable's identical links) is one row, its k written $a,\dots,b$."""
+    out, same = [], ("theta", "m", "c", "s", "lam", "A", "control")
+    for b in bodies:
+        if out and all(out[-1]["last"][key] == b[key] for key in same):
+            out[-1]["run"].append(b["k"])
+            continue
+        out.append(dict(b, run=[b["k"]], last=b))
+    rows = []
+    for r in out:
+        ks = r.pop("run")
+        r.pop("last")
+        if len(ks) >= 3:
+            rows.append(dict(r, k=f"{ks[0]},\\dots,{ks[-1]}"))
+        else:
+            rows.extend(dict(r, k=k) for k in ks)
+    return rows
+
+
+def parallel_links(spec, kin) -> dict:
+    """φᵏ → (φᵏ⁻¹, cos θᵏ) for each joint whose axis is parallel to the one before (sin θᵏ = 0,
+    no offset): the runs whose bodies turn by sums of angles (trigform's forms C and S)."""
+    out = {}
+    for k in range(2, spec.n + 1):
+        b = spec.bodies[k - 1]
+        if sp.sin(b.theta) == 0 and b.offset == 0:
+            out[kin.phi[k]] = (kin.phi[k - 1], int(sp.cos(b.theta)))
+    return out

@@ -196,7 +196,7 @@ def scan(tex: str, name: str) -> list[str]:
     body = tex.split(r"\begin{document}", 1)[1].split(r"\section*{Appendix B", 1)[0]
     body = re.sub(r"(?<!\\)%.*", "", body)
     found = []
-    math = re.findall(r"\\begin\{(align\*|equation\*|gather\*)\}(.*?)\\end\{\1\}|\\\[(.*?)\\\]|(?<!\\)\$(.+?)(?<!\\)\$", body, flags=re.S)
+    math = re.findall(r"\\begin\{(align\*|equation\*|gather\*|multline\*)\}(.*?)\\end\{\1\}|\\\[(.*?)\\\]|(?<!\\)\$(.+?)(?<!\\)\$", body, flags=re.S)
     for m in math:
         seg = m[1] or m[2] or m[3]
         for word in re.findall(r"\\mathrm\{([^{}]*)\}", seg):
@@ -207,7 +207,7 @@ def scan(tex: str, name: str) -> list[str]:
                 found.append(f"a name of the code in a formula: {word}")
     eqs = list(texread.equations(tex).items()) + texread.recursion(tex)
     found += [f"an identity: {lhs} = {rhs}" for lhs, rhs in eqs if lhs.strip() == rhs.strip()]
-    text = re.sub(r"\\begin\{(align\*|equation\*|gather\*|longtable)\}.*?\\end\{\1\}|\\\[.*?\\\]|(?<!\\)\$.+?(?<!\\)\$", " ", body, flags=re.S)
+    text = re.sub(r"\\begin\{(align\*|equation\*|gather\*|multline\*|longtable)\}.*?\\end\{\1\}|\\\[.*?\\\]|(?<!\\)\$.+?(?<!\\)\$", " ", body, flags=re.S)
     text = re.sub(r"\\texttt\{(?:[^{}]|\{[^{}]*\})*\}|\\(?:sub)*section\*|\\[A-Za-z]+\*?|\\[\^_*]", " ", text)
     for ch in "^_*":
         for m in re.finditer(re.escape(ch), text):
@@ -229,7 +229,7 @@ def reader_scan(body: str, math: list) -> list[str]:
             found.append(f"a power on an index: {seg[max(0, hit.start() - 30):hit.end() + 10]!r}")
         if "?" in seg:
             found.append(f"a lost character in a formula: {seg[:60]!r}")
-    prose = re.sub(r"\\begin\{(align\*|equation\*|gather\*)\}.*?\\end\{\1\}|(?<!\\)\$.+?(?<!\\)\$", " ", body, flags=re.S)
+    prose = re.sub(r"\\begin\{(align\*|equation\*|gather\*|multline\*)\}.*?\\end\{\1\}|(?<!\\)\$.+?(?<!\\)\$", " ", body, flags=re.S)
     for pattern, what in ((r"-\{\}-\{\}[a-z]|(?<![\w-])--[a-z]", "a command-line option"),
                           (r"body\[\d+\]\.|base\.(?:rotation|position)|\[initial\]|\[values\]", "a field name of the spec"),
                           (r"\?\s*\?", "a lost character")):
