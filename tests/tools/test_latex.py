@@ -220,8 +220,8 @@ def reader_scan(body: str, math: list) -> list[str]:
     """What a referee reading the document page by page must not meet: a power written on an index
     (a superscript after a superscript, or a power set as a bare superscript on a symbol whose
     superscript is an index, φ̇² for (φ̇)²), a "?" where a character was lost, a command line or a
-    field name of the spec in the prose, and a row of the notation table whose symbols the
-    document never writes."""
+    field name of the spec in the prose, a row of the notation table whose symbols the document
+    never writes, and a formula's continued line a page may separate from its first (\\ not \\*)."""
     found = []
     for m in math:
         seg = m[1] or m[2] or m[3]
@@ -235,6 +235,9 @@ def reader_scan(body: str, math: list) -> list[str]:
                           (r"\?\s*\?", "a lost character")):
         for hit in re.finditer(pattern, prose):
             found.append(f"{what} in the prose: {prose[max(0, hit.start() - 40):hit.end() + 40]!r}")
+    for block in re.findall(r"\\begin\{align\*\}(.*?)\\end\{align\*\}", body, flags=re.S):
+        for hit in re.finditer(r"\\\\(?!\*)\s*\n&\\quad", block):
+            found.append(f"an equation that may break across pages: {block[max(0, hit.start() - 60):hit.end()]!r}")
     table = re.search(r"symbol & unit & meaning.*?\\end\{longtable\}", body, flags=re.S)
     rest = body.replace(table.group(0), " ") if table else body
     for row in (table.group(0).split(r"\\") if table else []):
@@ -261,7 +264,8 @@ def test_the_scan_finds_what_it_forbids():
     for plant, what in ((r"$J\dot\psi^2 + C$", "a power on an index"), (r"$x^{2}^{2}$", "a power on an index"),
                         (r"$(? ? = 0.3)$", "a lost character"), (r"(steady -{}-{}vary w=1:2:3)", "a command-line option"),
                         (r"work is done by \texttt{body[1].damping}", "a field name"),
-                        ("\\hline\n$\\Xi^k$ & 1 & never used \\\\\n", "a notation row")):
+                        ("\\hline\n$\\Xi^k$ & 1 & never used \\\\\n", "a notation row"),
+                        ("\\begin{align*}\nx &= a \\\\\n&\\quad + b\n\\end{align*}", "an equation that may break")):
         at = r"\section*{Integrals}" if what != "a notation row" else r"\endfoot" + "\n"
         bad = tex.replace(at, at + plant + "\n", 1)
         assert any(f.startswith(what) for f in scan(bad, "ur5")), (what, scan(bad, "ur5"))
