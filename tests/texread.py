@@ -17,6 +17,7 @@ class TexSyntaxError(ValueError):
 
 MATHRM = re.compile(r"\\mathrm\{[^{}]*\}")
 RECURSION = r"\subsection*{The recursion}"
+SHARES = r"\subsection*{Each body's share}"
 
 
 def document_names(tex: str, n: int) -> dict[str, sp.Symbol]:
@@ -70,8 +71,11 @@ def coefficients(tex: str) -> list[str]:
 
 def recursion(tex: str) -> list[tuple[str, str]]:
     """The definitions of a long chain's recursion section, in order: (name, its formula), each
-    written in the text as "$name = formula$".  A line that defines cos 2φᵏ (a function the
+    written in the text as "$name = formula$", or of its body-by-body section, in its displays.  A line that defines cos 2φᵏ (a function the
     grammar reads itself) defines nothing the formulas need."""
+    if SHARES in tex:  # the body-by-body form: numbered displays, read in order
+        section = tex.split(SHARES, 1)[1].split(r"\subsection*", 1)[0]
+        return list(equations(section).items())
     if RECURSION not in tex:
         return []
     section = tex.split(RECURSION, 1)[1].split(r"\section*", 1)[0]

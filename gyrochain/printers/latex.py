@@ -17,7 +17,7 @@ from ..derive.assemble import Model
 from ..derive.exact import Fraction, is_negative, is_unit, to_float
 from ..derive.kinematics import Kinematics, platform_symbols
 from ..chainspec.spec import T as TIME
-from . import texcheck, texeom, texlisting, texrecursion, texscene, texsources, textype
+from . import texbodies, texcheck, texeom, texlisting, texrecursion, texscene, texsources, textype
 from .texlayout import DISPLAY_WIDTH, TEXT_WIDTH, Numbers, TexEquation, block, per_row, term_counts
 from .common import one_line, tex_escape
 from .texterms import TexWriter, breaks, fold_numbers, join, number_text, param_tex, visible
@@ -357,8 +357,8 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
     n = spec.n
     if closed:
         lines, grouped = doc.lines, (lambda e: doc.grouped(e, gens))
-    else:
-        lines = grouped = doc.poly_lines
+    else:  # the recursion's polynomials, or the sums of the bodies' shares as they are
+        lines = grouped = (lambda e: doc.poly_lines(e) if isinstance(e, Poly) else doc.lines(e, expand=False))
     if pair_form:  # per joint S^k then z^k (six components each), as _mass_targets lists them
         names = [f"{v}^{{{k + 1}}}_{{{i + 1}}}" for k in range(n) for v in (r"\xi", "z") for i in range(6)]
     else:
@@ -449,7 +449,7 @@ def integral_statements(model: Model) -> dict:
     elif all(r.startswith("control torques") for r in facts.energy_reasons):
         joints = ", ".join(str(k) for k in spec.controls)
         energy = extra + (r"The energy (23) is not an integral of this model for every input: it is conserved when the "
-                          rf"control torques vanish ($L^k = 0$), and in general $dE/dt = \sum_k L^k\dot\varphi^k$, over the controlled "
+                          rf"control torques vanish ($L^k = 0$), and in general $\dot E = \sum_k L^k\dot\varphi^k$, over the controlled "
                           rf"joint{'s' if len(spec.controls) > 1 else ''} {joints}.")
     else:
         energy = extra + f"The energy (23) is not an integral of this model: work is done by {_joined(facts.energy_reasons, params)}."
@@ -484,8 +484,11 @@ def _tex(model: Model) -> dict:
     doc = Doc(writer_for(spec, kin), texscene.parallel_links(spec, kin))
     vals = _values(spec, kin, dyn, ints, closed)
     pair_form = dyn.loops is not None
-    recursion, aux = [], False
-    if not closed:  # the printed quantities in the recursion's named quantities (Appendix A)
+    recursion, aux, shares = [], False, None
+    if not closed and texbodies.applies(spec, kin, dyn):  # body by body, in quantities of each body's frame
+        shares = texbodies.shares(spec, kin, doc)
+        vals = texbodies.values(spec, kin, dyn, ints, vals, shares, doc)
+    elif not closed:  # the printed quantities in the recursion's named quantities (Appendix A)
         targets = _mass_targets(dyn, n) + list(dyn.Q) + list(dyn.Gamma) + list(dyn.G)
         targets += [ints.U] + ([ints.momentum] if ints.momentum is not None else [])
         targets += list(dyn.Lamdot) + list(dyn.Phi) + [j for j in dyn.joint if not j.is_zero()]
@@ -503,6 +506,7 @@ def _tex(model: Model) -> dict:
         **integral_statements(model),
         **eqs,
         platform=_platform_rows(kin, doc) if spec.general else None,
+        shares=dict(bodies=shares.bodies, count=shares.count, gyro=shares.gyro) if shares else None,
         recursion=texrecursion.paragraphs(recursion),
         recursion_gamma=any(r.lhs.startswith(r"\Gamma^{") for r in recursion),
         recursion_aux=aux,

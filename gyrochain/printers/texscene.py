@@ -128,8 +128,18 @@ def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str
     if model.kin.platform is not None:
         rows.append((r"$\mathbf r_0$, $\dot{\mathbf v}_0$, $\dot v_{0,i}$", r"m, m/s$^2$",
                      r"the position of $O^1$ in the fixed frame; its acceleration, in the platform's frame"))
-    if general or recursion:
-        parts = recursion or model.kin.platform is not None  # components printed: γ⁰ᵢ of the platform rows, γᵏᵢ of the recursion
+    shares = doc.get("shares")
+    if shares:
+        rows.append((r"$\sigma^{kp}_i$, $v^{kp}_i$", "m",
+                     r"the vector $O^kO^p$ in frame $p$, the velocity of $C^p$ per unit $\dot\varphi^k$ ($\alpha^{kp}_{1i}$: the axis $\mathbf e^k$ in frame $p$)"))
+        rows.append((r"$C^p$, $J^p_{ij}$", r"kg\,m$^2$", r"the centre of mass of body $p$, its inertia tensor about $C^p$"))
+        rows.append((r"$\mu^p_{kr}$, $\nu^p_k$, $\eta^p_k$", r"kg\,m$^2$, N\,m, N\,m", r"body $p$'s share of $M_{kr}$, of $Q_k$ and of $G_k$"))
+        rows.append((r"$a^p_i$, $w^p_i$, $N^p_i$", r"m/s$^2$, N\,m",
+                     r"the accelerations of $O^p$ and $C^p$ at $\ddot\varphi = 0$; the moment about $C^p$ body $p$'s rotation needs"))
+        if shares["gyro"]:
+            rows.append((r"$\chi^p_i$", r"N\,m", r"$\boldsymbol\omega^p\times\boldsymbol\lambda^p$, the gyroscopic moment of body $p$'s rotors"))
+    if general or recursion or shares:
+        parts = recursion or shares or model.kin.platform is not None  # components printed: γ⁰ᵢ of the platform rows, γᵏᵢ of the recursion
         rows.append((r"$\boldsymbol\gamma^0$" + (r", $\gamma^k_i$" if parts else ""), "1", r"the downward vertical, $\hat{\mathbf e}^0_1$ of the fixed frame, in the "
                      r"platform's frame (the Poisson vector; not in the paper, whose base does not turn)"
                      + (r"; $\gamma^k_i$ its components in frame $k$" if parts else "")))
@@ -184,7 +194,7 @@ def _written(sym: str, body: str) -> bool:
 
 
 def runs(bodies: list[dict]) -> list[dict]:
-    """The bodies' table rows: a run of three or more consecutive bodies with the same row (a
+    r"""The bodies' table rows: a run of three or more consecutive bodies with the same row (a
     cable's identical links) is one row, its k written $a,\dots,b$."""
     out, same = [], ("theta", "m", "c", "s", "lam", "A", "control")
     for b in bodies:
