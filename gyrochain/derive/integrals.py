@@ -295,7 +295,7 @@ def derive(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics) -> In
 
 def energy_verdict(spec: ChainSpec, ints: Integrals) -> str:
     """What generate's report and the header say of the energy (23), from the facts (the LaTeX
-    states the same in its words: printers/latex.py integral_statements)."""
+    states the same in its words: printers/texintegrals.py statements)."""
     if not ints.has_energy_integral and all(r.startswith("control torques") for r in ints.energy_reasons):
         return ("energy T - U (23): not conserved for every input: conserved when the control torques are 0, in general "
                 f"dE/dt = sum L^k phidot^k over the controlled joint{'s' if len(spec.controls) > 1 else ''} {', '.join(map(str, spec.controls))}")

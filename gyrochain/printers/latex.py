@@ -17,7 +17,7 @@ from ..derive.assemble import Model
 from ..derive.exact import Fraction, is_negative, is_unit, to_float
 from ..derive.kinematics import Kinematics, platform_symbols
 from ..chainspec.spec import T as TIME
-from . import texbodies, texcheck, texeom, texlisting, texrecursion, texscene, texsources, textype
+from . import texbodies, texcheck, texeom, texintegrals, texlisting, texrecursion, texscene, texsources, textype
 from .texlayout import DISPLAY_WIDTH, TEXT_WIDTH, Numbers, TexEquation, block, per_row, term_counts
 from .common import one_line, tex_escape
 from .texterms import TexWriter, breaks, fold_numbers, join, number_text, param_tex, visible
@@ -351,10 +351,13 @@ def _momentum_lines(spec, vals: dict, doc: Doc, gens: list, grouped, by_name: bo
     return Shown.of(breaks(pieces + extra, 0.8 * doc.width))
 
 
-def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: bool = False) -> dict:
+def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: bool = False,
+               choice: texbodies.Choice | None = None) -> dict:
     """M, Q, Γ, G, Π, Λ̊, W, τ, U and k as printed: closed forms (small n) or the recursion's
-    quantities (their definitions listed in the recursion section)."""
+    quantities (their definitions listed in the recursion section); with ``choice``, a closed form
+    longer than a few lines as the sum of the bodies' shares."""
     n = spec.n
+    choice = choice or texbodies.Choice(doc, None)
     if closed:
         lines, grouped = doc.lines, (lambda e: doc.grouped(e, gens))
     else:  # the recursion's polynomials, or the sums of the bodies' shares as they are
@@ -366,28 +369,39 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
     coefficients = {"Q": [], "Gamma": []}
 
     def velocity_group(key, name, k, v):
+        before = choice.start()
         shown = grouped(v)
         if not closed or len(shown) <= GROUP_MAX_LINES:
-            return TexEquation(f"{name}_{{{k}}}", shown)
+            return TexEquation(f"{name}_{{{k}}}", choice.shown(key, k - 1, shown, before))
         eq, rows = _by_coefficients(doc, name, k, v, gens)
+        longest = max((len(r.lines) for r in rows), default=0)
+        instead = choice.shown(key, k - 1, Shown.of([""] * longest), before)
+        if instead[0]:  # a coefficient is longer than a few lines: the group as the bodies' shares
+            return TexEquation(eq.lhs, instead)
         coefficients[key] += rows
         return eq
 
+    def short(key, lhs, i, v):
+        before = choice.start()
+        return TexEquation(lhs, choice.shown(key, i, lines(v), before))
+
     out = dict(
-        M=[TexEquation(lhs, lines(v)) for lhs, v in zip(names, vals["M"])],
+        M=[short("M", lhs, i, v) for i, (lhs, v) in enumerate(zip(names, vals["M"]))],
         Q=[velocity_group("Q", "Q", k + 1, v) for k, v in enumerate(vals["Q"])],
         Gamma=[velocity_group("Gamma", r"\Gamma", k + 1, v) for k, v in enumerate(vals["Gamma"])],
-        G=[TexEquation(f"G_{{{k + 1}}}", lines(v)) for k, v in enumerate(vals["G"])],
+        G=[short("G", f"G_{{{k + 1}}}", k, v) for k, v in enumerate(vals["G"])],
         Pi=[TexEquation(rf"\Pi_{{{k + 1}}}", grouped(v)) for k, v in enumerate(vals["Pi"] or [])],
         Lamdot=[TexEquation(rf"\mathring\Lambda_{{{k + 1}}}", lines(v)) for k, v in enumerate(vals["Lamdot"])],
         Phi=[TexEquation(f"W_{{{k + 1}}}", lines(v)) for k, v in enumerate(vals["Phi"])],
         joint=[TexEquation(rf"\tau_{{{k + 1}}}", lines(v)) for k, v in vals["joint"]],
     )
+    # the terms of the closed forms printed (a group written wholly as the bodies' shares has none to count)
     counts = term_counts([(sym, sum(eq.lines.terms or 0 for eq in out[key])) for sym, key in
-                           (("M", "M"), ("Q", "Q"), (r"\Gamma", "Gamma"), ("G", "G"))])
+                          (("M", "M"), ("Q", "Q"), (r"\Gamma", "Gamma"), ("G", "G"))
+                          if not choice.chosen or any(eq.lines.terms for eq in out[key])])
     blocks = {key: block(eqs) if eqs else None for key, eqs in out.items()}
     blocks.update({key + "_coefficients": block(rows) if rows else None for key, rows in coefficients.items()})
-    U = TexEquation("U", lines(vals["U"]), "22")
+    U = TexEquation("U", short("U", "U", 0, vals["U"]).lines, "22")
     T10 = TexEquation("T_{1} + T_{0}", lines(vals["T10"])) if vals.get("T10") is not None else None
     K = TexEquation(r"\ell", _momentum_lines(spec, vals, doc, gens, grouped, closed and not pair_form), "27") if vals["K"] is not None else None
     printed = sum(eq.lines.terms or 0 for key in ("M", "Q", "Gamma", "G") for eq in out[key]) if closed else None
@@ -420,60 +434,6 @@ def _jacobi(model: Model, doc: Doc, closed: bool):
     return dict(K=TexEquation("H", doc.grouped(value, model.kin.phidot[1:])))
 
 
-def _joined(reasons, params: dict) -> str:
-    """The facts' reasons (plain text, as the CLI prints them) in the document's type (textype):
-    O1, l1 as $O^1$, $l^1$, a field such as body[2].force[1] as code."""
-    return textype.typeset("; ".join(textype.in_words(reasons)), params)
-
-
-def integral_statements(model: Model) -> dict:
-    """What the document says of the energy (23) and the momentum (27): from the same facts
-    (integrals.Integrals) that set the header's HAS_ENERGY_INTEGRAL, HAS_MOMENTUM_INTEGRAL and
-    generate's report; each verdict is one sentence "... is an integral of this model" or "... is
-    not an integral of this model: <why>"."""
-    spec, facts = model.spec, model.integrals
-    params = {p.name: param_tex(p.name) for p in spec.params}
-    extra = ""
-    if facts.U_extra:
-        springs = [w for w, _ in facts.U_extra if "spring" in w]
-        kinds = ([r"for a spring $-\tfrac12\kappa^k(\varphi^k-\varphi^k_{\mathrm{rest}})^2$"] if springs else []) + (
-            ["for a constant force fixed in space the force dotted with the position of its point from $O^1$"]
-            if len(springs) < len(facts.U_extra) else [])
-        extra = (r"$U$ includes the force function of " + ", ".join(textype.typeset(w, params) for w, _ in facts.U_extra)
-                 + " (" + "; ".join(kinds) + ").  ")
-    if facts.has_energy_integral:
-        why = (r"the base is fixed, every $\boldsymbol\lambda^k$ is constant, no control torque acts"
-               + (", no joint has a damper or a torque expression, and no load but gravity, springs and constant "
-                  "forces fixed in space does work" if spec.general else ", and gravity is the only load"))
-        energy = extra + f"The energy (23) is an integral of this model: {why}."
-    elif all(r.startswith("control torques") for r in facts.energy_reasons):
-        joints = ", ".join(str(k) for k in spec.controls)
-        energy = extra + (r"The energy (23) is not an integral of this model for every input: it is conserved when the "
-                          rf"control torques vanish ($L^k = 0$), and in general $\dot E = \sum_k L^k\dot\varphi^k$, over the controlled "
-                          rf"joint{'s' if len(spec.controls) > 1 else ''} {joints}.")
-    else:
-        energy = extra + f"The energy (23) is not an integral of this model: work is done by {_joined(facts.energy_reasons, params)}."
-    K = r"$\hat{\mathbf e}^1_1\cdot\mathbf K_{O^1}$"
-    if facts.momentum is None:
-        intro = None
-        momentum = r"The momentum (27) is not an integral of this model: $\theta^1 \ne 0$, the axis $l^1$ is not vertical."
-    elif facts.momentum_condition:
-        intro = (rf"Momentum (27), {K}; it is conserved, $= \ell$, only when "
-                 rf"the axis $l^1$ is vertical, (25): {textype.typeset(facts.momentum_condition, params)}. The function is")
-        momentum = "The momentum (27) is not an integral of this model for every value of its parameters."
-    elif facts.has_momentum_integral:
-        intro = (r"Momentum (27): the axis $l^1$ is vertical ($\sin\theta^1 = 0$, (25)) and nothing turns the chain "
-                 r"about it (no torque, spring or damper in joint 1, no load with a moment about $l^1$"
-                 + (", the platform turning about $l^1$ only" if spec.base is not None and spec.base.moves else "")
-                 + rf"), so {K} $= \ell$ with")
-        momentum = "The momentum (27) is an integral of this model."
-    else:
-        where = " in the platform" if spec.base is not None else ""
-        intro = rf"Momentum (27), {K} (the axis $l^1$ is vertical{where}, $\sin\theta^1 = 0$):"
-        momentum = f"The momentum (27) is not an integral of this model: {_joined(facts.momentum_reasons, params)}."
-    return dict(energy_statement=energy, momentum_intro=intro, momentum_statement=momentum)
-
-
 def _tex(model: Model) -> dict:
     spec, n = model.spec, model.spec.n
     # the general case reads the stages derived with the platform's motion as symbols, as (8)–(10) state it
@@ -484,10 +444,14 @@ def _tex(model: Model) -> dict:
     doc = Doc(writer_for(spec, kin), texscene.parallel_links(spec, kin))
     vals = _values(spec, kin, dyn, ints, closed)
     pair_form = dyn.loops is not None
-    recursion, aux, shares = [], False, None
-    if not closed and texbodies.applies(spec, kin, dyn):  # body by body, in quantities of each body's frame
+    recursion, aux, shares, choice = [], False, None, None
+    if texbodies.applies(spec, kin, dyn):  # body by body, in quantities of each body's frame: all, or the long ones
         shares = texbodies.shares(spec, kin, doc)
-        vals = texbodies.values(spec, kin, dyn, ints, vals, shares, doc)
+        by_body = texbodies.values(spec, kin, dyn, ints, vals, shares, doc)
+        if closed:
+            choice = texbodies.Choice(doc, by_body)
+        else:
+            vals = by_body
     elif not closed:  # the printed quantities in the recursion's named quantities (Appendix A)
         targets = _mass_targets(dyn, n) + list(dyn.Q) + list(dyn.Gamma) + list(dyn.G)
         targets += [ints.U] + ([ints.momentum] if ints.momentum is not None else [])
@@ -496,17 +460,22 @@ def _tex(model: Model) -> dict:
         recursion, full = texrecursion.recursion(kin, doc, targets, printed)
         vals = texrecursion.substituted(vals, full)
         aux = any(r.lhs.startswith(r"\zeta") for r in recursion)
-    eqs = _equations(spec, vals, doc, closed, kin.phidot[1:], pair_form)
+    eqs = _equations(spec, vals, doc, closed, kin.phidot[1:], pair_form, choice)
+    if shares is not None and (not closed or choice.chosen):
+        bodies, count = texbodies.layout(shares, choice.chosen if closed else None)
+        shares = dict(bodies=bodies, count=count, gyro=shares.gyro, partial=closed, lines=texbodies.SHARE_LINES)
+    else:
+        shares = None
     bodies = _bodies(spec, kin, doc)
     out = dict(
         general=spec.general,
         moving=spec.base is not None and spec.base.moves,
         gravity=spec.g != 0,
         jacobi=_jacobi(model, doc, closed),
-        **integral_statements(model),
+        **texintegrals.statements(model),
         **eqs,
         platform=_platform_rows(kin, doc) if spec.general else None,
-        shares=dict(bodies=shares.bodies, count=shares.count, gyro=shares.gyro) if shares else None,
+        shares=shares,
         recursion=texrecursion.paragraphs(recursion),
         recursion_gamma=any(r.lhs.startswith(r"\Gamma^{") for r in recursion),
         recursion_aux=aux,

@@ -7,8 +7,9 @@ With eᵏ in frame p the paper's α^{kp}_{1i} (its (13)), σ^{kp} the vector O^k
 v^{kp} = eᵏ × (σ^{kp} + cᵖ) the velocity of the centre of mass Cᵖ per unit φ̇ᵏ, the first line of
 (17)–(19) summed body by body is M_kr = Σ_p μᵖ_kr, μᵖ_kr = Jᵖ_ij α^{kp}_{1i} α^{rp}_{1j} + mᵖ v^{kp}·v^{rp}
 (Jᵖ the inertia about Cᵖ); its velocity terms are Q_k = Σ_p νᵖ_k, νᵖ_k = α^{kp}_{1i} Nᵖ_i + mᵖ v^{kp}·wᵖ,
-with Nᵖ = Jᵖεᵖ + ωᵖ × Jᵖωᵖ and wᵖ the acceleration of Cᵖ at φ̈ = 0; Γ_k = Σ_p α^{kp}_{1i}(ωᵖ × λᵖ)_i,
-G_k = Σ_p ηᵖ_k, ηᵖ_k = g mᵖ γᵖ·v^{kp}, and U = g Σ_p mᵖ γᵖ·(σ^{1p} + cᵖ).  A quantity that is zero, a number or
+with Nᵖ = Jᵖεᵖ + ωᵖ × Jᵖωᵖ and wᵖ the acceleration of Cᵖ at φ̈ = 0 (aᵖ that of Oᵖ, āᵖ the same in
+frame p − 1); Γ_k = Σ_p α^{kp}_{1i}(ωᵖ × λᵖ)_i,
+G_k = Σ_p ηᵖ_k, ηᵖ_k = g mᵖ γᵖ·v^{kp}, and U = g Σ_p mᵖ dᵖ, dᵖ = γᵖ·(σ^{1p} + cᵖ) the depth of Cᵖ below O¹.  A quantity that is zero, a number or
 one factor is written where it is used instead of being named."""
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .texlayout import TexEquation, block
+from .texlayout import TEXT_WIDTH, TexEquation, block
 from .texeom import m_name
 from .texterms import TexWriter
 
@@ -56,6 +57,36 @@ def _inline(expr: sp.Expr) -> bool:
     return rest == 1 or len(sp.Mul.make_args(rest)) == 1 and not isinstance(rest, sp.Pow)
 
 
+LINE_WIDTH = TEXT_WIDTH - 11  # ems of a definition's line: one to a row, beside its name and number
+SHARE_LINES = 6  # a closed form longer than this is written as the sum of the bodies' shares, where that is shorter
+
+
+class Choice:
+    """Which printed quantities a document with closed forms writes as the sums of the bodies'
+    shares instead: those whose closed form (or a coefficient of it) is longer than SHARE_LINES
+    lines when the sum is shorter.  ``alt``: the sums, by key (M, Q, Gamma, G, U) and index."""
+
+    def __init__(self, doc, alt: dict | None):
+        self.doc, self.alt, self.chosen = doc, alt, []
+
+    def start(self) -> dict:
+        return dict(self.doc.used)
+
+    def shown(self, key: str, i: int, shown, before: dict):
+        """``shown`` (the closed form's lines), or the shares' sum's where the closed form is long;
+        then the forms the closed form counted are taken back (the document states their counts)."""
+        if self.alt is None or len(shown) <= SHARE_LINES:
+            return shown
+        expr = self.alt[key] if key == "U" else self.alt[key][i]
+        other = self.doc.lines(expr, expand=False)
+        if len(other) >= len(shown):
+            return shown
+        self.doc.used.clear()
+        self.doc.used.update(before)
+        self.chosen.append(expr)
+        return other
+
+
 def _runs(rows: list) -> list:
     """A body's definitions as displays, in order: each run of one-line formulas in one (two or
     three to a row where they are short), each run of longer ones in another."""
@@ -70,7 +101,7 @@ def _runs(rows: list) -> list:
 
 @dataclass
 class Shares:
-    bodies: list = field(default_factory=list)  # (p, its definitions: a display of each kind)
+    rows: list = field(default_factory=list)  # (p, the printed definition, its symbol), in order
     M: list = field(default_factory=list)  # M's upper triangle, row by row
     Q: list = field(default_factory=list)
     Gamma: list = field(default_factory=list)
@@ -79,13 +110,12 @@ class Shares:
     K: sp.Expr | None = None
     K_rotors: sp.Expr = sp.Integer(0)  # the rotors' share of the momentum ℓ: Σ_p α^{1p}_{1i} λᵖ_i
     defs: list = field(default_factory=list)  # (symbol, its formula), in order
-    count: int = 0  # named quantities
     gyro: bool = False  # whether a body has a rotor (χᵖ = ωᵖ × λᵖ named)
 
 
 class _Names:
     def __init__(self, doc, n: int):
-        self.doc, self.sep, self.rows, self.defs = doc, ("," if n > 9 else ""), [], []
+        self.doc, self.sep, self.rows, self.defs, self.p = doc, ("," if n > 9 else ""), [], [], 0
 
     def pair(self, k: int, p: int) -> str:
         return f"{k}{self.sep}{p}"
@@ -98,7 +128,7 @@ class _Names:
         sym = sp.Symbol(f"share{len(self.doc.w.names)}_{len(self.rows)}")
         self.doc.w.names[sym] = tex
         self.doc.w.rank[sym] = (TexWriter.QUANTITY, 10 ** 6 + len(self.rows))
-        self.rows.append(TexEquation(tex, tuple(self.doc.lines(expr, expand=False))))
+        self.rows.append((self.p, TexEquation(tex, tuple(self.doc.lines(expr, LINE_WIDTH, expand=False))), sym))
         self.defs.append((sym, expr))
         return sym
 
@@ -118,9 +148,9 @@ def shares(spec, kin, doc) -> Shares:
     for p, body in enumerate(spec.bodies, start=1):
         al = kin.alpha[p]
         R = [[al[i, j] for j in range(3)] for i in range(3)]
-        start = len(w.rows)
+        w.p = p
         if p > 1:  # O^p's acceleration at φ̈ = 0, by the previous body's motion
-            acc = _times(R, _add(_add(acc, _cross(eps, s_prev)), _cross(omega, _cross(omega, s_prev))))
+            acc = _times(R, w.vec(rf"\bar a^{{{p}}}", _add(_add(acc, _cross(eps, s_prev)), _cross(omega, _cross(omega, s_prev)))))
         gamma = w.vec(rf"\gamma^{{{p}}}", _times(R, gamma))
         for k in range(1, p):
             a[k, p] = w.vec(rf"\alpha^{{{w.pair(k, p)}}}", _times(R, a.get((k, p - 1), E1)), "1")
@@ -145,10 +175,9 @@ def shares(spec, kin, doc) -> Shares:
         if any(x != 0 for x in body.lam):
             out.gyro = True
             chi[p] = w.vec(rf"\chi^{{{p}}}", _cross(omega, body.lam))
-        out.U += g * m * _dot(gamma, _add(sigma[1, p], c))
+        out.U += g * m * w.let(rf"d^{{{p}}}", _dot(gamma, _add(sigma[1, p], c)))
         for k in range(1, p + 1):
             out.G.append((k, w.let(rf"\eta^{{{p}}}_{{{k}}}", g * m * _dot(gamma, v[k, p]))))
-        out.bodies.append((p, _runs(w.rows[start:])))
         s_prev = body.s
     out.G = [sp.expand(sum((e for k0, e in out.G if k0 == k), sp.Integer(0))) for k in range(1, n + 1)]
     for k in range(1, n + 1):
@@ -159,8 +188,25 @@ def shares(spec, kin, doc) -> Shares:
         out.Gamma.append(sp.expand(sum((_dot(a[k, p], chi[p]) for p in range(k, n + 1) if p in chi), sp.Integer(0))))
     out.U = sp.expand(out.U)
     out.K_rotors = sp.expand(sum((_dot(a[1, p], b.lam) for p, b in enumerate(spec.bodies, start=1)), sp.Integer(0)))
-    out.defs, out.count = w.defs, len(w.defs)
+    out.defs, out.rows = w.defs, w.rows
     return out
+
+
+def layout(shares: Shares, exprs: list | None = None) -> tuple[list, int]:
+    """The bodies' definitions as displays, body by body, and how many: all of them, or those the
+    printed ``exprs`` need (with those they need in turn)."""
+    keep = None
+    if exprs is not None:
+        formula, keep = dict(shares.defs), set()
+        todo = set().union(*(e.free_symbols for e in exprs))
+        while todo:
+            sym = todo.pop()
+            if sym in formula and sym not in keep:
+                keep.add(sym)
+                todo |= formula[sym].free_symbols
+    rows = [(p, row) for p, row, sym in shares.rows if keep is None or sym in keep]
+    bodies = [(p, _runs([row for q, row in rows if q == p])) for p in sorted({p for p, _ in rows})]
+    return bodies, len(rows)
 
 
 def values(spec, kin, dyn, ints, vals: dict, shares: Shares, doc) -> dict:

@@ -132,10 +132,11 @@ def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str
     if shares:
         rows.append((r"$\sigma^{kp}_i$, $v^{kp}_i$", "m",
                      r"the vector $O^kO^p$ in frame $p$, the velocity of $C^p$ per unit $\dot\varphi^k$ ($\alpha^{kp}_{1i}$: the axis $\mathbf e^k$ in frame $p$)"))
-        rows.append((r"$C^p$, $J^p_{ij}$", r"kg\,m$^2$", r"the centre of mass of body $p$, its inertia tensor about $C^p$"))
+        rows.append((r"$C^p$, $J^p_{ij}$, $d^p$", r"kg\,m$^2$, m", r"the centre of mass of body $p$, its inertia tensor about $C^p$, its depth below $O^1$"))
         rows.append((r"$\mu^p_{kr}$, $\nu^p_k$, $\eta^p_k$", r"kg\,m$^2$, N\,m, N\,m", r"body $p$'s share of $M_{kr}$, of $Q_k$ and of $G_k$"))
-        rows.append((r"$a^p_i$, $w^p_i$, $N^p_i$", r"m/s$^2$, N\,m",
-                     r"the accelerations of $O^p$ and $C^p$ at $\ddot\varphi = 0$; the moment about $C^p$ body $p$'s rotation needs"))
+        rows.append((r"$a^p_i$, $\bar a^p_i$, $w^p_i$, $N^p_i$", r"m/s$^2$, N\,m",
+                     r"the accelerations of $O^p$ (in frames $p$ and $p - 1$) and of $C^p$ at $\ddot\varphi = 0$; the moment about $C^p$ "
+                     r"body $p$'s rotation needs"))
         if shares["gyro"]:
             rows.append((r"$\chi^p_i$", r"N\,m", r"$\boldsymbol\omega^p\times\boldsymbol\lambda^p$, the gyroscopic moment of body $p$'s rotors"))
     if general or recursion or shares:
