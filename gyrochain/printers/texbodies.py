@@ -87,21 +87,9 @@ class Choice:
         return other
 
 
-def _runs(rows: list) -> list:
-    """A body's definitions as displays, in order: each run of one-line formulas in one (two or
-    three to a row where they are short), each run of longer ones in another."""
-    out = []
-    for r in rows:
-        short = len(r.lines) == 1
-        if not out or out[-1][0] != short:
-            out.append((short, []))
-        out[-1][1].append(r)
-    return [block(eqs) for _, eqs in out]
-
-
 @dataclass
 class Shares:
-    rows: list = field(default_factory=list)  # (p, the printed definition, its symbol), in order
+    rows: list = field(default_factory=list)  # (p, its name, its symbol, its formula), in order
     M: list = field(default_factory=list)  # M's upper triangle, row by row
     Q: list = field(default_factory=list)
     Gamma: list = field(default_factory=list)
@@ -115,21 +103,26 @@ class Shares:
 
 class _Names:
     def __init__(self, doc, n: int):
-        self.doc, self.sep, self.rows, self.defs, self.p = doc, ("," if n > 9 else ""), [], [], 0
+        self.doc, self.sep, self.rows, self.defs, self.p, self.seen = doc, ("," if n > 9 else ""), [], [], 0, {}
 
     def pair(self, k: int, p: int) -> str:
         return f"{k}{self.sep}{p}"
 
-    def let(self, tex: str, expr: sp.Expr) -> sp.Expr:
-        """``expr`` under the name ``tex`` (a definition of the current body), or itself when it is short."""
+    def let(self, tex: str, expr: sp.Expr, share: bool = False) -> sp.Expr:
+        """``expr`` under the name ``tex`` (a definition of the current body); itself when it is
+        short (zero, a number or one factor; a body's ``share`` of M, Q or G only when zero), and the
+        quantity before it when it equals one."""
         expr = sp.expand(expr)
-        if _inline(expr):
+        if expr == 0 or (not share and _inline(expr)):
             return expr
+        if not share and expr in self.seen:
+            return self.seen[expr]
         sym = sp.Symbol(f"share{len(self.doc.w.names)}_{len(self.rows)}")
         self.doc.w.names[sym] = tex
         self.doc.w.rank[sym] = (TexWriter.QUANTITY, 10 ** 6 + len(self.rows))
-        self.rows.append((self.p, TexEquation(tex, tuple(self.doc.lines(expr, LINE_WIDTH, expand=False))), sym))
+        self.rows.append((self.p, tex, sym, expr))
         self.defs.append((sym, expr))
+        self.seen.setdefault(expr, sym)
         return sym
 
     def vec(self, head: str, x, sub: str = "") -> tuple:
@@ -146,8 +139,10 @@ def shares(spec, kin, doc) -> Shares:
     s_prev = ZERO3
     mu, nu, chi = {}, {}, {}
     for p, body in enumerate(spec.bodies, start=1):
-        al = kin.alpha[p]
-        R = [[al[i, j] for j in range(3)] for i in range(3)]
+        al = kin.alpha[p]  # R₁(φᵖ) R₂(θᵖ) with the program's names of cos φᵖ, sin φᵖ: as sympy's functions here
+        turn = kin.phi[p] + body.offset
+        trig = {al[1, 1]: sp.cos(turn), -al[2, 1]: sp.sin(turn)}
+        R = [[al[i, j].xreplace(trig) for j in range(3)] for i in range(3)]
         w.p = p
         if p > 1:  # O^p's acceleration at φ̈ = 0, by the previous body's motion
             acc = _times(R, w.vec(rf"\bar a^{{{p}}}", _add(_add(acc, _cross(eps, s_prev)), _cross(omega, _cross(omega, s_prev)))))
@@ -163,7 +158,8 @@ def shares(spec, kin, doc) -> Shares:
             v[k, p] = w.vec(rf"v^{{{w.pair(k, p)}}}", _cross(a[k, p], _add(sigma[k, p], c)))
         for k in range(1, p + 1):
             for r in range(k, p + 1):
-                mu[k, r, p] = w.let(rf"\mu^{{{p}}}_{{{w.pair(k, r)}}}", _dot(a[k, p], _times(J, a[r, p])) + m * _dot(v[k, p], v[r, p]))
+                mu[k, r, p] = w.let(rf"\mu^{{{p}}}_{{{w.pair(k, r)}}}", _dot(a[k, p], _times(J, a[r, p])) + m * _dot(v[k, p], v[r, p]),
+                                    share=True)
         omega = w.vec(rf"\omega^{{{p}}}", _add(_times(R, omega), (kin.phidot[p], 0, 0)))
         eps = w.vec(rf"\varepsilon^{{{p}}}", _add(_times(R, eps), (0, kin.phidot[p] * omega[2], -kin.phidot[p] * omega[1])))
         if p > 1:
@@ -171,13 +167,13 @@ def shares(spec, kin, doc) -> Shares:
         wp = w.vec(rf"w^{{{p}}}", _add(_add(acc, _cross(eps, c)), _cross(omega, _cross(omega, c))))
         N = w.vec(rf"N^{{{p}}}", _add(_times(J, eps), _cross(omega, _times(J, omega))))
         for k in range(1, p + 1):
-            nu[k, p] = w.let(rf"\nu^{{{p}}}_{{{k}}}", _dot(a[k, p], N) + m * _dot(v[k, p], wp))
+            nu[k, p] = w.let(rf"\nu^{{{p}}}_{{{k}}}", _dot(a[k, p], N) + m * _dot(v[k, p], wp), share=True)
         if any(x != 0 for x in body.lam):
             out.gyro = True
             chi[p] = w.vec(rf"\chi^{{{p}}}", _cross(omega, body.lam))
         out.U += g * m * w.let(rf"d^{{{p}}}", _dot(gamma, _add(sigma[1, p], c)))
         for k in range(1, p + 1):
-            out.G.append((k, w.let(rf"\eta^{{{p}}}_{{{k}}}", g * m * _dot(gamma, v[k, p]))))
+            out.G.append((k, w.let(rf"\eta^{{{p}}}_{{{k}}}", g * m * _dot(gamma, v[k, p]), share=True)))
         s_prev = body.s
     out.G = [sp.expand(sum((e for k0, e in out.G if k0 == k), sp.Integer(0))) for k in range(1, n + 1)]
     for k in range(1, n + 1):
@@ -192,7 +188,7 @@ def shares(spec, kin, doc) -> Shares:
     return out
 
 
-def layout(shares: Shares, exprs: list | None = None) -> tuple[list, int]:
+def layout(shares: Shares, doc, exprs: list | None = None) -> tuple[list, int]:
     """The bodies' definitions as displays, body by body, and how many: all of them, or those the
     printed ``exprs`` need (with those they need in turn)."""
     keep = None
@@ -204,9 +200,17 @@ def layout(shares: Shares, exprs: list | None = None) -> tuple[list, int]:
             if sym in formula and sym not in keep:
                 keep.add(sym)
                 todo |= formula[sym].free_symbols
-    rows = [(p, row) for p, row, sym in shares.rows if keep is None or sym in keep]
-    bodies = [(p, _runs([row for q, row in rows if q == p])) for p in sorted({p for p, _ in rows})]
+    rows = [(p, TexEquation(tex, tuple(doc.lines(expr, LINE_WIDTH)))) for p, tex, sym, expr in shares.rows
+            if keep is None or sym in keep]  # each in its own normal form, as the closed forms
+    bodies = [(p, block([row for q, row in rows if q == p])) for p in sorted({p for p, _ in rows})]
     return bodies, len(rows)
+
+
+def _springs(spec, kin) -> sp.Expr:
+    """The springs' part of the force function U, −½ κᵏ (φᵏ − φᵏ_rest)² (the body-by-body form has
+    no loads: no other part)."""
+    return sum((-sp.Rational(1, 2) * b.spring * (kin.phi[k] - b.rest) ** 2 for k, b in enumerate(spec.bodies, start=1)
+                if b.spring is not None), sp.Integer(0))
 
 
 def values(spec, kin, dyn, ints, vals: dict, shares: Shares, doc) -> dict:
@@ -220,7 +224,7 @@ def values(spec, kin, dyn, ints, vals: dict, shares: Shares, doc) -> dict:
         return [sp.Integer(0) if p.is_zero() else e for e, p in zip(exprs, polys)]
 
     out = dict(vals, M=zero_where(shares.M, upper), Q=zero_where(shares.Q, dyn.Q), Gamma=zero_where(shares.Gamma, dyn.Gamma),
-               G=zero_where(shares.G, dyn.G), U=shares.U,
+               G=zero_where(shares.G, dyn.G), U=shares.U + _springs(spec, kin),
                joint=[(k, v) for k, v in zip([k for k, _ in vals["joint"]],
                                              kin.prog.inline([dyn.joint[k] for k, _ in vals["joint"]], symbolic=True))])
     if ints.momentum is not None:

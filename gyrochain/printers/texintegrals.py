@@ -10,7 +10,9 @@ from .texterms import param_tex
 def _joined(reasons, params: dict) -> str:
     """The facts' reasons (plain text, as the CLI prints them) in the document's type (textype):
     O1, l1 as $O^1$, $l^1$, a field such as body[2].force[1] as code."""
-    return textype.typeset("; ".join(textype.in_words(reasons)), params)
+    words = textype.in_words(reasons)
+    joined = words[0] if len(words) == 1 else "; ".join(words[:-1]) + " and " + words[-1]
+    return textype.typeset(joined, params)
 
 
 def statements(model: Model) -> dict:
@@ -32,30 +34,30 @@ def statements(model: Model) -> dict:
         why = (r"the base is fixed, every $\boldsymbol\lambda^k$ is constant, no control torque acts"
                + (", no joint has a damper or a torque expression, and no load but gravity, springs and constant "
                   "forces fixed in space does work" if spec.general else ", and gravity is the only load"))
-        energy = extra + f"The energy (23) is an integral of this model: {why}."
+        energy = extra + f"The energy, the paper's (23), is an integral of this model: {why}."
     elif all(r.startswith("control torques") for r in facts.energy_reasons):
         joints = ", ".join(str(k) for k in spec.controls)
-        energy = extra + (r"The energy (23) is not an integral of this model for every input: it is conserved when the "
+        energy = extra + (r"The energy, the paper's (23), is not an integral of this model for every input: it is conserved when the "
                           rf"control torques vanish ($L^k = 0$), and in general $\dot E = \sum_k L^k\dot\varphi^k$, over the controlled "
                           rf"joint{'s' if len(spec.controls) > 1 else ''} {joints}.")
     else:
-        energy = extra + f"The energy (23) is not an integral of this model: work is done by {_joined(facts.energy_reasons, params)}."
+        energy = extra + f"The energy, the paper's (23), is not an integral of this model: work is done by {_joined(facts.energy_reasons, params)}."
     K = r"$\hat{\mathbf e}^1_1\cdot\mathbf K_{O^1}$"
     if facts.momentum is None:
         intro = None
-        momentum = r"The momentum (27) is not an integral of this model: $\theta^1 \ne 0$, the axis $l^1$ is not vertical."
+        momentum = r"The momentum, the paper's (27), is not an integral of this model: $\theta^1 \ne 0$, the axis $l^1$ is not vertical."
     elif facts.momentum_condition:
-        intro = (rf"Momentum (27), {K}; it is conserved, $= \ell$, only when "
-                 rf"the axis $l^1$ is vertical, (25): {textype.typeset(facts.momentum_condition, params)}. The function is")
-        momentum = "The momentum (27) is not an integral of this model for every value of its parameters."
+        intro = (rf"Momentum, the paper's (27), {K}; it is conserved, $= \ell$, only when "
+                 rf"the axis $l^1$ is vertical (the paper's (25)): {textype.typeset(facts.momentum_condition, params)}. The function is")
+        momentum = "The momentum, the paper's (27), is not an integral of this model for every value of its parameters."
     elif facts.has_momentum_integral:
-        intro = (r"Momentum (27): the axis $l^1$ is vertical ($\sin\theta^1 = 0$, (25)) and nothing turns the chain "
+        intro = (r"Momentum, the paper's (27): the axis $l^1$ is vertical ($\sin\theta^1 = 0$, the paper's (25)) and nothing turns the chain "
                  r"about it (no torque, spring or damper in joint 1, no load with a moment about $l^1$"
                  + (", the platform turning about $l^1$ only" if spec.base is not None and spec.base.moves else "")
                  + rf"), so {K} $= \ell$ with")
-        momentum = "The momentum (27) is an integral of this model."
+        momentum = "The momentum, the paper's (27), is an integral of this model."
     else:
         where = " in the platform" if spec.base is not None else ""
-        intro = rf"Momentum (27), {K} (the axis $l^1$ is vertical{where}, $\sin\theta^1 = 0$):"
-        momentum = f"The momentum (27) is not an integral of this model: {_joined(facts.momentum_reasons, params)}."
+        intro = rf"Momentum, the paper's (27), {K} (the axis $l^1$ is vertical{where}, $\sin\theta^1 = 0$):"
+        momentum = f"The momentum, the paper's (27), is not an integral of this model: {_joined(facts.momentum_reasons, params)}."
     return dict(energy_statement=energy, momentum_intro=intro, momentum_statement=momentum)

@@ -116,10 +116,13 @@ def notation(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str,
 def _own_rows(model: Model, doc: dict, param_names: list[str]) -> list[tuple[str, str, str]]:
     """The notation of what this document has beyond the paper's fixed-base chain."""
     general, recursion, rows = model.spec.general, bool(doc["recursion"]), []
-    if general:
-        rows.append((r"$\Pi_k$, $\mathring\Lambda_k$, $W_k$, $\tau_k$", r"N\,m",
-                     r"platform terms, rotors spinning up, generalized forces of the loads, joint torques of springs, "
-                     r"dampers and torque expressions (this document's names for the groups of the paper's (8)--(10))"))
+    groups = [(sym, words) for sym, words, key in (
+        (r"$\Pi_k$", "platform terms", "Pi"), (r"$\mathring\Lambda_k$", "rotors spinning up", "Lamdot"),
+        (r"$W_k$", "generalized forces of the loads", "Phi"),
+        (r"$\tau_k$", "joint torques of springs, dampers and torque expressions", "joint")) if doc.get(key)]
+    if general and groups:  # the groups of the general case this document prints
+        rows.append((", ".join(sym for sym, _ in groups), r"N\,m", ", ".join(words for _, words in groups)
+                     + r" (this document's names for the groups of the paper's (8)--(10))"))
     if doc["scene"]["joints"] or any("spring" in w for w, _ in model.integrals.U_extra):
         rows.append((r"$\kappa^k$, $b^k$", r"N\,m/rad, N\,m\,s/rad",
                      r"stiffness and damping of joint $k$ (rest angle $\varphi^k_{\mathrm{rest}}$)"))

@@ -16,7 +16,7 @@ from conftest import EXAMPLES, QUICK_EXAMPLES, ROOT, example_params, tiered
 
 CLAIM = "The {what} is an integral of this model"
 DENIAL = "The {what} is not an integral of this model"
-QUANTITIES = {"energy": ("energy (23)", "HAS_ENERGY_INTEGRAL"), "momentum": ("momentum (27)", "HAS_MOMENTUM_INTEGRAL")}
+QUANTITIES = {"energy": ("energy, the paper's (23),", "HAS_ENERGY_INTEGRAL"), "momentum": ("momentum, the paper's (27),", "HAS_MOMENTUM_INTEGRAL")}
 
 
 def _random_cases() -> dict:

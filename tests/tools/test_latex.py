@@ -134,7 +134,7 @@ def test_the_base_parameters_section_compiles(name, tmp_path):
 def test_latex_has_the_paper_structure():
     text = (ROOT / "generated" / "gimbal" / "gimbal.tex").read_text()
     for part in [r"\alpha^{1,0}", r"\alpha^{2,1}", "M_{11}", "M_{12}", "M_{22}", "Q_{1}", r"\Gamma_{1}", "G_{1}",
-                 "the paper's (23)", "Momentum (27)", r"\mathrm{LDL}^{\mathsf T}"]:
+                 "the paper's (23)", "Momentum, the paper's (27)", r"\mathrm{LDL}^{\mathsf T}"]:
         assert part in text, part
     # Nikolai's gyroscope: the rotor term of the gyroscopic moment shows its numbers
     assert "0.5" in text
