@@ -67,6 +67,9 @@ def _random_cases() -> dict:
     rng = np.random.default_rng(2560)
     text, values = _with_params(random_spec_text(rng, 5, name="rt_bodies5", controls=(2,), offsets=True))
     cases["rt_bodies5"] = (text, values)
+    rng = np.random.default_rng(2561)  # the same with springs and dampers (the springs' part of U)
+    cases["rt_bodies5s"] = (random_general_spec_text(rng, 5, name="rt_bodies5s", translate=False, rotate=False, loads=False,
+                                                     spin_up=False), None)
     rng = np.random.default_rng(2512)
     cases["rt_offsets3"] = (random_spec_text(rng, 3, name="rt_offsets3", controls=(3,), offsets=True), None)  # δᵏ read back
     rng = np.random.default_rng(2510)
