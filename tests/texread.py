@@ -468,6 +468,19 @@ def check_at_one_state(tex: str) -> dict | None:
     return out
 
 
+SHARE_VALUES = "At the check's state:"
+
+
+def share_values(tex: str) -> list[tuple[str, float]]:
+    """The values the body-by-body section states for its quantities at the check's state, in
+    order: (name, value), from each body's line "At the check's state: $x = v$, …"."""
+    out = []
+    for line in re.findall(rf"^{{\\raggedright {re.escape(SHARE_VALUES)}(.*)$", tex, flags=re.M):
+        for lhs, v in re.findall(r"\$([^$=]+?) = ([^$]+)\$", line):
+            out.append((lhs.strip(), _number(v)))
+    return out
+
+
 def _number(text: str) -> float:
     """A printed number: -0.25, 4.3 \\cdot 10^{-5}, 2.0 \\times 10^{-16}, 0."""
     text = text.strip().replace(" ", "")

@@ -462,8 +462,9 @@ def _tex(model: Model) -> dict:
         aux = any(r.lhs.startswith(r"\zeta") for r in recursion)
     eqs = _equations(spec, vals, doc, closed, kin.phidot[1:], pair_form, choice)
     if shares is not None and (not closed or choice.chosen):
-        bodies, count = texbodies.layout(shares, doc, choice.chosen if closed else None)
-        shares = dict(bodies=bodies, count=count, gyro=shares.gyro, partial=closed, lines=texbodies.SHARE_LINES)
+        bodies, count = texbodies.layout(shares, doc, spec, kin, choice.chosen if closed else None)
+        shares = dict(bodies=bodies, count=count, gyro=shares.gyro, partial=closed, lines=texbodies.SHARE_LINES,
+                      stated=any(b["stated"] for b in bodies))
     else:
         shares = None
     bodies = _bodies(spec, kin, doc)

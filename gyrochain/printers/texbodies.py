@@ -8,15 +8,16 @@ v^{kp} = eᵏ × (σ^{kp} + cᵖ) the velocity of the centre of mass Cᵖ per un
 (17)–(19) summed body by body is M_kr = Σ_p μᵖ_kr, μᵖ_kr = Jᵖ_ij α^{kp}_{1i} α^{rp}_{1j} + mᵖ v^{kp}·v^{rp}
 (Jᵖ the inertia about Cᵖ); its velocity terms are Q_k = Σ_p νᵖ_k, νᵖ_k = α^{kp}_{1i} Nᵖ_i + mᵖ v^{kp}·wᵖ,
 with Nᵖ = Jᵖεᵖ + ωᵖ × Jᵖωᵖ and wᵖ the acceleration of Cᵖ at φ̈ = 0 (aᵖ that of Oᵖ, āᵖ the same in
-frame p − 1); Γ_k = Σ_p α^{kp}_{1i}(ωᵖ × λᵖ)_i,
-G_k = Σ_p ηᵖ_k, ηᵖ_k = g mᵖ γᵖ·v^{kp}, and U = g Σ_p mᵖ dᵖ, dᵖ = γᵖ·(σ^{1p} + cᵖ) the depth of Cᵖ below O¹.  A quantity that is zero, a number or
-one factor is written where it is used instead of being named."""
+frame p − 1); Γ_k = Σ_p α^{kp}_{1i}(ωᵖ × λᵖ)_i, G_k = Σ_p ηᵖ_k with ηᵖ_k = g mᵖ γᵖ·v^{kp}, and
+U = g Σ_p mᵖ dᵖ with dᵖ = γᵖ·(σ^{1p} + cᵖ) the depth of Cᵖ below O¹ (and the springs' part).  A quantity
+that is zero, a number or one factor, or equal to one before it, is written as that where it is used."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 import sympy as sp
 
+from . import texcheck
 from .texlayout import TEXT_WIDTH, TexEquation, block
 from .texeom import m_name
 from .texterms import TexWriter
@@ -95,7 +96,6 @@ class Shares:
     Gamma: list = field(default_factory=list)
     G: list = field(default_factory=list)
     U: sp.Expr = sp.Integer(0)
-    K: sp.Expr | None = None
     K_rotors: sp.Expr = sp.Integer(0)  # the rotors' share of the momentum ℓ: Σ_p α^{1p}_{1i} λᵖ_i
     defs: list = field(default_factory=list)  # (symbol, its formula), in order
     gyro: bool = False  # whether a body has a rotor (χᵖ = ωᵖ × λᵖ named)
@@ -188,9 +188,29 @@ def shares(spec, kin, doc) -> Shares:
     return out
 
 
-def layout(shares: Shares, doc, exprs: list | None = None) -> tuple[list, int]:
-    """The bodies' definitions as displays, body by body, and how many: all of them, or those the
-    printed ``exprs`` need (with those they need in turn)."""
+def _at_check(shares: Shares, spec, kin, keep) -> dict | None:
+    """Each quantity's value at the check's state (texcheck.state, t = 0, the parameters at their
+    values), in floating point: a referee checks the definitions one by one.  None where a
+    parameter has no value (no check is stated)."""
+    params = texcheck.defaults(spec)
+    if params is None:
+        return None
+    phi, phidot = texcheck.state(spec.n)
+    env = {p: float(v) for p, v in zip(spec.params, (params[p.name] for p in spec.params))}
+    env.update({kin.phi[k]: float(phi[k - 1]) for k in range(1, spec.n + 1)})
+    env.update({kin.phidot[k]: float(phidot[k - 1]) for k in range(1, spec.n + 1)})
+    out = {}
+    for sym, expr in shares.defs:
+        env[sym] = float(expr.xreplace(env))
+        if keep is None or sym in keep:
+            out[sym] = env[sym]
+    return out
+
+
+def layout(shares: Shares, doc, spec, kin, exprs: list | None = None) -> tuple[list, int]:
+    """The bodies' definitions as displays, body by body, each with its quantities' values at the
+    check's state, and how many: all of them, or those the printed ``exprs`` need (with those they
+    need in turn)."""
     keep = None
     if exprs is not None:
         formula, keep = dict(shares.defs), set()
@@ -200,9 +220,12 @@ def layout(shares: Shares, doc, exprs: list | None = None) -> tuple[list, int]:
             if sym in formula and sym not in keep:
                 keep.add(sym)
                 todo |= formula[sym].free_symbols
-    rows = [(p, TexEquation(tex, tuple(doc.lines(expr, LINE_WIDTH)))) for p, tex, sym, expr in shares.rows
+    rows = [(p, TexEquation(tex, tuple(doc.lines(expr, LINE_WIDTH))), sym) for p, tex, sym, expr in shares.rows
             if keep is None or sym in keep]  # each in its own normal form, as the closed forms
-    bodies = [(p, block([row for q, row in rows if q == p])) for p in sorted({p for p, _ in rows})]
+    values = _at_check(shares, spec, kin, keep)
+    bodies = [dict(p=p, block=block([row for q, row, _ in rows if q == p]),
+                   stated=None if values is None else [(row.lhs, texcheck.number(values[sym])) for q, row, sym in rows if q == p])
+              for p in sorted({p for p, _, _ in rows})]
     return bodies, len(rows)
 
 

@@ -110,20 +110,20 @@ def check(spec, kin, dyn, groups: dict) -> dict | None:
         if k is None:
             rows.append(None)
             continue
-        diagonal = [_num(M[k, k])] if n > ROWS_SHOWN else []
-        rows.append(dict(k=k + 1, phi=_num(phi[k]), phidot=_num(phidot[k]),
-                         cells=diagonal + [_num(values[key][k]) for _, key in cols], f=_num(f[k]), qdd=_num(qdd[k])))
+        diagonal = [number(M[k, k])] if n > ROWS_SHOWN else []
+        rows.append(dict(k=k + 1, phi=number(phi[k]), phidot=number(phidot[k]),
+                         cells=diagonal + [number(values[key][k]) for _, key in cols], f=number(f[k]), qdd=number(qdd[k])))
     return dict(
-        phi=phi, rows=rows, state=None if n > ROWS_SHOWN else [r",\allowbreak ".join(_num(v) for v in vec) for vec in (phi, phidot)], params_tex=[(param_tex(k), _num(v)) for k, v in params.items()], heads=(["M_{kk}"] if n > ROWS_SHOWN else []) + [sym for sym, _ in cols], params=params,
-        M=[[_num(v) for v in row] for row in M] if n <= MATRIX_MAX_N else None, long=n > ROWS_SHOWN,
-        entries=[(f"M_{{{k + 1}{r + 1}}}", _num(M[k, r])) for k in range(n) for r in range(k, n)]
+        phi=phi, rows=rows, state=None if n > ROWS_SHOWN else [r",\allowbreak ".join(number(v) for v in vec) for vec in (phi, phidot)], params_tex=[(param_tex(k), number(v)) for k, v in params.items()], heads=(["M_{kk}"] if n > ROWS_SHOWN else []) + [sym for sym, _ in cols], params=params,
+        M=[[number(v) for v in row] for row in M] if n <= MATRIX_MAX_N else None, long=n > ROWS_SHOWN,
+        entries=[(f"M_{{{k + 1}{r + 1}}}", number(M[k, r])) for k in range(n) for r in range(k, n)]
         if MATRIX_MAX_N < n <= ROWS_SHOWN else None,
-        asymmetry=_sci(float(np.max(np.abs(M - M.T)))), eig_min=_num(eig[0]), eig_max=_num(eig[-1]),
+        asymmetry=_sci(float(np.max(np.abs(M - M.T)))), eig_min=number(eig[0]), eig_max=number(eig[-1]),
         residual=_sci(float(np.max(np.abs(residual))) / scale),
     )
 
 
-def _num(v: float) -> str:
+def number(v: float) -> str:
     """A number as the document prints it (10 significant digits, a minus as a sign)."""
     v = float(v)
     if v == 0:

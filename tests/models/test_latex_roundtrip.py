@@ -297,6 +297,19 @@ def check_mismatches(doc: Doc, spec) -> list[str]:
         if not abs(got - want_) <= 1e-9 * max(abs(want_), 1e-3 * scale) + 1e-15:
             out.append(f"check at one state, {what}: document {got!r}, independent model {want_!r}")
 
+    # each body's quantities (the body-by-body form) at the same state: the printed values against the
+    # printed definitions evaluated there
+    stated = texread.share_values(doc.tex)
+    if stated:
+        kept, doc.params = doc.params, {sp.Symbol("param_" + k): v for k, v in params.items()}
+        env = doc.at(0.0, x, None)
+        doc.params = kept
+        for lhs, v in stated:  # 10 printed digits, against a value computed from printed coefficients
+            sym = doc.names[lhs]  # (several to a term, each rounded to 10 digits, the angles' offsets too)
+            if not abs(v - env[sym]) <= 10 * TOL * max(abs(env[sym]), env[("scale", sym)]) + 1e-15:
+                out.append(f"check at one state, {lhs}: stated {v!r}, its printed definition gives {env[sym]!r}")
+    elif r"\subsection*{Each body's share}" in doc.tex:
+        out.append("check at one state: the bodies' quantities have no values at the check's state")
     heads = table["heads"]
     if table["state"] is not None:
         close("the stated phi", float(np.max(np.abs(np.array(table["state"][0]) - phi))), 0.0)
@@ -674,6 +687,8 @@ PLANTED = [
     ("furuta", r"+ 0.003 \, \ddot\varphi^{2} \\", r"+ 0.0031 \, \ddot\varphi^{2} \\"),
     ("kapitza", r"= - 0.1962 \sin\varphi^{1}" + "\n", r"= - 0.1963 \sin\varphi^{1}" + "\n"),
     ("gimbal", r"0.006 \, \ddot\varphi^{2} + 0.5 \sin", r"0.006 \, \ddot\varphi^{2} - 0.5 \sin"),
+    # a body's quantity at the check's state, against its printed definition
+    ("spatial3", r"$\gamma^{1}_{2} = 0.115080989$", r"$\gamma^{1}_{2} = 0.115080999$"),
 ]
 
 
