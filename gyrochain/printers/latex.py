@@ -374,9 +374,8 @@ def _equations(spec, vals: dict, doc: Doc, closed: bool, gens: list, pair_form: 
         if not closed or len(shown) <= GROUP_MAX_LINES:
             return TexEquation(f"{name}_{{{k}}}", choice.shown(key, k - 1, shown, before))
         eq, rows = _by_coefficients(doc, name, k, v, gens)
-        longest = max((len(r.lines) for r in rows), default=0)
-        instead = choice.shown(key, k - 1, Shown.of([""] * longest), before)
-        if instead[0]:  # a coefficient is longer than a few lines: the group as the bodies' shares
+        instead = choice.instead(key, k - 1, max((len(r.lines) for r in rows), default=0), before)
+        if instead is not None:  # a coefficient is longer than a few lines: the group as the bodies' shares
             return TexEquation(eq.lhs, instead)
         coefficients[key] += rows
         return eq

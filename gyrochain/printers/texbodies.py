@@ -74,14 +74,19 @@ class Choice:
         return dict(self.doc.used)
 
     def shown(self, key: str, i: int, shown, before: dict):
-        """``shown`` (the closed form's lines), or the shares' sum's where the closed form is long;
-        then the forms the closed form counted are taken back (the document states their counts)."""
-        if self.alt is None or len(shown) <= SHARE_LINES:
-            return shown
+        """``shown`` (the closed form's lines), or the shares' sum's where the closed form is long."""
+        return self.instead(key, i, len(shown), before) or shown
+
+    def instead(self, key: str, i: int, lines: int, before: dict):
+        """The shares' sum's lines where a closed form of ``lines`` lines (or its longest
+        coefficient's) is long and the sum shorter, else None; the forms the closed form counted are
+        then taken back (the document states their counts)."""
+        if self.alt is None or lines <= SHARE_LINES:
+            return None
         expr = self.alt[key] if key == "U" else self.alt[key][i]
         other = self.doc.lines(expr, expand=False)
-        if len(other) >= len(shown):
-            return shown
+        if len(other) >= lines:
+            return None
         self.doc.used.clear()
         self.doc.used.update(before)
         self.chosen.append(expr)
