@@ -26779,3 +26779,37 @@ CABLE64_FN int cable64_integrate(int method, double t0, double t1, double h, dou
     }
     return code;
 }
+/* ---------------------------------------------------------------------------------------
+ * The discrete-time model: one classical RK4 step of length h with u held over it,
+ *   xn = x + h/6 (k1 + 2 k2 + 2 k3 + k4),
+ * the step of NAME_integrate's RK4 (bit for bit), and its exact Jacobian.
+ * --------------------------------------------------------------------------------------- */
+CABLE64_FN static int cable64_step_args_(double t, const double *x, const cable64_params *p, double h, const double *xn)
+{
+    if (!x || !xn || !isfinite(t) || !isfinite(h)) {
+        return CABLE64_BAD_ARGUMENT;
+    }
+    (void)p;
+    return CABLE64_OK;
+}
+
+CABLE64_FN int cable64_step(double t, const double *x, const double *u, const cable64_params *p, double h, double *xn)
+{
+    cable64_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
+    double dx[128];
+    int i, code;
+    if ((code = cable64_step_args_(t, x, p, h, xn)) != CABLE64_OK) {
+        return code;
+    }
+    if ((code = cable64_rk4_step_(x, h, u, p, dx, &st)) != CABLE64_OK) {
+        for (i = 0; i < 128; ++i) {
+            xn[i] = NAN;
+        }
+        return code;
+    }
+    for (i = 0; i < 128; ++i) {
+        xn[i] = x[i] + dx[i];
+    }
+    return CABLE64_OK;
+}
+

@@ -35,8 +35,11 @@
  * trajectories whose code is not CABLE64_OK, or -CABLE64_BAD_ARGUMENT (nothing written)
  * when nb < 0 or x0, X or codes is NULL.  No allocation, no state: callers may split a batch
  * across threads.
- * No cable64_integrate_variational (CABLE64_HAS_VARIATIONAL 0): its fundamental matrix would take
- * about 3870 KB of stack at n = 64; it is emitted up to n = 16.
+ * No cable64_integrate_variational and no cable64_step_jacobian (CABLE64_HAS_VARIATIONAL 0): the
+ * fundamental matrix would take about 3870 KB of stack at n = 64; they are emitted up to n = 16.
+ * The discrete-time model, for a controller that runs at a fixed rate: cable64_step(t, x, u, p, h, xn)
+ * is one classical RK4 step of length h from (t, x) with u held over it (the step of CABLE64_RK4,
+ * bit for bit), xn the state at t + h; on failure xn is NaN.
  * cable64_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (exact: M^-1 (dtau/dx - dID/dx) with the inverse dynamics ID differentiated in closed
  * form in frame 0, O(n^2) pairs of joints and an LDL^T solve), row-major n x n, n x n, n x nu; a
@@ -121,6 +124,7 @@ CABLE64_FN int cable64_integrate_grid(int method, int nt, const double *t, doubl
 CABLE64_FN int cable64_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const cable64_params *p, long p_stride, double *X, int *codes);
+CABLE64_FN int cable64_step(double t, const double *x, const double *u, const cable64_params *p, double h, double *xn);
 
 #ifdef __cplusplus
 }

@@ -2165,6 +2165,141 @@ FURUTA_FN int furuta_integrate(int method, double t0, double t1, double h, doubl
     }
     return code;
 }
+/* ---------------------------------------------------------------------------------------
+ * The discrete-time model: one classical RK4 step of length h with u held over it,
+ *   xn = x + h/6 (k1 + 2 k2 + 2 k3 + k4),
+ * the step of NAME_integrate's RK4 (bit for bit), and its exact Jacobian.
+ * --------------------------------------------------------------------------------------- */
+FURUTA_FN static int furuta_step_args_(double t, const double *x, const furuta_params *p, double h, const double *xn)
+{
+    if (!x || !xn || !isfinite(t) || !isfinite(h)) {
+        return FURUTA_BAD_ARGUMENT;
+    }
+    (void)p;
+    return FURUTA_OK;
+}
+
+FURUTA_FN int furuta_step(double t, const double *x, const double *u, const furuta_params *p, double h, double *xn)
+{
+    furuta_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
+    double dx[4];
+    int i, code;
+    if ((code = furuta_step_args_(t, x, p, h, xn)) != FURUTA_OK) {
+        return code;
+    }
+    if ((code = furuta_rk4_step_(x, h, u, p, dx, &st)) != FURUTA_OK) {
+        for (i = 0; i < 4; ++i) {
+            xn[i] = NAN;
+        }
+        return code;
+    }
+    for (i = 0; i < 4; ++i) {
+        xn[i] = x[i] + dx[i];
+    }
+    return FURUTA_OK;
+}
+
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 6,
+ * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
+ * derivatives of furuta_qdd_derivatives at y. */
+FURUTA_FN static int furuta_step_stage_(const double *y, const double *dy, const double *u,
+                                  const furuta_params *p, double *k, double *dk)
+{
+    double Dq[4], Dv[4], Du[2];
+    int i, j, c, code;
+    if ((code = furuta_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 1 ? Du : 0)) != FURUTA_OK) {
+        return code;
+    }
+    for (i = 0; i < 2; ++i) {
+        k[i] = y[2 + i];
+    }
+    for (c = 0; c < 6; ++c) {
+        for (i = 0; i < 2; ++i) {
+            double s = c >= 4 && c < 4 + 1 ? Du[i * 1 + c - 4] : 0.0;
+            dk[i * 6 + c] = dy[(2 + i) * 6 + c];
+            for (j = 0; j < 2; ++j) {
+                s += Dq[i * 2 + j] * dy[j * 6 + c] + Dv[i * 2 + j] * dy[(2 + j) * 6 + c];
+            }
+            dk[(2 + i) * 6 + c] = s;
+        }
+    }
+    return FURUTA_OK;
+}
+
+/* xn and J = dxn/d(x, u, h) (2n x 6, row-major) by the chain rule through the four stages */
+FURUTA_FN static int furuta_step_jacobian_(double t, const double *x, const double *u, const furuta_params *p, double h,
+                                     double *xn, double *J)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[4], k[4], s[4];
+    double dy[4 * 6], dk[4 * 6], ds[4 * 6];
+    int i, c, st, code;
+    (void)t;  /* (an autonomous model) */
+    for (i = 0; i < 4; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < 6; ++c) {
+            dy[i * 6 + c] = c == i ? 1.0 : 0.0;
+            ds[i * 6 + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = furuta_step_stage_(y, dy, u, p, k, dk)) != FURUTA_OK) {
+            return code;
+        }
+        for (i = 0; i < 4; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < 6; ++c) {
+                ds[i * 6 + c] += b[st] * dk[i * 6 + c];
+            }
+        }
+        for (i = 0; st < 3 && i < 4; ++i) {
+            y[i] = x[i] + a[st + 1] * h * k[i];
+            for (c = 0; c < 6; ++c) {
+                dy[i * 6 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 6 + c]
+                                         + (c == 6 - 1 ? a[st + 1] * k[i] : 0.0);
+            }
+        }
+    }
+    for (i = 0; i < 4; ++i) {
+        xn[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; c < 6; ++c) {
+            J[i * 6 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 6 + c]
+                                    + (c == 6 - 1 ? s[i] / 6.0 : 0.0);
+        }
+    }
+    return FURUTA_OK;
+}
+
+FURUTA_FN int furuta_step_jacobian(double t, const double *x, const double *u, const furuta_params *p, double h, double *xn,
+                             double *Ad, double *Bd, double *xn_h)
+{
+    double J[4 * 6], xs[4];
+    double *out = xn ? xn : xs;
+    int i, c, code;
+    if ((code = furuta_step_args_(t, x, p, h, out)) != FURUTA_OK) {
+        return code;
+    }
+    if (!furuta_all_finite_(x, 4)) {
+        return FURUTA_NONFINITE;
+    }
+    if ((code = furuta_step_jacobian_(t, x, u, p, h, out, J)) != FURUTA_OK) {
+        return code;
+    }
+    for (i = 0; i < 4; ++i) {
+        for (c = 0; Ad && c < 4; ++c) {
+            Ad[i * 4 + c] = J[i * 6 + c];
+        }
+        for (c = 0; Bd && c < 1; ++c) {
+            Bd[i * 1 + c] = J[i * 6 + 4 + c];
+        }
+        if (xn_h) {
+            xn_h[i] = J[i * 6 + 6 - 1];
+        }
+    }
+    return furuta_all_finite_(out, 4) ? FURUTA_OK : FURUTA_NONFINITE;
+}
+
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

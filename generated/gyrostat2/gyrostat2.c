@@ -2342,6 +2342,141 @@ GYROSTAT2_FN int gyrostat2_integrate(int method, double t0, double t1, double h,
     }
     return code;
 }
+/* ---------------------------------------------------------------------------------------
+ * The discrete-time model: one classical RK4 step of length h with u held over it,
+ *   xn = x + h/6 (k1 + 2 k2 + 2 k3 + k4),
+ * the step of NAME_integrate's RK4 (bit for bit), and its exact Jacobian.
+ * --------------------------------------------------------------------------------------- */
+GYROSTAT2_FN static int gyrostat2_step_args_(double t, const double *x, const gyrostat2_params *p, double h, const double *xn)
+{
+    if (!x || !xn || !isfinite(t) || !isfinite(h)) {
+        return GYROSTAT2_BAD_ARGUMENT;
+    }
+    (void)p;
+    return GYROSTAT2_OK;
+}
+
+GYROSTAT2_FN int gyrostat2_step(double t, const double *x, const double *u, const gyrostat2_params *p, double h, double *xn)
+{
+    gyrostat2_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
+    double dx[4];
+    int i, code;
+    if ((code = gyrostat2_step_args_(t, x, p, h, xn)) != GYROSTAT2_OK) {
+        return code;
+    }
+    if ((code = gyrostat2_rk4_step_(x, h, u, p, dx, &st)) != GYROSTAT2_OK) {
+        for (i = 0; i < 4; ++i) {
+            xn[i] = NAN;
+        }
+        return code;
+    }
+    for (i = 0; i < 4; ++i) {
+        xn[i] = x[i] + dx[i];
+    }
+    return GYROSTAT2_OK;
+}
+
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 5,
+ * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
+ * derivatives of gyrostat2_qdd_derivatives at y. */
+GYROSTAT2_FN static int gyrostat2_step_stage_(const double *y, const double *dy, const double *u,
+                                  const gyrostat2_params *p, double *k, double *dk)
+{
+    double Dq[4], Dv[4], Du[2];
+    int i, j, c, code;
+    if ((code = gyrostat2_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 0 ? Du : 0)) != GYROSTAT2_OK) {
+        return code;
+    }
+    for (i = 0; i < 2; ++i) {
+        k[i] = y[2 + i];
+    }
+    for (c = 0; c < 5; ++c) {
+        for (i = 0; i < 2; ++i) {
+            double s = c >= 4 && c < 4 + 0 ? Du[i * 0 + c - 4] : 0.0;
+            dk[i * 5 + c] = dy[(2 + i) * 5 + c];
+            for (j = 0; j < 2; ++j) {
+                s += Dq[i * 2 + j] * dy[j * 5 + c] + Dv[i * 2 + j] * dy[(2 + j) * 5 + c];
+            }
+            dk[(2 + i) * 5 + c] = s;
+        }
+    }
+    return GYROSTAT2_OK;
+}
+
+/* xn and J = dxn/d(x, u, h) (2n x 5, row-major) by the chain rule through the four stages */
+GYROSTAT2_FN static int gyrostat2_step_jacobian_(double t, const double *x, const double *u, const gyrostat2_params *p, double h,
+                                     double *xn, double *J)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[4], k[4], s[4];
+    double dy[4 * 5], dk[4 * 5], ds[4 * 5];
+    int i, c, st, code;
+    (void)t;  /* (an autonomous model) */
+    for (i = 0; i < 4; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < 5; ++c) {
+            dy[i * 5 + c] = c == i ? 1.0 : 0.0;
+            ds[i * 5 + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = gyrostat2_step_stage_(y, dy, u, p, k, dk)) != GYROSTAT2_OK) {
+            return code;
+        }
+        for (i = 0; i < 4; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < 5; ++c) {
+                ds[i * 5 + c] += b[st] * dk[i * 5 + c];
+            }
+        }
+        for (i = 0; st < 3 && i < 4; ++i) {
+            y[i] = x[i] + a[st + 1] * h * k[i];
+            for (c = 0; c < 5; ++c) {
+                dy[i * 5 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 5 + c]
+                                         + (c == 5 - 1 ? a[st + 1] * k[i] : 0.0);
+            }
+        }
+    }
+    for (i = 0; i < 4; ++i) {
+        xn[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; c < 5; ++c) {
+            J[i * 5 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 5 + c]
+                                    + (c == 5 - 1 ? s[i] / 6.0 : 0.0);
+        }
+    }
+    return GYROSTAT2_OK;
+}
+
+GYROSTAT2_FN int gyrostat2_step_jacobian(double t, const double *x, const double *u, const gyrostat2_params *p, double h, double *xn,
+                             double *Ad, double *Bd, double *xn_h)
+{
+    double J[4 * 5], xs[4];
+    double *out = xn ? xn : xs;
+    int i, c, code;
+    if ((code = gyrostat2_step_args_(t, x, p, h, out)) != GYROSTAT2_OK) {
+        return code;
+    }
+    if (!gyrostat2_all_finite_(x, 4)) {
+        return GYROSTAT2_NONFINITE;
+    }
+    if ((code = gyrostat2_step_jacobian_(t, x, u, p, h, out, J)) != GYROSTAT2_OK) {
+        return code;
+    }
+    for (i = 0; i < 4; ++i) {
+        for (c = 0; Ad && c < 4; ++c) {
+            Ad[i * 4 + c] = J[i * 5 + c];
+        }
+        for (c = 0; Bd && c < 0; ++c) {
+            Bd[i * 0 + c] = J[i * 5 + 4 + c];
+        }
+        if (xn_h) {
+            xn_h[i] = J[i * 5 + 5 - 1];
+        }
+    }
+    return gyrostat2_all_finite_(out, 4) ? GYROSTAT2_OK : GYROSTAT2_NONFINITE;
+}
+
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

@@ -1595,6 +1595,145 @@ KAPITZA_FN int kapitza_integrate(int method, double t0, double t1, double h, dou
     }
     return code;
 }
+/* ---------------------------------------------------------------------------------------
+ * The discrete-time model: one classical RK4 step of length h with u held over it,
+ *   xn = x + h/6 (k1 + 2 k2 + 2 k3 + k4),
+ * the step of NAME_integrate's RK4 (bit for bit), and its exact Jacobian.
+ * --------------------------------------------------------------------------------------- */
+KAPITZA_FN static int kapitza_step_args_(double t, const double *x, const kapitza_params *p, double h, const double *xn)
+{
+    if (!x || !xn || !isfinite(t) || !isfinite(h)) {
+        return KAPITZA_BAD_ARGUMENT;
+    }
+    if (!p) {
+        return KAPITZA_NO_PARAMS;
+    }
+    return KAPITZA_OK;
+}
+
+KAPITZA_FN int kapitza_step(double t, const double *x, const double *u, const kapitza_params *p, double h, double *xn)
+{
+    kapitza_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
+    double dx[2];
+    int i, code;
+    if ((code = kapitza_step_args_(t, x, p, h, xn)) != KAPITZA_OK) {
+        return code;
+    }
+    if ((code = kapitza_rk4_step_(t, x, h, u, p, dx, &st)) != KAPITZA_OK) {
+        for (i = 0; i < 2; ++i) {
+            xn[i] = NAN;
+        }
+        return code;
+    }
+    for (i = 0; i < 2; ++i) {
+        xn[i] = x[i] + dx[i];
+    }
+    return KAPITZA_OK;
+}
+
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 3,
+ * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
+ * derivatives of kapitza_qdd_derivatives at y. */
+KAPITZA_FN static int kapitza_step_stage_(double t, const double *y, const double *dy, const double *u,
+                                  const kapitza_params *p, double *k, double *dk)
+{
+    double Dq[1], Dv[1], Du[1];
+    int i, j, c, code;
+    if ((code = kapitza_qdd_derivatives(t, y, u, p, k + 1, Dq, Dv, 0 ? Du : 0)) != KAPITZA_OK) {
+        return code;
+    }
+    for (i = 0; i < 1; ++i) {
+        k[i] = y[1 + i];
+    }
+    for (c = 0; c < 3; ++c) {
+        for (i = 0; i < 1; ++i) {
+            double s = c >= 2 && c < 2 + 0 ? Du[i * 0 + c - 2] : 0.0;
+            dk[i * 3 + c] = dy[(1 + i) * 3 + c];
+            for (j = 0; j < 1; ++j) {
+                s += Dq[i * 1 + j] * dy[j * 3 + c] + Dv[i * 1 + j] * dy[(1 + j) * 3 + c];
+            }
+            dk[(1 + i) * 3 + c] = s;
+        }
+    }
+    return KAPITZA_OK;
+}
+
+/* xn and J = dxn/d(x, u, h) (2n x 3, row-major) by the chain rule through the four stages */
+KAPITZA_FN static int kapitza_step_jacobian_(double t, const double *x, const double *u, const kapitza_params *p, double h,
+                                     double *xn, double *J)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[2], k[2], s[2];
+    double dy[2 * 3], dk[2 * 3], ds[2 * 3];
+    int i, c, st, code;
+    for (i = 0; i < 2; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < 3; ++c) {
+            dy[i * 3 + c] = c == i ? 1.0 : 0.0;
+            ds[i * 3 + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = kapitza_step_stage_(t + a[st] * h, y, dy, u, p, k, dk)) != KAPITZA_OK) {
+            return code;
+        }
+        for (i = 0; i < 2; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < 3; ++c) {
+                ds[i * 3 + c] += b[st] * dk[i * 3 + c];
+            }
+        }
+        for (i = 0; st < 3 && i < 2; ++i) {
+            y[i] = x[i] + a[st + 1] * h * k[i];
+            for (c = 0; c < 3; ++c) {
+                dy[i * 3 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 3 + c]
+                                         + (c == 3 - 1 ? a[st + 1] * k[i] : 0.0);
+            }
+        }
+    }
+    for (i = 0; i < 2; ++i) {
+        xn[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; c < 3; ++c) {
+            J[i * 3 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 3 + c]
+                                    + (c == 3 - 1 ? s[i] / 6.0 : 0.0);
+        }
+    }
+    return KAPITZA_OK;
+}
+
+KAPITZA_FN int kapitza_step_jacobian(double t, const double *x, const double *u, const kapitza_params *p, double h, double *xn,
+                             double *Ad, double *Bd, double *xn_h)
+{
+    double J[2 * 3], xs[2];
+    double *out = xn ? xn : xs;
+    int i, c, code;
+    if ((code = kapitza_step_args_(t, x, p, h, out)) != KAPITZA_OK) {
+        return code;
+    }
+    if (xn_h) {  /* d/dh moves the stages' times too: that needs df/dt, which is not emitted */
+        return KAPITZA_BAD_ARGUMENT;
+    }
+    if (!kapitza_all_finite_(x, 2)) {
+        return KAPITZA_NONFINITE;
+    }
+    if ((code = kapitza_step_jacobian_(t, x, u, p, h, out, J)) != KAPITZA_OK) {
+        return code;
+    }
+    for (i = 0; i < 2; ++i) {
+        for (c = 0; Ad && c < 2; ++c) {
+            Ad[i * 2 + c] = J[i * 3 + c];
+        }
+        for (c = 0; Bd && c < 0; ++c) {
+            Bd[i * 0 + c] = J[i * 3 + 2 + c];
+        }
+        if (xn_h) {
+            xn_h[i] = J[i * 3 + 3 - 1];
+        }
+    }
+    return kapitza_all_finite_(out, 2) ? KAPITZA_OK : KAPITZA_NONFINITE;
+}
+
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

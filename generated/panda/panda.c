@@ -10638,6 +10638,141 @@ PANDA_FN int panda_integrate(int method, double t0, double t1, double h, double 
     }
     return code;
 }
+/* ---------------------------------------------------------------------------------------
+ * The discrete-time model: one classical RK4 step of length h with u held over it,
+ *   xn = x + h/6 (k1 + 2 k2 + 2 k3 + k4),
+ * the step of NAME_integrate's RK4 (bit for bit), and its exact Jacobian.
+ * --------------------------------------------------------------------------------------- */
+PANDA_FN static int panda_step_args_(double t, const double *x, const panda_params *p, double h, const double *xn)
+{
+    if (!x || !xn || !isfinite(t) || !isfinite(h)) {
+        return PANDA_BAD_ARGUMENT;
+    }
+    (void)p;
+    return PANDA_OK;
+}
+
+PANDA_FN int panda_step(double t, const double *x, const double *u, const panda_params *p, double h, double *xn)
+{
+    panda_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
+    double dx[14];
+    int i, code;
+    if ((code = panda_step_args_(t, x, p, h, xn)) != PANDA_OK) {
+        return code;
+    }
+    if ((code = panda_rk4_step_(x, h, u, p, dx, &st)) != PANDA_OK) {
+        for (i = 0; i < 14; ++i) {
+            xn[i] = NAN;
+        }
+        return code;
+    }
+    for (i = 0; i < 14; ++i) {
+        xn[i] = x[i] + dx[i];
+    }
+    return PANDA_OK;
+}
+
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 22,
+ * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
+ * derivatives of panda_qdd_derivatives at y. */
+PANDA_FN static int panda_step_stage_(const double *y, const double *dy, const double *u,
+                                  const panda_params *p, double *k, double *dk)
+{
+    double Dq[49], Dv[49], Du[49];
+    int i, j, c, code;
+    if ((code = panda_qdd_derivatives(y, u, p, k + 7, Dq, Dv, 7 ? Du : 0)) != PANDA_OK) {
+        return code;
+    }
+    for (i = 0; i < 7; ++i) {
+        k[i] = y[7 + i];
+    }
+    for (c = 0; c < 22; ++c) {
+        for (i = 0; i < 7; ++i) {
+            double s = c >= 14 && c < 14 + 7 ? Du[i * 7 + c - 14] : 0.0;
+            dk[i * 22 + c] = dy[(7 + i) * 22 + c];
+            for (j = 0; j < 7; ++j) {
+                s += Dq[i * 7 + j] * dy[j * 22 + c] + Dv[i * 7 + j] * dy[(7 + j) * 22 + c];
+            }
+            dk[(7 + i) * 22 + c] = s;
+        }
+    }
+    return PANDA_OK;
+}
+
+/* xn and J = dxn/d(x, u, h) (2n x 22, row-major) by the chain rule through the four stages */
+PANDA_FN static int panda_step_jacobian_(double t, const double *x, const double *u, const panda_params *p, double h,
+                                     double *xn, double *J)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[14], k[14], s[14];
+    double dy[14 * 22], dk[14 * 22], ds[14 * 22];
+    int i, c, st, code;
+    (void)t;  /* (an autonomous model) */
+    for (i = 0; i < 14; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < 22; ++c) {
+            dy[i * 22 + c] = c == i ? 1.0 : 0.0;
+            ds[i * 22 + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = panda_step_stage_(y, dy, u, p, k, dk)) != PANDA_OK) {
+            return code;
+        }
+        for (i = 0; i < 14; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < 22; ++c) {
+                ds[i * 22 + c] += b[st] * dk[i * 22 + c];
+            }
+        }
+        for (i = 0; st < 3 && i < 14; ++i) {
+            y[i] = x[i] + a[st + 1] * h * k[i];
+            for (c = 0; c < 22; ++c) {
+                dy[i * 22 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 22 + c]
+                                         + (c == 22 - 1 ? a[st + 1] * k[i] : 0.0);
+            }
+        }
+    }
+    for (i = 0; i < 14; ++i) {
+        xn[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; c < 22; ++c) {
+            J[i * 22 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 22 + c]
+                                    + (c == 22 - 1 ? s[i] / 6.0 : 0.0);
+        }
+    }
+    return PANDA_OK;
+}
+
+PANDA_FN int panda_step_jacobian(double t, const double *x, const double *u, const panda_params *p, double h, double *xn,
+                             double *Ad, double *Bd, double *xn_h)
+{
+    double J[14 * 22], xs[14];
+    double *out = xn ? xn : xs;
+    int i, c, code;
+    if ((code = panda_step_args_(t, x, p, h, out)) != PANDA_OK) {
+        return code;
+    }
+    if (!panda_all_finite_(x, 14)) {
+        return PANDA_NONFINITE;
+    }
+    if ((code = panda_step_jacobian_(t, x, u, p, h, out, J)) != PANDA_OK) {
+        return code;
+    }
+    for (i = 0; i < 14; ++i) {
+        for (c = 0; Ad && c < 14; ++c) {
+            Ad[i * 14 + c] = J[i * 22 + c];
+        }
+        for (c = 0; Bd && c < 7; ++c) {
+            Bd[i * 7 + c] = J[i * 22 + 14 + c];
+        }
+        if (xn_h) {
+            xn_h[i] = J[i * 22 + 22 - 1];
+        }
+    }
+    return panda_all_finite_(out, 14) ? PANDA_OK : PANDA_NONFINITE;
+}
+
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

@@ -3923,6 +3923,141 @@ SPATIAL3_FN int spatial3_integrate(int method, double t0, double t1, double h, d
     }
     return code;
 }
+/* ---------------------------------------------------------------------------------------
+ * The discrete-time model: one classical RK4 step of length h with u held over it,
+ *   xn = x + h/6 (k1 + 2 k2 + 2 k3 + k4),
+ * the step of NAME_integrate's RK4 (bit for bit), and its exact Jacobian.
+ * --------------------------------------------------------------------------------------- */
+SPATIAL3_FN static int spatial3_step_args_(double t, const double *x, const spatial3_params *p, double h, const double *xn)
+{
+    if (!x || !xn || !isfinite(t) || !isfinite(h)) {
+        return SPATIAL3_BAD_ARGUMENT;
+    }
+    (void)p;
+    return SPATIAL3_OK;
+}
+
+SPATIAL3_FN int spatial3_step(double t, const double *x, const double *u, const spatial3_params *p, double h, double *xn)
+{
+    spatial3_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
+    double dx[6];
+    int i, code;
+    if ((code = spatial3_step_args_(t, x, p, h, xn)) != SPATIAL3_OK) {
+        return code;
+    }
+    if ((code = spatial3_rk4_step_(x, h, u, p, dx, &st)) != SPATIAL3_OK) {
+        for (i = 0; i < 6; ++i) {
+            xn[i] = NAN;
+        }
+        return code;
+    }
+    for (i = 0; i < 6; ++i) {
+        xn[i] = x[i] + dx[i];
+    }
+    return SPATIAL3_OK;
+}
+
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 8,
+ * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
+ * derivatives of spatial3_qdd_derivatives at y. */
+SPATIAL3_FN static int spatial3_step_stage_(const double *y, const double *dy, const double *u,
+                                  const spatial3_params *p, double *k, double *dk)
+{
+    double Dq[9], Dv[9], Du[3];
+    int i, j, c, code;
+    if ((code = spatial3_qdd_derivatives(y, u, p, k + 3, Dq, Dv, 1 ? Du : 0)) != SPATIAL3_OK) {
+        return code;
+    }
+    for (i = 0; i < 3; ++i) {
+        k[i] = y[3 + i];
+    }
+    for (c = 0; c < 8; ++c) {
+        for (i = 0; i < 3; ++i) {
+            double s = c >= 6 && c < 6 + 1 ? Du[i * 1 + c - 6] : 0.0;
+            dk[i * 8 + c] = dy[(3 + i) * 8 + c];
+            for (j = 0; j < 3; ++j) {
+                s += Dq[i * 3 + j] * dy[j * 8 + c] + Dv[i * 3 + j] * dy[(3 + j) * 8 + c];
+            }
+            dk[(3 + i) * 8 + c] = s;
+        }
+    }
+    return SPATIAL3_OK;
+}
+
+/* xn and J = dxn/d(x, u, h) (2n x 8, row-major) by the chain rule through the four stages */
+SPATIAL3_FN static int spatial3_step_jacobian_(double t, const double *x, const double *u, const spatial3_params *p, double h,
+                                     double *xn, double *J)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[6], k[6], s[6];
+    double dy[6 * 8], dk[6 * 8], ds[6 * 8];
+    int i, c, st, code;
+    (void)t;  /* (an autonomous model) */
+    for (i = 0; i < 6; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < 8; ++c) {
+            dy[i * 8 + c] = c == i ? 1.0 : 0.0;
+            ds[i * 8 + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = spatial3_step_stage_(y, dy, u, p, k, dk)) != SPATIAL3_OK) {
+            return code;
+        }
+        for (i = 0; i < 6; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < 8; ++c) {
+                ds[i * 8 + c] += b[st] * dk[i * 8 + c];
+            }
+        }
+        for (i = 0; st < 3 && i < 6; ++i) {
+            y[i] = x[i] + a[st + 1] * h * k[i];
+            for (c = 0; c < 8; ++c) {
+                dy[i * 8 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 8 + c]
+                                         + (c == 8 - 1 ? a[st + 1] * k[i] : 0.0);
+            }
+        }
+    }
+    for (i = 0; i < 6; ++i) {
+        xn[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; c < 8; ++c) {
+            J[i * 8 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 8 + c]
+                                    + (c == 8 - 1 ? s[i] / 6.0 : 0.0);
+        }
+    }
+    return SPATIAL3_OK;
+}
+
+SPATIAL3_FN int spatial3_step_jacobian(double t, const double *x, const double *u, const spatial3_params *p, double h, double *xn,
+                             double *Ad, double *Bd, double *xn_h)
+{
+    double J[6 * 8], xs[6];
+    double *out = xn ? xn : xs;
+    int i, c, code;
+    if ((code = spatial3_step_args_(t, x, p, h, out)) != SPATIAL3_OK) {
+        return code;
+    }
+    if (!spatial3_all_finite_(x, 6)) {
+        return SPATIAL3_NONFINITE;
+    }
+    if ((code = spatial3_step_jacobian_(t, x, u, p, h, out, J)) != SPATIAL3_OK) {
+        return code;
+    }
+    for (i = 0; i < 6; ++i) {
+        for (c = 0; Ad && c < 6; ++c) {
+            Ad[i * 6 + c] = J[i * 8 + c];
+        }
+        for (c = 0; Bd && c < 1; ++c) {
+            Bd[i * 1 + c] = J[i * 8 + 6 + c];
+        }
+        if (xn_h) {
+            xn_h[i] = J[i * 8 + 8 - 1];
+        }
+    }
+    return spatial3_all_finite_(out, 6) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
+}
+
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

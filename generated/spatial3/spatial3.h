@@ -44,6 +44,14 @@
  * Phi(t1) = dx(t1)/dx(t0) Phi(t0), the tangent map of the emitted dynamics; x1 = x(t1).  On failure x1
  * is the last accepted state and Phi is NaN.  stats may be NULL.  Its arrays take about 10 KB
  * of stack, besides what spatial3_qdd_derivatives takes.
+ * The discrete-time model, for a controller that runs at a fixed rate: spatial3_step(t, x, u, p, h, xn)
+ * is one classical RK4 step of length h from (t, x) with u held over it (the step of SPATIAL3_RK4,
+ * bit for bit), xn the state at t + h; on failure xn is NaN.
+ * spatial3_step_jacobian(t, x, u, p, h, xn, Ad, Bd, xn_h) is the same step (xn equal to round-off;
+ * NULL allowed) with its exact derivatives, by the chain rule through the four stages with the
+ * exact Jacobian of each: Ad = dxn/dx (2N x 2N), Bd = dxn/du (2N x NU) and xn_h = dxn/dh (2N), row-major;
+ * a NULL output is not written.  Its arrays take
+ * about 2 KB of stack, besides what spatial3_qdd_derivatives takes.
  * spatial3_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
@@ -127,6 +135,9 @@ SPATIAL3_FN int spatial3_integrate_grid(int method, int nt, const double *t, dou
 SPATIAL3_FN int spatial3_integrate_batch(int method, int nb, int nt, const double *t, double h, double rtol, double atol,
                          long max_steps, const double *x0, const double *u, long u_stride,
                          const spatial3_params *p, long p_stride, double *X, int *codes);
+SPATIAL3_FN int spatial3_step(double t, const double *x, const double *u, const spatial3_params *p, double h, double *xn);
+SPATIAL3_FN int spatial3_step_jacobian(double t, const double *x, const double *u, const spatial3_params *p, double h,
+                       double *xn, double *Ad, double *Bd, double *xn_h);
 SPATIAL3_FN int spatial3_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const spatial3_params *p,
                                double *x1, double *Phi, spatial3_integrate_stats *stats);

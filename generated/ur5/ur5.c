@@ -6971,6 +6971,141 @@ UR5_FN int ur5_integrate(int method, double t0, double t1, double h, double rtol
     }
     return code;
 }
+/* ---------------------------------------------------------------------------------------
+ * The discrete-time model: one classical RK4 step of length h with u held over it,
+ *   xn = x + h/6 (k1 + 2 k2 + 2 k3 + k4),
+ * the step of NAME_integrate's RK4 (bit for bit), and its exact Jacobian.
+ * --------------------------------------------------------------------------------------- */
+UR5_FN static int ur5_step_args_(double t, const double *x, const ur5_params *p, double h, const double *xn)
+{
+    if (!x || !xn || !isfinite(t) || !isfinite(h)) {
+        return UR5_BAD_ARGUMENT;
+    }
+    (void)p;
+    return UR5_OK;
+}
+
+UR5_FN int ur5_step(double t, const double *x, const double *u, const ur5_params *p, double h, double *xn)
+{
+    ur5_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
+    double dx[12];
+    int i, code;
+    if ((code = ur5_step_args_(t, x, p, h, xn)) != UR5_OK) {
+        return code;
+    }
+    if ((code = ur5_rk4_step_(x, h, u, p, dx, &st)) != UR5_OK) {
+        for (i = 0; i < 12; ++i) {
+            xn[i] = NAN;
+        }
+        return code;
+    }
+    for (i = 0; i < 12; ++i) {
+        xn[i] = x[i] + dx[i];
+    }
+    return UR5_OK;
+}
+
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 19,
+ * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
+ * derivatives of ur5_qdd_derivatives at y. */
+UR5_FN static int ur5_step_stage_(const double *y, const double *dy, const double *u,
+                                  const ur5_params *p, double *k, double *dk)
+{
+    double Dq[36], Dv[36], Du[36];
+    int i, j, c, code;
+    if ((code = ur5_qdd_derivatives(y, u, p, k + 6, Dq, Dv, 6 ? Du : 0)) != UR5_OK) {
+        return code;
+    }
+    for (i = 0; i < 6; ++i) {
+        k[i] = y[6 + i];
+    }
+    for (c = 0; c < 19; ++c) {
+        for (i = 0; i < 6; ++i) {
+            double s = c >= 12 && c < 12 + 6 ? Du[i * 6 + c - 12] : 0.0;
+            dk[i * 19 + c] = dy[(6 + i) * 19 + c];
+            for (j = 0; j < 6; ++j) {
+                s += Dq[i * 6 + j] * dy[j * 19 + c] + Dv[i * 6 + j] * dy[(6 + j) * 19 + c];
+            }
+            dk[(6 + i) * 19 + c] = s;
+        }
+    }
+    return UR5_OK;
+}
+
+/* xn and J = dxn/d(x, u, h) (2n x 19, row-major) by the chain rule through the four stages */
+UR5_FN static int ur5_step_jacobian_(double t, const double *x, const double *u, const ur5_params *p, double h,
+                                     double *xn, double *J)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[12], k[12], s[12];
+    double dy[12 * 19], dk[12 * 19], ds[12 * 19];
+    int i, c, st, code;
+    (void)t;  /* (an autonomous model) */
+    for (i = 0; i < 12; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < 19; ++c) {
+            dy[i * 19 + c] = c == i ? 1.0 : 0.0;
+            ds[i * 19 + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = ur5_step_stage_(y, dy, u, p, k, dk)) != UR5_OK) {
+            return code;
+        }
+        for (i = 0; i < 12; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < 19; ++c) {
+                ds[i * 19 + c] += b[st] * dk[i * 19 + c];
+            }
+        }
+        for (i = 0; st < 3 && i < 12; ++i) {
+            y[i] = x[i] + a[st + 1] * h * k[i];
+            for (c = 0; c < 19; ++c) {
+                dy[i * 19 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 19 + c]
+                                         + (c == 19 - 1 ? a[st + 1] * k[i] : 0.0);
+            }
+        }
+    }
+    for (i = 0; i < 12; ++i) {
+        xn[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; c < 19; ++c) {
+            J[i * 19 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 19 + c]
+                                    + (c == 19 - 1 ? s[i] / 6.0 : 0.0);
+        }
+    }
+    return UR5_OK;
+}
+
+UR5_FN int ur5_step_jacobian(double t, const double *x, const double *u, const ur5_params *p, double h, double *xn,
+                             double *Ad, double *Bd, double *xn_h)
+{
+    double J[12 * 19], xs[12];
+    double *out = xn ? xn : xs;
+    int i, c, code;
+    if ((code = ur5_step_args_(t, x, p, h, out)) != UR5_OK) {
+        return code;
+    }
+    if (!ur5_all_finite_(x, 12)) {
+        return UR5_NONFINITE;
+    }
+    if ((code = ur5_step_jacobian_(t, x, u, p, h, out, J)) != UR5_OK) {
+        return code;
+    }
+    for (i = 0; i < 12; ++i) {
+        for (c = 0; Ad && c < 12; ++c) {
+            Ad[i * 12 + c] = J[i * 19 + c];
+        }
+        for (c = 0; Bd && c < 6; ++c) {
+            Bd[i * 6 + c] = J[i * 19 + 12 + c];
+        }
+        if (xn_h) {
+            xn_h[i] = J[i * 19 + 19 - 1];
+        }
+    }
+    return ur5_all_finite_(out, 12) ? UR5_OK : UR5_NONFINITE;
+}
+
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

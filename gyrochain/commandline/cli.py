@@ -458,7 +458,7 @@ def main(argv=None) -> int:
 def _exit_if_held(code: int) -> None:
     """End the process now if another thread is still running: a worker of a sweep's pool inside
     a C call, which the interpreter would wait for at exit, or an abandoned C call
-    (build.interruptible), which must not run on while the interpreter is torn down."""
+    (calls.interruptible), which must not run on while the interpreter is torn down."""
     import threading
 
     if any(t.is_alive() for t in threading.enumerate() if t is not threading.main_thread()):

@@ -290,6 +290,11 @@ def variational_stack_bytes(n: int) -> int:
     return 8 * (28 + 2) * 2 * n * (2 * n + 1)
 
 
+def step_jacobian_stack_bytes(n: int, nu: int) -> int:
+    """The stack NAME_step_jacobian's arrays take: dy, dk, ds and J, 2n x (2n + nu + 1) each."""
+    return 8 * 4 * 2 * n * (2 * n + nu + 1)
+
+
 def newton_sweeps(n: int, counts: dict) -> int:
     """A simplified Newton solve of GAUSS2's stages in fixed-point sweeps (2 rhs each): the
     Jacobian, the LU of the 2n × 2n matrix (⅔(2n)³ flops) and ~3 iterations of 2 rhs."""

@@ -801,6 +801,157 @@ MODEL_FN int model_integrate(int method, double t0, double t1, double h, double 
     }
     return code;
 }
+/* ---------------------------------------------------------------------------------------
+ * The discrete-time model: one classical RK4 step of length h with u held over it,
+ *   xn = x + h/6 (k1 + 2 k2 + 2 k3 + k4),
+ * the step of NAME_integrate's RK4 (bit for bit), and its exact Jacobian.
+ * --------------------------------------------------------------------------------------- */
+MODEL_FN static int model_step_args_(double t, const double *x, const model_params *p, double h, const double *xn)
+{
+    if (!x || !xn || !isfinite(t) || !isfinite(h)) {
+        return MODEL_BAD_ARGUMENT;
+    }
+#if MODEL_HAS_PARAMS
+    if (!p) {
+        return MODEL_NO_PARAMS;
+    }
+#else
+    (void)p;
+#endif
+    return MODEL_OK;
+}
+
+MODEL_FN int model_step(double t, const double *x, const double *u, const model_params *p, double h, double *xn)
+{
+    model_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
+    double dx[MODEL_V_DIM];
+    int i, code;
+    if ((code = model_step_args_(t, x, p, h, xn)) != MODEL_OK) {
+        return code;
+    }
+    if ((code = model_rk4_step_(MODEL_T(t, )x, h, u, p, dx, &st)) != MODEL_OK) {
+        for (i = 0; i < MODEL_V_DIM; ++i) {
+            xn[i] = NAN;
+        }
+        return code;
+    }
+    for (i = 0; i < MODEL_V_DIM; ++i) {
+        xn[i] = x[i] + dx[i];
+    }
+    return MODEL_OK;
+}
+#if MODEL_VARIATIONAL
+
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x MODEL_V_COLS,
+ * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
+ * derivatives of model_qdd_derivatives at y. */
+MODEL_FN static int model_step_stage_(MODEL_T(double t, )const double *y, const double *dy, const double *u,
+                                  const model_params *p, double *k, double *dk)
+{
+    double Dq[MODEL_V_NN], Dv[MODEL_V_NN], Du[MODEL_V_NNU1];
+    int i, j, c, code;
+    if ((code = model_qdd_derivatives(MODEL_T(t, )y, u, p, k + MODEL_V_N, Dq, Dv, MODEL_V_NU ? Du : 0)) != MODEL_OK) {
+        return code;
+    }
+    for (i = 0; i < MODEL_V_N; ++i) {
+        k[i] = y[MODEL_V_N + i];
+    }
+    for (c = 0; c < MODEL_V_COLS; ++c) {
+        for (i = 0; i < MODEL_V_N; ++i) {
+            double s = c >= MODEL_V_DIM && c < MODEL_V_DIM + MODEL_V_NU ? Du[i * MODEL_V_NU + c - MODEL_V_DIM] : 0.0;
+            dk[i * MODEL_V_COLS + c] = dy[(MODEL_V_N + i) * MODEL_V_COLS + c];
+            for (j = 0; j < MODEL_V_N; ++j) {
+                s += Dq[i * MODEL_V_N + j] * dy[j * MODEL_V_COLS + c] + Dv[i * MODEL_V_N + j] * dy[(MODEL_V_N + j) * MODEL_V_COLS + c];
+            }
+            dk[(MODEL_V_N + i) * MODEL_V_COLS + c] = s;
+        }
+    }
+    return MODEL_OK;
+}
+
+/* xn and J = dxn/d(x, u, h) (2n x MODEL_V_COLS, row-major) by the chain rule through the four stages */
+MODEL_FN static int model_step_jacobian_(double t, const double *x, const double *u, const model_params *p, double h,
+                                     double *xn, double *J)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[MODEL_V_DIM], k[MODEL_V_DIM], s[MODEL_V_DIM];
+    double dy[MODEL_V_DIM * MODEL_V_COLS], dk[MODEL_V_DIM * MODEL_V_COLS], ds[MODEL_V_DIM * MODEL_V_COLS];
+    int i, c, st, code;
+#if MODEL_TIME_DEPENDENT
+#else
+    (void)t;  /* (an autonomous model) */
+#endif
+    for (i = 0; i < MODEL_V_DIM; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < MODEL_V_COLS; ++c) {
+            dy[i * MODEL_V_COLS + c] = c == i ? 1.0 : 0.0;
+            ds[i * MODEL_V_COLS + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = model_step_stage_(MODEL_T(t + a[st] * h, )y, dy, u, p, k, dk)) != MODEL_OK) {
+            return code;
+        }
+        for (i = 0; i < MODEL_V_DIM; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < MODEL_V_COLS; ++c) {
+                ds[i * MODEL_V_COLS + c] += b[st] * dk[i * MODEL_V_COLS + c];
+            }
+        }
+        for (i = 0; st < 3 && i < MODEL_V_DIM; ++i) {
+            y[i] = x[i] + a[st + 1] * h * k[i];
+            for (c = 0; c < MODEL_V_COLS; ++c) {
+                dy[i * MODEL_V_COLS + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * MODEL_V_COLS + c]
+                                         + (c == MODEL_V_COLS - 1 ? a[st + 1] * k[i] : 0.0);
+            }
+        }
+    }
+    for (i = 0; i < MODEL_V_DIM; ++i) {
+        xn[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; c < MODEL_V_COLS; ++c) {
+            J[i * MODEL_V_COLS + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * MODEL_V_COLS + c]
+                                    + (c == MODEL_V_COLS - 1 ? s[i] / 6.0 : 0.0);
+        }
+    }
+    return MODEL_OK;
+}
+
+MODEL_FN int model_step_jacobian(double t, const double *x, const double *u, const model_params *p, double h, double *xn,
+                             double *Ad, double *Bd, double *xn_h)
+{
+    double J[MODEL_V_DIM * MODEL_V_COLS], xs[MODEL_V_DIM];
+    double *out = xn ? xn : xs;
+    int i, c, code;
+    if ((code = model_step_args_(t, x, p, h, out)) != MODEL_OK) {
+        return code;
+    }
+#if MODEL_TIME_DEPENDENT
+    if (xn_h) {  /* d/dh moves the stages' times too: that needs df/dt, which is not emitted */
+        return MODEL_BAD_ARGUMENT;
+    }
+#endif
+    if (!model_all_finite_(x, MODEL_V_DIM)) {
+        return MODEL_NONFINITE;
+    }
+    if ((code = model_step_jacobian_(t, x, u, p, h, out, J)) != MODEL_OK) {
+        return code;
+    }
+    for (i = 0; i < MODEL_V_DIM; ++i) {
+        for (c = 0; Ad && c < MODEL_V_DIM; ++c) {
+            Ad[i * MODEL_V_DIM + c] = J[i * MODEL_V_COLS + c];
+        }
+        for (c = 0; Bd && c < MODEL_V_NU; ++c) {
+            Bd[i * MODEL_V_NU + c] = J[i * MODEL_V_COLS + MODEL_V_DIM + c];
+        }
+        if (xn_h) {
+            xn_h[i] = J[i * MODEL_V_COLS + MODEL_V_COLS - 1];
+        }
+    }
+    return model_all_finite_(out, MODEL_V_DIM) ? MODEL_OK : MODEL_NONFINITE;
+}
+#endif
+
 #if MODEL_VARIATIONAL
 
 /* ---------------------------------------------------------------------------------------

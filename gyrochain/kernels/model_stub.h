@@ -42,6 +42,9 @@
 #define MODEL_V_N 2
 #define MODEL_V_DIM 4
 #define MODEL_V_NN 4
+#define MODEL_V_NU 1
+#define MODEL_V_NNU1 2
+#define MODEL_V_COLS 6
 #define MODEL_V_DIM2 16
 #define MODEL_V_2DIM 8
 #define MODEL_V_4DIM2 64
@@ -124,6 +127,9 @@ int model_integrate_batch(int method, int nb, int nt, const double *t, double h,
 int model_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                 const double *x0, const double *u, const model_params *p,
                                 double *x1, double *Phi, model_integrate_stats *stats);
+int model_step(double t, const double *x, const double *u, const model_params *p, double h, double *xn);
+int model_step_jacobian(double t, const double *x, const double *u, const model_params *p, double h, double *xn,
+                        double *Ad, double *Bd, double *xn_h);
 /* the right side for RK4's lanes (the template prints them static, before kernels/integrate.c) */
 void model_rhs_lane_(MODEL_T(double t, )int own, const double *X, const double *u, const model_params *p, double *XD,
                      int *code);

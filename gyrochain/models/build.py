@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..printers.codes import METHODS, MOTIONS, status_text
+from .calls import interruptible
 from .paramtable import ParamTable
 
 # after Python's own flags, which carry -g and -O3: -O2 as everywhere in this project, and no debug
@@ -222,37 +223,6 @@ def load_module(so_path: str | Path):
 QUICK_CALL = 0.005  # seconds: an integrator call predicted shorter is made without a helper thread
 
 
-def interruptible(fn, *args, keep=()):
-    """``fn(*args)``, a call into the C that may run long (an integrator), made so that Ctrl-C
-    ends it at once: from the main thread the call runs in a helper thread, which cffi lets run
-    without the GIL, and the main thread waits for it in short timed waits, which a signal
-    interrupts; KeyboardInterrupt then unwinds the caller's stack (its clean-ups run) while the
-    abandoned call goes on in its daemon thread until the process exits.  From any other thread
-    (a sweep's workers) the call is made directly: the main thread is the one Ctrl-C reaches.
-    ``keep``: the arrays the pointers in ``args`` point into (a cffi cast does not keep its buffer
-    alive): the helper thread holds them, so an abandoned call never writes into freed memory.
-    A thread costs about 0.1 ms; it is used only for the integrators (docs/testing.md)."""
-    import threading
-
-    if threading.current_thread() is not threading.main_thread():
-        return fn(*args)
-    box: dict = {}
-
-    def work(held=keep):  # noqa: ARG001  (held: alive as long as the call runs)
-        try:
-            box["result"] = fn(*args)
-        except BaseException as exc:  # noqa: BLE001  (raised again in the caller's thread)
-            box["error"] = exc
-
-    helper = threading.Thread(target=work, name="gyrochain-c-call", daemon=True)
-    helper.start()
-    while helper.is_alive():
-        helper.join(0.05)
-    if "error" in box:
-        raise box["error"]
-    return box["result"]
-
-
 class ModelError(ArithmeticError):
     def __init__(self, func: str, code: int):
         super().__init__(f"{func} returned {code}: {status_text(code)}")
@@ -380,6 +350,20 @@ class CModel:
         if code != 0:
             raise ModelError(f"{self.name}_linearize", code)
         return A, B
+
+    def step(self, x, h, u=None, params=None, t=0.0):
+        """x(t + h) by one classical RK4 step with u held (NAME_step, the discrete-time model)."""
+        (xp, _k), (up, _ku) = self._arr(x, 2 * self.n), self._u(u)
+        return self._call("step", float(t), xp, up, self._p(params), float(h), out_len=2 * self.n)
+
+    def step_jacobian(self, x, h, u=None, params=None, t=0.0, with_h=True):
+        """(xn, Ad, Bd, xn_h) of NAME_step_jacobian: the step and its exact derivatives in x, u and h
+        (``with_h=False``: xn_h None, as a model that reads t needs)."""
+        (xp, _k), (up, _ku), d = self._arr(x, 2 * self.n), self._u(u), 2 * self.n
+        (xn, Ad, Bd, dh), ptrs = self._outs(d, (d, d), (d, self.nu), d)
+        ptrs[2:] = [ptrs[2] if Bd.size else self.ffi.NULL, ptrs[3] if with_h else self.ffi.NULL]
+        self._checked("step_jacobian", self._fn("step_jacobian")(float(t), xp, up, self._p(params), float(h), *ptrs))
+        return xn, Ad, Bd, dh if with_h else None
 
     def energy(self, x, params=None, t=0.0):
         xp, _k = self._arr(x, 2 * self.n)

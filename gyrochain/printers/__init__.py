@@ -18,7 +18,7 @@ from .. import __version__
 from ..chainspec.tables import spec_limits
 from ..derive import integrals, loopform, world
 from ..derive.assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
-                        time_dependent, variational_stack_bytes)
+                        step_jacobian_stack_bytes, time_dependent, variational_stack_bytes)
 from .c import CTarget
 from .casadi import CasadiTarget
 from .cuda import CudaTarget
@@ -90,6 +90,7 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         newton=n <= GAUSS2_NEWTON_MAX_N,
         variational=n <= VARIATIONAL_MAX_N,
         variational_stack_kb=(variational_stack_bytes(n) + 1023) // 1024,
+        step_jacobian_stack_kb=(step_jacobian_stack_bytes(n, len(spec.controls)) + 1023) // 1024,
         newton_sweeps=newton_sweeps(n, counts),
         newton_sweeps_canonical=newton_sweeps_canonical(n, counts),
         counts=counts,

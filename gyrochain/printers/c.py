@@ -86,7 +86,8 @@ def integrators(ctx: dict) -> str:
     (the template's line ends it)."""
     n, counts = ctx["n"], ctx["counts"]
     dim = 2 * n
-    values = dict(N=n, DIM=dim, NN=n * n, DIM2=dim * dim, **{"2DIM": 2 * dim, "4DIM2": 4 * dim * dim}, VDIM=dim * (dim + 1),
+    nu = len(ctx["controls"])
+    values = dict(N=n, DIM=dim, NN=n * n, NU=nu, NNU1=n * max(nu, 1), COLS=dim + nu + 1, DIM2=dim * dim, **{"2DIM": 2 * dim, "4DIM2": 4 * dim * dim}, VDIM=dim * (dim + 1),
                   OPS_QDD=counts["qdd"], OPS_QDD_DERIVATIVES=counts.get("qdd_derivatives", 0),
                   OPS_VELOCITIES=counts.get("velocities", 0), OPS_PDOT=counts.get("pdot", 0),
                   OPS_CANONICAL=counts.get("velocities", 0) + counts.get("pdot", 0),

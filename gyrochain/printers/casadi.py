@@ -4,8 +4,9 @@
 - ``NAME_f(x, u, p) -> xdot`` the continuous dynamics (NAME_rhs), and ``jac_NAME_f`` its Jacobian
   with respect to x and u, with the true sparsity (the entries the forward-mode derivative
   leaves structurally zero, as a cyclic coordinate's column, are not stored);
-- ``NAME_F(x, u, p, h) -> xnext`` one classical RK4 step of the control held over it, and
-  ``jac_NAME_F`` its Jacobian with respect to x, u and h by the chain rule through the four stages;
+- ``NAME_F(x, u, p, h) -> xnext`` one classical RK4 step of the control held over it (NAME_step),
+  and ``jac_NAME_F`` its Jacobian with respect to x, u and h (NAME_step_jacobian: the chain rule
+  through the four stages);
 - ``NAME_M(q, p) -> M`` the mass matrix and ``NAME_E(x, p) -> E`` the energy (23), without
   derivatives.
 
@@ -18,8 +19,9 @@ from __future__ import annotations
 
 from ..chainspec.errors import SpecError
 from ..derive import derivatives
+from ..derive.assemble import VARIATIONAL_MAX_N
 
-CASADI_MAX_N = 16  # the RK4 step's Jacobian keeps three 2n x (3n + nu + 1) arrays on the stack
+CASADI_MAX_N = VARIATIONAL_MAX_N  # jac_NAME_F is NAME_step_jacobian, which NAME.c has up to this n
 
 
 def structure(model) -> list[list[bool]]:
@@ -78,8 +80,7 @@ class CasadiTarget:
         name = model.spec.name
         check(model.spec, context["real"], context["time_dependent"])
         n, nu = model.spec.n, len(model.spec.controls)
-        data = dict(context, jac_f=jacobian_of_f(model), casadi=signatures(model), np=len(model.spec.params), nu=nu,
-                    cols=2 * n + nu + 1)
+        data = dict(context, jac_f=jacobian_of_f(model), casadi=signatures(model), np=len(model.spec.params), nu=nu)
         return {f"{name}_casadi.c": env.get_template("model_casadi.c.jinja").render(data)}
 
 
