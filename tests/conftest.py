@@ -98,16 +98,16 @@ _cache: dict = {}
 
 
 def generate(spec: ChainSpec, folder: Path, params=None, qdd_form: str = "auto", der_form: str = "auto",
-             latex: bool = False, loops: str = "auto") -> Generated:
+             latex: bool = False, loops: str = "auto", hessian: bool = False) -> Generated:
     """The spec's files written under ``folder`` (in a subfolder of its own per spec text and
     forms), its Python module, its compiled C and the reference model.  ``latex``: write the
     LaTeX too (the slowest printer; only the tests that read it ask).  ``loops``: the loop form of
-    long chains by n ("auto") or forced ("straight", "loops")."""
-    key = (spec.source, str(params), qdd_form, der_form) + (() if loops == "auto" else (loops,))
+    long chains by n ("auto") or forced ("straight", "loops").  ``hessian``: generate --hessian."""
+    key = (spec.source, str(params), qdd_form, der_form) + (() if loops == "auto" else (loops,)) + (("hessian",) if hessian else ())
     if key not in _cache or (latex and not (_cache[key].folder / f"{spec.name}.tex").exists()):
         targets = ("c", "python", "latex") if latex else ("c", "python")
         files, _model = pipeline.derive_and_render(spec, f"{spec.name}.toml", qdd_form=qdd_form, der_form=der_form,
-                                                   targets=targets, loops=loops)
+                                                   targets=targets, loops=loops, hessian=hessian)
         digest = hashlib.sha256("\0".join(map(str, key)).encode("utf-8")).hexdigest()[:12]
         target = folder / f"{spec.name}-{digest}" / spec.name
         pipeline.write_tree(files, target, build_it=False, name=spec.name)
@@ -259,9 +259,9 @@ def gen_dir(tmp_path_factory):
 @pytest.fixture(scope="session")
 def make_model(gen_dir):
     def make(spec_or_text, params=None, qdd_form: str = "auto", der_form: str = "auto", latex: bool = False,
-             loops: str = "auto") -> Generated:
+             loops: str = "auto", hessian: bool = False) -> Generated:
         spec = parse_spec(spec_or_text) if isinstance(spec_or_text, str) else spec_or_text
-        return generate(spec, gen_dir, params, qdd_form, der_form, latex, loops)
+        return generate(spec, gen_dir, params, qdd_form, der_form, latex, loops, hessian)
 
     return make
 

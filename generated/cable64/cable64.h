@@ -92,6 +92,7 @@ extern "C" {
 #define CABLE64_RK4_LANES 6
 #define CABLE64_HAS_CANONICAL 1
 #define CABLE64_HAS_VARIATIONAL 0
+#define CABLE64_HAS_HESSIAN 0
 #define CABLE64_HAS_LIMITS 0
 typedef struct cable64_params {
     double unused_;

@@ -103,6 +103,7 @@ extern "C" {
 #define DOUBLE_PENDULUM_RK4_LANES 6
 #define DOUBLE_PENDULUM_HAS_CANONICAL 1
 #define DOUBLE_PENDULUM_HAS_VARIATIONAL 1
+#define DOUBLE_PENDULUM_HAS_HESSIAN 0
 #define DOUBLE_PENDULUM_HAS_LIMITS 0
 typedef struct double_pendulum_params {
     double unused_;

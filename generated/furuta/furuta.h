@@ -103,6 +103,7 @@ extern "C" {
 #define FURUTA_RK4_LANES 6
 #define FURUTA_HAS_CANONICAL 1
 #define FURUTA_HAS_VARIATIONAL 1
+#define FURUTA_HAS_HESSIAN 0
 #define FURUTA_HAS_LIMITS 0
 typedef struct furuta_params {
     double unused_;

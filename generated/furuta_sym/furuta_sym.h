@@ -103,6 +103,7 @@ extern "C" {
 #define FURUTA_SYM_RK4_LANES 6
 #define FURUTA_SYM_HAS_CANONICAL 1
 #define FURUTA_SYM_HAS_VARIATIONAL 1
+#define FURUTA_SYM_HAS_HESSIAN 0
 #define FURUTA_SYM_HAS_LIMITS 0
 typedef struct furuta_sym_params {
     double g0;

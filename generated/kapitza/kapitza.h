@@ -105,6 +105,7 @@ extern "C" {
 #define KAPITZA_RK4_LANES 6
 #define KAPITZA_HAS_CANONICAL 0
 #define KAPITZA_HAS_VARIATIONAL 1
+#define KAPITZA_HAS_HESSIAN 0
 #define KAPITZA_HAS_LIMITS 0
 typedef struct kapitza_params {
     double a;

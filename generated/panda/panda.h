@@ -108,6 +108,7 @@ extern "C" {
 #define PANDA_RK4_LANES 6
 #define PANDA_HAS_CANONICAL 1
 #define PANDA_HAS_VARIATIONAL 1
+#define PANDA_HAS_HESSIAN 0
 /* the spec's joint limits (rad, rad/s, N m): data for an optimiser or a controller, not enforced by the model; HUGE_VAL (<math.h>) where a joint has none */
 #define PANDA_HAS_LIMITS 1
 #define PANDA_PHI_LOWER {-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973}

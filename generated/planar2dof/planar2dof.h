@@ -110,6 +110,7 @@ extern "C" {
 #define PLANAR2DOF_RK4_LANES 6
 #define PLANAR2DOF_HAS_CANONICAL 1
 #define PLANAR2DOF_HAS_VARIATIONAL 1
+#define PLANAR2DOF_HAS_HESSIAN 0
 #define PLANAR2DOF_HAS_LIMITS 0
 typedef struct planar2dof_params {
     double unused_;

@@ -105,6 +105,7 @@ extern "C" {
 #define SHIP_GIMBAL_RK4_LANES 6
 #define SHIP_GIMBAL_HAS_CANONICAL 0
 #define SHIP_GIMBAL_HAS_VARIATIONAL 1
+#define SHIP_GIMBAL_HAS_HESSIAN 0
 #define SHIP_GIMBAL_HAS_LIMITS 0
 typedef struct ship_gimbal_params {
     double unused_;

@@ -103,6 +103,7 @@ extern "C" {
 #define SPATIAL3_RK4_LANES 6
 #define SPATIAL3_HAS_CANONICAL 1
 #define SPATIAL3_HAS_VARIATIONAL 1
+#define SPATIAL3_HAS_HESSIAN 0
 #define SPATIAL3_HAS_LIMITS 0
 typedef struct spatial3_params {
     double unused_;

@@ -104,6 +104,7 @@ extern "C" {
 #define TURNTABLE_RK4_LANES 6
 #define TURNTABLE_HAS_CANONICAL 0
 #define TURNTABLE_HAS_VARIATIONAL 1
+#define TURNTABLE_HAS_HESSIAN 0
 #define TURNTABLE_HAS_LIMITS 0
 typedef struct turntable_params {
     double Omega;

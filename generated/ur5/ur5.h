@@ -103,6 +103,7 @@ extern "C" {
 #define UR5_RK4_LANES 6
 #define UR5_HAS_CANONICAL 1
 #define UR5_HAS_VARIATIONAL 1
+#define UR5_HAS_HESSIAN 0
 /* the spec's joint limits (rad, rad/s, N m): data for an optimiser or a controller, not enforced by the model; HUGE_VAL (<math.h>) where a joint has none */
 #define UR5_HAS_LIMITS 1
 #define UR5_PHI_LOWER {-6.28318530718, -6.28318530718, -3.14159265359, -6.28318530718, -6.28318530718, -6.28318530718}

@@ -110,6 +110,7 @@ extern "C" {
 #define ZIEGLER_RK4_LANES 6
 #define ZIEGLER_HAS_CANONICAL 1
 #define ZIEGLER_HAS_VARIATIONAL 1
+#define ZIEGLER_HAS_HESSIAN 0
 #define ZIEGLER_HAS_LIMITS 0
 typedef struct ziegler_params {
     double P;

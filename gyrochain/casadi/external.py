@@ -20,9 +20,10 @@ from ..models import pipeline
 from ..printers import casadi as target
 
 CFLAGS = ["-O2", "-fPIC", "-shared"]
-# f's and F's second derivatives (IPOPT's exact Hessian asks for them): CasADi's finite differences
-# (forward differences) of the exact Jacobians, jac_NAME_f and jac_NAME_F (the first derivatives stay exact)
-SECOND_ORDER = {"der_options": {"enable_fd": True, "fd_method": "forward"}}
+# f's and F's second derivatives (IPOPT's exact Hessian asks for them) are the library's own,
+# jac_adj1_NAME_f and jac_adj1_NAME_F (NAME_rhs_hessian, NAME_step_hessian); a chain whose Hessian
+# is too long to emit has none, and CasADi differences the exact Jacobians instead (forward differences)
+SECOND_ORDER_BY_DIFFERENCES = {"der_options": {"enable_fd": True, "fd_method": "forward"}}
 
 
 class CasadiUnavailable(RuntimeError):
@@ -181,6 +182,8 @@ def functions(spec_or_folder, params: dict | None = None) -> CasadiModel:
     if bad:
         raise SpecError(f"--param {bad[0]}", f"{values[bad[0]]} is not a finite number")
     lib = build_library(src.files, src.name)
-    made = {k: casadi.external(f"{src.name}_{k}", str(lib), SECOND_ORDER if k in "fF" else {}) for k in ("f", "F", "M", "E")}
+    exact = f"int jac_adj1_{src.name}_f(" in src.files[f"{src.name}_casadi.c"]
+    made = {k: casadi.external(f"{src.name}_{k}", str(lib), {} if exact or k not in "fF" else SECOND_ORDER_BY_DIFFERENCES)
+            for k in ("f", "F", "M", "E")}
     return CasadiModel(src.name, src.n, src.nu, list(src.params), np.array([float(values[k]) for k in src.params]), lib,
                        **made, bounds=src.bounds)

@@ -61,7 +61,7 @@ def cmd_generate(args) -> int:
     result = generate.run(spec, target, Path(args.spec).name, build=not args.no_build, force=args.force,
                           qdd_form=args.qdd_form, der_form=args.derivative_form, progress=_Progress(args.quiet),
                           real=args.real, source=Path(args.spec), regressor=args.regressor, paper=args.paper,
-                          pdf=args.pdf, gpu=args.gpu, casadi=args.casadi)
+                          pdf=args.pdf, gpu=args.gpu, casadi=args.casadi, hessian=args.hessian)
     for line in generate.report(result):
         print(line)
     print(f"done in {time.perf_counter() - t0:.2f} s")

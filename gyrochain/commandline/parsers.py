@@ -107,6 +107,9 @@ def _derive(sub) -> None:
                         "(the Python mirror stays in double)")
     g.add_argument("--regressor", action="store_true", help="also NAME_regressor (u = Y pi + tau0), the energy's, "
                    "the base parameters and NAME_base_regressor (parameter identification; default: without)")
+    g.add_argument("--hessian", action="store_true", help="also NAME_rhs_hessian and NAME_step_hessian: the exact second "
+                   "derivatives of lam . f and of lam . (one RK4 step) that an optimiser's exact Hessian asks for "
+                   "(default: without; --casadi includes them)")
     g.add_argument("--paper", choices=("a4", "letter"), default="a4",
                    help="the page of the LaTeX document: a4 (the default) or letter (US)")
     g.add_argument("--pdf", action="store_true", help="also typeset the LaTeX into NAME.pdf with LuaLaTeX, two passes "
@@ -114,7 +117,7 @@ def _derive(sub) -> None:
     g.add_argument("--gpu", action="store_true", help="also NAME_gpu.cu: CUDA kernels of one thread per trajectory that "
                    "run NAME.c's RK4, DOP853 and variational equations (NAME_integrate_batch on a GPU; default: without)")
     g.add_argument("--casadi", action="store_true", help="also NAME_casadi.c: the dynamics, one RK4 step, the mass "
-                   "matrix and the energy as CasADi external functions, with the exact Jacobians (optimal control; "
+                   "matrix and the energy as CasADi external functions, with the exact Jacobians and Hessians (optimal control; "
                    "a spec with a control; default: without)")
     c = sub.add_parser("check", help="validate a spec without generating")
     _spec(c)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from . import aba, baseparams, derivatives, quadratures, regressor, world
+from . import aba, baseparams, derivatives, hessian, quadratures, regressor, world
 from .algebra import Poly
 from .dynamics import Dynamics
 from .integrals import Integrals
@@ -59,6 +59,9 @@ class Model:
     # the regressor u = Y π + τ₀ and the base parameters (generate --regressor), else None
     reg: regressor.Regressor | None = None
     base: baseparams.BaseParameters | None = None
+    # the weighted second derivatives ∇²(μ·φ̈) (generate --hessian, --casadi), else None (not asked
+    # for, or longer than HESSIAN_MAX_OPS)
+    hess: hessian.Hessian | None = None
 
 
 class FormNotApplicable(ValueError):
@@ -72,7 +75,8 @@ DER_FORMS = ("auto", "forward", "world", "world-solve", "world-inverse")
 
 
 def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, ints: Integrals, progress=None,
-                qdd_form: str = "auto", der_form: str = "auto", with_regressor: bool = False) -> Model:
+                qdd_form: str = "auto", der_form: str = "auto", with_regressor: bool = False,
+                with_hessian: bool = False) -> Model:
     """The straight-line code of every function, from the program ``prog`` the stages appended
     to (the articulated recursion, the derivatives and Hamilton's variables are appended here).  φ̈ is emitted in whichever form costs fewer
     operations for this spec (``qdd_form="auto"``): composite bodies + LDLᵀ (short chains) or
@@ -141,8 +145,28 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
     say(f"derivatives: {form_d} form")
     # the regressor after everything else: no other quantity's name depends on it
     reg, base = _regressor(spec, P, kin, dyn, ints, lines, say) if with_regressor else (None, None)
+    hess = _hessian(spec, P, kin, art, lines, say) if with_hessian else None
     return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d, reg=reg, base=base,
-                 world_columns=columns if form_d == "world" else "")
+                 world_columns=columns if form_d == "world" else "", hess=hess)
+
+
+# Past this many operations NAME_rhs_hessian is not emitted (gcc's time; the Panda's is 103k): an
+# optimiser then differences the exact Jacobian for its second derivatives
+HESSIAN_MAX_OPS = 150000
+
+
+def _hessian(spec, P: Program, kin, art, lines: dict, say) -> hessian.Hessian | None:
+    """The weighted Hessian of φ̈ and its straight line (the recursion, then the pairs i ≤ j), last
+    of all: no other quantity's name depends on it.  None past HESSIAN_MAX_OPS."""
+    say("second derivatives: the Hessian of mu . qdd, forward mode over forward mode")
+    hess = hessian.derive(spec, P, kin, art)
+    pairs = [hess.upper[k] for k in sorted(hess.upper)]
+    line = straight_line(P, list(art.qdd) + list(art.pivots) + pairs, prefix="wh")
+    if line.op_count() > HESSIAN_MAX_OPS:
+        say(f"second derivatives: {line.op_count()} ops, past {HESSIAN_MAX_OPS}: not emitted")
+        return None
+    lines["rhs_hessian"] = line
+    return hess
 
 
 def _choose_world(spec, P: Program, kin, dyn, der_form: str, forward, lines: dict, say) -> tuple:
@@ -293,6 +317,13 @@ def variational_stack_bytes(n: int) -> int:
 def step_jacobian_stack_bytes(n: int, nu: int) -> int:
     """The stack NAME_step_jacobian's arrays take: dy, dk, ds and J, 2n x (2n + nu + 1) each."""
     return 8 * 4 * 2 * n * (2 * n + nu + 1)
+
+
+def step_hessian_stack_bytes(n: int, nu: int) -> int:
+    """The stack NAME_step_hessian's arrays take: per stage y, k, dy/dw, dk/dw and the Jacobian's
+    blocks; the stage's Hessian and its product with dy/dw (w = (x, u, h))."""
+    d, m, z = 2 * n, 2 * n + nu + 1, 2 * n + nu
+    return 8 * (4 * (2 * d + 2 * d * m + 2 * n * n + n * max(nu, 1)) + 5 * d + z * z + z * m + m)
 
 
 def newton_sweeps(n: int, counts: dict) -> int:

@@ -952,6 +952,125 @@ MODEL_FN int model_step_jacobian(double t, const double *x, const double *u, con
 }
 #endif
 
+#if MODEL_HESSIAN
+
+/* ---------------------------------------------------------------------------------------
+ * The second derivatives an optimiser's exact Hessian asks for: of lam . F, F the RK4 step with
+ * w = (x, u, h), assembled from the step's own operations.  For a program of nodes v = phi(args)
+ * the Hessian of lam . F is the sum over its nodes of J_args' (vbar . phi'') J_args, J_args the
+ * derivative of the node's arguments in w and vbar the adjoint of its value (forward over
+ * reverse, written out).  The nodes: the stages k_s = f(y_s, u), whose curvature is
+ * model_rhs_hessian's at the stage's adjoint kappa_s, the stage points y_s = x + a_s h k_{s-1}
+ * and the step x + h/6 sum b_s k_s, bilinear in h and k.  Every first derivative is the exact
+ * Jacobian of model_qdd_derivatives, every second one model_rhs_hessian's.
+ * --------------------------------------------------------------------------------------- */
+MODEL_FN int model_step_hessian(double t, const double *x, const double *u, const model_params *p, double h,
+                            const double *lam, double *H)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[4][MODEL_V_DIM], k[4][MODEL_V_DIM], Y[4][MODEL_V_DIM * MODEL_V_COLS], K[4][MODEL_V_DIM * MODEL_V_COLS];
+    double Dq[4][MODEL_V_NN], Dv[4][MODEL_V_NN], Du[4][MODEL_V_NNU1];
+    double kap[MODEL_V_DIM], ybar[4][MODEL_V_DIM], Hs[MODEL_V_ZDIM * MODEL_V_ZDIM], T[MODEL_V_ZDIM * MODEL_V_COLS];
+    double r[MODEL_V_COLS];
+    int i, j, c, s, code;
+    if ((code = model_step_args_(t, x, p, h, H)) != MODEL_OK) {
+        return code;
+    }
+    if (!lam || !model_all_finite_(lam, MODEL_V_DIM)) {
+        return lam ? MODEL_NONFINITE : MODEL_BAD_ARGUMENT;
+    }
+    if (!model_all_finite_(x, MODEL_V_DIM)) {
+        return MODEL_NONFINITE;
+    }
+    /* forward: the stages, their points' derivatives Y_s = dy_s/dw and theirs K_s = dk_s/dw */
+    for (s = 0; s < 4; ++s) {
+        for (i = 0; i < MODEL_V_DIM; ++i) {
+            y[s][i] = x[i] + (s ? a[s] * h * k[s - 1][i] : 0.0);
+            for (c = 0; c < MODEL_V_COLS; ++c) {
+                Y[s][i * MODEL_V_COLS + c] = (c == i ? 1.0 : 0.0)
+                    + (s ? a[s] * h * K[s - 1][i * MODEL_V_COLS + c] + (c == MODEL_V_COLS - 1 ? a[s] * k[s - 1][i] : 0.0) : 0.0);
+            }
+        }
+        if ((code = model_qdd_derivatives(MODEL_T(t, )y[s], u, p, k[s] + MODEL_V_N, Dq[s], Dv[s], MODEL_V_NU ? Du[s] : 0)) != MODEL_OK) {
+            return code;
+        }
+        for (i = 0; i < MODEL_V_N; ++i) {
+            k[s][i] = y[s][MODEL_V_N + i];
+            for (c = 0; c < MODEL_V_COLS; ++c) {
+                double v = c >= MODEL_V_DIM && c < MODEL_V_DIM + MODEL_V_NU ? Du[s][i * MODEL_V_NU + c - MODEL_V_DIM] : 0.0;
+                K[s][i * MODEL_V_COLS + c] = Y[s][(MODEL_V_N + i) * MODEL_V_COLS + c];
+                for (j = 0; j < MODEL_V_N; ++j) {
+                    v += Dq[s][i * MODEL_V_N + j] * Y[s][j * MODEL_V_COLS + c]
+                         + Dv[s][i * MODEL_V_N + j] * Y[s][(MODEL_V_N + j) * MODEL_V_COLS + c];
+                }
+                K[s][(MODEL_V_N + i) * MODEL_V_COLS + c] = v;
+            }
+        }
+    }
+    for (i = 0; i < MODEL_V_COLS * MODEL_V_COLS; ++i) {
+        H[i] = 0.0;
+    }
+    /* backward: kappa_s = h/6 b_s lam + a_{s+1} h ybar_{s+1}, ybar_s = A_s' kappa_s; each stage's curvature
+     * Z_s' (kappa_s . f)'' Z_s, Z_s = d(y_s, u)/dw */
+    for (s = 3; s >= 0; --s) {
+        for (i = 0; i < MODEL_V_DIM; ++i) {
+            kap[i] = h / 6.0 * b[s] * lam[i] + (s < 3 ? a[s + 1] * h * ybar[s + 1][i] : 0.0);
+        }
+        for (j = 0; j < MODEL_V_N; ++j) {
+            double sq = 0.0, sv = kap[j];
+            for (i = 0; i < MODEL_V_N; ++i) {
+                sq += Dq[s][i * MODEL_V_N + j] * kap[MODEL_V_N + i];
+                sv += Dv[s][i * MODEL_V_N + j] * kap[MODEL_V_N + i];
+            }
+            ybar[s][j] = sq;
+            ybar[s][MODEL_V_N + j] = sv;
+        }
+        if ((code = model_rhs_hessian(t, y[s], u, p, kap, Hs)) != MODEL_OK) {
+            return code;
+        }
+        for (i = 0; i < MODEL_V_ZDIM; ++i) {  /* T = Hs Z_s */
+            for (c = 0; c < MODEL_V_COLS; ++c) {
+                double v = 0.0;
+                for (j = 0; j < MODEL_V_ZDIM; ++j) {
+                    const double z = j < MODEL_V_DIM ? Y[s][j * MODEL_V_COLS + c] : (c == j ? 1.0 : 0.0);
+                    v += Hs[i * MODEL_V_ZDIM + j] * z;
+                }
+                T[i * MODEL_V_COLS + c] = v;
+            }
+        }
+        for (i = 0; i < MODEL_V_COLS; ++i) {  /* H += Z_s' T */
+            for (c = 0; c < MODEL_V_COLS; ++c) {
+                double v = 0.0;
+                for (j = 0; j < MODEL_V_ZDIM; ++j) {
+                    const double z = j < MODEL_V_DIM ? Y[s][j * MODEL_V_COLS + i] : (i == j ? 1.0 : 0.0);
+                    v += z * T[j * MODEL_V_COLS + c];
+                }
+                H[i * MODEL_V_COLS + c] += v;
+            }
+        }
+    }
+    /* the bilinear nodes: r = sum_s a_s ybar_s' K_{s-1} + sum_s b_s/6 lam' K_s, into H's row and column of h */
+    for (c = 0; c < MODEL_V_COLS; ++c) {
+        double v = 0.0;
+        for (s = 0; s < 4; ++s) {
+            for (i = 0; i < MODEL_V_DIM; ++i) {
+                v += b[s] / 6.0 * lam[i] * K[s][i * MODEL_V_COLS + c] + (s ? a[s] * ybar[s][i] * K[s - 1][i * MODEL_V_COLS + c] : 0.0);
+            }
+        }
+        r[c] = v;
+    }
+    for (c = 0; c < MODEL_V_COLS; ++c) {
+        H[(MODEL_V_COLS - 1) * MODEL_V_COLS + c] += r[c];
+        H[c * MODEL_V_COLS + MODEL_V_COLS - 1] += r[c];
+    }
+    for (i = 0; i < MODEL_V_COLS; ++i) {  /* symmetric to round-off by construction; exactly so on return */
+        for (c = 0; c < i; ++c) {
+            H[i * MODEL_V_COLS + c] = H[c * MODEL_V_COLS + i] = 0.5 * (H[i * MODEL_V_COLS + c] + H[c * MODEL_V_COLS + i]);
+        }
+    }
+    return model_all_finite_(H, MODEL_V_COLS * MODEL_V_COLS) ? MODEL_OK : MODEL_NONFINITE;
+}
+#endif
 #if MODEL_VARIATIONAL
 
 /* ---------------------------------------------------------------------------------------

@@ -21,6 +21,9 @@
 #endif
 #define MODEL_FN  /* the header's function qualifier: __host__ __device__ under CUDA */
 #define MODEL_RESTRICT_ restrict  /* the template's: restrict in C, __restrict__ in g++ */
+#ifndef MODEL_HESSIAN
+#define MODEL_HESSIAN 1
+#endif
 #ifndef MODEL_LANES
 #define MODEL_LANES 1
 #endif
@@ -45,6 +48,7 @@
 #define MODEL_V_NU 1
 #define MODEL_V_NNU1 2
 #define MODEL_V_COLS 6
+#define MODEL_V_ZDIM 5
 #define MODEL_V_DIM2 16
 #define MODEL_V_2DIM 8
 #define MODEL_V_4DIM2 64
@@ -130,6 +134,9 @@ int model_integrate_variational(double t0, double t1, double h, double rtol, dou
 int model_step(double t, const double *x, const double *u, const model_params *p, double h, double *xn);
 int model_step_jacobian(double t, const double *x, const double *u, const model_params *p, double h, double *xn,
                         double *Ad, double *Bd, double *xn_h);
+int model_rhs_hessian(double t, const double *x, const double *u, const model_params *p, const double *lam, double *H);
+int model_step_hessian(double t, const double *x, const double *u, const model_params *p, double h, const double *lam,
+                       double *H);
 /* the right side for RK4's lanes (the template prints them static, before kernels/integrate.c) */
 void model_rhs_lane_(MODEL_T(double t, )int own, const double *X, const double *u, const model_params *p, double *XD,
                      int *code);

@@ -365,6 +365,16 @@ class CModel:
         self._checked("step_jacobian", self._fn("step_jacobian")(float(t), xp, up, self._p(params), float(h), *ptrs))
         return xn, Ad, Bd, dh if with_h else None
 
+    def rhs_hessian(self, x, lam, u=None, params=None, t=0.0):
+        """∇²(λ·f) in z = (x, u), (2n + nu) square (NAME_rhs_hessian: generate --hessian or --casadi)."""
+        (xp, _k), (up, _ku), (lp, _kl), z = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n), 2 * self.n + self.nu
+        return self._call("rhs_hessian", float(t), xp, up, self._p(params), lp, out_len=z * z).reshape(z, z)
+
+    def step_hessian(self, x, h, lam, u=None, params=None, t=0.0):
+        """∇²(λ·xn) of NAME_step in w = (x, u, h), (2n + nu + 1) square (NAME_step_hessian)."""
+        (xp, _k), (up, _ku), (lp, _kl), w = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n), 2 * self.n + self.nu + 1
+        return self._call("step_hessian", float(t), xp, up, self._p(params), float(h), lp, out_len=w * w).reshape(w, w)
+
     def energy(self, x, params=None, t=0.0):
         xp, _k = self._arr(x, 2 * self.n)
         return self._fn("energy")(*self._t(t), xp, self._p(params))

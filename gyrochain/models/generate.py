@@ -45,7 +45,7 @@ class Result:
 def run(spec, target: Path, label: str, build: bool = True, force: bool = False, qdd_form: str = "auto",
         der_form: str = "auto", progress=None, real: str = "double", source: Path | None = None,
         regressor: bool = False, paper: str = "a4", pdf: bool = False, gpu: bool = False, casadi: bool = False,
-        check_model: bool = True) -> Result:
+        check_model: bool = True, hessian: bool = False) -> Result:
     """Derive, print and write ``spec`` into ``target`` (built unless ``build`` is False).  A
     folder this generator did not write is written into only with ``force``, and its other files
     are kept; a folder that holds ``source``, the spec file, never.  ``pdf``: the LaTeX typeset too.
@@ -59,7 +59,7 @@ def run(spec, target: Path, label: str, build: bool = True, force: bool = False,
         try:
             files, model = pipeline.derive_and_render(spec, label, say, qdd_form=qdd_form, der_form=der_form, on_c=ahead,
                                                       real=real, regressor=regressor, paper=paper, gpu=gpu,
-                                                      casadi=casadi)
+                                                      casadi=casadi, hessian=hessian)
         except pipeline.FormNotApplicable as exc:
             raise SpecError("--derivative-form", str(exc)) from None
         if build:

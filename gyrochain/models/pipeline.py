@@ -41,7 +41,7 @@ _LOADED: dict = {}  # content hash of the sources → CModel (an extension loads
 
 
 def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = True, progress=None,
-           loops: str = "auto", regressor: bool = False) -> Model:
+           loops: str = "auto", regressor: bool = False, hessian: bool = False) -> Model:
     r"""Everything the printers need, derived once: kinematics (15)/(1)–(3), dynamics (17)–(19) or
     (8)–(10), the integrals (23), (27) and Jacobi's, the forms of $\ddot\varphi$ and of its derivatives chosen
     by op count, the quadratures (30) and Hamilton's variables where they exist, and (``latex``,
@@ -49,8 +49,10 @@ def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = T
     The same spec text and options give the same Model object within a process.  ``loops``: the
     loop form of long chains (loopform.py) by the number of joints ("auto"), or forced
     ("straight", "loops"; tests and benchmarks compare the two).  ``regressor``: also the
-    regressor, the energy's and the base parameters (regressor.py, baseparams.py)."""
+    regressor, the energy's and the base parameters (regressor.py, baseparams.py); ``hessian``: also
+    the weighted second derivatives of φ̈ (hessian.py)."""
     key = (spec.source, qdd_form, der_form) + (() if loops == "auto" else (loops,)) + (("regressor",) if regressor else ())
+    key += ("hessian",) if hessian else ()
     use_loops = loopform.uses_loops(spec.n, loops, armature=any(b.armature != 0 for b in spec.bodies))
     with _LOCK:
         found = _DERIVED.get(key)
@@ -68,7 +70,7 @@ def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = T
     say("integrals: energy (23) and, where l1 may be vertical, momentum (27)")
     ints = integrals.derive(spec, prog, kin, dyn)
     model = assemble.build_model(spec, prog, kin, dyn, ints, progress=say, qdd_form=qdd_form, der_form=der_form,
-                                 with_regressor=regressor)
+                                 with_regressor=regressor, with_hessian=hessian)
     if latex and spec.general:
         say("the general case again with the platform's motion as symbols (for the LaTeX)")
         model = _with_symbolic(model)
@@ -171,19 +173,21 @@ def render(model: Model, spec_label: str | None = None, targets=printers.ALL, on
 def derive_and_render(spec, spec_label: str | None = None, progress=None, qdd_form: str = "auto",
                       der_form: str = "auto", targets=printers.ALL, loops: str = "auto", on_c=None,
                       real: str = "double", regressor: bool = False, paper: str = "a4",
-                      gpu: bool = False, casadi: bool = False) -> tuple[dict[str, str], Model]:
+                      gpu: bool = False, casadi: bool = False, hessian: bool = False) -> tuple[dict[str, str], Model]:
     """``derive`` then ``render``: the files and the model (``gpu``: NAME_gpu.cu too; ``casadi``:
-    NAME_casadi.c too)."""
+    NAME_casadi.c too, and the second derivatives it hands on; ``hessian``: those in NAME.c)."""
     targets = (*targets, "cuda") if gpu and "cuda" not in targets else targets
     targets = (*targets, "casadi") if casadi and "casadi" not in targets else targets
+    hessian = hessian or "casadi" in targets
     model = derive(spec, qdd_form, der_form, latex="latex" in targets, progress=progress, loops=loops,
-                   regressor=regressor)
+                   regressor=regressor, hessian=hessian)
     say = progress or (lambda msg: None)
     say("printing " + ", ".join({"c": "C", "cuda": "CUDA", "casadi": "CasADi", "python": "Python", "latex": "LaTeX"}[t]
                                 for t in printers.TARGETS if t in targets))
     options = [*(("--qdd-form", qdd_form) if qdd_form != "auto" else ()),
                *(("--derivative-form", der_form) if der_form != "auto" else ()),
                *(("--regressor",) if regressor else ()),
+               *(("--hessian",) if hessian and "casadi" not in targets else ()),
                *(("--gpu",) if "cuda" in targets else ()),
                *(("--casadi",) if "casadi" in targets else ()),
                *(("--paper", paper) if paper != "a4" else ())]
@@ -352,12 +356,12 @@ def _loaded(files: dict[str, str], name: str, so_of) -> build.CModel:
 
 
 def compiled(spec, qdd_form: str = "auto", der_form: str = "auto", loops: str = "auto",
-             regressor: bool = False) -> tuple[build.CModel, Model]:
+             regressor: bool = False, hessian: bool = False) -> tuple[build.CModel, Model]:
     """A parsed spec's compiled model and its derivation (without the LaTeX); with ``regressor``,
-    the model with its regressor functions.  The model is held to the independent model once per
+    the model with its regressor functions, with ``hessian`` with its second derivatives.  The model is held to the independent model once per
     process (``checked``): every command that runs a model runs a checked one."""
     files, model = derive_and_render(spec, targets=("c",), qdd_form=qdd_form, der_form=der_form, loops=loops,
-                                     regressor=regressor)
+                                     regressor=regressor, hessian=hessian)
     return checked(spec, compile(files, spec.name)), model
 
 

@@ -18,7 +18,8 @@ from .. import __version__
 from ..chainspec.tables import spec_limits
 from ..derive import integrals, loopform, world
 from ..derive.assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
-                        step_jacobian_stack_bytes, time_dependent, variational_stack_bytes)
+                        step_hessian_stack_bytes, step_jacobian_stack_bytes, time_dependent,
+                        variational_stack_bytes)
 from .c import CTarget
 from .casadi import CasadiTarget
 from .cuda import CudaTarget
@@ -101,6 +102,7 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         label=spec_label,
         real=real,
         **regressor_context(model),
+        **hessian_context(model),
         gyrochain_version=__version__,
         sympy_version=sp.__version__,
     )
@@ -128,6 +130,19 @@ def regressor_context(model: Model) -> dict:
         base_rows=[_linear(row, "pi") for row in base.K],
         base_numerical=any(base.numerical),
     )
+
+
+def hessian_context(model: Model) -> dict:
+    """The second derivatives' facts (generate --hessian, --casadi): ∇²(μ·φ̈)'s stored pairs i ≤ j
+    (i, j, their slot), the size 2n + nu of (x, u), and whether NAME_step_hessian is emitted (an
+    autonomous model with NAME_step_jacobian)."""
+    n = model.spec.n
+    if model.hess is None:
+        return dict(hessian=False, step_hessian=False)
+    pairs = sorted(model.hess.upper)
+    return dict(hessian=True, hessian_pairs=[(i, j, k) for k, (i, j) in enumerate(pairs)], npairs=len(pairs),
+                zdim=2 * n + len(model.spec.controls), step_hessian=not time_dependent(model) and n <= VARIATIONAL_MAX_N,
+                step_hessian_stack_kb=(step_hessian_stack_bytes(n, len(model.spec.controls)) + 1023) // 1024)
 
 
 def _limits_json(spec) -> list:

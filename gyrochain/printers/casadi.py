@@ -80,7 +80,8 @@ class CasadiTarget:
         name = model.spec.name
         check(model.spec, context["real"], context["time_dependent"])
         n, nu = model.spec.n, len(model.spec.controls)
-        data = dict(context, jac_f=jacobian_of_f(model), casadi=signatures(model), np=len(model.spec.params), nu=nu)
+        data = dict(context, jac_f=jacobian_of_f(model), casadi=signatures(model), np=len(model.spec.params), nu=nu,
+                    second_order=model.hess is not None)
         return {f"{name}_casadi.c": env.get_template("model_casadi.c.jinja").render(data)}
 
 
@@ -114,4 +115,41 @@ def signatures(model) -> dict:
         M_in=[arg("q", _dense(n, 1)), arg("p", _dense(np_, 1))], M_out=[arg("M", _dense(n, n))],
         E_in=[arg("x", _dense(d, 1)), arg("p", _dense(np_, 1))], E_out=[arg("E", _dense(1, 1))],
     )
+    if model.hess is not None:
+        out.update(second_order(n, nu, np_, "f", f_in, "xdot"))
+        out.update(second_order(n, nu, np_, "F", F_in, "xnext"))
     return out
+
+
+def second_order(n: int, nu: int, np_: int, fname: str, ins: list, res: str) -> dict:
+    """The reverse-mode function adj1_NAME_<fname> (λ ↦ λ·∂<fname>/∂(inputs)) and its Jacobian
+    jac_adj1_NAME_<fname>, which CasADi asks for the second derivatives of λ·<fname> (IPOPT's
+    exact Hessian): each output of jac_adj1 is one block, and how the template fills it
+    (``fill``): "hess" a block of the Hessian of λ·<fname> in w = (x, u[, h]) (its rows r0…,
+    columns c0…), "jacT" a block of the Jacobian's transpose (∂adj/∂λ), "nan" a derivative in p
+    (not emitted), "empty" a structural zero (the derivative in an output's value)."""
+    d = 2 * n
+    arg = lambda name, sp, diff=1, **kw: dict(name=name, sparsity=sp, diff=diff, **kw)  # noqa: E731
+    sizes = {"x": d, "u": nu, "p": np_, "h": 1}
+    offset = {"x": 0, "u": d, "h": d + nu}  # where each input sits in w
+    names = [a["name"] for a in ins]
+    adj_in = [*ins, arg(f"out_{res}", _empty(d, 1), 0), arg(f"adj_{res}", _dense(d, 1))]
+    adj_out = [arg(f"adj_{i}", _dense(sizes[i], 1), fill=("nan" if i == "p" else "adj", offset.get(i, 0), sizes[i]))
+               for i in names]
+    blocks = []
+    for o in names:
+        for i in [*names, f"out_{res}", f"adj_{res}"]:
+            rows, cols = sizes[o], sizes.get(i, d)
+            if i == f"out_{res}" or rows * cols == 0:
+                kind = ("empty",)
+            elif "p" in (o, i):
+                kind = ("nan", rows * cols)
+            elif i == f"adj_{res}":
+                kind = ("jacT", offset[o], rows, cols)
+            else:
+                kind = ("hess", offset[o], offset[i], rows, cols)
+            sparsity = _empty(rows, cols) if kind[0] == "empty" else _dense(rows, cols)
+            blocks.append(arg(f"jac_adj_{o}_{i}", sparsity, fill=kind))
+    jac_in = [*adj_in, *(arg(f"out_adj_{i}", _empty(sizes[i], 1), 0) for i in names)]
+    return {f"adj1_{fname}_in": adj_in, f"adj1_{fname}_out": adj_out, f"jac_adj1_{fname}_in": jac_in,
+            f"jac_adj1_{fname}_out": blocks}

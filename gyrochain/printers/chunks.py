@@ -25,8 +25,10 @@ SIGNATURES = {
     "mass_matrix": ("q", False, False), "forces": ("x", True, True), "qdd": ("x", True, True),
     "qdd_derivatives": ("x", True, True), "energy": ("x", False, True), "momentum": ("x", False, True),
     "jacobi": ("x", False, False), "momenta": ("x", False, False), "velocity_terms": ("q", False, False),
-    "pdot": ("x", True, False),
+    "pdot": ("x", True, False), "rhs_hessian": ("x", True, True),
 }
+# the inputs a function reads besides its state, controls and parameters, passed on to its parts
+EXTRA_INPUTS = {"rhs_hessian": ("lam",)}
 
 # the arrays a function's outputs fill that are locals of the template's C function, declared
 # before its parts are called (templates/model.c.jinja): the parts write them directly.  Others
@@ -35,6 +37,7 @@ LOCAL_OUTPUTS = {
     "qdd": {"acc", "piv", "M", "f"},
     "mass_matrix": {"S_", "z1_"},  # only the loop form's per-joint axes (NAME_mass_pairs_)
     "qdd_derivatives": {"acc", "piv", "ext", "IC_"} | {f"{v}_" for v in VECTORS},
+    "rhs_hessian": {"acc", "piv", "hv"},
 }
 
 NOINLINE = """#if defined(__GNUC__)
@@ -89,14 +92,18 @@ def cut(key: str, fn: Function, ctx: dict) -> tuple[Function, list[str]]:
     # template's own arrays, distinct objects the caller's inputs cannot overlap; without it gcc
     # reloads inputs after every store (n = 32: qdd and the Jacobian 2-4 % slower)
     r = f"*{NAME}_RESTRICT_ "
+    extra = EXTRA_INPUTS.get(key, ())
     params = (("double t, " if with_t else "") + f"const double {r}{xname}, " + (f"const double {r}u, " if with_u else "")
+              + "".join(f"const double {r}{e}, " for e in extra)
               + f"const {name}_params {r}p, double {r}s_" + "".join(f", double {r}{a}" for a in arrays))
-    args = ("t, " if with_t else "") + f"{xname}, " + ("u, " if with_u else "") + "p, s_" + "".join(f", {a}" for a in arrays)
+    args = (("t, " if with_t else "") + f"{xname}, " + ("u, " if with_u else "") + "".join(f"{e}, " for e in extra) + "p, s_"
+            + "".join(f", {a}" for a in arrays))
     parts = []
     for c, (a, b) in enumerate(spans):
         lines = [f"/* {name}_{fn.name}, part {c + 1} of {len(spans)} (gyrochain/printers/chunks.py) */",
                  f"{NAME}_PART_ {name}_{fn.name}_part{c + 1}_({params})", "{"]
-        lines += [f"    (void){v};" for v in (["t"] if with_t else []) + [xname] + (["u"] if with_u else []) + ["p", "s_"] + arrays]
+        lines += [f"    (void){v};" for v in (["t"] if with_t else []) + [xname] + (["u"] if with_u else []) + list(extra)
+                  + ["p", "s_"] + arrays]
         if with_u:
             for i, k in ctx["controls"]:
                 lines += [f"    const double tau_{k} = u ? u[{i}] : 0.0;", f"    (void)tau_{k};"]

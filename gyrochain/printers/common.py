@@ -229,6 +229,11 @@ def functions(model: Model, printer_cls, style: str, array_printer_cls=None) -> 
         fs["pdot"] = function_of("pdot", model.lines["pdot"], [f"pdot[{k}]" for k in range(n)], pr)
     if model.reg is not None:
         fs.update(_regressor_functions(model, printer_cls, names, style))
+    if model.hess is not None and style == "c":  # (the weights μ are lam's second half: lam . f)
+        prh = printer_cls({**names, **{m: f"lam[{n + k}]" for k, m in enumerate(model.hess.mu)}})
+        targets = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
+        fs["rhs_hessian"] = function_of("rhs_hessian", model.lines["rhs_hessian"],
+                                        targets + [f"hv[{k}]" for k in range(len(model.hess.upper))], prh)
     if "quad_terms" in model.lines:
         # a function of φ = φ² alone (ψ = φ¹ is cyclic); in Python on numpy arrays of φ
         qnames = {**names, model.kin.phi[2]: "phi"}

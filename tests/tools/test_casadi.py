@@ -16,6 +16,7 @@ from conftest import EXAMPLES, FURUTA_SYM_PARAMS, ROOT, example_params, example_
 
 casadi = pytest.importorskip("casadi", reason="CasADi is not installed (the test extra installs gyrochain[casadi])")
 from gyrochain import casadi as gc  # noqa: E402
+from gyrochain.models import pipeline  # noqa: E402
 
 CONTROLLED = [e for e in EXAMPLES if load_spec(ROOT / "specs" / f"{e}.toml").controls]
 # make test checks two of them (a planar arm and a 6-joint arm); the rest, a library build each, are the extended tier's
@@ -60,7 +61,7 @@ def test_a_derivative_in_p_is_never_a_silent_zero(models):
     """The parameters' derivatives are not emitted: CasADi's jacobian of f and of the RK4 step F in
     p is NaN in every entry (a zero would say the dynamics do not depend on the masses), and M and
     E, which have no derivatives, CasADi refuses to differentiate, naming them; the derivatives in
-    x and u and IPOPT's Hessian (CasADi's differences of the exact Jacobian) are what they were."""
+    x and u and IPOPT's Hessian (NAME_rhs_hessian's, exact) are what they were."""
     m, cm = models("furuta_sym")
     x, u, p = casadi.MX.sym("x", 2 * m.n), casadi.MX.sym("u", m.nu), casadi.MX.sym("p", len(m.params))
     q = casadi.MX.sym("q", m.n)
@@ -76,7 +77,11 @@ def test_a_derivative_in_p_is_never_a_silent_zero(models):
     assert np.max(np.abs(Jx - A)) <= 1e-14 * np.max(np.abs(A))
     lam = np.array([0.2, -0.1, 0.5, 0.3])
     H = casadi.Function("H", [x, u, p], [casadi.hessian(casadi.dot(lam, m.f(x, u, p)), x)[0]])(xv, uv, m.p0).full()
-    assert np.all(np.isfinite(H)) and np.max(np.abs(H - H.T)) <= 1e-5 * np.max(np.abs(H))
+    want = pipeline.compiled(load_spec(ROOT / "specs" / "furuta_sym.toml"), hessian=True)[0].rhs_hessian(
+        xv, lam, uv, FURUTA_SYM_PARAMS)[:4, :4]
+    assert np.all(np.isfinite(H)) and np.array_equal(H, H.T) and np.allclose(H, want, rtol=1e-14, atol=1e-14)
+    Hp = casadi.Function("Hp", [x, u, p], [casadi.hessian(casadi.dot(lam, m.f(x, u, p)), p)[0]])(xv, uv, m.p0).full()
+    assert np.all(np.isnan(Hp))  # in p: not emitted, NaN
 
 
 @pytest.mark.parametrize("name", EVERY_CONTROLLED)
@@ -171,10 +176,54 @@ def test_f_is_the_literature_s_furuta_pendulum(models, rng):
     assert worst < 1e-13, worst
 
 
+def test_the_hessians_are_the_literature_model_s(models, rng):
+    """CasADi's Hessian of λ·f and of λ·F (one RK4 step, in x, u and h) through our external
+    functions (jac_adj1_: NAME_rhs_hessian, NAME_step_hessian) equals CasADi's exact Hessian of the
+    SX model of Cazzolato & Prime at 100 random points, to 1e-12 of its scale."""
+    m, _ = models("furuta")
+    sx = cazzolato_prime()
+
+    def rk4(f, x, u, h):
+        k1 = f(x, u)
+        k2 = f(x + h / 2 * k1, u)
+        k3 = f(x + h / 2 * k2, u)
+        return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + f(x + h * k3, u))
+
+    def hessians(sym, f, F):
+        x, u, h, lam = sym.sym("x", 4), sym.sym("u", 1), sym.sym("h"), sym.sym("lam", 4)
+        return (casadi.Function("Hf", [x, u, lam], [casadi.hessian(casadi.dot(lam, f(x, u)), casadi.vertcat(x, u))[0]]),
+                casadi.Function("HF", [x, u, h, lam], [casadi.hessian(casadi.dot(lam, F(x, u, h)), casadi.vertcat(x, u, h))[0]]))
+    ours = hessians(casadi.MX, lambda x, u: m.f(x, u, m.p0), lambda x, u, h: m.F(x, u, m.p0, h))
+    theirs = hessians(casadi.SX, sx, lambda x, u, h: rk4(sx, x, u, h))
+    worst = [0.0, 0.0]
+    for x, u in zip(*_points(m, rng)):
+        lam, h = rng.normal(size=4), 10.0 ** rng.uniform(-3, -1)
+        for k, args in enumerate(((x, u, lam), (x, u, h, lam))):
+            A, B = ours[k](*args).full(), theirs[k](*args).full()
+            worst[k] = max(worst[k], np.max(np.abs(A - B)) / max(1.0, np.max(np.abs(B))))
+    print(f"\nHessians against the SX model: f {worst[0]:.1e}, F {worst[1]:.1e}")
+    assert max(worst) <= 1e-12, worst
+
+
+def test_the_ur5_s_hessians_are_its_c_functions(models, rng):
+    """For a 6-joint arm (nu = 6), each block of jac_adj1_ur5_F and jac_adj1_ur5_f lands where
+    CasADi reads it: its Hessians equal NAME_step_hessian and NAME_rhs_hessian."""
+    m, _ = models("ur5")
+    c = pipeline.compiled(load_spec(ROOT / "specs" / "ur5.toml"), hessian=True)[0]
+    x, u, h, lam = casadi.MX.sym("x", 12), casadi.MX.sym("u", 6), casadi.MX.sym("h"), casadi.MX.sym("lam", 12)
+    Hf = casadi.Function("Hf", [x, u, lam], [casadi.hessian(casadi.dot(lam, m.f(x, u, m.p0)), casadi.vertcat(x, u))[0]])
+    HF = casadi.Function("HF", [x, u, h, lam], [casadi.hessian(casadi.dot(lam, m.F(x, u, m.p0, h)), casadi.vertcat(x, u, h))[0]])
+    for xv, uv in zip(*_points(m, rng, 3)):
+        lv = rng.normal(size=12)
+        assert np.allclose(Hf(xv, uv, lv).full(), c.rhs_hessian(xv, lv, uv), rtol=0, atol=1e-12 * np.max(np.abs(c.rhs_hessian(xv, lv, uv))))
+        want = c.step_hessian(xv, 0.01, lv, uv)
+        assert np.allclose(HF(xv, uv, 0.01, lv).full(), want, rtol=0, atol=1e-12 * np.max(np.abs(want)))
+
+
 def test_the_swing_up_s_optimum_is_the_literature_model_s(models):
-    """The same optimal control problem over our RK4 step (its Hessian: CasADi's differences of our
-    exact Jacobian) and over the SX model's RK4 (CasADi's exact Hessian) from the same initial
-    guess: the same cost to 1e-8, the same torques and motion to 1e-6."""
+    """The same optimal control problem over our RK4 step (its exact Hessian: jac_adj1_furuta_F) and
+    over the SX model's RK4 (CasADi's exact Hessian) from the same initial guess: the same cost to
+    1e-8, the same torques and motion to 1e-6, in the same number of IPOPT iterations."""
     m, _ = models("furuta")
     sx = cazzolato_prime()
 
@@ -191,6 +240,7 @@ def test_the_swing_up_s_optimum_is_the_literature_model_s(models):
     assert abs(ours["cost"] - theirs["cost"]) <= 1e-8 * abs(theirs["cost"])
     assert np.max(np.abs(ours["X"] - theirs["X"])) < 1e-6
     assert np.max(np.abs(ours["U"] - theirs["U"])) < 1e-6 * max(1.0, np.max(np.abs(theirs["U"])))
+    assert ours["iterations"] == theirs["iterations"]
 
 
 # --------------------------------------------------------------------------- bad input
@@ -294,6 +344,31 @@ int jac_NAME_f(const double **arg, double **res, casadi_int *iw, double *w, int 
 int NAME_F(const double **arg, double **res, casadi_int *iw, double *w, int mem);
 int jac_NAME_F(const double **arg, double **res, casadi_int *iw, double *w, int mem);
 const casadi_int *jac_NAME_f_sparsity_out(casadi_int i);
+#define SECOND(F) int F(const double **arg, double **res, casadi_int *iw, double *w, int mem); \
+    casadi_int F##_n_out(void); const casadi_int *F##_sparsity_out(casadi_int i);
+SECOND(adj1_NAME_f) SECOND(jac_adj1_NAME_f) SECOND(adj1_NAME_F) SECOND(jac_adj1_NAME_F)
+static double buf[1 << 16];
+
+/* every output of a second-order function, each in its own slice of buf; 1 if one is not finite */
+static int second(int (*fn)(const double **, double **, casadi_int *, double *, int), casadi_int nout,
+                  const casadi_int *(*sp)(casadi_int), const double **arg)
+{
+    double *res[32];
+    casadi_int i, k, off = 0, nnz[32];
+    int bad;
+    for (i = 0; i < nout; ++i) {
+        const casadi_int *s = sp(i);
+        nnz[i] = s[2] == 1 && s[1] > 0 ? s[0] * s[1] : s[2 + s[1]];  /* dense (nrow, ncol, 1) or compressed */
+        res[i] = buf + off;
+        off += nnz[i];
+    }
+    bad = fn(arg, res, 0, 0, 0) != 0;
+    for (i = 0; i < nout; ++i) {
+        for (k = 0; k < nnz[i]; ++k) bad |= !isfinite(res[i][k]);
+    }
+    return bad;
+}
+
 int main(void)
 {
     double x[2 * DRV_N], u[DRV_NU], h = 0.01, xdot[2 * DRV_N], xn[2 * DRV_N], Jx[4 * DRV_N * DRV_N], Ju[2 * DRV_N * DRV_NU], Jh[2 * DRV_N], Jfx[4 * DRV_N * DRV_N], Jfu[2 * DRV_N * DRV_NU];
@@ -305,6 +380,15 @@ int main(void)
     bad |= NAME_f(a, r1, 0, 0, 0) | NAME_F(a, r2, 0, 0, 0) | jac_NAME_F(a, rj, 0, 0, 0) | jac_NAME_f(a, rf, 0, 0, 0);
     for (i = 0; i < 2 * DRV_N; ++i) bad |= !isfinite(xdot[i]) || !isfinite(xn[i]) || !isfinite(Jh[i]);
     for (i = 0; i < 4 * DRV_N * DRV_N; ++i) bad |= !isfinite(Jx[i]);
+    {
+        double lam[2 * DRV_N];
+        const double *af[8] = {x, u, 0, 0, lam, 0, 0, 0}, *aF[10] = {x, u, 0, &h, 0, lam, 0, 0, 0, 0};
+        for (i = 0; i < 2 * DRV_N; ++i) lam[i] = 0.3 - 0.1 * i;
+        bad |= 2 * second(adj1_NAME_f, adj1_NAME_f_n_out(), adj1_NAME_f_sparsity_out, af);
+        bad |= 2 * second(jac_adj1_NAME_f, jac_adj1_NAME_f_n_out(), jac_adj1_NAME_f_sparsity_out, af);
+        bad |= 2 * second(adj1_NAME_F, adj1_NAME_F_n_out(), adj1_NAME_F_sparsity_out, aF);
+        bad |= 2 * second(jac_adj1_NAME_F, jac_adj1_NAME_F_n_out(), jac_adj1_NAME_F_sparsity_out, aF);
+    }
     a[0] = 0;  /* x all zeros, given as NULL */
     bad |= NAME_f(a, r1, 0, 0, 0);
     printf("%d %lld\n", bad, jac_NAME_f_sparsity_out(0)[2 + 2 * DRV_N]);
@@ -319,7 +403,6 @@ def test_the_c_is_strict_c99_and_clean_under_the_sanitizers(name, models, tmp_pa
     """NAME_casadi.c by C alone, as acados or a user's own solver calls it (no CasADi): -std=c99
     -Wall -Wextra -Wpedantic -Werror, and every function run under ASan and UBSan, a NULL input
     read as zeros."""
-    from gyrochain.models import pipeline
 
     files, _ = pipeline.derive_and_render(load_spec(ROOT / "specs" / f"{name}.toml"), targets=("c", "casadi"))
     for k in (f"{name}_casadi.c", f"{name}.c", f"{name}.h"):
