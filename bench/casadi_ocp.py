@@ -1,13 +1,16 @@
 """Optimal control over the exact model against CasADi's own: three problems solved by IPOPT (exact
 Hessians, the same start) over direct multiple shooting with one RK4 step per interval, once over
-`generate --casadi`'s external step (gyrochain.casadi.functions: exact Jacobians, second derivatives
-by CasADi's differences of them) and once over the same RK4 written in CasADi SX around
-Featherstone's articulated-body algorithm (bench/peers.py, numbers folded in, CasADi's common
-subexpressions), its Jacobians and Hessians by CasADi's automatic differentiation, compiled by
-CasADi's jit with gcc -O3.  Both models agree to 1e-14 (checked here).  Prints, per problem and
-model, the IPOPT iterations, the wall time per iteration (IPOPT's own t_wall_total over its
-iterations, without the jit's compile) and per evaluation of the constraints and their Jacobian;
-writes bench/results/casadi_ocp.csv.  Usage: python bench/casadi_ocp.py [REPEATS]"""
+`generate --casadi`'s external step (gyrochain.casadi.functions: exact Jacobians and exact second
+derivatives, jac_adj1_NAME_F) and over the same RK4 written in CasADi SX around Featherstone's
+articulated-body algorithm (bench/peers.py, numbers folded in, CasADi's common subexpressions), its
+Jacobians and Hessians by CasADi's automatic differentiation: the NLP expanded into SX
+(``expand=True``, CasADi's virtual machine) and compiled by CasADi's jit with gcc -O3 (the UR5's only
+with --jit-all: gcc takes minutes on its one function).  And a nonlinear MPC balancing the Furuta
+pendulum through two strikes, warm-started, its time per control step.  Both models agree to 1e-14
+(checked here).  Prints, per problem and model, the IPOPT iterations, the wall time per iteration
+(IPOPT's own t_wall_total over its iterations, without the jit's compile) and per evaluation of the
+constraints, their Jacobian and the Lagrangian's Hessian; writes bench/results/casadi_ocp.csv.
+Usage: python bench/casadi_ocp.py [REPEATS] [--jit-all]"""
 from __future__ import annotations
 
 import os
@@ -94,7 +97,41 @@ def best_of(repeats: int, step, m, N, T, start, goal, opts) -> dict:
     return best
 
 
-def main(repeats: int = 3) -> None:
+def nmpc(step, n: int, nu: int, opts: dict, N: int = 25, h: float = 0.02, steps: int = 60) -> dict:
+    """Balance the Furuta pendulum upright by NMPC: each control step solves the horizon's OCP (|u|
+    bounded, warm-started from the last solution) from the measured state; the plant is the exact
+    step; the pendulum is struck (its rate +1, then -1.5 rad/s) at steps 10 and 35.  The solver
+    time per control step (the median) and the largest tilt after the strikes."""
+    opti = ca.Opti()
+    X, U, x0 = opti.variable(2 * n, N + 1), opti.variable(nu, N), opti.parameter(2 * n)
+    up = ca.DM([0.0, np.pi, 0.0, 0.0])
+    opti.minimize(ca.sumsqr(X[1, :] - np.pi) * 10 + ca.sumsqr(X[2:, :]) * 0.1 + ca.sumsqr(X[0, :]) + 0.1 * ca.sumsqr(U))
+    opti.subject_to(X[:, 0] == x0)
+    for k in range(N):
+        opti.subject_to(X[:, k + 1] == step(X[:, k], U[:, k], h))
+    opti.subject_to(opti.bounded(-0.3, U, 0.3))
+    opti.solver("ipopt", {"print_time": False, **opts}, {"print_level": 0, "sb": "yes", "tol": 1e-8})
+    x = np.array([0.0, np.pi - 0.2, 0.0, 0.0])
+    times, tilt, guess = [], 0.0, None
+    opti.set_initial(X, ca.repmat(up, 1, N + 1))
+    for i in range(steps):
+        if i in (10, 35):
+            x[3] += 1.0 if i == 10 else -1.5
+        opti.set_value(x0, x)
+        if guess is not None:
+            opti.set_initial(X, guess[0])
+            opti.set_initial(U, guess[1])
+        t0 = time.perf_counter()
+        sol = opti.solve()
+        times.append(time.perf_counter() - t0)
+        guess = (sol.value(X), sol.value(U))
+        u = np.atleast_1d(guess[1])[:1] if nu == 1 else guess[1][:, 0]
+        x = np.asarray(step(x, u, h)).ravel()
+        tilt = max(tilt, abs(x[1] - np.pi)) if i >= 10 else tilt
+    return dict(per_step_ms=1e3 * float(np.median(times)), tilt=tilt, final=abs(x[1] - np.pi))
+
+
+def main(repeats: int = 3, jit_all: bool = False) -> None:
     rows = []
     for title, name, N, T, start, goal in PROBLEMS:
         spec = load_spec(ROOT / "specs" / f"{name}.toml")
@@ -103,28 +140,43 @@ def main(repeats: int = 3) -> None:
         rng = np.random.default_rng(0)
         x, u = rng.uniform(-1, 1, 2 * m.n), rng.uniform(-1, 1, m.nu)
         agree = float(np.max(np.abs(np.asarray(m.F(x, u, m.p0, 0.01)) - np.asarray(sx(x, u, 0.01)))))
-        runs = {"gyrochain external": best_of(repeats, lambda x, u, h: m.F(x, u, m.p0, h), m, N, T, start, goal, {})}
-        jit_repeats = repeats if m.n <= 2 else 1  # (the UR5's NLP takes gcc minutes a build)
-        try:
-            runs["CasADi SX, jit -O3"] = best_of(jit_repeats, sx, m, N, T, start, goal, jit("-O3"))
-        except RuntimeError as exc:  # gcc itself may fail on the NLP's one large function
-            print(f"{title}: CasADi's jit with gcc -O3 failed ({str(exc).splitlines()[-1][:120]}); -O1 instead", flush=True)
-            runs["CasADi SX, jit -O1 (-O3: gcc failed)"] = best_of(jit_repeats, sx, m, N, T, start, goal, jit("-O1"))
-        ours, theirs = runs["gyrochain external"], list(runs.values())[1]
+        ours = lambda x, u, h: m.F(x, u, m.p0, h)  # noqa: E731
+        runs = {"gyrochain external": best_of(repeats, ours, m, N, T, start, goal, {})}
+        runs["CasADi SX, expand"] = best_of(repeats, sx, m, N, T, start, goal, {"expand": True})
+        if m.n <= 2 or jit_all:  # (the UR5's NLP takes gcc minutes a build)
+            try:
+                runs["CasADi SX, jit -O3"] = best_of(repeats if m.n <= 2 else 1, sx, m, N, T, start, goal, jit("-O3"))
+            except RuntimeError as exc:  # gcc itself may fail on the NLP's one large function
+                print(f"{title}: CasADi's jit with gcc -O3 failed ({str(exc).splitlines()[-1][:120]}); -O1 instead", flush=True)
+                runs["CasADi SX, jit -O1 (-O3: gcc failed)"] = best_of(1, sx, m, N, T, start, goal, jit("-O1"))
+        base = runs["CasADi SX, expand"]
         for label, r in runs.items():
             rows.append(dict(problem=title, model=label, n=m.n, intervals=N, iterations=r["iterations"],
                              cost=f"{r['cost']:.10g}", per_iteration_ms=f"{r['per_iteration_ms']:.3g}",
                              constraints_us=f"{r['g_us']:.3g}", jacobian_us=f"{r['jac_g_us']:.3g}",
                              hessian_us=f"{r['hess_us']:.3g}", setup_s=f"{r['setup_s']:.3g}",
-                             ratio=f"{r['per_iteration_ms'] / theirs['per_iteration_ms']:.2f}",
+                             ratio=f"{r['per_iteration_ms'] / base['per_iteration_ms']:.3f}",
                              step_agreement=f"{agree:.1e}"))
             print(rows[-1], flush=True)
-        print(f"{title}: per iteration ours / CasADi SX = {ours['per_iteration_ms'] / theirs['per_iteration_ms']:.2f}; "
-              f"costs {ours['cost']:.10g} and {theirs['cost']:.10g}", flush=True)
+        for label, r in runs.items():
+            print(f"{title}: per iteration, {label} / CasADi SX expand = {r['per_iteration_ms'] / base['per_iteration_ms']:.3f}"
+                  f" ({r['iterations']} iterations, cost {r['cost']:.10g})", flush=True)
+        if name == "furuta":
+            mpc = {"gyrochain external": nmpc(ours, m.n, m.nu, {}), "CasADi SX, expand": nmpc(sx, m.n, m.nu, {"expand": True}),
+                   "CasADi SX, jit -O3": nmpc(sx, m.n, m.nu, jit("-O3"))}
+            for label, r in mpc.items():
+                rows.append(dict(problem="Furuta NMPC, per control step", model=label, n=m.n, intervals=25, iterations="",
+                                 cost=f"{r['final']:.2e}", per_iteration_ms=f"{r['per_step_ms']:.3g}", constraints_us="",
+                                 jacobian_us="", hessian_us="", setup_s="",
+                                 ratio=f"{r['per_step_ms'] / mpc['CasADi SX, expand']['per_step_ms']:.3f}",
+                                 step_agreement=f"{agree:.1e}"))
+                print(f"Furuta NMPC: {label}: {r['per_step_ms']:.3g} ms per control step (median), largest tilt after "
+                      f"the strikes {r['tilt']:.3f} rad, {r['final']:.1e} at the end", flush=True)
     from provenance import write
 
-    write(ROOT / "bench" / "results" / "casadi_ocp.csv", rows, flags="ours cc -O2; CasADi SX jit gcc as the row says")
+    write(ROOT / "bench" / "results" / "casadi_ocp.csv", rows, flags="ours cc -O2; CasADi SX expand, or its jit with gcc as the row says")
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 3)
+    args = [a for a in sys.argv[1:] if a != "--jit-all"]
+    main(int(args[0]) if args else 3, jit_all="--jit-all" in sys.argv[1:])

@@ -828,6 +828,220 @@ FURUTA_SYM_FN int furuta_sym_pdot(const double *x, const double *u, const furuta
     }
     return furuta_sym_all_finite_(pdot, 2) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
 }
+
+FURUTA_SYM_FN int furuta_sym_param_derivatives(const double *x, const double *u, const furuta_sym_params *p,
+                          double *qdd, double *dqdd_dp)
+{
+    /* phi'' and its exact derivatives in the symbolic parameters (g0, m1, r, J1, J1z, m2, l, J2, J2z): the forward mode
+     * of the articulated recursion seeded at the parameters (gyrochain/derive/derivatives.py), dqdd_dp row-major
+     * 2 x 9.  Either output may be NULL. */
+    double acc[2];
+    double piv[2];
+    double dp[18];
+    int i, code;
+    if (!p) {
+        return FURUTA_SYM_NO_PARAMS;
+    }
+
+    if (!furuta_sym_all_finite_(x, 4) || (u && !furuta_sym_all_finite_(u, 1))) {
+        return FURUTA_SYM_NONFINITE;
+    }
+
+    {
+        const double tau_1 = u ? u[0] : 0.0;
+
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_2 = x[2]*sin_phi2;
+        const double om2_3 = x[2]*cos_phi2;
+        const double wp0 = x[3]*om2_3;
+        const double eps2_2 = wp0;
+        const double eps2_3 = -x[3]*om2_2;
+        const double ws1_2 = x[2]*p->r;
+        const double aOrel2in1_3 = x[2]*ws1_2;
+        const double aOg2_2 = -sin_phi2*p->g0;
+        const double aOg2_3 = -cos_phi2*p->g0;
+        const double wc2_1 = om2_2*p->l;
+        const double wc2_2 = -x[3]*p->l;
+        const double Aw2_1 = x[3]*p->J2 + x[3]*p->m2*p->l*p->l;
+        const double Aw2_2 = om2_2*p->J2 + om2_2*p->m2*p->l*p->l;
+        const double Aw2_3 = om2_3*p->J2z;
+        const double wp1 = p->m2*aOg2_2;
+        const double pF2_2 = wp1 + om2_3*p->m2*wc2_1;
+        const double pF2_3 = p->m2*aOg2_3 + x[3]*p->m2*wc2_2 - om2_2*p->m2*wc2_1;
+        const double pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p->m2*p->l*aOg2_2;
+        const double pN2_2 = p->J2*eps2_2 + p->m2*p->l*p->l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p->m2*p->l*aOrel2in1_3;
+        const double pN2_3 = p->J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1;
+        const double wp2 = p->m2*p->l*p->l;
+        const double IA2_11 = p->J2 + wp2;
+        const double IA2_22 = p->J2 + wp2;
+        const double wp3 = p->m2*p->l;
+        const double IA2_51 = -wp3;
+        const double rD2 = 1.0/IA2_11;
+        const double W2_5 = IA2_51*rD2;
+        const double Ja2_55 = p->m2 - IA2_51*W2_5;
+        const double pa2_5 = pF2_2 - pN2_1*W2_5;
+        const double Ja2rra_23 = sin_phi2*IA2_22;
+        const double Ja2rra_33 = cos_phi2*p->J2z;
+        const double Ja2rr_33 = sin_phi2*Ja2rra_23 + cos_phi2*Ja2rra_33;
+        const double Jm2rra_22 = cos_phi2*Ja2_55;
+        const double wp4 = sin_phi2*p->m2;
+        const double Jm2rra_32 = -wp4;
+        const double Jm2rr_22 = cos_phi2*Jm2rra_22 - sin_phi2*Jm2rra_32;
+        const double j2r15 = sin_phi2*pN2_2 + cos_phi2*pN2_3;
+        const double pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3;
+        const double wp5 = p->r*Jm2rr_22;
+        const double Jh2s_12 = wp5;
+        const double IA1_11 = p->J1 + Ja2rr_33 + p->r*Jh2s_12;
+        const double pA1_1 = j2r15 + p->r*pc2f_2;
+        const double rD1 = 1.0/IA1_11;
+        const double u1 = tau_1 - pA1_1;
+        const double qdd1 = rD1*u1;
+        const double dv2_2 = cos_phi2*p->r*qdd1;
+        const double qdd2 = -pN2_1*rD2 - W2_5*dv2_2;
+        const double aOrel2in1_3_dP3 = x[2]*x[2];
+        const double Aw2_1_dP6 = x[3]*p->l*p->l;
+        const double Aw2_1_dP7 = 2.0*x[3]*p->m2*p->l;
+        const double Aw2_2_dP6 = om2_2*p->l*p->l;
+        const double Aw2_2_dP7 = 2.0*om2_2*p->m2*p->l;
+        const double pF2_2_dP1 = -wp4;
+        const double pF2_2_dP6 = aOg2_2 + om2_3*wc2_1;
+        const double pF2_2_dP7 = om2_2*om2_3*p->m2;
+        const double pF2_3_dP1 = -cos_phi2*p->m2;
+        const double pF2_3_dP6 = aOg2_3 + x[3]*wc2_2 - om2_2*wc2_1;
+        const double pF2_3_dP7 = -x[3]*x[3]*p->m2 - om2_2*om2_2*p->m2;
+        const double pN2_1_dP1 = sin_phi2*p->m2*p->l;
+        const double pN2_1_dP6 = -om2_3*Aw2_2_dP6 - p->l*aOg2_2;
+        const double pN2_1_dP7 = -om2_3*Aw2_2_dP7 - wp1;
+        const double wp6 = om2_2*om2_3;
+        const double pN2_1_dP8 = -wp6;
+        const double pN2_1_dP9 = wp6;
+        const double pN2_2_dP3 = -p->m2*p->l*aOrel2in1_3_dP3;
+        const double pN2_2_dP6 = p->l*p->l*eps2_2 + om2_3*Aw2_1_dP6 - p->l*aOrel2in1_3;
+        const double pN2_2_dP7 = 2.0*p->m2*p->l*eps2_2 + om2_3*Aw2_1_dP7 - p->m2*aOrel2in1_3;
+        const double pN2_2_dP8 = eps2_2 + wp0;
+        const double pN2_2_dP9 = -wp0;
+        const double pN2_3_dP6 = x[3]*Aw2_2_dP6 - om2_2*Aw2_1_dP6;
+        const double pN2_3_dP7 = x[3]*Aw2_2_dP7 - om2_2*Aw2_1_dP7;
+        const double wp7 = p->l*p->l;
+        const double IA2_11_dP6 = wp7;
+        const double IA2_11_dP7 = 2.0*wp3;
+        const double IA2_22_dP6 = wp7;
+        const double IA2_22_dP7 = 2.0*wp3;
+        const double rD2_dP6 = -rD2*rD2*IA2_11_dP6;
+        const double rD2_dP7 = -rD2*rD2*IA2_11_dP7;
+        const double rD2_dP8 = -rD2*rD2;
+        const double W2_5_dP6 = -p->l*rD2 + IA2_51*rD2_dP6;
+        const double W2_5_dP7 = -p->m2*rD2 + IA2_51*rD2_dP7;
+        const double W2_5_dP8 = IA2_51*rD2_dP8;
+        const double Ja2_55_dP6 = 1.0 + p->l*W2_5 - IA2_51*W2_5_dP6;
+        const double Ja2_55_dP7 = p->m2*W2_5 - IA2_51*W2_5_dP7;
+        const double Ja2_55_dP8 = -IA2_51*W2_5_dP8;
+        const double pa2_5_dP1 = pF2_2_dP1 - W2_5*pN2_1_dP1;
+        const double pa2_5_dP6 = pF2_2_dP6 - W2_5*pN2_1_dP6 - pN2_1*W2_5_dP6;
+        const double pa2_5_dP7 = pF2_2_dP7 - W2_5*pN2_1_dP7 - pN2_1*W2_5_dP7;
+        const double pa2_5_dP8 = -W2_5*pN2_1_dP8 - pN2_1*W2_5_dP8;
+        const double pa2_5_dP9 = -W2_5*pN2_1_dP9;
+        const double Ja2rra_23_dP6 = sin_phi2*IA2_22_dP6;
+        const double Ja2rra_23_dP7 = sin_phi2*IA2_22_dP7;
+        const double Ja2rr_33_dP6 = sin_phi2*Ja2rra_23_dP6;
+        const double Ja2rr_33_dP7 = sin_phi2*Ja2rra_23_dP7;
+        const double wp8 = sin_phi2*sin_phi2;
+        const double Ja2rr_33_dP8 = wp8;
+        const double Ja2rr_33_dP9 = cos_phi2*cos_phi2;
+        const double Jm2rra_22_dP6 = cos_phi2*Ja2_55_dP6;
+        const double Jm2rra_22_dP7 = cos_phi2*Ja2_55_dP7;
+        const double Jm2rra_22_dP8 = cos_phi2*Ja2_55_dP8;
+        const double Jm2rr_22_dP6 = cos_phi2*Jm2rra_22_dP6 + wp8;
+        const double Jm2rr_22_dP7 = cos_phi2*Jm2rra_22_dP7;
+        const double Jm2rr_22_dP8 = cos_phi2*Jm2rra_22_dP8;
+        const double j2r15_dP3 = sin_phi2*pN2_2_dP3;
+        const double j2r15_dP6 = sin_phi2*pN2_2_dP6 + cos_phi2*pN2_3_dP6;
+        const double j2r15_dP7 = sin_phi2*pN2_2_dP7 + cos_phi2*pN2_3_dP7;
+        const double j2r15_dP8 = sin_phi2*pN2_2_dP8;
+        const double j2r15_dP9 = sin_phi2*pN2_2_dP9 + cos_phi2*eps2_3;
+        const double pc2f_2_dP1 = cos_phi2*pa2_5_dP1 - sin_phi2*pF2_3_dP1;
+        const double pc2f_2_dP6 = cos_phi2*pa2_5_dP6 - sin_phi2*pF2_3_dP6;
+        const double pc2f_2_dP7 = cos_phi2*pa2_5_dP7 - sin_phi2*pF2_3_dP7;
+        const double pc2f_2_dP8 = cos_phi2*pa2_5_dP8;
+        const double pc2f_2_dP9 = cos_phi2*pa2_5_dP9;
+        const double Jh2s_12_dP6 = p->r*Jm2rr_22_dP6;
+        const double Jh2s_12_dP7 = p->r*Jm2rr_22_dP7;
+        const double Jh2s_12_dP8 = p->r*Jm2rr_22_dP8;
+        const double IA1_11_dP3 = Jh2s_12 + wp5;
+        const double IA1_11_dP6 = Ja2rr_33_dP6 + p->r*Jh2s_12_dP6;
+        const double IA1_11_dP7 = Ja2rr_33_dP7 + p->r*Jh2s_12_dP7;
+        const double IA1_11_dP8 = Ja2rr_33_dP8 + p->r*Jh2s_12_dP8;
+        const double pA1_1_dP1 = p->r*pc2f_2_dP1;
+        const double pA1_1_dP3 = j2r15_dP3 + pc2f_2;
+        const double pA1_1_dP6 = j2r15_dP6 + p->r*pc2f_2_dP6;
+        const double pA1_1_dP7 = j2r15_dP7 + p->r*pc2f_2_dP7;
+        const double pA1_1_dP8 = j2r15_dP8 + p->r*pc2f_2_dP8;
+        const double pA1_1_dP9 = j2r15_dP9 + p->r*pc2f_2_dP9;
+        const double rD1_dP3 = -rD1*rD1*IA1_11_dP3;
+        const double rD1_dP4 = -rD1*rD1;
+        const double rD1_dP6 = -rD1*rD1*IA1_11_dP6;
+        const double rD1_dP7 = -rD1*rD1*IA1_11_dP7;
+        const double rD1_dP8 = -rD1*rD1*IA1_11_dP8;
+        const double rD1_dP9 = -rD1*rD1*Ja2rr_33_dP9;
+        const double qdd1_dP1 = -rD1*pA1_1_dP1;
+        const double qdd1_dP3 = u1*rD1_dP3 - rD1*pA1_1_dP3;
+        const double qdd1_dP4 = u1*rD1_dP4;
+        const double qdd1_dP6 = u1*rD1_dP6 - rD1*pA1_1_dP6;
+        const double qdd1_dP7 = u1*rD1_dP7 - rD1*pA1_1_dP7;
+        const double qdd1_dP8 = u1*rD1_dP8 - rD1*pA1_1_dP8;
+        const double qdd1_dP9 = u1*rD1_dP9 - rD1*pA1_1_dP9;
+        const double dv2_2_dP1 = cos_phi2*p->r*qdd1_dP1;
+        const double dv2_2_dP3 = cos_phi2*qdd1 + cos_phi2*p->r*qdd1_dP3;
+        const double dv2_2_dP4 = cos_phi2*p->r*qdd1_dP4;
+        const double dv2_2_dP6 = cos_phi2*p->r*qdd1_dP6;
+        const double dv2_2_dP7 = cos_phi2*p->r*qdd1_dP7;
+        const double dv2_2_dP8 = cos_phi2*p->r*qdd1_dP8;
+        const double dv2_2_dP9 = cos_phi2*p->r*qdd1_dP9;
+        const double qdd2_dP1 = -rD2*pN2_1_dP1 - W2_5*dv2_2_dP1;
+        const double qdd2_dP3 = -W2_5*dv2_2_dP3;
+        const double qdd2_dP4 = -W2_5*dv2_2_dP4;
+        const double qdd2_dP6 = -rD2*pN2_1_dP6 - pN2_1*rD2_dP6 - dv2_2*W2_5_dP6 - W2_5*dv2_2_dP6;
+        const double qdd2_dP7 = -rD2*pN2_1_dP7 - pN2_1*rD2_dP7 - dv2_2*W2_5_dP7 - W2_5*dv2_2_dP7;
+        const double qdd2_dP8 = -rD2*pN2_1_dP8 - pN2_1*rD2_dP8 - dv2_2*W2_5_dP8 - W2_5*dv2_2_dP8;
+        const double qdd2_dP9 = -rD2*pN2_1_dP9 - W2_5*dv2_2_dP9;
+
+        acc[0] = qdd1;
+        acc[1] = qdd2;
+        piv[0] = IA1_11;
+        piv[1] = IA2_11;
+        dp[0] = qdd1_dP1;
+        dp[1] = 0.0;
+        dp[2] = qdd1_dP3;
+        dp[3] = qdd1_dP4;
+        dp[4] = 0.0;
+        dp[5] = qdd1_dP6;
+        dp[6] = qdd1_dP7;
+        dp[7] = qdd1_dP8;
+        dp[8] = qdd1_dP9;
+        dp[9] = qdd2_dP1;
+        dp[10] = 0.0;
+        dp[11] = qdd2_dP3;
+        dp[12] = qdd2_dP4;
+        dp[13] = 0.0;
+        dp[14] = qdd2_dP6;
+        dp[15] = qdd2_dP7;
+        dp[16] = qdd2_dP8;
+        dp[17] = qdd2_dP9;
+
+    }
+    code = furuta_sym_pivots_(piv);
+    if (code != FURUTA_SYM_OK) {
+        return code;
+    }
+    for (i = 0; qdd && i < 2; ++i) {
+        qdd[i] = acc[i];
+    }
+    for (i = 0; dqdd_dp && i < 18; ++i) {
+        dqdd_dp[i] = dp[i];
+    }
+    return furuta_sym_all_finite_(acc, 2) && furuta_sym_all_finite_(dp, 18) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
+}
 #define FURUTA_SYM_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -2479,6 +2693,72 @@ FURUTA_SYM_FN int furuta_sym_step_jacobian(double t, const double *x, const doub
     return furuta_sym_all_finite_(out, 4) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
 }
 
+
+/* ---------------------------------------------------------------------------------------
+ * The step's derivatives in the symbolic parameters, by the chain rule through the stages:
+ * dk/dp = A dy/dp + [0; dphi''/dp], A from furuta_sym_qdd_derivatives and dphi''/dp from
+ * furuta_sym_param_derivatives at each stage's point (dx/dp = 0 at the start).
+ * --------------------------------------------------------------------------------------- */
+FURUTA_SYM_FN int furuta_sym_step_param_derivatives(double t, const double *x, const double *u, const furuta_sym_params *p, double h,
+                                      double *xn, double *dxn_dp)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[4], k[4], s[4], xs[4];
+    double dy[4 * 9], dk[4 * 9], ds[4 * 9];
+    double Dq[4], Dv[4], Dp[18];
+    double *out = xn ? xn : xs;
+    int i, j, c, st, code;
+    if ((code = furuta_sym_step_args_(t, x, p, h, out)) != FURUTA_SYM_OK) {
+        return code;
+    }
+    if (!furuta_sym_all_finite_(x, 4)) {
+        return FURUTA_SYM_NONFINITE;
+    }
+    (void)t;  /* (an autonomous model) */
+    for (i = 0; i < 4; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < 9; ++c) {
+            dy[i * 9 + c] = ds[i * 9 + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = furuta_sym_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 0)) != FURUTA_SYM_OK
+            || (code = furuta_sym_param_derivatives(y, u, p, 0, Dp)) != FURUTA_SYM_OK) {
+            return code;
+        }
+        for (i = 0; i < 2; ++i) {
+            k[i] = y[2 + i];
+            for (c = 0; c < 9; ++c) {
+                double v = Dp[i * 9 + c];
+                dk[i * 9 + c] = dy[(2 + i) * 9 + c];
+                for (j = 0; j < 2; ++j) {
+                    v += Dq[i * 2 + j] * dy[j * 9 + c] + Dv[i * 2 + j] * dy[(2 + j) * 9 + c];
+                }
+                dk[(2 + i) * 9 + c] = v;
+            }
+        }
+        for (i = 0; i < 4; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < 9; ++c) {
+                ds[i * 9 + c] += b[st] * dk[i * 9 + c];
+                if (st < 3) {
+                    dy[i * 9 + c] = a[st + 1] * h * dk[i * 9 + c];
+                }
+            }
+            if (st < 3) {
+                y[i] = x[i] + a[st + 1] * h * k[i];
+            }
+        }
+    }
+    for (i = 0; i < 4; ++i) {
+        out[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; dxn_dp && c < 9; ++c) {
+            dxn_dp[i * 9 + c] = h / 6.0 * ds[i * 9 + c];
+        }
+    }
+    return furuta_sym_all_finite_(out, 4) ? FURUTA_SYM_OK : FURUTA_SYM_NONFINITE;
+}
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

@@ -44,6 +44,11 @@
  * Phi(t1) = dx(t1)/dx(t0) Phi(t0), the tangent map of the emitted dynamics; x1 = x(t1).  On failure x1
  * is the last accepted state and Phi is NaN.  stats may be NULL.  Its arrays take about 5 KB
  * of stack, besides what furuta_sym_qdd_derivatives takes.
+ * Derivatives in the symbolic parameters p (g0, m1, r, J1, J1z, m2, l, J2, J2z), for identification, adaptive control
+ * and design: furuta_sym_param_derivatives(x, u, p, qdd, dqdd_dp) gives phi'' and d phi''/dp, row-major
+ * N x NPARAMS (the forward mode of the articulated recursion seeded at the parameters, exact; a NULL
+ * output is not written); furuta_sym_step_param_derivatives(t, x, u, p, h, xn, dxn_dp) the
+ * step of furuta_sym_step (xn, NULL allowed) and dxn/dp, 2N x NPARAMS, by the chain rule through its stages.
  * The discrete-time model, for a controller that runs at a fixed rate: furuta_sym_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of FURUTA_SYM_RK4,
  * bit for bit), xn the state at t + h; on failure xn is NaN.
@@ -59,7 +64,7 @@
  * Hamilton's variables (FURUTA_SYM_HAS_CANONICAL): furuta_sym_momenta(x, p, pm) gives p = dL/dphidot =
  * M phidot + k(phi) (k_j = e^j . sum of lambda^k, k >= j), furuta_sym_velocities(q, pm, p, qd) the inverse,
  * furuta_sym_pdot(x, u, p, pdot) the rate dp/dt = dL/dphi + the torques without a force function.
- * Op counts: energy 31, forces 66, linearize 294, mass_matrix 18, momenta 24, momentum 20, pdot 91, qdd 93, qdd_derivatives 294, rhs 93, velocities 31.
+ * Op counts: energy 31, forces 66, linearize 294, mass_matrix 18, momenta 24, momentum 20, param_derivatives 318, pdot 91, qdd 93, qdd_derivatives 294, rhs 93, velocities 31.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -128,6 +133,8 @@ FURUTA_SYM_FN double furuta_sym_momentum(const double *x, const furuta_sym_param
 FURUTA_SYM_FN int furuta_sym_momenta(const double *x, const furuta_sym_params *p, double *pm);
 FURUTA_SYM_FN int furuta_sym_velocities(const double *q, const double *pm, const furuta_sym_params *p, double *qd);
 FURUTA_SYM_FN int furuta_sym_pdot(const double *x, const double *u, const furuta_sym_params *p, double *pdot);
+FURUTA_SYM_FN int furuta_sym_param_derivatives(const double *x, const double *u, const furuta_sym_params *p,
+                          double *qdd, double *dqdd_dp);
 typedef struct furuta_sym_integrate_stats {
     double t;
     double x[4];
@@ -148,6 +155,8 @@ FURUTA_SYM_FN int furuta_sym_integrate_batch(int method, int nb, int nt, const d
 FURUTA_SYM_FN int furuta_sym_step(double t, const double *x, const double *u, const furuta_sym_params *p, double h, double *xn);
 FURUTA_SYM_FN int furuta_sym_step_jacobian(double t, const double *x, const double *u, const furuta_sym_params *p, double h,
                        double *xn, double *Ad, double *Bd, double *xn_h);
+FURUTA_SYM_FN int furuta_sym_step_param_derivatives(double t, const double *x, const double *u, const furuta_sym_params *p, double h,
+                               double *xn, double *dxn_dp);
 FURUTA_SYM_FN int furuta_sym_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const furuta_sym_params *p,
                                double *x1, double *Phi, furuta_sym_integrate_stats *stats);

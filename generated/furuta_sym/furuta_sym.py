@@ -24,7 +24,7 @@ HAS_CANONICAL = True  # momenta, velocities, pdot (Hamilton's variables)
 # the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
 # data for an optimiser or a controller, not enforced by the model
 LIMITS = {}
-OP_COUNTS = { "energy": 31, "forces": 66, "linearize": 294, "mass_matrix": 18, "momenta": 24, "momentum": 20, "pdot": 91, "qdd": 93, "qdd_derivatives": 294, "rhs": 93, "velocities": 31, }
+OP_COUNTS = { "energy": 31, "forces": 66, "linearize": 294, "mass_matrix": 18, "momenta": 24, "momentum": 20, "param_derivatives": 318, "pdot": 91, "qdd": 93, "qdd_derivatives": 294, "rhs": 93, "velocities": 31, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -373,6 +373,214 @@ def qdd_derivatives(x, u=None, p=None):
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
     _check_pivots(piv)
     out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def param_derivatives(x, u=None, p=None):
+    """(phi'', d phi''/dp): the exact derivatives in the symbolic parameters PARAMS (arrays N and
+    N×NPARAMS), as NAME_param_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+    p_g0 = _param(p, "g0")
+    p_m1 = _param(p, "m1")
+    p_r = _param(p, "r")
+    p_J1 = _param(p, "J1")
+    p_J1z = _param(p, "J1z")
+    p_m2 = _param(p, "m2")
+    p_l = _param(p, "l")
+    p_J2 = _param(p, "J2")
+    p_J2z = _param(p, "J2z")
+    tau_1 = 0.0 if u is None else float(u[0])
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dp = np.empty(N * 9)
+    try:
+        cos_phi2 = math.cos(x[1])
+        sin_phi2 = math.sin(x[1])
+        om2_2 = x[2]*sin_phi2
+        om2_3 = x[2]*cos_phi2
+        wp0 = x[3]*om2_3
+        eps2_2 = wp0
+        eps2_3 = -x[3]*om2_2
+        ws1_2 = x[2]*p_r
+        aOrel2in1_3 = x[2]*ws1_2
+        aOg2_2 = -sin_phi2*p_g0
+        aOg2_3 = -cos_phi2*p_g0
+        wc2_1 = om2_2*p_l
+        wc2_2 = -x[3]*p_l
+        Aw2_1 = x[3]*p_J2 + x[3]*p_m2*p_l*p_l
+        Aw2_2 = om2_2*p_J2 + om2_2*p_m2*p_l*p_l
+        Aw2_3 = om2_3*p_J2z
+        wp1 = p_m2*aOg2_2
+        pF2_2 = wp1 + om2_3*p_m2*wc2_1
+        pF2_3 = p_m2*aOg2_3 + x[3]*p_m2*wc2_2 - om2_2*p_m2*wc2_1
+        pN2_1 = om2_2*Aw2_3 - om2_3*Aw2_2 - p_m2*p_l*aOg2_2
+        pN2_2 = p_J2*eps2_2 + p_m2*p_l*p_l*eps2_2 + om2_3*Aw2_1 - x[3]*Aw2_3 - p_m2*p_l*aOrel2in1_3
+        pN2_3 = p_J2z*eps2_3 + x[3]*Aw2_2 - om2_2*Aw2_1
+        wp2 = p_m2*p_l*p_l
+        IA2_11 = p_J2 + wp2
+        IA2_22 = p_J2 + wp2
+        wp3 = p_m2*p_l
+        IA2_51 = -wp3
+        rD2 = 1.0/IA2_11
+        W2_5 = IA2_51*rD2
+        Ja2_55 = p_m2 - IA2_51*W2_5
+        pa2_5 = pF2_2 - pN2_1*W2_5
+        Ja2rra_23 = sin_phi2*IA2_22
+        Ja2rra_33 = cos_phi2*p_J2z
+        Ja2rr_33 = sin_phi2*Ja2rra_23 + cos_phi2*Ja2rra_33
+        Jm2rra_22 = cos_phi2*Ja2_55
+        wp4 = sin_phi2*p_m2
+        Jm2rra_32 = -wp4
+        Jm2rr_22 = cos_phi2*Jm2rra_22 - sin_phi2*Jm2rra_32
+        j2r15 = sin_phi2*pN2_2 + cos_phi2*pN2_3
+        pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3
+        wp5 = p_r*Jm2rr_22
+        Jh2s_12 = wp5
+        IA1_11 = p_J1 + Ja2rr_33 + p_r*Jh2s_12
+        pA1_1 = j2r15 + p_r*pc2f_2
+        rD1 = 1.0/IA1_11
+        u1 = tau_1 - pA1_1
+        qdd1 = rD1*u1
+        dv2_2 = cos_phi2*p_r*qdd1
+        qdd2 = -pN2_1*rD2 - W2_5*dv2_2
+        aOrel2in1_3_dP3 = x[2]*x[2]
+        Aw2_1_dP6 = x[3]*p_l*p_l
+        Aw2_1_dP7 = 2.0*x[3]*p_m2*p_l
+        Aw2_2_dP6 = om2_2*p_l*p_l
+        Aw2_2_dP7 = 2.0*om2_2*p_m2*p_l
+        pF2_2_dP1 = -wp4
+        pF2_2_dP6 = aOg2_2 + om2_3*wc2_1
+        pF2_2_dP7 = om2_2*om2_3*p_m2
+        pF2_3_dP1 = -cos_phi2*p_m2
+        pF2_3_dP6 = aOg2_3 + x[3]*wc2_2 - om2_2*wc2_1
+        pF2_3_dP7 = -x[3]*x[3]*p_m2 - om2_2*om2_2*p_m2
+        pN2_1_dP1 = sin_phi2*p_m2*p_l
+        pN2_1_dP6 = -om2_3*Aw2_2_dP6 - p_l*aOg2_2
+        pN2_1_dP7 = -om2_3*Aw2_2_dP7 - wp1
+        wp6 = om2_2*om2_3
+        pN2_1_dP8 = -wp6
+        pN2_1_dP9 = wp6
+        pN2_2_dP3 = -p_m2*p_l*aOrel2in1_3_dP3
+        pN2_2_dP6 = p_l*p_l*eps2_2 + om2_3*Aw2_1_dP6 - p_l*aOrel2in1_3
+        pN2_2_dP7 = 2.0*p_m2*p_l*eps2_2 + om2_3*Aw2_1_dP7 - p_m2*aOrel2in1_3
+        pN2_2_dP8 = eps2_2 + wp0
+        pN2_2_dP9 = -wp0
+        pN2_3_dP6 = x[3]*Aw2_2_dP6 - om2_2*Aw2_1_dP6
+        pN2_3_dP7 = x[3]*Aw2_2_dP7 - om2_2*Aw2_1_dP7
+        wp7 = p_l*p_l
+        IA2_11_dP6 = wp7
+        IA2_11_dP7 = 2.0*wp3
+        IA2_22_dP6 = wp7
+        IA2_22_dP7 = 2.0*wp3
+        rD2_dP6 = -rD2*rD2*IA2_11_dP6
+        rD2_dP7 = -rD2*rD2*IA2_11_dP7
+        rD2_dP8 = -rD2*rD2
+        W2_5_dP6 = -p_l*rD2 + IA2_51*rD2_dP6
+        W2_5_dP7 = -p_m2*rD2 + IA2_51*rD2_dP7
+        W2_5_dP8 = IA2_51*rD2_dP8
+        Ja2_55_dP6 = 1.0 + p_l*W2_5 - IA2_51*W2_5_dP6
+        Ja2_55_dP7 = p_m2*W2_5 - IA2_51*W2_5_dP7
+        Ja2_55_dP8 = -IA2_51*W2_5_dP8
+        pa2_5_dP1 = pF2_2_dP1 - W2_5*pN2_1_dP1
+        pa2_5_dP6 = pF2_2_dP6 - W2_5*pN2_1_dP6 - pN2_1*W2_5_dP6
+        pa2_5_dP7 = pF2_2_dP7 - W2_5*pN2_1_dP7 - pN2_1*W2_5_dP7
+        pa2_5_dP8 = -W2_5*pN2_1_dP8 - pN2_1*W2_5_dP8
+        pa2_5_dP9 = -W2_5*pN2_1_dP9
+        Ja2rra_23_dP6 = sin_phi2*IA2_22_dP6
+        Ja2rra_23_dP7 = sin_phi2*IA2_22_dP7
+        Ja2rr_33_dP6 = sin_phi2*Ja2rra_23_dP6
+        Ja2rr_33_dP7 = sin_phi2*Ja2rra_23_dP7
+        wp8 = sin_phi2*sin_phi2
+        Ja2rr_33_dP8 = wp8
+        Ja2rr_33_dP9 = cos_phi2*cos_phi2
+        Jm2rra_22_dP6 = cos_phi2*Ja2_55_dP6
+        Jm2rra_22_dP7 = cos_phi2*Ja2_55_dP7
+        Jm2rra_22_dP8 = cos_phi2*Ja2_55_dP8
+        Jm2rr_22_dP6 = cos_phi2*Jm2rra_22_dP6 + wp8
+        Jm2rr_22_dP7 = cos_phi2*Jm2rra_22_dP7
+        Jm2rr_22_dP8 = cos_phi2*Jm2rra_22_dP8
+        j2r15_dP3 = sin_phi2*pN2_2_dP3
+        j2r15_dP6 = sin_phi2*pN2_2_dP6 + cos_phi2*pN2_3_dP6
+        j2r15_dP7 = sin_phi2*pN2_2_dP7 + cos_phi2*pN2_3_dP7
+        j2r15_dP8 = sin_phi2*pN2_2_dP8
+        j2r15_dP9 = sin_phi2*pN2_2_dP9 + cos_phi2*eps2_3
+        pc2f_2_dP1 = cos_phi2*pa2_5_dP1 - sin_phi2*pF2_3_dP1
+        pc2f_2_dP6 = cos_phi2*pa2_5_dP6 - sin_phi2*pF2_3_dP6
+        pc2f_2_dP7 = cos_phi2*pa2_5_dP7 - sin_phi2*pF2_3_dP7
+        pc2f_2_dP8 = cos_phi2*pa2_5_dP8
+        pc2f_2_dP9 = cos_phi2*pa2_5_dP9
+        Jh2s_12_dP6 = p_r*Jm2rr_22_dP6
+        Jh2s_12_dP7 = p_r*Jm2rr_22_dP7
+        Jh2s_12_dP8 = p_r*Jm2rr_22_dP8
+        IA1_11_dP3 = Jh2s_12 + wp5
+        IA1_11_dP6 = Ja2rr_33_dP6 + p_r*Jh2s_12_dP6
+        IA1_11_dP7 = Ja2rr_33_dP7 + p_r*Jh2s_12_dP7
+        IA1_11_dP8 = Ja2rr_33_dP8 + p_r*Jh2s_12_dP8
+        pA1_1_dP1 = p_r*pc2f_2_dP1
+        pA1_1_dP3 = j2r15_dP3 + pc2f_2
+        pA1_1_dP6 = j2r15_dP6 + p_r*pc2f_2_dP6
+        pA1_1_dP7 = j2r15_dP7 + p_r*pc2f_2_dP7
+        pA1_1_dP8 = j2r15_dP8 + p_r*pc2f_2_dP8
+        pA1_1_dP9 = j2r15_dP9 + p_r*pc2f_2_dP9
+        rD1_dP3 = -rD1*rD1*IA1_11_dP3
+        rD1_dP4 = -rD1*rD1
+        rD1_dP6 = -rD1*rD1*IA1_11_dP6
+        rD1_dP7 = -rD1*rD1*IA1_11_dP7
+        rD1_dP8 = -rD1*rD1*IA1_11_dP8
+        rD1_dP9 = -rD1*rD1*Ja2rr_33_dP9
+        qdd1_dP1 = -rD1*pA1_1_dP1
+        qdd1_dP3 = u1*rD1_dP3 - rD1*pA1_1_dP3
+        qdd1_dP4 = u1*rD1_dP4
+        qdd1_dP6 = u1*rD1_dP6 - rD1*pA1_1_dP6
+        qdd1_dP7 = u1*rD1_dP7 - rD1*pA1_1_dP7
+        qdd1_dP8 = u1*rD1_dP8 - rD1*pA1_1_dP8
+        qdd1_dP9 = u1*rD1_dP9 - rD1*pA1_1_dP9
+        dv2_2_dP1 = cos_phi2*p_r*qdd1_dP1
+        dv2_2_dP3 = cos_phi2*qdd1 + cos_phi2*p_r*qdd1_dP3
+        dv2_2_dP4 = cos_phi2*p_r*qdd1_dP4
+        dv2_2_dP6 = cos_phi2*p_r*qdd1_dP6
+        dv2_2_dP7 = cos_phi2*p_r*qdd1_dP7
+        dv2_2_dP8 = cos_phi2*p_r*qdd1_dP8
+        dv2_2_dP9 = cos_phi2*p_r*qdd1_dP9
+        qdd2_dP1 = -rD2*pN2_1_dP1 - W2_5*dv2_2_dP1
+        qdd2_dP3 = -W2_5*dv2_2_dP3
+        qdd2_dP4 = -W2_5*dv2_2_dP4
+        qdd2_dP6 = -rD2*pN2_1_dP6 - pN2_1*rD2_dP6 - dv2_2*W2_5_dP6 - W2_5*dv2_2_dP6
+        qdd2_dP7 = -rD2*pN2_1_dP7 - pN2_1*rD2_dP7 - dv2_2*W2_5_dP7 - W2_5*dv2_2_dP7
+        qdd2_dP8 = -rD2*pN2_1_dP8 - pN2_1*rD2_dP8 - dv2_2*W2_5_dP8 - W2_5*dv2_2_dP8
+        qdd2_dP9 = -rD2*pN2_1_dP9 - W2_5*dv2_2_dP9
+        acc[0] = qdd1
+        acc[1] = qdd2
+        piv[0] = IA1_11
+        piv[1] = IA2_11
+        dp[0] = qdd1_dP1
+        dp[1] = 0.0
+        dp[2] = qdd1_dP3
+        dp[3] = qdd1_dP4
+        dp[4] = 0.0
+        dp[5] = qdd1_dP6
+        dp[6] = qdd1_dP7
+        dp[7] = qdd1_dP8
+        dp[8] = qdd1_dP9
+        dp[9] = qdd2_dP1
+        dp[10] = 0.0
+        dp[11] = qdd2_dP3
+        dp[12] = qdd2_dP4
+        dp[13] = 0.0
+        dp[14] = qdd2_dP6
+        dp[15] = qdd2_dP7
+        dp[16] = qdd2_dP8
+        dp[17] = qdd2_dP9
+
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dp.reshape(N, 9))
     if not all(np.all(np.isfinite(a)) for a in out):
         raise NonFiniteResult("a derivative is not finite")
     return out

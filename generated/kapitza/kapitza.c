@@ -328,6 +328,58 @@ KAPITZA_FN double kapitza_energy(double t, const double *x, const kapitza_params
     }
     return result;
 }
+
+KAPITZA_FN int kapitza_param_derivatives(double t, const double *x, const double *u, const kapitza_params *p,
+                          double *qdd, double *dqdd_dp)
+{
+    /* phi'' and its exact derivatives in the symbolic parameters (a, w): the forward mode
+     * of the articulated recursion seeded at the parameters (gyrochain/derive/derivatives.py), dqdd_dp row-major
+     * 1 x 2.  Either output may be NULL. */
+    double acc[1];
+    double piv[1];
+    double dp[2];
+    int i, code;
+    if (!p) {
+        return KAPITZA_NO_PARAMS;
+    }
+
+    if (!kapitza_all_finite_(x, 2)) {
+        return KAPITZA_NONFINITE;
+    }
+
+    {
+        (void)u;
+
+        const double pe1 = cos(t*p->w);
+        const double a0_1 = -p->a*p->w*p->w*pe1;
+        const double pe2 = sin(t*p->w);
+        const double sin_phi1 = sin(x[0]);
+        const double aO1_2 = a0_1*sin_phi1;
+        const double aOg1_2 = aO1_2 - 9.81*sin_phi1;
+        const double pe1_dP2 = -t*pe2;
+        const double a0_1_dP1 = -p->w*p->w*pe1;
+        const double a0_1_dP2 = -2.0*p->a*p->w*pe1 - p->a*p->w*p->w*pe1_dP2;
+        const double aO1_2_dP1 = sin_phi1*a0_1_dP1;
+        const double aO1_2_dP2 = sin_phi1*a0_1_dP2;
+
+        acc[0] = 5.0*aOg1_2;
+        piv[0] = 0.004;
+        dp[0] = 5.0*aO1_2_dP1;
+        dp[1] = 5.0*aO1_2_dP2;
+
+    }
+    code = kapitza_pivots_(piv);
+    if (code != KAPITZA_OK) {
+        return code;
+    }
+    for (i = 0; qdd && i < 1; ++i) {
+        qdd[i] = acc[i];
+    }
+    for (i = 0; dqdd_dp && i < 2; ++i) {
+        dqdd_dp[i] = dp[i];
+    }
+    return kapitza_all_finite_(acc, 1) && kapitza_all_finite_(dp, 2) ? KAPITZA_OK : KAPITZA_NONFINITE;
+}
 #define KAPITZA_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -1734,6 +1786,71 @@ KAPITZA_FN int kapitza_step_jacobian(double t, const double *x, const double *u,
     return kapitza_all_finite_(out, 2) ? KAPITZA_OK : KAPITZA_NONFINITE;
 }
 
+
+/* ---------------------------------------------------------------------------------------
+ * The step's derivatives in the symbolic parameters, by the chain rule through the stages:
+ * dk/dp = A dy/dp + [0; dphi''/dp], A from kapitza_qdd_derivatives and dphi''/dp from
+ * kapitza_param_derivatives at each stage's point (dx/dp = 0 at the start).
+ * --------------------------------------------------------------------------------------- */
+KAPITZA_FN int kapitza_step_param_derivatives(double t, const double *x, const double *u, const kapitza_params *p, double h,
+                                      double *xn, double *dxn_dp)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[2], k[2], s[2], xs[2];
+    double dy[2 * 2], dk[2 * 2], ds[2 * 2];
+    double Dq[1], Dv[1], Dp[2];
+    double *out = xn ? xn : xs;
+    int i, j, c, st, code;
+    if ((code = kapitza_step_args_(t, x, p, h, out)) != KAPITZA_OK) {
+        return code;
+    }
+    if (!kapitza_all_finite_(x, 2)) {
+        return KAPITZA_NONFINITE;
+    }
+    for (i = 0; i < 2; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < 2; ++c) {
+            dy[i * 2 + c] = ds[i * 2 + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = kapitza_qdd_derivatives(t + a[st] * h, y, u, p, k + 1, Dq, Dv, 0)) != KAPITZA_OK
+            || (code = kapitza_param_derivatives(t + a[st] * h, y, u, p, 0, Dp)) != KAPITZA_OK) {
+            return code;
+        }
+        for (i = 0; i < 1; ++i) {
+            k[i] = y[1 + i];
+            for (c = 0; c < 2; ++c) {
+                double v = Dp[i * 2 + c];
+                dk[i * 2 + c] = dy[(1 + i) * 2 + c];
+                for (j = 0; j < 1; ++j) {
+                    v += Dq[i * 1 + j] * dy[j * 2 + c] + Dv[i * 1 + j] * dy[(1 + j) * 2 + c];
+                }
+                dk[(1 + i) * 2 + c] = v;
+            }
+        }
+        for (i = 0; i < 2; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < 2; ++c) {
+                ds[i * 2 + c] += b[st] * dk[i * 2 + c];
+                if (st < 3) {
+                    dy[i * 2 + c] = a[st + 1] * h * dk[i * 2 + c];
+                }
+            }
+            if (st < 3) {
+                y[i] = x[i] + a[st + 1] * h * k[i];
+            }
+        }
+    }
+    for (i = 0; i < 2; ++i) {
+        out[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; dxn_dp && c < 2; ++c) {
+            dxn_dp[i * 2 + c] = h / 6.0 * ds[i * 2 + c];
+        }
+    }
+    return kapitza_all_finite_(out, 2) ? KAPITZA_OK : KAPITZA_NONFINITE;
+}
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

@@ -46,6 +46,11 @@
  * Phi(t1) = dx(t1)/dx(t0) Phi(t0), the tangent map of the emitted dynamics; x1 = x(t1).  On failure x1
  * is the last accepted state and Phi is NaN.  stats may be NULL.  Its arrays take about 2 KB
  * of stack, besides what kapitza_qdd_derivatives takes.
+ * Derivatives in the symbolic parameters p (a, w), for identification, adaptive control
+ * and design: kapitza_param_derivatives(t, x, u, p, qdd, dqdd_dp) gives phi'' and d phi''/dp, row-major
+ * N x NPARAMS (the forward mode of the articulated recursion seeded at the parameters, exact; a NULL
+ * output is not written); kapitza_step_param_derivatives(t, x, u, p, h, xn, dxn_dp) the
+ * step of kapitza_step (xn, NULL allowed) and dxn/dp, 2N x NPARAMS, by the chain rule through its stages.
  * The discrete-time model, for a controller that runs at a fixed rate: kapitza_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of KAPITZA_RK4,
  * bit for bit), xn the state at t + h; on failure xn is NaN.
@@ -59,7 +64,7 @@
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * kapitza_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 26, forces 10, linearize 15, mass_matrix 0, qdd 10, qdd_derivatives 15, rhs 10.
+ * Op counts: energy 26, forces 10, linearize 15, mass_matrix 0, param_derivatives 26, qdd 10, qdd_derivatives 15, rhs 10.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -119,6 +124,8 @@ KAPITZA_FN int kapitza_qdd_derivatives(double t, const double *x, const double *
                          double *qdd, double *dqdd_dphi, double *dqdd_dphidot, double *dqdd_du);
 KAPITZA_FN int kapitza_linearize(double t, const double *x, const double *u, const kapitza_params *p, double *A, double *B);
 KAPITZA_FN double kapitza_energy(double t, const double *x, const kapitza_params *p);
+KAPITZA_FN int kapitza_param_derivatives(double t, const double *x, const double *u, const kapitza_params *p,
+                          double *qdd, double *dqdd_dp);
 typedef struct kapitza_integrate_stats {
     double t;
     double x[2];
@@ -139,6 +146,8 @@ KAPITZA_FN int kapitza_integrate_batch(int method, int nb, int nt, const double 
 KAPITZA_FN int kapitza_step(double t, const double *x, const double *u, const kapitza_params *p, double h, double *xn);
 KAPITZA_FN int kapitza_step_jacobian(double t, const double *x, const double *u, const kapitza_params *p, double h,
                        double *xn, double *Ad, double *Bd, double *xn_h);
+KAPITZA_FN int kapitza_step_param_derivatives(double t, const double *x, const double *u, const kapitza_params *p, double h,
+                               double *xn, double *dxn_dp);
 KAPITZA_FN int kapitza_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const kapitza_params *p,
                                double *x1, double *Phi, kapitza_integrate_stats *stats);

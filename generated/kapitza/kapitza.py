@@ -26,7 +26,7 @@ TIME_DEPENDENT = True  # forces, qdd, energy, momentum take t first
 # the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
 # data for an optimiser or a controller, not enforced by the model
 LIMITS = {}
-OP_COUNTS = { "energy": 26, "forces": 10, "linearize": 15, "mass_matrix": 0, "qdd": 10, "qdd_derivatives": 15, "rhs": 10, }
+OP_COUNTS = { "energy": 26, "forces": 10, "linearize": 15, "mass_matrix": 0, "param_derivatives": 26, "qdd": 10, "qdd_derivatives": 15, "rhs": 10, }
 PIVOT_TOL = 1 * 2.220446049250313e-16
 
 
@@ -172,6 +172,44 @@ def qdd_derivatives(t, x, u=None, p=None):
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
     _check_pivots(piv)
     out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def param_derivatives(t, x, u=None, p=None):
+    """(phi'', d phi''/dp): the exact derivatives in the symbolic parameters PARAMS (arrays N and
+    N×NPARAMS), as NAME_param_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+    p_a = _param(p, "a")
+    p_w = _param(p, "w")
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dp = np.empty(N * 2)
+    try:
+        pe1 = math.cos(t*p_w)
+        a0_1 = -p_a*p_w*p_w*pe1
+        pe2 = math.sin(t*p_w)
+        sin_phi1 = math.sin(x[0])
+        aO1_2 = a0_1*sin_phi1
+        aOg1_2 = aO1_2 - 9.81*sin_phi1
+        pe1_dP2 = -t*pe2
+        a0_1_dP1 = -p_w*p_w*pe1
+        a0_1_dP2 = -2.0*p_a*p_w*pe1 - p_a*p_w*p_w*pe1_dP2
+        aO1_2_dP1 = sin_phi1*a0_1_dP1
+        aO1_2_dP2 = sin_phi1*a0_1_dP2
+        acc[0] = 5.0*aOg1_2
+        piv[0] = 0.004
+        dp[0] = 5.0*aO1_2_dP1
+        dp[1] = 5.0*aO1_2_dP2
+
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dp.reshape(N, 2))
     if not all(np.all(np.isfinite(a)) for a in out):
         raise NonFiniteResult("a derivative is not finite")
     return out

@@ -344,6 +344,52 @@ TURNTABLE_FN double turntable_jacobi(const double *x, const turntable_params *p)
     }
     return result;
 }
+
+TURNTABLE_FN int turntable_param_derivatives(const double *x, const double *u, const turntable_params *p,
+                          double *qdd, double *dqdd_dp)
+{
+    /* phi'' and its exact derivatives in the symbolic parameters (Omega): the forward mode
+     * of the articulated recursion seeded at the parameters (gyrochain/derive/derivatives.py), dqdd_dp row-major
+     * 1 x 1.  Either output may be NULL. */
+    double acc[1];
+    double piv[1];
+    double dp[1];
+    int i, code;
+    if (!p) {
+        return TURNTABLE_NO_PARAMS;
+    }
+
+    if (!turntable_all_finite_(x, 2)) {
+        return TURNTABLE_NONFINITE;
+    }
+
+    {
+        (void)u;
+
+        const double cos_phi1 = cos(x[0]);
+        const double sin_phi1 = sin(x[0]);
+        const double om1_2 = p->Omega*sin_phi1;
+        const double om1_3 = p->Omega*cos_phi1;
+        const double pN1_1 = -0.04156666666666667*om1_2*om1_3 + 1.22625*sin_phi1;
+        const double pN1_1_dP1 = -0.04156666666666667*sin_phi1*om1_3 - 0.04156666666666667*cos_phi1*om1_2;
+
+        acc[0] = -24.0*pN1_1;
+        piv[0] = 0.041666666666666664;
+        dp[0] = -24.0*pN1_1_dP1;
+
+    }
+    code = turntable_pivots_(piv);
+    if (code != TURNTABLE_OK) {
+        return code;
+    }
+    for (i = 0; qdd && i < 1; ++i) {
+        qdd[i] = acc[i];
+    }
+    for (i = 0; dqdd_dp && i < 1; ++i) {
+        dqdd_dp[i] = dp[i];
+    }
+    return turntable_all_finite_(acc, 1) && turntable_all_finite_(dp, 1) ? TURNTABLE_OK : TURNTABLE_NONFINITE;
+}
 #define TURNTABLE_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -1737,6 +1783,72 @@ TURNTABLE_FN int turntable_step_jacobian(double t, const double *x, const double
     return turntable_all_finite_(out, 2) ? TURNTABLE_OK : TURNTABLE_NONFINITE;
 }
 
+
+/* ---------------------------------------------------------------------------------------
+ * The step's derivatives in the symbolic parameters, by the chain rule through the stages:
+ * dk/dp = A dy/dp + [0; dphi''/dp], A from turntable_qdd_derivatives and dphi''/dp from
+ * turntable_param_derivatives at each stage's point (dx/dp = 0 at the start).
+ * --------------------------------------------------------------------------------------- */
+TURNTABLE_FN int turntable_step_param_derivatives(double t, const double *x, const double *u, const turntable_params *p, double h,
+                                      double *xn, double *dxn_dp)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[2], k[2], s[2], xs[2];
+    double dy[2 * 1], dk[2 * 1], ds[2 * 1];
+    double Dq[1], Dv[1], Dp[1];
+    double *out = xn ? xn : xs;
+    int i, j, c, st, code;
+    if ((code = turntable_step_args_(t, x, p, h, out)) != TURNTABLE_OK) {
+        return code;
+    }
+    if (!turntable_all_finite_(x, 2)) {
+        return TURNTABLE_NONFINITE;
+    }
+    (void)t;  /* (an autonomous model) */
+    for (i = 0; i < 2; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < 1; ++c) {
+            dy[i * 1 + c] = ds[i * 1 + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = turntable_qdd_derivatives(y, u, p, k + 1, Dq, Dv, 0)) != TURNTABLE_OK
+            || (code = turntable_param_derivatives(y, u, p, 0, Dp)) != TURNTABLE_OK) {
+            return code;
+        }
+        for (i = 0; i < 1; ++i) {
+            k[i] = y[1 + i];
+            for (c = 0; c < 1; ++c) {
+                double v = Dp[i * 1 + c];
+                dk[i * 1 + c] = dy[(1 + i) * 1 + c];
+                for (j = 0; j < 1; ++j) {
+                    v += Dq[i * 1 + j] * dy[j * 1 + c] + Dv[i * 1 + j] * dy[(1 + j) * 1 + c];
+                }
+                dk[(1 + i) * 1 + c] = v;
+            }
+        }
+        for (i = 0; i < 2; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < 1; ++c) {
+                ds[i * 1 + c] += b[st] * dk[i * 1 + c];
+                if (st < 3) {
+                    dy[i * 1 + c] = a[st + 1] * h * dk[i * 1 + c];
+                }
+            }
+            if (st < 3) {
+                y[i] = x[i] + a[st + 1] * h * k[i];
+            }
+        }
+    }
+    for (i = 0; i < 2; ++i) {
+        out[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; dxn_dp && c < 1; ++c) {
+            dxn_dp[i * 1 + c] = h / 6.0 * ds[i * 1 + c];
+        }
+    }
+    return turntable_all_finite_(out, 2) ? TURNTABLE_OK : TURNTABLE_NONFINITE;
+}
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

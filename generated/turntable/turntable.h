@@ -46,6 +46,11 @@
  * Phi(t1) = dx(t1)/dx(t0) Phi(t0), the tangent map of the emitted dynamics; x1 = x(t1).  On failure x1
  * is the last accepted state and Phi is NaN.  stats may be NULL.  Its arrays take about 2 KB
  * of stack, besides what turntable_qdd_derivatives takes.
+ * Derivatives in the symbolic parameters p (Omega), for identification, adaptive control
+ * and design: turntable_param_derivatives(x, u, p, qdd, dqdd_dp) gives phi'' and d phi''/dp, row-major
+ * N x NPARAMS (the forward mode of the articulated recursion seeded at the parameters, exact; a NULL
+ * output is not written); turntable_step_param_derivatives(t, x, u, p, h, xn, dxn_dp) the
+ * step of turntable_step (xn, NULL allowed) and dxn/dp, 2N x NPARAMS, by the chain rule through its stages.
  * The discrete-time model, for a controller that runs at a fixed rate: turntable_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of TURNTABLE_RK4,
  * bit for bit), xn the state at t + h; on failure xn is NaN.
@@ -58,7 +63,7 @@
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * turntable_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 14, forces 8, jacobi 14, linearize 19, mass_matrix 0, qdd 9, qdd_derivatives 19, rhs 9.
+ * Op counts: energy 14, forces 8, jacobi 14, linearize 19, mass_matrix 0, param_derivatives 15, qdd 9, qdd_derivatives 19, rhs 9.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -118,6 +123,8 @@ TURNTABLE_FN int turntable_qdd_derivatives(const double *x, const double *u, con
 TURNTABLE_FN int turntable_linearize(double t, const double *x, const double *u, const turntable_params *p, double *A, double *B);
 TURNTABLE_FN double turntable_energy(const double *x, const turntable_params *p);
 TURNTABLE_FN double turntable_jacobi(const double *x, const turntable_params *p);
+TURNTABLE_FN int turntable_param_derivatives(const double *x, const double *u, const turntable_params *p,
+                          double *qdd, double *dqdd_dp);
 typedef struct turntable_integrate_stats {
     double t;
     double x[2];
@@ -138,6 +145,8 @@ TURNTABLE_FN int turntable_integrate_batch(int method, int nb, int nt, const dou
 TURNTABLE_FN int turntable_step(double t, const double *x, const double *u, const turntable_params *p, double h, double *xn);
 TURNTABLE_FN int turntable_step_jacobian(double t, const double *x, const double *u, const turntable_params *p, double h,
                        double *xn, double *Ad, double *Bd, double *xn_h);
+TURNTABLE_FN int turntable_step_param_derivatives(double t, const double *x, const double *u, const turntable_params *p, double h,
+                               double *xn, double *dxn_dp);
 TURNTABLE_FN int turntable_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const turntable_params *p,
                                double *x1, double *Phi, turntable_integrate_stats *stats);

@@ -26,7 +26,7 @@ TIME_DEPENDENT = False  # forces, qdd, energy, momentum take t first
 # the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
 # data for an optimiser or a controller, not enforced by the model
 LIMITS = {}
-OP_COUNTS = { "energy": 14, "forces": 8, "jacobi": 14, "linearize": 19, "mass_matrix": 0, "qdd": 9, "qdd_derivatives": 19, "rhs": 9, }
+OP_COUNTS = { "energy": 14, "forces": 8, "jacobi": 14, "linearize": 19, "mass_matrix": 0, "param_derivatives": 15, "qdd": 9, "qdd_derivatives": 19, "rhs": 9, }
 PIVOT_TOL = 1 * 2.220446049250313e-16
 
 
@@ -168,6 +168,37 @@ def qdd_derivatives(x, u=None, p=None):
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
     _check_pivots(piv)
     out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def param_derivatives(x, u=None, p=None):
+    """(phi'', d phi''/dp): the exact derivatives in the symbolic parameters PARAMS (arrays N and
+    N×NPARAMS), as NAME_param_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+    p_Omega = _param(p, "Omega")
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dp = np.empty(N * 1)
+    try:
+        cos_phi1 = math.cos(x[0])
+        sin_phi1 = math.sin(x[0])
+        om1_2 = p_Omega*sin_phi1
+        om1_3 = p_Omega*cos_phi1
+        pN1_1 = -0.04156666666666667*om1_2*om1_3 + 1.22625*sin_phi1
+        pN1_1_dP1 = -0.04156666666666667*sin_phi1*om1_3 - 0.04156666666666667*cos_phi1*om1_2
+        acc[0] = -24.0*pN1_1
+        piv[0] = 0.041666666666666664
+        dp[0] = -24.0*pN1_1_dP1
+
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dp.reshape(N, 1))
     if not all(np.all(np.isfinite(a)) for a in out):
         raise NonFiniteResult("a derivative is not finite")
     return out

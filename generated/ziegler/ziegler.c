@@ -578,6 +578,70 @@ ZIEGLER_FN int ziegler_pdot(const double *x, const double *u, const ziegler_para
     }
     return ziegler_all_finite_(pdot, 2) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
 }
+
+ZIEGLER_FN int ziegler_param_derivatives(const double *x, const double *u, const ziegler_params *p,
+                          double *qdd, double *dqdd_dp)
+{
+    /* phi'' and its exact derivatives in the symbolic parameters (P): the forward mode
+     * of the articulated recursion seeded at the parameters (gyrochain/derive/derivatives.py), dqdd_dp row-major
+     * 2 x 1.  Either output may be NULL. */
+    double acc[2];
+    double piv[2];
+    double dp[2];
+    int i, code;
+    if (!p) {
+        return ZIEGLER_NO_PARAMS;
+    }
+
+    if (!ziegler_all_finite_(x, 4)) {
+        return ZIEGLER_NONFINITE;
+    }
+
+    {
+        (void)u;
+
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_1 = x[2] + x[3];
+        const double aOrel2in1_3 = -0.5*x[2]*x[2];
+        const double aOg2_2 = sin_phi2*aOrel2in1_3;
+        const double aOg2_3 = cos_phi2*aOrel2in1_3;
+        const double pF2_3 = 0.5*aOg2_3 - 0.25*om2_1*om2_1 + p->P;
+        const double u2 = -2.0*x[1] + 0.25*aOg2_2;
+        const double pa2_5 = 0.5*aOg2_2 - 2.0*u2;
+        const double Jm2rr_22 = 0.5*sin_phi2*sin_phi2;
+        const double pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3;
+        const double IA1_11 = 0.25 + 0.25*Jm2rr_22;
+        const double pA1_1 = -2.0*x[1] - 0.5*pc2f_2;
+        const double rD1 = 1.0/IA1_11;
+        const double u1 = -2.0*x[0] - pA1_1;
+        const double qdd1 = rD1*u1;
+        const double dv2_2 = -0.5*cos_phi2*qdd1;
+        const double qdd2 = 8.0*u2 - qdd1 + 2.0*dv2_2;
+        const double qdd1_dP1 = -0.5*sin_phi2*rD1;
+        const double dv2_2_dP1 = -0.5*cos_phi2*qdd1_dP1;
+        const double qdd2_dP1 = -qdd1_dP1 + 2.0*dv2_2_dP1;
+
+        acc[0] = qdd1;
+        acc[1] = qdd2;
+        piv[0] = IA1_11;
+        piv[1] = 0.125;
+        dp[0] = qdd1_dP1;
+        dp[1] = qdd2_dP1;
+
+    }
+    code = ziegler_pivots_(piv);
+    if (code != ZIEGLER_OK) {
+        return code;
+    }
+    for (i = 0; qdd && i < 2; ++i) {
+        qdd[i] = acc[i];
+    }
+    for (i = 0; dqdd_dp && i < 2; ++i) {
+        dqdd_dp[i] = dp[i];
+    }
+    return ziegler_all_finite_(acc, 2) && ziegler_all_finite_(dp, 2) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
+}
 #define ZIEGLER_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -2147,6 +2211,72 @@ ZIEGLER_FN int ziegler_step_jacobian(double t, const double *x, const double *u,
     return ziegler_all_finite_(out, 4) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
 }
 
+
+/* ---------------------------------------------------------------------------------------
+ * The step's derivatives in the symbolic parameters, by the chain rule through the stages:
+ * dk/dp = A dy/dp + [0; dphi''/dp], A from ziegler_qdd_derivatives and dphi''/dp from
+ * ziegler_param_derivatives at each stage's point (dx/dp = 0 at the start).
+ * --------------------------------------------------------------------------------------- */
+ZIEGLER_FN int ziegler_step_param_derivatives(double t, const double *x, const double *u, const ziegler_params *p, double h,
+                                      double *xn, double *dxn_dp)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[4], k[4], s[4], xs[4];
+    double dy[4 * 1], dk[4 * 1], ds[4 * 1];
+    double Dq[4], Dv[4], Dp[2];
+    double *out = xn ? xn : xs;
+    int i, j, c, st, code;
+    if ((code = ziegler_step_args_(t, x, p, h, out)) != ZIEGLER_OK) {
+        return code;
+    }
+    if (!ziegler_all_finite_(x, 4)) {
+        return ZIEGLER_NONFINITE;
+    }
+    (void)t;  /* (an autonomous model) */
+    for (i = 0; i < 4; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < 1; ++c) {
+            dy[i * 1 + c] = ds[i * 1 + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = ziegler_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 0)) != ZIEGLER_OK
+            || (code = ziegler_param_derivatives(y, u, p, 0, Dp)) != ZIEGLER_OK) {
+            return code;
+        }
+        for (i = 0; i < 2; ++i) {
+            k[i] = y[2 + i];
+            for (c = 0; c < 1; ++c) {
+                double v = Dp[i * 1 + c];
+                dk[i * 1 + c] = dy[(2 + i) * 1 + c];
+                for (j = 0; j < 2; ++j) {
+                    v += Dq[i * 2 + j] * dy[j * 1 + c] + Dv[i * 2 + j] * dy[(2 + j) * 1 + c];
+                }
+                dk[(2 + i) * 1 + c] = v;
+            }
+        }
+        for (i = 0; i < 4; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < 1; ++c) {
+                ds[i * 1 + c] += b[st] * dk[i * 1 + c];
+                if (st < 3) {
+                    dy[i * 1 + c] = a[st + 1] * h * dk[i * 1 + c];
+                }
+            }
+            if (st < 3) {
+                y[i] = x[i] + a[st + 1] * h * k[i];
+            }
+        }
+    }
+    for (i = 0; i < 4; ++i) {
+        out[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; dxn_dp && c < 1; ++c) {
+            dxn_dp[i * 1 + c] = h / 6.0 * ds[i * 1 + c];
+        }
+    }
+    return ziegler_all_finite_(out, 4) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
+}
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

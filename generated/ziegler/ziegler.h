@@ -49,6 +49,11 @@
  * Phi(t1) = dx(t1)/dx(t0) Phi(t0), the tangent map of the emitted dynamics; x1 = x(t1).  On failure x1
  * is the last accepted state and Phi is NaN.  stats may be NULL.  Its arrays take about 5 KB
  * of stack, besides what ziegler_qdd_derivatives takes.
+ * Derivatives in the symbolic parameters p (P), for identification, adaptive control
+ * and design: ziegler_param_derivatives(x, u, p, qdd, dqdd_dp) gives phi'' and d phi''/dp, row-major
+ * N x NPARAMS (the forward mode of the articulated recursion seeded at the parameters, exact; a NULL
+ * output is not written); ziegler_step_param_derivatives(t, x, u, p, h, xn, dxn_dp) the
+ * step of ziegler_step (xn, NULL allowed) and dxn/dp, 2N x NPARAMS, by the chain rule through its stages.
  * The discrete-time model, for a controller that runs at a fixed rate: ziegler_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of ZIEGLER_RK4,
  * bit for bit), xn the state at t + h; on failure xn is NaN.
@@ -64,7 +69,7 @@
  * Hamilton's variables (ZIEGLER_HAS_CANONICAL): ziegler_momenta(x, p, pm) gives p = dL/dphidot =
  * M phidot + k(phi) (k_j = e^j . sum of lambda^k, k >= j), ziegler_velocities(q, pm, p, qd) the inverse,
  * ziegler_pdot(x, u, p, pdot) the rate dp/dt = dL/dphi + the torques without a force function.
- * Op counts: energy 20, forces 24, linearize 98, mass_matrix 5, momenta 11, momentum 8, pdot 33, qdd 38, qdd_derivatives 98, rhs 38, velocities 18.
+ * Op counts: energy 20, forces 24, linearize 98, mass_matrix 5, momenta 11, momentum 8, param_derivatives 44, pdot 33, qdd 38, qdd_derivatives 98, rhs 38, velocities 18.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -127,6 +132,8 @@ ZIEGLER_FN double ziegler_momentum(const double *x, const ziegler_params *p);
 ZIEGLER_FN int ziegler_momenta(const double *x, const ziegler_params *p, double *pm);
 ZIEGLER_FN int ziegler_velocities(const double *q, const double *pm, const ziegler_params *p, double *qd);
 ZIEGLER_FN int ziegler_pdot(const double *x, const double *u, const ziegler_params *p, double *pdot);
+ZIEGLER_FN int ziegler_param_derivatives(const double *x, const double *u, const ziegler_params *p,
+                          double *qdd, double *dqdd_dp);
 typedef struct ziegler_integrate_stats {
     double t;
     double x[4];
@@ -147,6 +154,8 @@ ZIEGLER_FN int ziegler_integrate_batch(int method, int nb, int nt, const double 
 ZIEGLER_FN int ziegler_step(double t, const double *x, const double *u, const ziegler_params *p, double h, double *xn);
 ZIEGLER_FN int ziegler_step_jacobian(double t, const double *x, const double *u, const ziegler_params *p, double h,
                        double *xn, double *Ad, double *Bd, double *xn_h);
+ZIEGLER_FN int ziegler_step_param_derivatives(double t, const double *x, const double *u, const ziegler_params *p, double h,
+                               double *xn, double *dxn_dp);
 ZIEGLER_FN int ziegler_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const ziegler_params *p,
                                double *x1, double *Phi, ziegler_integrate_stats *stats);

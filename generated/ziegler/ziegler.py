@@ -26,7 +26,7 @@ TIME_DEPENDENT = False  # forces, qdd, energy, momentum take t first
 # the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
 # data for an optimiser or a controller, not enforced by the model
 LIMITS = {}
-OP_COUNTS = { "energy": 20, "forces": 24, "linearize": 98, "mass_matrix": 5, "momenta": 11, "momentum": 8, "pdot": 33, "qdd": 38, "qdd_derivatives": 98, "rhs": 38, "velocities": 18, }
+OP_COUNTS = { "energy": 20, "forces": 24, "linearize": 98, "mass_matrix": 5, "momenta": 11, "momentum": 8, "param_derivatives": 44, "pdot": 33, "qdd": 38, "qdd_derivatives": 98, "rhs": 38, "velocities": 18, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 
@@ -237,6 +237,55 @@ def qdd_derivatives(x, u=None, p=None):
         raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
     _check_pivots(piv)
     out = (acc, dqdd_dphi, dqdd_dphidot, dqdd_du)
+    if not all(np.all(np.isfinite(a)) for a in out):
+        raise NonFiniteResult("a derivative is not finite")
+    return out
+
+
+def param_derivatives(x, u=None, p=None):
+    """(phi'', d phi''/dp): the exact derivatives in the symbolic parameters PARAMS (arrays N and
+    N×NPARAMS), as NAME_param_derivatives."""
+    x = [float(v) for v in x]
+    if not (all(map(math.isfinite, x)) and (u is None or all(math.isfinite(float(v)) for v in u))):
+        raise NonFiniteResult("x or u is not finite")
+    p_P = _param(p, "P")
+
+    acc = np.empty(N)
+    piv = np.empty(N)
+    dp = np.empty(N * 1)
+    try:
+        cos_phi2 = math.cos(x[1])
+        sin_phi2 = math.sin(x[1])
+        om2_1 = x[2] + x[3]
+        aOrel2in1_3 = -0.5*x[2]*x[2]
+        aOg2_2 = sin_phi2*aOrel2in1_3
+        aOg2_3 = cos_phi2*aOrel2in1_3
+        pF2_3 = 0.5*aOg2_3 - 0.25*om2_1*om2_1 + p_P
+        u2 = -2.0*x[1] + 0.25*aOg2_2
+        pa2_5 = 0.5*aOg2_2 - 2.0*u2
+        Jm2rr_22 = 0.5*sin_phi2*sin_phi2
+        pc2f_2 = cos_phi2*pa2_5 - sin_phi2*pF2_3
+        IA1_11 = 0.25 + 0.25*Jm2rr_22
+        pA1_1 = -2.0*x[1] - 0.5*pc2f_2
+        rD1 = 1.0/IA1_11
+        u1 = -2.0*x[0] - pA1_1
+        qdd1 = rD1*u1
+        dv2_2 = -0.5*cos_phi2*qdd1
+        qdd2 = 8.0*u2 - qdd1 + 2.0*dv2_2
+        qdd1_dP1 = -0.5*sin_phi2*rD1
+        dv2_2_dP1 = -0.5*cos_phi2*qdd1_dP1
+        qdd2_dP1 = -qdd1_dP1 + 2.0*dv2_2_dP1
+        acc[0] = qdd1
+        acc[1] = qdd2
+        piv[0] = IA1_11
+        piv[1] = 0.125
+        dp[0] = qdd1_dP1
+        dp[1] = qdd2_dP1
+
+    except ZeroDivisionError:
+        raise SingularMassMatrix("M is not positive definite (a zero pivot)") from None
+    _check_pivots(piv)
+    out = (acc, dp.reshape(N, 1))
     if not all(np.all(np.isfinite(a)) for a in out):
         raise NonFiniteResult("a derivative is not finite")
     return out

@@ -62,6 +62,8 @@ class Model:
     # the weighted second derivatives ∇²(μ·φ̈) (generate --hessian, --casadi), else None (not asked
     # for, or longer than HESSIAN_MAX_OPS)
     hess: hessian.Hessian | None = None
+    # ∂φ̈/∂p in the spec's symbolic parameters (NAME_param_derivatives), None without parameters
+    pder: derivatives.ParamDerivatives | None = None
 
 
 class FormNotApplicable(ValueError):
@@ -146,8 +148,14 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
     # the regressor after everything else: no other quantity's name depends on it
     reg, base = _regressor(spec, P, kin, dyn, ints, lines, say) if with_regressor else (None, None)
     hess = _hessian(spec, P, kin, art, lines, say) if with_hessian else None
+    pder = None
+    if spec.params:  # after the rest: no other name depends on it
+        say("straight-line code: derivatives of qdd in the symbolic parameters")
+        pder = derivatives.derive_params(spec, P, kin, art)
+        lines["param_derivatives"] = straight_line(P, list(art.qdd) + list(art.pivots) + [d for row in pder.dqdd for d in row],
+                                                   prefix="wp")
     return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d, reg=reg, base=base,
-                 world_columns=columns if form_d == "world" else "", hess=hess)
+                 world_columns=columns if form_d == "world" else "", hess=hess, pder=pder)
 
 
 # Past this many operations NAME_rhs_hessian is not emitted (gcc's time; the Panda's is 103k): an

@@ -224,3 +224,27 @@ def canonical(spec, prog: Program, kin, dyn, subchain: tuple = ()) -> Canonical:
     tan = tangents(P, list(p), seeds, ("p",))
     pdot = tuple(f + tangent_poly(pi, tan).get(0, ZERO) for f, pi in zip(dyn.f, p))
     return Canonical(p, k, pdot)
+
+
+@dataclass(frozen=True)
+class ParamDerivatives:
+    """``dqdd[k][j]``: ∂φ̈ᵏ⁺¹/∂pⱼ of the articulated recursion, pⱼ the spec's symbolic parameters
+    in their order (a mass, a length, an inertia, a rotor's momentum, a spring's constant)."""
+
+    params: tuple
+    dqdd: tuple
+
+
+def derive_params(spec, prog: Program, kin, art) -> ParamDerivatives:
+    """∂φ̈/∂p: the forward mode of ``tangents`` seeded at the parameters instead of the state, one
+    tangent per parameter (label ``P<j>``), appended to ``prog``.  A parameter that φ̈ does not read
+    has a zero column, a true zero."""
+    appends_to(prog, kin)
+    P = prog
+    params = tuple(spec.params)
+    seeds = {}
+    for j, s in enumerate(params):
+        seeds[next(iter(P.input(s).terms))[0]] = {j: Poly.const(1)}
+    tan = tangents(P, list(art.qdd), seeds, tuple(f"P{j + 1}" for j in range(len(params))))
+    dqdd = tuple(tuple(tangent_poly(q, tan).get(j, ZERO) for j in range(len(params))) for q in art.qdd)
+    return ParamDerivatives(params, dqdd)

@@ -1071,6 +1071,77 @@ MODEL_FN int model_step_hessian(double t, const double *x, const double *u, cons
     return model_all_finite_(H, MODEL_V_COLS * MODEL_V_COLS) ? MODEL_OK : MODEL_NONFINITE;
 }
 #endif
+#if MODEL_PARAM_DERIVATIVES
+
+/* ---------------------------------------------------------------------------------------
+ * The step's derivatives in the symbolic parameters, by the chain rule through the stages:
+ * dk/dp = A dy/dp + [0; dphi''/dp], A from model_qdd_derivatives and dphi''/dp from
+ * model_param_derivatives at each stage's point (dx/dp = 0 at the start).
+ * --------------------------------------------------------------------------------------- */
+MODEL_FN int model_step_param_derivatives(double t, const double *x, const double *u, const model_params *p, double h,
+                                      double *xn, double *dxn_dp)
+{
+    static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
+    double y[MODEL_V_DIM], k[MODEL_V_DIM], s[MODEL_V_DIM], xs[MODEL_V_DIM];
+    double dy[MODEL_V_DIM * MODEL_V_NP], dk[MODEL_V_DIM * MODEL_V_NP], ds[MODEL_V_DIM * MODEL_V_NP];
+    double Dq[MODEL_V_NN], Dv[MODEL_V_NN], Dp[MODEL_V_NNP];
+    double *out = xn ? xn : xs;
+    int i, j, c, st, code;
+    if ((code = model_step_args_(t, x, p, h, out)) != MODEL_OK) {
+        return code;
+    }
+    if (!model_all_finite_(x, MODEL_V_DIM)) {
+        return MODEL_NONFINITE;
+    }
+#if MODEL_TIME_DEPENDENT
+#else
+    (void)t;  /* (an autonomous model) */
+#endif
+    for (i = 0; i < MODEL_V_DIM; ++i) {
+        y[i] = x[i];
+        s[i] = 0.0;
+        for (c = 0; c < MODEL_V_NP; ++c) {
+            dy[i * MODEL_V_NP + c] = ds[i * MODEL_V_NP + c] = 0.0;
+        }
+    }
+    for (st = 0; st < 4; ++st) {
+        if ((code = model_qdd_derivatives(MODEL_T(t + a[st] * h, )y, u, p, k + MODEL_V_N, Dq, Dv, 0)) != MODEL_OK
+            || (code = model_param_derivatives(MODEL_T(t + a[st] * h, )y, u, p, 0, Dp)) != MODEL_OK) {
+            return code;
+        }
+        for (i = 0; i < MODEL_V_N; ++i) {
+            k[i] = y[MODEL_V_N + i];
+            for (c = 0; c < MODEL_V_NP; ++c) {
+                double v = Dp[i * MODEL_V_NP + c];
+                dk[i * MODEL_V_NP + c] = dy[(MODEL_V_N + i) * MODEL_V_NP + c];
+                for (j = 0; j < MODEL_V_N; ++j) {
+                    v += Dq[i * MODEL_V_N + j] * dy[j * MODEL_V_NP + c] + Dv[i * MODEL_V_N + j] * dy[(MODEL_V_N + j) * MODEL_V_NP + c];
+                }
+                dk[(MODEL_V_N + i) * MODEL_V_NP + c] = v;
+            }
+        }
+        for (i = 0; i < MODEL_V_DIM; ++i) {
+            s[i] += b[st] * k[i];
+            for (c = 0; c < MODEL_V_NP; ++c) {
+                ds[i * MODEL_V_NP + c] += b[st] * dk[i * MODEL_V_NP + c];
+                if (st < 3) {
+                    dy[i * MODEL_V_NP + c] = a[st + 1] * h * dk[i * MODEL_V_NP + c];
+                }
+            }
+            if (st < 3) {
+                y[i] = x[i] + a[st + 1] * h * k[i];
+            }
+        }
+    }
+    for (i = 0; i < MODEL_V_DIM; ++i) {
+        out[i] = x[i] + h / 6.0 * s[i];
+        for (c = 0; dxn_dp && c < MODEL_V_NP; ++c) {
+            dxn_dp[i * MODEL_V_NP + c] = h / 6.0 * ds[i * MODEL_V_NP + c];
+        }
+    }
+    return model_all_finite_(out, MODEL_V_DIM) ? MODEL_OK : MODEL_NONFINITE;
+}
+#endif
 #if MODEL_VARIATIONAL
 
 /* ---------------------------------------------------------------------------------------

@@ -21,6 +21,9 @@
 #endif
 #define MODEL_FN  /* the header's function qualifier: __host__ __device__ under CUDA */
 #define MODEL_RESTRICT_ restrict  /* the template's: restrict in C, __restrict__ in g++ */
+#ifndef MODEL_PARAM_DERIVATIVES
+#define MODEL_PARAM_DERIVATIVES 1
+#endif
 #ifndef MODEL_HESSIAN
 #define MODEL_HESSIAN 1
 #endif
@@ -49,6 +52,8 @@
 #define MODEL_V_NNU1 2
 #define MODEL_V_COLS 6
 #define MODEL_V_ZDIM 5
+#define MODEL_V_NP 2
+#define MODEL_V_NNP 4
 #define MODEL_V_DIM2 16
 #define MODEL_V_2DIM 8
 #define MODEL_V_4DIM2 64
@@ -134,6 +139,10 @@ int model_integrate_variational(double t0, double t1, double h, double rtol, dou
 int model_step(double t, const double *x, const double *u, const model_params *p, double h, double *xn);
 int model_step_jacobian(double t, const double *x, const double *u, const model_params *p, double h, double *xn,
                         double *Ad, double *Bd, double *xn_h);
+int model_param_derivatives(MODEL_T(double t, )const double *x, const double *u, const model_params *p, double *qdd,
+                            double *dqdd_dp);
+int model_step_param_derivatives(double t, const double *x, const double *u, const model_params *p, double h, double *xn,
+                                 double *dxn_dp);
 int model_rhs_hessian(double t, const double *x, const double *u, const model_params *p, const double *lam, double *H);
 int model_step_hessian(double t, const double *x, const double *u, const model_params *p, double h, const double *lam,
                        double *H);

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..printers.codes import METHODS, MOTIONS, status_text
-from .calls import interruptible
+from .calls import DerivativeCalls, interruptible
 from .paramtable import ParamTable
 
 # after Python's own flags, which carry -g and -O3: -O2 as everywhere in this project, and no debug
@@ -241,7 +241,7 @@ class IntegrationError(ModelError):
 
 
 
-class CModel:
+class CModel(DerivativeCalls):
     """The compiled C model called through cffi, with numpy arrays in and out."""
 
     def __init__(self, so_path: str | Path, name: str):
@@ -250,6 +250,7 @@ class CModel:
         self.name = name
         self.n = getattr(self.lib, f"{name.upper()}_N")
         self.nu = getattr(self.lib, f"{name.upper()}_NU")
+        self.nparams = getattr(self.lib, f"{name.upper()}_NPARAMS")
         self.has_momentum = hasattr(self.lib, f"{name}_momentum")
         self.has_jacobi = hasattr(self.lib, f"{name}_jacobi")
         self.has_canonical = bool(getattr(self.lib, f"{name.upper()}_HAS_CANONICAL", 0))
@@ -350,30 +351,6 @@ class CModel:
         if code != 0:
             raise ModelError(f"{self.name}_linearize", code)
         return A, B
-
-    def step(self, x, h, u=None, params=None, t=0.0):
-        """x(t + h) by one classical RK4 step with u held (NAME_step, the discrete-time model)."""
-        (xp, _k), (up, _ku) = self._arr(x, 2 * self.n), self._u(u)
-        return self._call("step", float(t), xp, up, self._p(params), float(h), out_len=2 * self.n)
-
-    def step_jacobian(self, x, h, u=None, params=None, t=0.0, with_h=True):
-        """(xn, Ad, Bd, xn_h) of NAME_step_jacobian: the step and its exact derivatives in x, u and h
-        (``with_h=False``: xn_h None, as a model that reads t needs)."""
-        (xp, _k), (up, _ku), d = self._arr(x, 2 * self.n), self._u(u), 2 * self.n
-        (xn, Ad, Bd, dh), ptrs = self._outs(d, (d, d), (d, self.nu), d)
-        ptrs[2:] = [ptrs[2] if Bd.size else self.ffi.NULL, ptrs[3] if with_h else self.ffi.NULL]
-        self._checked("step_jacobian", self._fn("step_jacobian")(float(t), xp, up, self._p(params), float(h), *ptrs))
-        return xn, Ad, Bd, dh if with_h else None
-
-    def rhs_hessian(self, x, lam, u=None, params=None, t=0.0):
-        """∇²(λ·f) in z = (x, u), (2n + nu) square (NAME_rhs_hessian: generate --hessian or --casadi)."""
-        (xp, _k), (up, _ku), (lp, _kl), z = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n), 2 * self.n + self.nu
-        return self._call("rhs_hessian", float(t), xp, up, self._p(params), lp, out_len=z * z).reshape(z, z)
-
-    def step_hessian(self, x, h, lam, u=None, params=None, t=0.0):
-        """∇²(λ·xn) of NAME_step in w = (x, u, h), (2n + nu + 1) square (NAME_step_hessian)."""
-        (xp, _k), (up, _ku), (lp, _kl), w = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n), 2 * self.n + self.nu + 1
-        return self._call("step_hessian", float(t), xp, up, self._p(params), float(h), lp, out_len=w * w).reshape(w, w)
 
     def energy(self, x, params=None, t=0.0):
         xp, _k = self._arr(x, 2 * self.n)

@@ -103,6 +103,9 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         real=real,
         **regressor_context(model),
         **hessian_context(model),
+        # NAME_param_derivatives (a model with symbolic parameters), and the step's with NAME_step_jacobian
+        param_derivatives=model.pder is not None,
+        step_param_derivatives=model.pder is not None and n <= VARIATIONAL_MAX_N,
         gyrochain_version=__version__,
         sympy_version=sp.__version__,
     )

@@ -87,14 +87,15 @@ def integrators(ctx: dict) -> str:
     n, counts = ctx["n"], ctx["counts"]
     dim = 2 * n
     nu = len(ctx["controls"])
-    values = dict(N=n, DIM=dim, NN=n * n, NU=nu, NNU1=n * max(nu, 1), COLS=dim + nu + 1, ZDIM=dim + nu, DIM2=dim * dim, **{"2DIM": 2 * dim, "4DIM2": 4 * dim * dim}, VDIM=dim * (dim + 1),
+    values = dict(N=n, DIM=dim, NN=n * n, NU=nu, NNU1=n * max(nu, 1), COLS=dim + nu + 1, ZDIM=dim + nu,
+                  NP=max(len(ctx["params"]), 1), NNP=n * max(len(ctx["params"]), 1), DIM2=dim * dim, **{"2DIM": 2 * dim, "4DIM2": 4 * dim * dim}, VDIM=dim * (dim + 1),
                   OPS_QDD=counts["qdd"], OPS_QDD_DERIVATIVES=counts.get("qdd_derivatives", 0),
                   OPS_VELOCITIES=counts.get("velocities", 0), OPS_PDOT=counts.get("pdot", 0),
                   OPS_CANONICAL=counts.get("velocities", 0) + counts.get("pdot", 0),
                   NEWTON_SWEEPS=ctx["newton_sweeps"], NEWTON_SWEEPS_CANONICAL=ctx["newton_sweeps_canonical"], LANES=LANES)
     flags = dict(NEWTON=ctx["newton"], CANONICAL=ctx["canonical"], CANONICAL_NEWTON=ctx["canonical"] and ctx["newton"],
                  TIME_DEPENDENT=ctx["time_dependent"], HAS_PARAMS=ctx["has_params"], VARIATIONAL=ctx["variational"],
-                 LANES=bool(ctx["lanes"]), HESSIAN=ctx["step_hessian"])
+                 LANES=bool(ctx["lanes"]), HESSIAN=ctx["step_hessian"], PARAM_DERIVATIVES=ctx["step_param_derivatives"])
     text = kernels.specialise("integrate.c", ctx["name"], flags, {}, values, ctx["time_dependent"])
     return text[:-1] if text.endswith("\n") else text
 
@@ -126,7 +127,8 @@ def layout_data(ctx: dict, env) -> dict:
         # which static helpers model.c needs (each is printed only where a function calls it)
         helpers=dict(
             restrict=bool(ctx["lanes"] or ctx["parts_c"]),  # C99 restrict: the lanes' and the parts' arrays
-            pivots=ctx["articulated"] or not ctx["der_world"] or ctx["hessian"],  # the articulated recursion's pivot test
+            # the articulated recursion's pivot test
+            pivots=ctx["articulated"] or not ctx["der_world"] or ctx["hessian"] or ctx["param_derivatives"],
             ldlt_solve=ctx["loops"] and ctx["canonical"] or ctx["der_world"],  # L D L^T y = b in place
             ldlt_columns_u=bool(nu) and nu != n,  # the world form's solve for the nu columns of dqdd_du
         ),

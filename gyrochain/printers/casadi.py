@@ -10,10 +10,11 @@
 - ``NAME_M(q, p) -> M`` the mass matrix and ``NAME_E(x, p) -> E`` the energy (23), without
   derivatives.
 
-The parameters p (the spec's symbolic parameters, in their order) are an input whose derivatives
-are not emitted: the p blocks of jac_NAME_f and jac_NAME_F are NaN (CasADi's jacobian with respect
-to p is NaN, never zeros that would say the dynamics do not depend on a mass), and M and E, which
-have no derivatives, CasADi refuses to differentiate.  The target is
+The parameters p (the spec's symbolic parameters, in their order) are an input like the others:
+the p blocks of jac_NAME_f and jac_NAME_F are exact (NAME_param_derivatives,
+NAME_step_param_derivatives).  The second derivatives in p are not emitted: those blocks of
+jac_adj1_ are NaN (never zeros that would say the dynamics do not depend on a mass), and M and E,
+which have no derivatives, CasADi refuses to differentiate.  The target is
 written for autonomous models with a control, up to CASADI_MAX_N joints, in double (``check``)."""
 from __future__ import annotations
 
@@ -95,8 +96,8 @@ def _empty(nrow: int, ncol: int) -> list[int]:
 
 def signatures(model) -> dict:
     """Every external function's inputs and outputs: name, sparsity (CasADi's compressed form) and
-    whether CasADi may differentiate with respect to it (x, u, h and p; the p blocks are NaN, and an
-    output's seed is not an input to differentiate)."""
+    whether CasADi may differentiate with respect to it (x, u, h and p; an output's seed is not an
+    input to differentiate)."""
     n, nu, np_ = model.spec.n, len(model.spec.controls), len(model.spec.params)
     d = 2 * n
     arg = lambda name, sp, diff=1: dict(name=name, sparsity=sp, diff=diff)  # noqa: E731
@@ -127,14 +128,15 @@ def second_order(n: int, nu: int, np_: int, fname: str, ins: list, res: str) -> 
     exact Hessian): each output of jac_adj1 is one block, and how the template fills it
     (``fill``): "hess" a block of the Hessian of λ·<fname> in w = (x, u[, h]) (its rows r0…,
     columns c0…), "jacT" a block of the Jacobian's transpose (∂adj/∂λ), "nan" a derivative in p
-    (not emitted), "empty" a structural zero (the derivative in an output's value)."""
+    (second derivatives in p are not emitted), "empty" a structural zero (the derivative in an
+    output's value); adj1's outputs: "adj" λ·(a block of the Jacobian), "adjp" λ·∂/∂p."""
     d = 2 * n
     arg = lambda name, sp, diff=1, **kw: dict(name=name, sparsity=sp, diff=diff, **kw)  # noqa: E731
     sizes = {"x": d, "u": nu, "p": np_, "h": 1}
     offset = {"x": 0, "u": d, "h": d + nu}  # where each input sits in w
     names = [a["name"] for a in ins]
     adj_in = [*ins, arg(f"out_{res}", _empty(d, 1), 0), arg(f"adj_{res}", _dense(d, 1))]
-    adj_out = [arg(f"adj_{i}", _dense(sizes[i], 1), fill=("nan" if i == "p" else "adj", offset.get(i, 0), sizes[i]))
+    adj_out = [arg(f"adj_{i}", _dense(sizes[i], 1), fill=("adjp" if i == "p" else "adj", offset.get(i, 0), sizes[i]))
                for i in names]
     blocks = []
     for o in names:

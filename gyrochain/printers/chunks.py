@@ -25,7 +25,7 @@ SIGNATURES = {
     "mass_matrix": ("q", False, False), "forces": ("x", True, True), "qdd": ("x", True, True),
     "qdd_derivatives": ("x", True, True), "energy": ("x", False, True), "momentum": ("x", False, True),
     "jacobi": ("x", False, False), "momenta": ("x", False, False), "velocity_terms": ("q", False, False),
-    "pdot": ("x", True, False), "rhs_hessian": ("x", True, True),
+    "pdot": ("x", True, False), "rhs_hessian": ("x", True, True), "param_derivatives": ("x", True, True),
 }
 # the inputs a function reads besides its state, controls and parameters, passed on to its parts
 EXTRA_INPUTS = {"rhs_hessian": ("lam",)}
@@ -38,6 +38,7 @@ LOCAL_OUTPUTS = {
     "mass_matrix": {"S_", "z1_"},  # only the loop form's per-joint axes (NAME_mass_pairs_)
     "qdd_derivatives": {"acc", "piv", "ext", "IC_"} | {f"{v}_" for v in VECTORS},
     "rhs_hessian": {"acc", "piv", "hv"},
+    "param_derivatives": {"acc", "piv", "dp"},
 }
 
 NOINLINE = """#if defined(__GNUC__)

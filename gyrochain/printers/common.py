@@ -229,6 +229,10 @@ def functions(model: Model, printer_cls, style: str, array_printer_cls=None) -> 
         fs["pdot"] = function_of("pdot", model.lines["pdot"], [f"pdot[{k}]" for k in range(n)], pr)
     if model.reg is not None:
         fs.update(_regressor_functions(model, printer_cls, names, style))
+    if model.pder is not None:  # φ̈, then ∂φ̈/∂p row-major n × np into dp
+        rec = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
+        fs["param_derivatives"] = function_of("param_derivatives", model.lines["param_derivatives"],
+                                              rec + [f"dp[{i}]" for i in range(n * len(model.pder.params))], pr)
     if model.hess is not None and style == "c":  # (the weights μ are lam's second half: lam . f)
         prh = printer_cls({**names, **{m: f"lam[{n + k}]" for k, m in enumerate(model.hess.mu)}})
         targets = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]

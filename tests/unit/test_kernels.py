@@ -35,10 +35,11 @@ def test_an_unknown_flag_or_part_is_an_error():
 
 
 def _integrators(time_dependent: bool, canonical: bool, variational: bool = True, lanes: bool = False) -> str:
-    values = dict(N=3, DIM=6, NN=9, NU=1, NNU1=3, COLS=10, DIM2=36, VDIM=42, OPS_QDD=11, OPS_QDD_DERIVATIVES=12, OPS_VELOCITIES=13, OPS_PDOT=14,
+    values = dict(N=3, DIM=6, NN=9, NU=1, NNU1=3, COLS=10, ZDIM=9, NP=2, NNP=6, DIM2=36, VDIM=42, OPS_QDD=11, OPS_QDD_DERIVATIVES=12, OPS_VELOCITIES=13, OPS_PDOT=14,
                   OPS_CANONICAL=27, NEWTON_SWEEPS=5, NEWTON_SWEEPS_CANONICAL=6, LANES=8, **{"2DIM": 12, "4DIM2": 144})
     flags = dict(NEWTON=True, CANONICAL=canonical, CANONICAL_NEWTON=canonical, TIME_DEPENDENT=time_dependent, HAS_PARAMS=False,
-                 VARIATIONAL=variational, LANES=lanes)
+                 VARIATIONAL=variational, LANES=lanes, HESSIAN=variational and not time_dependent,
+                 PARAM_DERIVATIVES=variational)
     return kernels.specialise("integrate.c", "arm", flags, {}, values, time_dependent)
 
 
