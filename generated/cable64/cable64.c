@@ -26798,11 +26798,9 @@ CABLE64_FN int cable64_step(double t, const double *x, const double *u, const ca
     cable64_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[128];
     int i, code;
-    if ((code = cable64_step_args_(t, x, p, h, xn)) != CABLE64_OK) {
-        return code;
-    }
-    if ((code = cable64_rk4_step_(x, h, u, p, dx, &st)) != CABLE64_OK) {
-        for (i = 0; i < 128; ++i) {
+    if ((code = cable64_step_args_(t, x, p, h, xn)) != CABLE64_OK
+        || (code = cable64_rk4_step_(x, h, u, p, dx, &st)) != CABLE64_OK) {
+        for (i = 0; xn && i < 128; ++i) {
             xn[i] = NAN;
         }
         return code;

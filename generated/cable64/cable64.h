@@ -39,7 +39,8 @@
  * fundamental matrix would take about 3870 KB of stack at n = 64; they are emitted up to n = 16.
  * The discrete-time model, for a controller that runs at a fixed rate: cable64_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of CABLE64_RK4,
- * bit for bit), xn the state at t + h; on failure xn is NaN.
+ * bit for bit), xn the state at t + h; on failure xn is NaN (xn may be x: keep a copy of x if the
+ * loop must go on after a failure).
  * cable64_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (exact: M^-1 (dtau/dx - dID/dx) with the inverse dynamics ID differentiated in closed
  * form in frame 0, O(n^2) pairs of joints and an LDL^T solve), row-major n x n, n x n, n x nu; a
@@ -93,6 +94,7 @@ extern "C" {
 #define CABLE64_HAS_CANONICAL 1
 #define CABLE64_HAS_VARIATIONAL 0
 #define CABLE64_HAS_HESSIAN 0
+#define CABLE64_HAS_STEP_HESSIAN 0
 #define CABLE64_HAS_LIMITS 0
 typedef struct cable64_params {
     double unused_;

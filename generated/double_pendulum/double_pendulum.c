@@ -2012,11 +2012,9 @@ DOUBLE_PENDULUM_FN int double_pendulum_step(double t, const double *x, const dou
     double_pendulum_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[4];
     int i, code;
-    if ((code = double_pendulum_step_args_(t, x, p, h, xn)) != DOUBLE_PENDULUM_OK) {
-        return code;
-    }
-    if ((code = double_pendulum_rk4_step_(x, h, u, p, dx, &st)) != DOUBLE_PENDULUM_OK) {
-        for (i = 0; i < 4; ++i) {
+    if ((code = double_pendulum_step_args_(t, x, p, h, xn)) != DOUBLE_PENDULUM_OK
+        || (code = double_pendulum_rk4_step_(x, h, u, p, dx, &st)) != DOUBLE_PENDULUM_OK) {
+        for (i = 0; xn && i < 4; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -2035,7 +2033,7 @@ DOUBLE_PENDULUM_FN static int double_pendulum_step_stage_(const double *y, const
 {
     double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
-    if ((code = double_pendulum_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 0 ? Du : 0)) != DOUBLE_PENDULUM_OK) {
+    if ((code = double_pendulum_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != DOUBLE_PENDULUM_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 2; ++i) {

@@ -46,7 +46,8 @@
  * of stack, besides what double_pendulum_qdd_derivatives takes.
  * The discrete-time model, for a controller that runs at a fixed rate: double_pendulum_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of DOUBLE_PENDULUM_RK4,
- * bit for bit), xn the state at t + h; on failure xn is NaN.
+ * bit for bit), xn the state at t + h; on failure xn is NaN (xn may be x: keep a copy of x if the
+ * loop must go on after a failure).
  * double_pendulum_step_jacobian(t, x, u, p, h, xn, Ad, Bd, xn_h) is the same step (xn equal to round-off;
  * NULL allowed) with its exact derivatives, by the chain rule through the four stages with the
  * exact Jacobian of each: Ad = dxn/dx (2N x 2N), Bd = dxn/du (2N x NU) and xn_h = dxn/dh (2N), row-major;
@@ -104,6 +105,7 @@ extern "C" {
 #define DOUBLE_PENDULUM_HAS_CANONICAL 1
 #define DOUBLE_PENDULUM_HAS_VARIATIONAL 1
 #define DOUBLE_PENDULUM_HAS_HESSIAN 0
+#define DOUBLE_PENDULUM_HAS_STEP_HESSIAN 0
 #define DOUBLE_PENDULUM_HAS_LIMITS 0
 typedef struct double_pendulum_params {
     double unused_;

@@ -2007,11 +2007,9 @@ DOUBLE_PENDULUM_POINT_FN int double_pendulum_point_step(double t, const double *
     double_pendulum_point_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[4];
     int i, code;
-    if ((code = double_pendulum_point_step_args_(t, x, p, h, xn)) != DOUBLE_PENDULUM_POINT_OK) {
-        return code;
-    }
-    if ((code = double_pendulum_point_rk4_step_(x, h, u, p, dx, &st)) != DOUBLE_PENDULUM_POINT_OK) {
-        for (i = 0; i < 4; ++i) {
+    if ((code = double_pendulum_point_step_args_(t, x, p, h, xn)) != DOUBLE_PENDULUM_POINT_OK
+        || (code = double_pendulum_point_rk4_step_(x, h, u, p, dx, &st)) != DOUBLE_PENDULUM_POINT_OK) {
+        for (i = 0; xn && i < 4; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -2030,7 +2028,7 @@ DOUBLE_PENDULUM_POINT_FN static int double_pendulum_point_step_stage_(const doub
 {
     double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
-    if ((code = double_pendulum_point_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 0 ? Du : 0)) != DOUBLE_PENDULUM_POINT_OK) {
+    if ((code = double_pendulum_point_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != DOUBLE_PENDULUM_POINT_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 2; ++i) {

@@ -2000,11 +2000,9 @@ FAST_GYRO_FN int fast_gyro_step(double t, const double *x, const double *u, cons
     fast_gyro_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[4];
     int i, code;
-    if ((code = fast_gyro_step_args_(t, x, p, h, xn)) != FAST_GYRO_OK) {
-        return code;
-    }
-    if ((code = fast_gyro_rk4_step_(x, h, u, p, dx, &st)) != FAST_GYRO_OK) {
-        for (i = 0; i < 4; ++i) {
+    if ((code = fast_gyro_step_args_(t, x, p, h, xn)) != FAST_GYRO_OK
+        || (code = fast_gyro_rk4_step_(x, h, u, p, dx, &st)) != FAST_GYRO_OK) {
+        for (i = 0; xn && i < 4; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -2023,7 +2021,7 @@ FAST_GYRO_FN static int fast_gyro_step_stage_(const double *y, const double *dy,
 {
     double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
-    if ((code = fast_gyro_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 0 ? Du : 0)) != FAST_GYRO_OK) {
+    if ((code = fast_gyro_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != FAST_GYRO_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 2; ++i) {

@@ -2184,11 +2184,9 @@ FURUTA_FN int furuta_step(double t, const double *x, const double *u, const furu
     furuta_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[4];
     int i, code;
-    if ((code = furuta_step_args_(t, x, p, h, xn)) != FURUTA_OK) {
-        return code;
-    }
-    if ((code = furuta_rk4_step_(x, h, u, p, dx, &st)) != FURUTA_OK) {
-        for (i = 0; i < 4; ++i) {
+    if ((code = furuta_step_args_(t, x, p, h, xn)) != FURUTA_OK
+        || (code = furuta_rk4_step_(x, h, u, p, dx, &st)) != FURUTA_OK) {
+        for (i = 0; xn && i < 4; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -2207,7 +2205,7 @@ FURUTA_FN static int furuta_step_stage_(const double *y, const double *dy, const
 {
     double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
-    if ((code = furuta_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 1 ? Du : 0)) != FURUTA_OK) {
+    if ((code = furuta_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != FURUTA_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 2; ++i) {

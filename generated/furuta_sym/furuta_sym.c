@@ -843,6 +843,9 @@ FURUTA_SYM_FN int furuta_sym_param_derivatives(const double *x, const double *u,
         return FURUTA_SYM_NO_PARAMS;
     }
 
+    if (!x) {
+        return FURUTA_SYM_BAD_ARGUMENT;
+    }
     if (!furuta_sym_all_finite_(x, 4) || (u && !furuta_sym_all_finite_(u, 1))) {
         return FURUTA_SYM_NONFINITE;
     }
@@ -2577,11 +2580,9 @@ FURUTA_SYM_FN int furuta_sym_step(double t, const double *x, const double *u, co
     furuta_sym_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[4];
     int i, code;
-    if ((code = furuta_sym_step_args_(t, x, p, h, xn)) != FURUTA_SYM_OK) {
-        return code;
-    }
-    if ((code = furuta_sym_rk4_step_(x, h, u, p, dx, &st)) != FURUTA_SYM_OK) {
-        for (i = 0; i < 4; ++i) {
+    if ((code = furuta_sym_step_args_(t, x, p, h, xn)) != FURUTA_SYM_OK
+        || (code = furuta_sym_rk4_step_(x, h, u, p, dx, &st)) != FURUTA_SYM_OK) {
+        for (i = 0; xn && i < 4; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -2600,7 +2601,7 @@ FURUTA_SYM_FN static int furuta_sym_step_stage_(const double *y, const double *d
 {
     double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
-    if ((code = furuta_sym_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 1 ? Du : 0)) != FURUTA_SYM_OK) {
+    if ((code = furuta_sym_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != FURUTA_SYM_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 2; ++i) {

@@ -2000,11 +2000,9 @@ GIMBAL_FN int gimbal_step(double t, const double *x, const double *u, const gimb
     gimbal_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[4];
     int i, code;
-    if ((code = gimbal_step_args_(t, x, p, h, xn)) != GIMBAL_OK) {
-        return code;
-    }
-    if ((code = gimbal_rk4_step_(x, h, u, p, dx, &st)) != GIMBAL_OK) {
-        for (i = 0; i < 4; ++i) {
+    if ((code = gimbal_step_args_(t, x, p, h, xn)) != GIMBAL_OK
+        || (code = gimbal_rk4_step_(x, h, u, p, dx, &st)) != GIMBAL_OK) {
+        for (i = 0; xn && i < 4; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -2023,7 +2021,7 @@ GIMBAL_FN static int gimbal_step_stage_(const double *y, const double *dy, const
 {
     double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
-    if ((code = gimbal_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 0 ? Du : 0)) != GIMBAL_OK) {
+    if ((code = gimbal_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != GIMBAL_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 2; ++i) {

@@ -2361,11 +2361,9 @@ GYROSTAT2_FN int gyrostat2_step(double t, const double *x, const double *u, cons
     gyrostat2_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[4];
     int i, code;
-    if ((code = gyrostat2_step_args_(t, x, p, h, xn)) != GYROSTAT2_OK) {
-        return code;
-    }
-    if ((code = gyrostat2_rk4_step_(x, h, u, p, dx, &st)) != GYROSTAT2_OK) {
-        for (i = 0; i < 4; ++i) {
+    if ((code = gyrostat2_step_args_(t, x, p, h, xn)) != GYROSTAT2_OK
+        || (code = gyrostat2_rk4_step_(x, h, u, p, dx, &st)) != GYROSTAT2_OK) {
+        for (i = 0; xn && i < 4; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -2384,7 +2382,7 @@ GYROSTAT2_FN static int gyrostat2_step_stage_(const double *y, const double *dy,
 {
     double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
-    if ((code = gyrostat2_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 0 ? Du : 0)) != GYROSTAT2_OK) {
+    if ((code = gyrostat2_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != GYROSTAT2_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 2; ++i) {

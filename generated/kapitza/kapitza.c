@@ -343,9 +343,13 @@ KAPITZA_FN int kapitza_param_derivatives(double t, const double *x, const double
         return KAPITZA_NO_PARAMS;
     }
 
+    if (!x) {
+        return KAPITZA_BAD_ARGUMENT;
+    }
     if (!kapitza_all_finite_(x, 2)) {
         return KAPITZA_NONFINITE;
     }
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
 
     {
         (void)u;
@@ -1668,11 +1672,9 @@ KAPITZA_FN int kapitza_step(double t, const double *x, const double *u, const ka
     kapitza_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[2];
     int i, code;
-    if ((code = kapitza_step_args_(t, x, p, h, xn)) != KAPITZA_OK) {
-        return code;
-    }
-    if ((code = kapitza_rk4_step_(t, x, h, u, p, dx, &st)) != KAPITZA_OK) {
-        for (i = 0; i < 2; ++i) {
+    if ((code = kapitza_step_args_(t, x, p, h, xn)) != KAPITZA_OK
+        || (code = kapitza_rk4_step_(t, x, h, u, p, dx, &st)) != KAPITZA_OK) {
+        for (i = 0; xn && i < 2; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -1691,7 +1693,7 @@ KAPITZA_FN static int kapitza_step_stage_(double t, const double *y, const doubl
 {
     double Dq[1], Dv[1], Du[1];
     int i, j, c, code;
-    if ((code = kapitza_qdd_derivatives(t, y, u, p, k + 1, Dq, Dv, 0 ? Du : 0)) != KAPITZA_OK) {
+    if ((code = kapitza_qdd_derivatives(t, y, u, p, k + 1, Dq, Dv, Du)) != KAPITZA_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 1; ++i) {

@@ -10657,11 +10657,9 @@ PANDA_FN int panda_step(double t, const double *x, const double *u, const panda_
     panda_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[14];
     int i, code;
-    if ((code = panda_step_args_(t, x, p, h, xn)) != PANDA_OK) {
-        return code;
-    }
-    if ((code = panda_rk4_step_(x, h, u, p, dx, &st)) != PANDA_OK) {
-        for (i = 0; i < 14; ++i) {
+    if ((code = panda_step_args_(t, x, p, h, xn)) != PANDA_OK
+        || (code = panda_rk4_step_(x, h, u, p, dx, &st)) != PANDA_OK) {
+        for (i = 0; xn && i < 14; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -10680,7 +10678,7 @@ PANDA_FN static int panda_step_stage_(const double *y, const double *dy, const d
 {
     double Dq[49], Dv[49], Du[49];
     int i, j, c, code;
-    if ((code = panda_qdd_derivatives(y, u, p, k + 7, Dq, Dv, 7 ? Du : 0)) != PANDA_OK) {
+    if ((code = panda_qdd_derivatives(y, u, p, k + 7, Dq, Dv, Du)) != PANDA_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 7; ++i) {

@@ -49,7 +49,8 @@
  * of stack, besides what panda_qdd_derivatives takes.
  * The discrete-time model, for a controller that runs at a fixed rate: panda_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of PANDA_RK4,
- * bit for bit), xn the state at t + h; on failure xn is NaN.
+ * bit for bit), xn the state at t + h; on failure xn is NaN (xn may be x: keep a copy of x if the
+ * loop must go on after a failure).
  * panda_step_jacobian(t, x, u, p, h, xn, Ad, Bd, xn_h) is the same step (xn equal to round-off;
  * NULL allowed) with its exact derivatives, by the chain rule through the four stages with the
  * exact Jacobian of each: Ad = dxn/dx (2N x 2N), Bd = dxn/du (2N x NU) and xn_h = dxn/dh (2N), row-major;
@@ -109,6 +110,7 @@ extern "C" {
 #define PANDA_HAS_CANONICAL 1
 #define PANDA_HAS_VARIATIONAL 1
 #define PANDA_HAS_HESSIAN 0
+#define PANDA_HAS_STEP_HESSIAN 0
 /* the spec's joint limits (rad, rad/s, N m): data for an optimiser or a controller, not enforced by the model; HUGE_VAL (<math.h>) where a joint has none */
 #define PANDA_HAS_LIMITS 1
 #define PANDA_PHI_LOWER {-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973}

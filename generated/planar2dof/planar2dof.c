@@ -2245,11 +2245,9 @@ PLANAR2DOF_FN int planar2dof_step(double t, const double *x, const double *u, co
     planar2dof_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[4];
     int i, code;
-    if ((code = planar2dof_step_args_(t, x, p, h, xn)) != PLANAR2DOF_OK) {
-        return code;
-    }
-    if ((code = planar2dof_rk4_step_(x, h, u, p, dx, &st)) != PLANAR2DOF_OK) {
-        for (i = 0; i < 4; ++i) {
+    if ((code = planar2dof_step_args_(t, x, p, h, xn)) != PLANAR2DOF_OK
+        || (code = planar2dof_rk4_step_(x, h, u, p, dx, &st)) != PLANAR2DOF_OK) {
+        for (i = 0; xn && i < 4; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -2268,7 +2266,7 @@ PLANAR2DOF_FN static int planar2dof_step_stage_(const double *y, const double *d
 {
     double Dq[4], Dv[4], Du[4];
     int i, j, c, code;
-    if ((code = planar2dof_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 2 ? Du : 0)) != PLANAR2DOF_OK) {
+    if ((code = planar2dof_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != PLANAR2DOF_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 2; ++i) {

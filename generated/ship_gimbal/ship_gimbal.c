@@ -2016,11 +2016,9 @@ SHIP_GIMBAL_FN int ship_gimbal_step(double t, const double *x, const double *u, 
     ship_gimbal_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[4];
     int i, code;
-    if ((code = ship_gimbal_step_args_(t, x, p, h, xn)) != SHIP_GIMBAL_OK) {
-        return code;
-    }
-    if ((code = ship_gimbal_rk4_step_(t, x, h, u, p, dx, &st)) != SHIP_GIMBAL_OK) {
-        for (i = 0; i < 4; ++i) {
+    if ((code = ship_gimbal_step_args_(t, x, p, h, xn)) != SHIP_GIMBAL_OK
+        || (code = ship_gimbal_rk4_step_(t, x, h, u, p, dx, &st)) != SHIP_GIMBAL_OK) {
+        for (i = 0; xn && i < 4; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -2039,7 +2037,7 @@ SHIP_GIMBAL_FN static int ship_gimbal_step_stage_(double t, const double *y, con
 {
     double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
-    if ((code = ship_gimbal_qdd_derivatives(t, y, u, p, k + 2, Dq, Dv, 0 ? Du : 0)) != SHIP_GIMBAL_OK) {
+    if ((code = ship_gimbal_qdd_derivatives(t, y, u, p, k + 2, Dq, Dv, Du)) != SHIP_GIMBAL_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 2; ++i) {

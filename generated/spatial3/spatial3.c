@@ -3942,11 +3942,9 @@ SPATIAL3_FN int spatial3_step(double t, const double *x, const double *u, const 
     spatial3_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[6];
     int i, code;
-    if ((code = spatial3_step_args_(t, x, p, h, xn)) != SPATIAL3_OK) {
-        return code;
-    }
-    if ((code = spatial3_rk4_step_(x, h, u, p, dx, &st)) != SPATIAL3_OK) {
-        for (i = 0; i < 6; ++i) {
+    if ((code = spatial3_step_args_(t, x, p, h, xn)) != SPATIAL3_OK
+        || (code = spatial3_rk4_step_(x, h, u, p, dx, &st)) != SPATIAL3_OK) {
+        for (i = 0; xn && i < 6; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -3965,7 +3963,7 @@ SPATIAL3_FN static int spatial3_step_stage_(const double *y, const double *dy, c
 {
     double Dq[9], Dv[9], Du[3];
     int i, j, c, code;
-    if ((code = spatial3_qdd_derivatives(y, u, p, k + 3, Dq, Dv, 1 ? Du : 0)) != SPATIAL3_OK) {
+    if ((code = spatial3_qdd_derivatives(y, u, p, k + 3, Dq, Dv, Du)) != SPATIAL3_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 3; ++i) {

@@ -359,6 +359,9 @@ TURNTABLE_FN int turntable_param_derivatives(const double *x, const double *u, c
         return TURNTABLE_NO_PARAMS;
     }
 
+    if (!x) {
+        return TURNTABLE_BAD_ARGUMENT;
+    }
     if (!turntable_all_finite_(x, 2)) {
         return TURNTABLE_NONFINITE;
     }
@@ -1667,11 +1670,9 @@ TURNTABLE_FN int turntable_step(double t, const double *x, const double *u, cons
     turntable_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[2];
     int i, code;
-    if ((code = turntable_step_args_(t, x, p, h, xn)) != TURNTABLE_OK) {
-        return code;
-    }
-    if ((code = turntable_rk4_step_(x, h, u, p, dx, &st)) != TURNTABLE_OK) {
-        for (i = 0; i < 2; ++i) {
+    if ((code = turntable_step_args_(t, x, p, h, xn)) != TURNTABLE_OK
+        || (code = turntable_rk4_step_(x, h, u, p, dx, &st)) != TURNTABLE_OK) {
+        for (i = 0; xn && i < 2; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -1690,7 +1691,7 @@ TURNTABLE_FN static int turntable_step_stage_(const double *y, const double *dy,
 {
     double Dq[1], Dv[1], Du[1];
     int i, j, c, code;
-    if ((code = turntable_qdd_derivatives(y, u, p, k + 1, Dq, Dv, 0 ? Du : 0)) != TURNTABLE_OK) {
+    if ((code = turntable_qdd_derivatives(y, u, p, k + 1, Dq, Dv, Du)) != TURNTABLE_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 1; ++i) {

@@ -53,7 +53,8 @@
  * step of turntable_step (xn, NULL allowed) and dxn/dp, 2N x NPARAMS, by the chain rule through its stages.
  * The discrete-time model, for a controller that runs at a fixed rate: turntable_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of TURNTABLE_RK4,
- * bit for bit), xn the state at t + h; on failure xn is NaN.
+ * bit for bit), xn the state at t + h; on failure xn is NaN (xn may be x: keep a copy of x if the
+ * loop must go on after a failure).
  * turntable_step_jacobian(t, x, u, p, h, xn, Ad, Bd, xn_h) is the same step (xn equal to round-off;
  * NULL allowed) with its exact derivatives, by the chain rule through the four stages with the
  * exact Jacobian of each: Ad = dxn/dx (2N x 2N), Bd = dxn/du (2N x NU) and xn_h = dxn/dh (2N), row-major;
@@ -110,6 +111,7 @@ extern "C" {
 #define TURNTABLE_HAS_CANONICAL 0
 #define TURNTABLE_HAS_VARIATIONAL 1
 #define TURNTABLE_HAS_HESSIAN 0
+#define TURNTABLE_HAS_STEP_HESSIAN 0
 #define TURNTABLE_HAS_LIMITS 0
 typedef struct turntable_params {
     double Omega;

@@ -6990,11 +6990,9 @@ UR5_FN int ur5_step(double t, const double *x, const double *u, const ur5_params
     ur5_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[12];
     int i, code;
-    if ((code = ur5_step_args_(t, x, p, h, xn)) != UR5_OK) {
-        return code;
-    }
-    if ((code = ur5_rk4_step_(x, h, u, p, dx, &st)) != UR5_OK) {
-        for (i = 0; i < 12; ++i) {
+    if ((code = ur5_step_args_(t, x, p, h, xn)) != UR5_OK
+        || (code = ur5_rk4_step_(x, h, u, p, dx, &st)) != UR5_OK) {
+        for (i = 0; xn && i < 12; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -7013,7 +7011,7 @@ UR5_FN static int ur5_step_stage_(const double *y, const double *dy, const doubl
 {
     double Dq[36], Dv[36], Du[36];
     int i, j, c, code;
-    if ((code = ur5_qdd_derivatives(y, u, p, k + 6, Dq, Dv, 6 ? Du : 0)) != UR5_OK) {
+    if ((code = ur5_qdd_derivatives(y, u, p, k + 6, Dq, Dv, Du)) != UR5_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 6; ++i) {

@@ -46,7 +46,8 @@
  * of stack, besides what ur5_qdd_derivatives takes.
  * The discrete-time model, for a controller that runs at a fixed rate: ur5_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of UR5_RK4,
- * bit for bit), xn the state at t + h; on failure xn is NaN.
+ * bit for bit), xn the state at t + h; on failure xn is NaN (xn may be x: keep a copy of x if the
+ * loop must go on after a failure).
  * ur5_step_jacobian(t, x, u, p, h, xn, Ad, Bd, xn_h) is the same step (xn equal to round-off;
  * NULL allowed) with its exact derivatives, by the chain rule through the four stages with the
  * exact Jacobian of each: Ad = dxn/dx (2N x 2N), Bd = dxn/du (2N x NU) and xn_h = dxn/dh (2N), row-major;
@@ -104,6 +105,7 @@ extern "C" {
 #define UR5_HAS_CANONICAL 1
 #define UR5_HAS_VARIATIONAL 1
 #define UR5_HAS_HESSIAN 0
+#define UR5_HAS_STEP_HESSIAN 0
 /* the spec's joint limits (rad, rad/s, N m): data for an optimiser or a controller, not enforced by the model; HUGE_VAL (<math.h>) where a joint has none */
 #define UR5_HAS_LIMITS 1
 #define UR5_PHI_LOWER {-6.28318530718, -6.28318530718, -3.14159265359, -6.28318530718, -6.28318530718, -6.28318530718}

@@ -593,6 +593,9 @@ ZIEGLER_FN int ziegler_param_derivatives(const double *x, const double *u, const
         return ZIEGLER_NO_PARAMS;
     }
 
+    if (!x) {
+        return ZIEGLER_BAD_ARGUMENT;
+    }
     if (!ziegler_all_finite_(x, 4)) {
         return ZIEGLER_NONFINITE;
     }
@@ -2095,11 +2098,9 @@ ZIEGLER_FN int ziegler_step(double t, const double *x, const double *u, const zi
     ziegler_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[4];
     int i, code;
-    if ((code = ziegler_step_args_(t, x, p, h, xn)) != ZIEGLER_OK) {
-        return code;
-    }
-    if ((code = ziegler_rk4_step_(x, h, u, p, dx, &st)) != ZIEGLER_OK) {
-        for (i = 0; i < 4; ++i) {
+    if ((code = ziegler_step_args_(t, x, p, h, xn)) != ZIEGLER_OK
+        || (code = ziegler_rk4_step_(x, h, u, p, dx, &st)) != ZIEGLER_OK) {
+        for (i = 0; xn && i < 4; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -2118,7 +2119,7 @@ ZIEGLER_FN static int ziegler_step_stage_(const double *y, const double *dy, con
 {
     double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
-    if ((code = ziegler_qdd_derivatives(y, u, p, k + 2, Dq, Dv, 0 ? Du : 0)) != ZIEGLER_OK) {
+    if ((code = ziegler_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != ZIEGLER_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < 2; ++i) {

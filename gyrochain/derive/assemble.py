@@ -62,6 +62,7 @@ class Model:
     # the weighted second derivatives ∇²(μ·φ̈) (generate --hessian, --casadi), else None (not asked
     # for, or longer than HESSIAN_MAX_OPS)
     hess: hessian.Hessian | None = None
+    hess_skipped: str = ""  # why the second derivatives asked for were not emitted ("" when they were, or not asked)
     # ∂φ̈/∂p in the spec's symbolic parameters (NAME_param_derivatives), None without parameters
     pder: derivatives.ParamDerivatives | None = None
 
@@ -147,7 +148,7 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
     say(f"derivatives: {form_d} form")
     # the regressor after everything else: no other quantity's name depends on it
     reg, base = _regressor(spec, P, kin, dyn, ints, lines, say) if with_regressor else (None, None)
-    hess = _hessian(spec, P, kin, art, lines, say) if with_hessian else None
+    hess, skipped = _hessian(spec, P, kin, art, articulated, lines, say) if with_hessian else (None, "")
     pder = None
     if spec.params:  # after the rest: no other name depends on it
         say("straight-line code: derivatives of qdd in the symbolic parameters")
@@ -155,7 +156,7 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
         lines["param_derivatives"] = straight_line(P, list(art.qdd) + list(art.pivots) + [d for row in pder.dqdd for d in row],
                                                    prefix="wp")
     return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d, reg=reg, base=base,
-                 world_columns=columns if form_d == "world" else "", hess=hess, pder=pder)
+                 world_columns=columns if form_d == "world" else "", hess=hess, hess_skipped=skipped, pder=pder)
 
 
 # Past this many operations NAME_rhs_hessian is not emitted (gcc's time; the Panda's is 103k): an
@@ -163,18 +164,31 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
 HESSIAN_MAX_OPS = 150000
 
 
-def _hessian(spec, P: Program, kin, art, lines: dict, say) -> hessian.Hessian | None:
-    """The weighted Hessian of φ̈ and its straight line (the recursion, then the pairs i ≤ j), last
-    of all: no other quantity's name depends on it.  None past HESSIAN_MAX_OPS."""
+# The weighted Hessian's operations are about this fraction of (the recursion's) × ndir² (UR5 0.14,
+# Panda 0.13): past twice the budget by that estimate it is not derived at all (minutes of Python)
+HESSIAN_OPS_PER_RECURSION_DIR2 = 0.14
+
+
+def _hessian(spec, P: Program, kin, art, articulated: StraightLine, lines: dict, say) -> tuple:
+    """(the weighted Hessian of φ̈, "") with its straight line (the recursion, then the pairs i ≤ j)
+    in ``lines``, last of all: no other quantity's name depends on it.  (None, why) past
+    HESSIAN_MAX_OPS, or past twice it by estimate (not derived)."""
+    ndir = 2 * spec.n + len(spec.controls)
+    guess = int(HESSIAN_OPS_PER_RECURSION_DIR2 * articulated.op_count() * ndir * ndir)
+    if guess > 2 * HESSIAN_MAX_OPS or spec.n > VARIATIONAL_MAX_N:
+        why = f"about {guess:,} operations at n = {spec.n}, past {HESSIAN_MAX_OPS:,}"
+        say(f"second derivatives: {why}: not emitted")
+        return None, why
     say("second derivatives: the Hessian of mu . qdd, forward mode over forward mode")
     hess = hessian.derive(spec, P, kin, art)
     pairs = [hess.upper[k] for k in sorted(hess.upper)]
     line = straight_line(P, list(art.qdd) + list(art.pivots) + pairs, prefix="wh")
     if line.op_count() > HESSIAN_MAX_OPS:
-        say(f"second derivatives: {line.op_count()} ops, past {HESSIAN_MAX_OPS}: not emitted")
-        return None
+        why = f"{line.op_count():,} operations, past {HESSIAN_MAX_OPS:,}"
+        say(f"second derivatives: {why}: not emitted")
+        return None, why
     lines["rhs_hessian"] = line
-    return hess
+    return hess, ""
 
 
 def _choose_world(spec, P: Program, kin, dyn, der_form: str, forward, lines: dict, say) -> tuple:
@@ -364,6 +378,12 @@ def reads_time(line: StraightLine) -> bool:
         elif rhs.has(TIME):
             return True
     return any(a.sym == TIME for o in line.outputs for a in o.atoms())
+
+
+def step_hessian_applies(model: Model) -> bool:
+    """Whether NAME_step_hessian is emitted beside NAME_rhs_hessian: an autonomous model (the
+    step's h-derivatives of one that reads t would need ∂f/∂t) with NAME_step_jacobian."""
+    return model.hess is not None and not time_dependent(model) and model.spec.n <= VARIATIONAL_MAX_N
 
 
 def time_dependent(model: Model) -> bool:

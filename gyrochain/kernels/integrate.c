@@ -826,11 +826,9 @@ MODEL_FN int model_step(double t, const double *x, const double *u, const model_
     model_integrate_stats st = {0.0, {0.0}, 0, 0, 0, 0, 0};
     double dx[MODEL_V_DIM];
     int i, code;
-    if ((code = model_step_args_(t, x, p, h, xn)) != MODEL_OK) {
-        return code;
-    }
-    if ((code = model_rk4_step_(MODEL_T(t, )x, h, u, p, dx, &st)) != MODEL_OK) {
-        for (i = 0; i < MODEL_V_DIM; ++i) {
+    if ((code = model_step_args_(t, x, p, h, xn)) != MODEL_OK
+        || (code = model_rk4_step_(MODEL_T(t, )x, h, u, p, dx, &st)) != MODEL_OK) {
+        for (i = 0; xn && i < MODEL_V_DIM; ++i) {
             xn[i] = NAN;
         }
         return code;
@@ -850,7 +848,7 @@ MODEL_FN static int model_step_stage_(MODEL_T(double t, )const double *y, const 
 {
     double Dq[MODEL_V_NN], Dv[MODEL_V_NN], Du[MODEL_V_NNU1];
     int i, j, c, code;
-    if ((code = model_qdd_derivatives(MODEL_T(t, )y, u, p, k + MODEL_V_N, Dq, Dv, MODEL_V_NU ? Du : 0)) != MODEL_OK) {
+    if ((code = model_qdd_derivatives(MODEL_T(t, )y, u, p, k + MODEL_V_N, Dq, Dv, Du)) != MODEL_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
     }
     for (i = 0; i < MODEL_V_N; ++i) {
@@ -991,7 +989,7 @@ MODEL_FN int model_step_hessian(double t, const double *x, const double *u, cons
                     + (s ? a[s] * h * K[s - 1][i * MODEL_V_COLS + c] + (c == MODEL_V_COLS - 1 ? a[s] * k[s - 1][i] : 0.0) : 0.0);
             }
         }
-        if ((code = model_qdd_derivatives(MODEL_T(t, )y[s], u, p, k[s] + MODEL_V_N, Dq[s], Dv[s], MODEL_V_NU ? Du[s] : 0)) != MODEL_OK) {
+        if ((code = model_qdd_derivatives(MODEL_T(t, )y[s], u, p, k[s] + MODEL_V_N, Dq[s], Dv[s], Du[s])) != MODEL_OK) {
             return code;
         }
         for (i = 0; i < MODEL_V_N; ++i) {

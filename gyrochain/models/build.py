@@ -220,6 +220,12 @@ def load_module(so_path: str | Path):
     return mod
 
 
+# why a model's C may lack a function (CModel's error when it is called)
+ABSENT = {"rhs_hessian": "generate --hessian or --casadi writes it",
+          "step_hessian": "generate --hessian writes it for a model that does not read t, up to 16 bodies",
+          "param_derivatives": "a model with symbolic parameters has it", "step_param_derivatives": "a model with "
+          "symbolic parameters has it, up to 16 bodies", "step_jacobian": "emitted up to 16 bodies",
+          "integrate_variational": "emitted up to 16 bodies"}
 QUICK_CALL = 0.005  # seconds: an integrator call predicted shorter is made without a helper thread
 
 
@@ -267,7 +273,10 @@ class CModel(DerivativeCalls):
         return (float(t),) if self.time_dependent else ()
 
     def _fn(self, what):
-        return getattr(self.lib, f"{self.name}_{what}")
+        try:
+            return getattr(self.lib, f"{self.name}_{what}")
+        except AttributeError:
+            raise AttributeError(f"{self.name}.c has no {self.name}_{what} ({ABSENT.get(what, 'not emitted for this model')})") from None
 
     def _long_call(self, what: str, work: float, *args, keep=()):
         """An integrator's C call: made directly when its last call, scaled by ``work`` (the span

@@ -44,9 +44,10 @@ class DerivativeCalls:
         (xp, _k), (up, _ku) = self._arr(x, 2 * self.n), self._u(u)
         return self._call("step", float(t), xp, up, self._p(params), float(h), out_len=2 * self.n)
 
-    def step_jacobian(self, x, h, u=None, params=None, t=0.0, with_h=True):
+    def step_jacobian(self, x, h, u=None, params=None, t=0.0, with_h=None):
         """(xn, Ad, Bd, xn_h) of NAME_step_jacobian: the step and its exact derivatives in x, u and h
-        (``with_h=False``: xn_h None, as a model that reads t needs)."""
+        (``with_h`` False, or None on a model that reads t, which has no ∂xn/∂h: xn_h None)."""
+        with_h = not self.time_dependent if with_h is None else with_h
         (xp, _k), (up, _ku), d = self._arr(x, 2 * self.n), self._u(u), 2 * self.n
         (xn, Ad, Bd, dh), ptrs = self._outs(d, (d, d), (d, self.nu), d)
         ptrs[2:] = [ptrs[2] if Bd.size else self.ffi.NULL, ptrs[3] if with_h else self.ffi.NULL]

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from . import files, pipeline, typeset
-from ..derive.assemble import Model, op_counts, time_dependent
+from ..derive.assemble import Model, op_counts, step_hessian_applies, time_dependent
 from ..derive.integrals import energy_verdict, momentum_verdict
 from ..chainspec.spec import SpecError
 
@@ -151,6 +151,13 @@ def report(result: Result) -> list[str]:
     out += integral_lines(spec, model)
     if model.reg is not None:
         out.append(regressor_line(model))
+    if model.hess is not None:
+        out.append(f"second derivatives: {spec.name}_rhs_hessian ({counts['rhs_hessian']} ops)"
+                   + (f" and {spec.name}_step_hessian" if step_hessian_applies(model) else
+                      " (no step Hessian: " + ("the model reads t)" if time_dependent(model) else "emitted up to n = 16)")))
+    elif model.hess_skipped:
+        out.append(f"second derivatives: not emitted ({model.hess_skipped}); an optimiser differences the exact "
+                   "Jacobian instead")
     if model.quad is not None and spec.initial is not None:
         out.append(motion_line(spec, result.target))
     built = {None: "", "compiled": " + cffi extension",

@@ -50,7 +50,7 @@ def derive(spec, qdd_form: str = "auto", der_form: str = "auto", latex: bool = T
     loop form of long chains (loopform.py) by the number of joints ("auto"), or forced
     ("straight", "loops"; tests and benchmarks compare the two).  ``regressor``: also the
     regressor, the energy's and the base parameters (regressor.py, baseparams.py); ``hessian``: also
-    the weighted second derivatives of φ̈ (hessian.py)."""
+    the weighted second derivatives of $\ddot\varphi$ (hessian.py)."""
     key = (spec.source, qdd_form, der_form) + (() if loops == "auto" else (loops,)) + (("regressor",) if regressor else ())
     key += ("hessian",) if hessian else ()
     use_loops = loopform.uses_loops(spec.n, loops, armature=any(b.armature != 0 for b in spec.bodies))

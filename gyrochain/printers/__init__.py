@@ -18,7 +18,7 @@ from .. import __version__
 from ..chainspec.tables import spec_limits
 from ..derive import integrals, loopform, world
 from ..derive.assemble import (GAUSS2_NEWTON_MAX_N, VARIATIONAL_MAX_N, Model, newton_sweeps, newton_sweeps_canonical, op_counts,
-                        step_hessian_stack_bytes, step_jacobian_stack_bytes, time_dependent,
+                        step_hessian_applies, step_hessian_stack_bytes, step_jacobian_stack_bytes, time_dependent,
                         variational_stack_bytes)
 from .c import CTarget
 from .casadi import CasadiTarget
@@ -144,7 +144,7 @@ def hessian_context(model: Model) -> dict:
         return dict(hessian=False, step_hessian=False)
     pairs = sorted(model.hess.upper)
     return dict(hessian=True, hessian_pairs=[(i, j, k) for k, (i, j) in enumerate(pairs)], npairs=len(pairs),
-                zdim=2 * n + len(model.spec.controls), step_hessian=not time_dependent(model) and n <= VARIATIONAL_MAX_N,
+                zdim=2 * n + len(model.spec.controls), step_hessian=step_hessian_applies(model),
                 step_hessian_stack_kb=(step_hessian_stack_bytes(n, len(model.spec.controls)) + 1023) // 1024)
 
 

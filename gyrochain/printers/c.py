@@ -32,7 +32,8 @@ def defines(ctx: dict) -> list[tuple]:
     if ctx["general"]:
         out += [("HAS_JACOBI_INTEGRAL", int(ctx["has_jacobi"])), ("TIME_DEPENDENT", int(ctx["time_dependent"]))]
     out += status[4:] + [(k.upper(), v) for k, v in METHODS.items()] + [("HAS_CANONICAL", int(ctx["canonical"]))]
-    out += [("HAS_VARIATIONAL", int(ctx["variational"])), ("HAS_HESSIAN", int(ctx["hessian"]))]
+    out += [("HAS_VARIATIONAL", int(ctx["variational"])), ("HAS_HESSIAN", int(ctx["hessian"])),
+            ("HAS_STEP_HESSIAN", int(ctx["step_hessian"]))]
     if ctx["regressor"]:
         out += [("NPI", ctx["npi"]), ("NBASE", ctx["nbase"])]
     if ctx["quad"]:

@@ -77,8 +77,10 @@ def test_the_examples_hessians_equal_differences(make_model, rng, name):
         assert _rhs_error(m.c, x, u, lam, m.params, t=t) <= TOL
         if not m.c.time_dependent:
             assert _step_error(m.c, x, u, lam, m.params) <= TOL
-    if m.c.time_dependent:  # the step's h-derivatives would need df/dt: no step Hessian
-        assert not hasattr(m.c.lib, f"{name}_step_hessian")
+    if m.c.time_dependent:  # the step's h-derivatives would need df/dt: no step Hessian, and the header says so
+        assert not hasattr(m.c.lib, f"{name}_step_hessian") and getattr(m.c.lib, f"{name.upper()}_HAS_STEP_HESSIAN") == 0
+        with pytest.raises(AttributeError, match="does not read t"):
+            m.c.step_hessian(x, 0.01, lam, None, m.params)
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -126,6 +128,7 @@ def test_the_api_edges(make_model, rng):
     assert c.lib.furuta_sym_rhs_hessian(0.0, arr(x), arr(u), p, ffi.NULL, arr(H)) == c.lib.FURUTA_SYM_BAD_ARGUMENT
     assert c.lib.furuta_sym_rhs_hessian(0.0, arr(x), arr(u), p, arr([np.nan, 0, 0, 0]), arr(H)) == c.lib.FURUTA_SYM_NONFINITE
     assert c.lib.furuta_sym_rhs_hessian(0.0, arr(x), arr(u), ffi.NULL, arr(lam), arr(H)) == c.lib.FURUTA_SYM_NO_PARAMS
+    assert c.lib.furuta_sym_rhs_hessian(0.0, ffi.NULL, arr(u), p, arr(lam), arr(H)) == c.lib.FURUTA_SYM_BAD_ARGUMENT
     Hs = np.zeros(36)
     assert c.lib.furuta_sym_step_hessian(0.0, arr(x), arr(u), p, float("nan"), arr(lam), arr(Hs)) == c.lib.FURUTA_SYM_BAD_ARGUMENT
     with pytest.raises(ModelError):
@@ -163,3 +166,17 @@ def test_the_docs_prototypes_are_the_header_s(make_model, tmp_path):
                           "-fsyntax-only", "-I", str(m.folder), str(src)], capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     assert res.stderr.count("redundant redeclaration") == 2, res.stderr  # both are the header's, word for word
+
+
+def test_generate_says_which_second_derivatives_it_wrote(tmp_path):
+    """The report names the functions, or says why there are none: a model that reads t has no step
+    Hessian; a 64-link chain's would be millions of operations and is not derived at all."""
+    from conftest import cli_in_process
+
+    res = cli_in_process("generate", "specs/kapitza.toml", "--hessian", "-q", "--no-build", "-o", str(tmp_path / "k"))
+    assert res.returncode == 0, res.stdout
+    assert "second derivatives: kapitza_rhs_hessian (" in res.stdout and "(no step Hessian: the model reads t)" in res.stdout
+    res = cli_in_process("generate", "specs/cable64.toml", "--hessian", "-q", "--no-build", "-o", str(tmp_path / "c"))
+    assert res.returncode == 0, res.stdout
+    assert re.search(r"second derivatives: not emitted \(about [\d,]+ operations at n = 64, past 150,000\)", res.stdout), res.stdout
+    assert "#define CABLE64_HAS_HESSIAN 0" in (tmp_path / "c" / "cable64.h").read_text()

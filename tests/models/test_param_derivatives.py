@@ -108,6 +108,9 @@ def test_a_planted_error_fails_and_the_edges(example, rng, tmp_path):
     assert worst > TOL
     with pytest.raises(ModelError):
         m.c.param_derivatives(np.zeros(4), None, None)  # no parameters: NO_PARAMS
+    out = m.c.ffi.new("double[8]")
+    assert m.c.lib.furuta_sym_param_derivatives(m.c.ffi.NULL, m.c.ffi.NULL, m.c._p(FURUTA_SYM_PARAMS), m.c.ffi.NULL, out) \
+        == m.c.lib.FURUTA_SYM_BAD_ARGUMENT
     assert not hasattr(example("furuta").c.lib, "furuta_param_derivatives")  # a model of numbers has none
     assert "furuta_sym_param_derivatives" in (ROOT / "generated" / "furuta_sym" / "furuta_sym.h").read_text()
     assert load_spec(ROOT / "specs" / "furuta_sym.toml").params

@@ -69,6 +69,9 @@ def test_step_api_edges(example, rng):
     assert c.lib.furuta_step(0.0, ffi.NULL, ffi.NULL, ffi.NULL, 1e-3, op) == bad
     assert c.lib.furuta_step(0.0, xp, ffi.NULL, ffi.NULL, float("nan"), op) == bad
     assert c.lib.furuta_step(float("inf"), xp, ffi.NULL, ffi.NULL, 1e-3, op) == bad
+    # a NaN step: BAD_ARGUMENT, and NaN out as on any failure
+    out[:] = 0.0
+    assert c.lib.furuta_step(0.0, xp, ffi.NULL, ffi.NULL, float("nan"), op) == bad and np.isnan(out).all()
     # a non-finite state: NONFINITE and NaN out
     y = np.array([np.nan, 0.0, 0.0, 0.0])
     assert c.lib.furuta_step(0.0, ffi.cast("double *", ffi.from_buffer(y)), ffi.NULL, ffi.NULL, 1e-3, op) == c.lib.FURUTA_NONFINITE
@@ -92,8 +95,10 @@ def test_step_api_edges(example, rng):
 def test_time_dependent_step_jacobian_has_no_h_column(example, rng):
     """A model that reads t: ∂xn/∂h needs ∂f/∂t, not emitted: asking for it is BAD_ARGUMENT."""
     m = example("kapitza")
+    x, prm = _state(rng, 1), example_params("kapitza")
     with pytest.raises(ModelError, match="10"):
-        m.c.step_jacobian(_state(rng, 1), 1e-3, params=example_params("kapitza"))
+        m.c.step_jacobian(x, 1e-3, params=prm, with_h=True)
+    assert m.c.step_jacobian(x, 1e-3, params=prm)[3] is None  # the wrapper leaves it out by default there
 
 
 def test_a_perturbed_derivative_fails_the_difference_check(example, rng, tmp_path):
