@@ -1,5 +1,6 @@
 """Optimal control over the exact model against CasADi's own: three problems solved by IPOPT (exact
-Hessians, the same start) over direct multiple shooting with one RK4 step per interval, once over
+Hessians, the same start; the UR5 within the limits its URDF states, functions(...).bounds) over
+direct multiple shooting with one RK4 step per interval, once over
 `generate --casadi`'s external step (gyrochain.casadi.functions: exact Jacobians and exact second
 derivatives, jac_adj1_NAME_F) and over the same RK4 written in CasADi SX around Featherstone's
 articulated-body algorithm (bench/peers.py, numbers folded in, CasADi's common subexpressions), its
@@ -35,7 +36,7 @@ def jit(level: str) -> dict:
 PROBLEMS = [
     ("Furuta swing-up", "furuta", 60, 1.5, [0.0, 0.0], [None, np.pi]),
     ("two-link arm swing-up", "planar2dof", 60, 1.5, [np.pi, 0.0], [0.0, 0.0]),
-    ("UR5 point to point", "ur5", 40, 1.0, [0.0] * 6, [1.0, -0.5, 0.5, 0.3, 0.2, 0.1]),
+    ("UR5 point to point within its limits", "ur5", 30, 0.6, [0.0] * 6, [1.0, -0.5, 0.5, 0.3, 0.2, 0.1]),
 ]
 
 
@@ -54,7 +55,8 @@ def sx_step(spec):
     return ca.Function(f"{spec.name}_F_sx", [x, u, h], [xn], {"cse": True})
 
 
-def solve(step, n: int, nu: int, N: int, T: float, start, goal, opts: dict) -> dict:
+def solve(step, n: int, nu: int, N: int, T: float, start, goal, opts: dict, bounds=None) -> dict:
+    """``bounds``: the spec's limits (functions(...).bounds) on every state and control, where it has them."""
     h = T / N
     opti = ca.Opti()
     X, U = opti.variable(2 * n, N + 1), opti.variable(nu, N)
@@ -66,6 +68,12 @@ def solve(step, n: int, nu: int, N: int, T: float, start, goal, opts: dict) -> d
     opti.subject_to(X[n:, N] == 0)
     for k in range(N):
         opti.subject_to(X[:, k + 1] == step(X[:, k], U[:, k], h))
+    if bounds is not None:
+        lim = np.isfinite(bounds.ubx)  # (a limit of inf is no constraint)
+        for k in range(N):
+            opti.subject_to(opti.bounded(bounds.lbu, U[:, k], bounds.ubu))
+        for k in range(N + 1):
+            opti.subject_to(opti.bounded(bounds.lbx[lim], X[np.flatnonzero(lim).tolist(), k], bounds.ubx[lim]))
     for i in range(n):
         g = goal[i] if goal[i] is not None else start[i]
         opti.set_initial(X[i, :], np.linspace(start[i], g, N + 1))
@@ -83,14 +91,14 @@ def solve(step, n: int, nu: int, N: int, T: float, start, goal, opts: dict) -> d
 
 def best_of(repeats: int, step, m, N, T, start, goal, opts) -> dict:
     """The run of least time per iteration of ``repeats`` (CasADi's jit writes its files in a
-    scratch folder)."""
+    scratch folder), within the spec's limits where it has them."""
     best = None
     here = os.getcwd()
     with tempfile.TemporaryDirectory() as scratch:
         os.chdir(scratch)
         try:
             for _ in range(repeats):
-                r = solve(step, m.n, m.nu, N, T, start, goal, opts)
+                r = solve(step, m.n, m.nu, N, T, start, goal, opts, m.bounds if np.isfinite(m.bounds.ubx).any() else None)
                 best = r if best is None or r["per_iteration_ms"] < best["per_iteration_ms"] else best
         finally:
             os.chdir(here)
