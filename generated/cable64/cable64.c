@@ -26810,4 +26810,3 @@ CABLE64_FN int cable64_step(double t, const double *x, const double *u, const ca
     }
     return CABLE64_OK;
 }
-

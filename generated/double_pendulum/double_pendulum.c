@@ -2025,13 +2025,27 @@ DOUBLE_PENDULUM_FN int double_pendulum_step(double t, const double *x, const dou
     return DOUBLE_PENDULUM_OK;
 }
 
+/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 5, row-major) from the
+ * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+DOUBLE_PENDULUM_FN static void double_pendulum_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
+                                   double *y, double *dy)
+{
+    int i, c;
+    for (i = 0; i < 4; ++i) {
+        y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
+        for (c = 0; c < 5; ++c) {
+            dy[i * 5 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 5 + c] + (c == 5 - 1 ? a * kp[i] : 0.0) : 0.0);
+        }
+    }
+}
+
 /* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 5,
  * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of double_pendulum_qdd_derivatives at y. */
+ * derivatives of double_pendulum_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
 DOUBLE_PENDULUM_FN static int double_pendulum_step_stage_(const double *y, const double *dy, const double *u,
-                                  const double_pendulum_params *p, double *k, double *dk)
+                                  const double_pendulum_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
-    double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
     if ((code = double_pendulum_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != DOUBLE_PENDULUM_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
@@ -2059,18 +2073,18 @@ DOUBLE_PENDULUM_FN static int double_pendulum_step_jacobian_(double t, const dou
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[4], k[4], s[4];
     double dy[4 * 5], dk[4 * 5], ds[4 * 5];
+    double Dq[4], Dv[4], Du[2];
     int i, c, st, code;
     (void)t;  /* (an autonomous model) */
     for (i = 0; i < 4; ++i) {
-        y[i] = x[i];
         s[i] = 0.0;
         for (c = 0; c < 5; ++c) {
-            dy[i * 5 + c] = c == i ? 1.0 : 0.0;
             ds[i * 5 + c] = 0.0;
         }
     }
+    double_pendulum_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = double_pendulum_step_stage_(y, dy, u, p, k, dk)) != DOUBLE_PENDULUM_OK) {
+        if ((code = double_pendulum_step_stage_(y, dy, u, p, k, dk, Dq, Dv, Du)) != DOUBLE_PENDULUM_OK) {
             return code;
         }
         for (i = 0; i < 4; ++i) {
@@ -2079,12 +2093,8 @@ DOUBLE_PENDULUM_FN static int double_pendulum_step_jacobian_(double t, const dou
                 ds[i * 5 + c] += b[st] * dk[i * 5 + c];
             }
         }
-        for (i = 0; st < 3 && i < 4; ++i) {
-            y[i] = x[i] + a[st + 1] * h * k[i];
-            for (c = 0; c < 5; ++c) {
-                dy[i * 5 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 5 + c]
-                                         + (c == 5 - 1 ? a[st + 1] * k[i] : 0.0);
-            }
+        if (st < 3) {
+            double_pendulum_step_point_(x, h, a[st + 1], k, dk, y, dy);
         }
     }
     for (i = 0; i < 4; ++i) {
@@ -2125,7 +2135,6 @@ DOUBLE_PENDULUM_FN int double_pendulum_step_jacobian(double t, const double *x, 
     }
     return double_pendulum_all_finite_(out, 4) ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_NONFINITE;
 }
-
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

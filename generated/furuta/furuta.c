@@ -2197,13 +2197,27 @@ FURUTA_FN int furuta_step(double t, const double *x, const double *u, const furu
     return FURUTA_OK;
 }
 
+/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 6, row-major) from the
+ * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+FURUTA_FN static void furuta_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
+                                   double *y, double *dy)
+{
+    int i, c;
+    for (i = 0; i < 4; ++i) {
+        y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
+        for (c = 0; c < 6; ++c) {
+            dy[i * 6 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 6 + c] + (c == 6 - 1 ? a * kp[i] : 0.0) : 0.0);
+        }
+    }
+}
+
 /* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 6,
  * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of furuta_qdd_derivatives at y. */
+ * derivatives of furuta_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
 FURUTA_FN static int furuta_step_stage_(const double *y, const double *dy, const double *u,
-                                  const furuta_params *p, double *k, double *dk)
+                                  const furuta_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
-    double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
     if ((code = furuta_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != FURUTA_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
@@ -2231,18 +2245,18 @@ FURUTA_FN static int furuta_step_jacobian_(double t, const double *x, const doub
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[4], k[4], s[4];
     double dy[4 * 6], dk[4 * 6], ds[4 * 6];
+    double Dq[4], Dv[4], Du[2];
     int i, c, st, code;
     (void)t;  /* (an autonomous model) */
     for (i = 0; i < 4; ++i) {
-        y[i] = x[i];
         s[i] = 0.0;
         for (c = 0; c < 6; ++c) {
-            dy[i * 6 + c] = c == i ? 1.0 : 0.0;
             ds[i * 6 + c] = 0.0;
         }
     }
+    furuta_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = furuta_step_stage_(y, dy, u, p, k, dk)) != FURUTA_OK) {
+        if ((code = furuta_step_stage_(y, dy, u, p, k, dk, Dq, Dv, Du)) != FURUTA_OK) {
             return code;
         }
         for (i = 0; i < 4; ++i) {
@@ -2251,12 +2265,8 @@ FURUTA_FN static int furuta_step_jacobian_(double t, const double *x, const doub
                 ds[i * 6 + c] += b[st] * dk[i * 6 + c];
             }
         }
-        for (i = 0; st < 3 && i < 4; ++i) {
-            y[i] = x[i] + a[st + 1] * h * k[i];
-            for (c = 0; c < 6; ++c) {
-                dy[i * 6 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 6 + c]
-                                         + (c == 6 - 1 ? a[st + 1] * k[i] : 0.0);
-            }
+        if (st < 3) {
+            furuta_step_point_(x, h, a[st + 1], k, dk, y, dy);
         }
     }
     for (i = 0; i < 4; ++i) {
@@ -2297,7 +2307,6 @@ FURUTA_FN int furuta_step_jacobian(double t, const double *x, const double *u, c
     }
     return furuta_all_finite_(out, 4) ? FURUTA_OK : FURUTA_NONFINITE;
 }
-
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

@@ -2013,13 +2013,27 @@ GIMBAL_FN int gimbal_step(double t, const double *x, const double *u, const gimb
     return GIMBAL_OK;
 }
 
+/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 5, row-major) from the
+ * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+GIMBAL_FN static void gimbal_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
+                                   double *y, double *dy)
+{
+    int i, c;
+    for (i = 0; i < 4; ++i) {
+        y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
+        for (c = 0; c < 5; ++c) {
+            dy[i * 5 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 5 + c] + (c == 5 - 1 ? a * kp[i] : 0.0) : 0.0);
+        }
+    }
+}
+
 /* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 5,
  * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of gimbal_qdd_derivatives at y. */
+ * derivatives of gimbal_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
 GIMBAL_FN static int gimbal_step_stage_(const double *y, const double *dy, const double *u,
-                                  const gimbal_params *p, double *k, double *dk)
+                                  const gimbal_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
-    double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
     if ((code = gimbal_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != GIMBAL_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
@@ -2047,18 +2061,18 @@ GIMBAL_FN static int gimbal_step_jacobian_(double t, const double *x, const doub
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[4], k[4], s[4];
     double dy[4 * 5], dk[4 * 5], ds[4 * 5];
+    double Dq[4], Dv[4], Du[2];
     int i, c, st, code;
     (void)t;  /* (an autonomous model) */
     for (i = 0; i < 4; ++i) {
-        y[i] = x[i];
         s[i] = 0.0;
         for (c = 0; c < 5; ++c) {
-            dy[i * 5 + c] = c == i ? 1.0 : 0.0;
             ds[i * 5 + c] = 0.0;
         }
     }
+    gimbal_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = gimbal_step_stage_(y, dy, u, p, k, dk)) != GIMBAL_OK) {
+        if ((code = gimbal_step_stage_(y, dy, u, p, k, dk, Dq, Dv, Du)) != GIMBAL_OK) {
             return code;
         }
         for (i = 0; i < 4; ++i) {
@@ -2067,12 +2081,8 @@ GIMBAL_FN static int gimbal_step_jacobian_(double t, const double *x, const doub
                 ds[i * 5 + c] += b[st] * dk[i * 5 + c];
             }
         }
-        for (i = 0; st < 3 && i < 4; ++i) {
-            y[i] = x[i] + a[st + 1] * h * k[i];
-            for (c = 0; c < 5; ++c) {
-                dy[i * 5 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 5 + c]
-                                         + (c == 5 - 1 ? a[st + 1] * k[i] : 0.0);
-            }
+        if (st < 3) {
+            gimbal_step_point_(x, h, a[st + 1], k, dk, y, dy);
         }
     }
     for (i = 0; i < 4; ++i) {
@@ -2113,7 +2123,6 @@ GIMBAL_FN int gimbal_step_jacobian(double t, const double *x, const double *u, c
     }
     return gimbal_all_finite_(out, 4) ? GIMBAL_OK : GIMBAL_NONFINITE;
 }
-
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

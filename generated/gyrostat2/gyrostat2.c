@@ -2374,13 +2374,27 @@ GYROSTAT2_FN int gyrostat2_step(double t, const double *x, const double *u, cons
     return GYROSTAT2_OK;
 }
 
+/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 5, row-major) from the
+ * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+GYROSTAT2_FN static void gyrostat2_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
+                                   double *y, double *dy)
+{
+    int i, c;
+    for (i = 0; i < 4; ++i) {
+        y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
+        for (c = 0; c < 5; ++c) {
+            dy[i * 5 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 5 + c] + (c == 5 - 1 ? a * kp[i] : 0.0) : 0.0);
+        }
+    }
+}
+
 /* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 5,
  * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of gyrostat2_qdd_derivatives at y. */
+ * derivatives of gyrostat2_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
 GYROSTAT2_FN static int gyrostat2_step_stage_(const double *y, const double *dy, const double *u,
-                                  const gyrostat2_params *p, double *k, double *dk)
+                                  const gyrostat2_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
-    double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
     if ((code = gyrostat2_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != GYROSTAT2_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
@@ -2408,18 +2422,18 @@ GYROSTAT2_FN static int gyrostat2_step_jacobian_(double t, const double *x, cons
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[4], k[4], s[4];
     double dy[4 * 5], dk[4 * 5], ds[4 * 5];
+    double Dq[4], Dv[4], Du[2];
     int i, c, st, code;
     (void)t;  /* (an autonomous model) */
     for (i = 0; i < 4; ++i) {
-        y[i] = x[i];
         s[i] = 0.0;
         for (c = 0; c < 5; ++c) {
-            dy[i * 5 + c] = c == i ? 1.0 : 0.0;
             ds[i * 5 + c] = 0.0;
         }
     }
+    gyrostat2_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = gyrostat2_step_stage_(y, dy, u, p, k, dk)) != GYROSTAT2_OK) {
+        if ((code = gyrostat2_step_stage_(y, dy, u, p, k, dk, Dq, Dv, Du)) != GYROSTAT2_OK) {
             return code;
         }
         for (i = 0; i < 4; ++i) {
@@ -2428,12 +2442,8 @@ GYROSTAT2_FN static int gyrostat2_step_jacobian_(double t, const double *x, cons
                 ds[i * 5 + c] += b[st] * dk[i * 5 + c];
             }
         }
-        for (i = 0; st < 3 && i < 4; ++i) {
-            y[i] = x[i] + a[st + 1] * h * k[i];
-            for (c = 0; c < 5; ++c) {
-                dy[i * 5 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 5 + c]
-                                         + (c == 5 - 1 ? a[st + 1] * k[i] : 0.0);
-            }
+        if (st < 3) {
+            gyrostat2_step_point_(x, h, a[st + 1], k, dk, y, dy);
         }
     }
     for (i = 0; i < 4; ++i) {
@@ -2474,7 +2484,6 @@ GYROSTAT2_FN int gyrostat2_step_jacobian(double t, const double *x, const double
     }
     return gyrostat2_all_finite_(out, 4) ? GYROSTAT2_OK : GYROSTAT2_NONFINITE;
 }
-
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

@@ -10670,13 +10670,27 @@ PANDA_FN int panda_step(double t, const double *x, const double *u, const panda_
     return PANDA_OK;
 }
 
+/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 22, row-major) from the
+ * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+PANDA_FN static void panda_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
+                                   double *y, double *dy)
+{
+    int i, c;
+    for (i = 0; i < 14; ++i) {
+        y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
+        for (c = 0; c < 22; ++c) {
+            dy[i * 22 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 22 + c] + (c == 22 - 1 ? a * kp[i] : 0.0) : 0.0);
+        }
+    }
+}
+
 /* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 22,
  * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of panda_qdd_derivatives at y. */
+ * derivatives of panda_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
 PANDA_FN static int panda_step_stage_(const double *y, const double *dy, const double *u,
-                                  const panda_params *p, double *k, double *dk)
+                                  const panda_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
-    double Dq[49], Dv[49], Du[49];
     int i, j, c, code;
     if ((code = panda_qdd_derivatives(y, u, p, k + 7, Dq, Dv, Du)) != PANDA_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
@@ -10704,18 +10718,18 @@ PANDA_FN static int panda_step_jacobian_(double t, const double *x, const double
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[14], k[14], s[14];
     double dy[14 * 22], dk[14 * 22], ds[14 * 22];
+    double Dq[49], Dv[49], Du[49];
     int i, c, st, code;
     (void)t;  /* (an autonomous model) */
     for (i = 0; i < 14; ++i) {
-        y[i] = x[i];
         s[i] = 0.0;
         for (c = 0; c < 22; ++c) {
-            dy[i * 22 + c] = c == i ? 1.0 : 0.0;
             ds[i * 22 + c] = 0.0;
         }
     }
+    panda_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = panda_step_stage_(y, dy, u, p, k, dk)) != PANDA_OK) {
+        if ((code = panda_step_stage_(y, dy, u, p, k, dk, Dq, Dv, Du)) != PANDA_OK) {
             return code;
         }
         for (i = 0; i < 14; ++i) {
@@ -10724,12 +10738,8 @@ PANDA_FN static int panda_step_jacobian_(double t, const double *x, const double
                 ds[i * 22 + c] += b[st] * dk[i * 22 + c];
             }
         }
-        for (i = 0; st < 3 && i < 14; ++i) {
-            y[i] = x[i] + a[st + 1] * h * k[i];
-            for (c = 0; c < 22; ++c) {
-                dy[i * 22 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 22 + c]
-                                         + (c == 22 - 1 ? a[st + 1] * k[i] : 0.0);
-            }
+        if (st < 3) {
+            panda_step_point_(x, h, a[st + 1], k, dk, y, dy);
         }
     }
     for (i = 0; i < 14; ++i) {
@@ -10770,7 +10780,6 @@ PANDA_FN int panda_step_jacobian(double t, const double *x, const double *u, con
     }
     return panda_all_finite_(out, 14) ? PANDA_OK : PANDA_NONFINITE;
 }
-
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

@@ -3955,13 +3955,27 @@ SPATIAL3_FN int spatial3_step(double t, const double *x, const double *u, const 
     return SPATIAL3_OK;
 }
 
+/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 8, row-major) from the
+ * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+SPATIAL3_FN static void spatial3_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
+                                   double *y, double *dy)
+{
+    int i, c;
+    for (i = 0; i < 6; ++i) {
+        y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
+        for (c = 0; c < 8; ++c) {
+            dy[i * 8 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 8 + c] + (c == 8 - 1 ? a * kp[i] : 0.0) : 0.0);
+        }
+    }
+}
+
 /* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 8,
  * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of spatial3_qdd_derivatives at y. */
+ * derivatives of spatial3_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
 SPATIAL3_FN static int spatial3_step_stage_(const double *y, const double *dy, const double *u,
-                                  const spatial3_params *p, double *k, double *dk)
+                                  const spatial3_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
-    double Dq[9], Dv[9], Du[3];
     int i, j, c, code;
     if ((code = spatial3_qdd_derivatives(y, u, p, k + 3, Dq, Dv, Du)) != SPATIAL3_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
@@ -3989,18 +4003,18 @@ SPATIAL3_FN static int spatial3_step_jacobian_(double t, const double *x, const 
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[6], k[6], s[6];
     double dy[6 * 8], dk[6 * 8], ds[6 * 8];
+    double Dq[9], Dv[9], Du[3];
     int i, c, st, code;
     (void)t;  /* (an autonomous model) */
     for (i = 0; i < 6; ++i) {
-        y[i] = x[i];
         s[i] = 0.0;
         for (c = 0; c < 8; ++c) {
-            dy[i * 8 + c] = c == i ? 1.0 : 0.0;
             ds[i * 8 + c] = 0.0;
         }
     }
+    spatial3_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = spatial3_step_stage_(y, dy, u, p, k, dk)) != SPATIAL3_OK) {
+        if ((code = spatial3_step_stage_(y, dy, u, p, k, dk, Dq, Dv, Du)) != SPATIAL3_OK) {
             return code;
         }
         for (i = 0; i < 6; ++i) {
@@ -4009,12 +4023,8 @@ SPATIAL3_FN static int spatial3_step_jacobian_(double t, const double *x, const 
                 ds[i * 8 + c] += b[st] * dk[i * 8 + c];
             }
         }
-        for (i = 0; st < 3 && i < 6; ++i) {
-            y[i] = x[i] + a[st + 1] * h * k[i];
-            for (c = 0; c < 8; ++c) {
-                dy[i * 8 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 8 + c]
-                                         + (c == 8 - 1 ? a[st + 1] * k[i] : 0.0);
-            }
+        if (st < 3) {
+            spatial3_step_point_(x, h, a[st + 1], k, dk, y, dy);
         }
     }
     for (i = 0; i < 6; ++i) {
@@ -4055,7 +4065,6 @@ SPATIAL3_FN int spatial3_step_jacobian(double t, const double *x, const double *
     }
     return spatial3_all_finite_(out, 6) ? SPATIAL3_OK : SPATIAL3_NONFINITE;
 }
-
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

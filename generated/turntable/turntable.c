@@ -1683,13 +1683,27 @@ TURNTABLE_FN int turntable_step(double t, const double *x, const double *u, cons
     return TURNTABLE_OK;
 }
 
+/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 3, row-major) from the
+ * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+TURNTABLE_FN static void turntable_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
+                                   double *y, double *dy)
+{
+    int i, c;
+    for (i = 0; i < 2; ++i) {
+        y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
+        for (c = 0; c < 3; ++c) {
+            dy[i * 3 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 3 + c] + (c == 3 - 1 ? a * kp[i] : 0.0) : 0.0);
+        }
+    }
+}
+
 /* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 3,
  * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of turntable_qdd_derivatives at y. */
+ * derivatives of turntable_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
 TURNTABLE_FN static int turntable_step_stage_(const double *y, const double *dy, const double *u,
-                                  const turntable_params *p, double *k, double *dk)
+                                  const turntable_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
-    double Dq[1], Dv[1], Du[1];
     int i, j, c, code;
     if ((code = turntable_qdd_derivatives(y, u, p, k + 1, Dq, Dv, Du)) != TURNTABLE_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
@@ -1717,18 +1731,18 @@ TURNTABLE_FN static int turntable_step_jacobian_(double t, const double *x, cons
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[2], k[2], s[2];
     double dy[2 * 3], dk[2 * 3], ds[2 * 3];
+    double Dq[1], Dv[1], Du[1];
     int i, c, st, code;
     (void)t;  /* (an autonomous model) */
     for (i = 0; i < 2; ++i) {
-        y[i] = x[i];
         s[i] = 0.0;
         for (c = 0; c < 3; ++c) {
-            dy[i * 3 + c] = c == i ? 1.0 : 0.0;
             ds[i * 3 + c] = 0.0;
         }
     }
+    turntable_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = turntable_step_stage_(y, dy, u, p, k, dk)) != TURNTABLE_OK) {
+        if ((code = turntable_step_stage_(y, dy, u, p, k, dk, Dq, Dv, Du)) != TURNTABLE_OK) {
             return code;
         }
         for (i = 0; i < 2; ++i) {
@@ -1737,12 +1751,8 @@ TURNTABLE_FN static int turntable_step_jacobian_(double t, const double *x, cons
                 ds[i * 3 + c] += b[st] * dk[i * 3 + c];
             }
         }
-        for (i = 0; st < 3 && i < 2; ++i) {
-            y[i] = x[i] + a[st + 1] * h * k[i];
-            for (c = 0; c < 3; ++c) {
-                dy[i * 3 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 3 + c]
-                                         + (c == 3 - 1 ? a[st + 1] * k[i] : 0.0);
-            }
+        if (st < 3) {
+            turntable_step_point_(x, h, a[st + 1], k, dk, y, dy);
         }
     }
     for (i = 0; i < 2; ++i) {
@@ -1783,7 +1793,6 @@ TURNTABLE_FN int turntable_step_jacobian(double t, const double *x, const double
     }
     return turntable_all_finite_(out, 2) ? TURNTABLE_OK : TURNTABLE_NONFINITE;
 }
-
 
 /* ---------------------------------------------------------------------------------------
  * The step's derivatives in the symbolic parameters, by the chain rule through the stages:

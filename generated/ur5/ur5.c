@@ -7003,13 +7003,27 @@ UR5_FN int ur5_step(double t, const double *x, const double *u, const ur5_params
     return UR5_OK;
 }
 
+/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 19, row-major) from the
+ * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+UR5_FN static void ur5_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
+                                   double *y, double *dy)
+{
+    int i, c;
+    for (i = 0; i < 12; ++i) {
+        y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
+        for (c = 0; c < 19; ++c) {
+            dy[i * 19 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 19 + c] + (c == 19 - 1 ? a * kp[i] : 0.0) : 0.0);
+        }
+    }
+}
+
 /* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 19,
  * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of ur5_qdd_derivatives at y. */
+ * derivatives of ur5_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
 UR5_FN static int ur5_step_stage_(const double *y, const double *dy, const double *u,
-                                  const ur5_params *p, double *k, double *dk)
+                                  const ur5_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
-    double Dq[36], Dv[36], Du[36];
     int i, j, c, code;
     if ((code = ur5_qdd_derivatives(y, u, p, k + 6, Dq, Dv, Du)) != UR5_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
@@ -7037,18 +7051,18 @@ UR5_FN static int ur5_step_jacobian_(double t, const double *x, const double *u,
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[12], k[12], s[12];
     double dy[12 * 19], dk[12 * 19], ds[12 * 19];
+    double Dq[36], Dv[36], Du[36];
     int i, c, st, code;
     (void)t;  /* (an autonomous model) */
     for (i = 0; i < 12; ++i) {
-        y[i] = x[i];
         s[i] = 0.0;
         for (c = 0; c < 19; ++c) {
-            dy[i * 19 + c] = c == i ? 1.0 : 0.0;
             ds[i * 19 + c] = 0.0;
         }
     }
+    ur5_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = ur5_step_stage_(y, dy, u, p, k, dk)) != UR5_OK) {
+        if ((code = ur5_step_stage_(y, dy, u, p, k, dk, Dq, Dv, Du)) != UR5_OK) {
             return code;
         }
         for (i = 0; i < 12; ++i) {
@@ -7057,12 +7071,8 @@ UR5_FN static int ur5_step_jacobian_(double t, const double *x, const double *u,
                 ds[i * 19 + c] += b[st] * dk[i * 19 + c];
             }
         }
-        for (i = 0; st < 3 && i < 12; ++i) {
-            y[i] = x[i] + a[st + 1] * h * k[i];
-            for (c = 0; c < 19; ++c) {
-                dy[i * 19 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 19 + c]
-                                         + (c == 19 - 1 ? a[st + 1] * k[i] : 0.0);
-            }
+        if (st < 3) {
+            ur5_step_point_(x, h, a[st + 1], k, dk, y, dy);
         }
     }
     for (i = 0; i < 12; ++i) {
@@ -7103,7 +7113,6 @@ UR5_FN int ur5_step_jacobian(double t, const double *x, const double *u, const u
     }
     return ur5_all_finite_(out, 12) ? UR5_OK : UR5_NONFINITE;
 }
-
 
 /* ---------------------------------------------------------------------------------------
  * The variational equations: y = (x, Phi), Phi the 2n x 2n fundamental matrix (row-major),

@@ -2111,13 +2111,27 @@ ZIEGLER_FN int ziegler_step(double t, const double *x, const double *u, const zi
     return ZIEGLER_OK;
 }
 
+/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 5, row-major) from the
+ * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+ZIEGLER_FN static void ziegler_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
+                                   double *y, double *dy)
+{
+    int i, c;
+    for (i = 0; i < 4; ++i) {
+        y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
+        for (c = 0; c < 5; ++c) {
+            dy[i * 5 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 5 + c] + (c == 5 - 1 ? a * kp[i] : 0.0) : 0.0);
+        }
+    }
+}
+
 /* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 5,
  * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of ziegler_qdd_derivatives at y. */
+ * derivatives of ziegler_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
 ZIEGLER_FN static int ziegler_step_stage_(const double *y, const double *dy, const double *u,
-                                  const ziegler_params *p, double *k, double *dk)
+                                  const ziegler_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
-    double Dq[4], Dv[4], Du[2];
     int i, j, c, code;
     if ((code = ziegler_qdd_derivatives(y, u, p, k + 2, Dq, Dv, Du)) != ZIEGLER_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
@@ -2145,18 +2159,18 @@ ZIEGLER_FN static int ziegler_step_jacobian_(double t, const double *x, const do
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[4], k[4], s[4];
     double dy[4 * 5], dk[4 * 5], ds[4 * 5];
+    double Dq[4], Dv[4], Du[2];
     int i, c, st, code;
     (void)t;  /* (an autonomous model) */
     for (i = 0; i < 4; ++i) {
-        y[i] = x[i];
         s[i] = 0.0;
         for (c = 0; c < 5; ++c) {
-            dy[i * 5 + c] = c == i ? 1.0 : 0.0;
             ds[i * 5 + c] = 0.0;
         }
     }
+    ziegler_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = ziegler_step_stage_(y, dy, u, p, k, dk)) != ZIEGLER_OK) {
+        if ((code = ziegler_step_stage_(y, dy, u, p, k, dk, Dq, Dv, Du)) != ZIEGLER_OK) {
             return code;
         }
         for (i = 0; i < 4; ++i) {
@@ -2165,12 +2179,8 @@ ZIEGLER_FN static int ziegler_step_jacobian_(double t, const double *x, const do
                 ds[i * 5 + c] += b[st] * dk[i * 5 + c];
             }
         }
-        for (i = 0; st < 3 && i < 4; ++i) {
-            y[i] = x[i] + a[st + 1] * h * k[i];
-            for (c = 0; c < 5; ++c) {
-                dy[i * 5 + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * 5 + c]
-                                         + (c == 5 - 1 ? a[st + 1] * k[i] : 0.0);
-            }
+        if (st < 3) {
+            ziegler_step_point_(x, h, a[st + 1], k, dk, y, dy);
         }
     }
     for (i = 0; i < 4; ++i) {
@@ -2211,7 +2221,6 @@ ZIEGLER_FN int ziegler_step_jacobian(double t, const double *x, const double *u,
     }
     return ziegler_all_finite_(out, 4) ? ZIEGLER_OK : ZIEGLER_NONFINITE;
 }
-
 
 /* ---------------------------------------------------------------------------------------
  * The step's derivatives in the symbolic parameters, by the chain rule through the stages:

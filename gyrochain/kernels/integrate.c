@@ -840,13 +840,27 @@ MODEL_FN int model_step(double t, const double *x, const double *u, const model_
 }
 #if MODEL_VARIATIONAL
 
+/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x MODEL_V_COLS, row-major) from the
+ * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+MODEL_FN static void model_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
+                                   double *y, double *dy)
+{
+    int i, c;
+    for (i = 0; i < MODEL_V_DIM; ++i) {
+        y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
+        for (c = 0; c < MODEL_V_COLS; ++c) {
+            dy[i * MODEL_V_COLS + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * MODEL_V_COLS + c] + (c == MODEL_V_COLS - 1 ? a * kp[i] : 0.0) : 0.0);
+        }
+    }
+}
+
 /* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x MODEL_V_COLS,
  * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of model_qdd_derivatives at y. */
+ * derivatives of model_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
 MODEL_FN static int model_step_stage_(MODEL_T(double t, )const double *y, const double *dy, const double *u,
-                                  const model_params *p, double *k, double *dk)
+                                  const model_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
-    double Dq[MODEL_V_NN], Dv[MODEL_V_NN], Du[MODEL_V_NNU1];
     int i, j, c, code;
     if ((code = model_qdd_derivatives(MODEL_T(t, )y, u, p, k + MODEL_V_N, Dq, Dv, Du)) != MODEL_OK) {  /* (Du: n x 1 unused when nu = 0) */
         return code;
@@ -874,21 +888,21 @@ MODEL_FN static int model_step_jacobian_(double t, const double *x, const double
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[MODEL_V_DIM], k[MODEL_V_DIM], s[MODEL_V_DIM];
     double dy[MODEL_V_DIM * MODEL_V_COLS], dk[MODEL_V_DIM * MODEL_V_COLS], ds[MODEL_V_DIM * MODEL_V_COLS];
+    double Dq[MODEL_V_NN], Dv[MODEL_V_NN], Du[MODEL_V_NNU1];
     int i, c, st, code;
 #if MODEL_TIME_DEPENDENT
 #else
     (void)t;  /* (an autonomous model) */
 #endif
     for (i = 0; i < MODEL_V_DIM; ++i) {
-        y[i] = x[i];
         s[i] = 0.0;
         for (c = 0; c < MODEL_V_COLS; ++c) {
-            dy[i * MODEL_V_COLS + c] = c == i ? 1.0 : 0.0;
             ds[i * MODEL_V_COLS + c] = 0.0;
         }
     }
+    model_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = model_step_stage_(MODEL_T(t + a[st] * h, )y, dy, u, p, k, dk)) != MODEL_OK) {
+        if ((code = model_step_stage_(MODEL_T(t + a[st] * h, )y, dy, u, p, k, dk, Dq, Dv, Du)) != MODEL_OK) {
             return code;
         }
         for (i = 0; i < MODEL_V_DIM; ++i) {
@@ -897,12 +911,8 @@ MODEL_FN static int model_step_jacobian_(double t, const double *x, const double
                 ds[i * MODEL_V_COLS + c] += b[st] * dk[i * MODEL_V_COLS + c];
             }
         }
-        for (i = 0; st < 3 && i < MODEL_V_DIM; ++i) {
-            y[i] = x[i] + a[st + 1] * h * k[i];
-            for (c = 0; c < MODEL_V_COLS; ++c) {
-                dy[i * MODEL_V_COLS + c] = (c == i ? 1.0 : 0.0) + a[st + 1] * h * dk[i * MODEL_V_COLS + c]
-                                         + (c == MODEL_V_COLS - 1 ? a[st + 1] * k[i] : 0.0);
-            }
+        if (st < 3) {
+            model_step_point_(x, h, a[st + 1], k, dk, y, dy);
         }
     }
     for (i = 0; i < MODEL_V_DIM; ++i) {
@@ -948,8 +958,6 @@ MODEL_FN int model_step_jacobian(double t, const double *x, const double *u, con
     }
     return model_all_finite_(out, MODEL_V_DIM) ? MODEL_OK : MODEL_NONFINITE;
 }
-#endif
-
 #if MODEL_HESSIAN
 
 /* ---------------------------------------------------------------------------------------
@@ -982,27 +990,9 @@ MODEL_FN int model_step_hessian(double t, const double *x, const double *u, cons
     }
     /* forward: the stages, their points' derivatives Y_s = dy_s/dw and theirs K_s = dk_s/dw */
     for (s = 0; s < 4; ++s) {
-        for (i = 0; i < MODEL_V_DIM; ++i) {
-            y[s][i] = x[i] + (s ? a[s] * h * k[s - 1][i] : 0.0);
-            for (c = 0; c < MODEL_V_COLS; ++c) {
-                Y[s][i * MODEL_V_COLS + c] = (c == i ? 1.0 : 0.0)
-                    + (s ? a[s] * h * K[s - 1][i * MODEL_V_COLS + c] + (c == MODEL_V_COLS - 1 ? a[s] * k[s - 1][i] : 0.0) : 0.0);
-            }
-        }
-        if ((code = model_qdd_derivatives(MODEL_T(t, )y[s], u, p, k[s] + MODEL_V_N, Dq[s], Dv[s], Du[s])) != MODEL_OK) {
+        model_step_point_(x, h, a[s], s ? k[s - 1] : 0, s ? K[s - 1] : 0, y[s], Y[s]);
+        if ((code = model_step_stage_(MODEL_T(t + a[s] * h, )y[s], Y[s], u, p, k[s], K[s], Dq[s], Dv[s], Du[s])) != MODEL_OK) {
             return code;
-        }
-        for (i = 0; i < MODEL_V_N; ++i) {
-            k[s][i] = y[s][MODEL_V_N + i];
-            for (c = 0; c < MODEL_V_COLS; ++c) {
-                double v = c >= MODEL_V_DIM && c < MODEL_V_DIM + MODEL_V_NU ? Du[s][i * MODEL_V_NU + c - MODEL_V_DIM] : 0.0;
-                K[s][i * MODEL_V_COLS + c] = Y[s][(MODEL_V_N + i) * MODEL_V_COLS + c];
-                for (j = 0; j < MODEL_V_N; ++j) {
-                    v += Dq[s][i * MODEL_V_N + j] * Y[s][j * MODEL_V_COLS + c]
-                         + Dv[s][i * MODEL_V_N + j] * Y[s][(MODEL_V_N + j) * MODEL_V_COLS + c];
-                }
-                K[s][(MODEL_V_N + i) * MODEL_V_COLS + c] = v;
-            }
         }
     }
     for (i = 0; i < MODEL_V_COLS * MODEL_V_COLS; ++i) {
@@ -1068,6 +1058,7 @@ MODEL_FN int model_step_hessian(double t, const double *x, const double *u, cons
     }
     return model_all_finite_(H, MODEL_V_COLS * MODEL_V_COLS) ? MODEL_OK : MODEL_NONFINITE;
 }
+#endif
 #endif
 #if MODEL_PARAM_DERIVATIVES
 
