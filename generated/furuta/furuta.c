@@ -2197,8 +2197,9 @@ FURUTA_FN int furuta_step(double t, const double *x, const double *u, const furu
     return FURUTA_OK;
 }
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 6, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x 6, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 FURUTA_FN static void furuta_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
@@ -2207,14 +2208,15 @@ FURUTA_FN static void furuta_step_point_(const double *x, double h, double a, co
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
         for (c = 0; c < 6; ++c) {
             dy[i * 6 + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * 6 + c] + (c == 6 - 1 ? a * kp[i] : 0.0) : 0.0);
+                + (kp ? a * h * dkp[i * 6 + c] + (c == 5 ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 6,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of furuta_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x 6, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * furuta_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
 FURUTA_FN static int furuta_step_stage_(const double *y, const double *dy, const double *u,
                                   const furuta_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
@@ -2238,7 +2240,8 @@ FURUTA_FN static int furuta_step_stage_(const double *y, const double *dy, const
     return FURUTA_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x 6, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x 6, row-major), by the chain rule through the
+ * four stages */
 FURUTA_FN static int furuta_step_jacobian_(double t, const double *x, const double *u, const furuta_params *p, double h,
                                      double *xn, double *J)
 {
@@ -2273,7 +2276,7 @@ FURUTA_FN static int furuta_step_jacobian_(double t, const double *x, const doub
         xn[i] = x[i] + h / 6.0 * s[i];
         for (c = 0; c < 6; ++c) {
             J[i * 6 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 6 + c]
-                                    + (c == 6 - 1 ? s[i] / 6.0 : 0.0);
+                                    + (c == 5 ? s[i] / 6.0 : 0.0);
         }
     }
     return FURUTA_OK;
@@ -2302,7 +2305,7 @@ FURUTA_FN int furuta_step_jacobian(double t, const double *x, const double *u, c
             Bd[i * 1 + c] = J[i * 6 + 4 + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * 6 + 6 - 1];
+            xn_h[i] = J[i * 6 + 5];
         }
     }
     return furuta_all_finite_(out, 4) ? FURUTA_OK : FURUTA_NONFINITE;

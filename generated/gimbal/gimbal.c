@@ -2013,8 +2013,9 @@ GIMBAL_FN int gimbal_step(double t, const double *x, const double *u, const gimb
     return GIMBAL_OK;
 }
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 5, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x 5, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 GIMBAL_FN static void gimbal_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
@@ -2023,14 +2024,15 @@ GIMBAL_FN static void gimbal_step_point_(const double *x, double h, double a, co
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
         for (c = 0; c < 5; ++c) {
             dy[i * 5 + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * 5 + c] + (c == 5 - 1 ? a * kp[i] : 0.0) : 0.0);
+                + (kp ? a * h * dkp[i * 5 + c] + (c == 4 ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 5,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of gimbal_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x 5, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * gimbal_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
 GIMBAL_FN static int gimbal_step_stage_(const double *y, const double *dy, const double *u,
                                   const gimbal_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
@@ -2054,7 +2056,8 @@ GIMBAL_FN static int gimbal_step_stage_(const double *y, const double *dy, const
     return GIMBAL_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x 5, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x 5, row-major), by the chain rule through the
+ * four stages */
 GIMBAL_FN static int gimbal_step_jacobian_(double t, const double *x, const double *u, const gimbal_params *p, double h,
                                      double *xn, double *J)
 {
@@ -2089,7 +2092,7 @@ GIMBAL_FN static int gimbal_step_jacobian_(double t, const double *x, const doub
         xn[i] = x[i] + h / 6.0 * s[i];
         for (c = 0; c < 5; ++c) {
             J[i * 5 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 5 + c]
-                                    + (c == 5 - 1 ? s[i] / 6.0 : 0.0);
+                                    + (c == 4 ? s[i] / 6.0 : 0.0);
         }
     }
     return GIMBAL_OK;
@@ -2118,7 +2121,7 @@ GIMBAL_FN int gimbal_step_jacobian(double t, const double *x, const double *u, c
             Bd[i * 0 + c] = J[i * 5 + 4 + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * 5 + 5 - 1];
+            xn_h[i] = J[i * 5 + 4];
         }
     }
     return gimbal_all_finite_(out, 4) ? GIMBAL_OK : GIMBAL_NONFINITE;

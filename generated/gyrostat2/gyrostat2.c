@@ -2374,8 +2374,9 @@ GYROSTAT2_FN int gyrostat2_step(double t, const double *x, const double *u, cons
     return GYROSTAT2_OK;
 }
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 5, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x 5, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 GYROSTAT2_FN static void gyrostat2_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
@@ -2384,14 +2385,15 @@ GYROSTAT2_FN static void gyrostat2_step_point_(const double *x, double h, double
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
         for (c = 0; c < 5; ++c) {
             dy[i * 5 + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * 5 + c] + (c == 5 - 1 ? a * kp[i] : 0.0) : 0.0);
+                + (kp ? a * h * dkp[i * 5 + c] + (c == 4 ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 5,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of gyrostat2_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x 5, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * gyrostat2_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
 GYROSTAT2_FN static int gyrostat2_step_stage_(const double *y, const double *dy, const double *u,
                                   const gyrostat2_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
@@ -2415,7 +2417,8 @@ GYROSTAT2_FN static int gyrostat2_step_stage_(const double *y, const double *dy,
     return GYROSTAT2_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x 5, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x 5, row-major), by the chain rule through the
+ * four stages */
 GYROSTAT2_FN static int gyrostat2_step_jacobian_(double t, const double *x, const double *u, const gyrostat2_params *p, double h,
                                      double *xn, double *J)
 {
@@ -2450,7 +2453,7 @@ GYROSTAT2_FN static int gyrostat2_step_jacobian_(double t, const double *x, cons
         xn[i] = x[i] + h / 6.0 * s[i];
         for (c = 0; c < 5; ++c) {
             J[i * 5 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 5 + c]
-                                    + (c == 5 - 1 ? s[i] / 6.0 : 0.0);
+                                    + (c == 4 ? s[i] / 6.0 : 0.0);
         }
     }
     return GYROSTAT2_OK;
@@ -2479,7 +2482,7 @@ GYROSTAT2_FN int gyrostat2_step_jacobian(double t, const double *x, const double
             Bd[i * 0 + c] = J[i * 5 + 4 + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * 5 + 5 - 1];
+            xn_h[i] = J[i * 5 + 4];
         }
     }
     return gyrostat2_all_finite_(out, 4) ? GYROSTAT2_OK : GYROSTAT2_NONFINITE;

@@ -384,6 +384,59 @@ KAPITZA_FN int kapitza_param_derivatives(double t, const double *x, const double
     }
     return kapitza_all_finite_(acc, 1) && kapitza_all_finite_(dp, 2) ? KAPITZA_OK : KAPITZA_NONFINITE;
 }
+
+KAPITZA_FN int kapitza_time_derivative(double t, const double *x, const double *u, const kapitza_params *p,
+                          double *qdd, double *dqdd_dt)
+{
+    /* phi'' and its exact derivatives in t (the platform's motion, the rotors' lambda(t), the loads of t): the forward mode
+     * of the articulated recursion seeded at t (gyrochain/derive/derivatives.py), dqdd_dt row-major
+     * 1 x 1.  Either output may be NULL. */
+    double acc[1];
+    double piv[1];
+    double dp[1];
+    int i, code;
+    if (!p) {
+        return KAPITZA_NO_PARAMS;
+    }
+
+    if (!x) {
+        return KAPITZA_BAD_ARGUMENT;
+    }
+    if (!kapitza_all_finite_(x, 2)) {
+        return KAPITZA_NONFINITE;
+    }
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
+
+    {
+        (void)u;
+
+        const double pe1 = cos(t*p->w);
+        const double a0_1 = -p->a*p->w*p->w*pe1;
+        const double pe2 = sin(t*p->w);
+        const double sin_phi1 = sin(x[0]);
+        const double aO1_2 = a0_1*sin_phi1;
+        const double aOg1_2 = aO1_2 - 9.81*sin_phi1;
+        const double pe1_dT1 = -p->w*pe2;
+        const double a0_1_dT1 = -p->a*p->w*p->w*pe1_dT1;
+        const double aO1_2_dT1 = sin_phi1*a0_1_dT1;
+
+        acc[0] = 5.0*aOg1_2;
+        piv[0] = 0.004;
+        dp[0] = 5.0*aO1_2_dT1;
+
+    }
+    code = kapitza_pivots_(piv);
+    if (code != KAPITZA_OK) {
+        return code;
+    }
+    for (i = 0; qdd && i < 1; ++i) {
+        qdd[i] = acc[i];
+    }
+    for (i = 0; dqdd_dt && i < 1; ++i) {
+        dqdd_dt[i] = dp[i];
+    }
+    return kapitza_all_finite_(acc, 1) && kapitza_all_finite_(dp, 1) ? KAPITZA_OK : KAPITZA_NONFINITE;
+}
 #define KAPITZA_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -1685,25 +1738,27 @@ KAPITZA_FN int kapitza_step(double t, const double *x, const double *u, const ka
     return KAPITZA_OK;
 }
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 3, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x 4, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 KAPITZA_FN static void kapitza_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
     int i, c;
     for (i = 0; i < 2; ++i) {
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
-        for (c = 0; c < 3; ++c) {
-            dy[i * 3 + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * 3 + c] + (c == 3 - 1 ? a * kp[i] : 0.0) : 0.0);
+        for (c = 0; c < 4; ++c) {
+            dy[i * 4 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 4 + c] + (c == 2 ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 3,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of kapitza_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
-KAPITZA_FN static int kapitza_step_stage_(double t, const double *y, const double *dy, const double *u,
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x 4, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * kapitza_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
+KAPITZA_FN static int kapitza_step_stage_(double t, double ta, const double *y, const double *dy, const double *u,
                                   const kapitza_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
     int i, j, c, code;
@@ -1713,43 +1768,54 @@ KAPITZA_FN static int kapitza_step_stage_(double t, const double *y, const doubl
     for (i = 0; i < 1; ++i) {
         k[i] = y[1 + i];
     }
-    for (c = 0; c < 3; ++c) {
+    for (c = 0; c < 4; ++c) {
         for (i = 0; i < 1; ++i) {
             double s = c >= 2 && c < 2 + 0 ? Du[i * 0 + c - 2] : 0.0;
-            dk[i * 3 + c] = dy[(1 + i) * 3 + c];
+            dk[i * 4 + c] = dy[(1 + i) * 4 + c];
             for (j = 0; j < 1; ++j) {
-                s += Dq[i * 1 + j] * dy[j * 3 + c] + Dv[i * 1 + j] * dy[(1 + j) * 3 + c];
+                s += Dq[i * 1 + j] * dy[j * 4 + c] + Dv[i * 1 + j] * dy[(1 + j) * 4 + c];
             }
-            dk[(1 + i) * 3 + c] = s;
+            dk[(1 + i) * 4 + c] = s;
+        }
+    }
+    {
+        double Dt[1];
+        if ((code = kapitza_time_derivative(t, y, u, p, 0, Dt)) != KAPITZA_OK) {
+            return code;
+        }
+        for (i = 0; i < 1; ++i) {
+            dk[(1 + i) * 4 + 4 - 1] += Dt[i];
+            dk[(1 + i) * 4 + 2] += ta * Dt[i];
         }
     }
     return KAPITZA_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x 3, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x 4, row-major), by the chain rule through the
+ * four stages */
 KAPITZA_FN static int kapitza_step_jacobian_(double t, const double *x, const double *u, const kapitza_params *p, double h,
                                      double *xn, double *J)
 {
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[2], k[2], s[2];
-    double dy[2 * 3], dk[2 * 3], ds[2 * 3];
+    double dy[2 * 4], dk[2 * 4], ds[2 * 4];
     double Dq[1], Dv[1], Du[1];
     int i, c, st, code;
     for (i = 0; i < 2; ++i) {
         s[i] = 0.0;
-        for (c = 0; c < 3; ++c) {
-            ds[i * 3 + c] = 0.0;
+        for (c = 0; c < 4; ++c) {
+            ds[i * 4 + c] = 0.0;
         }
     }
     kapitza_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = kapitza_step_stage_(t + a[st] * h, y, dy, u, p, k, dk, Dq, Dv, Du)) != KAPITZA_OK) {
+        if ((code = kapitza_step_stage_(t + a[st] * h, a[st], y, dy, u, p, k, dk, Dq, Dv, Du)) != KAPITZA_OK) {
             return code;
         }
         for (i = 0; i < 2; ++i) {
             s[i] += b[st] * k[i];
-            for (c = 0; c < 3; ++c) {
-                ds[i * 3 + c] += b[st] * dk[i * 3 + c];
+            for (c = 0; c < 4; ++c) {
+                ds[i * 4 + c] += b[st] * dk[i * 4 + c];
             }
         }
         if (st < 3) {
@@ -1758,25 +1824,22 @@ KAPITZA_FN static int kapitza_step_jacobian_(double t, const double *x, const do
     }
     for (i = 0; i < 2; ++i) {
         xn[i] = x[i] + h / 6.0 * s[i];
-        for (c = 0; c < 3; ++c) {
-            J[i * 3 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 3 + c]
-                                    + (c == 3 - 1 ? s[i] / 6.0 : 0.0);
+        for (c = 0; c < 4; ++c) {
+            J[i * 4 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 4 + c]
+                                    + (c == 2 ? s[i] / 6.0 : 0.0);
         }
     }
     return KAPITZA_OK;
 }
 
 KAPITZA_FN int kapitza_step_jacobian(double t, const double *x, const double *u, const kapitza_params *p, double h, double *xn,
-                             double *Ad, double *Bd, double *xn_h)
+                             double *Ad, double *Bd, double *xn_h, double *xn_t)
 {
-    double J[2 * 3], xs[2];
+    double J[2 * 4], xs[2];
     double *out = xn ? xn : xs;
     int i, c, code;
     if ((code = kapitza_step_args_(t, x, p, h, out)) != KAPITZA_OK) {
         return code;
-    }
-    if (xn_h) {  /* d/dh moves the stages' times too: that needs df/dt, which is not emitted */
-        return KAPITZA_BAD_ARGUMENT;
     }
     if (!kapitza_all_finite_(x, 2)) {
         return KAPITZA_NONFINITE;
@@ -1786,13 +1849,16 @@ KAPITZA_FN int kapitza_step_jacobian(double t, const double *x, const double *u,
     }
     for (i = 0; i < 2; ++i) {
         for (c = 0; Ad && c < 2; ++c) {
-            Ad[i * 2 + c] = J[i * 3 + c];
+            Ad[i * 2 + c] = J[i * 4 + c];
         }
         for (c = 0; Bd && c < 0; ++c) {
-            Bd[i * 0 + c] = J[i * 3 + 2 + c];
+            Bd[i * 0 + c] = J[i * 4 + 2 + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * 3 + 3 - 1];
+            xn_h[i] = J[i * 4 + 2];
+        }
+        if (xn_t) {
+            xn_t[i] = J[i * 4 + 4 - 1];
         }
     }
     return kapitza_all_finite_(out, 2) ? KAPITZA_OK : KAPITZA_NONFINITE;

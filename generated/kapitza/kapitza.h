@@ -51,21 +51,23 @@
  * N x NPARAMS (the forward mode of the articulated recursion seeded at the parameters, exact; a NULL
  * output is not written); kapitza_step_param_derivatives(t, x, u, p, h, xn, dxn_dp) the
  * step of kapitza_step (xn, NULL allowed) and dxn/dp, 2N x NPARAMS, by the chain rule through its stages.
+ * This model reads t: kapitza_time_derivative(t, x, u, p, qdd, dqdd_dt) gives phi'' and d phi''/dt (N; the
+ * forward mode of the articulated recursion seeded at t, exact; a NULL output is not written).
  * The discrete-time model, for a controller that runs at a fixed rate: kapitza_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of KAPITZA_RK4,
  * bit for bit), xn the state at t + h; on failure xn is NaN (xn may be x: keep a copy of x if the
  * loop must go on after a failure).
- * kapitza_step_jacobian(t, x, u, p, h, xn, Ad, Bd, xn_h) is the same step (xn equal to round-off;
+ * kapitza_step_jacobian(t, x, u, p, h, xn, Ad, Bd, xn_h, xn_t) is the same step (xn equal to round-off;
  * NULL allowed) with its exact derivatives, by the chain rule through the four stages with the
  * exact Jacobian of each: Ad = dxn/dx (2N x 2N), Bd = dxn/du (2N x NU) and xn_h = dxn/dh (2N), row-major;
- * a NULL output is not written.  This model reads t, so the stages' times move with h:
- * xn_h, which would need df/dt, must be NULL (KAPITZA_BAD_ARGUMENT otherwise).  Its arrays take
+ * and xn_t = dxn/dt (2N: this model reads t; the stages' times t + c h move with t and h),
+ * a NULL output is not written.  Its arrays take
  * about 1 KB of stack, besides what kapitza_qdd_derivatives takes.
  * kapitza_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * kapitza_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 26, forces 10, linearize 15, mass_matrix 0, param_derivatives 26, qdd 10, qdd_derivatives 15, rhs 10.
+ * Op counts: energy 26, forces 10, linearize 15, mass_matrix 0, param_derivatives 26, qdd 10, qdd_derivatives 15, rhs 10, time_derivative 18.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -128,6 +130,8 @@ KAPITZA_FN int kapitza_linearize(double t, const double *x, const double *u, con
 KAPITZA_FN double kapitza_energy(double t, const double *x, const kapitza_params *p);
 KAPITZA_FN int kapitza_param_derivatives(double t, const double *x, const double *u, const kapitza_params *p,
                           double *qdd, double *dqdd_dp);
+KAPITZA_FN int kapitza_time_derivative(double t, const double *x, const double *u, const kapitza_params *p,
+                          double *qdd, double *dqdd_dt);
 typedef struct kapitza_integrate_stats {
     double t;
     double x[2];
@@ -147,7 +151,7 @@ KAPITZA_FN int kapitza_integrate_batch(int method, int nb, int nt, const double 
                          const kapitza_params *p, long p_stride, double *X, int *codes);
 KAPITZA_FN int kapitza_step(double t, const double *x, const double *u, const kapitza_params *p, double h, double *xn);
 KAPITZA_FN int kapitza_step_jacobian(double t, const double *x, const double *u, const kapitza_params *p, double h,
-                       double *xn, double *Ad, double *Bd, double *xn_h);
+                       double *xn, double *Ad, double *Bd, double *xn_h, double *xn_t);
 KAPITZA_FN int kapitza_step_param_derivatives(double t, const double *x, const double *u, const kapitza_params *p, double h,
                                double *xn, double *dxn_dp);
 KAPITZA_FN int kapitza_integrate_variational(double t0, double t1, double h, double rtol, double atol,

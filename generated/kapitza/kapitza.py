@@ -26,7 +26,7 @@ TIME_DEPENDENT = True  # forces, qdd, energy, momentum take t first
 # the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
 # data for an optimiser or a controller, not enforced by the model
 LIMITS = {}
-OP_COUNTS = { "energy": 26, "forces": 10, "linearize": 15, "mass_matrix": 0, "param_derivatives": 26, "qdd": 10, "qdd_derivatives": 15, "rhs": 10, }
+OP_COUNTS = { "energy": 26, "forces": 10, "linearize": 15, "mass_matrix": 0, "param_derivatives": 26, "qdd": 10, "qdd_derivatives": 15, "rhs": 10, "time_derivative": 18, }
 PIVOT_TOL = 1 * 2.220446049250313e-16
 
 

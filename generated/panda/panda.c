@@ -10670,8 +10670,9 @@ PANDA_FN int panda_step(double t, const double *x, const double *u, const panda_
     return PANDA_OK;
 }
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 22, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x 22, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 PANDA_FN static void panda_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
@@ -10680,14 +10681,15 @@ PANDA_FN static void panda_step_point_(const double *x, double h, double a, cons
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
         for (c = 0; c < 22; ++c) {
             dy[i * 22 + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * 22 + c] + (c == 22 - 1 ? a * kp[i] : 0.0) : 0.0);
+                + (kp ? a * h * dkp[i * 22 + c] + (c == 21 ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 22,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of panda_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x 22, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * panda_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
 PANDA_FN static int panda_step_stage_(const double *y, const double *dy, const double *u,
                                   const panda_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
@@ -10711,7 +10713,8 @@ PANDA_FN static int panda_step_stage_(const double *y, const double *dy, const d
     return PANDA_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x 22, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x 22, row-major), by the chain rule through the
+ * four stages */
 PANDA_FN static int panda_step_jacobian_(double t, const double *x, const double *u, const panda_params *p, double h,
                                      double *xn, double *J)
 {
@@ -10746,7 +10749,7 @@ PANDA_FN static int panda_step_jacobian_(double t, const double *x, const double
         xn[i] = x[i] + h / 6.0 * s[i];
         for (c = 0; c < 22; ++c) {
             J[i * 22 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 22 + c]
-                                    + (c == 22 - 1 ? s[i] / 6.0 : 0.0);
+                                    + (c == 21 ? s[i] / 6.0 : 0.0);
         }
     }
     return PANDA_OK;
@@ -10775,7 +10778,7 @@ PANDA_FN int panda_step_jacobian(double t, const double *x, const double *u, con
             Bd[i * 7 + c] = J[i * 22 + 14 + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * 22 + 22 - 1];
+            xn_h[i] = J[i * 22 + 21];
         }
     }
     return panda_all_finite_(out, 14) ? PANDA_OK : PANDA_NONFINITE;

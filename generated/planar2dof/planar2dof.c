@@ -2258,8 +2258,9 @@ PLANAR2DOF_FN int planar2dof_step(double t, const double *x, const double *u, co
     return PLANAR2DOF_OK;
 }
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 7, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x 7, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 PLANAR2DOF_FN static void planar2dof_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
@@ -2268,14 +2269,15 @@ PLANAR2DOF_FN static void planar2dof_step_point_(const double *x, double h, doub
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
         for (c = 0; c < 7; ++c) {
             dy[i * 7 + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * 7 + c] + (c == 7 - 1 ? a * kp[i] : 0.0) : 0.0);
+                + (kp ? a * h * dkp[i * 7 + c] + (c == 6 ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 7,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of planar2dof_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x 7, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * planar2dof_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
 PLANAR2DOF_FN static int planar2dof_step_stage_(const double *y, const double *dy, const double *u,
                                   const planar2dof_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
@@ -2299,7 +2301,8 @@ PLANAR2DOF_FN static int planar2dof_step_stage_(const double *y, const double *d
     return PLANAR2DOF_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x 7, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x 7, row-major), by the chain rule through the
+ * four stages */
 PLANAR2DOF_FN static int planar2dof_step_jacobian_(double t, const double *x, const double *u, const planar2dof_params *p, double h,
                                      double *xn, double *J)
 {
@@ -2334,7 +2337,7 @@ PLANAR2DOF_FN static int planar2dof_step_jacobian_(double t, const double *x, co
         xn[i] = x[i] + h / 6.0 * s[i];
         for (c = 0; c < 7; ++c) {
             J[i * 7 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 7 + c]
-                                    + (c == 7 - 1 ? s[i] / 6.0 : 0.0);
+                                    + (c == 6 ? s[i] / 6.0 : 0.0);
         }
     }
     return PLANAR2DOF_OK;
@@ -2363,7 +2366,7 @@ PLANAR2DOF_FN int planar2dof_step_jacobian(double t, const double *x, const doub
             Bd[i * 2 + c] = J[i * 7 + 4 + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * 7 + 7 - 1];
+            xn_h[i] = J[i * 7 + 6];
         }
     }
     return planar2dof_all_finite_(out, 4) ? PLANAR2DOF_OK : PLANAR2DOF_NONFINITE;

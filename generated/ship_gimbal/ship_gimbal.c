@@ -626,6 +626,143 @@ SHIP_GIMBAL_FN double ship_gimbal_momentum(double t, const double *x, const ship
     }
     return result;
 }
+
+SHIP_GIMBAL_FN int ship_gimbal_time_derivative(double t, const double *x, const double *u, const ship_gimbal_params *p,
+                          double *qdd, double *dqdd_dt)
+{
+    /* phi'' and its exact derivatives in t (the platform's motion, the rotors' lambda(t), the loads of t): the forward mode
+     * of the articulated recursion seeded at t (gyrochain/derive/derivatives.py), dqdd_dt row-major
+     * 2 x 1.  Either output may be NULL. */
+    double acc[2];
+    double piv[2];
+    double dp[2];
+    int i, code;
+    (void)p;
+
+    if (!x) {
+        return SHIP_GIMBAL_BAD_ARGUMENT;
+    }
+    if (!ship_gimbal_all_finite_(x, 4)) {
+        return SHIP_GIMBAL_NONFINITE;
+    }
+    (void)t;  /* a function of a time-dependent model may not read t itself (a uniformly moving platform) */
+
+    {
+        (void)u;
+
+        const double pe1 = cos(0.2*sin(0.5*t));
+        const double pe2 = cos(0.08*sin(0.7*t + 1.0));
+        const double pe3 = sin(0.2*sin(0.5*t));
+        const double pe4 = sin(0.08*sin(0.7*t + 1.0));
+        const double gam0_1 = pe1*pe2;
+        const double gam0_3 = pe1*pe4;
+        const double pe5 = cos(0.5*t);
+        const double pe6 = cos(0.7*t + 1.0);
+        const double wt0 = pe4*pe5;
+        const double om0_1 = -0.1*wt0;
+        const double wt1 = pe2*pe5;
+        const double om0_3 = 0.1*wt1;
+        const double pe7 = sin(0.5*t);
+        const double pe8 = sin(0.7*t + 1.0);
+        const double wt2 = pe4*pe7;
+        const double eps0_1 = 0.05*wt2 - 0.0056*pe2*pe5*pe6;
+        const double wt3 = pe2*pe7;
+        const double eps0_3 = -0.05*wt3 - 0.0056*pe4*pe5*pe6;
+        const double pe9 = sin(0.6*t);
+        const double a0_1 = -0.18*pe1*pe2*pe9;
+        const double a0_2 = 0.18*pe3*pe9;
+        const double a0_3 = -0.18*pe1*pe4*pe9;
+        const double pe10 = cos(0.6*t);
+        const double cos_phi1 = cos(x[0]);
+        const double sin_phi1 = sin(x[0]);
+        const double gam1_2 = -pe3*cos_phi1 + gam0_3*sin_phi1;
+        const double gam1_3 = gam0_3*cos_phi1 + pe3*sin_phi1;
+        const double om1_1 = om0_1 + x[2];
+        const double wt4 = pe6*cos_phi1;
+        const double om1_2 = 0.056*wt4 + om0_3*sin_phi1;
+        const double wt5 = pe6*sin_phi1;
+        const double om1_3 = om0_3*cos_phi1 - 0.056*wt5;
+        const double cos_phi2 = cos(x[1]);
+        const double sin_phi2 = sin(x[1]);
+        const double om2_1 = -om1_3 + x[3];
+        const double om2_2 = om1_2*cos_phi2 + om1_1*sin_phi2;
+        const double om2_3 = om1_1*cos_phi2 - om1_2*sin_phi2;
+        const double aO1_2 = a0_2*cos_phi1 + a0_3*sin_phi1;
+        const double aO1_3 = a0_3*cos_phi1 - a0_2*sin_phi1;
+        const double aOg1_1 = a0_1 - 9.81*gam0_1;
+        const double aOg1_2 = aO1_2 - 9.81*gam1_2;
+        const double aOg1_3 = aO1_3 - 9.81*gam1_3;
+        const double wt6 = pe8*cos_phi1;
+        const double eps1_2 = -0.0392*wt6 + eps0_3*sin_phi1 + x[2]*om1_3;
+        const double wt7 = pe8*sin_phi1;
+        const double eps1_3 = eps0_3*cos_phi1 + 0.0392*wt7 - x[2]*om1_2;
+        const double eps2_2 = cos_phi2*eps1_2 + eps0_1*sin_phi2 + x[3]*om2_3;
+        const double eps2_3 = eps0_1*cos_phi2 - sin_phi2*eps1_2 - x[3]*om2_2;
+        const double aOg2_2 = cos_phi2*aOg1_2 + sin_phi2*aOg1_1;
+        const double pN2_1 = -0.00612*eps1_3 + 0.00288*om2_2*om2_3 + 0.5*om2_2 - 0.012*aOg2_2;
+        const double pN2_2 = 0.00612*eps2_2 - 0.00288*om2_1*om2_3 - 0.5*om2_1 - 0.012*aOg1_3;
+        const double c2phi2 = cos_phi2*cos_phi2 - sin_phi2*sin_phi2;
+        const double Ja2rdr_33 = 0.00756 + 0.00144*c2phi2;
+        const double j2r18 = sin_phi2*pN2_2 + 0.009*cos_phi2*eps2_3;
+        const double IA1_11 = 0.005 + Ja2rdr_33;
+        const double pA1_1 = 0.005*eps0_1 + j2r18;
+        const double rD1 = 1.0/IA1_11;
+        const double qdd1 = -pA1_1*rD1;
+        const double pe1_dT1 = -0.1*pe3*pe5;
+        const double pe2_dT1 = -0.056*pe4*pe6;
+        const double pe3_dT1 = 0.1*pe1*pe5;
+        const double pe4_dT1 = 0.056*pe2*pe6;
+        const double gam0_1_dT1 = pe2*pe1_dT1 + pe1*pe2_dT1;
+        const double gam0_3_dT1 = pe4*pe1_dT1 + pe1*pe4_dT1;
+        const double om0_1_dT1 = -0.1*pe5*pe4_dT1 + 0.05*wt2;
+        const double om0_3_dT1 = 0.1*pe5*pe2_dT1 - 0.05*wt3;
+        const double eps0_1_dT1 = 0.05*pe7*pe4_dT1 + 0.025*wt0 - 0.0056*pe5*pe6*pe2_dT1 + 0.0028*pe2*pe6*pe7 + 0.00392*pe2*pe5*pe8;
+        const double eps0_3_dT1 = -0.05*pe7*pe2_dT1 - 0.025*wt1 - 0.0056*pe5*pe6*pe4_dT1 + 0.0028*pe4*pe6*pe7 + 0.00392*pe4*pe5*pe8;
+        const double a0_1_dT1 = -0.18*pe2*pe9*pe1_dT1 - 0.18*pe1*pe9*pe2_dT1 - 0.108*pe1*pe2*pe10;
+        const double a0_2_dT1 = 0.18*pe9*pe3_dT1 + 0.108*pe3*pe10;
+        const double a0_3_dT1 = -0.18*pe4*pe9*pe1_dT1 - 0.18*pe1*pe9*pe4_dT1 - 0.108*pe1*pe4*pe10;
+        const double gam1_2_dT1 = -cos_phi1*pe3_dT1 + sin_phi1*gam0_3_dT1;
+        const double gam1_3_dT1 = cos_phi1*gam0_3_dT1 + sin_phi1*pe3_dT1;
+        const double om1_2_dT1 = -0.0392*wt6 + sin_phi1*om0_3_dT1;
+        const double om1_3_dT1 = cos_phi1*om0_3_dT1 + 0.0392*wt7;
+        const double om2_2_dT1 = cos_phi2*om1_2_dT1 + sin_phi2*om0_1_dT1;
+        const double om2_3_dT1 = cos_phi2*om0_1_dT1 - sin_phi2*om1_2_dT1;
+        const double aO1_2_dT1 = cos_phi1*a0_2_dT1 + sin_phi1*a0_3_dT1;
+        const double aO1_3_dT1 = cos_phi1*a0_3_dT1 - sin_phi1*a0_2_dT1;
+        const double aOg1_1_dT1 = a0_1_dT1 - 9.81*gam0_1_dT1;
+        const double aOg1_2_dT1 = aO1_2_dT1 - 9.81*gam1_2_dT1;
+        const double aOg1_3_dT1 = aO1_3_dT1 - 9.81*gam1_3_dT1;
+        const double eps1_2_dT1 = -0.02744*wt4 + sin_phi1*eps0_3_dT1 + x[2]*om1_3_dT1;
+        const double eps1_3_dT1 = cos_phi1*eps0_3_dT1 + 0.02744*wt5 - x[2]*om1_2_dT1;
+        const double eps2_2_dT1 = cos_phi2*eps1_2_dT1 + sin_phi2*eps0_1_dT1 + x[3]*om2_3_dT1;
+        const double eps2_3_dT1 = cos_phi2*eps0_1_dT1 - sin_phi2*eps1_2_dT1 - x[3]*om2_2_dT1;
+        const double aOg2_2_dT1 = cos_phi2*aOg1_2_dT1 + sin_phi2*aOg1_1_dT1;
+        const double pN2_1_dT1 = -0.00612*eps1_3_dT1 + 0.00288*om2_3*om2_2_dT1 + 0.00288*om2_2*om2_3_dT1 + 0.5*om2_2_dT1 - 0.012*aOg2_2_dT1;
+        const double pN2_2_dT1 = 0.00612*eps2_2_dT1 + 0.00288*om2_3*om1_3_dT1 - 0.00288*om2_1*om2_3_dT1 + 0.5*om1_3_dT1 - 0.012*aOg1_3_dT1;
+        const double j2r18_dT1 = sin_phi2*pN2_2_dT1 + 0.009*cos_phi2*eps2_3_dT1;
+        const double pA1_1_dT1 = 0.005*eps0_1_dT1 + j2r18_dT1;
+        const double qdd1_dT1 = -rD1*pA1_1_dT1;
+
+        acc[0] = qdd1;
+        acc[1] = -163.3986928104575*pN2_1;
+        piv[0] = IA1_11;
+        piv[1] = 0.00612;
+        dp[0] = qdd1_dT1;
+        dp[1] = -163.3986928104575*pN2_1_dT1;
+
+    }
+    code = ship_gimbal_pivots_(piv);
+    if (code != SHIP_GIMBAL_OK) {
+        return code;
+    }
+    for (i = 0; qdd && i < 2; ++i) {
+        qdd[i] = acc[i];
+    }
+    for (i = 0; dqdd_dt && i < 2; ++i) {
+        dqdd_dt[i] = dp[i];
+    }
+    return ship_gimbal_all_finite_(acc, 2) && ship_gimbal_all_finite_(dp, 2) ? SHIP_GIMBAL_OK : SHIP_GIMBAL_NONFINITE;
+}
 #define SHIP_GIMBAL_ROUND_ 6755399441055744.0  /* 1.5 * 2^52: x + it - it rounds x to an integer */
 
 /* the blocks of 4 and 1 arguments (kernels/sincos.c) */
@@ -2029,25 +2166,27 @@ SHIP_GIMBAL_FN int ship_gimbal_step(double t, const double *x, const double *u, 
     return SHIP_GIMBAL_OK;
 }
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 5, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x 6, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 SHIP_GIMBAL_FN static void ship_gimbal_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
     int i, c;
     for (i = 0; i < 4; ++i) {
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
-        for (c = 0; c < 5; ++c) {
-            dy[i * 5 + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * 5 + c] + (c == 5 - 1 ? a * kp[i] : 0.0) : 0.0);
+        for (c = 0; c < 6; ++c) {
+            dy[i * 6 + c] = (c == i ? 1.0 : 0.0)
+                + (kp ? a * h * dkp[i * 6 + c] + (c == 4 ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 5,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of ship_gimbal_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
-SHIP_GIMBAL_FN static int ship_gimbal_step_stage_(double t, const double *y, const double *dy, const double *u,
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x 6, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * ship_gimbal_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
+SHIP_GIMBAL_FN static int ship_gimbal_step_stage_(double t, double ta, const double *y, const double *dy, const double *u,
                                   const ship_gimbal_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
     int i, j, c, code;
@@ -2057,43 +2196,54 @@ SHIP_GIMBAL_FN static int ship_gimbal_step_stage_(double t, const double *y, con
     for (i = 0; i < 2; ++i) {
         k[i] = y[2 + i];
     }
-    for (c = 0; c < 5; ++c) {
+    for (c = 0; c < 6; ++c) {
         for (i = 0; i < 2; ++i) {
             double s = c >= 4 && c < 4 + 0 ? Du[i * 0 + c - 4] : 0.0;
-            dk[i * 5 + c] = dy[(2 + i) * 5 + c];
+            dk[i * 6 + c] = dy[(2 + i) * 6 + c];
             for (j = 0; j < 2; ++j) {
-                s += Dq[i * 2 + j] * dy[j * 5 + c] + Dv[i * 2 + j] * dy[(2 + j) * 5 + c];
+                s += Dq[i * 2 + j] * dy[j * 6 + c] + Dv[i * 2 + j] * dy[(2 + j) * 6 + c];
             }
-            dk[(2 + i) * 5 + c] = s;
+            dk[(2 + i) * 6 + c] = s;
+        }
+    }
+    {
+        double Dt[2];
+        if ((code = ship_gimbal_time_derivative(t, y, u, p, 0, Dt)) != SHIP_GIMBAL_OK) {
+            return code;
+        }
+        for (i = 0; i < 2; ++i) {
+            dk[(2 + i) * 6 + 6 - 1] += Dt[i];
+            dk[(2 + i) * 6 + 4] += ta * Dt[i];
         }
     }
     return SHIP_GIMBAL_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x 5, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x 6, row-major), by the chain rule through the
+ * four stages */
 SHIP_GIMBAL_FN static int ship_gimbal_step_jacobian_(double t, const double *x, const double *u, const ship_gimbal_params *p, double h,
                                      double *xn, double *J)
 {
     static const double a[4] = {0.0, 0.5, 0.5, 1.0}, b[4] = {1.0, 2.0, 2.0, 1.0};
     double y[4], k[4], s[4];
-    double dy[4 * 5], dk[4 * 5], ds[4 * 5];
+    double dy[4 * 6], dk[4 * 6], ds[4 * 6];
     double Dq[4], Dv[4], Du[2];
     int i, c, st, code;
     for (i = 0; i < 4; ++i) {
         s[i] = 0.0;
-        for (c = 0; c < 5; ++c) {
-            ds[i * 5 + c] = 0.0;
+        for (c = 0; c < 6; ++c) {
+            ds[i * 6 + c] = 0.0;
         }
     }
     ship_gimbal_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = ship_gimbal_step_stage_(t + a[st] * h, y, dy, u, p, k, dk, Dq, Dv, Du)) != SHIP_GIMBAL_OK) {
+        if ((code = ship_gimbal_step_stage_(t + a[st] * h, a[st], y, dy, u, p, k, dk, Dq, Dv, Du)) != SHIP_GIMBAL_OK) {
             return code;
         }
         for (i = 0; i < 4; ++i) {
             s[i] += b[st] * k[i];
-            for (c = 0; c < 5; ++c) {
-                ds[i * 5 + c] += b[st] * dk[i * 5 + c];
+            for (c = 0; c < 6; ++c) {
+                ds[i * 6 + c] += b[st] * dk[i * 6 + c];
             }
         }
         if (st < 3) {
@@ -2102,25 +2252,22 @@ SHIP_GIMBAL_FN static int ship_gimbal_step_jacobian_(double t, const double *x, 
     }
     for (i = 0; i < 4; ++i) {
         xn[i] = x[i] + h / 6.0 * s[i];
-        for (c = 0; c < 5; ++c) {
-            J[i * 5 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 5 + c]
-                                    + (c == 5 - 1 ? s[i] / 6.0 : 0.0);
+        for (c = 0; c < 6; ++c) {
+            J[i * 6 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 6 + c]
+                                    + (c == 4 ? s[i] / 6.0 : 0.0);
         }
     }
     return SHIP_GIMBAL_OK;
 }
 
 SHIP_GIMBAL_FN int ship_gimbal_step_jacobian(double t, const double *x, const double *u, const ship_gimbal_params *p, double h, double *xn,
-                             double *Ad, double *Bd, double *xn_h)
+                             double *Ad, double *Bd, double *xn_h, double *xn_t)
 {
-    double J[4 * 5], xs[4];
+    double J[4 * 6], xs[4];
     double *out = xn ? xn : xs;
     int i, c, code;
     if ((code = ship_gimbal_step_args_(t, x, p, h, out)) != SHIP_GIMBAL_OK) {
         return code;
-    }
-    if (xn_h) {  /* d/dh moves the stages' times too: that needs df/dt, which is not emitted */
-        return SHIP_GIMBAL_BAD_ARGUMENT;
     }
     if (!ship_gimbal_all_finite_(x, 4)) {
         return SHIP_GIMBAL_NONFINITE;
@@ -2130,13 +2277,16 @@ SHIP_GIMBAL_FN int ship_gimbal_step_jacobian(double t, const double *x, const do
     }
     for (i = 0; i < 4; ++i) {
         for (c = 0; Ad && c < 4; ++c) {
-            Ad[i * 4 + c] = J[i * 5 + c];
+            Ad[i * 4 + c] = J[i * 6 + c];
         }
         for (c = 0; Bd && c < 0; ++c) {
-            Bd[i * 0 + c] = J[i * 5 + 4 + c];
+            Bd[i * 0 + c] = J[i * 6 + 4 + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * 5 + 5 - 1];
+            xn_h[i] = J[i * 6 + 4];
+        }
+        if (xn_t) {
+            xn_t[i] = J[i * 6 + 6 - 1];
         }
     }
     return ship_gimbal_all_finite_(out, 4) ? SHIP_GIMBAL_OK : SHIP_GIMBAL_NONFINITE;

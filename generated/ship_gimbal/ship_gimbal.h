@@ -46,21 +46,23 @@
  * Phi(t1) = dx(t1)/dx(t0) Phi(t0), the tangent map of the emitted dynamics; x1 = x(t1).  On failure x1
  * is the last accepted state and Phi is NaN.  stats may be NULL.  Its arrays take about 5 KB
  * of stack, besides what ship_gimbal_qdd_derivatives takes.
+ * This model reads t: ship_gimbal_time_derivative(t, x, u, p, qdd, dqdd_dt) gives phi'' and d phi''/dt (N; the
+ * forward mode of the articulated recursion seeded at t, exact; a NULL output is not written).
  * The discrete-time model, for a controller that runs at a fixed rate: ship_gimbal_step(t, x, u, p, h, xn)
  * is one classical RK4 step of length h from (t, x) with u held over it (the step of SHIP_GIMBAL_RK4,
  * bit for bit), xn the state at t + h; on failure xn is NaN (xn may be x: keep a copy of x if the
  * loop must go on after a failure).
- * ship_gimbal_step_jacobian(t, x, u, p, h, xn, Ad, Bd, xn_h) is the same step (xn equal to round-off;
+ * ship_gimbal_step_jacobian(t, x, u, p, h, xn, Ad, Bd, xn_h, xn_t) is the same step (xn equal to round-off;
  * NULL allowed) with its exact derivatives, by the chain rule through the four stages with the
  * exact Jacobian of each: Ad = dxn/dx (2N x 2N), Bd = dxn/du (2N x NU) and xn_h = dxn/dh (2N), row-major;
- * a NULL output is not written.  This model reads t, so the stages' times move with h:
- * xn_h, which would need df/dt, must be NULL (SHIP_GIMBAL_BAD_ARGUMENT otherwise).  Its arrays take
+ * and xn_t = dxn/dt (2N: this model reads t; the stages' times t + c h move with t and h),
+ * a NULL output is not written.  Its arrays take
  * about 1 KB of stack, besides what ship_gimbal_qdd_derivatives takes.
  * ship_gimbal_qdd_derivatives(x, u, p, qdd, dqdd_dphi, dqdd_dphidot, dqdd_du) gives phi'' and its exact
  * derivatives (the derivative of the emitted straight-line code, forward mode over the articulated
  * recursion: O(n^2)), row-major n x n, n x n, n x nu; a NULL block is not computed.
  * ship_gimbal_linearize(t, x, u, p, A, B): xdot = A dx + B du about (x, u), A 2n x 2n, B 2n x nu.
- * Op counts: energy 129, forces 148, linearize 312, mass_matrix 8, momentum 68, qdd 157, qdd_derivatives 312, rhs 157.
+ * Op counts: energy 129, forces 148, linearize 312, mass_matrix 8, momentum 68, qdd 157, qdd_derivatives 312, rhs 157, time_derivative 324.
  *
  * C99, <math.h> only, no allocation, no globals: thread-safe.  The caller owns every buffer.
  */
@@ -121,6 +123,8 @@ SHIP_GIMBAL_FN int ship_gimbal_qdd_derivatives(double t, const double *x, const 
 SHIP_GIMBAL_FN int ship_gimbal_linearize(double t, const double *x, const double *u, const ship_gimbal_params *p, double *A, double *B);
 SHIP_GIMBAL_FN double ship_gimbal_energy(double t, const double *x, const ship_gimbal_params *p);
 SHIP_GIMBAL_FN double ship_gimbal_momentum(double t, const double *x, const ship_gimbal_params *p);
+SHIP_GIMBAL_FN int ship_gimbal_time_derivative(double t, const double *x, const double *u, const ship_gimbal_params *p,
+                          double *qdd, double *dqdd_dt);
 typedef struct ship_gimbal_integrate_stats {
     double t;
     double x[4];
@@ -140,7 +144,7 @@ SHIP_GIMBAL_FN int ship_gimbal_integrate_batch(int method, int nb, int nt, const
                          const ship_gimbal_params *p, long p_stride, double *X, int *codes);
 SHIP_GIMBAL_FN int ship_gimbal_step(double t, const double *x, const double *u, const ship_gimbal_params *p, double h, double *xn);
 SHIP_GIMBAL_FN int ship_gimbal_step_jacobian(double t, const double *x, const double *u, const ship_gimbal_params *p, double h,
-                       double *xn, double *Ad, double *Bd, double *xn_h);
+                       double *xn, double *Ad, double *Bd, double *xn_h, double *xn_t);
 SHIP_GIMBAL_FN int ship_gimbal_integrate_variational(double t0, double t1, double h, double rtol, double atol,
                                const double *x0, const double *u, const ship_gimbal_params *p,
                                double *x1, double *Phi, ship_gimbal_integrate_stats *stats);

@@ -26,7 +26,7 @@ TIME_DEPENDENT = True  # forces, qdd, energy, momentum take t first
 # the spec's joint limits, per joint (lower, upper in rad; velocity in rad/s; effort in N m), None where it has none:
 # data for an optimiser or a controller, not enforced by the model
 LIMITS = {}
-OP_COUNTS = { "energy": 129, "forces": 148, "linearize": 312, "mass_matrix": 8, "momentum": 68, "qdd": 157, "qdd_derivatives": 312, "rhs": 157, }
+OP_COUNTS = { "energy": 129, "forces": 148, "linearize": 312, "mass_matrix": 8, "momentum": 68, "qdd": 157, "qdd_derivatives": 312, "rhs": 157, "time_derivative": 324, }
 PIVOT_TOL = 2 * 2.220446049250313e-16
 
 

@@ -3955,8 +3955,9 @@ SPATIAL3_FN int spatial3_step(double t, const double *x, const double *u, const 
     return SPATIAL3_OK;
 }
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 8, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x 8, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 SPATIAL3_FN static void spatial3_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
@@ -3965,14 +3966,15 @@ SPATIAL3_FN static void spatial3_step_point_(const double *x, double h, double a
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
         for (c = 0; c < 8; ++c) {
             dy[i * 8 + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * 8 + c] + (c == 8 - 1 ? a * kp[i] : 0.0) : 0.0);
+                + (kp ? a * h * dkp[i * 8 + c] + (c == 7 ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 8,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of spatial3_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x 8, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * spatial3_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
 SPATIAL3_FN static int spatial3_step_stage_(const double *y, const double *dy, const double *u,
                                   const spatial3_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
@@ -3996,7 +3998,8 @@ SPATIAL3_FN static int spatial3_step_stage_(const double *y, const double *dy, c
     return SPATIAL3_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x 8, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x 8, row-major), by the chain rule through the
+ * four stages */
 SPATIAL3_FN static int spatial3_step_jacobian_(double t, const double *x, const double *u, const spatial3_params *p, double h,
                                      double *xn, double *J)
 {
@@ -4031,7 +4034,7 @@ SPATIAL3_FN static int spatial3_step_jacobian_(double t, const double *x, const 
         xn[i] = x[i] + h / 6.0 * s[i];
         for (c = 0; c < 8; ++c) {
             J[i * 8 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 8 + c]
-                                    + (c == 8 - 1 ? s[i] / 6.0 : 0.0);
+                                    + (c == 7 ? s[i] / 6.0 : 0.0);
         }
     }
     return SPATIAL3_OK;
@@ -4060,7 +4063,7 @@ SPATIAL3_FN int spatial3_step_jacobian(double t, const double *x, const double *
             Bd[i * 1 + c] = J[i * 8 + 6 + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * 8 + 8 - 1];
+            xn_h[i] = J[i * 8 + 7];
         }
     }
     return spatial3_all_finite_(out, 6) ? SPATIAL3_OK : SPATIAL3_NONFINITE;

@@ -1683,8 +1683,9 @@ TURNTABLE_FN int turntable_step(double t, const double *x, const double *u, cons
     return TURNTABLE_OK;
 }
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 3, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x 3, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 TURNTABLE_FN static void turntable_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
@@ -1693,14 +1694,15 @@ TURNTABLE_FN static void turntable_step_point_(const double *x, double h, double
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
         for (c = 0; c < 3; ++c) {
             dy[i * 3 + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * 3 + c] + (c == 3 - 1 ? a * kp[i] : 0.0) : 0.0);
+                + (kp ? a * h * dkp[i * 3 + c] + (c == 2 ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 3,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of turntable_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x 3, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * turntable_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
 TURNTABLE_FN static int turntable_step_stage_(const double *y, const double *dy, const double *u,
                                   const turntable_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
@@ -1724,7 +1726,8 @@ TURNTABLE_FN static int turntable_step_stage_(const double *y, const double *dy,
     return TURNTABLE_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x 3, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x 3, row-major), by the chain rule through the
+ * four stages */
 TURNTABLE_FN static int turntable_step_jacobian_(double t, const double *x, const double *u, const turntable_params *p, double h,
                                      double *xn, double *J)
 {
@@ -1759,7 +1762,7 @@ TURNTABLE_FN static int turntable_step_jacobian_(double t, const double *x, cons
         xn[i] = x[i] + h / 6.0 * s[i];
         for (c = 0; c < 3; ++c) {
             J[i * 3 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 3 + c]
-                                    + (c == 3 - 1 ? s[i] / 6.0 : 0.0);
+                                    + (c == 2 ? s[i] / 6.0 : 0.0);
         }
     }
     return TURNTABLE_OK;
@@ -1788,7 +1791,7 @@ TURNTABLE_FN int turntable_step_jacobian(double t, const double *x, const double
             Bd[i * 0 + c] = J[i * 3 + 2 + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * 3 + 3 - 1];
+            xn_h[i] = J[i * 3 + 2];
         }
     }
     return turntable_all_finite_(out, 2) ? TURNTABLE_OK : TURNTABLE_NONFINITE;

@@ -7003,8 +7003,9 @@ UR5_FN int ur5_step(double t, const double *x, const double *u, const ur5_params
     return UR5_OK;
 }
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x 19, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x 19, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 UR5_FN static void ur5_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
@@ -7013,14 +7014,15 @@ UR5_FN static void ur5_step_point_(const double *x, double h, double a, const do
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
         for (c = 0; c < 19; ++c) {
             dy[i * 19 + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * 19 + c] + (c == 19 - 1 ? a * kp[i] : 0.0) : 0.0);
+                + (kp ? a * h * dkp[i * 19 + c] + (c == 18 ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x 19,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of ur5_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x 19, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * ur5_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
 UR5_FN static int ur5_step_stage_(const double *y, const double *dy, const double *u,
                                   const ur5_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
@@ -7044,7 +7046,8 @@ UR5_FN static int ur5_step_stage_(const double *y, const double *dy, const doubl
     return UR5_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x 19, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x 19, row-major), by the chain rule through the
+ * four stages */
 UR5_FN static int ur5_step_jacobian_(double t, const double *x, const double *u, const ur5_params *p, double h,
                                      double *xn, double *J)
 {
@@ -7079,7 +7082,7 @@ UR5_FN static int ur5_step_jacobian_(double t, const double *x, const double *u,
         xn[i] = x[i] + h / 6.0 * s[i];
         for (c = 0; c < 19; ++c) {
             J[i * 19 + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * 19 + c]
-                                    + (c == 19 - 1 ? s[i] / 6.0 : 0.0);
+                                    + (c == 18 ? s[i] / 6.0 : 0.0);
         }
     }
     return UR5_OK;
@@ -7108,7 +7111,7 @@ UR5_FN int ur5_step_jacobian(double t, const double *x, const double *u, const u
             Bd[i * 6 + c] = J[i * 19 + 12 + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * 19 + 19 - 1];
+            xn_h[i] = J[i * 19 + 18];
         }
     }
     return ur5_all_finite_(out, 12) ? UR5_OK : UR5_NONFINITE;

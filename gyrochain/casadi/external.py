@@ -65,7 +65,9 @@ class CasadiModel:
     """The CasADi functions of one model: ``f`` (x, u, p) -> xdot, ``F`` (x, u, p, h) -> xnext (one
     RK4 step), ``M`` (q, p) -> M, ``E`` (x, p) -> E; ``p0`` the parameter values (the spec's
     [values], overridden by those given), ``library`` the shared library they are loaded from,
-    ``bounds`` the spec's joint limits as box bounds on x and u (Bounds)."""
+    ``bounds`` the spec's joint limits as box bounds on x and u (Bounds).  A model that reads t
+    (``time_dependent``) takes t as an input of f and F after p (and h): (x, u, p, t) and
+    (x, u, p, h, t); one with disturbance torques (``ndist`` of them) takes them last, as u_dist."""
 
     name: str
     n: int
@@ -78,6 +80,8 @@ class CasadiModel:
     M: object = field(repr=False)
     E: object = field(repr=False)
     bounds: Bounds = field(default=None, repr=False)
+    time_dependent: bool = False
+    ndist: int = 0
 
 
 def build_library(files: dict[str, str], name: str) -> Path:
@@ -109,7 +113,8 @@ class _Source:
     files: dict
     name: str
     n: int
-    nu: int
+    nu: int  # CasADi's u: the controls (not the disturbances)
+    ndist: int
     params: list  # the parameters' names, in NAME_params' order
     values: dict  # their values where known (a spec's [values]; a folder holds none)
     bounds: Bounds
@@ -132,12 +137,22 @@ def _folder(folder: Path) -> _Source:
     if len(sizes) != 2 or struct is None:
         raise SpecError(str(folder), f"{name}.h is not a header gyrochain wrote")
     params = [f for f in re.findall(r"double (\w+);", struct.group(1)) if f != "unused_"]
-    return _Source(files, name, sizes["N"], sizes["NU"], params, {}, _header_bounds(folder, name, header, sizes["N"], sizes["NU"]))
+    py = (folder / f"{name}.py").read_text() if (folder / f"{name}.py").exists() else ""
+    ndist = len(_joints(py, "DISTURBANCES") or ())
+    return _Source(files, name, sizes["N"], sizes["NU"] - ndist, ndist, params, {},
+                   _header_bounds(header, name, sizes["N"], sizes["NU"] - ndist, py))
 
 
-def _header_bounds(folder: Path, name: str, header: str, n: int, nu: int) -> Bounds:
+def _joints(py: str, key: str) -> list | None:
+    """A generated NAME.py's tuple of joints ``key`` (CONTROLS, DISTURBANCES), None without it."""
+    found = re.search(rf"^{key} = \(([\d, ]*)\)", py, re.M)
+    return None if found is None else [int(k) for k in found.group(1).replace(" ", "").split(",") if k]
+
+
+def _header_bounds(header: str, name: str, n: int, nu: int, py: str) -> Bounds:
     """The limits' initializers of a generated header (NAME_PHI_LOWER, …) as Bounds; the
-    controlled joints from the folder's NAME.py (CONTROLS), else every joint."""
+    controlled joints from the folder's NAME.py ``py`` (CONTROLS but DISTURBANCES), else none
+    bounded in u."""
     from ..printers.c import LIMIT_MACROS
 
     limits = {}
@@ -145,12 +160,12 @@ def _header_bounds(folder: Path, name: str, header: str, n: int, nu: int) -> Bou
         found = re.search(rf"#define {name.upper()}_{macro} \{{(.*?)\}}\n", header)
         if found:
             limits[key] = [None if "HUGE_VAL" in v else float(v) for v in found.group(1).split(",")]
-    py = folder / f"{name}.py"
-    controls = re.search(r"^CONTROLS = \(([\d, ]*)\)", py.read_text(), re.M) if py.exists() else None
+    controls = _joints(py, "CONTROLS")
     if controls is None:  # which joints u drives is not known here: no bound on u
         limits.pop("effort", None)
         return bounds_of(limits, n, range(1, nu + 1))
-    return bounds_of(limits, n, [int(k) for k in controls.group(1).replace(" ", "").split(",") if k])
+    dist = set(_joints(py, "DISTURBANCES") or ())
+    return bounds_of(limits, n, [k for k in controls if k not in dist])
 
 
 def _source(spec_or_folder) -> _Source:
@@ -159,9 +174,10 @@ def _source(spec_or_folder) -> _Source:
         return _folder(Path(spec_or_folder))
     spec = load_spec(spec_or_folder) if isinstance(spec_or_folder, (str, Path)) else spec_or_folder
     target.check(spec)
-    files, _ = pipeline.derive_and_render(spec, targets=("c", "casadi"))  # (the target refuses a model depending on t)
-    return _Source(files, spec.name, spec.n, len(spec.controls), [str(p) for p in spec.params],
-                   dict(getattr(spec, "values", None) or {}), bounds_of(spec_limits(spec), spec.n, spec.controls))
+    files, _ = pipeline.derive_and_render(spec, targets=("c", "casadi"))
+    ctrl = [k for k in spec.controls if k not in spec.disturbances]
+    return _Source(files, spec.name, spec.n, len(ctrl), len(spec.disturbances), [str(p) for p in spec.params],
+                   dict(getattr(spec, "values", None) or {}), bounds_of(spec_limits(spec), spec.n, ctrl))
 
 
 def functions(spec_or_folder, params: dict | None = None) -> CasadiModel:
@@ -185,5 +201,6 @@ def functions(spec_or_folder, params: dict | None = None) -> CasadiModel:
     exact = f"int jac_adj1_{src.name}_f(" in src.files[f"{src.name}_casadi.c"]
     made = {k: casadi.external(f"{src.name}_{k}", str(lib), {} if exact or k not in "fF" else SECOND_ORDER_BY_DIFFERENCES)
             for k in ("f", "F", "M", "E")}
+    timed = f"#define {src.name.upper()}_TIME_DEPENDENT 1\n" in src.files[f"{src.name}.h"]
     return CasadiModel(src.name, src.n, src.nu, list(src.params), np.array([float(values[k]) for k in src.params]), lib,
-                       **made, bounds=src.bounds)
+                       **made, bounds=src.bounds, time_dependent=timed, ndist=src.ndist)

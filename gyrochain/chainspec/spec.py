@@ -85,7 +85,7 @@ class BodySpec:
     A: tuple[tuple[sp.Expr, ...], ...]
     s: tuple[sp.Expr, sp.Expr, sp.Expr]  # zero for the last body (unused)
     lam: tuple[sp.Expr, sp.Expr, sp.Expr]  # gyrostatic moment lambda^k, body axes (may depend on t)
-    control: bool
+    control: bool  # the joint takes an input torque, an entry of u: a motor's, or a disturbance's
     spring: sp.Expr | None = None  # joint stiffness: torque -spring (phi - rest)
     rest: sp.Expr = sp.Integer(0)
     damping: sp.Expr | None = None  # viscous joint friction: torque -damping phidot
@@ -95,6 +95,7 @@ class BodySpec:
     offset: sp.Expr = sp.Integer(0)  # the joint's zero: the paper's φᵏ is the spec's joint angle + offset
     armature: sp.Expr = sp.Integer(0)  # the joint's reflected motor inertia, added to M_kk (MuJoCo's armature)
     limits: tuple = ()  # ((key, value), …) of limits.KEYS: data for the optimiser, not enforced by the model
+    disturbance: bool = False  # the input is a disturbance torque, which no controller sets (CasADi's u_dist)
 
     @property
     def lam_dot(self) -> tuple:
@@ -133,6 +134,11 @@ class ChainSpec:
     def controls(self) -> tuple[int, ...]:
         """Joints k (1-based) with a control torque, in chain order."""
         return tuple(k for k, b in enumerate(self.bodies, start=1) if b.control)
+
+    @property
+    def disturbances(self) -> tuple[int, ...]:
+        """Joints k (1-based) whose input is a disturbance torque (among ``controls``, in chain order)."""
+        return tuple(k for k, b in enumerate(self.bodies, start=1) if b.disturbance)
 
     @property
     def is_numeric(self) -> bool:
@@ -300,7 +306,7 @@ def _matrix(value, where: str, names: dict, state: dict | None = None) -> tuple:
 
 # --------------------------------------------------------------------------- the spec
 TOP_FIELDS = {"name", "description", "g", "body", "initial", "base", "values"}
-BODY_FIELDS = {"theta", "m", "c", "A", "I_c", "s", "lambda", "rotor", "control", "spring", "rest", "damping", "torque", "force",
+BODY_FIELDS = {"theta", "m", "c", "A", "I_c", "s", "lambda", "rotor", "control", "disturbance", "spring", "rest", "damping", "torque", "force",
                "moment", "offset", "armature", "limits"}
 BODY_REQUIRED = ("theta", "m", "c")
 ROTOR_FIELDS = ("axis", "inertia", "speed")
@@ -481,7 +487,7 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
             vals["lambda"] = _rotor(value, where, names, const, time)
         elif key == "limits":
             vals[key] = parse_limits(value, where, lambda v, at: _scalar(v, at, {}, const))
-        elif key == "control":
+        elif key in ("control", "disturbance"):
             if not isinstance(value, bool):
                 raise SpecError(where, "expected true or false")
             vals[key] = value
@@ -489,6 +495,9 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
             if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
                 raise SpecError(where, f"expected [[{at.split('[')[0]}.{key}]] tables")
             vals[key] = tuple(_load(v, f"{where}[{i}]", names, n, key == "force") for i, v in enumerate(value, start=1))
+    if vals.get("control") and vals.get("disturbance"):
+        raise SpecError(f"{at}.disturbance", "the joint has a control torque: a disturbance on it adds to u (give one of "
+                                             "control = true or disturbance = true)")
     if "rest" in vals and "spring" not in vals:
         raise SpecError(f"{at}.rest", "a rest angle without a spring (give spring = k too)")
     for key, what in (("spring", "stiffness"), ("damping", "damping coefficient")):
@@ -513,7 +522,8 @@ def _body(raw: dict, k: int, n: int, names: dict) -> BodySpec:
         A=A,
         s=vals.get("s", ZERO3),
         lam=vals.get("lambda", ZERO3),
-        control=vals.get("control", False),
+        control=vals.get("control", False) or vals.get("disturbance", False),
+        disturbance=vals.get("disturbance", False),
         spring=vals.get("spring"),
         rest=vals.get("rest", sp.Integer(0)),
         damping=vals.get("damping"),

@@ -65,6 +65,8 @@ class Model:
     hess_skipped: str = ""  # why the second derivatives asked for were not emitted ("" when they were, or not asked)
     # ∂φ̈/∂p in the spec's symbolic parameters (NAME_param_derivatives), None without parameters
     pder: derivatives.ParamDerivatives | None = None
+    # ∂φ̈/∂t of a model that reads t (NAME_time_derivative: the step's derivatives in h and t), else ()
+    tder: tuple = ()
 
 
 class FormNotApplicable(ValueError):
@@ -148,15 +150,29 @@ def build_model(spec: ChainSpec, prog: Program, kin: Kinematics, dyn: Dynamics, 
     say(f"derivatives: {form_d} form")
     # the regressor after everything else: no other quantity's name depends on it
     reg, base = _regressor(spec, P, kin, dyn, ints, lines, say) if with_regressor else (None, None)
-    hess, skipped = _hessian(spec, P, kin, art, articulated, lines, say) if with_hessian else (None, "")
+    timed = reads_time_any(lines)
+    hess, skipped = _hessian(spec, P, kin, art, articulated, lines, say, timed) if with_hessian else (None, "")
+    tder, pder = _seeded(spec, P, kin, art, lines, say, timed)
+    return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d, reg=reg, base=base,
+                 world_columns=columns if form_d == "world" else "", hess=hess, hess_skipped=skipped, pder=pder,
+                 tder=tder)
+
+
+def _seeded(spec, P: Program, kin, art, lines: dict, say, timed: bool) -> tuple:
+    """(∂φ̈/∂t of a model that reads t, else (); ∂φ̈/∂p with symbolic parameters, else None), with
+    their straight lines in ``lines``, after the rest: no other quantity's name depends on them."""
+    tder: tuple = ()
+    if timed:
+        say("straight-line code: the derivative of qdd in t")
+        tder = derivatives.derive_time(spec, P, kin, art)
+        lines["time_derivative"] = straight_line(P, list(art.qdd) + list(art.pivots) + list(tder), prefix="wt")
     pder = None
-    if spec.params:  # after the rest: no other name depends on it
+    if spec.params:
         say("straight-line code: derivatives of qdd in the symbolic parameters")
         pder = derivatives.derive_params(spec, P, kin, art)
         lines["param_derivatives"] = straight_line(P, list(art.qdd) + list(art.pivots) + [d for row in pder.dqdd for d in row],
                                                    prefix="wp")
-    return Model(spec, kin, dyn, ints, lines, form, quad, der, store, der_form=form_d, reg=reg, base=base,
-                 world_columns=columns if form_d == "world" else "", hess=hess, hess_skipped=skipped, pder=pder)
+    return tder, pder
 
 
 # Past this many operations NAME_rhs_hessian is not emitted (gcc's time; the Panda's is 103k): an
@@ -169,18 +185,18 @@ HESSIAN_MAX_OPS = 150000
 HESSIAN_OPS_PER_RECURSION_DIR2 = 0.14
 
 
-def _hessian(spec, P: Program, kin, art, articulated: StraightLine, lines: dict, say) -> tuple:
+def _hessian(spec, P: Program, kin, art, articulated: StraightLine, lines: dict, say, timed: bool) -> tuple:
     """(the weighted Hessian of φ̈, "") with its straight line (the recursion, then the pairs i ≤ j)
     in ``lines``, last of all: no other quantity's name depends on it.  (None, why) past
-    HESSIAN_MAX_OPS, or past twice it by estimate (not derived)."""
-    ndir = 2 * spec.n + len(spec.controls)
+    HESSIAN_MAX_OPS, or past twice it by estimate (not derived).  ``timed``: t is a direction too."""
+    ndir = 2 * spec.n + len(spec.controls) + int(timed)
     guess = int(HESSIAN_OPS_PER_RECURSION_DIR2 * articulated.op_count() * ndir * ndir)
     if guess > 2 * HESSIAN_MAX_OPS or spec.n > VARIATIONAL_MAX_N:
         why = f"about {guess:,} operations at n = {spec.n}, past {HESSIAN_MAX_OPS:,}"
         say(f"second derivatives: {why}: not emitted")
         return None, why
     say("second derivatives: the Hessian of mu . qdd, forward mode over forward mode")
-    hess = hessian.derive(spec, P, kin, art)
+    hess = hessian.derive(spec, P, kin, art, timed)
     pairs = [hess.upper[k] for k in sorted(hess.upper)]
     line = straight_line(P, list(art.qdd) + list(art.pivots) + pairs, prefix="wh")
     if line.op_count() > HESSIAN_MAX_OPS:
@@ -381,15 +397,20 @@ def reads_time(line: StraightLine) -> bool:
 
 
 def step_hessian_applies(model: Model) -> bool:
-    """Whether NAME_step_hessian is emitted beside NAME_rhs_hessian: an autonomous model (the
-    step's h-derivatives of one that reads t would need ∂f/∂t) with NAME_step_jacobian."""
-    return model.hess is not None and not time_dependent(model) and model.spec.n <= VARIATIONAL_MAX_N
+    """Whether NAME_step_hessian is emitted beside NAME_rhs_hessian: a model with
+    NAME_step_jacobian (n ≤ VARIATIONAL_MAX_N)."""
+    return model.hess is not None and model.spec.n <= VARIATIONAL_MAX_N
+
+
+def reads_time_any(lines: dict) -> bool:
+    """Whether any of the straight lines of the state's functions reads t."""
+    return any(reads_time(lines[k]) for k in ("forces", "qdd", "energy", "momentum") if k in lines)
 
 
 def time_dependent(model: Model) -> bool:
     """Whether any emitted function of the state needs t (then all of them but NAME_mass_matrix
     and NAME_jacobi take it, first; the header says so with NAME_TIME_DEPENDENT 1)."""
-    return any(reads_time(model.lines[k]) for k in ("forces", "qdd", "energy", "momentum") if k in model.lines)
+    return reads_time_any(model.lines)
 
 
 

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .algebra import Atom, Poly, ZERO
+from ..chainspec.spec import T as TIME
 from .exact import exact
 from .kinematics import appends_to
 from .program import Program, Var
@@ -235,16 +236,22 @@ class ParamDerivatives:
     dqdd: tuple
 
 
-def derive_params(spec, prog: Program, kin, art) -> ParamDerivatives:
+def derive_params(spec, prog: Program, kin, art, symbols: tuple | None = None, label: str = "P") -> ParamDerivatives:
     """∂φ̈/∂p: the forward mode of ``tangents`` seeded at the parameters instead of the state, one
     tangent per parameter (label ``P<j>``), appended to ``prog``.  A parameter that φ̈ does not read
-    has a zero column, a true zero."""
+    has a zero column, a true zero.  ``symbols``: other inputs to seed instead (t, for ∂φ̈/∂t)."""
     appends_to(prog, kin)
     P = prog
-    params = tuple(spec.params)
+    params = tuple(spec.params) if symbols is None else tuple(symbols)
     seeds = {}
     for j, s in enumerate(params):
         seeds[next(iter(P.input(s).terms))[0]] = {j: Poly.const(1)}
-    tan = tangents(P, list(art.qdd), seeds, tuple(f"P{j + 1}" for j in range(len(params))))
+    tan = tangents(P, list(art.qdd), seeds, tuple(f"{label}{j + 1}" for j in range(len(params))))
     dqdd = tuple(tuple(tangent_poly(q, tan).get(j, ZERO) for j in range(len(params))) for q in art.qdd)
     return ParamDerivatives(params, dqdd)
+
+
+def derive_time(spec, prog: Program, kin, art) -> tuple:
+    """∂φ̈ᵏ/∂t of a model that reads t (a moving platform, λ(t), a load of t): the same forward
+    mode seeded at t, one entry per joint, appended to ``prog``."""
+    return tuple(row[0] for row in derive_params(spec, prog, kin, art, symbols=(TIME,), label="T").dqdd)

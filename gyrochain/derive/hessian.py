@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .algebra import Poly, ZERO
+from ..chainspec.spec import T as TIME
 from .derivatives import directions, tangent_poly, tangents
 from .kinematics import appends_to
 from .program import Program
@@ -28,7 +29,7 @@ from .program import Program
 @dataclass(frozen=True)
 class Hessian:
     """``upper[(i, j)]`` (i ≤ j): ∂²(μ·φ̈)/∂zᵢ∂zⱼ with the directions ``labels`` (q1…qn, v1…vn,
-    u1…) and the weights ``mu`` (input symbols, one per joint); a pair absent is structurally zero."""
+    u1…, and t last for a model that reads t) and the weights ``mu`` (input symbols, one per joint); a pair absent is structurally zero."""
 
     labels: tuple
     mu: tuple
@@ -39,12 +40,15 @@ def mu_symbols(n: int) -> tuple:
     return tuple(sp.Symbol(f"mu_{k}") for k in range(1, n + 1))
 
 
-def derive(spec, prog: Program, kin, art) -> Hessian:
-    """The weighted Hessian of the articulated recursion ``art``'s φ̈, appended to ``prog``."""
+def derive(spec, prog: Program, kin, art, timed: bool = False) -> Hessian:
+    """The weighted Hessian of the articulated recursion ``art``'s φ̈, appended to ``prog``;
+    ``timed`` (a model that reads t): t is one more direction, the last."""
     appends_to(prog, kin)
     P = prog
     n = spec.n
     syms, labels = directions(spec, kin)
+    if timed:
+        syms, labels = [*syms, TIME], (*labels, "t")
     ndir = len(labels)
     seeds = {next(iter(P.input(s).terms))[0]: {j: Poly.const(1)} for j, s in enumerate(syms)}
     first = tangents(P, list(art.qdd), seeds, tuple(f"A{lab}" for lab in labels))

@@ -840,8 +840,9 @@ MODEL_FN int model_step(double t, const double *x, const double *u, const model_
 }
 #if MODEL_VARIATIONAL
 
-/* A stage's point y = x + a h kp and dy = dy/d(x, u, h) (2n x MODEL_V_COLS, row-major) from the
- * stage before (kp, dkp); the first stage's (kp NULL): y = x, dy = [I 0 0]. */
+/* A stage's point y = x + a h kp and dy = dy/dw (2n x MODEL_V_COLS, row-major; w = (x, u, h), and t
+ * last when the model reads t) from the stage before (kp, dkp); the first stage's (kp NULL): y = x,
+ * dy = [I 0 0]. */
 MODEL_FN static void model_step_point_(const double *x, double h, double a, const double *kp, const double *dkp,
                                    double *y, double *dy)
 {
@@ -850,15 +851,16 @@ MODEL_FN static void model_step_point_(const double *x, double h, double a, cons
         y[i] = x[i] + (kp ? a * h * kp[i] : 0.0);
         for (c = 0; c < MODEL_V_COLS; ++c) {
             dy[i * MODEL_V_COLS + c] = (c == i ? 1.0 : 0.0)
-                + (kp ? a * h * dkp[i * MODEL_V_COLS + c] + (c == MODEL_V_COLS - 1 ? a * kp[i] : 0.0) : 0.0);
+                + (kp ? a * h * dkp[i * MODEL_V_COLS + c] + (c == MODEL_V_HCOL ? a * kp[i] : 0.0) : 0.0);
         }
     }
 }
 
-/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/d(x, u, h) (2n x MODEL_V_COLS,
- * row-major), dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact
- * derivatives of model_qdd_derivatives at y (written to the caller's Dq, Dv, Du). */
-MODEL_FN static int model_step_stage_(MODEL_T(double t, )const double *y, const double *dy, const double *u,
+/* A stage of the step's Jacobian: k = f(y) and, with dy = dy/dw (2n x MODEL_V_COLS, row-major),
+ * dk = A dy + [0 B 0], A = [[0, I], [Dq, Dv]] and B = [[0], [Du]] the exact derivatives of
+ * model_qdd_derivatives at y (written to the caller's Dq, Dv, Du); a model that reads t adds
+ * [0; dphi''/dt] times the derivative of the stage's time t + ta h (ta: its node), in t and h. */
+MODEL_FN static int model_step_stage_(MODEL_T(double t, double ta, )const double *y, const double *dy, const double *u,
                                   const model_params *p, double *k, double *dk, double *Dq, double *Dv, double *Du)
 {
     int i, j, c, code;
@@ -878,10 +880,23 @@ MODEL_FN static int model_step_stage_(MODEL_T(double t, )const double *y, const 
             dk[(MODEL_V_N + i) * MODEL_V_COLS + c] = s;
         }
     }
+#if MODEL_TIME_DEPENDENT
+    {
+        double Dt[MODEL_V_N];
+        if ((code = model_time_derivative(t, y, u, p, 0, Dt)) != MODEL_OK) {
+            return code;
+        }
+        for (i = 0; i < MODEL_V_N; ++i) {
+            dk[(MODEL_V_N + i) * MODEL_V_COLS + MODEL_V_COLS - 1] += Dt[i];
+            dk[(MODEL_V_N + i) * MODEL_V_COLS + MODEL_V_HCOL] += ta * Dt[i];
+        }
+    }
+#endif
     return MODEL_OK;
 }
 
-/* xn and J = dxn/d(x, u, h) (2n x MODEL_V_COLS, row-major) by the chain rule through the four stages */
+/* xn and J = dxn/dw, w = (x, u, h[, t]) (2n x MODEL_V_COLS, row-major), by the chain rule through the
+ * four stages */
 MODEL_FN static int model_step_jacobian_(double t, const double *x, const double *u, const model_params *p, double h,
                                      double *xn, double *J)
 {
@@ -902,7 +917,7 @@ MODEL_FN static int model_step_jacobian_(double t, const double *x, const double
     }
     model_step_point_(x, h, 0.0, 0, 0, y, dy);
     for (st = 0; st < 4; ++st) {
-        if ((code = model_step_stage_(MODEL_T(t + a[st] * h, )y, dy, u, p, k, dk, Dq, Dv, Du)) != MODEL_OK) {
+        if ((code = model_step_stage_(MODEL_T(t + a[st] * h, a[st], )y, dy, u, p, k, dk, Dq, Dv, Du)) != MODEL_OK) {
             return code;
         }
         for (i = 0; i < MODEL_V_DIM; ++i) {
@@ -919,14 +934,14 @@ MODEL_FN static int model_step_jacobian_(double t, const double *x, const double
         xn[i] = x[i] + h / 6.0 * s[i];
         for (c = 0; c < MODEL_V_COLS; ++c) {
             J[i * MODEL_V_COLS + c] = (c == i ? 1.0 : 0.0) + h / 6.0 * ds[i * MODEL_V_COLS + c]
-                                    + (c == MODEL_V_COLS - 1 ? s[i] / 6.0 : 0.0);
+                                    + (c == MODEL_V_HCOL ? s[i] / 6.0 : 0.0);
         }
     }
     return MODEL_OK;
 }
 
 MODEL_FN int model_step_jacobian(double t, const double *x, const double *u, const model_params *p, double h, double *xn,
-                             double *Ad, double *Bd, double *xn_h)
+                             double *Ad, double *Bd, double *xn_h MODEL_T(, double *xn_t))
 {
     double J[MODEL_V_DIM * MODEL_V_COLS], xs[MODEL_V_DIM];
     double *out = xn ? xn : xs;
@@ -934,11 +949,6 @@ MODEL_FN int model_step_jacobian(double t, const double *x, const double *u, con
     if ((code = model_step_args_(t, x, p, h, out)) != MODEL_OK) {
         return code;
     }
-#if MODEL_TIME_DEPENDENT
-    if (xn_h) {  /* d/dh moves the stages' times too: that needs df/dt, which is not emitted */
-        return MODEL_BAD_ARGUMENT;
-    }
-#endif
     if (!model_all_finite_(x, MODEL_V_DIM)) {
         return MODEL_NONFINITE;
     }
@@ -953,8 +963,13 @@ MODEL_FN int model_step_jacobian(double t, const double *x, const double *u, con
             Bd[i * MODEL_V_NU + c] = J[i * MODEL_V_COLS + MODEL_V_DIM + c];
         }
         if (xn_h) {
-            xn_h[i] = J[i * MODEL_V_COLS + MODEL_V_COLS - 1];
+            xn_h[i] = J[i * MODEL_V_COLS + MODEL_V_HCOL];
         }
+#if MODEL_TIME_DEPENDENT
+        if (xn_t) {
+            xn_t[i] = J[i * MODEL_V_COLS + MODEL_V_COLS - 1];
+        }
+#endif
     }
     return model_all_finite_(out, MODEL_V_DIM) ? MODEL_OK : MODEL_NONFINITE;
 }
@@ -962,14 +977,27 @@ MODEL_FN int model_step_jacobian(double t, const double *x, const double *u, con
 
 /* ---------------------------------------------------------------------------------------
  * The second derivatives an optimiser's exact Hessian asks for: of lam . F, F the RK4 step with
- * w = (x, u, h), assembled from the step's own operations.  For a program of nodes v = phi(args)
+ * w = (x, u, h), and t last when the model reads t, assembled from the step's own operations.  For a program of nodes v = phi(args)
  * the Hessian of lam . F is the sum over its nodes of J_args' (vbar . phi'') J_args, J_args the
  * derivative of the node's arguments in w and vbar the adjoint of its value (forward over
- * reverse, written out).  The nodes: the stages k_s = f(y_s, u), whose curvature is
+ * reverse, written out).  The nodes: the stages k_s = f(y_s, u[, t + a_s h]), whose curvature is
  * model_rhs_hessian's at the stage's adjoint kappa_s, the stage points y_s = x + a_s h k_{s-1}
  * and the step x + h/6 sum b_s k_s, bilinear in h and k.  Every first derivative is the exact
  * Jacobian of model_qdd_derivatives, every second one model_rhs_hessian's.
  * --------------------------------------------------------------------------------------- */
+
+/* Z_s = d(y_s, u[, t + a_s h])/dw, entry (j, c): a stage's arguments in w */
+MODEL_FN static double model_stage_z_(const double *Ys, double as, int j, int c)
+{
+    if (j < MODEL_V_DIM) {
+        return Ys[j * MODEL_V_COLS + c];
+    }
+    if (j < MODEL_V_DIM + MODEL_V_NU) {
+        return c == j ? 1.0 : 0.0;
+    }
+    return c == MODEL_V_COLS - 1 ? 1.0 : c == MODEL_V_HCOL ? as : 0.0;
+}
+
 MODEL_FN int model_step_hessian(double t, const double *x, const double *u, const model_params *p, double h,
                             const double *lam, double *H)
 {
@@ -991,7 +1019,7 @@ MODEL_FN int model_step_hessian(double t, const double *x, const double *u, cons
     /* forward: the stages, their points' derivatives Y_s = dy_s/dw and theirs K_s = dk_s/dw */
     for (s = 0; s < 4; ++s) {
         model_step_point_(x, h, a[s], s ? k[s - 1] : 0, s ? K[s - 1] : 0, y[s], Y[s]);
-        if ((code = model_step_stage_(MODEL_T(t + a[s] * h, )y[s], Y[s], u, p, k[s], K[s], Dq[s], Dv[s], Du[s])) != MODEL_OK) {
+        if ((code = model_step_stage_(MODEL_T(t + a[s] * h, a[s], )y[s], Y[s], u, p, k[s], K[s], Dq[s], Dv[s], Du[s])) != MODEL_OK) {
             return code;
         }
     }
@@ -1013,15 +1041,14 @@ MODEL_FN int model_step_hessian(double t, const double *x, const double *u, cons
             ybar[s][j] = sq;
             ybar[s][MODEL_V_N + j] = sv;
         }
-        if ((code = model_rhs_hessian(t, y[s], u, p, kap, Hs)) != MODEL_OK) {
+        if ((code = model_rhs_hessian(t + a[s] * h, y[s], u, p, kap, Hs)) != MODEL_OK) {
             return code;
         }
         for (i = 0; i < MODEL_V_ZDIM; ++i) {  /* T = Hs Z_s */
             for (c = 0; c < MODEL_V_COLS; ++c) {
                 double v = 0.0;
                 for (j = 0; j < MODEL_V_ZDIM; ++j) {
-                    const double z = j < MODEL_V_DIM ? Y[s][j * MODEL_V_COLS + c] : (c == j ? 1.0 : 0.0);
-                    v += Hs[i * MODEL_V_ZDIM + j] * z;
+                    v += Hs[i * MODEL_V_ZDIM + j] * model_stage_z_(Y[s], a[s], j, c);
                 }
                 T[i * MODEL_V_COLS + c] = v;
             }
@@ -1030,14 +1057,14 @@ MODEL_FN int model_step_hessian(double t, const double *x, const double *u, cons
             for (c = 0; c < MODEL_V_COLS; ++c) {
                 double v = 0.0;
                 for (j = 0; j < MODEL_V_ZDIM; ++j) {
-                    const double z = j < MODEL_V_DIM ? Y[s][j * MODEL_V_COLS + i] : (i == j ? 1.0 : 0.0);
-                    v += z * T[j * MODEL_V_COLS + c];
+                    v += model_stage_z_(Y[s], a[s], j, i) * T[j * MODEL_V_COLS + c];
                 }
                 H[i * MODEL_V_COLS + c] += v;
             }
         }
     }
-    /* the bilinear nodes: r = sum_s a_s ybar_s' K_{s-1} + sum_s b_s/6 lam' K_s, into H's row and column of h */
+    /* the bilinear nodes: r = sum_s a_s ybar_s' K_{s-1} + sum_s b_s/6 lam' K_s, into H's row and column of h
+     * (the stages' times t + a_s h are linear: no curvature) */
     for (c = 0; c < MODEL_V_COLS; ++c) {
         double v = 0.0;
         for (s = 0; s < 4; ++s) {
@@ -1048,8 +1075,8 @@ MODEL_FN int model_step_hessian(double t, const double *x, const double *u, cons
         r[c] = v;
     }
     for (c = 0; c < MODEL_V_COLS; ++c) {
-        H[(MODEL_V_COLS - 1) * MODEL_V_COLS + c] += r[c];
-        H[c * MODEL_V_COLS + MODEL_V_COLS - 1] += r[c];
+        H[MODEL_V_HCOL * MODEL_V_COLS + c] += r[c];
+        H[c * MODEL_V_COLS + MODEL_V_HCOL] += r[c];
     }
     for (i = 0; i < MODEL_V_COLS; ++i) {  /* symmetric to round-off by construction; exactly so on return */
         for (c = 0; c < i; ++c) {

@@ -50,8 +50,9 @@
 #define MODEL_V_NN 4
 #define MODEL_V_NU 1
 #define MODEL_V_NNU1 2
-#define MODEL_V_COLS 6
-#define MODEL_V_ZDIM 5
+#define MODEL_V_HCOL 5
+#define MODEL_V_COLS (6 + MODEL_TIME_DEPENDENT)
+#define MODEL_V_ZDIM (5 + MODEL_TIME_DEPENDENT)
 #define MODEL_V_NP 2
 #define MODEL_V_NNP 4
 #define MODEL_V_DIM2 16
@@ -138,7 +139,8 @@ int model_integrate_variational(double t0, double t1, double h, double rtol, dou
                                 double *x1, double *Phi, model_integrate_stats *stats);
 int model_step(double t, const double *x, const double *u, const model_params *p, double h, double *xn);
 int model_step_jacobian(double t, const double *x, const double *u, const model_params *p, double h, double *xn,
-                        double *Ad, double *Bd, double *xn_h);
+                        double *Ad, double *Bd, double *xn_h MODEL_T(, double *xn_t));
+int model_time_derivative(double t, const double *x, const double *u, const model_params *p, double *qdd, double *dqdd_dt);
 int model_param_derivatives(MODEL_T(double t, )const double *x, const double *u, const model_params *p, double *qdd,
                             double *dqdd_dp);
 int model_step_param_derivatives(double t, const double *x, const double *u, const model_params *p, double h, double *xn,

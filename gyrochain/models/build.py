@@ -222,7 +222,8 @@ def load_module(so_path: str | Path):
 
 # why a model's C may lack a function (CModel's error when it is called)
 ABSENT = {"rhs_hessian": "generate --hessian or --casadi writes it",
-          "step_hessian": "generate --hessian writes it for a model that does not read t, up to 16 bodies",
+          "step_hessian": "generate --hessian writes it up to 16 bodies",
+          "time_derivative": "a model that reads t has it",
           "param_derivatives": "a model with symbolic parameters has it", "step_param_derivatives": "a model with "
           "symbolic parameters has it, up to 16 bodies", "step_jacobian": "emitted up to 16 bodies",
           "integrate_variational": "emitted up to 16 bodies"}

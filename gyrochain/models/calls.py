@@ -44,15 +44,25 @@ class DerivativeCalls:
         (xp, _k), (up, _ku) = self._arr(x, 2 * self.n), self._u(u)
         return self._call("step", float(t), xp, up, self._p(params), float(h), out_len=2 * self.n)
 
-    def step_jacobian(self, x, h, u=None, params=None, t=0.0, with_h=None):
+    def step_jacobian(self, x, h, u=None, params=None, t=0.0, with_h=True, with_t=False):
         """(xn, Ad, Bd, xn_h) of NAME_step_jacobian: the step and its exact derivatives in x, u and h
-        (``with_h`` False, or None on a model that reads t, which has no ∂xn/∂h: xn_h None)."""
-        with_h = not self.time_dependent if with_h is None else with_h
+        (xn_h None with ``with_h`` False); with ``with_t`` (a model that reads t) also xn_t = ∂xn/∂t,
+        the fifth."""
+        if with_t and not self.time_dependent:
+            raise AttributeError(f"{self.name} does not read t: its step has no derivative in t")
         (xp, _k), (up, _ku), d = self._arr(x, 2 * self.n), self._u(u), 2 * self.n
-        (xn, Ad, Bd, dh), ptrs = self._outs(d, (d, d), (d, self.nu), d)
-        ptrs[2:] = [ptrs[2] if Bd.size else self.ffi.NULL, ptrs[3] if with_h else self.ffi.NULL]
+        (xn, Ad, Bd, dh, dt), ptrs = self._outs(d, (d, d), (d, self.nu), d, d)
+        ptrs[2:4] = [ptrs[2] if Bd.size else self.ffi.NULL, ptrs[3] if with_h else self.ffi.NULL]
+        ptrs[4:] = [ptrs[4] if with_t else self.ffi.NULL] if self.time_dependent else []
         self._checked("step_jacobian", self._fn("step_jacobian")(float(t), xp, up, self._p(params), float(h), *ptrs))
-        return xn, Ad, Bd, dh if with_h else None
+        return (xn, Ad, Bd, dh if with_h else None) + ((dt,) if with_t else ())
+
+    def time_derivative(self, x, u=None, params=None, t=0.0):
+        """(φ̈, ∂φ̈/∂t) of NAME_time_derivative (a model that reads t)."""
+        (xp, _k), (up, _ku) = self._arr(x, 2 * self.n), self._u(u)
+        out, ptrs = self._outs(self.n, self.n)
+        self._checked("time_derivative", self._fn("time_derivative")(float(t), xp, up, self._p(params), *ptrs))
+        return out[0], out[1]
 
     def param_derivatives(self, x, u=None, params=None, t=0.0):
         """(φ̈, ∂φ̈/∂p) of NAME_param_derivatives, ∂φ̈/∂p n × NPARAMS (the spec's symbolic parameters)."""
@@ -69,11 +79,15 @@ class DerivativeCalls:
         return out[0], out[1]
 
     def rhs_hessian(self, x, lam, u=None, params=None, t=0.0):
-        """∇²(λ·f) in z = (x, u), (2n + nu) square (NAME_rhs_hessian: generate --hessian or --casadi)."""
-        (xp, _k), (up, _ku), (lp, _kl), z = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n), 2 * self.n + self.nu
+        """∇²(λ·f) in z = (x, u), and t last in a model that reads t, (2n + nu [+ 1]) square
+        (NAME_rhs_hessian: generate --hessian or --casadi)."""
+        (xp, _k), (up, _ku), (lp, _kl) = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n)
+        z = 2 * self.n + self.nu + int(self.time_dependent)
         return self._call("rhs_hessian", float(t), xp, up, self._p(params), lp, out_len=z * z).reshape(z, z)
 
     def step_hessian(self, x, h, lam, u=None, params=None, t=0.0):
-        """∇²(λ·xn) of NAME_step in w = (x, u, h), (2n + nu + 1) square (NAME_step_hessian)."""
-        (xp, _k), (up, _ku), (lp, _kl), w = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n), 2 * self.n + self.nu + 1
+        """∇²(λ·xn) of NAME_step in w = (x, u, h), and t last in a model that reads t, (2n + nu + 1
+        [+ 1]) square (NAME_step_hessian)."""
+        (xp, _k), (up, _ku), (lp, _kl) = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n)
+        w = 2 * self.n + self.nu + 1 + int(self.time_dependent)
         return self._call("step_hessian", float(t), xp, up, self._p(params), float(h), lp, out_len=w * w).reshape(w, w)

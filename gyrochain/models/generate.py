@@ -154,7 +154,8 @@ def report(result: Result) -> list[str]:
     if model.hess is not None:
         out.append(f"second derivatives: {spec.name}_rhs_hessian ({counts['rhs_hessian']} ops)"
                    + (f" and {spec.name}_step_hessian" if step_hessian_applies(model) else
-                      " (no step Hessian: " + ("the model reads t)" if time_dependent(model) else "emitted up to n = 16)")))
+                      " (no step Hessian: emitted up to n = 16)")
+                   + (", in (x, u, t): the model reads t" if model.tder else ""))
     elif model.hess_skipped:
         out.append(f"second derivatives: not emitted ({model.hess_skipped}); an optimiser differences the exact "
                    "Jacobian instead")

@@ -62,6 +62,7 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         description_py=py_docstring(spec.description),
         params=[str(p) for p in spec.params],
         controls=list(enumerate(spec.controls)),
+        disturbances=list(spec.disturbances),  # the joints among them whose input is a disturbance torque
         has_params=bool(spec.params),
         has_controls=bool(spec.controls),
         has_momentum="momentum" in model.lines,
@@ -91,7 +92,7 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         newton=n <= GAUSS2_NEWTON_MAX_N,
         variational=n <= VARIATIONAL_MAX_N,
         variational_stack_kb=(variational_stack_bytes(n) + 1023) // 1024,
-        step_jacobian_stack_kb=(step_jacobian_stack_bytes(n, len(spec.controls)) + 1023) // 1024,
+        step_jacobian_stack_kb=(step_jacobian_stack_bytes(n, len(spec.controls) + bool(model.tder)) + 1023) // 1024,
         newton_sweeps=newton_sweeps(n, counts),
         newton_sweeps_canonical=newton_sweeps_canonical(n, counts),
         counts=counts,
@@ -106,6 +107,8 @@ def code_context(model: Model, spec_label: str, counts: dict, regenerate: str | 
         # NAME_param_derivatives (a model with symbolic parameters), and the step's with NAME_step_jacobian
         param_derivatives=model.pder is not None,
         step_param_derivatives=model.pder is not None and n <= VARIATIONAL_MAX_N,
+        time_derivative=bool(model.tder),  # NAME_time_derivative: ∂φ̈/∂t of a model that reads t
+        seeded_derivatives=model.pder is not None or bool(model.tder),  # either of them (model_params.c.jinja)
         gyrochain_version=__version__,
         sympy_version=sp.__version__,
     )
@@ -137,15 +140,15 @@ def regressor_context(model: Model) -> dict:
 
 def hessian_context(model: Model) -> dict:
     """The second derivatives' facts (generate --hessian, --casadi): ∇²(μ·φ̈)'s stored pairs i ≤ j
-    (i, j, their slot), the size 2n + nu of (x, u), and whether NAME_step_hessian is emitted (an
-    autonomous model with NAME_step_jacobian)."""
+    (i, j, their slot), the size 2n + nu of z = (x, u) (and t, the last, in a model that reads t),
+    and whether NAME_step_hessian is emitted (with NAME_step_jacobian)."""
     n = model.spec.n
     if model.hess is None:
         return dict(hessian=False, step_hessian=False)
     pairs = sorted(model.hess.upper)
     return dict(hessian=True, hessian_pairs=[(i, j, k) for k, (i, j) in enumerate(pairs)], npairs=len(pairs),
-                zdim=2 * n + len(model.spec.controls), step_hessian=step_hessian_applies(model),
-                step_hessian_stack_kb=(step_hessian_stack_bytes(n, len(model.spec.controls)) + 1023) // 1024)
+                zdim=2 * n + len(model.spec.controls) + bool(model.tder), step_hessian=step_hessian_applies(model),
+                step_hessian_stack_kb=(step_hessian_stack_bytes(n, len(model.spec.controls) + bool(model.tder)) + 1023) // 1024)
 
 
 def _limits_json(spec) -> list:

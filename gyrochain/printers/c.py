@@ -88,7 +88,8 @@ def integrators(ctx: dict) -> str:
     n, counts = ctx["n"], ctx["counts"]
     dim = 2 * n
     nu = len(ctx["controls"])
-    values = dict(N=n, DIM=dim, NN=n * n, NU=nu, NNU1=n * max(nu, 1), COLS=dim + nu + 1, ZDIM=dim + nu,
+    timed = int(bool(ctx["time_dependent"]))  # t is the last of the step's w = (x, u, h[, t]) and of z = (x, u[, t])
+    values = dict(N=n, DIM=dim, NN=n * n, NU=nu, NNU1=n * max(nu, 1), HCOL=dim + nu, COLS=dim + nu + 1 + timed, ZDIM=dim + nu + timed,
                   NP=max(len(ctx["params"]), 1), NNP=n * max(len(ctx["params"]), 1), DIM2=dim * dim, **{"2DIM": 2 * dim, "4DIM2": 4 * dim * dim}, VDIM=dim * (dim + 1),
                   OPS_QDD=counts["qdd"], OPS_QDD_DERIVATIVES=counts.get("qdd_derivatives", 0),
                   OPS_VELOCITIES=counts.get("velocities", 0), OPS_PDOT=counts.get("pdot", 0),
@@ -129,7 +130,7 @@ def layout_data(ctx: dict, env) -> dict:
         helpers=dict(
             restrict=bool(ctx["lanes"] or ctx["parts_c"]),  # C99 restrict: the lanes' and the parts' arrays
             # the articulated recursion's pivot test
-            pivots=ctx["articulated"] or not ctx["der_world"] or ctx["hessian"] or ctx["param_derivatives"],
+            pivots=ctx["articulated"] or not ctx["der_world"] or ctx["hessian"] or ctx["seeded_derivatives"],
             ldlt_solve=ctx["loops"] and ctx["canonical"] or ctx["der_world"],  # L D L^T y = b in place
             ldlt_columns_u=bool(nu) and nu != n,  # the world form's solve for the nu columns of dqdd_du
         ),

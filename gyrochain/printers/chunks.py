@@ -26,6 +26,7 @@ SIGNATURES = {
     "qdd_derivatives": ("x", True, True), "energy": ("x", False, True), "momentum": ("x", False, True),
     "jacobi": ("x", False, False), "momenta": ("x", False, False), "velocity_terms": ("q", False, False),
     "pdot": ("x", True, False), "rhs_hessian": ("x", True, True), "param_derivatives": ("x", True, True),
+    "time_derivative": ("x", True, True),
 }
 # the inputs a function reads besides its state, controls and parameters, passed on to its parts
 EXTRA_INPUTS = {"rhs_hessian": ("lam",)}
@@ -39,6 +40,7 @@ LOCAL_OUTPUTS = {
     "qdd_derivatives": {"acc", "piv", "ext", "IC_"} | {f"{v}_" for v in VECTORS},
     "rhs_hessian": {"acc", "piv", "hv"},
     "param_derivatives": {"acc", "piv", "dp"},
+    "time_derivative": {"acc", "piv", "dp"},
 }
 
 NOINLINE = """#if defined(__GNUC__)

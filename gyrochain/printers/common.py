@@ -233,6 +233,10 @@ def functions(model: Model, printer_cls, style: str, array_printer_cls=None) -> 
         rec = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
         fs["param_derivatives"] = function_of("param_derivatives", model.lines["param_derivatives"],
                                               rec + [f"dp[{i}]" for i in range(n * len(model.pder.params))], pr)
+    if model.tder:  # φ̈, then ∂φ̈/∂t into dp
+        rec = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]
+        fs["time_derivative"] = function_of("time_derivative", model.lines["time_derivative"],
+                                            rec + [f"dp[{i}]" for i in range(n)], pr)
     if model.hess is not None and style == "c":  # (the weights μ are lam's second half: lam . f)
         prh = printer_cls({**names, **{m: f"lam[{n + k}]" for k, m in enumerate(model.hess.mu)}})
         targets = [f"acc[{k}]" for k in range(n)] + [f"piv[{k}]" for k in range(n)]

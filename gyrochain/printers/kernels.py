@@ -27,7 +27,7 @@ from .. import KERNELS
 _IF = re.compile(r"#if MODEL_(\w+)\n")
 _GENERATED = re.compile(r"[^\n]*@generated (\w+)[^\n]*\n")
 _VALUE = re.compile(r"\bMODEL_V_(\w+)\b")
-_TIME = re.compile(r"MODEL_T\(((?:[^()]|\([^()]*\))*)\)")
+_TIME = re.compile(r" ?MODEL_T\(((?:[^()]|\([^()]*\))*)\)")  # (a space before it goes with it: "x MODEL_T(, y)")
 _TIME_OR = re.compile(r"MODEL_T_OR\(([^,()]*), ([^,()]*)\)")
 _INSTANCE_NAME = re.compile(r"#define ((?:SYS|sys)_\w+) (\w+)\n")
 _INSTANCE_UNDEF = re.compile(r"#undef (?:SYS|sys)_\w+\n")

@@ -308,7 +308,7 @@ def _bodies(spec, kin, doc: Doc) -> list[dict]:
 
     return [dict(k=k, theta=texscene.angle_text(b.theta, doc.w, fold_numbers), m=show(b.m), c=vec(b.c),
                  s=vec(b.s) if k < spec.n else r"\text{(none: last body)}",
-                 lam=vec(b.lam), A=components(b.A), control="yes" if b.control else "no", alpha=mat(kin.alpha[k]))
+                 lam=vec(b.lam), A=components(b.A), control="disturbance" if b.disturbance else "yes" if b.control else "no", alpha=mat(kin.alpha[k]))
             for k, b in enumerate(spec.bodies, start=1)]
 
 

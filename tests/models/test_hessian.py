@@ -33,7 +33,7 @@ def _point(rng, n, nu):
 def _rhs_error(c, x, u, lam, params, t=0.0):
     """|∇²(λ·f) − differences of ∇(λ·f) = [A B]ᵀλ| relative to the largest entry."""
     d, nu = len(x), len(u)
-    H = c.rhs_hessian(x, lam, u if nu else None, params, t=t)
+    H = c.rhs_hessian(x, lam, u if nu else None, params, t=t)[:d + nu, :d + nu]  # (t, last, is tests/models/test_time_derivatives.py's)
 
     def grad(z):
         A, B = c.linearize(z[:d], z[d:] if nu else None, params, t=t)
@@ -45,7 +45,7 @@ def _rhs_error(c, x, u, lam, params, t=0.0):
 
 def _step_error(c, x, u, lam, params, h=0.02):
     d, nu = len(x), len(u)
-    H = c.step_hessian(x, h, lam, u if nu else None, params)
+    H = c.step_hessian(x, h, lam, u if nu else None, params)[:d + nu + 1, :d + nu + 1]
 
     def grad(w):
         _, Ad, Bd, dh = c.step_jacobian(w[:d], w[-1], w[d:d + nu] if nu else None, params)
@@ -75,12 +75,7 @@ def test_the_examples_hessians_equal_differences(make_model, rng, name):
         x, u, lam = _point(rng, n, nu)
         t = float(rng.uniform(0.0, 1.0))
         assert _rhs_error(m.c, x, u, lam, m.params, t=t) <= TOL
-        if not m.c.time_dependent:
-            assert _step_error(m.c, x, u, lam, m.params) <= TOL
-    if m.c.time_dependent:  # the step's h-derivatives would need df/dt: no step Hessian, and the header says so
-        assert not hasattr(m.c.lib, f"{name}_step_hessian") and getattr(m.c.lib, f"{name.upper()}_HAS_STEP_HESSIAN") == 0
-        with pytest.raises(AttributeError, match="does not read t"):
-            m.c.step_hessian(x, 0.01, lam, None, m.params)
+        assert _step_error(m.c, x, u, lam, m.params, h=1e-3 if m.c.time_dependent else 0.02) <= TOL
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -93,9 +88,7 @@ def test_random_chains_of_the_geometry_users_write(make_model, seed):
     for _ in range(6):
         x, u, lam = _point(rng, n, nu)
         try:
-            err = _rhs_error(m.c, x, u, lam, None)
-            if not m.c.time_dependent:
-                err = max(err, _step_error(m.c, x, u, lam, None, h=0.005))
+            err = max(_rhs_error(m.c, x, u, lam, None), _step_error(m.c, x, u, lam, None, h=0.005))
         except ModelError:  # a singular configuration of a chain with massless links
             continue
         assert err <= TOL, (spec.source, err)
@@ -169,13 +162,14 @@ def test_the_docs_prototypes_are_the_header_s(make_model, tmp_path):
 
 
 def test_generate_says_which_second_derivatives_it_wrote(tmp_path):
-    """The report names the functions, or says why there are none: a model that reads t has no step
-    Hessian; a 64-link chain's would be millions of operations and is not derived at all."""
+    """The report names the functions, or says why there are none: a model that reads t has them in
+    (x, u, t); a 64-link chain's would be millions of operations and is not derived at all."""
     from conftest import cli_in_process
 
     res = cli_in_process("generate", "specs/kapitza.toml", "--hessian", "-q", "--no-build", "-o", str(tmp_path / "k"))
     assert res.returncode == 0, res.stdout
-    assert "second derivatives: kapitza_rhs_hessian (" in res.stdout and "(no step Hessian: the model reads t)" in res.stdout
+    assert re.search(r"second derivatives: kapitza_rhs_hessian \(\d+ ops\) and kapitza_step_hessian, in \(x, u, t\): the model "
+                     r"reads t", res.stdout), res.stdout
     res = cli_in_process("generate", "specs/cable64.toml", "--hessian", "-q", "--no-build", "-o", str(tmp_path / "c"))
     assert res.returncode == 0, res.stdout
     assert re.search(r"second derivatives: not emitted \(about [\d,]+ operations at n = 64, past 150,000\)", res.stdout), res.stdout

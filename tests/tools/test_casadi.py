@@ -260,11 +260,11 @@ def _generate(tmp_path, spec, *extra):
 
 
 def test_generate_casadi_refuses_in_one_line_and_writes_nothing(tmp_path):
-    timed = tmp_path / "driven.toml"  # Kapitza's pendulum with a torque: the model depends on t
-    timed.write_text((ROOT / "specs" / "kapitza.toml").read_text().replace("m = 0.1\n", "m = 0.1\ncontrol = true\n", 1))
+    disturbed = tmp_path / "disturbed.toml"  # a disturbance torque is an input, but no control
+    disturbed.write_text((ROOT / "specs" / "kapitza.toml").read_text().replace("m = 0.1\n", "m = 0.1\ndisturbance = true\n", 1))
     for spec, extra, why in ((ROOT / "specs" / "double_pendulum.toml", (), "no control torque"),
                              (ROOT / "specs" / "furuta.toml", ("--real", "float"), "double"),
-                             (timed, (), "depends on t")):
+                             (disturbed, (), "no control torque")):
         res, out = _generate(tmp_path, spec, *extra)
         assert res.returncode == 2 and res.stderr.count("\n") == 1, res.stderr
         assert res.stderr.startswith("error: --casadi:") and why in res.stderr, res.stderr

@@ -35,10 +35,10 @@ def test_an_unknown_flag_or_part_is_an_error():
 
 
 def _integrators(time_dependent: bool, canonical: bool, variational: bool = True, lanes: bool = False) -> str:
-    values = dict(N=3, DIM=6, NN=9, NU=1, NNU1=3, COLS=10, ZDIM=9, NP=2, NNP=6, DIM2=36, VDIM=42, OPS_QDD=11, OPS_QDD_DERIVATIVES=12, OPS_VELOCITIES=13, OPS_PDOT=14,
+    values = dict(N=3, DIM=6, NN=9, NU=1, NNU1=3, HCOL=7, COLS=8 + time_dependent, ZDIM=7 + time_dependent, NP=2, NNP=6, DIM2=36, VDIM=42, OPS_QDD=11, OPS_QDD_DERIVATIVES=12, OPS_VELOCITIES=13, OPS_PDOT=14,
                   OPS_CANONICAL=27, NEWTON_SWEEPS=5, NEWTON_SWEEPS_CANONICAL=6, LANES=8, **{"2DIM": 12, "4DIM2": 144})
     flags = dict(NEWTON=True, CANONICAL=canonical, CANONICAL_NEWTON=canonical, TIME_DEPENDENT=time_dependent, HAS_PARAMS=False,
-                 VARIATIONAL=variational, LANES=lanes, HESSIAN=variational and not time_dependent,
+                 VARIATIONAL=variational, LANES=lanes, HESSIAN=variational,
                  PARAM_DERIVATIVES=variational)
     return kernels.specialise("integrate.c", "arm", flags, {}, values, time_dependent)
 
@@ -52,6 +52,9 @@ def test_the_integrators_take_the_models_numbers_and_time():
     assert "static inline int arm_rk4_step_(double t0, const double *x, double h," in timed
     assert "arm_eval_canonical_" in auto and "arm_eval_canonical_" not in timed
     assert "27 ops against GAUSS2's 11." in auto
+    # a model that reads t: the step's derivatives in w = (x, u, h, t) take its stages' times' derivatives
+    assert "double *xn_h, double *xn_t)" in timed and "double *xn_h)" in auto
+    assert "arm_time_derivative(t, y, u, p, 0, Dt)" in timed and "arm_time_derivative" not in auto
 
 
 def test_dop853_is_printed_once_per_system():
