@@ -192,3 +192,16 @@ def test_header_defines_come_from_the_one_table():
         assert f"#define GIMBAL_{key} {value}\n" in header, key
     for key, value in {**METHODS, **MOTIONS}.items():
         assert f"#define GIMBAL_{key.upper()} {value}\n" in header, key
+
+
+def test_a_disturbance_torque_is_an_input_every_target_names():
+    """disturbance = true on the Furuta pendulum's joint: an entry of u (NAME_NU 2), which the header,
+    the Python module (DISTURBANCES) and the LaTeX's table of bodies name as a disturbance."""
+    head, arm, pendulum = (ROOT / "specs" / "furuta.toml").read_text().split("[[body]]")
+    spec = parse_spec("[[body]]".join([head.replace('name = "furuta"', 'name = "fd"'), arm,
+                                       pendulum.replace("\n", "\ndisturbance = true\n", 1)]))
+    assert spec.controls == (1, 2) and spec.disturbances == (2,)
+    files, _ = pipeline.derive_and_render(spec, targets=("c", "python", "latex"))
+    assert "#define FD_NU 2\n" in files["fd.h"] and "joint 2 takes a disturbance torque" in files["fd.h"]
+    assert "\nDISTURBANCES = (2, )" in files["fd.py"] and "DISTURBANCES" not in committed("furuta")["furuta.py"]
+    assert "& disturbance \\\\" in files["fd.tex"]
