@@ -139,3 +139,20 @@ def test_estimating_a_torque_on_an_unactuated_joint(built):
     opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "sb": "yes", "tol": 1e-14})
     sol = opti.solve()
     assert abs(sol.value(D) - d_true) < 1e-8 and np.max(np.abs(sol.value(X0) - meas[0])) < 1e-8
+
+
+def test_the_c_of_both_is_strict_c99(tmp_path):
+    """NAME_casadi.c of a model that reads t and has a disturbance torque (the heaving Furuta
+    pendulum of docs/optimal-control.md): C99, warning-free under -Wall -Wextra -Wpedantic -Werror."""
+    import subprocess
+
+    text = furuta_disturbed().replace("g = 9.81\n", 'g = 9.81\n[base]\nposition = ["0.01*sin(30*t)", 0, 0]\n', 1)
+    spec = parse_spec(text)
+    assert spec.disturbances == (2,)
+    files, model = pipeline.derive_and_render(spec, targets=("c", "casadi"))
+    assert model.tder
+    for k in ("furuta_disturbed_casadi.c", "furuta_disturbed.c", "furuta_disturbed.h"):
+        (tmp_path / k).write_text(files[k])
+    r = subprocess.run(["cc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c", "furuta_disturbed_casadi.c",
+                        "furuta_disturbed.c"], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
