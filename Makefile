@@ -4,6 +4,7 @@
 #                                     fuzz lanes, the documentation site in a browser, TeX, and on every example and random spec
 #                                     the checks make test runs on a few (the extended tier, tests/conftest.py)
 # make test-fast                      the unit layer only: the stages, printers, pipeline and architecture, no compiler (< 1 min)
+# make dist                           the source archive and the wheel into dist/, checked by twine (a build-only venv: seconds)
 # make test-install                   the package as users install it: sdist and wheel built, installed into a fresh venv,
 #                                     the tour run from an empty folder (part of make test-all; needs the package index)
 # make plot                           the tables and charts of docs/benchmarks.md (from bench/results/*.csv), the frames figure,
@@ -33,7 +34,7 @@ export PYTHONHASHSEED := 0
 
 all: generate
 
-$(VENV)/.installed: pyproject.toml
+$(VENV)/.installed: pyproject.toml gyrochain/__init__.py  # (the version: the metadata pip installed says it)
 	$(PY) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
 	$(VPY) -m pip install -q -e '.[test,sweep,view,browser,docs,robots,casadi]'
@@ -62,10 +63,18 @@ test-install: setup
 	$(VPY) -m pytest -q tests/tools/test_install.py
 
 # the source archive and the wheel (built from it), as a release ships them, checked as the index checks them
-dist: setup
+# the source archive and the wheel, built in a venv of their own with build and twine alone (not
+# the test extras of .venv): seconds, and nothing but the build backend downloaded
+DIST_VENV := .venv-dist
+$(DIST_VENV)/.installed:
+	$(PY) -m venv $(DIST_VENV)
+	$(DIST_VENV)/bin/python -m pip install -q --upgrade pip build twine
+	touch $@
+
+dist: $(DIST_VENV)/.installed
 	rm -rf dist
-	$(VPY) -m build -o dist .
-	$(VPY) -m twine check --strict dist/*
+	$(DIST_VENV)/bin/python -m build -o dist .
+	$(DIST_VENV)/bin/python -m twine check --strict dist/*
 
 docs: setup
 	NO_MKDOCS_2_WARNING=1 $(VPY) -m mkdocs build --strict -q -d site
@@ -142,4 +151,4 @@ pdf: setup
 		&& lualatex -interaction=nonstopmode -halt-on-error $$name.tex >/dev/null && echo "generated/$$name/$$name.pdf"
 
 clean:
-	rm -rf $(VENV) .pytest_cache build dist site *.egg-info
+	rm -rf $(VENV) $(DIST_VENV) .pytest_cache build dist site *.egg-info

@@ -1,5 +1,8 @@
 """Build-time steps of the documentation site (MkDocs hooks, named in mkdocs.yml).
 
+The release: the site's name carries the package's version, and CHANGELOG.md is its page
+changelog.md.
+
 Formulas: the pages write the paper's notation as TeX between dollars (``$\\alpha^{kl}_{ij}$``,
 ``$$...$$`` for a display), which GitHub typesets as it shows the Markdown; pymdownx.arithmatex
 marks them, and here each becomes MathML, which browsers typeset themselves.  Nothing is fetched
@@ -49,6 +52,32 @@ def _formula(kind: str, tex: str) -> str:
     if kind != "div":
         return mathml(tex, False)
     return f'<div class="gc-display">{mathml(tex, True)}</div>'
+
+
+def _version() -> str:
+    """The package's version, from the one place it is written (without importing the package)."""
+    from pathlib import Path
+
+    text = (Path(__file__).parent / "gyrochain" / "__init__.py").read_text(encoding="utf-8")
+    return re.search(r'^__version__ = "([^"]+)"', text, re.M)[1]
+
+
+def on_config(config, **_):
+    """The version in the site's name: every page's header says which release it documents."""
+    config["site_name"] = f"gyrochain {_version()}"
+    return config
+
+
+def on_files(files, config, **_):
+    """CHANGELOG.md, at the repository's root where GitHub shows it, is also the site's page
+    changelog.md (mkdocs.yml's nav names it)."""
+    from pathlib import Path
+
+    from mkdocs.structure.files import File
+
+    text = (Path(config["config_file_path"]).parent / "CHANGELOG.md").read_text(encoding="utf-8")
+    files.append(File.generated(config, "changelog.md", content=text))
+    return files
 
 
 def on_page_content(content: str, **_) -> str:

@@ -12,7 +12,7 @@ The notation is the paper's ("The compound spatial pendulum", with Kharlamov's e
 motion of a system of rigid bodies): k is the body index (0 the base), phi/phidot are φᵏ/φ̇ᵏ,
 alpha are the direction cosines; equation numbers in comments are the paper's.
 """
-__version__ = "0.3.0"  # the one place of the version (pyproject.toml reads it; --version prints it)
+__version__ = "0.4.0"  # the one place of the version (pyproject.toml reads it; --version prints it)
 DISTRIBUTION = "gyrochain"  # the name on the package index, of the import package and of the console command
 
 import os as _os  # (os, sys and the built-in _signal are loaded with the interpreter: free)

@@ -104,11 +104,13 @@ def test_the_command_reference_has_every_command_and_option():
 
 
 def test_the_changelog_has_this_version():
-    """CHANGELOG.md: what is unreleased first, then this package's version as the newest release."""
+    """CHANGELOG.md: what is unreleased first (when anything is), then this package's version as the
+    newest release."""
     from gyrochain import __version__
 
     heads = re.findall(r"^## (.+)$", (ROOT / "CHANGELOG.md").read_text(encoding="utf-8"), re.M)
-    assert heads[0] == "Unreleased" and heads[1].startswith(f"{__version__} ("), heads[:2]
+    released = heads[1:] if heads[0] == "Unreleased" else heads
+    assert released[0].startswith(f"{__version__} ("), heads[:2]
 
 
 def test_the_c_api_page_names_every_emitted_function():
@@ -286,7 +288,13 @@ def site(tmp_path_factory) -> Path:
 
 
 def test_the_site_builds_with_warnings_as_errors(site):
+    from gyrochain import __version__
+
     assert (site / "index.html").exists() and (site / "reference" / "api.html").exists()
+    # the release it documents: its version on every page, its changelog a page of the site
+    assert f"gyrochain {__version__}" in (site / "index.html").read_text()
+    changes = (site / "changelog.html").read_text()
+    assert f"{__version__} (" in changes and "<h2" in changes
     api = (site / "reference" / "api.html").read_text()
     assert "derive_and_render" in api and "load_spec" in api  # the docstrings made it in
     conventions = (site / "conventions.html").read_text()

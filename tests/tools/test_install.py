@@ -230,3 +230,12 @@ def test_the_extras_sweep_plot_and_gif(installed):
     here = installed["here"] / "extras"
     assert (here / "map.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert (here / "gimbal.gif").read_bytes()[:6] == b"GIF89a"
+
+
+def test_make_dist_builds_without_the_test_extras():
+    """`make dist` sets up a venv of its own with build and twine alone, not .venv's extras (CUDA
+    wheels, MuJoCo, Pinocchio, CasADi, a browser): the archive in seconds."""
+    r = sh(["make", "-n", "-B", "dist"], cwd=ROOT)
+    assert r.returncode == 0, r.stderr
+    assert "pip install -q --upgrade pip build twine" in r.stdout and "-m build -o dist ." in r.stdout
+    assert ".[test" not in r.stdout and "[test," not in r.stdout and ".venv/bin/python" not in r.stdout, r.stdout
