@@ -34,6 +34,11 @@ machines); the skips are counted and reported.  A block right after ``<!-- docs-
 (reason) -->`` is what a user types after ``pip install gyrochain``, from an empty folder: it is not
 run here but by tests/tools/test_install.py, with the built wheel in a fresh virtual environment
 (every ``$`` line through the shell, ``pip install gyrochain`` installing the wheel).
+
+The pages a newcomer follows (``USER_PAGES``: the README, the index's page, Getting started and
+the tutorial) are run whole by tests/tools/test_install.py as well, every block in order from an
+empty folder on the documented install, but a block right after ``<!-- docs-test: clone (reason)
+-->``: a checkout's make targets, which that install does not have (run here all the same).
 """
 from __future__ import annotations
 
@@ -56,6 +61,8 @@ DRY_MAKE = {"test", "test-fast", "test-install", "fuzz", "bench", "bench-speed",
 SKIP = re.compile(r"<!--\s*docs-test:\s*skip\s*\((.+?)\)\s*-->")
 FROM = re.compile(r"<!--\s*docs-test:\s*from\s+(\S+)\s*-->")
 INSTALLED = re.compile(r"<!--\s*docs-test:\s*installed\s*\((.+?)\)\s*-->")
+CLONE = re.compile(r"<!--\s*docs-test:\s*clone\s*\((.+?)\)\s*-->")
+USER_PAGES = ("README.md", "README-pypi.md", "docs/getting-started.md", "docs/tutorial.md")
 SAVE = re.compile(r"<!--\s*docs-test:\s*save\s+([\w.-]+)\s*-->")
 WITHIN = re.compile(r"<!--\s*docs-test:\s*numbers within\s+([0-9.e+-]+)(%?)\s*-->")
 NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
@@ -71,6 +78,7 @@ class Block:
     skip: str = ""  # the reason, when marked not to run
     source: str = ""  # a text block quoting a file of the repository: every line must be in it
     installed: bool = False  # run by tests/tools/test_install.py in a fresh virtual environment
+    clone: bool = False  # a checkout's block (make targets): not run on an installed package
     within: float | None = None  # a console block's numbers compared within this relative tolerance
     save: str = ""  # written to the page's folder under this name before it runs
 
@@ -104,13 +112,14 @@ def blocks(path: Path, text: str | None = None) -> list[Block]:
             source = s[1]
         if k >= 0 and INSTALLED.search(lines[k]):
             installed = True
+        clone = k >= 0 and bool(CLONE.search(lines[k]))
         within, save = None, ""
         if k >= 0 and (s := WITHIN.search(lines[k])):
             within = float(s[1]) / (100 if s[2] else 1)
         if k >= 0 and (s := SAVE.search(lines[k])):
             save = s[1]
         found.append(Block(path, i + 1, info.split()[0] if info else "", "\n".join(body) + "\n", skip, source, installed,
-                           within, save))
+                           clone=clone, within=within, save=save))
         i = j + 1
     return found
 
@@ -370,3 +379,8 @@ def pages() -> list[Path]:
 def installed_blocks() -> list[Block]:
     """The blocks a user types after ``pip install gyrochain``, in page order."""
     return [b for page in pages() for b in blocks(page) if b.installed]
+
+
+def user_pages() -> list[Path]:
+    """The pages a newcomer follows from the install on (USER_PAGES)."""
+    return [ROOT / p for p in USER_PAGES]

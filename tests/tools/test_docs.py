@@ -208,7 +208,7 @@ def test_the_index_page_stands_alone():
     assert not LINK.findall(text) and "![" not in text and "<img" not in text
     assert not re.search(r"\bmake\b", text) and ".venv" not in text and "specs/" not in text
     tour = [b for b in docrun.blocks(ROOT / "README-pypi.md") if b.installed]
-    assert tour and tour[0].kind == "console" and "$ pip install gyrochain" in tour[0].text
+    assert tour and tour[0].kind == "console" and '$ pip install "gyrochain[sweep,view]"' in tour[0].text
 
 
 # --------------------------------------------------------------------------- the runner fails on stale docs
@@ -525,3 +525,20 @@ def test_formulas_on_a_phone(site, browser):
         assert not small, small[:5]
     finally:
         ctx.close()
+
+
+def test_the_extras_table_is_the_package_s():
+    """The README's and Getting started's table of extras: the same rows, each an extra that
+    pyproject.toml defines, and every extra a user installs in it (not the ones of the tests, the
+    site and the benchmarks)."""
+    import tomllib
+
+    def table(path):
+        text = path.read_text(encoding="utf-8")
+        rows = re.findall(r"^\| `(\w+)` \| (.*)$", text, re.M)
+        return {k: v.replace("](docs/", "](") for k, v in rows}
+    readme, start = table(ROOT / "README.md"), table(ROOT / "docs" / "getting-started.md")
+    assert readme == start and readme, (readme, start)
+    extras = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"])
+    for_us = {"test", "browser", "docs", "robots", "rollout", "bench"}  # the tests', the site's and the benchmarks'
+    assert set(readme) == extras - for_us, (set(readme), extras - for_us)

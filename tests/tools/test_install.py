@@ -2,10 +2,10 @@
 wheel (no warning); ``twine check --strict`` passes both; the wheel, not editable, goes into a fresh
 virtual environment outside the repository beside a distribution that owns a top-level ``codegen``
 package (a stand-in for the unrelated "codegen" on the index, built here); and from an empty folder,
-with a home of its own (so the default per-user cache), every block of README.md, README-pypi.md and
-docs/getting-started.md marked ``docs-test: installed`` runs command for command, output compared as
-tests/docrun.py compares it (the README's first instruction, ``pip install ./gyrochain-VERSION.tar.gz``,
-as written, with the source archive in the user's folder).  Then the generated folder builds with CMake, the cache is private, and
+with a home of its own (so the default per-user cache), every block of the pages a newcomer follows
+(README.md, README-pypi.md, docs/getting-started.md, docs/tutorial.md) runs command for command,
+output compared as tests/docrun.py compares it (the README's first instruction, ``pip install
+"./gyrochain-VERSION.tar.gz[sweep,view]"``, as written, with the source archive in the user's folder).  Then the generated folder builds with CMake, the cache is private, and
 the optional extras (sweep, view) run a small sweep, its map and a GIF.
 
 Needs the package index for the build backend and the dependencies (pip's cache makes a second
@@ -156,43 +156,64 @@ def installed(dist, tmp_path_factory):
     return dict(venv=venv, home=home, here=here, env=env, wheel=wheel, sdist=dist[0], run=run)
 
 
+def _run_console(block, run, installed, page) -> int:
+    """A console block's commands through the shell in the page's folder, as a user types them."""
+    here, wheel, ran = installed["here"], installed["wheel"], 0
+    for cmd in docrun.commands(block.text):
+        line = cmd.line
+        assert not line.startswith("make "), f"{block.where}: `{line}` is a checkout's target: mark the block clone"
+        if line.startswith(("pip install ./gyrochain-", 'pip install "./gyrochain-')):  # the source archive, in the folder
+            archive = line.split()[2].strip('"').removeprefix("./").split("[")[0]
+            assert archive == installed["sdist"].name, f"{block.where}: `{line}`, but the release's archive is {installed['sdist'].name}"
+            (here / page).mkdir(exist_ok=True)
+            shutil.copy(installed["sdist"], here / page / archive)
+        elif line.startswith(("pip install gyrochain", 'pip install "gyrochain[')):  # the index's name: the wheel
+            extras = line.split("gyrochain", 1)[1].split("]")[0] + "]" if "[" in line else ""
+            line = f'pip install -q "{wheel}{extras.strip(chr(34))}"'
+        r = run(line + " 2>&1", page)
+        want = 2 if any(ln.startswith("error:") for ln in cmd.shown) else 0
+        assert r.returncode == want, f"{block.where}: `{cmd.line}` exited {r.returncode}:\n{r.stdout}{r.stderr}"
+        if cmd.shown and not cmd.line.startswith("pip "):
+            assert docrun.matches(cmd.shown, r.stdout, block.within), (
+                f"{block.where}: `{cmd.line}` printed\n{r.stdout}\nwhere the docs show\n" + "\n".join(cmd.shown))
+        ran += 1
+    return ran
+
+
 def test_the_tour_from_an_empty_folder(installed):
-    """Every installed block of the index page and the getting-started page, command for command,
-    with ``pip install gyrochain`` installing the wheel (its dependencies from the index)."""
-    run, wheel, here = installed["run"], installed["wheel"], installed["here"]
-    blocks = docrun.installed_blocks()
-    pages = {b.path.name for b in blocks}
-    assert {"README.md", "README-pypi.md", "getting-started.md"} <= pages, pages
-    first = [b for b in blocks if b.path.name == "README.md"][0]
-    assert docrun.commands(first.text)[0].line.startswith("pip install ./gyrochain-")  # the README's first instruction
-    ran = 0
-    for block in blocks:  # each page from an empty folder of its own, its blocks in order
-        page = block.path.stem
-        if block.kind == "python":
-            script = here / f"block_{page}_{block.line}.py"
-            script.write_text(block.text)
-            r = run(f"python {script}", page)
-            assert r.returncode == 0, f"{block.where}: {r.stdout}{r.stderr}"
-            ran += 1
-            continue
-        for cmd in docrun.commands(block.text):
-            line = cmd.line
-            if line.startswith("pip install ./gyrochain-"):  # as written: the source archive the user has in the folder
-                archive = line.split()[2].removeprefix("./")
-                assert archive == installed["sdist"].name, f"{block.where}: `{line}`, but the release's archive is {installed['sdist'].name}"
-                (here / page).mkdir(exist_ok=True)
-                shutil.copy(installed["sdist"], here / page / archive)
-            elif line.startswith(("pip install gyrochain", 'pip install "gyrochain[')):
-                extras = line.split("gyrochain", 1)[1].split("]")[0] + "]" if "[" in line else ""
-                line = f'pip install -q "{wheel}{extras.strip(chr(34))}"'
-            r = run(line + " 2>&1", page)
-            want = 2 if any(ln.startswith("error:") for ln in cmd.shown) else 0
-            assert r.returncode == want, f"{block.where}: `{cmd.line}` exited {r.returncode}:\n{r.stdout}{r.stderr}"
-            if cmd.shown and not cmd.line.startswith("pip "):
-                assert docrun.matches(cmd.shown, r.stdout), (f"{block.where}: `{cmd.line}` printed\n{r.stdout}\n"
-                                                              "where the docs show\n" + "\n".join(cmd.shown))
-            ran += 1
-    assert ran >= 10, ran
+    """Every block of the pages a newcomer follows (the README, the index's page, Getting started,
+    the tutorial), in order, each page from an empty folder of its own on the install it documents:
+    commands through the shell with their output compared, Python run, specs saved where the page
+    says; ``pip install gyrochain`` installs the wheel, the README's ``pip install
+    "./gyrochain-VERSION.tar.gz[...]"`` the source archive as written.  Only a checkout's make
+    targets (blocks marked clone) are left out."""
+    run, here = installed["run"], installed["here"]
+    ran, clone = 0, 0
+    for path in docrun.user_pages():
+        page = path.stem
+        for block in docrun.blocks(path):
+            assert not block.skip, f"{block.where}: a newcomer's page runs every block"
+            if block.clone:
+                clone += 1
+                continue
+            (here / page).mkdir(exist_ok=True)
+            if block.save:
+                (here / page / block.save).write_text(block.text)
+            if block.kind == "python":
+                script = here / f"block_{page}_{block.line}.py"
+                script.write_text(block.text)
+                r = run(f"python {script}", page)
+                assert r.returncode == 0, f"{block.where}: {r.stdout}{r.stderr}"
+                ran += 1
+            elif block.kind == "toml" and block.save:
+                r = run(f"gyrochain check {block.save}", page)
+                assert r.returncode == 0, f"{block.where}: {r.stdout}{r.stderr}"
+            elif block.kind == "console":
+                ran += _run_console(block, run, installed, page)
+            else:
+                assert block.kind in ("text", "toml"), f"{block.where}: a {block.kind} block on a newcomer's page"
+    print(f"\nthe newcomer's pages: {ran} commands and programs run, {clone} blocks of a checkout left out")
+    assert ran >= 40 and clone <= 3, (ran, clone)
     # it ran the installed package, from outside the repository, beside the other codegen
     r = run("python -c 'import gyrochain, codegen; print(gyrochain.__file__); print(codegen.WHO)'")
     assert r.returncode == 0, r.stderr
@@ -205,6 +226,7 @@ def test_the_tour_from_an_empty_folder(installed):
     assert any(p.name.startswith("gimbal-") for p in cache.iterdir())
     assert (here / "README-pypi" / "generated" / "gimbal" / "gimbal.c").read_text().startswith(
         "/* gimbal.c - generated by gyrochain ")
+    assert (here / "tutorial" / "generated" / "gyropendulum" / "gyropendulum.pdf").exists()  # generate --pdf
 
 
 def test_the_generated_folder_builds_with_cmake(installed):
