@@ -545,3 +545,21 @@ def test_the_extras_table_is_the_package_s():
     extras = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"])
     for_us = {"test", "browser", "docs", "robots", "rollout", "bench"}  # the tests', the site's and the benchmarks'
     assert set(readme) == extras - for_us, (set(readme), extras - for_us)
+
+
+def test_every_spec_field_is_in_the_table():
+    """docs/spec.md's table of fields has a row for every field the spec parser accepts: the top
+    level, a body's, a rotor's, a limit's, the platform's, a force's and a moment's, the initial
+    state's."""
+    from gyrochain.chainspec import spec, tables
+
+    page = (ROOT / "docs" / "spec.md").read_text(encoding="utf-8")
+    part = page.split("## Every field", 1)[1].split("\n## ", 1)[0]
+    rows = set(re.findall(r"^\| `([^`]+)` \|", part, re.M))
+    want = {f"[{f}]" if f in ("base", "initial", "values") else "[[body]]" if f == "body" else f for f in spec.TOP_FIELDS}
+    want |= {f for f in spec.BODY_FIELDS if f not in ("force", "moment")} | {"[[body.force]]", "[[body.moment]]"}
+    want |= {f"rotor.{f}" for f in spec.ROTOR_FIELDS} | {f"limits.{f}" for f in tables.KEYS}
+    want |= {"base.position", "base.rotation", "force.point", "force.F", "force.frame", "moment.M", "moment.frame",
+             "initial.phi", "initial.phidot"}
+    assert want <= rows, want - rows
+    assert not rows - want, rows - want  # no row for a field the parser refuses
