@@ -40,9 +40,9 @@ def _casadi():
 
 @dataclass(frozen=True)
 class Bounds:
-    """Box bounds from the spec's joint limits, for Opti (``opti.subject_to(opti.bounded(lbx, X[:, k],
-    ubx))``) or rockit: the state x = (φ, φ̇) between ``lbx`` and ``ubx`` (the range, ± the speed),
-    the inputs u between ``lbu`` and ``ubu`` (± the effort of each controlled joint); ±inf where
+    r"""Box bounds from the spec's joint limits, for Opti (``opti.subject_to(opti.bounded(lbx, X[:, k],
+    ubx))``) or rockit: the state $x = (\varphi, \dot\varphi)$ (2n) between ``lbx`` and ``ubx`` (the range, ± the speed),
+    the controls u (nu) between ``lbu`` and ``ubu`` (± the effort of each controlled joint); ±inf where
     the spec gives none.  The model itself does not enforce them."""
 
     lbx: np.ndarray

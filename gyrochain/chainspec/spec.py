@@ -359,6 +359,8 @@ def load_spec(path: str | Path) -> ChainSpec:
 
 
 def parse_spec(text: str) -> ChainSpec:
+    """A spec from its TOML text (as a file holds it): checked field by field, the numbers exact,
+    the names parameters; a mistake is a SpecError naming the field."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -40,7 +40,9 @@ def commands(ap: argparse.ArgumentParser | None = None) -> dict[str, argparse.Ar
 
 
 def _cell(text: str) -> str:
-    return " ".join(text.split()).replace("|", "\\|")
+    """One table cell: on one line, its | escaped, a terminal's maths (M^-1, LDL^T) as code."""
+    text = re.sub(r"(?<![`\w/])([\w./+-]*\^[\w.+-]+)", r"`\1`", " ".join(text.split()))
+    return text.replace("|", "\\|")
 
 
 def rows(p: argparse.ArgumentParser) -> list[tuple[str, str, str, str]]:

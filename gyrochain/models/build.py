@@ -249,7 +249,14 @@ class IntegrationError(ModelError):
 
 
 class CModel(DerivativeCalls):
-    """The compiled C model called through cffi, with numpy arrays in and out."""
+    r"""The compiled C model called through cffi, with numpy arrays in and out.
+
+    A state x is 2n numbers $(\varphi^1 \ldots \varphi^n, \dot\varphi^1 \ldots \dot\varphi^n)$, u the nu
+    input torques in chain order (None: zero), params a dict of the symbolic parameters' values
+    (None for a model without them), t the time (read only by a model that reads t).  Arrays come back as numpy arrays of floats; a nonzero
+    return code of the C is a ModelError.  ``n``, ``nu``, ``nparams`` and ``time_dependent`` are
+    the model's sizes and facts; a function the model does not have is an AttributeError saying
+    which option writes it."""
 
     def __init__(self, so_path: str | Path, name: str):
         self.mod = load_module(so_path)
@@ -303,7 +310,8 @@ class CModel(DerivativeCalls):
 
     def _arr(self, v, n):
         v = np.ascontiguousarray(v, dtype=self.dtype)
-        assert v.shape == (n,), (v.shape, n)
+        if v.shape != (n,):
+            raise ValueError(f"{self.name}: expected {n} numbers, got an array of shape {v.shape}")
         return self.ffi.cast(self._ptr, self.ffi.from_buffer(v)), v
 
     def _u(self, u):
@@ -319,10 +327,12 @@ class CModel(DerivativeCalls):
         return out
 
     def mass_matrix(self, q, params=None):
+        r"""$M(\varphi)$ at the joint angles q (n): an n × n symmetric array."""
         qp, _k = self._arr(q, self.n)
         return self._call("mass_matrix", qp, self._p(params), out_len=self.n * self.n).reshape(self.n, self.n)
 
     def forces(self, x, u=None, params=None, t=0.0):
+        r"""f of $M\ddot\varphi = f$ at the state x (2n): the right side, n numbers."""
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
         return self._call("forces", *self._t(t), xp, up, self._p(params), out_len=self.n)
@@ -334,6 +344,7 @@ class CModel(DerivativeCalls):
         return self._call("qdd", *self._t(t), xp, up, self._p(params), out_len=self.n)
 
     def rhs(self, t, x, u=None, params=None):
+        r"""$\dot x = (\dot\varphi, \ddot\varphi)$ at the time t and the state x: 2n numbers, as an ODE solver asks for them."""
         xp, _k = self._arr(x, 2 * self.n)
         up, _ku = self._u(u)
         return self._call("rhs", float(t), xp, up, self._p(params), out_len=2 * self.n)
@@ -363,14 +374,18 @@ class CModel(DerivativeCalls):
         return A, B
 
     def energy(self, x, params=None, t=0.0):
+        r"""The energy $T - U$ (23) at the state x, a float (conserved where the header says so)."""
         xp, _k = self._arr(x, 2 * self.n)
         return self._fn("energy")(*self._t(t), xp, self._p(params))
 
     def momentum(self, x, params=None, t=0.0):
+        """The momentum (27) about the first axis at the state x, a float (a model where it can be
+        an integral; ``has_momentum``)."""
         xp, _k = self._arr(x, 2 * self.n)
         return self._fn("momentum")(*self._t(t), xp, self._p(params))
 
     def jacobi(self, x, params=None):
+        """The Jacobi integral at the state x, a float (a platform turning uniformly; ``has_jacobi``)."""
         xp, _k = self._arr(x, 2 * self.n)
         return self._fn("jacobi")(xp, self._p(params))
 
@@ -401,9 +416,11 @@ class CModel(DerivativeCalls):
         return out[0], float(out[1][0])
 
     def standard_parameters(self, params=None):
+        r"""$\pi$, the standard inertial parameters at these values (NPI numbers; generate --regressor)."""
         return self._call("standard_parameters", self._p(params), out_len=getattr(self.lib, f"{self.name.upper()}_NPI"))
 
     def base_parameters(self, pi):
+        r"""$\beta = K\pi$, the base parameters of the standard ones $\pi$ (NBASE numbers; generate --regressor)."""
         pp, _k = self._arr(pi, getattr(self.lib, f"{self.name.upper()}_NPI"))
         return self._call("base_parameters", pp, out_len=getattr(self.lib, f"{self.name.upper()}_NBASE"))
 
@@ -527,6 +544,9 @@ class CModel(DerivativeCalls):
 
     # ---- the two-body quadratures (models with NAME_HAS_QUADRATURES)
     def quad_motion(self, x0, params=None) -> dict:
+        """The two-body motion from the state x0 (4) by the quadratures (30): a dict of ``kind``
+        (libration, rotation, steady), the energy ``E``, the momentum ``k``, ``phi_min``,
+        ``phi_max``, the ``period``, ``psi_advance`` per period and ``separatrix_distance``."""
         xp, _k = self._arr(x0, 4)
         info = self.ffi.new(f"{self.name}_quad_info *")
         code = self._fn("quad_motion")(xp, self._p(params), info)
@@ -537,6 +557,7 @@ class CModel(DerivativeCalls):
         return dict(kind=kinds[info.kind], **{f: getattr(info, f) for f in fields})
 
     def quad_period(self, x0, params=None) -> float:
+        """The period of the motion from the state x0 (4), s, by the quadratures (30)."""
         xp, _k = self._arr(x0, 4)
         out = self.ffi.new(self._ptr)
         code = self._fn("quad_period")(xp, self._p(params), out)
@@ -545,6 +566,8 @@ class CModel(DerivativeCalls):
         return out[0]
 
     def quad_state(self, t, x0, params=None) -> np.ndarray:
+        """The state at the time t (a float: 4 numbers; an array of m times: m × 4) of the motion
+        from x0, by the quadratures (30), without integrating."""
         xp, _k = self._arr(x0, 4)
         ts = np.atleast_1d(np.asarray(t, dtype=float))
         out = np.empty((len(ts), 4), self.dtype)
@@ -556,6 +579,8 @@ class CModel(DerivativeCalls):
         return out if np.ndim(t) else out[0]
 
     def quad_functions(self, phi, x0, params=None) -> np.ndarray:
+        """The quadratures' functions at the angle phi of the motion from x0: six numbers, J, C,
+        the inertia term, E, K and the integrand (docs/integrals.md names them)."""
         xp, _k = self._arr(x0, 4)
         return self._call("quad_functions", float(phi), xp, self._p(params), out_len=6)
 

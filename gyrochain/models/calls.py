@@ -45,9 +45,9 @@ class DerivativeCalls:
         return self._call("step", float(t), xp, up, self._p(params), float(h), out_len=2 * self.n)
 
     def step_jacobian(self, x, h, u=None, params=None, t=0.0, with_h=True, with_t=False):
-        """(xn, Ad, Bd, xn_h) of NAME_step_jacobian: the step and its exact derivatives in x, u and h
-        (xn_h None with ``with_h`` False); with ``with_t`` (a model that reads t) also xn_t = ∂xn/∂t,
-        the fifth."""
+        r"""(``xn``, ``Ad``, ``Bd``, ``xn_h``) of NAME_step_jacobian: the step (2n) and its exact
+        derivatives in x (2n × 2n), u (2n × nu) and h (2n; None with ``with_h`` False); with
+        ``with_t`` (a model that reads t) also ``xn_t`` = $\partial x_n/\partial t$ (2n), the fifth."""
         if with_t and not self.time_dependent:
             raise AttributeError(f"{self.name} does not read t: its step has no derivative in t")
         (xp, _k), (up, _ku), d = self._arr(x, 2 * self.n), self._u(u), 2 * self.n
@@ -58,36 +58,37 @@ class DerivativeCalls:
         return (xn, Ad, Bd, dh if with_h else None) + ((dt,) if with_t else ())
 
     def time_derivative(self, x, u=None, params=None, t=0.0):
-        """(φ̈, ∂φ̈/∂t) of NAME_time_derivative (a model that reads t)."""
+        r"""($\ddot\varphi$, $\partial\ddot\varphi/\partial t$), n numbers each, of NAME_time_derivative (a model that reads t)."""
         (xp, _k), (up, _ku) = self._arr(x, 2 * self.n), self._u(u)
         out, ptrs = self._outs(self.n, self.n)
         self._checked("time_derivative", self._fn("time_derivative")(float(t), xp, up, self._p(params), *ptrs))
         return out[0], out[1]
 
     def param_derivatives(self, x, u=None, params=None, t=0.0):
-        """(φ̈, ∂φ̈/∂p) of NAME_param_derivatives, ∂φ̈/∂p n × NPARAMS (the spec's symbolic parameters)."""
+        r"""($\ddot\varphi$, $\partial\ddot\varphi/\partial p$) of NAME_param_derivatives: n, and n × NPARAMS (the spec's
+        symbolic parameters in their order)."""
         (xp, _k), (up, _ku), npar = self._arr(x, 2 * self.n), self._u(u), self.nparams
         out, ptrs = self._outs(self.n, (self.n, npar))
         self._checked("param_derivatives", self._fn("param_derivatives")(*self._t(t), xp, up, self._p(params), *ptrs))
         return out[0], out[1]
 
     def step_param_derivatives(self, x, h, u=None, params=None, t=0.0):
-        """(xn, ∂xn/∂p) of NAME_step_param_derivatives, ∂xn/∂p 2n × NPARAMS."""
+        r"""(xn, $\partial x_n/\partial p$) of NAME_step_param_derivatives: 2n, and 2n × NPARAMS."""
         (xp, _k), (up, _ku), npar = self._arr(x, 2 * self.n), self._u(u), self.nparams
         out, ptrs = self._outs(2 * self.n, (2 * self.n, npar))
         self._checked("step_param_derivatives", self._fn("step_param_derivatives")(float(t), xp, up, self._p(params), float(h), *ptrs))
         return out[0], out[1]
 
     def rhs_hessian(self, x, lam, u=None, params=None, t=0.0):
-        """∇²(λ·f) in z = (x, u), and t last in a model that reads t, (2n + nu [+ 1]) square
-        (NAME_rhs_hessian: generate --hessian or --casadi)."""
+        r"""$\nabla^2(\lambda\cdot f)$ in z = (x, u), and t last in a model that reads t: a symmetric
+        array, 2n + nu (+ 1) square (NAME_rhs_hessian: generate --hessian or --casadi); lam 2n weights."""
         (xp, _k), (up, _ku), (lp, _kl) = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n)
         z = 2 * self.n + self.nu + int(self.time_dependent)
         return self._call("rhs_hessian", float(t), xp, up, self._p(params), lp, out_len=z * z).reshape(z, z)
 
     def step_hessian(self, x, h, lam, u=None, params=None, t=0.0):
-        """∇²(λ·xn) of NAME_step in w = (x, u, h), and t last in a model that reads t, (2n + nu + 1
-        [+ 1]) square (NAME_step_hessian)."""
+        r"""$\nabla^2(\lambda\cdot x_n)$ of NAME_step in w = (x, u, h), and t last in a model that reads
+        t: a symmetric array, 2n + nu + 1 (+ 1) square (NAME_step_hessian)."""
         (xp, _k), (up, _ku), (lp, _kl) = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n)
         w = 2 * self.n + self.nu + 1 + int(self.time_dependent)
         return self._call("step_hessian", float(t), xp, up, self._p(params), float(h), lp, out_len=w * w).reshape(w, w)

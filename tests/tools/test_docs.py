@@ -563,3 +563,18 @@ def test_every_spec_field_is_in_the_table():
              "initial.phi", "initial.phidot"}
     assert want <= rows, want - rows
     assert not rows - want, rows - want  # no row for a field the parser refuses
+
+
+def test_the_api_page_has_every_public_name(site):
+    """The Python API page documents every public method of CModel (its own and the derivatives'
+    mixin), every name of gyrochain.casadi, and the entry points the guides import (a name without
+    a docstring would be left out of the page silently)."""
+    import gyrochain.casadi
+    from gyrochain.build import CModel
+
+    ids = set(re.findall(r'id="(gyrochain\.[\w.]+)"', (site / "reference" / "api.html").read_text(encoding="utf-8")))
+    names = {f"CModel.{m}" for m in dir(CModel) if not m.startswith("_") and callable(getattr(CModel, m))}
+    names |= set(gyrochain.casadi.__all__) | {"load_spec", "parse_spec", "ChainSpec", "SpecError", "derive", "render",
+                                              "compile", "derive_and_render", "load", "load_python", "ModelError"}
+    missing = sorted(n for n in names if not any(i.endswith("." + n) for i in ids))
+    assert not missing, missing
