@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..printers.codes import METHODS, MOTIONS, status_text
-from .calls import DerivativeCalls, interruptible
+from .calls import DerivativeCalls, QuadratureCalls, interruptible
 from .paramtable import ParamTable
 
 # after Python's own flags, which carry -g and -O3: -O2 as everywhere in this project, and no debug
@@ -248,7 +248,7 @@ class IntegrationError(ModelError):
 
 
 
-class CModel(DerivativeCalls):
+class CModel(DerivativeCalls, QuadratureCalls):
     r"""The compiled C model called through cffi, with numpy arrays in and out.
 
     A state x is 2n numbers $(\varphi^1 \ldots \varphi^n, \dot\varphi^1 \ldots \dot\varphi^n)$, u the nu
@@ -257,6 +257,8 @@ class CModel(DerivativeCalls):
     return code of the C is a ModelError.  ``n``, ``nu``, ``nparams`` and ``time_dependent`` are
     the model's sizes and facts; a function the model does not have is an AttributeError saying
     which option writes it."""
+
+    _motions = {v: k for k, v in MOTIONS.items()}  # quad_motion's kinds by their codes
 
     def __init__(self, so_path: str | Path, name: str):
         self.mod = load_module(so_path)
@@ -541,48 +543,6 @@ class CModel(DerivativeCalls):
         if code != 0:
             raise IntegrationError(f"{self.name}_integrate_variational", code, x1[None, :], stats)
         return (x1, Phi, stats) if full_output else (x1, Phi)
-
-    # ---- the two-body quadratures (models with NAME_HAS_QUADRATURES)
-    def quad_motion(self, x0, params=None) -> dict:
-        """The two-body motion from the state x0 (4) by the quadratures (30): a dict of ``kind``
-        (libration, rotation, steady), the energy ``E``, the momentum ``k``, ``phi_min``,
-        ``phi_max``, the ``period``, ``psi_advance`` per period and ``separatrix_distance``."""
-        xp, _k = self._arr(x0, 4)
-        info = self.ffi.new(f"{self.name}_quad_info *")
-        code = self._fn("quad_motion")(xp, self._p(params), info)
-        if code != 0:
-            raise ModelError(f"{self.name}_quad_motion", code)
-        kinds = {v: k for k, v in MOTIONS.items()}
-        fields = ("E", "k", "phi_min", "phi_max", "period", "psi_advance", "separatrix_distance")
-        return dict(kind=kinds[info.kind], **{f: getattr(info, f) for f in fields})
-
-    def quad_period(self, x0, params=None) -> float:
-        """The period of the motion from the state x0 (4), s, by the quadratures (30)."""
-        xp, _k = self._arr(x0, 4)
-        out = self.ffi.new(self._ptr)
-        code = self._fn("quad_period")(xp, self._p(params), out)
-        if code != 0:
-            raise ModelError(f"{self.name}_quad_period", code)
-        return out[0]
-
-    def quad_state(self, t, x0, params=None) -> np.ndarray:
-        """The state at the time t (a float: 4 numbers; an array of m times: m × 4) of the motion
-        from x0, by the quadratures (30), without integrating."""
-        xp, _k = self._arr(x0, 4)
-        ts = np.atleast_1d(np.asarray(t, dtype=float))
-        out = np.empty((len(ts), 4), self.dtype)
-        p = self._p(params)
-        for i, ti in enumerate(ts):
-            code = self._fn("quad_state")(float(ti), xp, p, self.ffi.cast(self._ptr, self.ffi.from_buffer(out[i])))
-            if code != 0:
-                raise ModelError(f"{self.name}_quad_state", code)
-        return out if np.ndim(t) else out[0]
-
-    def quad_functions(self, phi, x0, params=None) -> np.ndarray:
-        """The quadratures' functions at the angle phi of the motion from x0: six numbers, J, C,
-        the inertia term, E, K and the integrand (docs/integrals.md names them)."""
-        xp, _k = self._arr(x0, 4)
-        return self._call("quad_functions", float(phi), xp, self._p(params), out_len=6)
 
 
 def load(directory: str | Path, name: str | None = None) -> CModel:

@@ -1,6 +1,9 @@
 """Calls into a model's C: one that may run long (an integrator), made so that Ctrl-C ends it at
-once; and the discrete-time model and the derivatives an optimiser asks for (CModel's methods)."""
+once; and the discrete-time model, the derivatives an optimiser asks for and the two-body
+quadratures (CModel's methods)."""
 from __future__ import annotations
+
+import numpy as np
 
 
 def interruptible(fn, *args, keep=()):
@@ -92,3 +95,43 @@ class DerivativeCalls:
         (xp, _k), (up, _ku), (lp, _kl) = self._arr(x, 2 * self.n), self._u(u), self._arr(lam, 2 * self.n)
         w = 2 * self.n + self.nu + 1 + int(self.time_dependent)
         return self._call("step_hessian", float(t), xp, up, self._p(params), float(h), lp, out_len=w * w).reshape(w, w)
+
+
+class QuadratureCalls:
+    """CModel's calls of the two-body quadratures (30), in a model with NAME_HAS_QUADRATURES
+    (CModel's ``_motions``: the motion kinds by their codes)."""
+
+    def quad_motion(self, x0, params=None) -> dict:
+        """The two-body motion from the state x0 (4) by the quadratures (30): a dict of ``kind``
+        (libration, rotation, steady), the energy ``E``, the momentum ``k``, ``phi_min``,
+        ``phi_max``, the ``period``, ``psi_advance`` per period and ``separatrix_distance``."""
+        xp, _k = self._arr(x0, 4)
+        info = self.ffi.new(f"{self.name}_quad_info *")
+        self._checked("quad_motion", self._fn("quad_motion")(xp, self._p(params), info))
+        kinds = self._motions
+        fields = ("E", "k", "phi_min", "phi_max", "period", "psi_advance", "separatrix_distance")
+        return dict(kind=kinds[info.kind], **{f: getattr(info, f) for f in fields})
+
+    def quad_period(self, x0, params=None) -> float:
+        """The period of the motion from the state x0 (4), s, by the quadratures (30)."""
+        xp, _k = self._arr(x0, 4)
+        out = self.ffi.new(self._ptr)
+        self._checked("quad_period", self._fn("quad_period")(xp, self._p(params), out))
+        return out[0]
+
+    def quad_state(self, t, x0, params=None) -> np.ndarray:
+        """The state at the time t (a float: 4 numbers; an array of m times: m × 4) of the motion
+        from x0, by the quadratures (30), without integrating."""
+        xp, _k = self._arr(x0, 4)
+        ts = np.atleast_1d(np.asarray(t, dtype=float))
+        out = np.empty((len(ts), 4), self.dtype)
+        p = self._p(params)
+        for i, ti in enumerate(ts):
+            self._checked("quad_state", self._fn("quad_state")(float(ti), xp, p, self.ffi.cast(self._ptr, self.ffi.from_buffer(out[i]))))
+        return out if np.ndim(t) else out[0]
+
+    def quad_functions(self, phi, x0, params=None) -> np.ndarray:
+        """The quadratures' functions at the angle phi of the motion from x0: six numbers, J, C,
+        the inertia term, E, K and the integrand (docs/integrals.md names them)."""
+        xp, _k = self._arr(x0, 4)
+        return self._call("quad_functions", float(phi), xp, self._p(params), out_len=6)
