@@ -223,6 +223,33 @@ def _measured(f: str, flags: str | None = None) -> str:
     return f"{machine_letter(m['cpu'])}, {m['date']}" + (f", `{flags}`" if flags else "")
 
 
+def _ratio(peer: float, ours: float) -> str:
+    """The peer's time over ours: bold where ours is faster, "(behind)" where the peer is."""
+    r = peer / ours
+    return f"**{r:.{0 if r >= 10 else 1}f}×**" if r >= 1 else f"{r:.2f}× (behind)"
+
+
+def _summary_losses() -> list:
+    """The rows where a peer is ahead or its compiled form was measured too: the Jacobian at n = 64
+    with -O2, and IPOPT per iteration against CasADi SX compiled (jit) on the small problems."""
+    jac = {int(r["n"]): r for r in rows("derivatives.csv")}[64]
+    out = [[f"[the Jacobian {JACOBIAN}, 64 gyrostats, `-O2`](#derivatives)", f"{num(jac, 'ours_ns'):,.0f} ns",
+            f"{num(jac, 'pinocchio_ns'):,.0f} ns (Pinocchio)", _ratio(num(jac, "pinocchio_ns"), num(jac, "ours_ns")),
+            _measured("derivatives.csv")]]
+    ocp = rows("casadi_ocp.csv")
+    for problem, what in (("Furuta swing-up", "an IPOPT iteration, Furuta swing-up"),
+                          ("two-link arm swing-up", "an IPOPT iteration, two-link arm"),
+                          ("UR5 point to point within its limits", "an IPOPT iteration, UR5 within its limits"),
+                          ("Furuta NMPC, per control step", "an NMPC control step, Furuta pendulum")):
+        mine = next(r for r in ocp if r["problem"] == problem and r["model"].startswith("gyrochain"))
+        peers = [r for r in ocp if r["problem"] == problem and r["model"].startswith("CasADi")]
+        best = min(peers, key=lambda r: num(r, "per_iteration_ms"))
+        out.append([f"[{what}, exact Hessians](#optimal-control)", f"{num(mine, 'per_iteration_ms'):g} ms",
+                    f"{num(best, 'per_iteration_ms'):g} ms ({best['model']})",
+                    _ratio(num(best, "per_iteration_ms"), num(mine, "per_iteration_ms")), _measured("casadi_ocp.csv", "")])
+    return out
+
+
 def _summary(_):
     sp = rows("speed_O3_march_native.csv", "speed_O3_march_native_64_128.csv")
     at = {int(r["n"]): r for r in sp}
@@ -234,14 +261,14 @@ def _summary(_):
     for n, f in ((8, "speed_O3_march_native.csv"), (128, "speed_O3_march_native_64_128.csv")):
         peer, v = best_peer(at[n])
         out.append([f"[{QDD}, random spatial chain of {n} gyrostats](#forward-dynamics)", f"{num(at[n], 'ours_ns'):,.0f} ns",
-                    f"{v:,.0f} ns ({peer})", f"**{v / num(at[n], 'ours_ns'):.1f}×**", _measured(f)])
+                    f"{v:,.0f} ns ({peer})", _ratio(v, num(at[n], "ours_ns")), _measured(f)])
     j = jac[32]
     out.append([f"[the Jacobian {JACOBIAN}, 32 gyrostats](#derivatives)", f"{num(j, 'ours_ns'):,.0f} ns",
-                f"{num(j, 'pinocchio_ns'):,.0f} ns (Pinocchio)", f"**{num(j, 'pinocchio_ns') / num(j, 'ours_ns'):.1f}×**",
+                f"{num(j, 'pinocchio_ns'):,.0f} ns (Pinocchio)", _ratio(num(j, "pinocchio_ns"), num(j, "ours_ns")),
                 _measured("derivatives_O3_march_native.csv")])
     u = arm["ur5"]
     out.append([f"[{QDD} of the UR5, imported from its URDF](#imported-arms)", f"{num(u, 'ours_ns'):,.0f} ns",
-                f"{num(u, 'pinocchio_ns'):,.0f} ns (Pinocchio)", f"**{num(u, 'pinocchio_over_ours'):.1f}×**",
+                f"{num(u, 'pinocchio_ns'):,.0f} ns (Pinocchio)", _ratio(num(u, "pinocchio_ns"), num(u, "ours_ns")),
                 _measured("robots.csv")])
 
     def pick(impl, integ, where):
@@ -251,15 +278,16 @@ def _summary(_):
     mj = pick("MuJoCo", "RK4", "2 thread")
     out.append(["[double pendulums of 10 s, RK4 at 1 ms, both cores](#ensembles) (trajectories per second)", f"{ours:,.0f}",
                 f"{mj:,.1f} (MuJoCo `rollout`)", f"**{ours / mj:.0f}×**", _measured("ensemble.csv", "-O2")])
+    out += _summary_losses()
     g = gen[128]
     out.append(["[`gyrochain generate` of a chain of 128 gyrostats](#long-chains), build included", sec(num(g, "whole_s")),
                 "—", "—", _measured("generate.csv")])
-    return ["", "ours", "the fastest peer", "ours ahead by", "machine, date, flags"], out
+    return ["", "ours", "the fastest peer", "the peer's time / ours", "machine, date, flags"], out
 
 
 TABLES: dict[str, Table] = {
     "summary": Table(("speed_O3_march_native.csv", "speed_O3_march_native_64_128.csv", "derivatives_O3_march_native.csv",
-                      "robots.csv", "ensemble.csv", "generate.csv"), _summary),
+                      "robots.csv", "ensemble.csv", "derivatives.csv", "casadi_ocp.csv", "generate.csv"), _summary),
     "qdd": Table(("speed_O3_march_native.csv", "speed_O3_march_native_64_128.csv"), _qdd),
     "qdd-O2": Table(("speed.csv",), _qdd_O2),
     "jacobian": Table(("derivatives_O3_march_native.csv",), _jacobian),
