@@ -103,6 +103,7 @@ _FIGURES = re.compile(r"<p>((?:\s*<img [^>]*/?>\s*)+)</p>")
 _CELL = re.compile(r"<td>\s*(<img [^>]*/?>)\s*</td>")
 _IMG = re.compile(r"<img [^>]*/?>")
 _ALT = re.compile(r'alt="([^"]*)"')
+_SRC = re.compile(r'src="([^"]*)"')
 
 
 _INLINE = re.compile(r"\\\((.*?)\\\)")  # a formula of the alternative text, as arithmatex left it: \(...\)
@@ -125,14 +126,16 @@ def _plain(tex: str) -> str:
 
 def _figure(img: str) -> str:
     """An image with its alternative text shown beneath it as the caption (Markdown has no caption);
-    a formula of that text ($...$ in the page) is typeset in the caption and plain in the ``alt``."""
-    alt = _ALT.search(img)
+    a formula of that text ($...$ in the page) is typeset in the caption and plain in the ``alt``.
+    The picture links to itself: on a phone a tap opens it at full size, to zoom."""
+    alt, src = _ALT.search(img), _SRC.search(img)
+    linked = f'<a class="gc-enlarge" href="{src.group(1)}">{{}}</a>' if src else "{}"
     if not (alt and alt.group(1).strip()):
-        return f'<figure class="gc-figure">{img}</figure>'
+        return f'<figure class="gc-figure">{linked.format(img)}</figure>'
     text = alt.group(1)
     caption = _INLINE.sub(lambda m: mathml(m.group(1), False), text)
     img = img.replace(alt.group(0), 'alt="' + html.escape(_INLINE.sub(lambda m: _plain(m.group(1)), text), quote=True) + '"')
-    return f'<figure class="gc-figure">{img}<figcaption>{caption}</figcaption></figure>'
+    return f'<figure class="gc-figure">{linked.format(img)}<figcaption>{caption}</figcaption></figure>'
 
 
 def figures(content: str) -> str:

@@ -12,15 +12,15 @@
       var wide = table && wrap.scrollWidth > wrap.clientWidth + 1;
       var hint = wrap.previousElementSibling;
       var has = hint && hint.classList.contains("gc-scroll-hint");
-      wrap.classList.toggle("gc-scrolls", !!wide);
-      if (!wide) {
+      var right = wrap.getBoundingClientRect().right;
+      var hidden = wide ? Array.prototype.filter.call(table.rows[0].cells, function (c) {
+        return c.getBoundingClientRect().right > right + 1;
+      }).length : 0;
+      wrap.classList.toggle("gc-scrolls", hidden > 0);
+      if (!hidden) {  // (a table a few pixels wider than the page hides no column: no cue)
         if (has) hint.remove();
         return;
       }
-      var right = wrap.getBoundingClientRect().right;
-      var hidden = Array.prototype.filter.call(table.rows[0].cells, function (c) {
-        return c.getBoundingClientRect().right > right + 1;
-      }).length;
       if (!has) {
         hint = document.createElement("div");
         hint.className = "gc-scroll-hint";
