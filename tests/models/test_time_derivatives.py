@@ -3,12 +3,14 @@ NAME_time_derivative (∂φ̈/∂t), the step's ∂xn/∂h and ∂xn/∂t (NAME_
 t + c h move with both), and t as the last variable of NAME_rhs_hessian and NAME_step_hessian;
 each against central differences of the emitted functions at random points and times, for the
 Kapitza pendulum (a vibrating pivot), a gimbal on a rolling ship with a motor on its outer ring,
-and a chain whose rotor spins up under a load of t."""
+a chain whose rotor spins up under a load of t, and a chain of the angles users write (θ = π,
+−π/2, −π) with rotors spinning, loads, springs and offsets on a platform that turns and moves."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+from gyrochain.chainspec.randspec import BodyPlan, ChainPlan, geometry_spec_text
 from gyrochain.spec import load_spec
 from conftest import ROOT, example_params, fd_jacobian, richardson
 
@@ -34,6 +36,12 @@ torque = "0.05*sin(3*t)"
 """
 
 
+# the geometry test's moving_base chain (tests/models/test_geometry.py): the special angles on a platform that turns and moves
+MOVING_GEOMETRY = ChainPlan((BodyPlan("pi", "full", rotor="full", spring=True),
+                             BodyPlan("-pi/2", "point", damping=True, control=True, torque=True),
+                             BodyPlan("-pi", "full", rotor="spin", offset="number")), seed=16, base="both", loads=True)
+
+
 def _ship_gimbal_with_a_motor() -> str:
     text = (ROOT / "specs" / "ship_gimbal.toml").read_text()
     return text.replace('name = "ship_gimbal"', 'name = "ship_motor"').replace("s = [0.0, 0.0, 0.0]\n", "s = [0.0, 0.0, 0.0]\ncontrol = true\n", 1)
@@ -44,7 +52,8 @@ def timed_models(make_model):
     return {"kapitza": (make_model(load_spec(ROOT / "specs" / "kapitza.toml"), example_params("kapitza"), hessian=True),
                         example_params("kapitza")),
             "ship_motor": (make_model(_ship_gimbal_with_a_motor(), hessian=True), None),
-            "spun_up": (make_model(SPUN_UP, hessian=True), None)}
+            "spun_up": (make_model(SPUN_UP, hessian=True), None),
+            "moving_geometry": (make_model(geometry_spec_text(MOVING_GEOMETRY, "tgeom"), hessian=True), None)}
 
 
 def _point(rng, n, nu):
@@ -56,7 +65,7 @@ def _relative(got, want):
     return np.max(np.abs(got - want)) / max(np.max(np.abs(want)), 1e-300)
 
 
-@pytest.mark.parametrize("name", ["kapitza", "ship_motor", "spun_up"])
+@pytest.mark.parametrize("name", ["kapitza", "ship_motor", "spun_up", "moving_geometry"])
 def test_the_derivatives_in_t_equal_differences(timed_models, rng, name):
     m, prm = timed_models[name]
     c, n, nu = m.c, m.spec.n, m.c.nu

@@ -205,3 +205,4 @@ def test_a_disturbance_torque_is_an_input_every_target_names():
     assert "#define FD_NU 2\n" in files["fd.h"] and "joint 2 takes a disturbance torque" in files["fd.h"]
     assert "\nDISTURBANCES = (2, )" in files["fd.py"] and "DISTURBANCES" not in committed("furuta")["furuta.py"]
     assert "& disturbance \\\\" in files["fd.tex"]
+    assert "Control torques: $L^{1}$. Disturbance torques (inputs no controller sets): $L^{2}$." in files["fd.tex"]
