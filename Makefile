@@ -88,21 +88,24 @@ $(VENV)/.plot-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,plot,sweep,view,rollout,casadi]'
 	touch $@
 
+# each chart also drawn for a phone (X.phone.png beside X.png: its panels in a column, its text legible at 390 px)
+PHONE = $(VPY) examples/phone_figures.py
+
 plot: $(VENV)/.plot-installed
 	$(VPY) -m gyrochain generate -q specs/gimbal.toml >/dev/null
-	$(VPY) examples/frames_figure.py docs/img/frames.png
-	$(VPY) examples/plot_gimbal.py docs/img/gimbal_quadrature.png
+	$(PHONE) examples/frames_figure.py docs/img/frames.png
+	$(PHONE) examples/plot_gimbal.py docs/img/gimbal_quadrature.png
 	$(VPY) -m gyrochain generate -q specs/furuta.toml >/dev/null
-	$(VPY) examples/furuta_lqr.py docs/img/furuta_lqr.png
-	$(VPY) examples/furuta_swing_up.py docs/img/furuta_swing_up.png
+	$(PHONE) examples/furuta_lqr.py docs/img/furuta_lqr.png
+	$(PHONE) examples/furuta_swing_up.py docs/img/furuta_swing_up.png
 	rm -rf build/flip_map.zarr
 	$(VPY) -m gyrochain sweep specs/double_pendulum.toml --vary link1=-3.14:3.14:300 --vary link2=-3.14:3.14:300 \
 		--t1 10 --measure flip_time --device auto -q -o build/flip_map.zarr
-	$(VPY) -m gyrochain plot build/flip_map.zarr --log -o docs/img/double_pendulum_flip.png
+	$(PHONE) -m gyrochain plot build/flip_map.zarr --log -o docs/img/double_pendulum_flip.png
 	$(VPY) -m gyrochain generate -q specs/kapitza.toml >/dev/null
-	$(VPY) examples/kapitza_chart.py docs/img/kapitza_chart.png
+	$(PHONE) examples/kapitza_chart.py docs/img/kapitza_chart.png
 	$(VPY) -m gyrochain generate -q specs/double_pendulum_point.toml >/dev/null
-	$(VPY) examples/nnm_periods.py docs/img/nnm_periods.png
+	$(PHONE) examples/nnm_periods.py docs/img/nnm_periods.png
 	$(VPY) bench/report.py
 	$(VPY) examples/tutorial_page.py docs/img/tutorial_page.png
 	$(VPY) examples/identify_pictures.py
@@ -111,10 +114,10 @@ gallery: setup
 	$(VPY) examples/gallery.py
 
 animations: setup
-	$(VPY) -m gyrochain animate specs/gimbal.toml --t1 8 --fps 20 --size 360x360 -o docs/img/gimbal.gif
-	$(VPY) -m gyrochain animate specs/spatial3.toml --phi=-2,-0.75,-1.1 --phidot 0,0,0 --t1 8 --fps 20 --size 360x360 \
+	$(VPY) -m gyrochain animate specs/gimbal.toml --t1 8 --fps 20 --size 340x340 -o docs/img/gimbal.gif
+	$(VPY) -m gyrochain animate specs/spatial3.toml --phi=-2,-0.75,-1.1 --phidot 0,0,0 --t1 8 --fps 20 --size 340x340 \
 		-o docs/img/spatial3_chaos.gif
-	$(VPY) -m gyrochain animate specs/cable64.toml --t1 4 --fps 20 --size 360x360 -o docs/img/cable64.gif
+	$(VPY) -m gyrochain animate specs/cable64.toml --t1 4 --fps 20 --size 340x340 -o docs/img/cable64.gif
 
 $(VENV)/.bench-installed: $(VENV)/.installed pyproject.toml
 	$(VPY) -m pip install -q -e '.[test,bench]'

@@ -80,8 +80,17 @@ def on_files(files, config, **_):
     return files
 
 
-def on_page_content(content: str, **_) -> str:
-    return figures(_MATH.sub(lambda m: _formula(m[1], m[2]), content))
+def on_page_content(content: str, page, config, **_) -> str:
+    from pathlib import Path, PurePosixPath
+
+    here = Path(config["docs_dir"]) / PurePosixPath(page.file.src_uri).parent
+
+    def phone(src: str) -> str | None:
+        """The phone variant of a chart, X.phone.png beside X.png (examples/phone_figures.py), if drawn."""
+        variant = str(PurePosixPath(src).with_suffix(".phone.png"))
+        return variant if src.endswith(".png") and (here / variant).is_file() else None
+
+    return figures(_MATH.sub(lambda m: _formula(m[1], m[2]), content), phone)
 
 
 _ROOTED = re.compile(r'((?:href|src)=")/(?!/)')
@@ -99,6 +108,7 @@ def on_post_build(config, **_) -> None:
         page.write_text(text, encoding="utf-8")
 
 
+PHONE = "(max-width: 44.9375em)"  # Material's narrowest layout: the page's text column alone
 _FIGURES = re.compile(r"<p>((?:\s*<img [^>]*/?>\s*)+)</p>")
 _CELL = re.compile(r"<td>\s*(<img [^>]*/?>)\s*</td>")
 _IMG = re.compile(r"<img [^>]*/?>")
@@ -124,12 +134,16 @@ def _plain(tex: str) -> str:
     return s.replace("{", "").replace("}", "")
 
 
-def _figure(img: str) -> str:
+def _figure(img: str, phone=lambda src: None) -> str:
     """An image with its alternative text shown beneath it as the caption (Markdown has no caption);
     a formula of that text ($...$ in the page) is typeset in the caption and plain in the ``alt``.
-    The picture links to itself: on a phone a tap opens it at full size, to zoom."""
+    The picture links to itself: on a phone a tap opens it at full size, to zoom. A chart with a
+    phone variant (``phone(src)``) shows it on a narrow screen, where the desktop one's text is too small."""
     alt, src = _ALT.search(img), _SRC.search(img)
     linked = f'<a class="gc-enlarge" href="{src.group(1)}">{{}}</a>' if src else "{}"
+    narrow = phone(src.group(1)) if src else None
+    if narrow:
+        linked = linked.format(f'<picture><source media="{PHONE}" srcset="{narrow}">{{}}</picture>')
     if not (alt and alt.group(1).strip()):
         return f'<figure class="gc-figure">{linked.format(img)}</figure>'
     text = alt.group(1)
@@ -138,7 +152,7 @@ def _figure(img: str) -> str:
     return f'<figure class="gc-figure">{linked.format(img)}<figcaption>{caption}</figcaption></figure>'
 
 
-def figures(content: str) -> str:
+def figures(content: str, phone=lambda src: None) -> str:
     """Images alone in a paragraph or a table cell become figures with visible captions."""
-    content = _FIGURES.sub(lambda m: "".join(_figure(i) for i in _IMG.findall(m.group(1))), content)
-    return _CELL.sub(lambda m: f"<td>{_figure(m.group(1))}</td>", content)
+    content = _FIGURES.sub(lambda m: "".join(_figure(i, phone) for i in _IMG.findall(m.group(1))), content)
+    return _CELL.sub(lambda m: f"<td>{_figure(m.group(1), phone)}</td>", content)

@@ -21,7 +21,9 @@ from typing import Callable
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "bench"))
+sys.path.insert(0, str(ROOT / "examples"))
 
+from phone_figures import phone_path, save_phone  # noqa: E402
 from provenance import RESULTS, read as read_machines  # noqa: E402
 
 PAGE = ROOT / "docs" / "benchmarks.md"
@@ -484,6 +486,7 @@ def draw(name: str, out: Path) -> None:
     c = CHARTS[name]
     fig = c.draw(plt, rows(*c.files))  # laid out by its drawing function
     fig.savefig(out, dpi=100, metadata={"Source": sha(c.files), "Software": None})
+    save_phone(fig, out, {"Source": sha(c.files)})  # X.phone.png, shown on a phone
     plt.close(fig)
 
 
@@ -509,10 +512,11 @@ def check() -> list[str]:
     if page(text) != text:
         problems.append("docs/benchmarks.md: a table differs from its CSV (python bench/report.py rewrites it)")
     for name, c in CHARTS.items():
-        src = png_source(RESULTS / name)
-        if src != sha(c.files):
-            problems.append(f"bench/results/{name}: drawn from {src or 'unrecorded data'}, not from the current "
-                            f"{', '.join(c.files)}")
+        for drawn in (RESULTS / name, phone_path(RESULTS / name)):
+            src = png_source(drawn) if drawn.exists() else None
+            if src != sha(c.files):
+                problems.append(f"bench/results/{drawn.name}: drawn from {src or 'unrecorded data'}, not from the "
+                                f"current {', '.join(c.files)}")
     return problems
 
 

@@ -1,7 +1,7 @@
 """The two pictures of docs/identify.md, made by the page's own commands (`make plot`).
 
 Runs the page's Python blocks and ``$ gyrochain`` lines in order in a fresh folder, as a reader
-following the page would, and keeps the two pictures that its ``--plot`` options write:
+following the page would, and keeps the two pictures that its ``--plot`` options write (each with its phone variant):
 furuta_fit.png as docs/img/identify_furuta.png and bench_fit.png as docs/img/identify_gimbal.png.
 
     python examples/identify_pictures.py
@@ -37,11 +37,12 @@ def main() -> int:
                 continue
             for line in text.splitlines():
                 if line.startswith("$ gyrochain "):
-                    subprocess.run([sys.executable, "-m", "gyrochain", *shlex.split(line[len("$ gyrochain "):])], cwd=d,
+                    subprocess.run([sys.executable, str(ROOT / "examples" / "phone_figures.py"), "-m", "gyrochain", *shlex.split(line[len("$ gyrochain "):])], cwd=d,
                                    check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        for made, kept in KEEP.items():
-            shutil.copyfile(Path(d) / made, ROOT / "docs" / "img" / kept)
-            print(f"wrote docs/img/{kept}")
+        for made, kept in KEEP.items():  # each with its phone variant (examples/phone_figures.py)
+            for suffix in (".png", ".phone.png"):
+                shutil.copyfile(Path(d) / (Path(made).stem + suffix), ROOT / "docs" / "img" / (Path(kept).stem + suffix))
+                print(f"wrote docs/img/{Path(kept).stem + suffix}")
     return 0
 
 

@@ -580,23 +580,55 @@ def test_the_api_page_has_every_public_name(site):
     assert not missing, missing
 
 
+# A picture of a printed page (the tutorial's PDF, set for paper): its letters are the page's, too
+# small at 342 px whatever is done to the picture; on a phone it is read enlarged (a tap opens it).
+PRINTED_PAGES = {"tutorial_page.png"}
+SMALLEST_PX = 11.0  # the smallest letter of a picture on a phone, in CSS pixels
+
+
+def _phone_text_px(png: Path, shown_px: float) -> float | None:
+    """The smallest letter of a chart's phone variant as shown ``shown_px`` wide, in CSS pixels,
+    from what examples/phone_figures.py recorded in it (its width in inches, its smallest text in points)."""
+    from PIL import Image
+
+    with Image.open(png) as im:
+        found = im.info.get("gyrochain-phone")
+    if found is None:
+        return None
+    rec = dict(kv.split("=") for kv in found.split())
+    return float(rec["smallest_pt"]) / 72.0 * shown_px / float(rec["width_in"])
+
+
 def test_the_pages_on_a_phone(site, browser):
-    """At 390 × 844 (a phone): no picture shrunk below 300 px (or its own width), every picture a
-    link to itself (a tap opens it at full size), and no cue to scroll a table that hides no column."""
+    """At 390 × 844 (a phone): no page wider than the screen; every chart shown as its phone
+    variant, whose smallest letter is at least 11 px there, and every other picture (drawn by
+    animate, with 11 px letters) at its own size, not shrunk; every picture a link to itself (a tap
+    opens it at full size); no cue to scroll a table that hides no column."""
     ctx, page, _left, _errors = _offline(browser, viewport=(390, 844))
-    small, unlinked, empty_cue = {}, {}, {}
+    wide, small, unlinked, empty_cue = {}, {}, {}, {}
     try:
         for html_page in sorted(p for p in site.rglob("*.html") if "assets" not in p.parts and p.name != "404.html"):
             page.goto(html_page.as_uri())
             name = str(html_page.relative_to(site))
+            width = page.evaluate("() => document.documentElement.scrollWidth")
+            wide[name] = [width] if width > 390 else []
             found = page.evaluate("""() => [...document.querySelectorAll('article figure img')].map(i => [
-                i.getAttribute('src'), Math.round(i.getBoundingClientRect().width), i.naturalWidth,
-                !!i.closest('a.gc-enlarge')])""")
-            small[name] = [src for src, w, nat, _ in found if w < min(300, nat) - 1]
+                i.currentSrc, i.getBoundingClientRect().width, i.naturalWidth, !!i.closest('a.gc-enlarge')])""")
+            small[name] = []
+            for src, shown, natural, _ in found:
+                path = Path(src.removeprefix("file://"))
+                if path.name in PRINTED_PAGES:
+                    continue
+                px = _phone_text_px(path, shown) if path.name.endswith(".phone.png") else None
+                if px is not None:
+                    if px < SMALLEST_PX:
+                        small[name].append(f"{path.name}: letters of {px:.1f} px")
+                elif path.suffix == ".png" and path.parent.name != "gallery" or shown < natural - 0.5:
+                    small[name].append(f"{path.name}: {shown:.0f} px of its {natural}, no phone variant")
             unlinked[name] = [src for src, _, _, linked in found if not linked]
             empty_cue[name] = page.evaluate("() => [...document.querySelectorAll('.gc-scroll-hint')]"
                                             ".map(h => h.textContent).filter(t => / 0 more column/.test(t))")
     finally:
         ctx.close()
-    for what in (small, unlinked, empty_cue):
+    for what in (wide, small, unlinked, empty_cue):
         assert not {k: v for k, v in what.items() if v}, what
