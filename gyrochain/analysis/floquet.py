@@ -279,9 +279,10 @@ class Driven:
     monodromy: np.ndarray = field(repr=False, default=None)
 
 
-def monodromy(cm, x, T: float, params=None, u=None, t0: float = 0.0) -> np.ndarray:
-    """Φ(t0 + T) from the identity at t0 along the motion from x (NAME_integrate_variational)."""
-    return cm.integrate_variational(t0, t0 + T, x, u=u, params=params, rtol=RTOL, atol=ATOL)[1]
+def monodromy(cm, x, T: float, params=None, u=None, t0: float = 0.0, tol: float = RTOL) -> np.ndarray:
+    """Φ(t0 + T) from the identity at t0 along the motion from x (NAME_integrate_variational, at
+    rtol = atol = ``tol``)."""
+    return cm.integrate_variational(t0, t0 + T, x, u=u, params=params, rtol=tol, atol=tol)[1]
 
 
 def multipliers(Phi: np.ndarray, cyclic: bool) -> np.ndarray:
@@ -401,9 +402,11 @@ class DrivenAnalysis:
             return False
         return bool(np.max(np.abs(r)) <= 1e-9 * scale)
 
+    tol = RTOL  # of the integration of a period (continuation asks for more: its boundaries to 1e-10)
+
     def classify(self, phi) -> Driven:
         x = np.concatenate([phi, np.zeros(self.n)])
-        Phi = monodromy(self.c, x, self.period, self.params, self.u)
+        Phi = monodromy(self.c, x, self.period, self.params, self.u, tol=self.tol)
         mu = multipliers(Phi, self.cyclic)
         v, why = verdict(mu)
         return Driven(np.array(phi, float), self.period, mu, v, why, Phi)

@@ -167,6 +167,48 @@ def cmd_steady(args) -> int:
     return 0
 
 
+def cmd_continue(args) -> int:
+    """Branches of equilibria over a parameter's range, their special points, and with a second
+    parameter the curves those points trace."""
+    from ..analysis import branches, steady
+    from ..analysis.continuation import ContinuationError
+
+    spec = load_spec(args.spec)
+    given = cliargs.params_of(args.param)
+    if len(args.vary) > 2:
+        raise SpecError("--vary", f"given {len(args.vary)} times: one parameter for the branches, a second for the "
+                                  "curves of their special points")
+    if args.max_steps < 1:
+        raise SpecError("--max-steps", f"{args.max_steps}: expected at least 1")
+    if not (math.isfinite(args.step) and 0 < args.step <= 0.5):
+        raise SpecError("--step", f"{args.step:g}: expected a step in (0, 0.5] (a parameter's whole range counts as 1)")
+    if args.output:
+        target(args.output, "", args.force, source=args.spec)  # checked before the work, written after it
+    starts = [cliargs.floats(s, "--from", spec.n) for s in args.start or []]
+    u = torques(spec, cliargs.float_list(args.u, "--u"))
+    try:
+        ranges = [branches.parse_range(v, spec) for v in args.vary]
+        names = [r[0] for r in ranges]
+        for name, lo, hi in ranges:  # every value of a range is a run's: a mass positive, an inertia possible
+            steady.check_vary_values(spec, given, (name, np.array([lo, hi])))
+        lo = {name: lo for name, lo, _ in ranges if name not in given and name not in spec.values}
+        params = run_values(spec, {**lo, **given})  # a varied parameter without a value starts at its lo
+
+        def progress(k, point) -> None:
+            values = point[0] if isinstance(point, tuple) else (point.alpha,)
+            cliargs.Heartbeat.say(f"{k} points, " + ", ".join(f"{n} = {v:.6g}" for n, v in zip(names, values)))
+
+        res = branches.run(spec, params, u or None, ranges, starts, args.max_steps, args.step, args.period, progress)
+    except (ContinuationError, steady.SteadyError) as exc:
+        what, _, why = str(exc).partition(": ")
+        raise SpecError(what, why) from None
+    print(branches.report(res))
+    if args.output:
+        path = deliver(branches.csv_text(res, spec.n), args.output, "", args.force, args.spec)
+        print(f"wrote {path}")
+    return 0
+
+
 def cmd_orbits(args) -> int:
     """Periodic orbits of an autonomous spec: nonlinear normal modes, steady rotations as orbits."""
     from ..analysis import orbits, steady
@@ -417,10 +459,10 @@ def main(argv=None) -> int:
     if extra:  # said by the command's own parser, with the nearest option it has
         sub.choices[args.cmd].error(cliargs.unrecognized(extra, sub.choices[args.cmd]))
     command = {"generate": cmd_generate, "check": cmd_check, "simulate": cmd_simulate, "steady": cmd_steady,
-               "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
+               "continue": cmd_continue, "orbits": cmd_orbits, "sweep": cmd_sweep, "plot": cmd_plot, "animate": cmd_animate,
                "examples": cmd_examples, "new": cmd_new, "import": cmd_import,
                "export": cmd_export, "fmu": cmd_fmu, "identify": cmd_identify, "excite": cmd_excite}[args.cmd]
-    beat = cliargs.Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "orbits", "animate", "identify", "excite",
+    beat = cliargs.Heartbeat(args.cmd) if args.cmd in ("simulate", "steady", "continue", "orbits", "animate", "identify", "excite",
                                                        "fmu") else None
     stdout = sys.stdout
     if beat is not None and beat.running:

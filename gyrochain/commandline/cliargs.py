@@ -169,6 +169,8 @@ class Heartbeat:
         self.name, self.after, self.t0 = name, after, time.perf_counter()
         self.done, self.shown, self.lock = threading.Event(), False, threading.Lock()
         self.running = sys.stderr.isatty()
+        self.status = ""  # where the work is (``say``), shown after the time
+        Heartbeat.current = self
         if self.running:
             threading.Thread(target=self._run, name="gyrochain-heartbeat", daemon=True).start()
 
@@ -179,10 +181,19 @@ class Heartbeat:
             with self.lock:
                 if self.done.is_set():
                     return
-                sys.stderr.write(f"\r{self.name}: working, {time.perf_counter() - self.t0:.0f} s; Ctrl-C stops it ")
+                where = f"; {self.status}" if self.status else ""
+                sys.stderr.write(f"\r\033[K{self.name}: working, {time.perf_counter() - self.t0:.0f} s{where}; Ctrl-C stops it ")
                 sys.stderr.flush()
                 self.shown = True
             self.done.wait(1.0)
+
+    current = None  # the running command's heartbeat
+
+    @classmethod
+    def say(cls, status: str) -> None:
+        """Where the running command's work is, for its heartbeat's line (nothing off a terminal)."""
+        if cls.current is not None:
+            cls.current.status = status
 
     def stop(self) -> None:
         with self.lock:

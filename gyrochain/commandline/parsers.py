@@ -162,6 +162,27 @@ def _analyse(sub) -> None:
                     "(default: from the spec's sines and cosines of t)")
     st.add_argument("--vary", action="append", metavar="NAME=lo:hi:N", help="a model that depends on t: its equilibria "
                     "continued over one parameter, where the Floquet verdict changes (default: none)")
+    co = sub.add_parser("continue", help="branches of equilibria traced over a parameter's range by continuation, "
+                        "with their folds, branch points and changes of stability; with a second --vary, the curves "
+                        "those points trace in the two parameters (stability boundaries)")
+    _spec(co)
+    co.add_argument("--vary", action="append", required=True, metavar="NAME=lo:hi", help="the parameter the branches "
+                    "follow over lo:hi, both ways from its value (--param or the spec's; lo when it has none in the "
+                    "range); a second --vary: the other parameter of the curves of their special points, held at its "
+                    "value along the branches (required)")
+    co.add_argument("--from", dest="start", action="append", metavar="PHI1,..", help="a branch's first point: Newton "
+                    "from these angles, rad, where the branch starts (repeatable; default: every equilibrium found there)")
+    co.add_argument("--param", action="append", metavar="NAME=VALUE", help=PARAM)
+    co.add_argument("--u", default="", metavar="U1,..", help=U)
+    co.add_argument("--period", type=float, default=None, help="the period of a model that depends on t, s "
+                    "(default: from the spec's sines and cosines of t)")
+    co.add_argument("--max-steps", type=int, default=400, metavar="N", help="the most continuation steps of the whole "
+                    "run (default 400)")
+    co.add_argument("--step", type=float, default=0.02, help="the first step along a branch, in radians and "
+                    "ranges (a parameter's whole range counts as 1; default 0.02)")
+    co.add_argument("-o", "--output", default="", metavar="FILE.csv", help="the branches, their special points and "
+                    "the curves, one row each (default: none, the report only)")
+    co.add_argument("--force", action="store_true", help=FORCE)
     ob = sub.add_parser("orbits", help="periodic orbits of an autonomous spec (nonlinear normal modes, steady rotations) "
                         "by shooting, with their Floquet multipliers")
     _spec(ob)

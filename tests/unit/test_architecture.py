@@ -155,6 +155,9 @@ def test_every_subpackage_says_its_job_and_what_it_may_import():
             assert "May import:" in doc, init
 
 
+CAME_AFTER = ("gyrochain/analysis/continuation.py", "gyrochain/analysis/boundary.py", "gyrochain/analysis/branches.py")
+
+
 def test_the_old_module_names_still_import_the_same_modules():
     """Scripts written before the package was laid out by capability (``from gyrochain import
     pipeline``, ``gyrochain.spec.load_spec``, ``import gyrochain.build``) get the same modules."""
@@ -165,7 +168,8 @@ def test_the_old_module_names_still_import_the_same_modules():
     # (gyrochain.gpu, gyrochain.casadi, models/paramtable.py, models/selfcheck.py, models/calls.py, chainspec/tables.py and
     # derive/hessian.py and commandline/reference.py came after the move: their modules never had a top-level name)
     old = {p.stem for p in _code("*/*.py") if p.stem not in ("__init__", "paramtable", "selfcheck", "calls", "tables", "hessian")
-           and p.parent.name not in ("printers", "gpu", "casadi") and p.relative_to(ROOT).as_posix() != "gyrochain/commandline/reference.py"}
+           and p.parent.name not in ("printers", "gpu", "casadi")
+               and p.relative_to(ROOT).as_posix() not in ("gyrochain/commandline/reference.py", *CAME_AFTER)}
     old.add("codes")
     assert set(gyrochain.MOVED) == old, set(gyrochain.MOVED) ^ old
     for name, new in gyrochain.MOVED.items():

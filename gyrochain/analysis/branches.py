@@ -1,0 +1,247 @@
+"""``gyrochain continue``: the branches of equilibria over a parameter's range, their special points,
+and with a second parameter the curves those points trace (continuation.py, boundary.py); the
+report and the CSV file."""
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import floquet, steady
+from .boundary import Boundary, Curve
+from .continuation import BRANCHES, KINDS, Branch, ContinuationError, Equilibria, Tracer
+from .floquet import fmt_phi, wrap
+
+MONODROMY_TOL = 1e-14  # rtol = atol of a period's variational integration: multipliers to ~1e-13, boundaries to ~1e-11
+TRACED = ("LP", "BP", "KC", "H", "+1", "PD", "NS", "KCm")  # the kinds whose curves a second parameter traces
+
+
+@dataclass
+class Result:
+    name: str  # the spec's
+    names: list  # the parameters: the branch's, then the boundary's second
+    ranges: list
+    held: dict  # the other parameters' values
+    driven: bool
+    branches: list = field(default_factory=list)
+    curves: list = field(default_factory=list)
+    starts: str = ""  # how the first points were found
+    second: float = float("nan")  # the second parameter's value along the branches
+
+
+def parse_range(text: str, spec, what: str = "--vary") -> tuple[str, float, float]:
+    """``NAME=lo:hi``: a symbolic parameter of the spec and its range."""
+    name, eq, rng = text.partition("=")
+    name = name.strip()
+    if not eq or not name:
+        raise ContinuationError(f"{what}: expected NAME=lo:hi, for example P=0:12")
+    names = [str(p) for p in spec.params]
+    if name not in names:
+        from ..chainspec.errors import did_you_mean
+
+        raise ContinuationError(f"{what} {name}: not a symbolic parameter of the spec ({did_you_mean(name, names)}"
+                                + (f"its parameters: {', '.join(names)})" if names else "it has none)"))
+    try:
+        lo, hi = (float(v) for v in rng.split(":"))
+    except ValueError:
+        raise ContinuationError(f"{what} {name}: expected lo:hi, for example {name}=0:12") from None
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+        raise ContinuationError(f"{what} {name}: expected finite lo < hi")
+    return name, lo, hi
+
+
+def run(spec, params: dict, u, ranges: list, starts=(), max_steps: int = 400, step: float = 0.02, period=None,
+        progress=None) -> Result:
+    """Trace the branches over ``ranges[0]`` = (name, lo, hi), both ways from their first points:
+    Newton from ``starts`` (φ each; default: every equilibrium steady finds) at the parameter's value
+    in ``params`` when it is in the range, else at lo; the branches of their branch points; and with
+    ``ranges[1]`` the curves of their special points in the two parameters."""
+    from ..derive.assemble import time_dependent
+
+    cm, model = steady.compile_spec(spec, driven_ok=True)
+    names = [r[0] for r in ranges]
+    if len(set(names)) < len(names):
+        raise ContinuationError(f"--vary {names[0]}: given twice; the second --vary names another parameter")
+    lo, hi = ranges[0][1:]
+    alpha0 = float(params[names[0]]) if names[0] in params and lo <= params[names[0]] <= hi else lo
+    if len(ranges) > 1 and not ranges[1][1] <= params[names[1]] <= ranges[1][2]:
+        raise ContinuationError(f"--vary {names[1]}: its value on the branch, {params[names[1]]:g} (--param or the "
+                                f"spec's values), is outside {ranges[1][1]:g}:{ranges[1][2]:g}")
+    driven = time_dependent(model)
+    an, st, dr = _analysis(cm, model, {**params, names[0]: alpha0}, u, period, driven)
+    out = Result(spec.name, names, [r[1:] for r in ranges], {k: v for k, v in params.items() if k not in names}, driven)
+    if len(ranges) > 1:
+        out.second = float(params[names[1]])
+    eq = Equilibria(cm, model, {**params, names[0]: alpha0}, u, names[:1], [ranges[0][1:]], steady=st, driven=dr)
+    tracer = Tracer(eq, max_steps, step, progress)
+    firsts = _firsts(an, tracer, starts, alpha0, out)
+    queue = [(p, f"phi = {fmt_phi(p.phi)} at {names[0]} = {p.alpha:.10g}", None) for p in firsts]
+    while queue and len(out.branches) < BRANCHES and tracer.steps < max_steps:
+        p, origin, at = queue.pop(0)
+        if any(_on(p, br) for br in out.branches):
+            continue  # already traced (a branch met again, the other side of a branch point)
+        br = tracer.trace(p, origin, at) if at is not None else tracer.trace_both(p, origin)
+        out.branches.append(br)
+        for s in br.specials:
+            if s.kind == "BP":
+                queue += [(q, f"the branch point at {names[0]} = {s.point.alpha:.10g}", s.point) for q in tracer.switch(s)]
+    if len(ranges) > 1:
+        eq2 = Equilibria(cm, model, params, u, names, [r[1:] for r in ranges], steady=st, driven=dr)
+        eq2.reversible = eq.reversible
+        out.curves = _curves(out, eq2, params[names[1]], max_steps, step, progress)
+    return out
+
+
+def _analysis(cm, model, params, u, period, driven):
+    """(the analysis, steady's or None, floquet's or None) at the start's parameters."""
+    from ..chainspec.errors import SpecError
+
+    try:
+        if driven:
+            an = floquet.DrivenAnalysis(cm, model, params, u, period, what="continue")
+            an.tol = MONODROMY_TOL
+            return an, None, an
+        if period is not None:
+            raise ContinuationError("--period: the model does not depend on t")
+        an = steady.Analysis(cm, model, params, u)
+        return an, an, None
+    except SpecError as exc:
+        raise ContinuationError(f"{exc.field}: {exc.message}") from None
+    except steady.SteadyError as exc:
+        raise ContinuationError(str(exc)) from None
+
+
+def _firsts(an, tracer: Tracer, starts, alpha0: float, out: Result) -> list:
+    """The branches' first points: Newton from the user's starts, or every equilibrium found."""
+    name = tracer.eq.name
+    if starts:
+        out.starts = "the --from starts"
+        return [tracer.start(np.asarray(s, float), alpha0) for s in starts]
+    found = an.equilibria()
+    if not found:
+        raise ContinuationError(f"--vary {name}: no equilibrium at {name} = {alpha0:g} (Newton from "
+                                f"{floquet.STARTS}); give a start with --from")
+    out.starts = f"every equilibrium at {name} = {alpha0:g}"
+    firsts = []
+    for e in found:
+        try:
+            firsts.append(tracer.start(e.phi, alpha0))
+        except ContinuationError:
+            continue  # a singular one (a family of equilibria, a fold where it starts): not a branch's start
+    if not firsts:
+        raise ContinuationError(f"--vary {name}: every equilibrium at {name} = {alpha0:g} has a singular "
+                                "Jacobian: start a little away from it (--param)")
+    return firsts
+
+
+def _curves(out: Result, eq2: Equilibria, second: float, max_steps: int, step: float, progress) -> list:
+    """The curve of each special point that bounds stability, in the two parameters (once per curve)."""
+    curves = []
+    for br in out.branches:
+        for s in br.specials:
+            if s.kind not in TRACED or any(_near(s, c) for c in curves):
+                continue
+            y0 = eq2.y_of(s.point.phi, [s.point.alpha, second])
+            try:
+                curves.append(Boundary(eq2, s.kind, max_steps, step, progress).trace(y0))
+            except ArithmeticError:
+                continue
+    return curves
+
+
+def _on(p, br: Branch, tol: float = 1e-6) -> bool:
+    """Whether the point p lies on the branch's polyline (within tol in y)."""
+    ys = np.array([q.y for q in br.points])
+    for a, b in zip(ys, ys[1:]):
+        d = b - a
+        w = np.clip(((p.y - a) @ d) / max(d @ d, 1e-300), 0.0, 1.0)
+        if np.linalg.norm(wrap(p.y - (a + w * d))) < max(tol, 0.05 * np.linalg.norm(d)):  # a chord's sagitta
+            return True
+    return False
+
+
+def _near(s, curve: Curve) -> bool:
+    return curve.kind == s.kind and any(abs(v[0] - s.point.alpha) <= 1e-8 * max(1.0, abs(s.point.alpha))
+                                        for v, _phi, _y in curve.points)
+
+
+# --------------------------------------------------------------------------- report
+def _segments(br: Branch, name: str) -> str:
+    """The verdict along the branch, by stretches between the changes; a stretch through a fold or
+    a branch point where the branch turns back says so."""
+    first = br.points[1] if len(br.points) > 1 and br.points[0].verdict == "degenerate" else br.points[0]
+    parts, start, verdict, turns = [], br.points[0].alpha, first.verdict, []  # (a branch point opening a branch is degenerate)
+    for s in br.specials:
+        if s.before != s.after:
+            parts.append(f"{verdict} from {name} = {start:.10g} to {s.point.alpha:.10g}" + _turning(turns, name))
+            start, verdict, turns = s.point.alpha, s.after, []
+        elif s.kind in ("LP", "BP"):
+            turns.append(s.point.alpha)
+    parts.append(f"{verdict} from {name} = {start:.10g} to {br.points[-1].alpha:.10g}" + _turning(turns, name))
+    return "; ".join(parts)
+
+
+def _turning(turns, name: str) -> str:
+    return f" (through {name} = {', '.join(f'{t:.10g}' for t in turns)})" if turns else ""
+
+
+def report(res: Result) -> str:
+    name = res.names[0]
+    lo, hi = res.ranges[0]
+    held = ", ".join(f"{k} = {v:.12g}" for k, v in res.held.items())
+    lines = [f"{res.name}: equilibria{' for all t' if res.driven else ''} continued in {name} over [{lo:g}, {hi:g}]"
+             + (f" ({held})" if held else "") + f"; {len(res.branches)} branch{'es' if len(res.branches) != 1 else ''} "
+             f"from {res.starts} and the branch points met"]
+    for i, br in enumerate(res.branches, 1):
+        lines.append(f"branch {i}, from {br.origin}: {len(br.points)} points; {br.end}")
+        lines.append(f"  {_segments(br, name)}")
+        for s in br.specials:
+            lines.append(f"  {s.kind:<3} {name} = {s.point.alpha:.12g}, phi = {fmt_phi(s.point.phi)}: {KINDS[s.kind]}"
+                         + (f" {s.detail}" if s.detail else "") + f"; {s.before} -> {s.after}")
+    for j, c in enumerate(res.curves, 1):
+        (a0, b0), (a1, b1) = c.points[0][0], c.points[-1][0]
+        lines.append(f"curve {j}: the {KINDS[c.kind]} in ({res.names[0]}, {res.names[1]}), {len(c.points)} points from "
+                     f"({a0:.10g}, {b0:.10g}) to ({a1:.10g}, {b1:.10g}); ends: {c.ends[0]}, {c.ends[1]}")
+    return "\n".join(lines)
+
+
+def csv_text(res: Result, n: int) -> str:
+    """The branches, their special points (kind set) and the curves, one row each."""
+    out = io.StringIO()
+    cols = ["part", "kind", *res.names, *[f"phi{k}" for k in range(1, n + 1)], "verdict", "spectrum"]
+    out.write(",".join(cols) + "\n")
+
+    def row(part, kind, values, phi, verdict, spectrum):
+        sp = " ".join(f"{z.real:.17g}{z.imag:+.17g}j" for z in spectrum)
+        out.write(",".join([part, kind, *[f"{v:.17g}" for v in values], *[f"{v:.17g}" for v in phi], verdict, sp]) + "\n")
+
+    second = [res.second] if len(res.names) > 1 else []  # the second parameter, held along the branches
+    for i, br in enumerate(res.branches, 1):
+        for _, kind, p in _in_order(br):
+            row(f"branch {i}", kind, [p.alpha, *second], p.phi, p.verdict, p.spectrum)
+    for j, c in enumerate(res.curves, 1):
+        for values, phi, _y in c.points:
+            row(f"curve {j}", c.kind, values, phi, "", [])
+    return out.getvalue()
+
+
+def _in_order(br: Branch):
+    """The branch's points and its special points, in the order of the branch (by arclength)."""
+    out, specials = [], list(br.specials)
+    for a, b in zip(br.points, br.points[1:] + [None]):
+        out.append((0, "", a))
+        if b is None:
+            break
+        for s in list(specials):
+            if _between(s.point, a, b):
+                out.append((0, s.kind, s.point))
+                specials.remove(s)
+    out += [(0, s.kind, s.point) for s in specials]
+    return out
+
+
+def _between(p, a, b) -> bool:
+    d = b.y - a.y
+    w = ((p.y - a.y) @ d) / max(d @ d, 1e-300)
+    return -1e-9 <= w <= 1 + 1e-9
