@@ -49,6 +49,7 @@ from . import floquet
 from .floquet import wrap
 
 MAX_TURN = 0.3  # rad: a step whose tangent turns more than this is taken again, shorter
+MAX_CORRECTION = 0.3  # a step whose corrector moves further than this times the step is taken again, shorter
 MIN_STEP = 1e-9  # the shortest step before the branch is given up
 NEWTON_ITERS = 12
 NEWTON_TOL = 1e-12  # |F| relative to max(1, |J|), and the step's size, at a corrected point
@@ -326,12 +327,16 @@ class Tracer:
                 br.end = f"ran out of steps ({self.max_steps}; --max-steps raises it)"
                 return br
             last = br.points[-1]
-            got = eq.correct(last.y + h * last.tangent, last.tangent, anchor=last.y)
-            if got is not None:
-                y, J, its = got
-                p = eq.point(y, J, last.tangent)
-                if p.tangent @ last.tangent < math.cos(MAX_TURN) or np.max(np.abs(y - last.y)) > 2 * h + 1e-9:
+            pred = last.y + h * last.tangent
+            got = eq.correct(pred, last.tangent, anchor=last.y)
+            if got is not None:  # kept when the corrector stayed near the predictor and the branch turned little:
+                y, J, its = got  # else the step may have jumped to another branch nearby
+                if np.linalg.norm(y - pred) > MAX_CORRECTION * h:
                     got = None
+                else:
+                    p = eq.point(y, J, last.tangent)
+                    if p.tangent @ last.tangent < math.cos(MAX_TURN):
+                        got = None
             if got is None:
                 h /= 2
                 if h < MIN_STEP:

@@ -338,6 +338,15 @@ def cmd_plot(args) -> int:
     """A heat map (two varied quantities) or a curve (one) of a sweep store."""
     from ..view import plot
 
+    if args.store.lower().endswith(".csv"):  # the branches of continue: a bifurcation diagram
+        from ..view import diagram
+
+        if args.measure or args.cmap or args.log:
+            given = next(o for o, v in (("--measure", args.measure), ("--cmap", args.cmap), ("--log", args.log)) if v)
+            raise SpecError(given, "belongs to a sweep's store; the diagram of continue's file takes --component")
+        path = diagram.plot(args.store, args.output, component=args.component, dpi=args.dpi)
+        print(f"wrote {path}", file=sys.stderr)
+        return 0
     path = plot.store(args.store, args.output, measure=args.measure, component=args.component, cmap=args.cmap,
                       log=args.log, dpi=args.dpi, note=lambda line: print(line, file=sys.stderr))
     print(f"wrote {path}", file=sys.stderr)

@@ -248,12 +248,13 @@ def _sweep(sub) -> None:
     sw.add_argument("-o", "--output", required=True, metavar="STORE.zarr", help="the Zarr store (created, or resumed if "
                     "it is this sweep's; required)")
     sw.add_argument("-q", "--quiet", action="store_true", help="no progress bar (default: one on a terminal)")
-    pl = sub.add_parser("plot", help="a heat map or a curve of a sweep store")
-    pl.add_argument("store", metavar="STORE", help="a sweep's Zarr store")
+    pl = sub.add_parser("plot", help="a heat map or a curve of a sweep store; the bifurcation diagram of continue's file")
+    pl.add_argument("store", metavar="STORE", help="a sweep's Zarr store, or the CSV file of continue (its branches, "
+                    "stable solid and unstable dashed, the special points labelled, and the curves in two parameters)")
     pl.add_argument("-o", "--output", required=True, metavar="FILE", help="the image: .png, .pdf or .svg (required)")
     pl.add_argument("--measure", default="", help="which array (default: the sweep's first measure)")
     pl.add_argument("--component", default="0", help="the state component of 'final': phiK, phidotK or its 0-based "
-                    "index (default 0)")
+                    "index; of a diagram, the coordinate drawn, phiK (default 0: of a diagram, the one that moves most)")
     pl.add_argument("--cmap", default="", help="the colour map of a map (default viridis; points without a value are "
                     "grey)")
     pl.add_argument("--log", action="store_true", help="a logarithmic scale: of the colours of a map, of the values of "

@@ -40,6 +40,29 @@ h = 0.0
 """
 
 
+DOUBLE_TURNTABLE = """
+name = "double_turntable"
+description = "a double pendulum of two rods in a plane turning with a table about the vertical at the rate Omega"
+g = 9.81
+[base]
+rotation = [{axis = [1, 0, 0], angle = "Omega*t"}]
+[[body]]
+theta = "pi/2"
+m = 0.5
+c = [0.0, 0.0, 0.25]
+A = [["1/24", 0.0, 0.0], [0.0, "1/24", 0.0], [0.0, 0.0, 0.0001]]
+s = [0.0, 0.0, 0.5]
+control = true
+[[body]]
+theta = 0.0
+m = 0.5
+c = [0.0, 0.0, 0.25]
+A = [["1/24", 0.0, 0.0], [0.0, "1/24", 0.0], [0.0, 0.0, 0.0001]]
+[values]
+Omega = 12.0
+"""
+
+
 def _run(spec, ranges, given=None, u=None, starts=()):
     """As the command runs: the first parameter starts at its value (--param, the spec's) in its range."""
     lo = {r[0]: r[1] for r in ranges if r[0] not in spec.values}
@@ -103,6 +126,46 @@ def test_ziegler_flutter_load():
     (kc,) = br.specials
     assert kc.kind == "KC" and _close(kc.point.alpha, (3.5 - np.sqrt(2)) * 2.0 / 0.5), kc.point.alpha
     assert (kc.before, kc.after) == ("linearly stable", "unstable") and "not conservative" in kc.detail
+
+
+def _ziegler_damped():
+    text = (ROOT / "specs" / "ziegler.toml").read_text().replace("spring = 2.0", 'spring = 2.0\ndamping = "c"')
+    return parse_spec(text.replace('name = "ziegler"', 'name = "ziegler_damped"').replace("[values]", "[values]\nc = 0.05"))
+
+
+def _hopf_load(c: float) -> float:
+    """Ziegler's column with a viscous damper c in each joint, by hand: with m l² = 0.125, k = 2,
+    l = 0.5, M = m l² [[6, 2], [2, 1]], C = c I, K = [[k, P l], [0, k]] (the follower force's
+    work is −P l sin φ² δφ¹); the load where the Hurwitz determinant a₁a₂a₃ − a₀a₃² − a₁²a₄ of
+    det(λ²M + λC + K) = Σ aₖλᵏ vanishes (scipy's brentq)."""
+    from numpy.polynomial import polynomial as poly
+    from scipy.optimize import brentq
+
+    def hurwitz(P):
+        m = [[(2.0, c, 0.75), (0.5 * P, 0.0, 0.25)], [(0.0, 0.0, 0.25), (2.0, c, 0.125)]]  # entries' coefficients in λ
+        a = poly.polysub(poly.polymul(m[0][0], m[1][1]), poly.polymul(m[0][1], m[1][0]))
+        a0, a1, a2, a3, a4 = a
+        return a1 * a2 * a3 - a0 * a3**2 - a1**2 * a4
+
+    return brentq(hurwitz, 0.1, 8.3, xtol=1e-15, rtol=1e-15)
+
+
+def test_ziegler_with_damping_hopf_load_and_its_curve():
+    """With damping the column loses stability at a Hopf point, below the undamped flutter load as
+    the damping vanishes (Ziegler's destabilisation paradox); the Hopf point continued in (P, c)
+    follows the Hurwitz condition at every point."""
+    spec = _ziegler_damped()
+    res = _run(spec, [("P", 0.0, 12.0), ("c", 0.001, 0.5)])
+    (br,) = res.branches
+    (h,) = br.specials
+    assert h.kind == "H" and _close(h.point.alpha, _hopf_load(0.05)), (h.point.alpha, _hopf_load(0.05))
+    assert (h.before, h.after) == ("asymptotically stable", "unstable")
+    (curve,) = res.curves
+    cs = [c for (_p, c), _phi, _y in curve.points]
+    assert min(cs) == 0.001 and max(cs) == 0.5 and len(cs) >= 10
+    for (P, c), _phi, _y in curve.points:
+        assert _close(P, _hopf_load(c)), (P, c, _hopf_load(c))
+    assert _hopf_load(0.001) < 0.71 * (3.5 - np.sqrt(2)) * 4  # the paradox: far below the undamped 8.34
 
 
 def test_gyroscopic_stabilisation_threshold_and_krein_signatures():
@@ -171,6 +234,16 @@ def test_the_command_its_file_and_its_errors(tmp_path):
     assert [r["kind"] for r in rows].count("KC") == 1 and rows[0]["part"] == "branch 1"
     special = next(r for r in rows if r["kind"] == "KC")
     assert abs(float(special["P"]) - 8.34314575050762) < 1e-9 and len(special["spectrum"].split()) == 4
+    # its diagram: the branches with their special points labelled
+    res = cli_in_process("plot", str(tmp_path / "z.csv"), "-o", str(tmp_path / "z.png"))
+    assert res.returncode == 0 and (tmp_path / "z.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", res.stderr
+    (tmp_path / "other.csv").write_text("t,phi1\n0,1\n")
+    for args, field in (((str(tmp_path / "other.csv"), "-o", str(tmp_path / "o.png")), "store"),
+                        ((str(tmp_path / "z.csv"), "-o", str(tmp_path / "o.png"), "--component", "phi3"), "--component"),
+                        ((str(tmp_path / "z.csv"), "-o", str(tmp_path / "o.png"), "--log"), "--log")):
+        res = cli_in_process("plot", *args)
+        assert res.returncode == 2 and len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, res.stderr
+        assert not (tmp_path / "o.png").exists()
     # a bound on the steps: said, and what was found is kept
     res = cli_in_process("continue", str(ROOT / "specs" / "ziegler.toml"), "--vary", "P=0:12", "--max-steps", "3",
                          "-o", str(tmp_path / "short.csv"))
@@ -194,3 +267,52 @@ def test_the_command_its_file_and_its_errors(tmp_path):
         assert res.returncode == 2 and res.stdout == "", (args, res.stdout, res.stderr)
         assert len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, (args, res.stderr)
         assert not out.exists()
+
+
+def test_double_turntable_fold_against_a_direct_solve_and_a_peer():
+    """The double pendulum on a turntable with a small torque at its first joint (0.01 N m, which
+    breaks the pitchfork into a fold): the branch from φ = (−1.4588, −0.0299) at Ω = 12 turns at a
+    fold. Its location agrees to 1e-10 with a direct Newton solve of F = 0, det ∂F/∂φ = 0 in (φ, Ω)
+    (the extended system's Jacobian by differences); PyCont-Lite, given the same right side (the
+    emitted φ̈), follows the same branch, and its points pass the fold within its step. Both times
+    are printed."""
+    import time
+
+    from gyrochain.analysis import steady
+
+    spec = parse_spec(DOUBLE_TURNTABLE)
+    u, x0 = np.array([0.01]), np.array([-1.45882035, -0.0299122186])
+    cm, _model = steady.compile_spec(spec, driven_ok=True)  # built once (and kept): both times are of the work alone
+    t0 = time.perf_counter()
+    res = _run(spec, [("Omega", 2.0, 12.0)], u=u, starts=[x0])
+    ours = time.perf_counter() - t0
+    (br,) = res.branches
+    (lp,) = br.specials
+    assert lp.kind == "LP" and {lp.before, lp.after} == {"unstable", "linearly stable"}
+
+    def F(z):
+        phi, w = z[:2], z[2]
+        q, dq, _, _ = cm.qdd_derivatives(np.concatenate([phi, [0.0, 0.0]]), u, {"Omega": w})
+        return np.append(q, np.linalg.det(dq[:, :2]))
+
+    z = np.append(lp.point.phi, lp.point.alpha) + np.array([1e-3, -1e-3, 1e-3])  # a little off, and solved again
+    for _ in range(30):
+        J = np.column_stack([(F(z + e) - F(z - e)) / 2e-7 for e in np.eye(3) * 1e-7])
+        z = z - np.linalg.solve(J, F(z))
+    assert _close(lp.point.alpha, z[2]) and np.max(np.abs(lp.point.phi - z[:2])) < 1e-8, (lp.point.alpha, z)
+    pycont = pytest.importorskip("pycont", reason="the peer, PyCont-Lite (pip install pycont-lite; the test extra has it)")
+
+    def G(x, p):
+        return cm.qdd(np.concatenate([x, [0.0, 0.0]]), u, {"Omega": p})
+
+    t0 = time.perf_counter()
+    peer = pycont.arclengthContinuation(G, x0, 12.0, ds_min=1e-6, ds_max=0.05, ds_0=0.0125, n_steps=2000,
+                                        solver_parameters={"param_min": 2.0, "param_max": 12.0, "tolerance": 1e-12},
+                                        verbosity=0)
+    theirs = time.perf_counter() - t0
+    path = peer.branches[0]
+    i = int(np.argmin(path.p_path))
+    folds = [e.p for e in peer.events if e.kind == "LP"]
+    print(f"\nfold: ours Omega = {lp.point.alpha:.12f} in {ours:.3f} s; PyCont-Lite: LP events {folds}, its "
+          f"points' least Omega {path.p_path[i]:.9f} ({len(path.p_path)} points) in {theirs:.3f} s")
+    assert 0 <= path.p_path[i] - lp.point.alpha < 1e-3 and np.max(np.abs(path.u_path[i] - lp.point.phi)) < 0.05
