@@ -106,6 +106,11 @@ plot: $(VENV)/.plot-installed
 	$(PHONE) examples/kapitza_chart.py docs/img/kapitza_chart.png
 	$(VPY) -m gyrochain generate -q specs/double_pendulum_point.toml >/dev/null
 	$(PHONE) examples/nnm_periods.py docs/img/nnm_periods.png
+	$(VPY) -m gyrochain continue specs/turntable.toml --vary Omega=2:12 -o build/turntable_branches.csv --force >/dev/null
+	$(PHONE) -m gyrochain plot build/turntable_branches.csv -o docs/img/continuation_turntable.png
+	$(VPY) -m gyrochain continue specs/kapitza.toml --vary a=0.001:0.15 --vary w=100:1000 --param w=300 \
+		-o build/kapitza_branches.csv --force >/dev/null
+	$(PHONE) -m gyrochain plot build/kapitza_branches.csv -o docs/img/continuation_kapitza.png
 	$(VPY) bench/report.py
 	$(VPY) examples/tutorial_page.py docs/img/tutorial_page.png
 	$(VPY) examples/identify_pictures.py

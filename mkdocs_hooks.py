@@ -18,7 +18,8 @@ import re
 from latex2mathml.converter import convert
 
 _MATH = re.compile(r'<(span|div) class="arithmatex">\s*\\[(\[](.*?)\\[)\]]\s*</\1>', re.S)
-_FUNCTION = re.compile(r"<mi>(sin|cos|tan|log|exp|det)</mi>")
+_FUNCTION = re.compile(r"(?<!<msup>)<mi>(sin|cos|tan|log|exp|det)</mi>")
+_FUNCTION_POWER = re.compile(r"<msup><mi>(sin|cos|tan|log|exp|det)</mi>(.*?)</msup>")  # sin² x: the space outside the power
 _BOLD = re.compile(r'<mi mathvariant="(bold|bold-italic)">([^<]+)</mi>')
 _LATIN_BOLD, _LATIN_BOLD_ITALIC = 0x1D400, 0x1D468  # A..Z then a..z
 _GREEK_BOLD, _GREEK_BOLD_ITALIC = 0x1D6C2, 0x1D736  # α..ω
@@ -43,7 +44,8 @@ def mathml(tex: str, display: bool) -> str:
     ml = convert(html.unescape(tex).strip(), display="block" if display else "inline")
     ml = _BOLD.sub(lambda m: _bold(m[2], m[1] == "bold-italic"), ml)
     # a thin space on either side of sin, cos, …, as TeX sets them (sin θ cos φ, not sinθcosφ)
-    return _FUNCTION.sub(r'<mspace width="0.167em"></mspace><mi>\1</mi><mspace width="0.167em"></mspace>', ml)
+    ml = _FUNCTION.sub(r'<mspace width="0.167em"></mspace><mi>\1</mi><mspace width="0.167em"></mspace>', ml)
+    return _FUNCTION_POWER.sub(r'<mspace width="0.167em"></mspace><msup><mi>\1</mi>\2</msup><mspace width="0.167em"></mspace>', ml)
 
 
 def _formula(kind: str, tex: str) -> str:
@@ -80,6 +82,20 @@ def on_files(files, config, **_):
     return files
 
 
+_CELL_CODE = re.compile(r"(<td>)(.*?)(</td>)", re.S)
+LONG = 25  # a code of a table cell this long may wrap (a signature, a list of choices); shorter ones stay whole
+_LONG_CODE = re.compile(r"<code>([^<]{%d,})</code>" % LONG)
+
+
+def wrap_long_code(content: str) -> str:
+    """A long code in a table cell gets the class gc-wrap (site.css lets it wrap), and a break
+    opportunity after each comma; a short one (a flag, a name) is never broken."""
+    def cell(m):
+        return m[1] + _LONG_CODE.sub(lambda c: '<code class="gc-wrap">' + c[1].replace(",", ",<wbr>") + "</code>", m[2]) + m[3]
+
+    return _CELL_CODE.sub(cell, content)
+
+
 def on_page_content(content: str, page, config, **_) -> str:
     from pathlib import Path, PurePosixPath
 
@@ -90,7 +106,7 @@ def on_page_content(content: str, page, config, **_) -> str:
         variant = str(PurePosixPath(src).with_suffix(".phone.png"))
         return variant if src.endswith(".png") and (here / variant).is_file() else None
 
-    return figures(_MATH.sub(lambda m: _formula(m[1], m[2]), content), phone)
+    return wrap_long_code(figures(_MATH.sub(lambda m: _formula(m[1], m[2]), content), phone))
 
 
 _ROOTED = re.compile(r'((?:href|src)=")/(?!/)')

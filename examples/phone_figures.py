@@ -24,7 +24,7 @@ WIDTH_IN = 3.5  # the figure's width on a phone, in inches: 342 px for 252 pt, 1
 SMALLEST_PT = 9.0  # 9 pt at 1.36 px a point: 12.2 px (11.5 px where a long label widens the figure 6 %)
 PANEL_IN = 2.5  # the height of each panel, in inches
 DPI = 200  # 700 px wide: sharp on a screen of two device pixels to a CSS pixel
-LEGEND_PT = 150  # the widest line of a legend inside a panel, in points
+LEGEND_DROP = 3.6  # how far under its axis a panel's legend hangs, in its letters' size: below the tick labels and the label
 KEY = "gyrochain-phone"  # the PNG text chunk: "width_in=W smallest_pt=S"
 
 
@@ -70,7 +70,7 @@ def relayout(fig) -> float:
             a.set_subplotspec(grid[i])
         height = PANEL_IN * len(panels) + 0.4
     else:
-        height = max(PANEL_IN, min(1.1 * WIDTH_IN, WIDTH_IN * h / w))
+        height = max(PANEL_IN + 0.4, min(1.1 * WIDTH_IN, WIDTH_IN * h / w))
     for leg in list(fig.legends):  # a figure's legend in a row of columns: one column under the panels
         labels = [t.get_text() for t in leg.get_texts()]
         handles = leg.legend_handles
@@ -84,11 +84,19 @@ def relayout(fig) -> float:
     for t in fig.findobj(Text):
         if t.get_text() and t.get_visible():
             t.set_fontsize(max(SMALLEST_PT, t.get_fontsize()))
-    for a in fig.axes:  # a legend over the data at SMALLEST_PT, its lines broken to fit the panel
-        if a.get_legend() is not None:
-            for t in a.get_legend().get_texts():
-                t.set_fontsize(SMALLEST_PT)
-                _wrap(t, LEGEND_PT)
+    for a in fig.axes:  # a panel's legend under its axis label, where it covers no data: the layout makes room
+        leg = a.get_legend()
+        if leg is None:
+            continue
+        labels = [t.get_text() for t in leg.get_texts()]
+        handles = leg.legend_handles
+        leg.remove()
+        new = a.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=LEGEND_DROP,
+                       fontsize=SMALLEST_PT, frameon=False, ncols=1)
+        for t in new.get_texts():
+            _wrap(t, WIDTH_IN * 72 - 40)
+        fig.set_size_inches(WIDTH_IN, fig.get_size_inches()[1] + 0.2 * sum(t.get_text().count("\n") + 1
+                                                                            for t in new.get_texts()))
     across = WIDTH_IN * 72 - 30  # the figure's width in points, less a margin
     for leg in fig.legends:
         for t in leg.get_texts():

@@ -69,8 +69,11 @@ def rows(p: argparse.ArgumentParser) -> list[tuple[str, str, str, str]]:
 
 
 def table(p: argparse.ArgumentParser) -> str:
+    found = rows(p)
+    if not found:  # a command whose words are its actions (examples): their sections follow
+        return "No options of its own: its actions follow.\n"
     lines = ["| name | argument | default | meaning |", "|---|---|---|---|"]
-    lines += [f"| {n} | {a} | {d} | {m} |" for n, a, d, m in rows(p)]
+    lines += [f"| {n} | {a} | {d} | {m} |" for n, a, d, m in found]
     return "\n".join(lines) + "\n"
 
 

@@ -447,7 +447,7 @@ class CModel(DerivativeCalls, QuadratureCalls):
     # ---- the integrators (NAME_integrate_grid)
     def integrate(self, t, x0, method="dop853", h=0.0, rtol=1e-8, atol=1e-10, u=None, params=None,
                   max_steps=0, full_output=False):
-        """The trajectory at the times t (monotone; t[0] is the start, x0 the state there), as an
+        r"""The trajectory at the times t (monotone; t[0] is the start, x0 the state there), as an
         array (len(t), 2N), by the C integrator `method` (rk4, gauss2: fixed step h; dop853:
         adaptive, h the first step or 0; gauss2_fixed: GAUSS2 by fixed-point sweeps only;
         gauss2_symplectic: GAUSS2 on Hamilton's variables $(\varphi, p)$, symplectic, fixed step h; rk4_lanes:

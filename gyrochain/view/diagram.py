@@ -59,11 +59,10 @@ def plot(path: str | Path, output: str | Path, component: str = "", dpi: int = 1
     import matplotlib.pyplot as plt
 
     panels = 2 if curve_rows else 1
-    fig, axes = plt.subplots(1, panels, figsize=(6.4 * panels, 4.6), squeeze=False)
-    ax = axes[0, 0]
-    _branches(ax, branch_rows, params[0], component)
+    fig, axes = plt.subplots(panels, 1, figsize=(6.4, 4.4 * panels), squeeze=False)  # one under the other
+    _branches(axes[0, 0], branch_rows, params[0], component)
     if curve_rows:
-        _curves(axes[0, 1], curve_rows, params)
+        _curves(axes[1, 0], curve_rows, params)
     fig.tight_layout()
     output.parent.mkdir(parents=True, exist_ok=True)
     tmp = output.with_name(f".{output.name}.tmp")
