@@ -10,7 +10,7 @@ import numpy as np
 
 from . import floquet, steady
 from .boundary import Boundary, Curve
-from .continuation import BRANCHES, KINDS, Branch, ContinuationError, Equilibria, Tracer
+from .continuation import BRANCHES, KINDS, RATE, Branch, ContinuationError, Equilibria, Tracer
 from .floquet import fmt_phi, wrap
 
 MONODROMY_TOL = 1e-14  # rtol = atol of a period's variational integration: multipliers to ~1e-13, boundaries to ~1e-11
@@ -37,11 +37,12 @@ def parse_range(text: str, spec, what: str = "--vary") -> tuple[str, float, floa
     if not eq or not name:
         raise ContinuationError(f"{what}: expected NAME=lo:hi, for example P=0:12")
     names = [str(p) for p in spec.params]
-    if name not in names:
+    if name not in names and name != RATE:
         from ..chainspec.errors import did_you_mean
 
         raise ContinuationError(f"{what} {name}: not a symbolic parameter of the spec ({did_you_mean(name, names)}"
-                                + (f"its parameters: {', '.join(names)})" if names else "it has none)"))
+                                + (f"its parameters: {', '.join(names)}; or {RATE}, the rate of a steady rotation)"
+                                   if names else f"it has none; {RATE} is the rate of a steady rotation)"))
     try:
         lo, hi = (float(v) for v in rng.split(":"))
     except ValueError:
@@ -64,16 +65,19 @@ def run(spec, params: dict, u, ranges: list, starts=(), max_steps: int = 400, st
     if len(set(names)) < len(names):
         raise ContinuationError(f"--vary {names[0]}: given twice; the second --vary names another parameter")
     lo, hi = ranges[0][1:]
-    alpha0 = float(params[names[0]]) if names[0] in params and lo <= params[names[0]] <= hi else lo
-    if len(ranges) > 1 and not ranges[1][1] <= params[names[1]] <= ranges[1][2]:
-        raise ContinuationError(f"--vary {names[1]}: its value on the branch, {params[names[1]]:g} (--param or the "
+    given = 0.0 if names[0] == RATE else params.get(names[0])  # a rate starts at rest when it can
+    alpha0 = float(given) if given is not None and lo <= given <= hi else lo
+    second = (0.0 if names[1] == RATE else params[names[1]]) if len(ranges) > 1 else None
+    if len(ranges) > 1 and not ranges[1][1] <= second <= ranges[1][2]:
+        raise ContinuationError(f"--vary {names[1]}: its value on the branch, {second:g} (--param or the "
                                 f"spec's values), is outside {ranges[1][1]:g}:{ranges[1][2]:g}")
     driven = time_dependent(model)
-    an, st, dr = _analysis(cm, model, {**params, names[0]: alpha0}, u, period, driven)
+    start = params if names[0] == RATE else {**params, names[0]: alpha0}  # the parameters where the branches start
+    an, st, dr = _analysis(cm, model, start, u, period, driven)
     out = Result(spec.name, names, [r[1:] for r in ranges], {k: v for k, v in params.items() if k not in names}, driven)
     if len(ranges) > 1:
-        out.second = float(params[names[1]])
-    eq = Equilibria(cm, model, {**params, names[0]: alpha0}, u, names[:1], [ranges[0][1:]], steady=st, driven=dr)
+        out.second = float(second)
+    eq = Equilibria(cm, model, start, u, names[:1], [ranges[0][1:]], steady=st, driven=dr)
     tracer = Tracer(eq, max_steps, step, progress)
     firsts = _firsts(an, tracer, starts, alpha0, out)
     queue = [(p, f"phi = {fmt_phi(p.phi)} at {names[0]} = {p.alpha:.10g}", None) for p in firsts]
@@ -89,7 +93,7 @@ def run(spec, params: dict, u, ranges: list, starts=(), max_steps: int = 400, st
     if len(ranges) > 1:
         eq2 = Equilibria(cm, model, params, u, names, [r[1:] for r in ranges], steady=st, driven=dr)
         eq2.reversible = eq.reversible
-        out.curves = _curves(out, eq2, params[names[1]], max_steps, step, progress)
+        out.curves = _curves(out, eq2, second, max_steps, step, progress)
     return out
 
 
@@ -118,15 +122,18 @@ def _firsts(an, tracer: Tracer, starts, alpha0: float, out: Result) -> list:
     if starts:
         out.starts = "the --from starts"
         return [tracer.start(np.asarray(s, float), alpha0) for s in starts]
-    found = an.equilibria()
+    if name == RATE and alpha0 != 0.0:  # steady rotations at that rate, from steady's starts
+        found = floquet.distinct(an.starts(), lambda s: an.solve(s, alpha0))
+    else:
+        found = [e.phi for e in an.equilibria()]
     if not found:
         raise ContinuationError(f"--vary {name}: no equilibrium at {name} = {alpha0:g} (Newton from "
                                 f"{floquet.STARTS}); give a start with --from")
     out.starts = f"every equilibrium at {name} = {alpha0:g}"
     firsts = []
-    for e in found:
+    for phi in found:
         try:
-            firsts.append(tracer.start(e.phi, alpha0))
+            firsts.append(tracer.start(phi, alpha0))
         except ContinuationError:
             continue  # a singular one (a family of equilibria, a fold where it starts): not a branch's start
     if not firsts:

@@ -54,6 +54,7 @@ MIN_STEP = 1e-9  # the shortest step before the branch is given up
 NEWTON_ITERS = 12
 NEWTON_TOL = 1e-12  # |F| relative to max(1, |J|), and the step's size, at a corrected point
 SPECIAL_TOL = 1e-13  # the arclength of a special point, relative to the step it was found in
+RATE = "phidot1"  # the varied quantity that is the rate of a steady rotation about a cyclic joint 1, not a parameter
 BRANCHES = 8  # branches traced in one run, those leaving branch points included
 KINDS = {"LP": "fold", "BP": "branch point", "KC": "eigenvalues collide on the imaginary axis",
          "RC": "eigenvalues collide on the real axis", "H": "Hopf point",
@@ -110,12 +111,17 @@ class Equilibria:
         self.name, (self.lo, self.hi) = self.names[0], self.ranges[0]
         self.params = dict(params)
         order = [str(p) for p in model.spec.params]
-        self.ks = [order.index(nm) for nm in self.names]
         self.steady, self.driven = steady, driven
         self.cyclic = (driven.cyclic if driven else steady.cyclic)
+        if RATE in self.names and not (steady is not None and steady.cyclic and not steady.drains):
+            raise ContinuationError(f"--vary {RATE}: the rate of a steady rotation about joint 1's axis, which needs "
+                                    "phi1 cyclic (l1 vertical, nothing acting in joint 1) in a model that does not "
+                                    "depend on t")
+        self.ks = [order.index(nm) if nm != RATE else -1 for nm in self.names]
         self.free = list(range(1, self.n)) if self.cyclic else list(range(self.n))
         self.units = [hi - lo for lo, hi in self.ranges]  # each parameter per radian of y
         self.np = len(self.names)
+        self.omega = 0.0  # φ̇¹ where it is not a varied parameter: equilibria
 
     def values(self, y) -> list[float]:
         return [lo + u * float(v) for (lo, _), u, v in zip(self.ranges, self.units, y[-self.np:])]
@@ -134,7 +140,11 @@ class Equilibria:
         return phi
 
     def at(self, y) -> dict:
-        return {**self.params, **dict(zip(self.names, self.values(y)))}
+        return {**self.params, **{k: v for k, v in zip(self.names, self.values(y)) if k != RATE}}
+
+    def rate(self, y) -> float:
+        """φ̇¹ at y: the varied rate of a steady rotation, or 0 (an equilibrium)."""
+        return self.values(y)[self.names.index(RATE)] if RATE in self.names else self.omega
 
     def inside(self, y) -> bool:
         return all(lo <= v <= hi for v, (lo, hi) in zip(self.values(y), self.ranges))
@@ -149,13 +159,15 @@ class Equilibria:
         """(F, J, scale): F stacked over the times, J = [∂F/∂φ free | ∂F/∂α·unit …], and the scale
         of ∂φ̈/∂φ (what |F| is measured against)."""
         params, phi = self.at(y), self.phi_of(y)
-        x = np.concatenate([phi, np.zeros(self.n)])
+        x = np.concatenate([phi, [self.rate(y)], np.zeros(self.n - 1)])
         rows, jac = [], []
+        free = self.free
         for t in self.times(params):
-            q, dq, _, _ = self.c.qdd_derivatives(x, self.u, params, t=float(t))
-            _, dp = self.c.param_derivatives(x, self.u, params, t=float(t))
-            rows.append(q)
-            jac.append(np.column_stack([dq[:, self.free], dp[:, self.ks] * np.array(self.units)]))
+            q, dq, dv, _ = self.c.qdd_derivatives(x, self.u, params, t=float(t))
+            dp = self.c.param_derivatives(x, self.u, params, t=float(t))[1] if any(k >= 0 for k in self.ks) else None
+            cols = [dv[free, 0] if k < 0 else dp[free, k] for k in self.ks]  # ∂φ̈/∂φ̇¹ for the rate: exact too
+            rows.append(q[free])
+            jac.append(np.column_stack([dq[np.ix_(free, free)], np.column_stack(cols) * np.array(self.units)]))
         J = np.vstack(jac)
         return np.concatenate(rows), J, max(1.0, float(np.max(np.abs(J[:, :-self.np]), initial=0.0)))
 
@@ -163,7 +175,7 @@ class Equilibria:
         """det ∂F/∂φ (averaged over the sample times of a driven model), scaled: zero at a fold or a
         branch point of equilibria."""
         m = len(self.free)
-        Jphi = J[:, :m].reshape(-1, self.n, m).mean(axis=0)
+        Jphi = J[:, :m].reshape(-1, m, m).mean(axis=0)
         return float(np.linalg.det(Jphi / scale)) if m else 1.0
 
     def tangent(self, J, previous=None) -> np.ndarray:
@@ -205,14 +217,14 @@ class Equilibria:
             Phi = d.monodromy[1:, 1:] if self.cyclic else d.monodromy
             return d.multipliers, d.verdict, self._driven_tests(d.multipliers, Phi)
         self.steady.params = params
-        s = self.steady.classify(phi, 0.0)
+        s = self.steady.classify(phi, self.rate(y))
         return s.eigenvalues, s.verdict, self._autonomous_tests(s.eigenvalues)
 
     def point(self, y, J, previous_t=None) -> Point:
         t = self.tangent(J, previous_t)
         spectrum, verdict, tests = self.spectrum(y)
         m = J.shape[1] - 1
-        Jbp = J.reshape(-1, self.n, m + 1).mean(axis=0) if self.driven is not None else J
+        Jbp = J.reshape(-1, m, m + 1).mean(axis=0) if self.driven is not None else J
         tests["LP"] = float(t[-1])
         tests["BP"] = float(np.linalg.det(np.vstack([Jbp, t])))
         return Point(self.alpha(y), self.phi_of(y), spectrum, verdict, y, t, tests)
@@ -485,7 +497,7 @@ def krein(eq: Equilibria, p: Point, omega: float) -> str:
     if not st.conservative:
         return f"; not a Krein collision: the model is not conservative ({', '.join(st.others)})"
     st.params = eq.at(p.y)
-    s = st.classify(p.phi, 0.0)
+    s = st.classify(p.phi, eq.rate(p.y))
     m = s.K.shape[0]
     if m == 0:
         return ""

@@ -190,8 +190,9 @@ def cmd_continue(args) -> int:
         ranges = [branches.parse_range(v, spec) for v in args.vary]
         names = [r[0] for r in ranges]
         for name, lo, hi in ranges:  # every value of a range is a run's: a mass positive, an inertia possible
-            steady.check_vary_values(spec, given, (name, np.array([lo, hi])))
-        lo = {name: lo for name, lo, _ in ranges if name not in given and name not in spec.values}
+            if name != branches.RATE:
+                steady.check_vary_values(spec, given, (name, np.array([lo, hi])))
+        lo = {name: lo for name, lo, _ in ranges if name not in given and name not in spec.values and name != branches.RATE}
         params = run_values(spec, {**lo, **given})  # a varied parameter without a value starts at its lo
 
         def progress(k, point) -> None:

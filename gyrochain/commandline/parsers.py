@@ -168,7 +168,7 @@ def _analyse(sub) -> None:
     _spec(co)
     co.add_argument("--vary", action="append", required=True, metavar="NAME=lo:hi", help="the parameter the branches "
                     "follow over lo:hi, both ways from its value (--param or the spec's; lo when it has none in the "
-                    "range); a second --vary: the other parameter of the curves of their special points, held at its "
+                    "range), or phidot1, the rate of steady rotations about a cyclic joint 1 (from 0); a second --vary: the other parameter of the curves of their special points, held at its "
                     "value along the branches (required)")
     co.add_argument("--from", dest="start", action="append", metavar="PHI1,..", help="a branch's first point: Newton "
                     "from these angles, rad, where the branch starts (repeatable; default: every equilibrium found there)")

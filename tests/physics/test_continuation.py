@@ -65,7 +65,7 @@ Omega = 12.0
 
 def _run(spec, ranges, given=None, u=None, starts=()):
     """As the command runs: the first parameter starts at its value (--param, the spec's) in its range."""
-    lo = {r[0]: r[1] for r in ranges if r[0] not in spec.values}
+    lo = {r[0]: r[1] for r in ranges if r[0] not in spec.values and r[0] != branches.RATE}
     params = run_values(spec, {**lo, **(given or {})})
     return branches.run(spec, params, u, ranges, starts)
 
@@ -316,3 +316,28 @@ def test_double_turntable_fold_against_a_direct_solve_and_a_peer():
     print(f"\nfold: ours Omega = {lp.point.alpha:.12f} in {ours:.3f} s; PyCont-Lite: LP events {folds}, its "
           f"points' least Omega {path.p_path[i]:.9f} ({len(path.p_path)} points) in {theirs:.3f} s")
     assert 0 <= path.p_path[i] - lp.point.alpha < 1e-3 and np.max(np.abs(path.u_path[i] - lp.point.phi)) < 0.05
+
+
+def test_steady_rotations_of_a_heavy_gyrostat_and_its_precessions():
+    """fast_gyro with a slow rotor (λ = 0.02 as a parameter): the carrier turning at ω = φ̇¹ about
+    the vertical with the rotor's axis vertical is a steady rotation at every ω; its amended
+    potential, −½ω²(A sin²θ + C cos²θ) − λω cos θ + mgl cos θ in the tilt θ = φ², has the
+    curvature (C − A)ω² + λω − mgl there, whose roots are branch points; the steady precessions
+    that leave them satisfy (C − A)ω² cos θ + λω − mgl = 0 at every point."""
+    text = (ROOT / "specs" / "fast_gyro.toml").read_text().replace("lambda = [0.0, 0.0, 5.0]", 'lambda = [0.0, 0.0, "lam"]')
+    spec = parse_spec(text.replace('name = "fast_gyro"', 'name = "slow_gyro"') + "\n[values]\nlam = 0.02\n")
+    res = _run(spec, [("phidot1", -20.0, 20.0)])
+    A, C, lam, mgl = 0.00648, 0.009, 0.02, 1.2 * 9.81 * 0.02
+    roots = np.sort(np.roots([C - A, lam, -mgl]).real)
+    vertical = next(br for br in res.branches if br.origin.startswith("phi = [0, 0]"))
+    assert [s.kind for s in vertical.specials] == ["BP", "BP"]
+    for s, w in zip(vertical.specials, roots):
+        assert _close(s.point.alpha, w), (s.point.alpha, w)
+    assert (vertical.specials[0].before, vertical.specials[0].after) == ("stable (energy–momentum)", "unstable")
+    tilted = [br for br in res.branches if br.origin.startswith("the branch point")]
+    assert len(tilted) == 4
+    for br in tilted:
+        for p in br.points[1:]:
+            w, th = p.alpha, p.phi[1]
+            terms = max(abs((C - A) * w * w), abs(lam * w), mgl)
+            assert abs((C - A) * w * w * np.cos(th) + lam * w - mgl) <= 1e-10 * terms, (w, th)
