@@ -83,6 +83,7 @@ def on_files(files, config, **_):
 
 
 _CELL_CODE = re.compile(r"(<td>)(.*?)(</td>)", re.S)
+_SHORT_HYPHENATED = re.compile(r"<code>([^<\s]{0,22}-[^<\s]{0,22})</code>")  # a flag, a file name: kept on one line
 LONG = 25  # a code of a table cell this long may wrap (a signature, a list of choices); shorter ones stay whole
 _LONG_CODE = re.compile(r"<code>([^<]{%d,})</code>" % LONG)
 
@@ -93,7 +94,8 @@ def wrap_long_code(content: str) -> str:
     def cell(m):
         return m[1] + _LONG_CODE.sub(lambda c: '<code class="gc-wrap">' + c[1].replace(",", ",<wbr>") + "</code>", m[2]) + m[3]
 
-    return _CELL_CODE.sub(cell, content)
+    content = _CELL_CODE.sub(cell, content)
+    return _SHORT_HYPHENATED.sub(lambda m: '<code class="gc-whole">' + m[1] + "</code>", content)
 
 
 def on_page_content(content: str, page, config, **_) -> str:
