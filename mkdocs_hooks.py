@@ -83,7 +83,7 @@ def on_files(files, config, **_):
 
 
 _CELL_CODE = re.compile(r"(<td>)(.*?)(</td>)", re.S)
-_SHORT_HYPHENATED = re.compile(r"<code>([^<\s]{0,22}-[^<\s]{0,22})</code>")  # a flag, a file name: kept on one line
+_SHORT_HYPHENATED = re.compile(r"(?<!<pre>)<code>([^<\s]{0,22}-[^<\s]{0,22})</code>")  # a flag, a file name: kept on one line
 LONG = 25  # a code of a table cell this long may wrap (a signature, a list of choices); shorter ones stay whole
 _LONG_CODE = re.compile(r"<code>([^<]{%d,})</code>" % LONG)
 
