@@ -83,19 +83,35 @@ def on_files(files, config, **_):
 
 
 _CELL_CODE = re.compile(r"(<td>)(.*?)(</td>)", re.S)
-_SHORT_HYPHENATED = re.compile(r"(?<!<pre>)<code>([^<\s]{0,22}-[^<\s]{0,22})</code>")  # a flag, a file name: kept on one line
+_SHORT_HYPHENATED = re.compile(r"(?<!<pre>)<code>([^<]{0,30}-[^<]{0,30})</code>")  # a flag with its argument: one line
+SHORT = 32  # letters of an inline code kept on one line (a phone's column holds about 40 of them)
 LONG = 25  # a code of a table cell this long may wrap (a signature, a list of choices); shorter ones stay whole
-_LONG_CODE = re.compile(r"<code>([^<]{%d,})</code>" % LONG)
+_CODE = re.compile(r"<code>([^<]+)</code>")
+_MATH_PUNCT = re.compile(r"(<math\b(?:(?!</math>).)*</math>)([.,;:!?)]+)", re.S)  # one formula, the punctuation after it
 
 
 def wrap_long_code(content: str) -> str:
     """A long code in a table cell gets the class gc-wrap (site.css lets it wrap), and a break
     opportunity after each comma; a short one (a flag, a name) is never broken."""
+    def long_code(c):
+        if len(html.unescape(c[1])) < LONG:
+            return c[0]
+        parts = [f'<span class="gc-nobreak">{t}</span>' if "-" in t else t for t in re.split(r"(?<=[,/])", c[1])]
+        return '<code class="gc-wrap">' + "<wbr>".join(parts) + "</code>"  # a break after a comma or slash, never at a hyphen
+
     def cell(m):
-        return m[1] + _LONG_CODE.sub(lambda c: '<code class="gc-wrap">' + c[1].replace(",", ",<wbr>") + "</code>", m[2]) + m[3]
+        return m[1] + _CODE.sub(long_code, m[2]) + m[3]
+
+    def whole(m):
+        return '<code class="gc-whole">' + m[1] + "</code>" if len(html.unescape(m[1])) <= SHORT else m[0]
 
     content = _CELL_CODE.sub(cell, content)
-    return _SHORT_HYPHENATED.sub(lambda m: '<code class="gc-whole">' + m[1] + "</code>", content)
+    return _SHORT_HYPHENATED.sub(whole, content)
+
+
+def keep_punctuation(content: str) -> str:
+    """A formula and the punctuation right after it on one line (a browser may break between them)."""
+    return _MATH_PUNCT.sub(r'<span class="gc-nobreak">\1\2</span>', content)
 
 
 def on_page_content(content: str, page, config, **_) -> str:
@@ -108,7 +124,7 @@ def on_page_content(content: str, page, config, **_) -> str:
         variant = str(PurePosixPath(src).with_suffix(".phone.png"))
         return variant if src.endswith(".png") and (here / variant).is_file() else None
 
-    return wrap_long_code(figures(_MATH.sub(lambda m: _formula(m[1], m[2]), content), phone))
+    return keep_punctuation(wrap_long_code(figures(_MATH.sub(lambda m: _formula(m[1], m[2]), content), phone)))
 
 
 _ROOTED = re.compile(r'((?:href|src)=")/(?!/)')

@@ -159,8 +159,8 @@ def _curves(out: Result, eq2: Equilibria, second: float, max_steps: int, step: f
 
 def _on(p, br: Branch, tol: float = 1e-6) -> bool:
     """Whether the point p lies on the branch's polyline (within tol in y)."""
-    ys = np.array([q.y for q in br.points])
-    for a, b in zip(ys, ys[1:]):
+    ys = np.array([q.y for q in br.points] + ([br.points[0].y] if br.end == "closed on itself" else []))
+    for a, b in zip(ys, ys[1:]):  # (a loop's last chord closes it)
         d = b - a
         w = np.clip(((p.y - a) @ d) / max(d @ d, 1e-300), 0.0, 1.0)
         if np.linalg.norm(wrap(p.y - (a + w * d))) < max(tol, 0.05 * np.linalg.norm(d)):  # a chord's sagitta
@@ -190,7 +190,8 @@ def _segments(br: Branch, name: str) -> str:
 
 
 def _turning(turns, name: str) -> str:
-    return f" (through {name} = {', '.join(f'{t:.10g}' for t in turns)})" if turns else ""
+    """Where a stretch turns back in the parameter (a fold, a pitchfork's branch point)."""
+    return f" (turning back at {name} = {', '.join(f'{t:.10g}' for t in turns)})" if turns else ""
 
 
 def report(res: Result) -> str:

@@ -87,7 +87,7 @@ def section(key: str, ap: argparse.ArgumentParser | None = None) -> str:
                 + "".join(f"| [`{name}`](#{name}) | {_cell(helps[name])} |\n" for name in found.choices))
     p = commands(ap)[key]
     usage = " ".join(p.format_usage().split()).removeprefix("usage: ")
-    text = f"`{usage}`\n\n"
+    text = f"```text\n{usage}\n```\n\n"  # a block: a usage line is never broken at its options' hyphens
     if p.description:
         text += _cell(p.description) + "\n\n"
     return text + table(p)

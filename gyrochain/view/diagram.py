@@ -16,6 +16,7 @@ import numpy as np
 from ..chainspec.spec import SpecError
 
 FORMATS = ("png", "pdf", "svg")
+STYLES = ("-", "--", ":", "-.")
 MARKERS = {"LP": "s", "BP": "D", "KC": "o", "RC": "o", "H": "^", "+1": "o", "PD": "v", "NS": "^", "KCm": "o"}
 
 
@@ -90,6 +91,7 @@ def _branches(ax, rows, name: str, component: str) -> None:
             px, py = float(r[name]), float(r[component])
             ax.plot(px, py, MARKERS.get(r["kind"], "o"), color="k", ms=6, zorder=3)
             ax.annotate(r["kind"], (px, py), textcoords="offset points", xytext=(5, 5), fontsize=9)
+    ax.margins(y=0.12)  # room for the labels of a branch along the frame
     ax.plot([], [], "-", color="0.3", label="stable")
     ax.plot([], [], "--", color="0.3", label="unstable")
     ax.legend(fontsize=9, loc="best")
@@ -103,8 +105,8 @@ def _curves(ax, rows, params) -> None:
     a, b = params[0], params[1]
     for i, part in enumerate(dict.fromkeys(r["part"] for r in rows)):
         pts = [r for r in rows if r["part"] == part]
-        ax.plot([float(r[a]) for r in pts], [float(r[b]) for r in pts], "-", color=f"C{i % 10}", lw=1.8,
-                label=f"{part}: {pts[0]['kind']}")
+        ax.plot([float(r[a]) for r in pts], [float(r[b]) for r in pts], STYLES[i % len(STYLES)], color=f"C{i % 10}",
+                lw=1.8, label=f"{part}: {pts[0]['kind']}")  # a style each: curves that nearly coincide both show
     ax.set_xlabel(a)
     ax.set_ylabel(b)
     ax.set_title("the special points' curves (stability boundaries)", fontsize=10)

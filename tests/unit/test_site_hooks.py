@@ -25,7 +25,8 @@ def test_long_code_in_a_table_wraps_and_short_flags_never_break():
             "<td><code>-O3</code></td></tr></table><p>with <code>--base</code> and <code>-Werror</code></p>"
             "<pre><code>--not-touched</code></pre>")
     out = hooks.wrap_long_code(html)
-    assert '<code class="gc-wrap">{auto,<wbr>forward,<wbr>world,<wbr>world-solve,<wbr>world-inverse}</code>' in out
+    assert ('<code class="gc-wrap">{auto,<wbr>forward,<wbr>world,<wbr><span class="gc-nobreak">world-solve,</span><wbr>'
+            '<span class="gc-nobreak">world-inverse}</span></code>') in out, out
     assert '<code class="gc-whole">--base</code>' in out and '<code class="gc-whole">-Werror</code>' in out
     assert '<code class="gc-whole">-O3</code>' in out
     assert "<pre><code>--not-touched</code></pre>" in out
@@ -38,3 +39,11 @@ def test_a_chart_with_a_phone_variant_is_a_picture():
     both = hooks.figures(img, lambda src: src.replace(".png", ".phone.png"))
     assert f'<picture><source media="{hooks.PHONE}" srcset="img/x.phone.png"><img' in both
     assert 'href="img/x.png"' in both and "<figcaption>a chart</figcaption>" in both
+
+
+def test_a_formula_keeps_its_full_stop():
+    out = hooks.keep_punctuation("<p>the angle <math><mi>φ</mi></math>. Then</p>")
+    assert out == '<p>the angle <span class="gc-nobreak"><math><mi>φ</mi></math>.</span> Then</p>'
+    two = "<p><math><mi>a</mi></math> and a long text <math><mi>b</mi></math>, then</p>"  # one formula at a time
+    assert hooks.keep_punctuation(two) == ('<p><math><mi>a</mi></math> and a long text '
+                                           '<span class="gc-nobreak"><math><mi>b</mi></math>,</span> then</p>')
