@@ -32,14 +32,16 @@ def main(out: Path) -> None:
                    t_eval=t_ode).y.T
     err = np.max(np.abs(model.quad_state(t_ode, x0) - Xo)[:, :2])
 
-    fig, ax = plt.subplots(1, 3, figsize=(13, 3.8))
+    fig = plt.figure(figsize=(8.0, 6.6))  # two panels over the phase curve: legible at a page's 672 px
+    grid = fig.add_gridspec(2, 2)
+    ax = [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1]), fig.add_subplot(grid[1, :])]
     ax[0].plot(t, Xq[:, 1], label="quadrature (30)")
     ax[0].plot(t_ode, Xo[:, 1], "o", ms=3, label="ODE (DOP853, 1e-12)")
     for k in range(4):
         ax[0].axvline(k * T, color="0.85", lw=0.8, zorder=0)
     ax[0].axhline(info["phi_min"], color="0.6", ls=":", lw=0.8)
     ax[0].axhline(info["phi_max"], color="0.6", ls=":", lw=0.8)
-    ax[0].set(xlabel="t [s]", ylabel="φ = φ² [rad]", title=f"inner ring: libration, period {T:.6f} s")
+    ax[0].set(xlabel="t [s]", ylabel="φ = φ² [rad]", title=f"inner ring: libration,\nperiod {T:.6f} s")
     ax[1].plot(t, Xq[:, 0], label="quadrature (30)")
     ax[1].plot(t_ode, Xo[:, 0], "o", ms=3, label="ODE")
     ax[1].set(xlabel="t [s]", ylabel="ψ = φ¹ [rad]", title=f"outer ring: +{info['psi_advance']:.4f} rad per period")
@@ -51,7 +53,7 @@ def main(out: Path) -> None:
         a.grid(alpha=0.3)
     ax[2].axvline(info["phi_min"], color="0.6", ls=":", lw=0.8)
     ax[2].axvline(info["phi_max"], color="0.6", ls=":", lw=0.8)
-    fig.suptitle(f"gimbal: x0 = {x0.tolist()}, max |quadrature − ODE| over 3 periods = {err:.1e} rad", fontsize=10)
+    fig.suptitle(f"gimbal: x0 = {x0.tolist()},\nmax |quadrature − ODE| over 3 periods = {err:.1e} rad", fontsize=10)
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=110, metadata={"Software": None})
