@@ -214,24 +214,118 @@ def report(res: Result) -> str:
     return "\n".join(lines)
 
 
-def csv_text(res: Result, n: int) -> str:
-    """The branches, their special points (kind set) and the curves, one row each."""
-    out = io.StringIO()
-    cols = ["part", "kind", *res.names, *[f"phi{k}" for k in range(1, n + 1)], "verdict", "spectrum"]
-    out.write(",".join(cols) + "\n")
-
-    def row(part, kind, values, phi, verdict, spectrum):
-        sp = " ".join(f"{z.real:.17g}{z.imag:+.17g}j" for z in spectrum)
-        out.write(",".join([part, kind, *[f"{v:.17g}" for v in values], *[f"{v:.17g}" for v in phi], verdict, sp]) + "\n")
-
+def table(res: Result):
+    """The rows of the file: (part, kind, values of the parameters, φ, verdict, spectrum) for each
+    point of each branch with its special points in order (kind set), then each curve's points."""
     second = [res.second] if len(res.names) > 1 else []  # the second parameter, held along the branches
     for i, br in enumerate(res.branches, 1):
         for _, kind, p in _in_order(br):
-            row(f"branch {i}", kind, [p.alpha, *second], p.phi, p.verdict, p.spectrum)
+            yield f"branch {i}", kind, [p.alpha, *second], p.phi, p.verdict, p.spectrum
     for j, c in enumerate(res.curves, 1):
         for values, phi, _y in c.points:
-            row(f"curve {j}", c.kind, values, phi, "", [])
+            yield f"curve {j}", c.kind, list(values), phi, "", []
+
+
+def csv_text(res: Result, n: int) -> str:
+    """The branches, their special points (kind set) and the curves, one row each."""
+    out = io.StringIO()
+    out.write(",".join(["part", "kind", *res.names, *[f"phi{k}" for k in range(1, n + 1)], "verdict", "spectrum"]) + "\n")
+    for part, kind, values, phi, verdict, spectrum in table(res):
+        sp = " ".join(f"{z.real:.17g}{z.imag:+.17g}j" for z in spectrum)
+        out.write(",".join([part, kind, *[f"{v:.17g}" for v in values], *[f"{v:.17g}" for v in phi], verdict, sp]) + "\n")
     return out.getvalue()
+
+
+STORE = "gyrochain_continue"  # the attribute that marks a store of continue
+
+
+def _zarr():
+    try:
+        import zarr
+    except ImportError:
+        raise ContinuationError("-o: a Zarr store needs the sweep extra: pip install 'gyrochain[sweep]'") from None
+    return zarr
+
+
+def is_store(path) -> bool:
+    """Whether ``path`` is a Zarr store that continue wrote."""
+    from pathlib import Path
+
+    if not (Path(path) / "zarr.json").is_file():
+        return False
+    try:
+        return STORE in dict(_zarr().open_group(str(path), mode="r").attrs)
+    except Exception:  # noqa: BLE001  (any unreadable store is not ours)
+        return False
+
+
+def check_store(path, force: bool) -> None:
+    """Before the work: a store may replace only a store of continue, and only with --force."""
+    from pathlib import Path
+
+    path = Path(path)
+    _zarr()
+    if path.exists() and not force:
+        raise ContinuationError(f"{path}: exists; pass --force to replace it")
+    if path.exists() and not is_store(path):
+        raise ContinuationError(f"{path}: exists and is not a store of continue; choose another path")
+
+
+def write_store(res: Result, n: int, path) -> None:
+    """The table as a Zarr store (the format sweep writes), one array a column over the rows:
+    part (branch k as k, curve j as −j), kind and verdict (indices into the attributes' lists,
+    −1 for none), each parameter, phi (rows × n), spectrum (rows × 2n × [re, im], NaN padded).
+    Written beside and renamed: never half a store."""
+    import os
+    import shutil
+    from pathlib import Path
+
+    zarr, path = _zarr(), Path(path)
+    rows = list(table(res))
+    kinds, verdicts = list(KINDS), sorted({r[4] for r in rows if r[4]})
+    m = len(rows)
+    spectrum = np.full((m, 2 * n, 2), np.nan)
+    for i, r in enumerate(rows):
+        z = np.asarray(r[5], complex)
+        spectrum[i, :len(z), 0], spectrum[i, :len(z), 1] = z.real, z.imag
+    columns = {
+        "part": np.array([int(r[0].split()[1]) * (1 if r[0].startswith("branch") else -1) for r in rows], "i4"),
+        "kind": np.array([kinds.index(r[1]) if r[1] else -1 for r in rows], "i1"),
+        "verdict": np.array([verdicts.index(r[4]) if r[4] else -1 for r in rows], "i1"),
+        "phi": np.array([r[3] for r in rows], float).reshape(m, n), "spectrum": spectrum,
+        **{name: np.array([r[2][k] for r in rows], float) for k, name in enumerate(res.names)}}
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    try:
+        g = zarr.open_group(str(tmp), mode="w")
+        g.attrs[STORE] = {"spec_name": res.name, "names": res.names, "ranges": [list(r) for r in res.ranges],
+                          "kinds": kinds, "verdicts": verdicts, "n": n}
+        for name, values in columns.items():
+            g.create_array(name, data=values, chunks=values.shape or (1,))
+        if path.exists():
+            shutil.rmtree(path)  # a store of continue (check_store), replaced with --force
+        tmp.rename(path)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def read_store(path) -> tuple[list[str], list[dict]]:
+    """A store of continue as the CSV's header and rows (the diagram reads either)."""
+    g = _zarr().open_group(str(path), mode="r")
+    a = dict(g.attrs)[STORE]
+    n, names = int(a["n"]), a["names"]
+    cols = {k: np.asarray(g[k][...]) for k in ("part", "kind", "verdict", "phi", "spectrum", *names)}
+    header = ["part", "kind", *names, *[f"phi{k}" for k in range(1, n + 1)], "verdict", "spectrum"]
+    rows = []
+    for i, part in enumerate(cols["part"]):
+        z = [complex(re_, im) for re_, im in cols["spectrum"][i] if not np.isnan(re_)]
+        row = {"part": f"branch {part}" if part > 0 else f"curve {-part}",
+               "kind": a["kinds"][cols["kind"][i]] if cols["kind"][i] >= 0 else "",
+               **{nm: repr(float(cols[nm][i])) for nm in names},
+               **{f"phi{k + 1}": repr(float(v)) for k, v in enumerate(cols["phi"][i])},
+               "verdict": a["verdicts"][cols["verdict"][i]] if cols["verdict"][i] >= 0 else "",
+               "spectrum": " ".join(f"{v.real!r}{v.imag:+}j" for v in z)}
+        rows.append(row)
+    return header, rows
 
 
 def _in_order(br: Branch):

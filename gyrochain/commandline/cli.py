@@ -182,7 +182,14 @@ def cmd_continue(args) -> int:
         raise SpecError("--max-steps", f"{args.max_steps}: expected at least 1")
     if not (math.isfinite(args.step) and 0 < args.step <= 0.5):
         raise SpecError("--step", f"{args.step:g}: expected a step in (0, 0.5] (a parameter's whole range counts as 1)")
-    if args.output:
+    store = args.output.lower().rstrip("/").endswith(".zarr")
+    if store:
+        try:
+            branches.check_store(args.output, args.force)
+        except ContinuationError as exc:  # (the store's path: why)
+            what, _, why = str(exc).partition(": ")
+            raise SpecError(what, why) from None
+    elif args.output:
         target(args.output, "", args.force, source=args.spec)  # checked before the work, written after it
     starts = [cliargs.floats(s, "--from", spec.n) for s in args.start or []]
     u = torques(spec, cliargs.float_list(args.u, "--u"))
@@ -204,7 +211,10 @@ def cmd_continue(args) -> int:
         what, _, why = str(exc).partition(": ")
         raise SpecError(what, why) from None
     print(branches.report(res))
-    if args.output:
+    if store:
+        branches.write_store(res, spec.n, args.output)
+        print(f"wrote {args.output}")
+    elif args.output:
         path = deliver(branches.csv_text(res, spec.n), args.output, "", args.force, args.spec)
         print(f"wrote {path}")
     return 0
@@ -339,7 +349,7 @@ def cmd_plot(args) -> int:
     """A heat map (two varied quantities) or a curve (one) of a sweep store."""
     from ..view import plot
 
-    if args.store.lower().endswith(".csv"):  # the branches of continue: a bifurcation diagram
+    if args.store.lower().endswith(".csv") or _continue_store(args.store):  # continue's branches: a diagram
         from ..view import diagram
 
         if args.measure or args.cmap or args.log:
@@ -352,6 +362,12 @@ def cmd_plot(args) -> int:
                       log=args.log, dpi=args.dpi, note=lambda line: print(line, file=sys.stderr))
     print(f"wrote {path}", file=sys.stderr)
     return 0
+
+
+def _continue_store(path: str) -> bool:
+    from ..analysis import branches
+
+    return Path(path).is_dir() and branches.is_store(path)
 
 
 def cmd_animate(args) -> int:

@@ -181,7 +181,8 @@ def _analyse(sub) -> None:
     co.add_argument("--step", type=float, default=0.02, help="the first step along a branch, in radians and "
                     "ranges (a parameter's whole range counts as 1; default 0.02)")
     co.add_argument("-o", "--output", default="", metavar="FILE.csv", help="the branches, their special points and "
-                    "the curves, one row each (default: none, the report only)")
+                    "the curves, one row each; NAME.zarr: the same as a Zarr store, a column an array (default: none, "
+                    "the report only)")
     co.add_argument("--force", action="store_true", help=FORCE)
     ob = sub.add_parser("orbits", help="periodic orbits of an autonomous spec (nonlinear normal modes, steady rotations) "
                         "by shooting, with their Floquet multipliers")
@@ -249,7 +250,7 @@ def _sweep(sub) -> None:
                     "it is this sweep's; required)")
     sw.add_argument("-q", "--quiet", action="store_true", help="no progress bar (default: one on a terminal)")
     pl = sub.add_parser("plot", help="a heat map or a curve of a sweep store; the bifurcation diagram of continue's file")
-    pl.add_argument("store", metavar="STORE", help="a sweep's Zarr store, or the CSV file of continue (its branches, "
+    pl.add_argument("store", metavar="STORE", help="a sweep's Zarr store, or the CSV file or store of continue (its branches, "
                     "stable solid and unstable dashed, the special points labelled, and the curves in two parameters)")
     pl.add_argument("-o", "--output", required=True, metavar="FILE", help="the image: .png, .pdf or .svg (required)")
     pl.add_argument("--measure", default="", help="which array (default: the sweep's first measure)")

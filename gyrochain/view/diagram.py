@@ -1,4 +1,4 @@
-"""``plot BRANCHES.csv``: the bifurcation diagram of ``gyrochain continue``'s file (matplotlib).
+"""``plot BRANCHES.csv`` (or ``.zarr``): the bifurcation diagram of ``gyrochain continue``'s file (matplotlib).
 
 The branches over the first parameter, one coordinate up the page: stable stretches solid,
 unstable ones dashed, each special point marked and labelled with its kind (LP fold, BP branch
@@ -21,7 +21,13 @@ MARKERS = {"LP": "s", "BP": "D", "KC": "o", "RC": "o", "H": "^", "+1": "o", "PD"
 
 
 def read(path: str | Path) -> tuple[list[str], list[dict]]:
-    """The header and rows of a file ``continue`` wrote (SpecError if it is not one)."""
+    """The header and rows of a file or store ``continue`` wrote (SpecError if it is not one)."""
+    if Path(path).is_dir():
+        from ..analysis import branches
+
+        if not branches.is_store(path):
+            raise SpecError("store", f"{path} is not a store of gyrochain continue")
+        return branches.read_store(path)
     try:
         with open(path, newline="", encoding="utf-8") as fh:
             rows = list(csv.DictReader(fh))

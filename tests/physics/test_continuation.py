@@ -234,6 +234,25 @@ def test_the_command_its_file_and_its_errors(tmp_path):
     assert [r["kind"] for r in rows].count("KC") == 1 and rows[0]["part"] == "branch 1"
     special = next(r for r in rows if r["kind"] == "KC")
     assert abs(float(special["P"]) - 8.34314575050762) < 1e-9 and len(special["spectrum"].split()) == 4
+    # the same as a Zarr store, a column an array, which plot draws too
+    res = cli_in_process("continue", str(ROOT / "specs" / "ziegler.toml"), "--vary", "P=0:12", "-o", str(tmp_path / "z.zarr"))
+    assert res.returncode == 0, res.stderr
+    import zarr
+
+    g = zarr.open_group(str(tmp_path / "z.zarr"), mode="r")
+    kinds = list(dict(g.attrs)["gyrochain_continue"]["kinds"])
+    at = [i for i, k in enumerate(g["kind"][...]) if k >= 0 and kinds[k] == "KC"]
+    assert len(at) == 1 and g["P"][at[0]] == float(special["P"]) and g["phi"].shape == (len(rows), 2)
+    assert np.allclose(g["spectrum"][at[0]][:, 0] + 1j * g["spectrum"][at[0]][:, 1],
+                       [complex(z) for z in special["spectrum"].split()])
+    res = cli_in_process("plot", str(tmp_path / "z.zarr"), "-o", str(tmp_path / "zs.png"))
+    assert res.returncode == 0 and (tmp_path / "zs.png").exists(), res.stderr
+    res = cli_in_process("continue", str(ROOT / "specs" / "ziegler.toml"), "--vary", "P=0:12", "-o", str(tmp_path / "z.zarr"))
+    assert res.returncode == 2 and "exists; pass --force" in res.stderr
+    (tmp_path / "other.zarr").mkdir()
+    res = cli_in_process("continue", str(ROOT / "specs" / "ziegler.toml"), "--vary", "P=0:12", "-o", str(tmp_path / "other.zarr"),
+                         "--force")
+    assert res.returncode == 2 and "not a store of continue" in res.stderr and not any((tmp_path / "other.zarr").iterdir())
     # its diagram: the branches with their special points labelled
     res = cli_in_process("plot", str(tmp_path / "z.csv"), "-o", str(tmp_path / "z.png"))
     assert res.returncode == 0 and (tmp_path / "z.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", res.stderr
