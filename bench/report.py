@@ -445,7 +445,8 @@ def _chart_drift(plt, rs):
 def _chart_symplectic(plt, rs):
     colours = {"GAUSS2": "C2", "GAUSS2_SYMPLECTIC": "C3", "DOP853": "C0"}
     labels = {"GAUSS2": "GAUSS2", "GAUSS2_SYMPLECTIC": "GAUSS2_SYMPLECTIC", "DOP853": "DOP853 at 1e-10"}
-    fig, axes = plt.subplots(1, 3, figsize=(12, 4.4))
+    fig, grid = plt.subplots(2, 2, figsize=(8.0, 7.2))  # the fourth cell holds the legend: legible at a page's 672 px
+    axes, key = [grid[0, 0], grid[0, 1], grid[1, 0]], grid[1, 1]
     for m in colours:
         axes[0].plot(*_series(rs, "time", "energy_error", system="gyrostat2", method=m), color=colours[m], label=labels[m])
         axes[1].plot(*_series(rs, "time", "momentum_error", system="gyrostat2", method=m), color=colours[m])
@@ -456,8 +457,9 @@ def _chart_symplectic(plt, rs):
     axes[0].set_title("gyrostat2: energy", fontsize=12)
     axes[1].set_title("gyrostat2: momentum (27)", fontsize=12)
     axes[2].set_title("spatial3, chaotic: energy", fontsize=12)
-    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=11, frameon=False)
-    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    key.axis("off")
+    key.legend(*axes[0].get_legend_handles_labels(), loc="center", fontsize=11, frameon=False)
+    fig.tight_layout()
     return fig
 
 

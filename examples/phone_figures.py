@@ -62,13 +62,16 @@ def relayout(fig) -> float:
     from matplotlib.text import Text
 
     panels = [a for a in fig.axes if a.get_subplotspec() is not None and not hasattr(a, "_colorbar")]
-    panels.sort(key=lambda a: (a.get_subplotspec().rowspan.start, a.get_subplotspec().colspan.start))
+    panels.sort(key=lambda a: (not a.axison, a.get_subplotspec().rowspan.start, a.get_subplotspec().colspan.start))
     w, h = fig.get_size_inches()
     if len({(a.get_subplotspec().rowspan.start, a.get_subplotspec().colspan.start) for a in panels}) > 1:
-        grid = fig.add_gridspec(len(panels), 1)
+        # a cell without axes (a legend's, say) gets a row as tall as its legend, after the panels
+        rows = [PANEL_IN if a.axison else 0.22 * len(a.get_legend().get_texts() if a.get_legend() else []) + 0.1
+                for a in panels]
+        grid = fig.add_gridspec(len(panels), 1, height_ratios=rows)
         for i, a in enumerate(panels):
             a.set_subplotspec(grid[i])
-        height = PANEL_IN * len(panels) + 0.4
+        height = sum(rows) + 0.4
     else:
         height = max(PANEL_IN + 0.4, min(1.1 * WIDTH_IN, WIDTH_IN * h / w))
     for leg in list(fig.legends):  # a figure's legend in a row of columns: one column under the panels
@@ -86,7 +89,7 @@ def relayout(fig) -> float:
             t.set_fontsize(max(SMALLEST_PT, t.get_fontsize()))
     for a in fig.axes:  # a panel's legend under its axis label, where it covers no data: the layout makes room
         leg = a.get_legend()
-        if leg is None:
+        if leg is None or not a.axison:  # (a cell that only holds a legend keeps it)
             continue
         labels = [t.get_text() for t in leg.get_texts()]
         handles = leg.legend_handles
