@@ -57,10 +57,7 @@ class Boundary:
         return np.append(F / scale, self.psi(y)), np.vstack([J / scale, grad]), scale
 
     def tangent(self, JG, previous=None) -> np.ndarray:
-        t = np.linalg.svd(JG)[2][-1]
-        if previous is not None and t @ previous < 0:
-            t = -t
-        return t / np.linalg.norm(t)
+        return self.eq.tangent(JG, previous)  # the unit null vector, the same as a branch's
 
     def correct(self, pred, t0, anchor):
         target = t0 @ (pred - anchor)
