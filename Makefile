@@ -111,6 +111,9 @@ plot: $(VENV)/.plot-installed
 	$(VPY) -m gyrochain continue specs/kapitza.toml --vary a=0.001:0.15 --vary w=100:1000 --param w=300 \
 		-o build/kapitza_branches.csv --force >/dev/null
 	$(PHONE) -m gyrochain plot build/kapitza_branches.csv -o docs/img/continuation_kapitza.png
+	$(VPY) -m gyrochain continue specs/double_pendulum_point.toml --vary energy=0.01:30 -o build/nnm_branches.csv \
+		--force >/dev/null
+	$(PHONE) -m gyrochain plot build/nnm_branches.csv -o docs/img/continuation_nnm.png
 	$(VPY) bench/report.py
 	$(VPY) examples/tutorial_page.py docs/img/tutorial_page.png
 	$(VPY) examples/identify_pictures.py

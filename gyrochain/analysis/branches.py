@@ -10,7 +10,9 @@ import numpy as np
 
 from . import floquet, steady
 from .boundary import Boundary, Curve
+from . import cycles
 from .continuation import BRANCHES, KINDS, RATE, Branch, ContinuationError, Equilibria, Tracer
+from .cycles import ENERGY, Orbits
 from .floquet import fmt_phi, wrap
 
 MONODROMY_TOL = 1e-14  # rtol = atol of a period's variational integration: multipliers to ~1e-13, boundaries to ~1e-11
@@ -28,6 +30,7 @@ class Result:
     curves: list = field(default_factory=list)
     starts: str = ""  # how the first points were found
     second: float = float("nan")  # the second parameter's value along the branches
+    orbits: str = ""  # periodic orbits: "driven" (of the drive's period) or "modes" (nonlinear normal modes); "": equilibria
 
 
 def parse_range(text: str, spec, what: str = "--vary") -> tuple[str, float, float]:
@@ -37,12 +40,14 @@ def parse_range(text: str, spec, what: str = "--vary") -> tuple[str, float, floa
     if not eq or not name:
         raise ContinuationError(f"{what}: expected NAME=lo:hi, for example P=0:12")
     names = [str(p) for p in spec.params]
-    if name not in names and name != RATE:
+    if name not in names and name not in (RATE, ENERGY):
         from ..chainspec.errors import did_you_mean
 
         raise ContinuationError(f"{what} {name}: not a symbolic parameter of the spec ({did_you_mean(name, names)}"
-                                + (f"its parameters: {', '.join(names)}; or {RATE}, the rate of a steady rotation)"
-                                   if names else f"it has none; {RATE} is the rate of a steady rotation)"))
+                                + (f"its parameters: {', '.join(names)}; or {RATE}, the rate of a steady rotation, or "
+                                   f"{ENERGY}, of the nonlinear normal modes)" if names else
+                                   f"it has none; {RATE} is the rate of a steady rotation, {ENERGY} the energy of the "
+                                   "nonlinear normal modes)"))
     try:
         lo, hi = (float(v) for v in rng.split(":"))
     except ValueError:
@@ -53,17 +58,20 @@ def parse_range(text: str, spec, what: str = "--vary") -> tuple[str, float, floa
 
 
 def run(spec, params: dict, u, ranges: list, starts=(), max_steps: int = 400, step: float = 0.02, period=None,
-        progress=None) -> Result:
+        progress=None, orbits: bool = False, modes=()) -> Result:
     """Trace the branches over ``ranges[0]`` = (name, lo, hi), both ways from their first points:
     Newton from ``starts`` (φ each; default: every equilibrium steady finds) at the parameter's value
     in ``params`` when it is in the range, else at lo; the branches of their branch points; and with
-    ``ranges[1]`` the curves of their special points in the two parameters."""
+    ``ranges[1]`` the curves of their special points in the two parameters.  With ``orbits`` (or
+    the energy varied) the branches of periodic orbits instead (cycles.py)."""
     from ..derive.assemble import time_dependent
 
     cm, model = steady.compile_spec(spec, driven_ok=True)
     names = [r[0] for r in ranges]
     if len(set(names)) < len(names):
         raise ContinuationError(f"--vary {names[0]}: given twice; the second --vary names another parameter")
+    if orbits or names[0] == ENERGY:
+        return _run_orbits(spec, cm, model, params, u, ranges, starts, max_steps, step, period, progress, modes)
     lo, hi = ranges[0][1:]
     given = 0.0 if names[0] == RATE else params.get(names[0])  # a rate starts at rest when it can
     alpha0 = float(given) if given is not None and lo <= given <= hi else lo
@@ -97,6 +105,90 @@ def run(spec, params: dict, u, ranges: list, starts=(), max_steps: int = 400, st
     return out
 
 
+def _run_orbits(spec, cm, model, params, u, ranges, starts, max_steps, step, period, progress, modes) -> Result:
+    """The branches of periodic orbits: of the drive's period from the starts (at rest at φ = 0 by
+    default), or the nonlinear normal modes of the stable equilibrium (``--from``, else the one
+    of least energy) over the energy above it."""
+    from ..derive.assemble import time_dependent
+    from . import orbits as shooting
+
+    name, lo, hi = ranges[0]
+    if len(ranges) > 1:
+        raise ContinuationError(f"--vary {ranges[1][0]}: the curves of special points in two parameters are traced for "
+                                "equilibria; a branch of periodic orbits takes one --vary")
+    if not cm.has_variational:
+        raise ContinuationError(f"--orbits: periodic orbits need NAME_integrate_variational, emitted up to n = 16 (n = {cm.n})")
+    driven = time_dependent(model)
+    if driven == (name == ENERGY):
+        raise ContinuationError(f"--vary {name}: " + (
+            f"the model depends on t: its periodic orbits have the drive's period and follow a parameter, not {ENERGY}"
+            if driven else f"an autonomous model's periodic orbits are continued over {ENERGY}=lo:hi, the energy above "
+                           "the stable equilibrium's, J"))
+    if name == RATE:
+        raise ContinuationError(f"--vary {RATE}: the steady rotations are equilibria of the reduced model; drop --orbits")
+    alpha0 = float(params[name]) if driven and name in params and lo <= params[name] <= hi else lo
+    out = Result(spec.name, [name], [(lo, hi)], {k: v for k, v in params.items() if k != name}, driven,
+                 orbits="driven" if driven else "modes")
+    if driven:
+        an, _st, dr = _analysis(cm, model, {**params, name: alpha0}, u, period, True)
+        if dr.cyclic:
+            raise ContinuationError("--orbits: phi1 is cyclic (l1 vertical, nothing acting in joint 1): the orbits of the "
+                                    "drive's period come in families turned about l1, which continue does not trace")
+        eq = Orbits(cm, params, u, name, lo, hi, period=lambda p: (dr.set_params(p), dr.period)[1])
+        firsts = [(p, f"phi = {fmt_phi(p.phi)}, phidot = {fmt_phi(p.phidot)} at {name} = {p.alpha:.10g}")
+                  for p in cycles.driven_firsts(eq, starts, alpha0)]
+        out.starts = "the --from starts" if starts else "rest at phi = 0"
+        tracers = [(Tracer(eq, max_steps, step, progress), p, origin) for p, origin in firsts]
+    else:
+        why = shooting._removed(model.integrals.energy_reasons, u is not None and np.any(np.asarray(u) != 0))
+        if why:
+            raise ContinuationError(f"--vary {ENERGY}: the energy (23) is not an integral here ({'; '.join(why)} removed "
+                                    "it): the nonlinear normal modes are a family over a conserved energy")
+        phi = _stable_equilibrium(cm, params, u, starts)
+        tracers = []
+        for k, (x0, T, phase, E0, origin) in cycles.mode_starts(cm, params, u, phi, lo, modes, shooting):
+            eq = Orbits(cm, params, u, ENERGY, lo, hi, phase=phase, E0=E0)
+            tracers.append((Tracer(eq, max_steps, step, progress), eq.start(x0, lo, T), origin))
+        out.starts = f"the linear modes of the equilibrium phi = {fmt_phi(phi)}"
+    used = 0
+    for tracer, first, origin in tracers:
+        tracer.max_steps = max_steps - used
+        queue = [(first, origin, None)]
+        while queue and len(out.branches) < BRANCHES and tracer.steps < tracer.max_steps:
+            p, origin, at = queue.pop(0)
+            if any(_on(p, br) for br in out.branches):
+                continue
+            br = tracer.trace(p, origin, at) if at is not None else tracer.trace_both(p, origin)
+            out.branches.append(br)
+            queue += [(q, f"the branch point at {name} = {s.point.alpha:.10g}", s.point)
+                      for s in br.specials if s.kind == "BP" for q in tracer.switch(s)]
+        used += tracer.steps
+        for br in out.branches:  # each point written: its amplitude, once
+            for p in [*br.points, *(s.point for s in br.specials)]:
+                if p.amplitude is None:
+                    p.amplitude = tracer.eq.swing(p)
+    return out
+
+
+def _stable_equilibrium(cm, params, u, starts):
+    """The equilibrium whose normal modes are traced: Newton from --from, or the stable one of
+    least energy."""
+    from ..chainspec.errors import SpecError
+    from . import orbits as shooting
+
+    if len(starts) > 1:
+        raise ContinuationError("--from: the nonlinear normal modes start at one equilibrium; give one")
+    if not starts:
+        try:
+            return shooting.stable_equilibrium(cm, params or None, u)[0]
+        except SpecError as exc:
+            raise ContinuationError(f"--vary {ENERGY}: {exc.message} (give one with --from)") from None
+    got = floquet.equilibrium(cm, np.asarray(starts[0], float)[:cm.n], (0.0,), params or None, u)
+    if got is None:
+        raise ContinuationError(f"--from: Newton found no equilibrium from phi = {fmt_phi(starts[0])}")
+    return wrap(got[0])
+
+
 def _analysis(cm, model, params, u, period, driven):
     """(the analysis, steady's or None, floquet's or None) at the start's parameters."""
     from ..chainspec.errors import SpecError
@@ -128,7 +220,8 @@ def _firsts(an, tracer: Tracer, starts, alpha0: float, out: Result) -> list:
         found = [e.phi for e in an.equilibria()]
     if not found:
         raise ContinuationError(f"--vary {name}: no equilibrium at {name} = {alpha0:g} (Newton from "
-                                f"{floquet.STARTS}); give a start with --from")
+                                f"{floquet.STARTS}); give a start with --from"
+                                + (", or trace the periodic orbits of the drive's period with --orbits" if out.driven else ""))
     out.starts = f"every equilibrium at {name} = {alpha0:g}"
     firsts = []
     for phi in found:
@@ -177,7 +270,8 @@ def _near(s, curve: Curve) -> bool:
 def _segments(br: Branch, name: str) -> str:
     """The verdict along the branch, by stretches between the changes; a stretch through a fold or
     a branch point where the branch turns back says so."""
-    first = br.points[1] if len(br.points) > 1 and br.points[0].verdict == "degenerate" else br.points[0]
+    opened = br.points[0].verdict == "degenerate" or br.origin.startswith("the branch point")
+    first = br.points[1] if len(br.points) > 1 and opened else br.points[0]
     parts, start, verdict, turns = [], br.points[0].alpha, first.verdict, []  # (a branch point opening a branch is degenerate)
     for s in br.specials:
         if s.before != s.after:
@@ -198,14 +292,17 @@ def report(res: Result) -> str:
     name = res.names[0]
     lo, hi = res.ranges[0]
     held = ", ".join(f"{k} = {v:.12g}" for k, v in res.held.items())
-    lines = [f"{res.name}: equilibria{' for all t' if res.driven else ''} continued in {name} over [{lo:g}, {hi:g}]"
+    what = {"": f"equilibria{' for all t' if res.driven else ''}", "driven": "periodic orbits of the drive's period",
+            "modes": "nonlinear normal modes (periodic orbits; energy above the equilibrium's, J)"}[res.orbits]
+    lines = [f"{res.name}: {what} continued in {name} over [{lo:g}, {hi:g}]"
              + (f" ({held})" if held else "") + f"; {len(res.branches)} branch{'es' if len(res.branches) != 1 else ''} "
-             f"from {res.starts} and the branch points met"]
+             f"from {res.starts}" + ("" if res.orbits == "modes" else " and the branch points met")]
     for i, br in enumerate(res.branches, 1):
         lines.append(f"branch {i}, from {br.origin}: {len(br.points)} points; {br.end}")
         lines.append(f"  {_segments(br, name)}")
         for s in br.specials:
-            lines.append(f"  {s.kind:<3} {name} = {s.point.alpha:.12g}, phi = {fmt_phi(s.point.phi)}: {KINDS[s.kind]}"
+            period = f", period {s.point.period:.12g} s" if res.orbits else ""
+            lines.append(f"  {s.kind:<3} {name} = {s.point.alpha:.12g}, phi = {fmt_phi(s.point.phi)}{period}: {KINDS[s.kind]}"
                          + (f" {s.detail}" if s.detail else "") + f"; {s.before} -> {s.after}")
     for j, c in enumerate(res.curves, 1):
         (a0, b0), (a1, b1) = c.points[0][0], c.points[-1][0]
@@ -220,16 +317,23 @@ def table(res: Result):
     second = [res.second] if len(res.names) > 1 else []  # the second parameter, held along the branches
     for i, br in enumerate(res.branches, 1):
         for _, kind, p in _in_order(br):
-            yield f"branch {i}", kind, [p.alpha, *second], p.phi, p.verdict, p.spectrum
+            orbit = [*p.phidot, p.period, *p.amplitude] if res.orbits else []  # a periodic orbit's rates, period, swing
+            yield f"branch {i}", kind, [p.alpha, *second], [*p.phi, *orbit], p.verdict, p.spectrum
     for j, c in enumerate(res.curves, 1):
         for values, phi, _y in c.points:
             yield f"curve {j}", c.kind, list(values), phi, "", []
 
 
+def _columns(res: Result, n: int) -> list[str]:
+    """The state's columns: the angles, and for periodic orbits the start's rates and the period."""
+    ks = range(1, n + 1)
+    return [f"phi{k}" for k in ks] + ([*(f"phidot{k}" for k in ks), "period", *(f"amp{k}" for k in ks)] if res.orbits else [])
+
+
 def csv_text(res: Result, n: int) -> str:
     """The branches, their special points (kind set) and the curves, one row each."""
     out = io.StringIO()
-    out.write(",".join(["part", "kind", *res.names, *[f"phi{k}" for k in range(1, n + 1)], "verdict", "spectrum"]) + "\n")
+    out.write(",".join(["part", "kind", *res.names, *_columns(res, n), "verdict", "spectrum"]) + "\n")
     for part, kind, values, phi, verdict, spectrum in table(res):
         sp = " ".join(f"{z.real:.17g}{z.imag:+.17g}j" for z in spectrum)
         out.write(",".join([part, kind, *[f"{v:.17g}" for v in values], *[f"{v:.17g}" for v in phi], verdict, sp]) + "\n")
@@ -274,7 +378,8 @@ def check_store(path, force: bool) -> None:
 def write_store(res: Result, n: int, path) -> None:
     """The table as a Zarr store (the format sweep writes), one array a column over the rows:
     part (branch k as k, curve j as −j), kind and verdict (indices into the attributes' lists,
-    −1 for none), each parameter, phi (rows × n), spectrum (rows × 2n × [re, im], NaN padded).
+    −1 for none), each parameter, phi (rows × n), spectrum (rows × 2n × [re, im], NaN padded),
+    and for periodic orbits phidot (rows × n), period and amp (rows × n).
     Written beside and renamed: never half a store."""
     import os
     import shutil
@@ -292,13 +397,16 @@ def write_store(res: Result, n: int, path) -> None:
         "part": np.array([int(r[0].split()[1]) * (1 if r[0].startswith("branch") else -1) for r in rows], "i4"),
         "kind": np.array([kinds.index(r[1]) if r[1] else -1 for r in rows], "i1"),
         "verdict": np.array([verdicts.index(r[4]) if r[4] else -1 for r in rows], "i1"),
-        "phi": np.array([r[3] for r in rows], float).reshape(m, n), "spectrum": spectrum,
-        **{name: np.array([r[2][k] for r in rows], float) for k, name in enumerate(res.names)}}
+        "spectrum": spectrum, **{name: np.array([r[2][k] for r in rows], float) for k, name in enumerate(res.names)}}
+    state = np.array([r[3] for r in rows], float).reshape(m, -1)
+    columns["phi"] = state[:, :n]
+    if res.orbits:  # a periodic orbit's start rates and its period
+        columns["phidot"], columns["period"], columns["amp"] = state[:, n:2 * n], state[:, 2 * n], state[:, 2 * n + 1:]
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     try:
         g = zarr.open_group(str(tmp), mode="w")
         g.attrs[STORE] = {"spec_name": res.name, "names": res.names, "ranges": [list(r) for r in res.ranges],
-                          "kinds": kinds, "verdicts": verdicts, "n": n}
+                          "kinds": kinds, "verdicts": verdicts, "n": n, "orbits": res.orbits}
         for name, values in columns.items():
             g.create_array(name, data=values, chunks=values.shape or (1,))
         if path.exists():
@@ -313,8 +421,11 @@ def read_store(path) -> tuple[list[str], list[dict]]:
     g = _zarr().open_group(str(path), mode="r")
     a = dict(g.attrs)[STORE]
     n, names = int(a["n"]), a["names"]
-    cols = {k: np.asarray(g[k][...]) for k in ("part", "kind", "verdict", "phi", "spectrum", *names)}
-    header = ["part", "kind", *names, *[f"phi{k}" for k in range(1, n + 1)], "verdict", "spectrum"]
+    orbits = a.get("orbits", "")
+    cols = {k: np.asarray(g[k][...]) for k in ("part", "kind", "verdict", "phi", "spectrum", *names,
+                                                *(("phidot", "period", "amp") if orbits else ()))}
+    state = _columns(Result("", names, [], {}, False, orbits=orbits), n)
+    header = ["part", "kind", *names, *state, "verdict", "spectrum"]
     rows = []
     for i, part in enumerate(cols["part"]):
         z = [complex(re_, im) for re_, im in cols["spectrum"][i] if not np.isnan(re_)]
@@ -322,6 +433,9 @@ def read_store(path) -> tuple[list[str], list[dict]]:
                "kind": a["kinds"][cols["kind"][i]] if cols["kind"][i] >= 0 else "",
                **{nm: repr(float(cols[nm][i])) for nm in names},
                **{f"phi{k + 1}": repr(float(v)) for k, v in enumerate(cols["phi"][i])},
+               **({f"phidot{k + 1}": repr(float(v)) for k, v in enumerate(cols["phidot"][i])} if orbits else {}),
+               **({"period": repr(float(cols["period"][i]))} if orbits else {}),
+               **({f"amp{k + 1}": repr(float(v)) for k, v in enumerate(cols["amp"][i])} if orbits else {}),
                "verdict": a["verdicts"][cols["verdict"][i]] if cols["verdict"][i] >= 0 else "",
                "spectrum": " ".join(f"{v.real!r}{v.imag:+}j" for v in z)}
         rows.append(row)

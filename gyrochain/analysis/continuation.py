@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -100,7 +100,43 @@ class Branch:
     ends: tuple = ()  # why each end stops, for a branch traced both ways from its start
 
 
-class Equilibria:
+class Pseudoarclength:
+    """The tangent and the corrector of a problem whose ``residual(y)`` is (F, J, scale)."""
+
+    def tangent(self, J, previous=None) -> np.ndarray:
+        """The unit null vector of J, turned to go on the way ``previous`` went."""
+        t = np.linalg.svd(J)[2][-1]
+        if previous is not None and t @ previous < 0:
+            t = -t
+        return t / np.linalg.norm(t)
+
+    def correct(self, pred, t0, anchor=None):
+        """Newton on F(y) = 0, t0·(y − anchor) = t0·(pred − anchor) from ``pred``: (y, J, iterations)
+        or None."""
+        anchor = pred if anchor is None else anchor
+        target = t0 @ (pred - anchor)
+        y = pred.copy()
+        for it in range(1, NEWTON_ITERS + 1):
+            try:
+                F, J, scale = self.residual(y)
+            except ArithmeticError:
+                return None
+            G = np.append(F / scale, t0 @ (y - anchor) - target)
+            A = np.vstack([J / scale, t0])
+            dy = np.linalg.lstsq(A, -G, rcond=None)[0]
+            y = y + dy
+            # converged: the step is below the tolerance, or (near a branch point, where the step's
+            # size is round-off over a small singular value) the equations already held before it
+            if np.max(np.abs(dy)) <= NEWTON_TOL * max(1.0, np.max(np.abs(y))) or \
+                    (it >= 3 and np.max(np.abs(G)) <= NEWTON_TOL):
+                F, J, scale = self.residual(y)
+                if np.max(np.abs(F)) <= 1e3 * NEWTON_TOL * scale:
+                    return y, J, it
+                return None
+        return None
+
+
+class Equilibria(Pseudoarclength):
     """The equations of the equilibria of a built model (gyrochain.build.CModel) as functions of
     y = (φ free, α[, β]), each parameter in units of its range per radian; ``steady``: a
     steady.Analysis of an autonomous model, ``driven``: a floquet.DrivenAnalysis of a model of t."""
@@ -177,35 +213,6 @@ class Equilibria:
         m = len(self.free)
         Jphi = J[:, :m].reshape(-1, m, m).mean(axis=0)
         return float(np.linalg.det(Jphi / scale)) if m else 1.0
-
-    def tangent(self, J, previous=None) -> np.ndarray:
-        """The unit null vector of J, turned to go on the way ``previous`` went."""
-        t = np.linalg.svd(J)[2][-1]
-        if previous is not None and t @ previous < 0:
-            t = -t
-        return t / np.linalg.norm(t)
-
-    def correct(self, pred, t0, anchor=None):
-        """Newton on F(y) = 0, t0·(y − anchor) = t0·(pred − anchor) from ``pred``: (y, J, iterations)
-        or None."""
-        anchor = pred if anchor is None else anchor
-        target = t0 @ (pred - anchor)
-        y = pred.copy()
-        for it in range(1, NEWTON_ITERS + 1):
-            try:
-                F, J, scale = self.residual(y)
-            except ArithmeticError:
-                return None
-            G = np.append(F / scale, t0 @ (y - anchor) - target)
-            A = np.vstack([J / scale, t0])
-            dy = np.linalg.lstsq(A, -G, rcond=None)[0]
-            y = y + dy
-            if np.max(np.abs(dy)) <= NEWTON_TOL * max(1.0, np.max(np.abs(y))):
-                F, J, scale = self.residual(y)
-                if np.max(np.abs(F)) <= 1e3 * NEWTON_TOL * scale:
-                    return y, J, it
-                return None
-        return None
 
     # ---- the spectrum and the tests
     def spectrum(self, y) -> tuple[np.ndarray, str, dict]:
@@ -316,10 +323,11 @@ class Tracer:
         """The branch through ``first`` both ways: its points in the order of the branch, from the
         end the way back reached to the end the way on reached."""
         ahead = self.trace(first, origin)
-        back_first = Point(first.alpha, first.phi, first.spectrum, first.verdict, first.y, -first.tangent,
-                           {**first.tests, "LP": -first.tests["LP"], "BP": -first.tests["BP"]})  # both odd in t
+        odd = {k: -first.tests[k] for k in ("LP", "BP") if k in first.tests}  # both odd in t
+        back_first = replace(first, tangent=-first.tangent, tests={**first.tests, **odd})
         back = self.trace(back_first, origin)
-        out = Branch([*reversed(back.points[1:]), *ahead.points], origin=origin)
+        gone = [p for p in back.points[1:] if np.linalg.norm(p.y - first.y) > 1e-12 * max(1.0, np.linalg.norm(first.y))]
+        out = Branch([*reversed(gone), *ahead.points], origin=origin)  # (a start at the range's end: once)
         for s in reversed(back.specials):  # met going back: the sides swap
             out.specials.append(Special(s.kind, s.point, s.after, s.before, s.detail))
         out.specials += ahead.specials
@@ -331,8 +339,7 @@ class Tracer:
         """The branch from ``first`` on (after ``at``, a branch point it leaves, when given)."""
         br = Branch([first], origin=origin)
         if at is not None:  # the branch point, with the new branch's tangent, opens it
-            br.points.insert(0, Point(at.alpha, at.phi, at.spectrum, at.verdict, at.y,
-                                      (first.y - at.y) / np.linalg.norm(first.y - at.y), at.tests))
+            br.points.insert(0, replace(at, tangent=(first.y - at.y) / np.linalg.norm(first.y - at.y)))
         eq, h = self.eq, self.h0
         while True:
             if self.steps >= self.max_steps:
@@ -383,8 +390,13 @@ class Tracer:
         if "LP" in found and "BP" in found and \
                 abs(found["LP"].alpha - found["BP"].alpha) <= 1e-8 * max(1.0, abs(found["BP"].alpha)):
             del found["LP"]
+        if "LP" in found and "+1" in found and \
+                abs(found["LP"].alpha - found["+1"].alpha) <= 1e-8 * max(1.0, abs(found["LP"].alpha)):
+            del found["+1"]  # a fold of periodic orbits: the multiplier +1 is the fold's own
         new = []
         for kind, p in found.items():
+            if kind == "+1":
+                kind = getattr(self.eq, "plus_one", "+1")  # a driven orbit's multiplier +1 off a fold: a branch point
             if kind == "KC" and eq_real_collision(p.spectrum):
                 kind = "RC"  # real eigenvalues meet and leave the axis as a quadruple: no change of stability
             new.append(Special(kind, p, a.verdict, b.verdict, self._detail(kind, p, a, b)))
@@ -404,34 +416,70 @@ class Tracer:
         return p
 
     def locate(self, a: Point, b: Point, kind: str) -> Point:
-        """The zero of the test ``kind`` between a and b: Illinois on the arclength from a."""
+        """The zero of the test ``kind`` between a and b: Illinois on the arclength s from a (the
+        points with t_a·(y − a) = s), each trial predicted from the nearer end of the bracket
+        along its tangent, so that the prediction improves as the bracket shrinks (which a
+        Newton near a branch point, where the system turns singular, needs)."""
         eq = self.eq
         s_lo, s_hi = 0.0, float(a.tangent @ (b.y - a.y))
         f_lo, f_hi = a.tests[kind], b.tests[kind]
+        p_lo, p_hi = a, b
         best, side = b, 0
+
+        def trial(s):
+            base, s_base = (p_lo, s_lo) if abs(s - s_lo) <= abs(s_hi - s) else (p_hi, s_hi)
+            pred = base.y + (s - s_base) / (a.tangent @ base.tangent) * base.tangent  # on t_a·(y − a) = s
+            got = eq.correct(pred, a.tangent, anchor=a.y)
+            if got is not None and np.linalg.norm(got[0] - pred) > MAX_CORRECTION * max(abs(s - s_base), 1e-9):
+                return None  # it went to another branch through a branch point nearby
+            return got
+
+        seen = [(0.0, f_lo, a.y, None), (s_hi, f_hi, b.y, None)]  # (s, test, y, J) of the points corrected
         for _ in range(80):
             s = (s_lo * f_hi - s_hi * f_lo) / (f_hi - f_lo)
-            got = eq.correct(a.y + s * a.tangent, a.tangent, anchor=a.y)
+            got = trial(s)
             if got is None:
                 s = (s_lo + s_hi) / 2
-                got = eq.correct(a.y + s * a.tangent, a.tangent, anchor=a.y)
-                if got is None:
-                    break
+                got = trial(s)
+                if got is None:  # Newton fails this near a branch point: the zero from the points around it
+                    return self._interpolated(seen, s_lo, s_hi, a) or best
             p = eq.point(got[0], got[1], a.tangent)
             best, f = p, p.tests.get(kind, 0.0)
+            seen.append((s, f, got[0], got[1]))
             if f == 0.0 or abs(s_hi - s_lo) <= SPECIAL_TOL * max(1.0, abs(s)):
                 break
             if f * f_lo > 0:
-                s_lo, f_lo = s, f
+                s_lo, f_lo, p_lo = s, f, p
                 if side == -1:
                     f_hi /= 2
                 side = -1
             else:
-                s_hi, f_hi = s, f
+                s_hi, f_hi, p_hi = s, f, p
                 if side == 1:
                     f_lo /= 2
                 side = 1
         return best
+
+    def _interpolated(self, seen, s_lo: float, s_hi: float, a: Point) -> Point | None:
+        """The zero of a test between s_lo and s_hi from the (up to) two corrected points nearest it
+        on each side: the test and y as cubics in s, the point the cubic y gives at the zero (the
+        test is smooth along the branch: what a Newton there cannot reach, the fit does)."""
+        left = sorted((e for e in seen if e[0] <= s_lo), key=lambda e: -e[0])[:2]
+        right = sorted((e for e in seen if e[0] >= s_hi), key=lambda e: e[0])[:2]
+        near = left + right
+        if len(left) < 1 or len(right) < 1 or any(e[3] is None for e in near[:1] + near[-1:]) and len(near) < 3:
+            return None
+        ss = np.array([e[0] for e in near])
+        deg = len(near) - 1
+        f = np.polyfit(ss - s_lo, [e[1] for e in near], deg)
+        roots = [r.real + s_lo for r in np.roots(f) if abs(r.imag) < 1e-12 and -1e-12 <= r.real <= s_hi - s_lo + 1e-12]
+        if not roots:
+            return None
+        star = roots[0]
+        Y = np.polyfit(ss - s_lo, np.array([e[2] for e in near]), deg)
+        y = np.array([np.polyval(Y[:, k], star - s_lo) for k in range(Y.shape[1])])
+        J = next(e[3] for e in sorted(near, key=lambda e: abs(e[0] - star)) if e[3] is not None)
+        return self.eq.point(y, J, a.tangent)
 
     def _detail(self, kind: str, p: Point, a: Point, b: Point) -> str:
         ev = p.spectrum
@@ -447,6 +495,8 @@ class Tracer:
                 apart = a if a.tests["KC"] > 0 else b  # the side where the pair is apart on the axis
                 text += krein(self.eq, apart, omega)
             return text
+        if kind == "+1" and getattr(self.eq, "plus_one", "") == "+1" and getattr(self.eq, "driven", None) is False:
+            return "(a pair of the nontrivial multipliers: another family of orbits branches off here)"
         if kind in ("NS", "KCm") and len(ev):
             on = ev[np.argmax(np.abs(ev.imag))]
             return f"multipliers e^(±{abs(np.angle(on)):.10g}i)"

@@ -191,22 +191,29 @@ def cmd_continue(args) -> int:
             raise SpecError(what, why) from None
     elif args.output:
         target(args.output, "", args.force, source=args.spec)  # checked before the work, written after it
-    starts = [cliargs.floats(s, "--from", spec.n) for s in args.start or []]
+    n_from = 2 * spec.n if args.orbits and any(s.count(",") == 2 * spec.n - 1 for s in args.start or []) else spec.n
+    starts = [cliargs.floats(s, "--from", n_from) for s in args.start or []]  # a periodic orbit's: phi or phi, phidot
+    if args.mode and not (args.orbits or any(v.partition("=")[0].strip() == branches.ENERGY for v in args.vary)):
+        raise SpecError("--mode", f"belongs to the nonlinear normal modes (--orbits, --vary {branches.ENERGY}=lo:hi)")
+    if any(m < 1 for m in args.mode or []):
+        raise SpecError("--mode", f"{min(args.mode)}: the modes are numbered from 1, the slowest")
     u = torques(spec, cliargs.float_list(args.u, "--u"))
     try:
         ranges = [branches.parse_range(v, spec) for v in args.vary]
         names = [r[0] for r in ranges]
         for name, lo, hi in ranges:  # every value of a range is a run's: a mass positive, an inertia possible
-            if name != branches.RATE:
+            if name not in (branches.RATE, branches.ENERGY):
                 steady.check_vary_values(spec, given, (name, np.array([lo, hi])))
-        lo = {name: lo for name, lo, _ in ranges if name not in given and name not in spec.values and name != branches.RATE}
+        lo = {name: lo for name, lo, _ in ranges
+              if name not in given and name not in spec.values and name not in (branches.RATE, branches.ENERGY)}
         params = run_values(spec, {**lo, **given})  # a varied parameter without a value starts at its lo
 
         def progress(k, point) -> None:
             values = point[0] if isinstance(point, tuple) else (point.alpha,)
             cliargs.Heartbeat.say(f"{k} points, " + ", ".join(f"{n} = {v:.6g}" for n, v in zip(names, values)))
 
-        res = branches.run(spec, params, u or None, ranges, starts, args.max_steps, args.step, args.period, progress)
+        res = branches.run(spec, params, u or None, ranges, starts, args.max_steps, args.step, args.period, progress,
+                           orbits=args.orbits, modes=args.mode or ())
     except (ContinuationError, steady.SteadyError) as exc:
         what, _, why = str(exc).partition(": ")
         raise SpecError(what, why) from None

@@ -171,7 +171,16 @@ def _analyse(sub) -> None:
                     "range), or phidot1, the rate of steady rotations about a cyclic joint 1 (from 0); a second --vary: the other parameter of the curves of their special points, held at its "
                     "value along the branches (required)")
     co.add_argument("--from", dest="start", action="append", metavar="PHI1,..", help="a branch's first point: Newton "
-                    "from these angles, rad, where the branch starts (repeatable; default: every equilibrium found there)")
+                    "from these angles, rad, where the branch starts (repeatable; default: every equilibrium found there); "
+                    "with --orbits of a driven model, the angles or the angles and rates of the orbit's start (default: "
+                    "rest at phi = 0); of an autonomous one, the equilibrium of the normal modes (default: the stable "
+                    "one of least energy)")
+    co.add_argument("--orbits", action="store_true", help="periodic orbits instead of equilibria: of a driven model, "
+                    "the orbits of the drive's period over --vary NAME=lo:hi; of an autonomous model whose energy is "
+                    "conserved, the nonlinear normal modes of a stable equilibrium over --vary energy=lo:hi, the energy "
+                    "above the equilibrium's, J (which --orbits may be left out of)")
+    co.add_argument("--mode", action="append", type=int, help="with --vary energy: the linear mode whose family is "
+                    "traced, 1 = the slowest (repeatable; default all)")
     co.add_argument("--param", action="append", metavar="NAME=VALUE", help=PARAM)
     co.add_argument("--u", default="", metavar="U1,..", help=U)
     co.add_argument("--period", type=float, default=None, help="the period of a model that depends on t, s "

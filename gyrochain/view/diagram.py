@@ -17,6 +17,7 @@ from ..chainspec.spec import SpecError
 
 FORMATS = ("png", "pdf", "svg")
 STYLES = ("-", "--", ":", "-.")
+UNITS = {"phi": "rad", "phidot": "rad/s", "period": "s", "amp": "rad"}
 MARKERS = {"LP": "s", "BP": "D", "KC": "o", "RC": "o", "H": "^", "+1": "o", "PD": "v", "NS": "^", "KCm": "o"}
 
 
@@ -52,14 +53,15 @@ def plot(path: str | Path, output: str | Path, component: str = "", dpi: int = 1
         raise SpecError("-o", f"{output.name}: an image type plot does not write (give .{', .'.join(FORMATS)})")
     header, rows = read(path)
     params = header[2:header.index("phi1")]
-    phis = [h for h in header if h.startswith("phi")]
+    states = header[header.index("phi1"):header.index("verdict")]  # the angles; a periodic orbit's rates and period too
+    phis = [h for h in states if h[3:].isdigit() and h[:3] == ("amp" if "period" in states else "phi")]
     branch_rows = [r for r in rows if r["part"].startswith("branch")]
     curve_rows = [r for r in rows if r["part"].startswith("curve")]
     if component in ("", "0"):  # the coordinate that moves most along the branches
         spread = {p: np.ptp([float(r[p]) for r in branch_rows]) if branch_rows else 0.0 for p in phis}
         component = max(phis, key=lambda p: (spread[p], -phis.index(p)))
-    if component not in phis:
-        raise SpecError("--component", f"{component!r}: the diagram draws one of {', '.join(phis)}")
+    if component not in states:
+        raise SpecError("--component", f"{component!r}: the diagram draws one of {', '.join(states)}")
     import matplotlib
 
     matplotlib.use("Agg")
@@ -89,10 +91,17 @@ def _branches(ax, rows, name: str, component: str) -> None:
         x = np.array([float(r[name]) for r in pts])
         y = np.array([float(r[component]) for r in pts])
         colour = f"C{i % 10}"
-        for k in range(len(pts) - 1):  # each stretch in the style of its ordinary end (a special point's own is moot)
+        styles = []  # each chord in the style of its ordinary ends (a special point's own is moot)
+        for k in range(len(pts) - 1):
             ends = [r for r in (pts[k], pts[k + 1]) if not r["kind"]] or [pts[k]]
-            style = "-" if all(_stable(r["verdict"]) for r in ends) else "--"
-            ax.plot(x[k:k + 2], y[k:k + 2], style, color=colour, lw=1.8)
+            styles.append("-" if all(_stable(r["verdict"]) for r in ends) else "--")
+        k = 0
+        while k < len(styles):  # a run of chords of one style as one line, so that its dashes show
+            j = k
+            while j + 1 < len(styles) and styles[j + 1] == styles[k]:
+                j += 1
+            ax.plot(x[k:j + 2], y[k:j + 2], styles[k], color=colour, lw=1.8)
+            k = j + 1
         for r in (r for r in rows if r["part"] == part and r["kind"]):
             px, py = float(r[name]), float(r[component])
             ax.plot(px, py, MARKERS.get(r["kind"], "o"), color="k", ms=6, zorder=3)
@@ -101,9 +110,10 @@ def _branches(ax, rows, name: str, component: str) -> None:
     ax.plot([], [], "-", color="0.3", label="stable")
     ax.plot([], [], "--", color="0.3", label="unstable")
     ax.legend(fontsize=9, loc="best")
-    ax.set_xlabel(name)
-    ax.set_ylabel(f"{component} (rad)")
-    ax.set_title("branches of equilibria", fontsize=10)
+    ax.set_xlabel("energy above the equilibrium's (J)" if name == "energy" else name)
+    ax.set_ylabel(f"{component} ({UNITS[component.rstrip('0123456789')]})")
+    orbits = "period" in rows[0] if rows else False
+    ax.set_title("branches of periodic orbits" if orbits else "branches of equilibria", fontsize=10)
     ax.grid(alpha=0.3)
 
 

@@ -156,6 +156,7 @@ def test_every_subpackage_says_its_job_and_what_it_may_import():
 
 
 CAME_AFTER = ("gyrochain/analysis/continuation.py", "gyrochain/analysis/boundary.py", "gyrochain/analysis/branches.py",
+              "gyrochain/analysis/cycles.py",
               "gyrochain/view/diagram.py")
 
 
