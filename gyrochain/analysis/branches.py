@@ -124,6 +124,9 @@ def _run_orbits(spec, cm, model, params, u, ranges, starts, max_steps, step, per
             f"the model depends on t: its periodic orbits have the drive's period and follow a parameter, not {ENERGY}"
             if driven else f"an autonomous model's periodic orbits are continued over {ENERGY}=lo:hi, the energy above "
                            "the stable equilibrium's, J"))
+    if name == ENERGY and lo <= 0:
+        raise ContinuationError(f"--vary {ENERGY}: {lo:g}: the energy above the equilibrium's starts above 0 (at 0 the "
+                                "orbit is the equilibrium itself)")
     if name == RATE:
         raise ContinuationError(f"--vary {RATE}: the steady rotations are equilibria of the reduced model; drop --orbits")
     alpha0 = float(params[name]) if driven and name in params and lo <= params[name] <= hi else lo

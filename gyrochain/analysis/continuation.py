@@ -387,19 +387,28 @@ class Tracer:
         (a pitchfork's branch turns there): it is said once, as one."""
         found = {kind: self.locate(a, b, kind) for kind in a.tests
                  if kind in b.tests and a.tests[kind] * b.tests[kind] < 0}
-        if "LP" in found and "BP" in found and \
-                abs(found["LP"].alpha - found["BP"].alpha) <= 1e-8 * max(1.0, abs(found["BP"].alpha)):
+        if "LP" in found and "BP" in found:  # in one step: a pitchfork's branch turning at its branch point
             del found["LP"]
-        if "LP" in found and "+1" in found and \
-                abs(found["LP"].alpha - found["+1"].alpha) <= 1e-8 * max(1.0, abs(found["LP"].alpha)):
-            del found["+1"]  # a fold of periodic orbits: the multiplier +1 is the fold's own
+        if "+1" in found and "BP" in found:  # branches of periodic orbits cross: where the exact det(Φ − I) says
+            found["BP"] = found.pop("+1")
+            found.pop("LP", None)
+        elif "+1" in found and "LP" in found:
+            del found["+1"]  # a fold of periodic orbits (or of equilibria for all t): the multiplier +1 is the fold's own
         new = []
-        for kind, p in found.items():
+        chord = (b.y - a.y) / np.linalg.norm(b.y - a.y)  # the branch's way through a branch point (J's null space
+        for kind, p in found.items():                    # is two-dimensional there: its tangent would be any)
             if kind == "+1":
                 kind = getattr(self.eq, "plus_one", "+1")  # a driven orbit's multiplier +1 off a fold: a branch point
+            if kind == "BP":
+                p = replace(p, tangent=chord)
             if kind == "KC" and eq_real_collision(p.spectrum):
                 kind = "RC"  # real eigenvalues meet and leave the axis as a quadruple: no change of stability
             new.append(Special(kind, p, a.verdict, b.verdict, self._detail(kind, p, a, b)))
+        step = np.linalg.norm(b.y - a.y)  # a pitchfork's branch turns at its branch point: one point, said as the BP
+        for old in [o for o in br.specials[-2:] if o.kind in ("LP", "BP")]:
+            for s in [s for s in new if {s.kind, old.kind} == {"LP", "BP"}]:
+                if np.linalg.norm(s.point.y - old.point.y) <= step:
+                    (new.remove(s) if s.kind == "LP" else br.specials.remove(old))
         br.specials += sorted(new, key=lambda s: (s.point.y - a.y) @ a.tangent)
 
     def at_alpha(self, a: Point, b: Point, alpha: float) -> Point | None:

@@ -156,6 +156,8 @@ class Orbits(Pseudoarclength):
         mu, tests = self.multipliers(Phi)
         verdict = floquet.verdict(mu)[0]
         tests["LP"] = float(t[-1])
+        if self.driven:  # (its sign tells a branch point from a fold; where, det(Φ − I) says: the α column is differenced)
+            tests["BP"] = float(np.linalg.det(np.vstack([J, t])))
         n = self.n
         return OrbitPoint(self.alpha(y), y[:n].copy(), mu, verdict, y, t, tests, phidot=y[n:2 * n].copy(), period=T)
 
@@ -209,8 +211,8 @@ def mode_starts(cm, params, u, phi, energy: float, modes, shooting):
 
     try:
         lin = shooting.linear_modes(cm, phi, params or None, u)
-    except SpecError as exc:
-        raise ContinuationError(f"{exc.field}: {exc.message}") from None
+    except SpecError as exc:  # (orbits' --at is continue's --from)
+        raise ContinuationError(f"--from: {exc.message}") from None
     picked = list(modes or range(1, len(lin) + 1))
     for k in picked:
         if not 1 <= k <= len(lin):

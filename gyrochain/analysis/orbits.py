@@ -163,7 +163,7 @@ def linear_modes(cm, phi, params=None, u=None):
     size = max(1.0, np.max(np.abs(lam)))
     if np.max(np.abs(lam.real)) > 1e-7 * size:
         worst = lam[np.argmax(np.abs(lam.real))]
-        raise SpecError("--at", f"phi = {list(np.round(phi, 9))} is not a stable equilibrium of a conservative model "
+        raise SpecError("--at", f"phi = {floquet.fmt_phi(phi)} is not a stable equilibrium of a conservative model "
                                 f"(eigenvalue {worst.real:.6g}{worst.imag:+.6g}i): its linear modes are not oscillations")
     keep = [(lam[i].imag, V[:, i]) for i in range(len(lam)) if lam[i].imag > 1e-9 * size]
     return sorted(keep, key=lambda m: m[0])
