@@ -143,13 +143,13 @@ def _run_orbits(spec, cm, model, params, u, ranges, starts, max_steps, step, per
         out.starts = "the --from starts" if starts else "rest at phi = 0"
         tracers = [(Tracer(eq, max_steps, step, progress), p, origin) for p, origin in firsts]
     else:
-        why = shooting._removed(model.integrals.energy_reasons, u is not None and np.any(np.asarray(u) != 0))
+        why = shooting.removed(model.integrals.energy_reasons, u is not None and np.any(np.asarray(u) != 0))
         if why:
             raise ContinuationError(f"--vary {ENERGY}: the energy (23) is not an integral here ({'; '.join(why)} removed "
                                     "it): the nonlinear normal modes are a family over a conserved energy")
         phi = _stable_equilibrium(cm, params, u, starts)
         tracers = []
-        for k, (x0, T, phase, E0, origin) in cycles.mode_starts(cm, params, u, phi, lo, modes, shooting):
+        for k, (x0, T, phase, E0, origin) in cycles.mode_starts(cm, params, u, phi, lo, modes):
             eq = Orbits(cm, params, u, ENERGY, lo, hi, phase=phase, E0=E0)
             tracers.append((Tracer(eq, max_steps, step, progress), eq.start(x0, lo, T), origin))
         out.starts = f"the linear modes of the equilibrium phi = {fmt_phi(phi)}"

@@ -256,13 +256,7 @@ class Equilibria(Pseudoarclength):
     def _driven_tests(self, mu, Phi) -> dict:
         m = Phi.shape[0]
         tests = {"+1": float(np.linalg.det(Phi - np.eye(m))), "PD": float(np.linalg.det(Phi + np.eye(m)))}
-        if m >= 4:
-            if self.reversible:
-                c = _pair_sums(mu)
-                tests["KCm"] = float(np.real(np.prod([(a - b) ** 2 for a, b in itertools.combinations(c, 2)])))
-            else:
-                tests["NS"] = float(np.real(np.prod([a * b - 1.0 for a, b in itertools.combinations(mu, 2)])))
-        return tests
+        return {**tests, **circle_tests(mu, self.reversible)}
 
     reversible = True  # set per branch from its first point's spectrum (``symmetric``)
 
@@ -273,7 +267,19 @@ def _even_roots(ev) -> np.ndarray:
     return np.roots(coeffs) if len(coeffs) > 1 else np.zeros(0)
 
 
-def _pair_sums(mu) -> np.ndarray:
+def circle_tests(mu, reversible: bool) -> dict:
+    """The tests of multipliers meeting on the unit circle (two pairs or more): of a conservative
+    drive (pairs μ, 1/μ) the discriminant in c = μ + 1/μ, a Krein collision; else the product of
+    μᵢμⱼ − 1, a Neimark–Sacker pair."""
+    if len(mu) < 4:
+        return {}
+    if reversible:
+        c = pair_sums(mu)
+        return {"KCm": float(np.real(np.prod([(a - b) ** 2 for a, b in itertools.combinations(c, 2)])))}
+    return {"NS": float(np.real(np.prod([a * b - 1.0 for a, b in itertools.combinations(mu, 2)])))}
+
+
+def pair_sums(mu) -> np.ndarray:
     """μ + 1/μ for one multiplier of each pair μ, 1/μ (the roots of the polynomial in c)."""
     coeffs = np.real(np.poly(mu))
     m = len(mu) // 2
@@ -313,7 +319,7 @@ class Tracer:
                                     f"{floquet.fmt_phi(eq.phi_of(y))} is singular (a fold or a branch point): start "
                                     "a little away from it")
         first = eq.point(y, J, e_alpha)
-        reversible = eq.symmetric(first.spectrum) if eq.driven is None else _palindromic(first.spectrum)
+        reversible = eq.symmetric(first.spectrum) if eq.driven is None else palindromic(first.spectrum)
         if reversible != eq.reversible:  # the tests of a spectrum with (or without) its symmetry
             eq.reversible = reversible
             first = eq.point(y, J, e_alpha)
@@ -542,7 +548,7 @@ def eq_real_collision(ev) -> bool:
     return float(np.real(s[i] + s[j])) > 0
 
 
-def _palindromic(mu) -> bool:
+def palindromic(mu) -> bool:
     """Whether the multipliers come in pairs μ, 1/μ (a conservative drive)."""
     if len(mu) % 2 or not len(mu):
         return False

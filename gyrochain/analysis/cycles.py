@@ -29,14 +29,14 @@ of ``orbits`` with the emitted variational equations (NAME_integrate_variational
 """
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from . import floquet
-from .continuation import ContinuationError, Point, Pseudoarclength, _pair_sums, _palindromic
+from . import orbits as shooting
+from .continuation import ContinuationError, Point, Pseudoarclength, circle_tests, palindromic
 
 ENERGY = "energy"  # the varied quantity of a family of nonlinear normal modes: the energy above the equilibrium's, J
 DIFF = 1e-5  # the step of the parameter's central difference, in units of its range
@@ -135,19 +135,15 @@ class Orbits(Pseudoarclength):
     # ---- the multipliers and the tests
     def multipliers(self, Phi) -> tuple[np.ndarray, dict]:
         """(the nontrivial multipliers by decreasing modulus, the tests of the spectrum)."""
-        p = np.real(np.poly(np.linalg.eigvals(Phi)))
+        mu = np.linalg.eigvals(Phi)
+        p = np.real(np.poly(mu))
         if self.driven:  # +1: a fold (where the tangent's α component vanishes too) or a branch point
-            mu, tests = np.roots(p), {"+1": float(np.polyval(p, 1.0)), "PD": float(np.polyval(p, -1.0))}
+            tests = {"+1": float(np.polyval(p, 1.0)), "PD": float(np.polyval(p, -1.0))}
         else:
             q = np.polydiv(p, [1.0, -2.0, 1.0])[0]  # p / (μ − 1)²: the trivial pair divided out
             mu = np.roots(q) if len(q) > 1 else np.zeros(0, complex)
             tests = {"+1": float(np.polyval(q, 1.0)), "PD": float(np.polyval(q, -1.0))} if len(q) > 1 else {}
-        if len(mu) >= 4:  # two pairs or more: they may collide
-            if self.reversible:
-                c = _pair_sums(mu)
-                tests["KCm"] = float(np.real(np.prod([(a - b) ** 2 for a, b in itertools.combinations(c, 2)])))
-            else:
-                tests["NS"] = float(np.real(np.prod([a * b - 1.0 for a, b in itertools.combinations(mu, 2)])))
+        tests.update(circle_tests(mu, self.reversible))
         return mu[np.lexsort((-mu.imag, -np.abs(mu)))], tests
 
     def point(self, y, J, previous_t=None) -> OrbitPoint:
@@ -184,7 +180,7 @@ class Orbits(Pseudoarclength):
             raise ContinuationError(f"--from: the orbit at {self.name} = {alpha:g} is at a fold or a branch point "
                                     "(its monodromy has the multiplier 1): start a little away from it")
         first = self.point(y, J, e_alpha)
-        reversible = _palindromic(first.spectrum) if len(first.spectrum) else True
+        reversible = palindromic(first.spectrum) if len(first.spectrum) else True
         if reversible != self.reversible:
             self.reversible = reversible
             first = self.point(y, J, e_alpha)
@@ -203,7 +199,7 @@ def driven_firsts(eq: Orbits, starts, alpha0: float) -> list[OrbitPoint]:
     return out
 
 
-def mode_starts(cm, params, u, phi, energy: float, modes, shooting):
+def mode_starts(cm, params, u, phi, energy: float, modes):
     """The first orbits of the nonlinear normal modes at the stable equilibrium φ, at ``energy``
     above it: for each linear mode (``modes``: their numbers, 1 = the slowest; all when empty)
     (k, (x₀, T, the phase condition's index, E₀, a description)), by ``orbits``' start and Newton."""

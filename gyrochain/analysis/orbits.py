@@ -348,7 +348,7 @@ def stable_equilibrium(cm, params=None, u=None):
     return found[best], min(others, default=math.inf)
 
 
-def _removed(reasons, pushed: bool) -> list[str]:
+def removed(reasons, pushed: bool) -> list[str]:
     """What removes an integral in this run: its reasons but the control torques, which are 0
     unless --u gives them (``pushed``)."""
     out = [r for r in reasons if not r.startswith("control torque")]
@@ -370,12 +370,12 @@ def analyze(spec, params=None, u=None, at=None, energies=None, modes=None, vary=
         raise SpecError("orbits", "the model depends on t: the stability of its equilibria for all t is `gyrochain steady`'s")
     ints = model.integrals
     pushed = u is not None and np.any(np.asarray(u) != 0)
-    why = _removed(ints.energy_reasons, pushed)  # control torques held at 0 (--u not given) remove nothing
+    why = removed(ints.energy_reasons, pushed)  # control torques held at 0 (--u not given) remove nothing
     if why:
         raise SpecError("orbits", f"the energy (23) is not an integral here ({'; '.join(why)} removed it): periodic "
                                   "orbits are continued in the energy, which must be conserved")
     if omegas is not None:
-        m_why = _removed(ints.momentum_reasons, pushed and np.asarray(u).ravel()[0] != 0 and 1 in spec.controls)
+        m_why = removed(ints.momentum_reasons, pushed and np.asarray(u).ravel()[0] != 0 and 1 in spec.controls)
         if not getattr(cm, "has_momentum", False) or m_why or (not ints.has_momentum_integral and not ints.momentum_reasons):
             raise SpecError("--omega", "phi1 is not cyclic (" + ("; ".join(m_why) if m_why else "l1 not vertical")
                                        + "): no steady rotations")
