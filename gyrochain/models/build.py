@@ -545,10 +545,27 @@ class CModel(DerivativeCalls, QuadratureCalls):
         return (x1, Phi, stats) if full_output else (x1, Phi)
 
 
+def model_name(directory: Path) -> str:
+    """The name of the model a generated folder holds: the folder's own name when it holds NAME.c
+    of that name (as generate writes it), else the one NAME.cdef it holds; FileNotFoundError with
+    what is missing otherwise."""
+    directory = Path(directory).resolve()
+    if not directory.is_dir():
+        raise FileNotFoundError(f"{directory}: no such folder (a folder gyrochain generate wrote)")
+    if (directory / f"{directory.name}.c").is_file():
+        return directory.name
+    cdefs = sorted(p.stem for p in directory.glob("*.cdef") if (directory / f"{p.stem}.c").is_file())
+    if len(cdefs) != 1:
+        raise FileNotFoundError(f"{directory}: " + ("no generated model here (no NAME.c with its NAME.cdef)" if not cdefs
+                                                    else f"holds {len(cdefs)} models ({', '.join(cdefs)}): name one"))
+    return cdefs[0]
+
+
 def load(directory: str | Path, name: str | None = None) -> CModel:
-    """The compiled model in a generated folder (built there if missing)."""
+    """The compiled model in a generated folder (built there if missing); ``name`` defaults to the
+    one model the folder holds."""
     directory = Path(directory)
-    name = name or directory.name
+    name = name or model_name(directory)
     found = extensions(directory, name)
     so = found[0] if found else compile_model(directory, name)
     return CModel(so, name)
@@ -557,7 +574,7 @@ def load(directory: str | Path, name: str | None = None) -> CModel:
 def load_python(directory: str | Path, name: str | None = None):
     """The generated pure-Python module of a generated folder."""
     directory = Path(directory)
-    name = name or directory.name
+    name = name or model_name(directory)
     path = directory / f"{name}.py"
     spec = importlib.util.spec_from_file_location(f"generated_{name}_{abs(hash(str(path)))}", path)
     mod = importlib.util.module_from_spec(spec)

@@ -6,6 +6,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from gyrochain import reference
 from gyrochain.spec import load_spec
@@ -129,6 +130,18 @@ def test_a_condition_on_a_parameter_is_stated_not_guessed(tmp_path):
     from gyrochain.build import load
     from scipy.integrate import solve_ivp
     c = load(tmp_path / "t", "tilted")
+    # the folder's one model without its name, from inside it too, and a folder without one said plainly
+    from gyrochain.build import load_python
+
+    here = os.getcwd()
+    try:
+        os.chdir(tmp_path / "t")
+        assert load(".").name == "tilted" and load_python(".").N == 2
+    finally:
+        os.chdir(here)
+    for folder, said in ((tmp_path / "none", "no such folder"), (tmp_path, "no generated model here")):
+        with pytest.raises(FileNotFoundError, match=said):
+            load(folder)
     x0 = np.array([0.1, 0.5, 1.0, -2.0])
     for th1, conserved in ((0.0, True), (np.pi, True), (0.4, False)):
         p = {"th1": th1}
