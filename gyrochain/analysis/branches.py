@@ -30,6 +30,7 @@ class Result:
     curves: list = field(default_factory=list)
     starts: str = ""  # how the first points were found
     second: float = float("nan")  # the second parameter's value along the branches
+    skipped: list = field(default_factory=list)  # the normal modes the run's steps did not reach
     orbits: str = ""  # periodic orbits: "driven" (of the drive's period) or "modes" (nonlinear normal modes); "": equilibria
 
 
@@ -110,7 +111,6 @@ def _run_orbits(spec, cm, model, params, u, ranges, starts, max_steps, step, per
     default), or the nonlinear normal modes of the stable equilibrium (``--from``, else the one
     of least energy) over the energy above it."""
     from ..derive.assemble import time_dependent
-    from . import orbits as shooting
 
     name, lo, hi = ranges[0]
     if len(ranges) > 1:
@@ -118,44 +118,21 @@ def _run_orbits(spec, cm, model, params, u, ranges, starts, max_steps, step, per
                                 "equilibria; a branch of periodic orbits takes one --vary")
     if not cm.has_variational:
         raise ContinuationError(f"--orbits: periodic orbits need NAME_integrate_variational, emitted up to n = 16 (n = {cm.n})")
-    driven = time_dependent(model)
-    if driven == (name == ENERGY):
-        raise ContinuationError(f"--vary {name}: " + (
-            f"the model depends on t: its periodic orbits have the drive's period and follow a parameter, not {ENERGY}"
-            if driven else f"an autonomous model's periodic orbits are continued over {ENERGY}=lo:hi, the energy above "
-                           "the stable equilibrium's, J"))
-    if name == ENERGY and lo <= 0:
-        raise ContinuationError(f"--vary {ENERGY}: {lo:g}: the energy above the equilibrium's starts above 0 (at 0 the "
-                                "orbit is the equilibrium itself)")
     if name == RATE:
         raise ContinuationError(f"--vary {RATE}: the steady rotations are equilibria of the reduced model; drop --orbits")
-    alpha0 = float(params[name]) if driven and name in params and lo <= params[name] <= hi else lo
+    driven = time_dependent(model)
     out = Result(spec.name, [name], [(lo, hi)], {k: v for k, v in params.items() if k != name}, driven,
                  orbits="driven" if driven else "modes")
     if driven:
-        an, _st, dr = _analysis(cm, model, {**params, name: alpha0}, u, period, True)
-        if dr.cyclic:
-            raise ContinuationError("--orbits: phi1 is cyclic (l1 vertical, nothing acting in joint 1): the orbits of the "
-                                    "drive's period come in families turned about l1, which continue does not trace")
-        eq = Orbits(cm, params, u, name, lo, hi, period=lambda p: (dr.set_params(p), dr.period)[1])
-        firsts = [(p, f"phi = {fmt_phi(p.phi)}, phidot = {fmt_phi(p.phidot)} at {name} = {p.alpha:.10g}")
-                  for p in cycles.driven_firsts(eq, starts, alpha0)]
-        out.starts = "the --from starts" if starts else "rest at phi = 0"
-        tracers = [(Tracer(eq, max_steps, step, progress), p, origin) for p, origin in firsts]
+        tracers = _driven_tracers(cm, model, params, u, ranges[0], starts, max_steps, step, period, progress, modes, out)
     else:
-        why = shooting.removed(model.integrals.energy_reasons, u is not None and np.any(np.asarray(u) != 0))
-        if why:
-            raise ContinuationError(f"--vary {ENERGY}: the energy (23) is not an integral here ({'; '.join(why)} removed "
-                                    "it): the nonlinear normal modes are a family over a conserved energy")
-        phi = _stable_equilibrium(cm, params, u, starts)
-        tracers = []
-        for k, (x0, T, phase, E0, origin) in cycles.mode_starts(cm, params, u, phi, lo, modes):
-            eq = Orbits(cm, params, u, ENERGY, lo, hi, phase=phase, E0=E0)
-            tracers.append((Tracer(eq, max_steps, step, progress), eq.start(x0, lo, T), origin))
-        out.starts = f"the linear modes of the equilibrium phi = {fmt_phi(phi)}"
+        tracers = _mode_tracers(cm, model, params, u, ranges[0], starts, max_steps, step, period, progress, modes, out)
     used = 0
     for tracer, first, origin in tracers:
         tracer.max_steps = max_steps - used
+        if tracer.max_steps <= 0:
+            out.skipped.append(origin)
+            continue
         queue = [(first, origin, None)]
         while queue and len(out.branches) < BRANCHES and tracer.steps < tracer.max_steps:
             p, origin, at = queue.pop(0)
@@ -166,11 +143,88 @@ def _run_orbits(spec, cm, model, params, u, ranges, starts, max_steps, step, per
             queue += [(q, f"the branch point at {name} = {s.point.alpha:.10g}", s.point)
                       for s in br.specials if s.kind == "BP" for q in tracer.switch(s)]
         used += tracer.steps
+        _why_it_stopped(out.branches, tracer.eq)
         for br in out.branches:  # each point written: its amplitude, once
             for p in [*br.points, *(s.point for s in br.specials)]:
                 if p.amplitude is None:
                     p.amplitude = tracer.eq.swing(p)
     return out
+
+
+def _why_it_stopped(brs, eq) -> None:
+    """A family of normal modes that Newton could not follow on: what its last orbit shows."""
+    for br in brs:
+        last = br.points[-1]
+        if eq.driven or "could not go on" not in br.end or br.end.endswith(")."):
+            continue
+        _x1, Phi, _T = eq.shoot(last.y)
+        growth = float(np.max(np.abs(np.linalg.eigvals(Phi))))
+        br.end += (f" (there the period is {last.period:.4g} s, {last.period / eq.T_ref:.3g} times the linear one, "
+                   f"and the largest multiplier {growth:.3g}: the family nears an orbit of infinite period or one too "
+                   "unstable for single shooting).")
+
+
+def _driven_tracers(cm, model, params, u, rng, starts, max_steps, step, period, progress, modes, out) -> list:
+    """(tracer, first point, origin) of each start of a driven model's orbits."""
+    name, lo, hi = rng
+    if name == ENERGY:
+        raise ContinuationError(f"--vary {ENERGY}: the model depends on t: its periodic orbits have the drive's period "
+                                "and follow a parameter (--orbits --vary NAME=lo:hi)")
+    if modes:
+        raise ContinuationError("--mode: belongs to the nonlinear normal modes of an autonomous model (--vary energy=lo:hi)")
+    if period is not None and _period_varies(model, params, rng):
+        raise ContinuationError(f"--period: the drive's period changes with {name}; leave --period out and it follows "
+                                f"{name}")
+    alpha0 = float(params[name]) if name in params and lo <= params[name] <= hi else lo
+    _an, _st, dr = _analysis(cm, model, {**params, name: alpha0}, u, period, True)
+    if dr.cyclic:
+        raise ContinuationError("--orbits: phi1 is cyclic (l1 vertical, nothing acting in joint 1): the orbits of the "
+                                "drive's period come in families turned about l1, which continue does not trace")
+    eq = Orbits(cm, params, u, name, lo, hi, period=lambda p: (dr.set_params(p), dr.period)[1])
+    out.starts = "the --from starts" if starts else "rest at phi = 0"
+    return [(Tracer(eq, max_steps, step, progress), p, f"phi = {fmt_phi(p.phi)}, phidot = {fmt_phi(p.phidot)} at "
+             f"{name} = {p.alpha:.10g}") for p in cycles.driven_firsts(eq, starts, alpha0)]
+
+
+def _period_varies(model, params, rng) -> bool:
+    """Whether the drive's own period differs at the range's two ends."""
+    name, lo, hi = rng
+    try:
+        ends = [floquet.time_period(model, {**params, name: v}, "continue")[0] for v in (lo, hi)]
+    except Exception:  # noqa: BLE001  (no period of its own: the user's holds)
+        return False
+    return abs(ends[0] - ends[1]) > 1e-12 * max(ends)
+
+
+def _mode_tracers(cm, model, params, u, rng, starts, max_steps, step, period, progress, modes, out) -> list:
+    """(tracer, first orbit, origin) of each nonlinear normal mode of an autonomous model."""
+    from . import orbits as shooting
+
+    name, lo, hi = rng
+    why = shooting.removed(model.integrals.energy_reasons, u is not None and np.any(np.asarray(u) != 0))
+    if why:
+        raise ContinuationError(f"{'--vary ' + ENERGY if name == ENERGY else '--orbits'}: the energy is not conserved here ({'; '.join(why)}): continue traces the "
+                                "periodic orbits of a conservative model (over their energy) or of a driven one (over a "
+                                "parameter)")
+    if name != ENERGY:
+        raise ContinuationError(f"--vary {name}: an autonomous model's periodic orbits are continued over "
+                                f"{ENERGY}=lo:hi, the energy above the stable equilibrium's, J")
+    if period is not None:
+        raise ContinuationError("--period: the model does not depend on t")
+    if lo <= 0:
+        raise ContinuationError(f"--vary {ENERGY}: {lo:g}: the energy above the equilibrium's starts above 0 (at 0 the "
+                                "orbit is the equilibrium itself)")
+    if _analysis(cm, model, params, u, None, False)[1].cyclic:
+        raise ContinuationError(f"--vary {ENERGY}: phi1 is cyclic (l1 vertical, nothing acting in joint 1): the orbits "
+                                "come in families turned about l1, which continue does not trace (orbits --omega gives "
+                                "the steady rotations)")
+    phi = _stable_equilibrium(cm, params, u, starts)
+    tracers = []
+    for k, (x0, T, phase, E0, origin) in cycles.mode_starts(cm, params, u, phi, lo, modes):
+        eq = Orbits(cm, params, u, ENERGY, lo, hi, phase=phase, E0=E0, T_ref=T)
+        tracers.append((Tracer(eq, max_steps, step, progress), eq.start(x0, lo, T), origin))
+    out.starts = f"the linear modes of the equilibrium phi = {fmt_phi(phi)}"
+    return tracers
 
 
 def _stable_equilibrium(cm, params, u, starts):
@@ -307,6 +361,8 @@ def report(res: Result) -> str:
             period = f", period {s.point.period:.12g} s" if res.orbits else ""
             lines.append(f"  {s.kind:<3} {name} = {s.point.alpha:.12g}, phi = {fmt_phi(s.point.phi)}{period}: {KINDS[s.kind]}"
                          + (f" {s.detail}" if s.detail else "") + f"; {s.before} -> {s.after}")
+    for origin in res.skipped:
+        lines.append(f"{origin}: not traced, the run's steps were spent (--max-steps raises them)")
     for j, c in enumerate(res.curves, 1):
         (a0, b0), (a1, b1) = c.points[0][0], c.points[-1][0]
         lines.append(f"curve {j}: the {KINDS[c.kind]} in ({res.names[0]}, {res.names[1]}), {len(c.points)} points from "

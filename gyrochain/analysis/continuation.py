@@ -349,7 +349,9 @@ class Tracer:
         eq, h = self.eq, self.h0
         while True:
             if self.steps >= self.max_steps:
-                br.end = f"ran out of steps ({self.max_steps}; --max-steps raises it)"
+                edge = self._leaving(br.points[0]) if len(br.points) == 1 else None
+                br.end = (f"reached the range's end, {eq.name} = {edge:.10g}" if edge is not None
+                          else f"ran out of steps ({self.max_steps}; --max-steps raises it)")
                 return br
             last = br.points[-1]
             pred = last.y + h * last.tangent
@@ -386,6 +388,16 @@ class Tracer:
                 br.end = "closed on itself"
                 return br
             h = min(self.h_max, h * 1.5) if its <= 3 else h
+
+    def _leaving(self, p: Point) -> float | None:
+        """The range's end at which p lies, its tangent pointing out (a branch that starts there and
+        has nowhere to go that way), or None."""
+        eq = self.eq
+        if p.alpha == eq.lo and p.tangent[-1] < 0:
+            return eq.lo
+        if p.alpha == eq.hi and p.tangent[-1] > 0:
+            return eq.hi
+        return None
 
     def _specials(self, br: Branch, a: Point, b: Point) -> None:
         """The special points between a and b, located, in the order of the branch. Where the

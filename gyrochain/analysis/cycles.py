@@ -40,6 +40,8 @@ from .continuation import ContinuationError, Point, Pseudoarclength, circle_test
 
 ENERGY = "energy"  # the varied quantity of a family of nonlinear normal modes: the energy above the equilibrium's, J
 DIFF = 1e-5  # the step of the parameter's central difference, in units of its range
+PERIOD_RATIO = 20.0  # a family's periods within this factor of its first: beyond, a step has gone astray (T → 0
+#                      solves x(T) = x₀ trivially) or the family nears an orbit of infinite period (a separatrix)
 SWING_SAMPLES = 256  # the times of a period at which a diagram's amplitude is sampled
 TOL = 1e-14  # rtol = atol of a period's integration (the variational one and the differenced ones)
 
@@ -63,13 +65,14 @@ class Orbits(Pseudoarclength):
     plus_one = "+1"  # what a multiplier +1 away from a fold is: a branch point of a driven model's orbits (set below)
 
     def __init__(self, cm, params: dict, u, name: str, lo: float, hi: float, period=None, phase: int = 0,
-                 E0: float = 0.0):
+                 E0: float = 0.0, T_ref: float | None = None):
         self.c, self.n, self.u = cm, cm.n, u
         self.name, self.lo, self.hi = name, float(lo), float(hi)
         self.unit = self.hi - self.lo
         self.params, self.period_of = dict(params), period
         self.driven = period is not None  # (what the Tracer asks: a driven model's tests)
         self.phase, self.E0 = phase, E0
+        self.T_ref = T_ref  # the linear period: y holds log(T/T_ref), and |log(T/T_ref)| ≤ log PERIOD_RATIO
         self.m = 2 * self.n + (0 if self.driven else 1)  # the unknowns before α: x₀[, T]
         self.reversible = True
         if self.driven:
@@ -79,14 +82,14 @@ class Orbits(Pseudoarclength):
         return self.lo + self.unit * float(y[-1])
 
     def y_of(self, x0, alpha: float, T: float | None = None) -> np.ndarray:
-        head = [np.asarray(x0, float)] + ([] if self.driven else [[float(T)]])
+        head = [np.asarray(x0, float)] + ([] if self.driven else [[math.log(float(T) / self.T_ref)]])
         return np.concatenate(head + [[(alpha - self.lo) / self.unit]])
 
     def at(self, y) -> dict:
         return {**self.params, self.name: self.alpha(y)} if self.driven else self.params
 
     def period(self, y) -> float:
-        return float(self.period_of(self.at(y))) if self.driven else float(y[2 * self.n])
+        return float(self.period_of(self.at(y))) if self.driven else self.T_ref * math.exp(float(y[2 * self.n]))
 
     def _flow(self, y, s: float) -> np.ndarray:
         """x(T) of the driven model from y's x₀ with the parameter at s (scaled)."""
@@ -110,9 +113,11 @@ class Orbits(Pseudoarclength):
     def shoot(self, y):
         """(x(T), Φ(T), T) from y."""
         T = self.period(y)
-        if not T > 0:
-            raise ArithmeticError("a period that is not positive")
+        if not T > 0 or (not self.driven and abs(float(y[2 * self.n])) > math.log(PERIOD_RATIO)):
+            raise ArithmeticError("a period not positive, or out of the family's (a Newton step astray)")
         x1, Phi = self.c.integrate_variational(0.0, T, y[:2 * self.n], u=self.u, params=self.at(y), rtol=TOL, atol=TOL)
+        if not np.max(np.abs(Phi)) <= shooting.UNSHOOTABLE:  # round-off grown past the orbit: beyond single shooting
+            raise ArithmeticError("the monodromy grows beyond what single shooting resolves")
         return x1, Phi, T
 
     def residual(self, y):
@@ -127,7 +132,7 @@ class Orbits(Pseudoarclength):
         f1 = self.c.rhs(T, x1, self.u, self.params)
         F = np.concatenate([x1 - x0, [x0[self.phase]], [self.energy(x0) - self.E0 - self.alpha(y)]])
         J = np.zeros((n2 + 2, n2 + 2))
-        J[:n2, :n2], J[:n2, n2] = Phi - np.eye(n2), f1
+        J[:n2, :n2], J[:n2, n2] = Phi - np.eye(n2), T * f1  # ∂x(T)/∂ log T
         J[n2, self.phase] = 1.0
         J[n2 + 1, :n2], J[n2 + 1, -1] = self._energy_gradient(x0), -self.unit
         return F, J, scale
@@ -172,10 +177,13 @@ class Orbits(Pseudoarclength):
         e_alpha[-1] = 1.0
         got = self.correct(y, e_alpha)
         if got is None:
-            what = "" if self.driven else f" of period near {T:.6g} s"
-            raise ContinuationError(f"--from: Newton found no periodic orbit{what} at {self.name} = {alpha:g} from "
-                                    f"phi = {floquet.fmt_phi(np.asarray(x0)[:self.n])}")
+            where = (f"from phi = {floquet.fmt_phi(np.asarray(x0)[:self.n])}, phidot = "
+                     f"{floquet.fmt_phi(np.asarray(x0)[self.n:])}")
+            raise ContinuationError(f"--from: Newton found no periodic orbit at {self.name} = {alpha:g} {where}"
+                                    if self.driven else f"--vary {ENERGY}: Newton lost the orbit at {ENERGY} = {alpha:g} "
+                                    f"{where}; start at a smaller energy")
         y, J, _ = got
+        y[:self.n] = floquet.wrap(y[:self.n])  # the same orbit, its angles in (−π, π]
         if self.driven and np.linalg.matrix_rank(J / max(1.0, np.max(np.abs(J))), tol=1e-9) < J.shape[1] - 1:
             raise ContinuationError(f"--from: the orbit at {self.name} = {alpha:g} is at a fold or a branch point "
                                     "(its monodromy has the multiplier 1): start a little away from it")
@@ -218,8 +226,9 @@ def mode_starts(cm, params, u, phi, energy: float, modes):
         omega, v = lin[k - 1]
         sh = shooting.Shooting(cm, params or None, u)
         x0, sh.phase, E0 = shooting.mode_start(sh, phi, omega, v, energy)
-        got = sh.solve(x0, 2 * math.pi / omega, E0 + energy, 0.0, 0.0)
-        if got is None:
+        T_lin = 2 * math.pi / omega
+        got = sh.solve(x0, T_lin, E0 + energy, 0.0, 0.0)
+        if got is None or not T_lin / 3 <= got[1] <= 3 * T_lin:  # (T → 0 solves x(T) = x₀ too)
             raise ContinuationError(f"--vary {ENERGY}: Newton found no orbit of mode {k} at {ENERGY} = {energy:g} above "
                                     f"the equilibrium phi = {floquet.fmt_phi(phi)}; start at a smaller energy")
         out.append((k, (got[0], got[1], sh.phase, E0, f"mode {k} (linear: omega = {omega:.10g} rad/s)")))

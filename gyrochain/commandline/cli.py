@@ -191,8 +191,12 @@ def cmd_continue(args) -> int:
             raise SpecError(what, why) from None
     elif args.output:
         target(args.output, "", args.force, source=args.spec)  # checked before the work, written after it
-    n_from = 2 * spec.n if args.orbits and any(s.count(",") == 2 * spec.n - 1 for s in args.start or []) else spec.n
-    starts = [cliargs.floats(s, "--from", n_from) for s in args.start or []]  # a periodic orbit's: phi or phi, phidot
+    for s in args.start or []:
+        if args.orbits and len(s.split(",")) not in (spec.n, 2 * spec.n):
+            raise SpecError("--from", f"expected {spec.n} angle{'s' * (spec.n > 1)}, or as many angles and then as many "
+                                      f"rates (a periodic orbit's start), got {len(s.split(','))} numbers")
+    starts = [cliargs.floats(s, "--from", spec.n if not args.orbits or s.count(",") + 1 != 2 * spec.n else 2 * spec.n)
+              for s in args.start or []]  # a driven model's periodic orbit: phi, or phi and phidot
     if args.mode and not (args.orbits or any(v.partition("=")[0].strip() == branches.ENERGY for v in args.vary)):
         raise SpecError("--mode", f"belongs to the nonlinear normal modes (--orbits, --vary {branches.ENERGY}=lo:hi)")
     if any(m < 1 for m in args.mode or []):

@@ -178,7 +178,7 @@ def _analyse(sub) -> None:
     co.add_argument("--orbits", action="store_true", help="periodic orbits instead of equilibria: of a driven model, "
                     "the orbits of the drive's period over --vary NAME=lo:hi; of an autonomous model whose energy is "
                     "conserved, the nonlinear normal modes of a stable equilibrium over --vary energy=lo:hi, the energy "
-                    "above the equilibrium's, J (which --orbits may be left out of)")
+                    "above the equilibrium's, J (default: equilibria; --vary energy implies --orbits)")
     co.add_argument("--mode", action="append", type=int, help="with --vary energy: the linear mode whose family is "
                     "traced, 1 = the slowest (repeatable; default all)")
     co.add_argument("--param", action="append", metavar="NAME=VALUE", help=PARAM)

@@ -170,13 +170,29 @@ def test_the_command_its_file_its_diagram_and_its_errors(tmp_path):
     pendulum.write_text(PENDULUM)
     res = cli_in_process("continue", str(pendulum), "--vary", "energy=0.01:0.3", "--mode", "1")
     assert res.returncode == 0 and "nonlinear normal modes" in res.stdout, res.stderr
+    # past the separatrix (2mgl = 0.3924 J) the family ends, and says why; a run's steps spent say which mode is left
+    res = cli_in_process("continue", str(pendulum), "--vary", "energy=0.01:1")
+    assert res.returncode == 0 and "the family nears an orbit of infinite period" in res.stdout, res.stdout
+    res = cli_in_process("continue", str(ROOT / "specs" / "double_pendulum_point.toml"), "--vary", "energy=0.01:30",
+                         "--max-steps", "1")
+    assert res.returncode == 0 and "mode 2 (linear: omega = 5.787351298 rad/s): not traced" in res.stdout, res.stdout
+    assert "branch 1, from mode 1" in res.stdout and "reached the range's end, energy = 0.01; ran out of steps" in res.stdout
     for args, field in (((str(pendulum), "--vary", "energy=0.01:0.3", "--mode", "2"), "--mode"),
                         ((str(pendulum), "--orbits", "--vary", "g=1:2"), "--vary"),
                         ((str(spec), "--vary", "energy=0.01:0.3"), "--vary energy"),
                         ((str(spec), "--orbits", "--vary", "w=5:9", "--vary", "a=0:0.1"), "--vary a"),
-                        ((str(spec), "--orbits", "--vary", "w=5:9", "--from", "0,0,0"), "--from"),
                         ((str(spec), "--vary", "w=5:9", "--mode", "1"), "--mode"),
-                        ((str(ROOT / "specs" / "ziegler.toml"), "--vary", "energy=0.1:1"), "--vary energy")):
+                        ((str(ROOT / "specs" / "ziegler.toml"), "--vary", "energy=0.1:1"), "--vary energy"),
+                        ((str(ROOT / "specs" / "turntable.toml"), "--orbits", "--vary", "Omega=2:12"), "--orbits"),
+                        ((str(ROOT / "specs" / "gimbal.toml"), "--vary", "energy=0.01:1"), "--vary energy"),  # phi1 cyclic
+                        # from the linear mode at 5 J Newton finds only x(T) = x0 at T -> 0, no orbit
+                        ((str(ROOT / "specs" / "double_pendulum_point.toml"), "--vary", "energy=5:25", "--mode", "2"),
+                         "--vary energy"),
+                        ((str(pendulum), "--vary", "energy=0:1"), "--vary energy"),
+                        ((str(pendulum), "--vary", "energy=0.01:0.3", "--period", "1"), "--period"),
+                        ((str(spec), "--orbits", "--vary", "w=5:9", "--mode", "1"), "--mode"),
+                        ((str(spec), "--orbits", "--vary", "w=5:9", "--period", "1.2566370614359172"), "--period"),
+                        ((str(spec), "--orbits", "--vary", "w=5:9", "--from", "0,0,0"), "--from")):
         res = cli_in_process("continue", *args, "-o", str(tmp_path / "bad.csv"))
         assert res.returncode == 2 and len(res.stderr.strip().splitlines()) == 1 and field in res.stderr, (args, res.stderr)
         assert "Traceback" not in res.stderr and not (tmp_path / "bad.csv").exists()
