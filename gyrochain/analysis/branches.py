@@ -159,7 +159,7 @@ def _why_it_stopped(brs, eq) -> None:
             continue
         _x1, Phi, _T = eq.shoot(last.y)
         growth = float(np.max(np.abs(np.linalg.eigvals(Phi))))
-        br.end += (f" (there the period is {last.period:.4g} s, {last.period / eq.T_ref:.3g} times the linear one, "
+        br.end += (f" (there the period is {last.period:.4g} s, {last.period / eq.T_ref:.3g} times the first orbit's, "
                    f"and the largest multiplier {growth:.3g}: the family nears an orbit of infinite period or one too "
                    "unstable for single shooting).")
 

@@ -53,7 +53,7 @@ MAX_CORRECTION = 0.3  # a step whose corrector moves further than this times the
 MIN_STEP = 1e-9  # the shortest step before the branch is given up
 NEWTON_ITERS = 12
 NEWTON_TOL = 1e-12  # |F| relative to max(1, |J|), and the step's size, at a corrected point
-SPECIAL_TOL = 1e-13  # the arclength of a special point, relative to the step it was found in
+SPECIAL_TOL = 1e-13  # the bracket of a special point's arclength (scaled units; relative beyond 1)
 RATE = "phidot1"  # the varied quantity that is the rate of a steady rotation about a cyclic joint 1, not a parameter
 BRANCHES = 8  # branches traced in one run, those leaving branch points included
 KINDS = {"LP": "fold", "BP": "branch point", "KC": "eigenvalues collide on the imaginary axis",
@@ -502,11 +502,14 @@ class Tracer:
         roots = [r.real + s_lo for r in np.roots(f) if abs(r.imag) < 1e-12 and -1e-12 <= r.real <= s_hi - s_lo + 1e-12]
         if not roots:
             return None
-        star = roots[0]
+        star = min(roots, key=lambda r: abs(r - (s_lo + s_hi) / 2))  # (one zero in the bracket; of several, the middle's)
         Y = np.polyfit(ss - s_lo, np.array([e[2] for e in near]), deg)
         y = np.array([np.polyval(Y[:, k], star - s_lo) for k in range(Y.shape[1])])
         J = next(e[3] for e in sorted(near, key=lambda e: abs(e[0] - star)) if e[3] is not None)
-        return self.eq.point(y, J, a.tangent)
+        try:
+            return self.eq.point(y, J, a.tangent)
+        except ArithmeticError:
+            return None
 
     def _detail(self, kind: str, p: Point, a: Point, b: Point) -> str:
         ev = p.spectrum

@@ -21,7 +21,8 @@ of ``orbits`` with the emitted variational equations (NAME_integrate_variational
 * The multipliers: the eigenvalues of Φ(T).  An autonomous orbit has two at 1; they are divided
   out of the characteristic polynomial, $p(\mu) = (\mu - 1)^2 q(\mu)$, and the tests are smooth
   functions of q's coefficients: $q(1) = p''(1)/2$ (a nontrivial pair through +1: a family
-  bifurcates and the orbit changes stability), $q(-1) = p(-1)/4$ (period doubling), and on q's
+  bifurcates and the orbit changes stability), $q(-1)$ (period doubling; $p(-1)/4$ where the
+  trivial pair is exactly 1), and on q's
   roots, the nontrivial multipliers, the collision on the unit circle (a conservative model) or
   the Neimark–Sacker pair.  A driven orbit's tests are det(Φ − I) (a multiplier +1: a fold where
   the tangent's α component vanishes with it, else a branch point, located on the exact Φ rather
@@ -72,7 +73,7 @@ class Orbits(Pseudoarclength):
         self.params, self.period_of = dict(params), period
         self.driven = period is not None  # (what the Tracer asks: a driven model's tests)
         self.phase, self.E0 = phase, E0
-        self.T_ref = T_ref  # the linear period: y holds log(T/T_ref), and |log(T/T_ref)| ≤ log PERIOD_RATIO
+        self.T_ref = T_ref  # the family's first period: y holds log(T/T_ref), and |log(T/T_ref)| ≤ log PERIOD_RATIO
         self.m = 2 * self.n + (0 if self.driven else 1)  # the unknowns before α: x₀[, T]
         self.reversible = True
         if self.driven:

@@ -62,8 +62,9 @@ def test_the_pendulums_family_has_the_elliptic_period():
 
 
 def test_the_double_pendulums_modes_and_where_one_loses_stability():
-    """Both normal-mode families of the textbook double pendulum over E − E₀ = 0.01…30 J: each orbit
-    closes when integrated again without the variational equations (1e-9) at its energy (1e-10);
+    """Both normal-mode families of the textbook double pendulum over E − E₀ = 0.01…30 J: every
+    fourth orbit closes when integrated again without the variational equations (1e-9) at its
+    energy (1e-10);
     the faster mode loses stability where a pair of multipliers passes +1: the root of q(1) from
     ``orbits``' own shooting at six energies around it is that energy to 1e-9."""
     from gyrochain.analysis import orbits
@@ -98,8 +99,8 @@ def test_the_double_pendulums_modes_and_where_one_loses_stability():
 def test_the_forced_pendulums_folds():
     """A damped pendulum shaken horizontally, over the drive's frequency through its resonance:
     the softening spring bends the response curve back, two folds bound the unstable middle; each
-    fold agrees to 1e-9 with a bordered Newton solve of x(T) = x₀, det(Φ − I) = 0 (the Jacobian
-    by differences, the tangent not used)."""
+    fold agrees to 1e-9 in w (1e-8 in its start) with a Newton solve of x(T) = x₀, det(Φ − I) = 0
+    in (x₀, w) (the Jacobian by differences, the tangent not used)."""
     spec = parse_spec(FORCED)
     res = _run(spec, [("w", 5.0, 9.0)], orbits=True)
     (br,) = res.branches
@@ -124,7 +125,9 @@ def test_the_forced_pendulums_folds():
             z += dz
             if np.max(np.abs(dz)) < 1e-13:
                 break
-        assert abs(z[2] - s.point.alpha) < 1e-9, (z[2], s.point.alpha)
+        assert np.max(np.abs(G_(z))) < 1e-10  # converged
+        assert abs(z[2] - s.point.alpha) < 1e-9 and np.max(np.abs(z[:2] - [*s.point.phi, *s.point.phidot])) < 1e-8, \
+            (z, s.point.alpha)
 
 
 def test_kapitzas_upright_orbit_meets_mathieus_curves():
@@ -136,6 +139,7 @@ def test_kapitzas_upright_orbit_meets_mathieus_curves():
     res = _run(spec, [("a", 0.001, 0.15)], given={"w": 300.0}, starts=[np.array([math.pi])], orbits=True)
     upright = res.branches[0]
     assert [s.kind for s in upright.specials] == ["BP", "PD"], branches.report(res)
+    assert [(s.before, s.after) for s in upright.specials] == [("unstable", "linearly stable"), ("linearly stable", "unstable")]
     l, alpha = 0.2, -4 * G / (0.2 * 300.0 ** 2)
     for s, curve in zip(upright.specials, (a0, b1)):
         lo, hi = 0.9 * s.point.alpha, 1.1 * s.point.alpha  # Mathieu's a, by bisection
