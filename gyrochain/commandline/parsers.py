@@ -264,7 +264,8 @@ def _sweep(sub) -> None:
     pl.add_argument("-o", "--output", required=True, metavar="FILE", help="the image: .png, .pdf or .svg (required)")
     pl.add_argument("--measure", default="", help="which array (default: the sweep's first measure)")
     pl.add_argument("--component", default="0", help="the state component of 'final': phiK, phidotK or its 0-based "
-                    "index; of a diagram, the coordinate drawn, phiK (default 0: of a diagram, the one that moves most)")
+                    "index; of a diagram, the column drawn: phiK, and of periodic orbits phidotK, period or ampK (default 0: of a "
+                    "diagram, the angle that moves most, of periodic orbits the amplitude)")
     pl.add_argument("--cmap", default="", help="the colour map of a map (default viridis; points without a value are "
                     "grey)")
     pl.add_argument("--log", action="store_true", help="a logarithmic scale: of the colours of a map, of the values of "
