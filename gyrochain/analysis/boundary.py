@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .continuation import MAX_TURN, MIN_STEP, NEWTON_ITERS, NEWTON_TOL, Equilibria
+from .continuation import MAX_TURN, MIN_STEP, Equilibria, Pseudoarclength
 
 DIFF = 1e-6  # the central difference step of ψ's gradient, in the scaled y
 
@@ -31,7 +31,7 @@ class Curve:
     ends: list = field(default_factory=list)
 
 
-class Boundary:
+class Boundary(Pseudoarclength):
     """The codimension-one condition ``kind`` (a key of continuation.KINDS) on the equilibria of
     ``eq`` (an Equilibria in two parameters)."""
 
@@ -56,23 +56,10 @@ class Boundary:
             grad[i] = (self.psi(y + e) - self.psi(y - e)) / (2 * DIFF)
         return np.append(F / scale, self.psi(y)), np.vstack([J / scale, grad]), scale
 
-    def tangent(self, JG, previous=None) -> np.ndarray:
-        return self.eq.tangent(JG, previous)  # the unit null vector, the same as a branch's
-
-    def correct(self, pred, t0, anchor):
-        target = t0 @ (pred - anchor)
-        y = pred.copy()
-        for it in range(1, NEWTON_ITERS + 1):
-            try:
-                G, JG, _ = self.system(y)
-            except ArithmeticError:
-                return None
-            dy = np.linalg.lstsq(np.vstack([JG, t0]), -np.append(G, t0 @ (y - anchor) - target), rcond=None)[0]
-            y = y + dy
-            if np.max(np.abs(dy)) <= NEWTON_TOL * max(1.0, np.max(np.abs(y))):
-                G, JG, _ = self.system(y)
-                return (y, JG, it) if np.max(np.abs(G)) <= 1e3 * NEWTON_TOL else None
-        return None
+    def residual(self, y):
+        """The system as the corrector takes it: (G, JG, 1), G already scaled."""
+        G, JG, _ = self.system(y)
+        return G, JG, 1.0
 
     def trace(self, y0) -> Curve:
         """The curve through y0 (a located special point of the first parameter's branch), both ways."""

@@ -89,16 +89,7 @@ def run(spec, params: dict, u, ranges: list, starts=(), max_steps: int = 400, st
     eq = Equilibria(cm, model, start, u, names[:1], [ranges[0][1:]], steady=st, driven=dr)
     tracer = Tracer(eq, max_steps, step, progress)
     firsts = _firsts(an, tracer, starts, alpha0, out)
-    queue = [(p, f"phi = {fmt_phi(p.phi)} at {names[0]} = {p.alpha:.10g}", None) for p in firsts]
-    while queue and len(out.branches) < BRANCHES and tracer.steps < max_steps:
-        p, origin, at = queue.pop(0)
-        if any(_on(p, br) for br in out.branches):
-            continue  # already traced (a branch met again, the other side of a branch point)
-        br = tracer.trace(p, origin, at) if at is not None else tracer.trace_both(p, origin)
-        out.branches.append(br)
-        for s in br.specials:
-            if s.kind == "BP":
-                queue += [(q, f"the branch point at {names[0]} = {s.point.alpha:.10g}", s.point) for q in tracer.switch(s)]
+    _trace_from(out, tracer, [(p, f"phi = {fmt_phi(p.phi)} at {names[0]} = {p.alpha:.10g}") for p in firsts])
     if len(ranges) > 1:
         eq2 = Equilibria(cm, model, params, u, names, [r[1:] for r in ranges], steady=st, driven=dr)
         eq2.reversible = eq.reversible
@@ -133,15 +124,7 @@ def _run_orbits(spec, cm, model, params, u, ranges, starts, max_steps, step, per
         if tracer.max_steps <= 0:
             out.skipped.append(origin)
             continue
-        queue = [(first, origin, None)]
-        while queue and len(out.branches) < BRANCHES and tracer.steps < tracer.max_steps:
-            p, origin, at = queue.pop(0)
-            if any(_on(p, br) for br in out.branches):
-                continue
-            br = tracer.trace(p, origin, at) if at is not None else tracer.trace_both(p, origin)
-            out.branches.append(br)
-            queue += [(q, f"the branch point at {name} = {s.point.alpha:.10g}", s.point)
-                      for s in br.specials if s.kind == "BP" for q in tracer.switch(s)]
+        _trace_from(out, tracer, [(first, origin)])
         used += tracer.steps
         _why_it_stopped(out.branches, tracer.eq)
         for br in out.branches:  # each point written: its amplitude, once
@@ -162,6 +145,20 @@ def _why_it_stopped(brs, eq) -> None:
         br.end += (f" (there the period is {last.period:.4g} s, {last.period / eq.T_ref:.3g} times the first orbit's, "
                    f"and the largest multiplier {growth:.3g}: the family nears an orbit of infinite period or one too "
                    "unstable for single shooting).")
+
+
+def _trace_from(out: Result, tracer: Tracer, firsts) -> None:
+    """Trace the branch through each (first point, origin) both ways, and the branches that cross
+    them at their branch points, into out.branches (BRANCHES at most, within the tracer's steps)."""
+    queue = [(p, origin, None) for p, origin in firsts]
+    while queue and len(out.branches) < BRANCHES and tracer.steps < tracer.max_steps:
+        p, origin, at = queue.pop(0)
+        if any(_on(p, br) for br in out.branches):
+            continue  # already traced (a branch met again, the other side of a branch point)
+        br = tracer.trace(p, origin, at) if at is not None else tracer.trace_both(p, origin)
+        out.branches.append(br)
+        queue += [(q, f"the branch point at {tracer.eq.name} = {s.point.alpha:.10g}", s.point)
+                  for s in br.specials if s.kind == "BP" for q in tracer.switch(s)]
 
 
 def _driven_tracers(cm, model, params, u, rng, starts, max_steps, step, period, progress, modes, out) -> list:
